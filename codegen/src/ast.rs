@@ -1,0 +1,64 @@
+//! Stage 1 output: the syntax tree of a mechanism file, every node with its byte span in the file.
+
+use crate::diagnostic::Span;
+
+/// A name as written, with where it was written.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Name {
+    pub text: String,
+    pub span: Span,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BinOp {
+    Add,
+    Sub,
+    Mul,
+    Div,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum ExprKind {
+    Number(f64),
+    Name(String),
+    Neg(Box<Expr>),
+    Binary(BinOp, Box<Expr>, Box<Expr>),
+    /// `e(θ)`, `c(x, y)`, `deg(x)`, `sin(x)`, … (the callee is checked later).
+    Call(Name, Vec<Expr>),
+}
+
+/// An expression of the file: a TOML number or a parsed expression string.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Expr {
+    pub kind: ExprKind,
+    pub span: Span,
+}
+
+/// `[mechanism.NAME]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mechanism {
+    pub name: Name,
+    pub description: Option<String>,
+    pub inputs: Vec<Name>,
+    pub unknowns: Vec<Name>,
+    pub loops: Vec<Expr>,
+    pub params: Vec<(Name, Expr)>,
+    pub points: Vec<(Name, Expr)>,
+    pub start: Vec<(Name, Expr)>,
+}
+
+/// `[scene.NAME]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    pub name: Name,
+    pub mechanism: Option<Name>,
+    pub outputs: Vec<Name>,
+    pub order: Option<(i64, Span)>,
+}
+
+/// A whole mechanism file.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct File {
+    pub mechanisms: Vec<Mechanism>,
+    pub scenes: Vec<Scene>,
+}

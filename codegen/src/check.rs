@@ -1,0 +1,489 @@
+//! Stage 2: [`ast::File`] → [`Model`]s. Resolves names, checks scalar/vector types, infers which
+//! coordinates are angles, evaluates params and start values, validates scenes.
+
+use std::collections::HashMap;
+
+use crate::ast::{self, BinOp, Expr, ExprKind, Name};
+use crate::diagnostic::{Diagnostic, Span};
+
+/// The built-in functions and constants; no declared name may use them.
+pub const RESERVED: [&str; 8] = ["e", "c", "deg", "pi", "sin", "cos", "tan", "sqrt"];
+
+/// Angle (radians) or length (file units), inferred from use.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Kind {
+    Angle,
+    Length,
+}
+
+/// What a name refers to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Symbol {
+    Input(usize),
+    Unknown(usize),
+    Param(usize),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coord {
+    pub name: Name,
+    pub kind: Kind,
+    /// Value in the `start` configuration.
+    pub start: f64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Param {
+    pub name: Name,
+    pub kind: Kind,
+    /// Default value (the file's expression evaluated in f64).
+    pub value: f64,
+    /// The expression as written when it was not a plain number.
+    pub source: Option<String>,
+}
+
+/// A checked scene: which unknowns and points it reads, and up to which derivative order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    pub name: Name,
+    pub unknowns: Vec<usize>,
+    pub points: Vec<usize>,
+    pub order: u8,
+}
+
+/// A checked mechanism: every name resolved, every expression well typed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Model {
+    pub name: Name,
+    pub description: String,
+    pub inputs: Vec<Coord>,
+    pub unknowns: Vec<Coord>,
+    pub params: Vec<Param>,
+    pub loops: Vec<Expr>,
+    pub points: Vec<(Name, Expr)>,
+    pub scenes: Vec<Scene>,
+    pub symbols: HashMap<String, Symbol>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Ty {
+    Scalar,
+    Vector,
+}
+
+/// Checks every mechanism and scene; a mechanism with errors yields no model.
+pub fn check(file: &ast::File, diags: &mut Vec<Diagnostic>) -> Vec<Model> {
+    let mut models = Vec::new();
+    let mut seen: HashMap<&str, Span> = HashMap::new();
+    for m in &file.mechanisms {
+        if let Some(prev) = seen.insert(&m.name.text, m.name.span) {
+            diags.push(duplicate(&m.name, prev, "mechanism"));
+            continue;
+        }
+        let before = diags.iter().filter(|d| d.is_error()).count();
+        let model = check_mechanism(m, diags);
+        if diags.iter().filter(|d| d.is_error()).count() == before {
+            models.push(model);
+        }
+    }
+    let mut scene_names: HashMap<&str, Span> = HashMap::new();
+    for s in &file.scenes {
+        if let Some(prev) = scene_names.insert(&s.name.text, s.name.span) {
+            diags.push(duplicate(&s.name, prev, "scene"));
+        }
+        check_scene(s, file, &mut models, diags);
+    }
+    models
+}
+
+fn duplicate(name: &Name, prev: Span, what: &str) -> Diagnostic {
+    Diagnostic::error(name.span, format!("{what} `{}` is declared twice", name.text))
+        .with_label("second declaration")
+        .with_note(format!("first declared at byte {}", prev.start))
+}
+
+fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
+    if !is_snake_case(&m.name.text) {
+        diags.push(
+            Diagnostic::error(m.name.span, format!("mechanism name `{}` is not snake_case", m.name.text))
+                .with_note("it names the generated module; use lowercase letters, digits and `_`"),
+        );
+    }
+    let mut symbols: HashMap<String, Symbol> = HashMap::new();
+    let mut first: HashMap<String, Span> = HashMap::new();
+    let mut declare = |name: &Name, sym: Symbol, diags: &mut Vec<Diagnostic>| {
+        if RESERVED.contains(&name.text.as_str()) {
+            diags.push(
+                Diagnostic::error(name.span, format!("`{}` is a reserved name", name.text))
+                    .with_note("e, c, deg, pi, sin, cos, tan and sqrt are built in"),
+            );
+        } else if let Some(prev) = first.get(&name.text) {
+            diags.push(duplicate(name, *prev, "name"));
+        } else {
+            first.insert(name.text.clone(), name.span);
+            symbols.insert(name.text.clone(), sym);
+        }
+    };
+    m.inputs.iter().enumerate().for_each(|(i, n)| declare(n, Symbol::Input(i), diags));
+    m.unknowns.iter().enumerate().for_each(|(i, n)| declare(n, Symbol::Unknown(i), diags));
+
+    // Params, in file order, each evaluated with the ones before it.
+    let mut params: Vec<Param> = Vec::new();
+    let mut values: HashMap<String, f64> = HashMap::new();
+    for (i, (name, expr)) in m.params.iter().enumerate() {
+        declare(name, Symbol::Param(i), diags);
+        let value = eval(expr, &values, "a param", diags).unwrap_or(0.0);
+        values.insert(name.text.clone(), value);
+        let source = match expr.kind {
+            ExprKind::Number(_) => None,
+            _ => Some(format!("{}", Shown(expr))),
+        };
+        params.push(Param { name: name.clone(), kind: Kind::Length, value, source });
+    }
+
+    // Loops and points: types, names, angle inference.
+    let mut angles: Vec<Symbol> = Vec::new();
+    for l in &m.loops {
+        let _ = type_of(l, &symbols, false, &mut angles, diags);
+    }
+    for (name, p) in &m.points {
+        if RESERVED.contains(&name.text.as_str()) {
+            diags.push(Diagnostic::error(name.span, format!("`{}` is a reserved name", name.text)));
+        }
+        if type_of(p, &symbols, false, &mut angles, diags) == Some(Ty::Scalar) {
+            diags.push(
+                Diagnostic::error(p.span, format!("point `{}` is a scalar, not a vector", name.text))
+                    .with_note("write it as a vector, e.g. `c(x, 0)` or `sE + c(0, yE)`"),
+            );
+        }
+    }
+    for (_, e) in &m.params {
+        let _ = type_of(e, &symbols, true, &mut angles, diags);
+    }
+    let kind_of = |s: Symbol| if angles.contains(&s) { Kind::Angle } else { Kind::Length };
+    for (i, p) in params.iter_mut().enumerate() {
+        p.kind = kind_of(Symbol::Param(i));
+    }
+
+    // Equations vs unknowns.
+    if 2 * m.loops.len() != m.unknowns.len() {
+        let span = m.loops.first().map_or(m.name.span, |l| l.span);
+        diags.push(
+            Diagnostic::error(
+                span,
+                format!(
+                    "mechanism `{}` is not square: {} loops give {} equations for {} unknowns",
+                    m.name.text,
+                    m.loops.len(),
+                    2 * m.loops.len(),
+                    m.unknowns.len()
+                ),
+            )
+            .with_note("each loop gives two scalar equations; list two unknowns per loop"),
+        );
+    }
+    if m.inputs.is_empty() {
+        diags.push(Diagnostic::error(m.name.span, format!("mechanism `{}` has no inputs", m.name.text)));
+    }
+
+    // Start configuration.
+    let mut start: HashMap<&str, f64> = HashMap::new();
+    for (name, e) in &m.start {
+        match symbols.get(&name.text) {
+            Some(Symbol::Input(_) | Symbol::Unknown(_)) => {
+                let v = eval(e, &values, "a start value", diags).unwrap_or(0.0);
+                if start.insert(&name.text, v).is_some() {
+                    diags.push(duplicate(name, name.span, "start value"));
+                }
+            }
+            Some(Symbol::Param(_)) => diags.push(
+                Diagnostic::error(name.span, format!("`{}` is a param; `start` gives inputs and unknowns", name.text)),
+            ),
+            None => diags.push(
+                Diagnostic::error(name.span, format!("`{}` in `start` is not an input or unknown", name.text))
+                    .with_label("undefined name"),
+            ),
+        }
+    }
+    let coords = |names: &[Name], make: fn(usize) -> Symbol, diags: &mut Vec<Diagnostic>| {
+        names
+            .iter()
+            .enumerate()
+            .map(|(i, n)| {
+                let value = start.get(n.text.as_str()).copied();
+                if value.is_none() {
+                    diags.push(
+                        Diagnostic::error(n.span, format!("missing `start` value for `{}`", n.text))
+                            .with_note("`start` needs a value for every input and unknown"),
+                    );
+                }
+                Coord { name: n.clone(), kind: kind_of(make(i)), start: value.unwrap_or(0.0) }
+            })
+            .collect::<Vec<_>>()
+    };
+    let inputs = coords(&m.inputs, Symbol::Input, diags);
+    let unknowns = coords(&m.unknowns, Symbol::Unknown, diags);
+    Model {
+        name: m.name.clone(),
+        description: m.description.clone().unwrap_or_default(),
+        inputs,
+        unknowns,
+        params,
+        loops: m.loops.clone(),
+        points: m.points.clone(),
+        scenes: Vec::new(),
+        symbols,
+    }
+}
+
+fn check_scene(s: &ast::Scene, file: &ast::File, models: &mut [Model], diags: &mut Vec<Diagnostic>) {
+    let Some(mech) = &s.mechanism else { return };
+    let Some(model) = models.iter_mut().find(|m| m.name.text == mech.text) else {
+        if !file.mechanisms.iter().any(|m| m.name.text == mech.text) {
+            diags.push(
+                Diagnostic::error(mech.span, format!("scene `{}` uses undefined mechanism `{}`", s.name.text, mech.text))
+                    .with_label("no such mechanism"),
+            );
+        }
+        return;
+    };
+    let order = match s.order {
+        None => 2,
+        Some((o @ 0..=2, _)) => o as u8,
+        Some((o, span)) => {
+            diags.push(Diagnostic::error(span, format!("scene order {o} is not 0, 1 or 2")));
+            return;
+        }
+    };
+    let mut scene = Scene { name: s.name.clone(), unknowns: vec![], points: vec![], order };
+    for out in &s.outputs {
+        if let Some(Symbol::Unknown(i)) = model.symbols.get(&out.text) {
+            scene.unknowns.push(*i);
+        } else if let Some(i) = model.points.iter().position(|(n, _)| n.text == out.text) {
+            scene.points.push(i);
+        } else {
+            diags.push(
+                Diagnostic::error(out.span, format!("`{}` is not an unknown or point of `{}`", out.text, mech.text))
+                    .with_label("undefined output"),
+            );
+        }
+    }
+    model.scenes.push(scene);
+}
+
+fn is_snake_case(s: &str) -> bool {
+    s.chars().next().is_some_and(|c| c.is_ascii_lowercase())
+        && s.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+}
+
+fn undefined(name: &str, span: Span) -> Diagnostic {
+    Diagnostic::error(span, format!("undefined name `{name}`")).with_label("not an input, unknown or param")
+}
+
+/// Type of an expression; `None` after an error was reported. `params_only`: param expressions may
+/// use only params. Coordinates under `e()` or a trig function are recorded in `angles`.
+fn type_of(
+    e: &Expr,
+    symbols: &HashMap<String, Symbol>,
+    params_only: bool,
+    angles: &mut Vec<Symbol>,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Ty> {
+    macro_rules! go {
+        ($x:expr, $angles:expr) => {
+            type_of($x, symbols, params_only, $angles, diags)
+        };
+    }
+    match &e.kind {
+        ExprKind::Number(_) => Some(Ty::Scalar),
+        ExprKind::Name(n) if n == "pi" => Some(Ty::Scalar),
+        ExprKind::Name(n) => match symbols.get(n) {
+            Some(Symbol::Param(_)) => Some(Ty::Scalar),
+            Some(_) if !params_only => Some(Ty::Scalar),
+            Some(_) => {
+                diags.push(Diagnostic::error(e.span, format!("param expression uses coordinate `{n}`")));
+                None
+            }
+            None => {
+                // Param expressions report their own undefined names during evaluation.
+                if !params_only {
+                    diags.push(undefined(n, e.span));
+                }
+                None
+            }
+        },
+        ExprKind::Neg(x) => go!(x, angles),
+        ExprKind::Binary(op, a, b) => {
+            let (ta, tb) = (go!(a, angles)?, go!(b, angles)?);
+            match (op, ta, tb) {
+                (BinOp::Add | BinOp::Sub, Ty::Scalar, Ty::Scalar) => Some(Ty::Scalar),
+                (BinOp::Add | BinOp::Sub, _, _) => Some(Ty::Vector),
+                (BinOp::Mul | BinOp::Div, Ty::Scalar, Ty::Scalar) => Some(Ty::Scalar),
+                (BinOp::Mul, Ty::Scalar, Ty::Vector) | (BinOp::Mul | BinOp::Div, Ty::Vector, Ty::Scalar) => {
+                    Some(Ty::Vector)
+                }
+                (BinOp::Mul, Ty::Vector, Ty::Vector) => {
+                    diags.push(
+                        Diagnostic::error(e.span, "vector × vector is not defined")
+                            .with_note("multiply a vector by a scalar, e.g. `l1*e(q1)`"),
+                    );
+                    None
+                }
+                (BinOp::Div, _, Ty::Vector) => {
+                    diags.push(Diagnostic::error(b.span, "division by a vector is not defined"));
+                    None
+                }
+            }
+        }
+        ExprKind::Call(f, args) => {
+            let (arity, angle_arg, result) = match f.text.as_str() {
+                "e" => (1, true, Ty::Vector),
+                "c" => (2, false, Ty::Vector),
+                "sin" | "cos" | "tan" => (1, true, Ty::Scalar),
+                "deg" | "sqrt" => (1, false, Ty::Scalar),
+                other => {
+                    let msg = if symbols.contains_key(other) {
+                        format!("`{other}` is not a function")
+                    } else {
+                        format!("undefined function `{other}`")
+                    };
+                    diags.push(
+                        Diagnostic::error(f.span, msg).with_note("functions: e, c, deg, sin, cos, tan, sqrt"),
+                    );
+                    return None;
+                }
+            };
+            if args.len() != arity {
+                diags.push(Diagnostic::error(
+                    e.span,
+                    format!("`{}` takes {arity} argument{}, got {}", f.text, if arity == 1 { "" } else { "s" }, args.len()),
+                ));
+                return None;
+            }
+            let mut ok = true;
+            for a in args {
+                match go!(a, angles) {
+                    Some(Ty::Scalar) => {}
+                    Some(Ty::Vector) => {
+                        diags.push(Diagnostic::error(a.span, format!("`{}` of a vector is not defined", f.text)));
+                        ok = false;
+                    }
+                    None => ok = false,
+                }
+                if angle_arg {
+                    collect_names(a, symbols, angles);
+                }
+            }
+            ok.then_some(result)
+        }
+    }
+}
+
+fn collect_names(e: &Expr, symbols: &HashMap<String, Symbol>, out: &mut Vec<Symbol>) {
+    match &e.kind {
+        ExprKind::Name(n) => {
+            if let Some(s) = symbols.get(n)
+                && !out.contains(s)
+            {
+                out.push(*s);
+            }
+        }
+        ExprKind::Number(_) => {}
+        ExprKind::Neg(x) => collect_names(x, symbols, out),
+        ExprKind::Binary(_, a, b) => {
+            collect_names(a, symbols, out);
+            collect_names(b, symbols, out);
+        }
+        ExprKind::Call(_, args) => args.iter().for_each(|a| collect_names(a, symbols, out)),
+    }
+}
+
+/// Evaluates a scalar expression of params (params, start values) in f64.
+pub fn eval(e: &Expr, values: &HashMap<String, f64>, what: &str, diags: &mut Vec<Diagnostic>) -> Option<f64> {
+    let v = eval_inner(e, values, what, diags)?;
+    if v.is_finite() {
+        Some(v)
+    } else {
+        diags.push(Diagnostic::error(e.span, format!("{what} evaluates to a non-finite value ({v})")));
+        None
+    }
+}
+
+fn eval_inner(e: &Expr, values: &HashMap<String, f64>, what: &str, diags: &mut Vec<Diagnostic>) -> Option<f64> {
+    let mut go = |x: &Expr| eval_inner(x, values, what, diags);
+    Some(match &e.kind {
+        ExprKind::Number(x) => *x,
+        ExprKind::Name(n) if n == "pi" => std::f64::consts::PI,
+        ExprKind::Name(n) => match values.get(n) {
+            Some(v) => *v,
+            None => {
+                diags.push(
+                    Diagnostic::error(e.span, format!("undefined name `{n}` in {what}"))
+                        .with_label("not a param defined before this one"),
+                );
+                return None;
+            }
+        },
+        ExprKind::Neg(x) => -go(x)?,
+        ExprKind::Binary(op, a, b) => {
+            let (a, b) = (go(a), go(b));
+            let (a, b) = (a?, b?);
+            match op {
+                BinOp::Add => a + b,
+                BinOp::Sub => a - b,
+                BinOp::Mul => a * b,
+                BinOp::Div => a / b,
+            }
+        }
+        ExprKind::Call(f, args) if args.len() == 1 => {
+            let x = go(&args[0])?;
+            match f.text.as_str() {
+                "deg" => x.to_radians(),
+                "sin" => x.sin(),
+                "cos" => x.cos(),
+                "tan" => x.tan(),
+                "sqrt" => x.sqrt(),
+                _ => {
+                    diags.push(Diagnostic::error(e.span, format!("{what} must be a scalar, `{}` is not", f.text)));
+                    return None;
+                }
+            }
+        }
+        ExprKind::Call(f, _) => {
+            diags.push(Diagnostic::error(e.span, format!("{what} must be a scalar, `{}(…)` is not", f.text)));
+            return None;
+        }
+    })
+}
+
+/// Prints an expression back in the file's syntax (fully parenthesised where it matters).
+pub struct Shown<'a>(pub &'a Expr);
+
+impl std::fmt::Display for Shown<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.0.kind {
+            ExprKind::Number(x) => write!(f, "{x:?}"),
+            ExprKind::Name(n) => write!(f, "{n}"),
+            ExprKind::Neg(x) => write!(f, "-{}", Shown(x)),
+            ExprKind::Binary(op, a, b) => {
+                let o = match op {
+                    BinOp::Add => "+",
+                    BinOp::Sub => "-",
+                    BinOp::Mul => "*",
+                    BinOp::Div => "/",
+                };
+                write!(f, "({} {o} {})", Shown(a), Shown(b))
+            }
+            ExprKind::Call(name, args) => {
+                write!(f, "{}(", name.text)?;
+                for (i, a) in args.iter().enumerate() {
+                    if i > 0 {
+                        write!(f, ", ")?;
+                    }
+                    write!(f, "{}", Shown(a))?;
+                }
+                write!(f, ")")
+            }
+        }
+    }
+}

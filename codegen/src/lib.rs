@@ -1,0 +1,25 @@
+//! mechgen-codegen: mechanism.toml → Rust kinematics solvers.
+//!
+//! Pipeline (one module per stage, chained in [`compile`]):
+//! [`parse`] (TOML + syn, with spans) → [`check`] (names, types, angles) → [`lower`] (loops to
+//! scalar residuals in the hash-consed [`dag`]) → [`differentiate`] (J, Φx, J̇, γ, points) →
+//! [`structure`] (matching, block-triangular order) → [`plan`] (per-block forms) → [`emit`]
+//! (quote → prettyplease). [`diagnostic`] renders errors as FILE:LINE:COLUMN; [`build_script`] is
+//! the entry point for a `build.rs`.
+
+pub mod ast;
+pub mod build_script;
+pub mod check;
+pub mod compile;
+pub mod dag;
+pub mod diagnostic;
+pub mod differentiate;
+pub mod emit;
+pub mod emit_body;
+pub mod lower;
+pub mod parse;
+pub mod plan;
+pub mod structure;
+
+pub use compile::{analyze, compile, Compiled};
+pub use diagnostic::{Diagnostic, Severity, SourceFile, Span};

@@ -1,0 +1,128 @@
+//! Stage 3: a checked [`Model`] → scalar residuals and point coordinates in a [`Dag`]. Each loop
+//! becomes two residuals (x, y); a scalar term of a vector sum is the vector (s, 0).
+
+use crate::ast::{BinOp, Expr, ExprKind};
+use crate::check::{Model, Symbol};
+use crate::dag::{Dag, NodeId, Var};
+
+/// The position-level system of one mechanism.
+#[derive(Clone, Debug)]
+pub struct System {
+    pub dag: Dag,
+    /// Residual `2*l` is the x component of loop `l`, `2*l + 1` its y component.
+    pub residuals: Vec<NodeId>,
+    /// Each point's (x, y).
+    pub points: Vec<[NodeId; 2]>,
+}
+
+#[derive(Clone, Copy)]
+enum Value {
+    Scalar(NodeId),
+    Vector(NodeId, NodeId),
+}
+
+/// Lowers a checked model. The model is well typed, so every expression lowers.
+pub fn lower(model: &Model) -> System {
+    let mut dag = Dag::new();
+    let mut residuals = Vec::with_capacity(2 * model.loops.len());
+    for l in &model.loops {
+        let [x, y] = vector(&mut dag, model, l);
+        residuals.extend([x, y]);
+    }
+    let points = model.points.iter().map(|(_, e)| vector(&mut dag, model, e)).collect();
+    System { dag, residuals, points }
+}
+
+fn vector(dag: &mut Dag, model: &Model, e: &Expr) -> [NodeId; 2] {
+    match value(dag, model, e) {
+        Value::Vector(x, y) => [x, y],
+        Value::Scalar(s) => [s, dag.constant(0.0)],
+    }
+}
+
+fn as_vector(dag: &mut Dag, v: Value) -> (NodeId, NodeId) {
+    match v {
+        Value::Vector(x, y) => (x, y),
+        Value::Scalar(s) => (s, dag.constant(0.0)),
+    }
+}
+
+fn scalar(v: Value) -> NodeId {
+    match v {
+        Value::Scalar(s) => s,
+        // Unreachable for a checked model; the x component keeps lowering total.
+        Value::Vector(x, _) => x,
+    }
+}
+
+fn value(dag: &mut Dag, model: &Model, e: &Expr) -> Value {
+    match &e.kind {
+        ExprKind::Number(x) => Value::Scalar(dag.constant(*x)),
+        ExprKind::Name(n) if n == "pi" => Value::Scalar(dag.constant(std::f64::consts::PI)),
+        ExprKind::Name(n) => {
+            let var = match model.symbols.get(n) {
+                Some(Symbol::Input(i)) => Var::X(*i as u16),
+                Some(Symbol::Unknown(i)) => Var::Q(*i as u16),
+                Some(Symbol::Param(i)) => Var::P(*i as u16),
+                None => return Value::Scalar(dag.constant(0.0)),
+            };
+            Value::Scalar(dag.var(var))
+        }
+        ExprKind::Neg(a) => match value(dag, model, a) {
+            Value::Scalar(s) => Value::Scalar(dag.neg(s)),
+            Value::Vector(x, y) => Value::Vector(dag.neg(x), dag.neg(y)),
+        },
+        ExprKind::Binary(op, a, b) => {
+            let (va, vb) = (value(dag, model, a), value(dag, model, b));
+            binary(dag, *op, va, vb)
+        }
+        ExprKind::Call(f, args) => {
+            let mut arg = |i: usize| args.get(i).map_or(Value::Scalar(dag.constant(0.0)), |a| value(dag, model, a));
+            match f.text.as_str() {
+                "e" => {
+                    let t = scalar(arg(0));
+                    Value::Vector(dag.cos(t), dag.sin(t))
+                }
+                "c" => {
+                    let (x, y) = (scalar(arg(0)), scalar(arg(1)));
+                    Value::Vector(x, y)
+                }
+                name => {
+                    let x = scalar(arg(0));
+                    Value::Scalar(match name {
+                        "sin" => dag.sin(x),
+                        "cos" => dag.cos(x),
+                        "tan" => dag.tan(x),
+                        "sqrt" => dag.sqrt(x),
+                        _ => {
+                            let k = dag.constant(std::f64::consts::PI / 180.0);
+                            dag.mul(k, x)
+                        }
+                    })
+                }
+            }
+        }
+    }
+}
+
+fn binary(dag: &mut Dag, op: BinOp, a: Value, b: Value) -> Value {
+    use Value::{Scalar as S, Vector as V};
+    match (op, a, b) {
+        (BinOp::Add, S(x), S(y)) => S(dag.add(x, y)),
+        (BinOp::Sub, S(x), S(y)) => S(dag.sub(x, y)),
+        (BinOp::Mul, S(x), S(y)) => S(dag.mul(x, y)),
+        (BinOp::Div, S(x), S(y)) => S(dag.div(x, y)),
+        (BinOp::Add | BinOp::Sub, a, b) => {
+            let ((ax, ay), (bx, by)) = (as_vector(dag, a), as_vector(dag, b));
+            if op == BinOp::Add {
+                V(dag.add(ax, bx), dag.add(ay, by))
+            } else {
+                V(dag.sub(ax, bx), dag.sub(ay, by))
+            }
+        }
+        (BinOp::Mul, S(s), V(x, y)) | (BinOp::Mul, V(x, y), S(s)) => V(dag.mul(s, x), dag.mul(s, y)),
+        (BinOp::Div, V(x, y), S(s)) => V(dag.div(x, s), dag.div(y, s)),
+        // Rejected by the checker (vector × vector, division by a vector).
+        (_, a, _) => a,
+    }
+}

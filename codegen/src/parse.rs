@@ -1,0 +1,333 @@
+//! Stage 1: mechanism file text → [`ast::File`]. TOML with spans (toml's `DeTable`), each expression
+//! string with `syn`, spans mapped back into the file so diagnostics point inside the strings.
+
+use std::borrow::Cow;
+
+use syn::spanned::Spanned as _;
+use toml::de::{DeTable, DeValue};
+use toml::Spanned;
+
+use crate::ast::{BinOp, Expr, ExprKind, File, Mechanism, Name, Scene};
+use crate::diagnostic::{Diagnostic, SourceFile, Span};
+
+type Item<'a> = (&'a Spanned<Cow<'a, str>>, &'a Spanned<DeValue<'a>>);
+
+/// Parses a whole file, collecting every error; what could be read is returned either way.
+pub fn parse(file: &SourceFile) -> (File, Vec<Diagnostic>) {
+    let mut p = Parser { text: &file.text, diags: Vec::new() };
+    let (root, errors) = DeTable::parse_recoverable(&file.text);
+    for e in errors {
+        let span = e.span().map_or(Span::new(0, 0), |r| Span::new(r.start, r.end));
+        p.diags.push(Diagnostic::error(span, format!("TOML syntax error: {}", e.message().trim())));
+    }
+    let mut out = File::default();
+    for (key, value) in sorted(root.get_ref()) {
+        match key.get_ref().as_ref() {
+            "mechanism" => {
+                for (name, body) in p.table_entries(value, "mechanism") {
+                    if let Some(m) = p.mechanism(name, body) {
+                        out.mechanisms.push(m);
+                    }
+                }
+            }
+            "scene" => {
+                for (name, body) in p.table_entries(value, "scene") {
+                    if let Some(s) = p.scene(name, body) {
+                        out.scenes.push(s);
+                    }
+                }
+            }
+            other => p.unknown_key(key, other, "top level", "`mechanism` or `scene`"),
+        }
+    }
+    (out, p.diags)
+}
+
+/// Table entries in file order (toml's map is sorted by key).
+fn sorted<'a>(t: &'a DeTable<'a>) -> Vec<Item<'a>> {
+    let mut v: Vec<Item<'a>> = t.iter().collect();
+    v.sort_by_key(|(k, _)| k.span().start);
+    v
+}
+
+fn span_of<T>(s: &Spanned<T>) -> Span {
+    let r = s.span();
+    Span::new(r.start, r.end)
+}
+
+fn name_of(key: &Spanned<Cow<'_, str>>) -> Name {
+    Name { text: key.get_ref().to_string(), span: span_of(key) }
+}
+
+struct Parser<'t> {
+    text: &'t str,
+    diags: Vec<Diagnostic>,
+}
+
+impl Parser<'_> {
+    fn error(&mut self, span: Span, msg: impl Into<String>) {
+        self.diags.push(Diagnostic::error(span, msg));
+    }
+
+    fn unknown_key(&mut self, key: &Spanned<Cow<'_, str>>, name: &str, place: &str, expected: &str) {
+        let d = Diagnostic::error(span_of(key), format!("unknown key `{name}` in {place}"))
+            .with_label("not a key of the format")
+            .with_note(format!("expected {expected}"));
+        self.diags.push(d);
+    }
+
+    fn table<'a>(&mut self, v: &'a Spanned<DeValue<'a>>, what: &str) -> Option<&'a DeTable<'a>> {
+        match v.get_ref() {
+            DeValue::Table(t) => Some(t),
+            _ => {
+                self.error(span_of(v), format!("`{what}` must be a table"));
+                None
+            }
+        }
+    }
+
+    fn table_entries<'a>(&mut self, v: &'a Spanned<DeValue<'a>>, what: &str) -> Vec<Item<'a>> {
+        self.table(v, what).map(sorted).unwrap_or_default()
+    }
+
+    fn mechanism(&mut self, key: &Spanned<Cow<'_, str>>, body: &Spanned<DeValue<'_>>) -> Option<Mechanism> {
+        let name = name_of(key);
+        let table = self.table(body, &format!("mechanism.{}", name.text))?;
+        let mut m = Mechanism {
+            name,
+            description: None,
+            inputs: vec![],
+            unknowns: vec![],
+            loops: vec![],
+            params: vec![],
+            points: vec![],
+            start: vec![],
+        };
+        let mut seen = [false; 3];
+        for (k, v) in sorted(table) {
+            match k.get_ref().as_ref() {
+                "description" => match v.get_ref() {
+                    DeValue::String(s) => m.description = Some(s.to_string()),
+                    _ => self.error(span_of(v), "`description` must be a string"),
+                },
+                "inputs" => (seen[0], m.inputs) = (true, self.names(v, "inputs")),
+                "unknowns" => (seen[1], m.unknowns) = (true, self.names(v, "unknowns")),
+                "loops" => {
+                    seen[2] = true;
+                    m.loops = self.array(v, "loops").iter().filter_map(|e| self.string_expr(e)).collect();
+                }
+                "params" => m.params = self.assignments(v, "params", true),
+                "points" => m.points = self.assignments(v, "points", false),
+                "start" => m.start = self.assignments(v, "start", true),
+                other => self.unknown_key(
+                    k,
+                    other,
+                    &format!("mechanism `{}`", m.name.text),
+                    "description, inputs, unknowns, loops, params, points or start",
+                ),
+            }
+        }
+        for (i, key) in ["inputs", "unknowns", "loops"].iter().enumerate() {
+            if !seen[i] {
+                let d = Diagnostic::error(m.name.span, format!("mechanism `{}` has no `{key}`", m.name.text))
+                    .with_label(format!("`{key}` is required"));
+                self.diags.push(d);
+            }
+        }
+        Some(m)
+    }
+
+    fn scene(&mut self, key: &Spanned<Cow<'_, str>>, body: &Spanned<DeValue<'_>>) -> Option<Scene> {
+        let name = name_of(key);
+        let table = self.table(body, &format!("scene.{}", name.text))?;
+        let mut s = Scene { name, mechanism: None, outputs: vec![], order: None };
+        for (k, v) in sorted(table) {
+            match k.get_ref().as_ref() {
+                "mechanism" => match v.get_ref() {
+                    DeValue::String(t) => s.mechanism = Some(Name { text: t.to_string(), span: span_of(v) }),
+                    _ => self.error(span_of(v), "`mechanism` must be a string naming a mechanism"),
+                },
+                "outputs" => s.outputs = self.names(v, "outputs"),
+                "order" => match v.get_ref() {
+                    DeValue::Integer(i) => match int_value(i) {
+                        Some(n) => s.order = Some((n, span_of(v))),
+                        None => self.error(span_of(v), "`order` is out of range"),
+                    },
+                    _ => self.error(span_of(v), "`order` must be 0, 1 or 2"),
+                },
+                other => {
+                    self.unknown_key(k, other, &format!("scene `{}`", s.name.text), "mechanism, outputs or order")
+                }
+            }
+        }
+        if s.mechanism.is_none() {
+            self.error(s.name.span, format!("scene `{}` has no `mechanism`", s.name.text));
+        }
+        Some(s)
+    }
+
+    fn array<'a>(&mut self, v: &'a Spanned<DeValue<'a>>, what: &str) -> Vec<&'a Spanned<DeValue<'a>>> {
+        match v.get_ref() {
+            DeValue::Array(a) => a.iter().collect(),
+            _ => {
+                self.error(span_of(v), format!("`{what}` must be an array"));
+                vec![]
+            }
+        }
+    }
+
+    fn names(&mut self, v: &Spanned<DeValue<'_>>, what: &str) -> Vec<Name> {
+        let mut out = vec![];
+        for item in self.array(v, what) {
+            match item.get_ref() {
+                DeValue::String(s) => {
+                    let span = self.inner_span(span_of(item), s);
+                    if is_identifier(s) {
+                        out.push(Name { text: s.to_string(), span });
+                    } else {
+                        self.error(span, format!("`{s}` in `{what}` is not a valid name"));
+                    }
+                }
+                _ => self.error(span_of(item), format!("`{what}` must hold names (strings)")),
+            }
+        }
+        out
+    }
+
+    /// `name = number | "expression"` tables (params, points, start).
+    fn assignments(&mut self, v: &Spanned<DeValue<'_>>, what: &str, numbers: bool) -> Vec<(Name, Expr)> {
+        let Some(table) = self.table(v, what) else { return vec![] };
+        let mut out = vec![];
+        for (k, v) in sorted(table) {
+            let name = name_of(k);
+            if !is_identifier(&name.text) {
+                self.error(name.span, format!("`{}` in `{what}` is not a valid name", name.text));
+                continue;
+            }
+            let expr = match v.get_ref() {
+                DeValue::String(_) => self.string_expr(v),
+                DeValue::Integer(_) | DeValue::Float(_) if numbers => self.number(v),
+                _ => {
+                    let kind = if numbers { "a number or an expression string" } else { "a vector expression string" };
+                    self.error(span_of(v), format!("`{}` in `{what}` must be {kind}", name.text));
+                    None
+                }
+            };
+            if let Some(e) = expr {
+                out.push((name, e));
+            }
+        }
+        out
+    }
+
+    fn number(&mut self, v: &Spanned<DeValue<'_>>) -> Option<Expr> {
+        let span = span_of(v);
+        let value = match v.get_ref() {
+            DeValue::Integer(i) => int_value(i).map(|n| n as f64),
+            DeValue::Float(f) => f.as_str().replace('_', "").parse::<f64>().ok(),
+            _ => None,
+        };
+        match value {
+            Some(x) if x.is_finite() => Some(Expr { kind: ExprKind::Number(x), span }),
+            Some(_) => {
+                self.error(span, "non-finite number (nan or inf)");
+                None
+            }
+            None => {
+                self.error(span, "number out of range");
+                None
+            }
+        }
+    }
+
+    /// Where the content of a string value starts, when the content is the raw text (no escapes).
+    fn inner_span(&self, value: Span, content: &str) -> Span {
+        let raw = self.text.get(value.start..value.end).unwrap_or("");
+        let quote = if raw.starts_with("\"\"\"") || raw.starts_with("'''") { 3 } else { 1 };
+        let start = value.start + quote;
+        match self.text.get(start..start + content.len()) {
+            Some(s) if s == content => Span::new(start, start + content.len()),
+            _ => value,
+        }
+    }
+
+    fn string_expr(&mut self, v: &Spanned<DeValue<'_>>) -> Option<Expr> {
+        let DeValue::String(s) = v.get_ref() else {
+            self.error(span_of(v), "expected an expression string");
+            return None;
+        };
+        let value = span_of(v);
+        let inner = self.inner_span(value, s);
+        // Byte offsets inside the string map 1:1 to the file only when there are no escapes.
+        let map = |r: std::ops::Range<usize>| {
+            if inner == value { value } else { Span::new(inner.start + r.start, inner.start + r.end) }
+        };
+        match syn::parse_str::<syn::Expr>(s) {
+            Ok(e) => self.expr(&e, &map),
+            Err(err) => {
+                let span = if s.trim().is_empty() { value } else { map(err.span().byte_range()) };
+                let d = Diagnostic::error(span, format!("expression syntax error: {err}"))
+                    .with_label("cannot parse this as an expression");
+                self.diags.push(d);
+                None
+            }
+        }
+    }
+
+    fn expr(&mut self, e: &syn::Expr, map: &dyn Fn(std::ops::Range<usize>) -> Span) -> Option<Expr> {
+        let span = map(e.span().byte_range());
+        let unsupported = |p: &mut Self, what: &str| {
+            let d = Diagnostic::error(span, format!("unsupported expression: {what}"))
+                .with_note("expressions use numbers, names, + - * /, parentheses and e(), c(), deg(), sin(), cos(), tan(), sqrt(), pi");
+            p.diags.push(d);
+            None
+        };
+        let kind = match e {
+            syn::Expr::Lit(l) => match &l.lit {
+                syn::Lit::Int(i) => ExprKind::Number(i.base10_digits().parse::<f64>().ok()?),
+                syn::Lit::Float(f) => ExprKind::Number(f.base10_digits().parse::<f64>().ok()?),
+                _ => return unsupported(self, "a literal that is not a number"),
+            },
+            syn::Expr::Path(p) => match p.path.get_ident() {
+                Some(id) if p.qself.is_none() => ExprKind::Name(id.to_string()),
+                _ => return unsupported(self, "a path"),
+            },
+            syn::Expr::Paren(p) => return self.expr(&p.expr, map),
+            syn::Expr::Group(g) => return self.expr(&g.expr, map),
+            syn::Expr::Unary(u) => match u.op {
+                syn::UnOp::Neg(_) => ExprKind::Neg(Box::new(self.expr(&u.expr, map)?)),
+                _ => return unsupported(self, "a unary operator other than `-`"),
+            },
+            syn::Expr::Binary(b) => {
+                let op = match b.op {
+                    syn::BinOp::Add(_) => BinOp::Add,
+                    syn::BinOp::Sub(_) => BinOp::Sub,
+                    syn::BinOp::Mul(_) => BinOp::Mul,
+                    syn::BinOp::Div(_) => BinOp::Div,
+                    _ => return unsupported(self, "an operator other than + - * /"),
+                };
+                let (l, r) = (self.expr(&b.left, map), self.expr(&b.right, map));
+                ExprKind::Binary(op, Box::new(l?), Box::new(r?))
+            }
+            syn::Expr::Call(c) => {
+                let syn::Expr::Path(p) = &*c.func else { return unsupported(self, "a call of a non-name") };
+                let Some(id) = p.path.get_ident() else { return unsupported(self, "a call of a path") };
+                let callee = Name { text: id.to_string(), span: map(id.span().byte_range()) };
+                let args: Vec<Option<Expr>> = c.args.iter().map(|a| self.expr(a, map)).collect();
+                ExprKind::Call(callee, args.into_iter().collect::<Option<Vec<_>>>()?)
+            }
+            _ => return unsupported(self, "this kind of Rust expression"),
+        };
+        Some(Expr { kind, span })
+    }
+}
+
+fn is_identifier(s: &str) -> bool {
+    let mut chars = s.chars();
+    matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+fn int_value(i: &toml::de::DeInteger<'_>) -> Option<i64> {
+    i64::from_str_radix(&i.as_str().replace('_', ""), i.radix()).ok()
+}

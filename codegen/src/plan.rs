@@ -1,0 +1,62 @@
+//! Stage 5b: the per-block forms the block solvers need, built in the same DAG: for each
+//! diagonal block its residual and Jacobian, and its velocity and acceleration right-hand sides
+//! with the unknowns of earlier blocks already substituted as known rates.
+
+use crate::dag::{NodeId, Var};
+use crate::differentiate::{Derivatives, Differentiator};
+use crate::lower::System;
+use crate::structure::Block;
+
+/// Everything one diagonal block's solvers evaluate.
+#[derive(Clone, Debug)]
+pub struct BlockForms {
+    pub block: Block,
+    /// Residuals of the block's equations.
+    pub residual: Vec<NodeId>,
+    /// `jacobian[r][c]`: ∂(equation r of the block)/∂(unknown c of the block).
+    pub jacobian: Vec<Vec<NodeId>>,
+    /// J_bb q̇_b = velocity_rhs: −Φx ẋ − Σ J_bk q̇_k over the other blocks' unknowns.
+    pub velocity_rhs: Vec<NodeId>,
+    /// J_bb q̈_b = acceleration_rhs: γ − Σ J_bk q̈_k over the other blocks' unknowns.
+    pub acceleration_rhs: Vec<NodeId>,
+}
+
+pub fn block_forms(sys: &mut System, der: &Derivatives, blocks: &[Block]) -> Vec<BlockForms> {
+    let residuals = sys.residuals.clone();
+    let mut d = Differentiator::new(&mut sys.dag);
+    let n = der.jacobian.first().map_or(0, Vec::len);
+    blocks
+        .iter()
+        .map(|b| {
+            let others: Vec<usize> = (0..n).filter(|k| !b.unknowns.contains(k)).collect();
+            let coupling = |d: &mut Differentiator, i: usize, rate: fn(u16) -> Var| -> NodeId {
+                let row: Vec<NodeId> = others.iter().map(|&k| der.jacobian[i][k]).collect();
+                let vars: Vec<NodeId> = others.iter().map(|&k| d.dag.var(rate(k as u16))).collect();
+                d.dot(&row, &vars)
+            };
+            let velocity_rhs = b
+                .equations
+                .iter()
+                .map(|&i| {
+                    let c = coupling(&mut d, i, Var::Qd);
+                    d.dag.sub(der.velocity_rhs[i], c)
+                })
+                .collect();
+            let acceleration_rhs = b
+                .equations
+                .iter()
+                .map(|&i| {
+                    let c = coupling(&mut d, i, Var::Qdd);
+                    d.dag.sub(der.acceleration_rhs[i], c)
+                })
+                .collect();
+            BlockForms {
+                block: b.clone(),
+                residual: b.equations.iter().map(|&i| residuals[i]).collect(),
+                jacobian: b.equations.iter().map(|&i| b.unknowns.iter().map(|&k| der.jacobian[i][k]).collect()).collect(),
+                velocity_rhs,
+                acceleration_rhs,
+            }
+        })
+        .collect()
+}

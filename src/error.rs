@@ -1,0 +1,79 @@
+//! Error values of the solvers: every failure is one of these, never a panic or a NaN.
+
+use core::fmt;
+
+/// Which solve failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    Position,
+    Velocity,
+    Acceleration,
+}
+
+/// Which argument held a non-finite value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Quantity {
+    Param,
+    Input,
+    InputRate,
+    InputAcceleration,
+    Guess,
+}
+
+/// Why a solve failed. `block` is the index of the diagonal block (see `StaticInfo::blocks`).
+/// Numbers are reported in f64 whatever the solver's precision.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SolveError {
+    /// A param, input, rate or guess is NaN or infinite (`index` in its array).
+    NonFinite { quantity: Quantity, index: usize },
+    /// Newton found no configuration: the residual stayed large (relative norm given). Past a dead
+    /// point, or an input out of the mechanism's range.
+    Unassemblable { block: usize, residual: f64, iterations: u32 },
+    /// The Jacobian block is singular to working precision (a dead point): `pivot_ratio` is the
+    /// smallest over the largest pivot of the elimination.
+    Singular { block: usize, stage: Stage, pivot_ratio: f64 },
+    /// Newton stopped at the iteration cap with a small residual but without reaching the
+    /// tolerance (raise `max_iterations` or loosen `tolerance`).
+    NoConvergence { block: usize, residual: f64, step: f64, iterations: u32 },
+    /// A slice given to the object-safe API has the wrong length.
+    BadLength { expected: usize, got: usize },
+    /// The computation produced a non-finite value from finite arguments (overflow).
+    Overflow { block: usize, stage: Stage },
+}
+
+impl SolveError {
+    /// Short kebab-case status, as in the sweep CSV.
+    pub fn status(&self) -> &'static str {
+        match self {
+            SolveError::NonFinite { .. } => "non-finite-input",
+            SolveError::Unassemblable { .. } => "unassemblable",
+            SolveError::Singular { .. } => "singular",
+            SolveError::NoConvergence { .. } => "no-convergence",
+            SolveError::BadLength { .. } => "bad-length",
+            SolveError::Overflow { .. } => "overflow",
+        }
+    }
+}
+
+impl fmt::Display for SolveError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SolveError::NonFinite { quantity, index } => write!(f, "non-finite {quantity:?} at index {index}"),
+            SolveError::Unassemblable { block, residual, iterations } => write!(
+                f,
+                "unassemblable: block {block} has no solution near the guess (relative residual {residual:.3e} after {iterations} iterations)"
+            ),
+            SolveError::Singular { block, stage, pivot_ratio } => {
+                write!(f, "singular Jacobian in block {block} ({stage:?} solve, pivot ratio {pivot_ratio:.3e})")
+            }
+            SolveError::NoConvergence { block, residual, step, iterations } => write!(
+                f,
+                "no convergence in block {block} after {iterations} iterations (relative residual {residual:.3e}, last step {step:.3e})"
+            ),
+            SolveError::BadLength { expected, got } => write!(f, "slice of length {got}, expected {expected}"),
+            SolveError::Overflow { block, stage } => write!(f, "overflow in block {block} ({stage:?} solve)"),
+        }
+    }
+}
+
+impl std::error::Error for SolveError {}

@@ -1,0 +1,35 @@
+//! mechgen: planar linkage kinematics. Loop-closure equations in `mechanism.toml` become, at build
+//! time, allocation-free position, velocity and acceleration solvers (see `ARCHITECTURE.md`).
+//!
+//! ```
+//! use mechgen::sixbar::{Inputs, Sixbar};
+//! use mechgen::NewtonOptions;
+//!
+//! let sixbar = Sixbar::<f64>::default();
+//! let (_, start) = Sixbar::<f64>::start();
+//! let m = sixbar
+//!     .solve(Inputs { q1: 0.0 }, Inputs { q1: 1.0 }, Inputs { q1: 0.0 }, start, &NewtonOptions::default())
+//!     .unwrap();
+//! assert!((m.q.q2 - 0.875_017_264_833_039).abs() < 1e-12);
+//! ```
+
+// Generated code names this crate `::mechgen`, also inside it.
+extern crate self as mechgen;
+
+pub mod error;
+pub mod mechanism;
+pub mod scalar;
+pub mod solve;
+pub mod sweep;
+
+pub use error::{Quantity, SolveError, Stage};
+pub use mechanism::{Array, CoordInfo, Kind, Kinematics, Mechanism, MechanismInfo, ParamInfo, PointMotion, StaticInfo};
+pub use nalgebra;
+pub use scalar::Real;
+pub use solve::{check_finite, copy_row_major, gauss, newton_block, solve_block, NewtonOptions, NewtonReport};
+
+/// The solvers generated from the build's mechanism file (`mechanism.toml`, or `MECHGEN_MECHANISM`).
+pub mod generated {
+    include!(concat!(env!("OUT_DIR"), "/mechanisms.rs"));
+}
+pub use generated::*;

@@ -1,0 +1,150 @@
+//! Sweeps of one input: continuation along the `start` configuration's branch with a tangent
+//! predictor and adaptive substeps, then velocities, accelerations and points at every row. Works
+//! on any [`Kinematics`] (generated or generic), written once.
+
+use crate::error::SolveError;
+use crate::mechanism::{Kind, Kinematics, MechanismInfo, PointMotion};
+use crate::solve::NewtonOptions;
+
+/// How the branch is followed between rows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Continuation {
+    /// Largest substep: radians for an angle input, file units for a length input.
+    pub max_step: f64,
+    /// Give up on a row when the substep falls below this fraction of `max_step`.
+    pub min_fraction: f64,
+    pub newton: NewtonOptions<f64>,
+}
+
+impl Continuation {
+    /// Defaults for an input of this kind: 2° substeps for an angle, 1/180 of `span` for a length.
+    pub fn for_input(kind: Kind, span: f64) -> Self {
+        let max_step = match kind {
+            Kind::Angle => 2f64.to_radians(),
+            Kind::Length => (span.abs() / 180.0).max(f64::MIN_POSITIVE),
+        };
+        Continuation { max_step, min_fraction: 1e-9, newton: NewtonOptions::default() }
+    }
+}
+
+/// One solved row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solved {
+    pub q: Vec<f64>,
+    pub qd: Vec<f64>,
+    pub qdd: Vec<f64>,
+    pub points: Vec<PointMotion<f64>>,
+    /// Condition estimate of the Jacobian at this row (1 / pivot ratio).
+    pub condition: f64,
+}
+
+/// One row of a sweep: the input value (radians or file units) and its result.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    pub input: f64,
+    pub result: Result<Solved, SolveError>,
+}
+
+/// Follows the branch of the state `(x, q)` as the input `index` moves to `target`. On success
+/// `x` and `q` hold the new state; on failure they keep the last state reached.
+pub fn continue_to(
+    k: &dyn Kinematics<f64>,
+    x: &mut [f64],
+    q: &mut [f64],
+    index: usize,
+    target: f64,
+    c: &Continuation,
+) -> Result<f64, SolveError> {
+    let n = q.len();
+    let mut h = c.max_step;
+    let mut tangent = vec![0.0; n];
+    let mut trial = vec![0.0; n];
+    let mut xt = x.to_vec();
+    let mut unit = vec![0.0; x.len()];
+    unit[index] = 1.0;
+    let mut last_err = None;
+    loop {
+        let remaining = target - x[index];
+        let dir = remaining.signum();
+        let step = remaining.abs().min(h);
+        // dq/dx along the branch, from J q' = −Φx e_index.
+        let have_tangent = k.solve_velocity(x, q, &unit, &mut tangent).is_ok();
+        xt.copy_from_slice(x);
+        xt[index] = if remaining.abs() <= h { target } else { x[index] + dir * step };
+        let dx = xt[index] - x[index];
+        for i in 0..n {
+            trial[i] = q[i] + if have_tangent { tangent[i] * dx } else { 0.0 };
+        }
+        let predicted = trial.clone();
+        match k.solve_position(&xt, &mut trial, &c.newton) {
+            // Accept only a corrector that stayed near the prediction: no silent branch jump.
+            Ok(report) if jump(&predicted, &trial, q) <= 0.25 => {
+                q.copy_from_slice(&trial);
+                x[index] = xt[index];
+                if x[index] == target {
+                    return Ok(report.condition());
+                }
+                h = (h * 2.0).min(c.max_step);
+            }
+            Ok(_) => {
+                h *= 0.5;
+            }
+            // Already at the target: nothing smaller to try.
+            Err(e) if dx == 0.0 => return Err(e),
+            Err(e) => {
+                last_err = Some(e);
+                h *= 0.5;
+            }
+        }
+        if h < c.max_step * c.min_fraction {
+            return Err(last_err.unwrap_or(SolveError::Unassemblable { block: 0, residual: f64::NAN, iterations: 0 }));
+        }
+    }
+}
+
+/// How far the corrector moved from the prediction, relative to the substep's change of the state.
+fn jump(predicted: &[f64], corrected: &[f64], before: &[f64]) -> f64 {
+    let mut moved: f64 = 0.0;
+    let mut scale: f64 = 1e-12;
+    for i in 0..predicted.len() {
+        moved = moved.max((corrected[i] - predicted[i]).abs());
+        scale = scale.max((predicted[i] - before[i]).abs()).max((corrected[i] - before[i]).abs());
+    }
+    // Absolute floor: corrections of a converged Newton are tiny compared with a branch flip.
+    if moved < 1e-9 * (1.0 + before.iter().fold(0.0f64, |m, v| m.max(v.abs()))) { 0.0 } else { moved / scale }
+}
+
+/// Sweeps input `index` over `values` (radians or file units) from the file's start configuration,
+/// with input rate `rate` and zero input acceleration. Failed rows keep the sweep going from the
+/// last state reached.
+pub fn sweep(k: &dyn Kinematics<f64>, index: usize, values: &[f64], rate: f64, c: &Continuation) -> Vec<Row> {
+    let info: MechanismInfo = k.info();
+    let mut x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
+    let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
+    let (ni, nu, np) = (x.len(), q.len(), info.points.len());
+    let mut xd = vec![0.0; ni];
+    if let Some(v) = xd.get_mut(index) {
+        *v = rate;
+    }
+    let xdd = vec![0.0; ni];
+    // Settle the start configuration itself first (the file's values may be rounded).
+    let mut start_q = q.clone();
+    if k.solve_position(&x, &mut start_q, &c.newton).is_ok() {
+        q = start_q;
+    }
+    values
+        .iter()
+        .map(|&target| {
+            let result = continue_to(k, &mut x, &mut q, index, target, c).and_then(|condition| {
+                let mut qd = vec![0.0; nu];
+                let mut qdd = vec![0.0; nu];
+                let mut points = vec![PointMotion::default(); np];
+                k.solve_velocity(&x, &q, &xd, &mut qd)?;
+                k.solve_acceleration(&x, &q, &xd, &qd, &xdd, &mut qdd)?;
+                k.points(&x, &q, &xd, &qd, &xdd, &qdd, &mut points)?;
+                Ok(Solved { q: q.clone(), qd, qdd, points, condition })
+            });
+            Row { input: target, result }
+        })
+        .collect()
+}

@@ -28,13 +28,26 @@ pub enum SolveError {
     NonFinite { quantity: Quantity, index: usize },
     /// Newton found no configuration: the residual stayed large (relative norm given). Past a dead
     /// point, or an input out of the mechanism's range.
-    Unassemblable { block: usize, residual: f64, iterations: u32 },
+    Unassemblable {
+        block: usize,
+        residual: f64,
+        iterations: u32,
+    },
     /// The Jacobian block is singular to working precision (a dead point): `pivot_ratio` is the
     /// smallest over the largest pivot of the elimination.
-    Singular { block: usize, stage: Stage, pivot_ratio: f64 },
+    Singular {
+        block: usize,
+        stage: Stage,
+        pivot_ratio: f64,
+    },
     /// Newton stopped at the iteration cap with a small residual but without reaching the
     /// tolerance (raise `max_iterations` or loosen `tolerance`).
-    NoConvergence { block: usize, residual: f64, step: f64, iterations: u32 },
+    NoConvergence {
+        block: usize,
+        residual: f64,
+        step: f64,
+        iterations: u32,
+    },
     /// A slice given to the object-safe API has the wrong length.
     BadLength { expected: usize, got: usize },
     /// The computation produced a non-finite value from finite arguments (overflow).
@@ -58,20 +71,42 @@ impl SolveError {
 impl fmt::Display for SolveError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SolveError::NonFinite { quantity, index } => write!(f, "non-finite {quantity:?} at index {index}"),
-            SolveError::Unassemblable { block, residual, iterations } => write!(
+            SolveError::NonFinite { quantity, index } => {
+                write!(f, "non-finite {quantity:?} at index {index}")
+            }
+            SolveError::Unassemblable {
+                block,
+                residual,
+                iterations,
+            } => write!(
                 f,
                 "unassemblable: block {block} has no solution near the guess (relative residual {residual:.3e} after {iterations} iterations)"
             ),
-            SolveError::Singular { block, stage, pivot_ratio } => {
-                write!(f, "singular Jacobian in block {block} ({stage:?} solve, pivot ratio {pivot_ratio:.3e})")
+            SolveError::Singular {
+                block,
+                stage,
+                pivot_ratio,
+            } => {
+                write!(
+                    f,
+                    "singular Jacobian in block {block} ({stage:?} solve, pivot ratio {pivot_ratio:.3e})"
+                )
             }
-            SolveError::NoConvergence { block, residual, step, iterations } => write!(
+            SolveError::NoConvergence {
+                block,
+                residual,
+                step,
+                iterations,
+            } => write!(
                 f,
                 "no convergence in block {block} after {iterations} iterations (relative residual {residual:.3e}, last step {step:.3e})"
             ),
-            SolveError::BadLength { expected, got } => write!(f, "slice of length {got}, expected {expected}"),
-            SolveError::Overflow { block, stage } => write!(f, "overflow in block {block} ({stage:?} solve)"),
+            SolveError::BadLength { expected, got } => {
+                write!(f, "slice of length {got}, expected {expected}")
+            }
+            SolveError::Overflow { block, stage } => {
+                write!(f, "overflow in block {block} ({stage:?} solve)")
+            }
         }
     }
 }

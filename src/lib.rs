@@ -18,15 +18,21 @@ extern crate self as mechgen;
 
 pub mod error;
 pub mod mechanism;
+pub mod report;
 pub mod scalar;
 pub mod solve;
 pub mod sweep;
 
 pub use error::{Quantity, SolveError, Stage};
-pub use mechanism::{Array, CoordInfo, Kind, Kinematics, Mechanism, MechanismInfo, ParamInfo, PointMotion, StaticInfo};
+pub use mechanism::{
+    Array, CoordInfo, Kind, Kinematics, Mechanism, MechanismInfo, ParamInfo, PointMotion,
+    StaticInfo,
+};
 pub use nalgebra;
 pub use scalar::Real;
-pub use solve::{check_finite, copy_row_major, gauss, newton_block, solve_block, NewtonOptions, NewtonReport};
+pub use solve::{
+    NewtonOptions, NewtonReport, check_finite, copy_row_major, gauss, newton_block, solve_block,
+};
 
 /// The solvers generated from the build's mechanism file (`mechanism.toml`, or `MECHGEN_MECHANISM`).
 pub mod generated {

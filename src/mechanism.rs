@@ -57,13 +57,21 @@ pub struct MechanismInfo {
 
 impl From<&StaticInfo> for MechanismInfo {
     fn from(s: &StaticInfo) -> Self {
-        let coords = |cs: &[CoordInfo]| cs.iter().map(|c| (c.name.to_string(), c.kind, c.start)).collect();
+        let coords = |cs: &[CoordInfo]| {
+            cs.iter()
+                .map(|c| (c.name.to_string(), c.kind, c.start))
+                .collect()
+        };
         MechanismInfo {
             name: s.name.to_string(),
             description: s.description.to_string(),
             inputs: coords(s.inputs),
             unknowns: coords(s.unknowns),
-            params: s.params.iter().map(|p| (p.name.to_string(), p.kind, p.default)).collect(),
+            params: s
+                .params
+                .iter()
+                .map(|p| (p.name.to_string(), p.kind, p.default))
+                .collect(),
             points: s.points.iter().map(|p| p.to_string()).collect(),
             blocks: s.blocks.iter().map(|b| b.to_vec()).collect(),
         }
@@ -79,7 +87,9 @@ pub struct PointMotion<T> {
 }
 
 /// A fixed-size coordinate array (`[T; N]`).
-pub trait Array<T>: Copy + AsRef<[T]> + AsMut<[T]> + core::fmt::Debug + Send + Sync + 'static {
+pub trait Array<T>:
+    Copy + AsRef<[T]> + AsMut<[T]> + core::fmt::Debug + Send + Sync + 'static
+{
     fn zeros() -> Self;
 }
 
@@ -110,9 +120,22 @@ pub trait Mechanism<T: Real>: Send + Sync {
     /// J̇, row-major into `out`.
     fn jacobian_dot(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, out: &mut [T]);
     /// γ with J q̈ = γ.
-    fn acceleration_rhs(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X) -> Self::Q;
-    fn solve_position(&self, x: &Self::X, q: &mut Self::Q, options: &NewtonOptions<T>) -> Result<NewtonReport<T>, SolveError>;
-    fn solve_velocity(&self, x: &Self::X, q: &Self::Q, xd: &Self::X) -> Result<Self::Q, SolveError>;
+    fn acceleration_rhs(
+        &self,
+        x: &Self::X,
+        q: &Self::Q,
+        xd: &Self::X,
+        qd: &Self::Q,
+        xdd: &Self::X,
+    ) -> Self::Q;
+    fn solve_position(
+        &self,
+        x: &Self::X,
+        q: &mut Self::Q,
+        options: &NewtonOptions<T>,
+    ) -> Result<NewtonReport<T>, SolveError>;
+    fn solve_velocity(&self, x: &Self::X, q: &Self::Q, xd: &Self::X)
+    -> Result<Self::Q, SolveError>;
     fn solve_acceleration(
         &self,
         x: &Self::X,
@@ -143,14 +166,40 @@ pub trait Kinematics<T: Real> {
     fn residual(&self, x: &[T], q: &[T], out: &mut [T]) -> Result<(), SolveError>;
     fn jacobian(&self, x: &[T], q: &[T], out: &mut [T]) -> Result<(), SolveError>;
     fn input_jacobian(&self, x: &[T], q: &[T], out: &mut [T]) -> Result<(), SolveError>;
-    fn jacobian_dot(&self, x: &[T], q: &[T], xd: &[T], qd: &[T], out: &mut [T]) -> Result<(), SolveError>;
-    fn acceleration_rhs(&self, x: &[T], q: &[T], xd: &[T], qd: &[T], xdd: &[T], out: &mut [T])
-    -> Result<(), SolveError>;
-    fn solve_position(&self, x: &[T], q: &mut [T], options: &NewtonOptions<T>) -> Result<NewtonReport<T>, SolveError>;
+    fn jacobian_dot(
+        &self,
+        x: &[T],
+        q: &[T],
+        xd: &[T],
+        qd: &[T],
+        out: &mut [T],
+    ) -> Result<(), SolveError>;
+    fn acceleration_rhs(
+        &self,
+        x: &[T],
+        q: &[T],
+        xd: &[T],
+        qd: &[T],
+        xdd: &[T],
+        out: &mut [T],
+    ) -> Result<(), SolveError>;
+    fn solve_position(
+        &self,
+        x: &[T],
+        q: &mut [T],
+        options: &NewtonOptions<T>,
+    ) -> Result<NewtonReport<T>, SolveError>;
     fn solve_velocity(&self, x: &[T], q: &[T], xd: &[T], qd: &mut [T]) -> Result<(), SolveError>;
     #[allow(clippy::too_many_arguments)]
-    fn solve_acceleration(&self, x: &[T], q: &[T], xd: &[T], qd: &[T], xdd: &[T], qdd: &mut [T])
-    -> Result<(), SolveError>;
+    fn solve_acceleration(
+        &self,
+        x: &[T],
+        q: &[T],
+        xd: &[T],
+        qd: &[T],
+        xdd: &[T],
+        qdd: &mut [T],
+    ) -> Result<(), SolveError>;
     #[allow(clippy::too_many_arguments)]
     fn points(
         &self,
@@ -168,7 +217,10 @@ fn arr<T: Real, A: Array<T>>(s: &[T]) -> Result<A, SolveError> {
     let mut a = A::zeros();
     let dst = a.as_mut();
     if dst.len() != s.len() {
-        return Err(SolveError::BadLength { expected: dst.len(), got: s.len() });
+        return Err(SolveError::BadLength {
+            expected: dst.len(),
+            got: s.len(),
+        });
     }
     dst.copy_from_slice(s);
     Ok(a)
@@ -176,14 +228,24 @@ fn arr<T: Real, A: Array<T>>(s: &[T]) -> Result<A, SolveError> {
 
 fn put<T: Real>(dst: &mut [T], src: &[T]) -> Result<(), SolveError> {
     if dst.len() != src.len() {
-        return Err(SolveError::BadLength { expected: src.len(), got: dst.len() });
+        return Err(SolveError::BadLength {
+            expected: src.len(),
+            got: dst.len(),
+        });
     }
     dst.copy_from_slice(src);
     Ok(())
 }
 
 fn len<T>(s: &[T], expected: usize) -> Result<(), SolveError> {
-    if s.len() == expected { Ok(()) } else { Err(SolveError::BadLength { expected, got: s.len() }) }
+    if s.len() == expected {
+        Ok(())
+    } else {
+        Err(SolveError::BadLength {
+            expected,
+            got: s.len(),
+        })
+    }
 }
 
 impl<T: Real, M: Mechanism<T>> Kinematics<T> for M {
@@ -204,7 +266,14 @@ impl<T: Real, M: Mechanism<T>> Kinematics<T> for M {
         Mechanism::input_jacobian(self, &arr(x)?, &arr(q)?, out);
         Ok(())
     }
-    fn jacobian_dot(&self, x: &[T], q: &[T], xd: &[T], qd: &[T], out: &mut [T]) -> Result<(), SolveError> {
+    fn jacobian_dot(
+        &self,
+        x: &[T],
+        q: &[T],
+        xd: &[T],
+        qd: &[T],
+        out: &mut [T],
+    ) -> Result<(), SolveError> {
         len(out, M::UNKNOWNS * M::UNKNOWNS)?;
         Mechanism::jacobian_dot(self, &arr(x)?, &arr(q)?, &arr(xd)?, &arr(qd)?, out);
         Ok(())
@@ -218,10 +287,16 @@ impl<T: Real, M: Mechanism<T>> Kinematics<T> for M {
         xdd: &[T],
         out: &mut [T],
     ) -> Result<(), SolveError> {
-        let g = Mechanism::acceleration_rhs(self, &arr(x)?, &arr(q)?, &arr(xd)?, &arr(qd)?, &arr(xdd)?);
+        let g =
+            Mechanism::acceleration_rhs(self, &arr(x)?, &arr(q)?, &arr(xd)?, &arr(qd)?, &arr(xdd)?);
         put(out, g.as_ref())
     }
-    fn solve_position(&self, x: &[T], q: &mut [T], options: &NewtonOptions<T>) -> Result<NewtonReport<T>, SolveError> {
+    fn solve_position(
+        &self,
+        x: &[T],
+        q: &mut [T],
+        options: &NewtonOptions<T>,
+    ) -> Result<NewtonReport<T>, SolveError> {
         let mut qa: M::Q = arr(q)?;
         let report = Mechanism::solve_position(self, &arr(x)?, &mut qa, options)?;
         put(q, qa.as_ref())?;
@@ -240,7 +315,14 @@ impl<T: Real, M: Mechanism<T>> Kinematics<T> for M {
         xdd: &[T],
         qdd: &mut [T],
     ) -> Result<(), SolveError> {
-        let a = Mechanism::solve_acceleration(self, &arr(x)?, &arr(q)?, &arr(xd)?, &arr(qd)?, &arr(xdd)?)?;
+        let a = Mechanism::solve_acceleration(
+            self,
+            &arr(x)?,
+            &arr(q)?,
+            &arr(xd)?,
+            &arr(qd)?,
+            &arr(xdd)?,
+        )?;
         put(qdd, a.as_ref())
     }
     fn points(
@@ -254,7 +336,16 @@ impl<T: Real, M: Mechanism<T>> Kinematics<T> for M {
         out: &mut [PointMotion<T>],
     ) -> Result<(), SolveError> {
         len(out, M::POINTS)?;
-        Mechanism::points(self, &arr(x)?, &arr(q)?, &arr(xd)?, &arr(qd)?, &arr(xdd)?, &arr(qdd)?, out);
+        Mechanism::points(
+            self,
+            &arr(x)?,
+            &arr(q)?,
+            &arr(xd)?,
+            &arr(qd)?,
+            &arr(xdd)?,
+            &arr(qdd)?,
+            out,
+        );
         Ok(())
     }
 }

@@ -18,7 +18,10 @@ pub struct NewtonOptions<T> {
 
 impl<T: Real> Default for NewtonOptions<T> {
     fn default() -> Self {
-        NewtonOptions { tolerance: T::DEFAULT_TOLERANCE, max_iterations: 64 }
+        NewtonOptions {
+            tolerance: T::DEFAULT_TOLERANCE,
+            max_iterations: 64,
+        }
     }
 }
 
@@ -36,12 +39,20 @@ pub struct NewtonReport<T> {
 
 impl<T: Real> NewtonReport<T> {
     pub fn new() -> Self {
-        NewtonReport { iterations: 0, residual: T::zero(), pivot_ratio: T::one() }
+        NewtonReport {
+            iterations: 0,
+            residual: T::zero(),
+            pivot_ratio: T::one(),
+        }
     }
 
     /// A condition estimate of the Jacobian: 1 / pivot ratio.
     pub fn condition(&self) -> T {
-        if self.pivot_ratio > T::zero() { T::one() / self.pivot_ratio } else { T::lit(f64::INFINITY) }
+        if self.pivot_ratio > T::zero() {
+            T::one() / self.pivot_ratio
+        } else {
+            T::lit(f64::INFINITY)
+        }
     }
 }
 
@@ -62,7 +73,10 @@ pub fn check_finite<T: Real>(quantity: Quantity, values: &[T]) -> Result<(), Sol
 /// Solves `a z = b` by Gaussian elimination with column equilibration and partial pivoting.
 /// Returns the solution and the pivot ratio, or the pivot ratio when `a` is singular to working
 /// precision.
-pub fn gauss<T: Real, const K: usize>(mut a: SMatrix<T, K, K>, mut b: SVector<T, K>) -> Result<(SVector<T, K>, T), T> {
+pub fn gauss<T: Real, const K: usize>(
+    mut a: SMatrix<T, K, K>,
+    mut b: SVector<T, K>,
+) -> Result<(SVector<T, K>, T), T> {
     let mut col_scale = [T::one(); K];
     for (j, s) in col_scale.iter_mut().enumerate() {
         let mut m = T::zero();
@@ -93,7 +107,11 @@ pub fn gauss<T: Real, const K: usize>(mut a: SMatrix<T, K, K>, mut b: SVector<T,
         pmin = pmin.min(piv.abs());
         pmax = pmax.max(piv.abs());
         if !(pmin > pmax * T::EPSILON * T::lit(K as f64)) {
-            return Err(if pmax > T::zero() { pmin / pmax } else { T::zero() });
+            return Err(if pmax > T::zero() {
+                pmin / pmax
+            } else {
+                T::zero()
+            });
         }
         for r in c + 1..K {
             let f = a[(r, c)] / piv;
@@ -131,7 +149,11 @@ pub fn solve_block<T: Real, const K: usize>(
     match gauss(jac, rhs) {
         Ok((z, _)) if z.iter().all(|v| v.is_finite()) => Ok(z),
         Ok(_) => Err(SolveError::Overflow { block, stage }),
-        Err(ratio) => Err(SolveError::Singular { block, stage, pivot_ratio: ratio.to_f64() }),
+        Err(ratio) => Err(SolveError::Singular {
+            block,
+            stage,
+            pivot_ratio: ratio.to_f64(),
+        }),
     }
 }
 
@@ -165,7 +187,11 @@ pub fn newton_block<T: Real, const K: usize, const N: usize>(
             residual = residual.max(v.abs() * inv_scale);
         }
         if !residual.is_finite() {
-            return Err(SolveError::Unassemblable { block, residual: f64::INFINITY, iterations: it });
+            return Err(SolveError::Unassemblable {
+                block,
+                residual: f64::INFINITY,
+                iterations: it,
+            });
         }
         let (dz, ratio) = match gauss(jac, r) {
             Ok(s) => s,
@@ -177,17 +203,29 @@ pub fn newton_block<T: Real, const K: usize, const N: usize>(
                     report.pivot_ratio = report.pivot_ratio.min(ratio);
                     return Ok(());
                 }
-                return Err(SolveError::Singular { block, stage: Stage::Position, pivot_ratio: ratio.to_f64() });
+                return Err(SolveError::Singular {
+                    block,
+                    stage: Stage::Position,
+                    pivot_ratio: ratio.to_f64(),
+                });
             }
         };
         step = T::zero();
         for i in 0..K {
-            let s = if length[i] { dz[i].abs() * inv_scale } else { dz[i].abs() };
+            let s = if length[i] {
+                dz[i].abs() * inv_scale
+            } else {
+                dz[i].abs()
+            };
             step = step.max(s);
             q[idx[i]] -= dz[i];
         }
         if !step.is_finite() {
-            return Err(SolveError::Unassemblable { block, residual: residual.to_f64(), iterations: it });
+            return Err(SolveError::Unassemblable {
+                block,
+                residual: residual.to_f64(),
+                iterations: it,
+            });
         }
         // Steps that stopped shrinking, at a level only rounding explains: nothing more to gain.
         let stagnated = step <= T::EPSILON.sqrt() && step >= prev_step;
@@ -201,14 +239,26 @@ pub fn newton_block<T: Real, const K: usize, const N: usize>(
     }
     let iterations = options.max_iterations;
     if residual > T::EPSILON.sqrt() {
-        Err(SolveError::Unassemblable { block, residual: residual.to_f64(), iterations })
+        Err(SolveError::Unassemblable {
+            block,
+            residual: residual.to_f64(),
+            iterations,
+        })
     } else {
-        Err(SolveError::NoConvergence { block, residual: residual.to_f64(), step: step.to_f64(), iterations })
+        Err(SolveError::NoConvergence {
+            block,
+            residual: residual.to_f64(),
+            step: step.to_f64(),
+            iterations,
+        })
     }
 }
 
 /// Copies a matrix into a row-major slice (as much as fits).
-pub fn copy_row_major<T: Real, const R: usize, const C: usize>(m: &SMatrix<T, R, C>, out: &mut [T]) {
+pub fn copy_row_major<T: Real, const R: usize, const C: usize>(
+    m: &SMatrix<T, R, C>,
+    out: &mut [T],
+) {
     for i in 0..R {
         for j in 0..C {
             if let Some(o) = out.get_mut(i * C + j) {

@@ -23,7 +23,11 @@ impl Continuation {
             Kind::Angle => 2f64.to_radians(),
             Kind::Length => (span.abs() / 180.0).max(f64::MIN_POSITIVE),
         };
-        Continuation { max_step, min_fraction: 1e-9, newton: NewtonOptions::default() }
+        Continuation {
+            max_step,
+            min_fraction: 1e-9,
+            newton: NewtonOptions::default(),
+        }
     }
 }
 
@@ -70,7 +74,11 @@ pub fn continue_to(
         // dq/dx along the branch, from J q' = −Φx e_index.
         let have_tangent = k.solve_velocity(x, q, &unit, &mut tangent).is_ok();
         xt.copy_from_slice(x);
-        xt[index] = if remaining.abs() <= h { target } else { x[index] + dir * step };
+        xt[index] = if remaining.abs() <= h {
+            target
+        } else {
+            x[index] + dir * step
+        };
         let dx = xt[index] - x[index];
         for i in 0..n {
             trial[i] = q[i] + if have_tangent { tangent[i] * dx } else { 0.0 };
@@ -97,7 +105,11 @@ pub fn continue_to(
             }
         }
         if h < c.max_step * c.min_fraction {
-            return Err(last_err.unwrap_or(SolveError::Unassemblable { block: 0, residual: f64::NAN, iterations: 0 }));
+            return Err(last_err.unwrap_or(SolveError::Unassemblable {
+                block: 0,
+                residual: f64::NAN,
+                iterations: 0,
+            }));
         }
     }
 }
@@ -108,16 +120,28 @@ fn jump(predicted: &[f64], corrected: &[f64], before: &[f64]) -> f64 {
     let mut scale: f64 = 1e-12;
     for i in 0..predicted.len() {
         moved = moved.max((corrected[i] - predicted[i]).abs());
-        scale = scale.max((predicted[i] - before[i]).abs()).max((corrected[i] - before[i]).abs());
+        scale = scale
+            .max((predicted[i] - before[i]).abs())
+            .max((corrected[i] - before[i]).abs());
     }
     // Absolute floor: corrections of a converged Newton are tiny compared with a branch flip.
-    if moved < 1e-9 * (1.0 + before.iter().fold(0.0f64, |m, v| m.max(v.abs()))) { 0.0 } else { moved / scale }
+    if moved < 1e-9 * (1.0 + before.iter().fold(0.0f64, |m, v| m.max(v.abs()))) {
+        0.0
+    } else {
+        moved / scale
+    }
 }
 
 /// Sweeps input `index` over `values` (radians or file units) from the file's start configuration,
 /// with input rate `rate` and zero input acceleration. Failed rows keep the sweep going from the
 /// last state reached.
-pub fn sweep(k: &dyn Kinematics<f64>, index: usize, values: &[f64], rate: f64, c: &Continuation) -> Vec<Row> {
+pub fn sweep(
+    k: &dyn Kinematics<f64>,
+    index: usize,
+    values: &[f64],
+    rate: f64,
+    c: &Continuation,
+) -> Vec<Row> {
     let info: MechanismInfo = k.info();
     let mut x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
     let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
@@ -142,9 +166,18 @@ pub fn sweep(k: &dyn Kinematics<f64>, index: usize, values: &[f64], rate: f64, c
                 k.solve_velocity(&x, &q, &xd, &mut qd)?;
                 k.solve_acceleration(&x, &q, &xd, &qd, &xdd, &mut qdd)?;
                 k.points(&x, &q, &xd, &qd, &xdd, &qdd, &mut points)?;
-                Ok(Solved { q: q.clone(), qd, qdd, points, condition })
+                Ok(Solved {
+                    q: q.clone(),
+                    qd,
+                    qdd,
+                    points,
+                    condition,
+                })
             });
-            Row { input: target, result }
+            Row {
+                input: target,
+                result,
+            }
         })
         .collect()
 }

@@ -2,24 +2,42 @@
 
 mod common;
 
-use common::{compare, Table};
-use mechgen::sweep::{sweep, Continuation};
+use common::{Table, compare};
 use mechgen::Kind;
+use mechgen::sweep::{Continuation, sweep};
 
 fn check_against_reference(name: &str, tolerance: f64) {
     let k = mechgen::lookup::<f64>(name).expect("compiled in");
-    let reference = Table::read(&format!("{}/tests/data/{name}.csv", env!("CARGO_MANIFEST_DIR")));
+    let reference = Table::read(&format!(
+        "{}/tests/data/{name}.csv",
+        env!("CARGO_MANIFEST_DIR")
+    ));
     let info = k.info();
     let input = &reference.header[0];
     assert_eq!(input, &info.inputs[0].0);
     let values = reference.column(input);
-    let rows = sweep(k.as_ref(), 0, &values, 1.0, &Continuation::for_input(Kind::Angle, 0.0));
-    assert!(rows.iter().all(|r| r.result.is_ok()), "{name}: every row solves");
+    let rows = sweep(
+        k.as_ref(),
+        0,
+        &values,
+        1.0,
+        &Continuation::for_input(Kind::Angle, 0.0),
+    );
+    assert!(
+        rows.iter().all(|r| r.result.is_ok()),
+        "{name}: every row solves"
+    );
     let errors = compare(&info, &rows, &reference);
     for (col, err) in &errors {
-        assert!(*err <= tolerance, "{name}.{col}: error {err:e} > {tolerance:e}");
+        assert!(
+            *err <= tolerance,
+            "{name}.{col}: error {err:e} > {tolerance:e}"
+        );
     }
-    eprintln!("{name}: largest error {:e}", errors.iter().fold(0.0f64, |m, e| m.max(e.1)));
+    eprintln!(
+        "{name}: largest error {:e}",
+        errors.iter().fold(0.0f64, |m, e| m.max(e.1))
+    );
 }
 
 #[test]

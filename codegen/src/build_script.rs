@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::diagnostic::{render, SourceFile};
+use crate::diagnostic::{SourceFile, render};
 
 /// Name of the generated file in `OUT_DIR`.
 pub const GENERATED_FILE: &str = "mechanisms.rs";
@@ -28,9 +28,13 @@ pub fn generate(input: &Path, display_name: &str, out_dir: &Path) -> Result<Gene
             let path = out_dir.join(GENERATED_FILE);
             // Write only on change, so an unchanged file does not rebuild dependents.
             if std::fs::read_to_string(&path).ok().as_deref() != Some(code.as_str()) {
-                std::fs::write(&path, code).map_err(|e| format!("{}: error: cannot write: {e}", path.display()))?;
+                std::fs::write(&path, code)
+                    .map_err(|e| format!("{}: error: cannot write: {e}", path.display()))?;
             }
-            Ok(Generated { path, warnings: render(&file, &warnings) })
+            Ok(Generated {
+                path,
+                warnings: render(&file, &warnings),
+            })
         }
         Err(diags) => Err(render(&file, &diags)),
     }
@@ -40,14 +44,19 @@ pub fn generate(input: &Path, display_name: &str, out_dir: &Path) -> Result<Gene
 /// 1 after printing the errors when the file is invalid.
 pub fn run() {
     println!("cargo::rerun-if-env-changed={ENV_VAR}");
-    let manifest = std::env::var_os("CARGO_MANIFEST_DIR").map(PathBuf::from).unwrap_or_default();
+    let manifest = std::env::var_os("CARGO_MANIFEST_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_default();
     let (input, display) = match std::env::var_os(ENV_VAR).filter(|v| !v.is_empty()) {
         Some(p) => {
             let p = PathBuf::from(p);
             let d = p.display().to_string();
             (p, d)
         }
-        None => (manifest.join("mechanism.toml"), "mechanism.toml".to_string()),
+        None => (
+            manifest.join("mechanism.toml"),
+            "mechanism.toml".to_string(),
+        ),
     };
     println!("cargo::rerun-if-changed={}", input.display());
     let Some(out_dir) = std::env::var_os("OUT_DIR").map(PathBuf::from) else {

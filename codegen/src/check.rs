@@ -97,16 +97,22 @@ pub fn check(file: &ast::File, diags: &mut Vec<Diagnostic>) -> Vec<Model> {
 }
 
 fn duplicate(name: &Name, prev: Span, what: &str) -> Diagnostic {
-    Diagnostic::error(name.span, format!("{what} `{}` is declared twice", name.text))
-        .with_label("second declaration")
-        .with_note(format!("first declared at byte {}", prev.start))
+    Diagnostic::error(
+        name.span,
+        format!("{what} `{}` is declared twice", name.text),
+    )
+    .with_label("second declaration")
+    .with_note(format!("first declared at byte {}", prev.start))
 }
 
 fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
     if !is_snake_case(&m.name.text) {
         diags.push(
-            Diagnostic::error(m.name.span, format!("mechanism name `{}` is not snake_case", m.name.text))
-                .with_note("it names the generated module; use lowercase letters, digits and `_`"),
+            Diagnostic::error(
+                m.name.span,
+                format!("mechanism name `{}` is not snake_case", m.name.text),
+            )
+            .with_note("it names the generated module; use lowercase letters, digits and `_`"),
         );
     }
     let mut symbols: HashMap<String, Symbol> = HashMap::new();
@@ -124,8 +130,14 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
             symbols.insert(name.text.clone(), sym);
         }
     };
-    m.inputs.iter().enumerate().for_each(|(i, n)| declare(n, Symbol::Input(i), diags));
-    m.unknowns.iter().enumerate().for_each(|(i, n)| declare(n, Symbol::Unknown(i), diags));
+    m.inputs
+        .iter()
+        .enumerate()
+        .for_each(|(i, n)| declare(n, Symbol::Input(i), diags));
+    m.unknowns
+        .iter()
+        .enumerate()
+        .for_each(|(i, n)| declare(n, Symbol::Unknown(i), diags));
 
     // Params, in file order, each evaluated with the ones before it.
     let mut params: Vec<Param> = Vec::new();
@@ -138,7 +150,12 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
             ExprKind::Number(_) => None,
             _ => Some(format!("{}", Shown(expr))),
         };
-        params.push(Param { name: name.clone(), kind: Kind::Length, value, source });
+        params.push(Param {
+            name: name.clone(),
+            kind: Kind::Length,
+            value,
+            source,
+        });
     }
 
     // Loops and points: types, names, angle inference.
@@ -148,19 +165,31 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
     }
     for (name, p) in &m.points {
         if RESERVED.contains(&name.text.as_str()) {
-            diags.push(Diagnostic::error(name.span, format!("`{}` is a reserved name", name.text)));
+            diags.push(Diagnostic::error(
+                name.span,
+                format!("`{}` is a reserved name", name.text),
+            ));
         }
         if type_of(p, &symbols, false, &mut angles, diags) == Some(Ty::Scalar) {
             diags.push(
-                Diagnostic::error(p.span, format!("point `{}` is a scalar, not a vector", name.text))
-                    .with_note("write it as a vector, e.g. `c(x, 0)` or `sE + c(0, yE)`"),
+                Diagnostic::error(
+                    p.span,
+                    format!("point `{}` is a scalar, not a vector", name.text),
+                )
+                .with_note("write it as a vector, e.g. `c(x, 0)` or `sE + c(0, yE)`"),
             );
         }
     }
     for (_, e) in &m.params {
         let _ = type_of(e, &symbols, true, &mut angles, diags);
     }
-    let kind_of = |s: Symbol| if angles.contains(&s) { Kind::Angle } else { Kind::Length };
+    let kind_of = |s: Symbol| {
+        if angles.contains(&s) {
+            Kind::Angle
+        } else {
+            Kind::Length
+        }
+    };
     for (i, p) in params.iter_mut().enumerate() {
         p.kind = kind_of(Symbol::Param(i));
     }
@@ -183,7 +212,10 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         );
     }
     if m.inputs.is_empty() {
-        diags.push(Diagnostic::error(m.name.span, format!("mechanism `{}` has no inputs", m.name.text)));
+        diags.push(Diagnostic::error(
+            m.name.span,
+            format!("mechanism `{}` has no inputs", m.name.text),
+        ));
     }
 
     // Start configuration.
@@ -196,12 +228,19 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
                     diags.push(duplicate(name, name.span, "start value"));
                 }
             }
-            Some(Symbol::Param(_)) => diags.push(
-                Diagnostic::error(name.span, format!("`{}` is a param; `start` gives inputs and unknowns", name.text)),
-            ),
+            Some(Symbol::Param(_)) => diags.push(Diagnostic::error(
+                name.span,
+                format!(
+                    "`{}` is a param; `start` gives inputs and unknowns",
+                    name.text
+                ),
+            )),
             None => diags.push(
-                Diagnostic::error(name.span, format!("`{}` in `start` is not an input or unknown", name.text))
-                    .with_label("undefined name"),
+                Diagnostic::error(
+                    name.span,
+                    format!("`{}` in `start` is not an input or unknown", name.text),
+                )
+                .with_label("undefined name"),
             ),
         }
     }
@@ -213,11 +252,18 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
                 let value = start.get(n.text.as_str()).copied();
                 if value.is_none() {
                     diags.push(
-                        Diagnostic::error(n.span, format!("missing `start` value for `{}`", n.text))
-                            .with_note("`start` needs a value for every input and unknown"),
+                        Diagnostic::error(
+                            n.span,
+                            format!("missing `start` value for `{}`", n.text),
+                        )
+                        .with_note("`start` needs a value for every input and unknown"),
                     );
                 }
-                Coord { name: n.clone(), kind: kind_of(make(i)), start: value.unwrap_or(0.0) }
+                Coord {
+                    name: n.clone(),
+                    kind: kind_of(make(i)),
+                    start: value.unwrap_or(0.0),
+                }
             })
             .collect::<Vec<_>>()
     };
@@ -236,13 +282,24 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
     }
 }
 
-fn check_scene(s: &ast::Scene, file: &ast::File, models: &mut [Model], diags: &mut Vec<Diagnostic>) {
+fn check_scene(
+    s: &ast::Scene,
+    file: &ast::File,
+    models: &mut [Model],
+    diags: &mut Vec<Diagnostic>,
+) {
     let Some(mech) = &s.mechanism else { return };
     let Some(model) = models.iter_mut().find(|m| m.name.text == mech.text) else {
         if !file.mechanisms.iter().any(|m| m.name.text == mech.text) {
             diags.push(
-                Diagnostic::error(mech.span, format!("scene `{}` uses undefined mechanism `{}`", s.name.text, mech.text))
-                    .with_label("no such mechanism"),
+                Diagnostic::error(
+                    mech.span,
+                    format!(
+                        "scene `{}` uses undefined mechanism `{}`",
+                        s.name.text, mech.text
+                    ),
+                )
+                .with_label("no such mechanism"),
             );
         }
         return;
@@ -251,11 +308,19 @@ fn check_scene(s: &ast::Scene, file: &ast::File, models: &mut [Model], diags: &m
         None => 2,
         Some((o @ 0..=2, _)) => o as u8,
         Some((o, span)) => {
-            diags.push(Diagnostic::error(span, format!("scene order {o} is not 0, 1 or 2")));
+            diags.push(Diagnostic::error(
+                span,
+                format!("scene order {o} is not 0, 1 or 2"),
+            ));
             return;
         }
     };
-    let mut scene = Scene { name: s.name.clone(), unknowns: vec![], points: vec![], order };
+    let mut scene = Scene {
+        name: s.name.clone(),
+        unknowns: vec![],
+        points: vec![],
+        order,
+    };
     for out in &s.outputs {
         if let Some(Symbol::Unknown(i)) = model.symbols.get(&out.text) {
             scene.unknowns.push(*i);
@@ -263,8 +328,14 @@ fn check_scene(s: &ast::Scene, file: &ast::File, models: &mut [Model], diags: &m
             scene.points.push(i);
         } else {
             diags.push(
-                Diagnostic::error(out.span, format!("`{}` is not an unknown or point of `{}`", out.text, mech.text))
-                    .with_label("undefined output"),
+                Diagnostic::error(
+                    out.span,
+                    format!(
+                        "`{}` is not an unknown or point of `{}`",
+                        out.text, mech.text
+                    ),
+                )
+                .with_label("undefined output"),
             );
         }
     }
@@ -273,11 +344,13 @@ fn check_scene(s: &ast::Scene, file: &ast::File, models: &mut [Model], diags: &m
 
 fn is_snake_case(s: &str) -> bool {
     s.chars().next().is_some_and(|c| c.is_ascii_lowercase())
-        && s.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+        && s.chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
 }
 
 fn undefined(name: &str, span: Span) -> Diagnostic {
-    Diagnostic::error(span, format!("undefined name `{name}`")).with_label("not an input, unknown or param")
+    Diagnostic::error(span, format!("undefined name `{name}`"))
+        .with_label("not an input, unknown or param")
 }
 
 /// Type of an expression; `None` after an error was reported. `params_only`: param expressions may
@@ -301,7 +374,10 @@ fn type_of(
             Some(Symbol::Param(_)) => Some(Ty::Scalar),
             Some(_) if !params_only => Some(Ty::Scalar),
             Some(_) => {
-                diags.push(Diagnostic::error(e.span, format!("param expression uses coordinate `{n}`")));
+                diags.push(Diagnostic::error(
+                    e.span,
+                    format!("param expression uses coordinate `{n}`"),
+                ));
                 None
             }
             None => {
@@ -319,9 +395,8 @@ fn type_of(
                 (BinOp::Add | BinOp::Sub, Ty::Scalar, Ty::Scalar) => Some(Ty::Scalar),
                 (BinOp::Add | BinOp::Sub, _, _) => Some(Ty::Vector),
                 (BinOp::Mul | BinOp::Div, Ty::Scalar, Ty::Scalar) => Some(Ty::Scalar),
-                (BinOp::Mul, Ty::Scalar, Ty::Vector) | (BinOp::Mul | BinOp::Div, Ty::Vector, Ty::Scalar) => {
-                    Some(Ty::Vector)
-                }
+                (BinOp::Mul, Ty::Scalar, Ty::Vector)
+                | (BinOp::Mul | BinOp::Div, Ty::Vector, Ty::Scalar) => Some(Ty::Vector),
                 (BinOp::Mul, Ty::Vector, Ty::Vector) => {
                     diags.push(
                         Diagnostic::error(e.span, "vector × vector is not defined")
@@ -330,7 +405,10 @@ fn type_of(
                     None
                 }
                 (BinOp::Div, _, Ty::Vector) => {
-                    diags.push(Diagnostic::error(b.span, "division by a vector is not defined"));
+                    diags.push(Diagnostic::error(
+                        b.span,
+                        "division by a vector is not defined",
+                    ));
                     None
                 }
             }
@@ -348,7 +426,8 @@ fn type_of(
                         format!("undefined function `{other}`")
                     };
                     diags.push(
-                        Diagnostic::error(f.span, msg).with_note("functions: e, c, deg, sin, cos, tan, sqrt"),
+                        Diagnostic::error(f.span, msg)
+                            .with_note("functions: e, c, deg, sin, cos, tan, sqrt"),
                     );
                     return None;
                 }
@@ -356,7 +435,12 @@ fn type_of(
             if args.len() != arity {
                 diags.push(Diagnostic::error(
                     e.span,
-                    format!("`{}` takes {arity} argument{}, got {}", f.text, if arity == 1 { "" } else { "s" }, args.len()),
+                    format!(
+                        "`{}` takes {arity} argument{}, got {}",
+                        f.text,
+                        if arity == 1 { "" } else { "s" },
+                        args.len()
+                    ),
                 ));
                 return None;
             }
@@ -365,7 +449,10 @@ fn type_of(
                 match go!(a, angles) {
                     Some(Ty::Scalar) => {}
                     Some(Ty::Vector) => {
-                        diags.push(Diagnostic::error(a.span, format!("`{}` of a vector is not defined", f.text)));
+                        diags.push(Diagnostic::error(
+                            a.span,
+                            format!("`{}` of a vector is not defined", f.text),
+                        ));
                         ok = false;
                     }
                     None => ok = false,
@@ -399,17 +486,30 @@ fn collect_names(e: &Expr, symbols: &HashMap<String, Symbol>, out: &mut Vec<Symb
 }
 
 /// Evaluates a scalar expression of params (params, start values) in f64.
-pub fn eval(e: &Expr, values: &HashMap<String, f64>, what: &str, diags: &mut Vec<Diagnostic>) -> Option<f64> {
+pub fn eval(
+    e: &Expr,
+    values: &HashMap<String, f64>,
+    what: &str,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<f64> {
     let v = eval_inner(e, values, what, diags)?;
     if v.is_finite() {
         Some(v)
     } else {
-        diags.push(Diagnostic::error(e.span, format!("{what} evaluates to a non-finite value ({v})")));
+        diags.push(Diagnostic::error(
+            e.span,
+            format!("{what} evaluates to a non-finite value ({v})"),
+        ));
         None
     }
 }
 
-fn eval_inner(e: &Expr, values: &HashMap<String, f64>, what: &str, diags: &mut Vec<Diagnostic>) -> Option<f64> {
+fn eval_inner(
+    e: &Expr,
+    values: &HashMap<String, f64>,
+    what: &str,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<f64> {
     let mut go = |x: &Expr| eval_inner(x, values, what, diags);
     Some(match &e.kind {
         ExprKind::Number(x) => *x,
@@ -444,13 +544,19 @@ fn eval_inner(e: &Expr, values: &HashMap<String, f64>, what: &str, diags: &mut V
                 "tan" => x.tan(),
                 "sqrt" => x.sqrt(),
                 _ => {
-                    diags.push(Diagnostic::error(e.span, format!("{what} must be a scalar, `{}` is not", f.text)));
+                    diags.push(Diagnostic::error(
+                        e.span,
+                        format!("{what} must be a scalar, `{}` is not", f.text),
+                    ));
                     return None;
                 }
             }
         }
         ExprKind::Call(f, _) => {
-            diags.push(Diagnostic::error(e.span, format!("{what} must be a scalar, `{}(…)` is not", f.text)));
+            diags.push(Diagnostic::error(
+                e.span,
+                format!("{what} must be a scalar, `{}(…)` is not", f.text),
+            ));
             return None;
         }
     })

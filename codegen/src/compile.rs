@@ -38,7 +38,12 @@ pub fn analyze(file: &SourceFile) -> (Vec<Compiled>, Vec<Diagnostic>) {
         match structure::blocks(&incidence, nu) {
             Ok(blocks) if diags[before..].iter().all(|d| !d.is_error()) => {
                 let blocks = plan::block_forms(&mut system, &derivatives, &blocks);
-                out.push(Compiled { model, system, derivatives, blocks });
+                out.push(Compiled {
+                    model,
+                    system,
+                    derivatives,
+                    blocks,
+                });
             }
             Ok(_) => {}
             Err(e) => diags.extend(structure_diagnostics(&model, &system, e)),
@@ -62,57 +67,100 @@ pub fn compile(file: &SourceFile) -> Result<(String, Vec<Diagnostic>), Vec<Diagn
 /// Inputs that drive nothing (error) and params that are never used (warning).
 fn lint(model: &Model, system: &System, diags: &mut Vec<Diagnostic>) {
     let mut used: Vec<Var> = Vec::new();
-    for &r in system.residuals.iter().chain(system.points.iter().flatten()) {
+    for &r in system
+        .residuals
+        .iter()
+        .chain(system.points.iter().flatten())
+    {
         used.extend(system.dag.vars_of(r));
     }
-    let in_loops: Vec<Var> = system.residuals.iter().flat_map(|&r| system.dag.vars_of(r)).collect();
+    let in_loops: Vec<Var> = system
+        .residuals
+        .iter()
+        .flat_map(|&r| system.dag.vars_of(r))
+        .collect();
     for (i, input) in model.inputs.iter().enumerate() {
         if !in_loops.contains(&Var::X(i as u16)) {
             diags.push(
-                Diagnostic::error(input.name.span, format!("input `{}` appears in no loop", input.name.text))
-                    .with_label("drives nothing"),
+                Diagnostic::error(
+                    input.name.span,
+                    format!("input `{}` appears in no loop", input.name.text),
+                )
+                .with_label("drives nothing"),
             );
         }
     }
     for (i, p) in model.params.iter().enumerate() {
-        let by_param = model.params.iter().any(|q| q.source.as_deref().is_some_and(|s| mentions(s, &p.name.text)));
+        let by_param = model.params.iter().any(|q| {
+            q.source
+                .as_deref()
+                .is_some_and(|s| mentions(s, &p.name.text))
+        });
         if !used.contains(&Var::P(i as u16)) && !by_param {
-            diags.push(Diagnostic::warning(p.name.span, format!("param `{}` is never used", p.name.text)));
+            diags.push(Diagnostic::warning(
+                p.name.span,
+                format!("param `{}` is never used", p.name.text),
+            ));
         }
     }
 }
 
 fn mentions(src: &str, name: &str) -> bool {
-    src.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).any(|w| w == name)
+    src.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .any(|w| w == name)
 }
 
 fn structure_diagnostics(model: &Model, system: &System, e: StructureError) -> Vec<Diagnostic> {
     let eq = |i: usize| {
         let l = &model.loops[i / 2];
         let comp = if i % 2 == 0 { "x" } else { "y" };
-        let what = if system.dag.as_const(system.residuals[i]).is_some_and(|c| c != 0.0) {
+        let what = if system
+            .dag
+            .as_const(system.residuals[i])
+            .is_some_and(|c| c != 0.0)
+        {
             "is a nonzero constant: the loop can never close"
         } else if system.dag.is_zero(system.residuals[i]) {
             "is identically zero"
         } else {
             "depends on no unknown"
         };
-        Diagnostic::error(l.span, format!("structurally singular: the {comp} equation of loop {} {what}", i / 2 + 1))
-            .with_label(format!("{comp} component of this loop"))
+        Diagnostic::error(
+            l.span,
+            format!(
+                "structurally singular: the {comp} equation of loop {} {what}",
+                i / 2 + 1
+            ),
+        )
+        .with_label(format!("{comp} component of this loop"))
     };
     let unknown = |k: usize, msg: &str| {
         let u = &model.unknowns[k];
-        Diagnostic::error(u.name.span, format!("structurally singular: unknown `{}` {msg}", u.name.text))
+        Diagnostic::error(
+            u.name.span,
+            format!("structurally singular: unknown `{}` {msg}", u.name.text),
+        )
     };
     match e {
         StructureError::EmptyEquations(eqs) => eqs.into_iter().map(eq).collect(),
-        StructureError::UnusedUnknowns(ks) => ks.into_iter().map(|k| unknown(k, "appears in no equation")).collect(),
+        StructureError::UnusedUnknowns(ks) => ks
+            .into_iter()
+            .map(|k| unknown(k, "appears in no equation"))
+            .collect(),
         StructureError::Unmatched(ks) if ks.is_empty() => {
-            vec![Diagnostic::error(model.name.span, "structurally singular: equations and unknowns cannot be matched")]
+            vec![Diagnostic::error(
+                model.name.span,
+                "structurally singular: equations and unknowns cannot be matched",
+            )]
         }
         StructureError::Unmatched(ks) => ks
             .into_iter()
-            .map(|k| unknown(k, "cannot be given an equation of its own (too many unknowns in too few loops)"))
+            .map(|k| {
+                unknown(
+                    k,
+                    "cannot be given an equation of its own (too many unknowns in too few loops)",
+                )
+            })
             .collect(),
     }
 }

@@ -60,8 +60,12 @@ impl Node {
     pub fn children(&self) -> impl Iterator<Item = NodeId> {
         let (a, b) = match *self {
             Node::Const(_) | Node::Var(_) => (None, None),
-            Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => (Some(a), Some(b)),
-            Node::Neg(a) | Node::Sin(a) | Node::Cos(a) | Node::Tan(a) | Node::Sqrt(a) => (Some(a), None),
+            Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => {
+                (Some(a), Some(b))
+            }
+            Node::Neg(a) | Node::Sin(a) | Node::Cos(a) | Node::Tan(a) | Node::Sqrt(a) => {
+                (Some(a), None)
+            }
         };
         a.into_iter().chain(b)
     }

@@ -9,7 +9,10 @@ pub struct Span {
 
 impl Span {
     pub fn new(start: usize, end: usize) -> Span {
-        Span { start, end: end.max(start) }
+        Span {
+            start,
+            end: end.max(start),
+        }
     }
     pub fn join(self, other: Span) -> Span {
         Span::new(self.start.min(other.start), self.end.max(other.end))
@@ -33,10 +36,19 @@ pub struct Diagnostic {
 
 impl Diagnostic {
     pub fn error(span: Span, message: impl Into<String>) -> Self {
-        Diagnostic { severity: Severity::Error, message: message.into(), span, label: String::new(), notes: vec![] }
+        Diagnostic {
+            severity: Severity::Error,
+            message: message.into(),
+            span,
+            label: String::new(),
+            notes: vec![],
+        }
     }
     pub fn warning(span: Span, message: impl Into<String>) -> Self {
-        Diagnostic { severity: Severity::Warning, ..Self::error(span, message) }
+        Diagnostic {
+            severity: Severity::Warning,
+            ..Self::error(span, message)
+        }
     }
     pub fn with_label(mut self, label: impl Into<String>) -> Self {
         self.label = label.into();
@@ -59,7 +71,10 @@ pub struct SourceFile {
 
 impl SourceFile {
     pub fn new(name: impl Into<String>, text: impl Into<String>) -> Self {
-        SourceFile { name: name.into(), text: text.into() }
+        SourceFile {
+            name: name.into(),
+            text: text.into(),
+        }
     }
     pub fn line_col(&self, offset: usize) -> (usize, usize) {
         let mut o = offset.min(self.text.len());
@@ -78,7 +93,11 @@ impl SourceFile {
 }
 
 pub fn render(file: &SourceFile, diagnostics: &[Diagnostic]) -> String {
-    diagnostics.iter().map(|d| render_one(file, d)).collect::<Vec<_>>().join("\n")
+    diagnostics
+        .iter()
+        .map(|d| render_one(file, d))
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 pub fn render_one(file: &SourceFile, d: &Diagnostic) -> String {

@@ -34,7 +34,10 @@ pub struct Differentiator<'a> {
 
 impl<'a> Differentiator<'a> {
     pub fn new(dag: &'a mut Dag) -> Self {
-        Differentiator { dag, memo: HashMap::new() }
+        Differentiator {
+            dag,
+            memo: HashMap::new(),
+        }
     }
 
     /// ∂f/∂v.
@@ -133,12 +136,22 @@ pub fn differentiate(sys: &mut System, n_inputs: usize, n_unknowns: usize) -> De
     let mut d = Differentiator::new(&mut sys.dag);
     let q: Vec<Var> = (0..n_unknowns).map(|k| Var::Q(k as u16)).collect();
     let x: Vec<Var> = (0..n_inputs).map(|j| Var::X(j as u16)).collect();
-    let jacobian: Vec<Vec<NodeId>> = residuals.iter().map(|&r| q.iter().map(|&v| d.partial(r, v)).collect()).collect();
-    let input_jacobian: Vec<Vec<NodeId>> =
-        residuals.iter().map(|&r| x.iter().map(|&v| d.partial(r, v)).collect()).collect();
+    let jacobian: Vec<Vec<NodeId>> = residuals
+        .iter()
+        .map(|&r| q.iter().map(|&v| d.partial(r, v)).collect())
+        .collect();
+    let input_jacobian: Vec<Vec<NodeId>> = residuals
+        .iter()
+        .map(|&r| x.iter().map(|&v| d.partial(r, v)).collect())
+        .collect();
     let all = |_: Var| true;
-    let jacobian_dot = jacobian.iter().map(|row| row.iter().map(|&e| d.time_derivative(e, &all)).collect()).collect();
-    let xd: Vec<NodeId> = (0..n_inputs).map(|j| d.dag.var(Var::Xd(j as u16))).collect();
+    let jacobian_dot = jacobian
+        .iter()
+        .map(|row| row.iter().map(|&e| d.time_derivative(e, &all)).collect())
+        .collect();
+    let xd: Vec<NodeId> = (0..n_inputs)
+        .map(|j| d.dag.var(Var::Xd(j as u16)))
+        .collect();
     let velocity_rhs = input_jacobian
         .iter()
         .map(|row| {
@@ -156,10 +169,18 @@ pub fn differentiate(sys: &mut System, n_inputs: usize, n_unknowns: usize) -> De
             d.dag.neg(dd)
         })
         .collect();
-    let point_jacobian =
-        points.iter().map(|p| p.map(|c| q.iter().map(|&v| d.partial(c, v)).collect())).collect();
-    let point_velocity: Vec<[NodeId; 2]> = points.iter().map(|p| p.map(|c| d.time_derivative(c, &all))).collect();
-    let point_acceleration = point_velocity.iter().map(|p| p.map(|c| d.time_derivative(c, &all))).collect();
+    let point_jacobian = points
+        .iter()
+        .map(|p| p.map(|c| q.iter().map(|&v| d.partial(c, v)).collect()))
+        .collect();
+    let point_velocity: Vec<[NodeId; 2]> = points
+        .iter()
+        .map(|p| p.map(|c| d.time_derivative(c, &all)))
+        .collect();
+    let point_acceleration = point_velocity
+        .iter()
+        .map(|p| p.map(|c| d.time_derivative(c, &all)))
+        .collect();
     Derivatives {
         jacobian,
         input_jacobian,

@@ -57,7 +57,9 @@ pub fn body(dag: &Dag, roots: &[NodeId], vars: &dyn VarSource) -> Body {
         if !live[i] || names[i].is_some() {
             continue;
         }
-        let name = |id: NodeId, names: &[Option<TokenStream>]| names[id.index()].clone().unwrap_or_default();
+        let name = |id: NodeId, names: &[Option<TokenStream>]| {
+            names[id.index()].clone().unwrap_or_default()
+        };
         let expr = match *node {
             Node::Const(b) => {
                 names[i] = Some(literal(f64::from_bits(b)));
@@ -130,7 +132,10 @@ pub fn body(dag: &Dag, roots: &[NodeId], vars: &dyn VarSource) -> Body {
     var_binds.sort_by_key(|(v, _)| *v);
     let mut all: TokenStream = var_binds.into_iter().map(|(_, s)| s).collect();
     all.extend(stmts);
-    let roots = roots.iter().map(|r| names[r.index()].clone().unwrap_or_default()).collect();
+    let roots = roots
+        .iter()
+        .map(|r| names[r.index()].clone().unwrap_or_default())
+        .collect();
     Body { stmts: all, roots }
 }
 
@@ -143,5 +148,9 @@ pub fn literal(x: f64) -> TokenStream {
         return quote!(T::one());
     }
     let lit = Literal::f64_unsuffixed(x.abs());
-    if x < 0.0 { quote!(T::lit(-#lit)) } else { quote!(T::lit(#lit)) }
+    if x < 0.0 {
+        quote!(T::lit(-#lit))
+    } else {
+        quote!(T::lit(#lit))
+    }
 }

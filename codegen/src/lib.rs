@@ -21,5 +21,5 @@ pub mod parse;
 pub mod plan;
 pub mod structure;
 
-pub use compile::{analyze, compile, Compiled};
+pub use compile::{Compiled, analyze, compile};
 pub use diagnostic::{Diagnostic, Severity, SourceFile, Span};

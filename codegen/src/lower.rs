@@ -29,8 +29,16 @@ pub fn lower(model: &Model) -> System {
         let [x, y] = vector(&mut dag, model, l);
         residuals.extend([x, y]);
     }
-    let points = model.points.iter().map(|(_, e)| vector(&mut dag, model, e)).collect();
-    System { dag, residuals, points }
+    let points = model
+        .points
+        .iter()
+        .map(|(_, e)| vector(&mut dag, model, e))
+        .collect();
+    System {
+        dag,
+        residuals,
+        points,
+    }
 }
 
 fn vector(dag: &mut Dag, model: &Model, e: &Expr) -> [NodeId; 2] {
@@ -77,7 +85,10 @@ fn value(dag: &mut Dag, model: &Model, e: &Expr) -> Value {
             binary(dag, *op, va, vb)
         }
         ExprKind::Call(f, args) => {
-            let mut arg = |i: usize| args.get(i).map_or(Value::Scalar(dag.constant(0.0)), |a| value(dag, model, a));
+            let mut arg = |i: usize| {
+                args.get(i)
+                    .map_or(Value::Scalar(dag.constant(0.0)), |a| value(dag, model, a))
+            };
             match f.text.as_str() {
                 "e" => {
                     let t = scalar(arg(0));
@@ -120,7 +131,9 @@ fn binary(dag: &mut Dag, op: BinOp, a: Value, b: Value) -> Value {
                 V(dag.sub(ax, bx), dag.sub(ay, by))
             }
         }
-        (BinOp::Mul, S(s), V(x, y)) | (BinOp::Mul, V(x, y), S(s)) => V(dag.mul(s, x), dag.mul(s, y)),
+        (BinOp::Mul, S(s), V(x, y)) | (BinOp::Mul, V(x, y), S(s)) => {
+            V(dag.mul(s, x), dag.mul(s, y))
+        }
         (BinOp::Div, V(x, y), S(s)) => V(dag.div(x, s), dag.div(y, s)),
         // Rejected by the checker (vector × vector, division by a vector).
         (_, a, _) => a,

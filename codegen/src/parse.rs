@@ -4,8 +4,8 @@
 use std::borrow::Cow;
 
 use syn::spanned::Spanned as _;
-use toml::de::{DeTable, DeValue};
 use toml::Spanned;
+use toml::de::{DeTable, DeValue};
 
 use crate::ast::{BinOp, Expr, ExprKind, File, Mechanism, Name, Scene};
 use crate::diagnostic::{Diagnostic, SourceFile, Span};
@@ -14,11 +14,19 @@ type Item<'a> = (&'a Spanned<Cow<'a, str>>, &'a Spanned<DeValue<'a>>);
 
 /// Parses a whole file, collecting every error; what could be read is returned either way.
 pub fn parse(file: &SourceFile) -> (File, Vec<Diagnostic>) {
-    let mut p = Parser { text: &file.text, diags: Vec::new() };
+    let mut p = Parser {
+        text: &file.text,
+        diags: Vec::new(),
+    };
     let (root, errors) = DeTable::parse_recoverable(&file.text);
     for e in errors {
-        let span = e.span().map_or(Span::new(0, 0), |r| Span::new(r.start, r.end));
-        p.diags.push(Diagnostic::error(span, format!("TOML syntax error: {}", e.message().trim())));
+        let span = e
+            .span()
+            .map_or(Span::new(0, 0), |r| Span::new(r.start, r.end));
+        p.diags.push(Diagnostic::error(
+            span,
+            format!("TOML syntax error: {}", e.message().trim()),
+        ));
     }
     let mut out = File::default();
     for (key, value) in sorted(root.get_ref()) {
@@ -56,7 +64,10 @@ fn span_of<T>(s: &Spanned<T>) -> Span {
 }
 
 fn name_of(key: &Spanned<Cow<'_, str>>) -> Name {
-    Name { text: key.get_ref().to_string(), span: span_of(key) }
+    Name {
+        text: key.get_ref().to_string(),
+        span: span_of(key),
+    }
 }
 
 struct Parser<'t> {
@@ -69,7 +80,13 @@ impl Parser<'_> {
         self.diags.push(Diagnostic::error(span, msg));
     }
 
-    fn unknown_key(&mut self, key: &Spanned<Cow<'_, str>>, name: &str, place: &str, expected: &str) {
+    fn unknown_key(
+        &mut self,
+        key: &Spanned<Cow<'_, str>>,
+        name: &str,
+        place: &str,
+        expected: &str,
+    ) {
         let d = Diagnostic::error(span_of(key), format!("unknown key `{name}` in {place}"))
             .with_label("not a key of the format")
             .with_note(format!("expected {expected}"));
@@ -90,7 +107,11 @@ impl Parser<'_> {
         self.table(v, what).map(sorted).unwrap_or_default()
     }
 
-    fn mechanism(&mut self, key: &Spanned<Cow<'_, str>>, body: &Spanned<DeValue<'_>>) -> Option<Mechanism> {
+    fn mechanism(
+        &mut self,
+        key: &Spanned<Cow<'_, str>>,
+        body: &Spanned<DeValue<'_>>,
+    ) -> Option<Mechanism> {
         let name = name_of(key);
         let table = self.table(body, &format!("mechanism.{}", name.text))?;
         let mut m = Mechanism {
@@ -114,7 +135,11 @@ impl Parser<'_> {
                 "unknowns" => (seen[1], m.unknowns) = (true, self.names(v, "unknowns")),
                 "loops" => {
                     seen[2] = true;
-                    m.loops = self.array(v, "loops").iter().filter_map(|e| self.string_expr(e)).collect();
+                    m.loops = self
+                        .array(v, "loops")
+                        .iter()
+                        .filter_map(|e| self.string_expr(e))
+                        .collect();
                 }
                 "params" => m.params = self.assignments(v, "params", true),
                 "points" => m.points = self.assignments(v, "points", false),
@@ -129,8 +154,11 @@ impl Parser<'_> {
         }
         for (i, key) in ["inputs", "unknowns", "loops"].iter().enumerate() {
             if !seen[i] {
-                let d = Diagnostic::error(m.name.span, format!("mechanism `{}` has no `{key}`", m.name.text))
-                    .with_label(format!("`{key}` is required"));
+                let d = Diagnostic::error(
+                    m.name.span,
+                    format!("mechanism `{}` has no `{key}`", m.name.text),
+                )
+                .with_label(format!("`{key}` is required"));
                 self.diags.push(d);
             }
         }
@@ -140,12 +168,25 @@ impl Parser<'_> {
     fn scene(&mut self, key: &Spanned<Cow<'_, str>>, body: &Spanned<DeValue<'_>>) -> Option<Scene> {
         let name = name_of(key);
         let table = self.table(body, &format!("scene.{}", name.text))?;
-        let mut s = Scene { name, mechanism: None, outputs: vec![], order: None };
+        let mut s = Scene {
+            name,
+            mechanism: None,
+            outputs: vec![],
+            order: None,
+        };
         for (k, v) in sorted(table) {
             match k.get_ref().as_ref() {
                 "mechanism" => match v.get_ref() {
-                    DeValue::String(t) => s.mechanism = Some(Name { text: t.to_string(), span: span_of(v) }),
-                    _ => self.error(span_of(v), "`mechanism` must be a string naming a mechanism"),
+                    DeValue::String(t) => {
+                        s.mechanism = Some(Name {
+                            text: t.to_string(),
+                            span: span_of(v),
+                        })
+                    }
+                    _ => self.error(
+                        span_of(v),
+                        "`mechanism` must be a string naming a mechanism",
+                    ),
                 },
                 "outputs" => s.outputs = self.names(v, "outputs"),
                 "order" => match v.get_ref() {
@@ -155,18 +196,28 @@ impl Parser<'_> {
                     },
                     _ => self.error(span_of(v), "`order` must be 0, 1 or 2"),
                 },
-                other => {
-                    self.unknown_key(k, other, &format!("scene `{}`", s.name.text), "mechanism, outputs or order")
-                }
+                other => self.unknown_key(
+                    k,
+                    other,
+                    &format!("scene `{}`", s.name.text),
+                    "mechanism, outputs or order",
+                ),
             }
         }
         if s.mechanism.is_none() {
-            self.error(s.name.span, format!("scene `{}` has no `mechanism`", s.name.text));
+            self.error(
+                s.name.span,
+                format!("scene `{}` has no `mechanism`", s.name.text),
+            );
         }
         Some(s)
     }
 
-    fn array<'a>(&mut self, v: &'a Spanned<DeValue<'a>>, what: &str) -> Vec<&'a Spanned<DeValue<'a>>> {
+    fn array<'a>(
+        &mut self,
+        v: &'a Spanned<DeValue<'a>>,
+        what: &str,
+    ) -> Vec<&'a Spanned<DeValue<'a>>> {
         match v.get_ref() {
             DeValue::Array(a) => a.iter().collect(),
             _ => {
@@ -183,7 +234,10 @@ impl Parser<'_> {
                 DeValue::String(s) => {
                     let span = self.inner_span(span_of(item), s);
                     if is_identifier(s) {
-                        out.push(Name { text: s.to_string(), span });
+                        out.push(Name {
+                            text: s.to_string(),
+                            span,
+                        });
                     } else {
                         self.error(span, format!("`{s}` in `{what}` is not a valid name"));
                     }
@@ -195,21 +249,38 @@ impl Parser<'_> {
     }
 
     /// `name = number | "expression"` tables (params, points, start).
-    fn assignments(&mut self, v: &Spanned<DeValue<'_>>, what: &str, numbers: bool) -> Vec<(Name, Expr)> {
-        let Some(table) = self.table(v, what) else { return vec![] };
+    fn assignments(
+        &mut self,
+        v: &Spanned<DeValue<'_>>,
+        what: &str,
+        numbers: bool,
+    ) -> Vec<(Name, Expr)> {
+        let Some(table) = self.table(v, what) else {
+            return vec![];
+        };
         let mut out = vec![];
         for (k, v) in sorted(table) {
             let name = name_of(k);
             if !is_identifier(&name.text) {
-                self.error(name.span, format!("`{}` in `{what}` is not a valid name", name.text));
+                self.error(
+                    name.span,
+                    format!("`{}` in `{what}` is not a valid name", name.text),
+                );
                 continue;
             }
             let expr = match v.get_ref() {
                 DeValue::String(_) => self.string_expr(v),
                 DeValue::Integer(_) | DeValue::Float(_) if numbers => self.number(v),
                 _ => {
-                    let kind = if numbers { "a number or an expression string" } else { "a vector expression string" };
-                    self.error(span_of(v), format!("`{}` in `{what}` must be {kind}", name.text));
+                    let kind = if numbers {
+                        "a number or an expression string"
+                    } else {
+                        "a vector expression string"
+                    };
+                    self.error(
+                        span_of(v),
+                        format!("`{}` in `{what}` must be {kind}", name.text),
+                    );
                     None
                 }
             };
@@ -228,7 +299,10 @@ impl Parser<'_> {
             _ => None,
         };
         match value {
-            Some(x) if x.is_finite() => Some(Expr { kind: ExprKind::Number(x), span }),
+            Some(x) if x.is_finite() => Some(Expr {
+                kind: ExprKind::Number(x),
+                span,
+            }),
             Some(_) => {
                 self.error(span, "non-finite number (nan or inf)");
                 None
@@ -243,7 +317,11 @@ impl Parser<'_> {
     /// Where the content of a string value starts, when the content is the raw text (no escapes).
     fn inner_span(&self, value: Span, content: &str) -> Span {
         let raw = self.text.get(value.start..value.end).unwrap_or("");
-        let quote = if raw.starts_with("\"\"\"") || raw.starts_with("'''") { 3 } else { 1 };
+        let quote = if raw.starts_with("\"\"\"") || raw.starts_with("'''") {
+            3
+        } else {
+            1
+        };
         let start = value.start + quote;
         match self.text.get(start..start + content.len()) {
             Some(s) if s == content => Span::new(start, start + content.len()),
@@ -260,12 +338,20 @@ impl Parser<'_> {
         let inner = self.inner_span(value, s);
         // Byte offsets inside the string map 1:1 to the file only when there are no escapes.
         let map = |r: std::ops::Range<usize>| {
-            if inner == value { value } else { Span::new(inner.start + r.start, inner.start + r.end) }
+            if inner == value {
+                value
+            } else {
+                Span::new(inner.start + r.start, inner.start + r.end)
+            }
         };
         match syn::parse_str::<syn::Expr>(s) {
             Ok(e) => self.expr(&e, &map),
             Err(err) => {
-                let span = if s.trim().is_empty() { value } else { map(err.span().byte_range()) };
+                let span = if s.trim().is_empty() {
+                    value
+                } else {
+                    map(err.span().byte_range())
+                };
                 let d = Diagnostic::error(span, format!("expression syntax error: {err}"))
                     .with_label("cannot parse this as an expression");
                 self.diags.push(d);
@@ -274,7 +360,11 @@ impl Parser<'_> {
         }
     }
 
-    fn expr(&mut self, e: &syn::Expr, map: &dyn Fn(std::ops::Range<usize>) -> Span) -> Option<Expr> {
+    fn expr(
+        &mut self,
+        e: &syn::Expr,
+        map: &dyn Fn(std::ops::Range<usize>) -> Span,
+    ) -> Option<Expr> {
         let span = map(e.span().byte_range());
         let unsupported = |p: &mut Self, what: &str| {
             let d = Diagnostic::error(span, format!("unsupported expression: {what}"))
@@ -310,9 +400,16 @@ impl Parser<'_> {
                 ExprKind::Binary(op, Box::new(l?), Box::new(r?))
             }
             syn::Expr::Call(c) => {
-                let syn::Expr::Path(p) = &*c.func else { return unsupported(self, "a call of a non-name") };
-                let Some(id) = p.path.get_ident() else { return unsupported(self, "a call of a path") };
-                let callee = Name { text: id.to_string(), span: map(id.span().byte_range()) };
+                let syn::Expr::Path(p) = &*c.func else {
+                    return unsupported(self, "a call of a non-name");
+                };
+                let Some(id) = p.path.get_ident() else {
+                    return unsupported(self, "a call of a path");
+                };
+                let callee = Name {
+                    text: id.to_string(),
+                    span: map(id.span().byte_range()),
+                };
                 let args: Vec<Option<Expr>> = c.args.iter().map(|a| self.expr(a, map)).collect();
                 ExprKind::Call(callee, args.into_iter().collect::<Option<Vec<_>>>()?)
             }

@@ -53,7 +53,11 @@ pub fn block_forms(sys: &mut System, der: &Derivatives, blocks: &[Block]) -> Vec
             BlockForms {
                 block: b.clone(),
                 residual: b.equations.iter().map(|&i| residuals[i]).collect(),
-                jacobian: b.equations.iter().map(|&i| b.unknowns.iter().map(|&k| der.jacobian[i][k]).collect()).collect(),
+                jacobian: b
+                    .equations
+                    .iter()
+                    .map(|&i| b.unknowns.iter().map(|&k| der.jacobian[i][k]).collect())
+                    .collect(),
                 velocity_rhs,
                 acceleration_rhs,
             }

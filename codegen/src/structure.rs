@@ -22,11 +22,15 @@ pub enum StructureError {
 
 /// `incidence[i]` lists the unknowns equation `i` depends on. Returns the blocks in solve order.
 pub fn blocks(incidence: &[Vec<usize>], n_unknowns: usize) -> Result<Vec<Block>, StructureError> {
-    let empty: Vec<usize> = (0..incidence.len()).filter(|&i| incidence[i].is_empty()).collect();
+    let empty: Vec<usize> = (0..incidence.len())
+        .filter(|&i| incidence[i].is_empty())
+        .collect();
     if !empty.is_empty() {
         return Err(StructureError::EmptyEquations(empty));
     }
-    let unused: Vec<usize> = (0..n_unknowns).filter(|&k| !incidence.iter().any(|row| row.contains(&k))).collect();
+    let unused: Vec<usize> = (0..n_unknowns)
+        .filter(|&k| !incidence.iter().any(|row| row.contains(&k)))
+        .collect();
     if !unused.is_empty() {
         return Err(StructureError::UnusedUnknowns(unused));
     }
@@ -36,8 +40,10 @@ pub fn blocks(incidence: &[Vec<usize>], n_unknowns: usize) -> Result<Vec<Block>,
         return Err(StructureError::Unmatched(unmatched));
     }
     // Equation i depends on equation eq_of[k] for each unknown k it uses.
-    let graph: Vec<Vec<usize>> =
-        incidence.iter().map(|row| row.iter().filter_map(|&k| eq_of[k]).collect()).collect();
+    let graph: Vec<Vec<usize>> = incidence
+        .iter()
+        .map(|row| row.iter().filter_map(|&k| eq_of[k]).collect())
+        .collect();
     let mut unknown_of = vec![0; incidence.len()];
     for (k, e) in eq_of.iter().enumerate() {
         if let Some(e) = e {
@@ -50,14 +56,22 @@ pub fn blocks(incidence: &[Vec<usize>], n_unknowns: usize) -> Result<Vec<Block>,
             eqs.sort_unstable();
             let mut unknowns: Vec<usize> = eqs.iter().map(|&e| unknown_of[e]).collect();
             unknowns.sort_unstable();
-            Block { equations: eqs, unknowns }
+            Block {
+                equations: eqs,
+                unknowns,
+            }
         })
         .collect())
 }
 
 /// Maximum bipartite matching; `result[k]` is the equation matched to unknown `k`.
 fn matching(incidence: &[Vec<usize>], n_unknowns: usize) -> Vec<Option<usize>> {
-    fn augment(i: usize, inc: &[Vec<usize>], seen: &mut [bool], eq_of: &mut [Option<usize>]) -> bool {
+    fn augment(
+        i: usize,
+        inc: &[Vec<usize>],
+        seen: &mut [bool],
+        eq_of: &mut [Option<usize>],
+    ) -> bool {
         for &k in &inc[i] {
             if k >= seen.len() || std::mem::replace(&mut seen[k], true) {
                 continue;
@@ -134,10 +148,19 @@ mod tests {
         // loop 1 (eqs 0, 1) in q2, q3; loop 2 (eqs 2, 3) in q2, q5, q6.
         let inc = vec![vec![0, 1], vec![0, 1], vec![0, 2, 3], vec![0, 2, 3]];
         let b = blocks(&inc, 4).unwrap();
-        assert_eq!(b, vec![
-            Block { equations: vec![0, 1], unknowns: vec![0, 1] },
-            Block { equations: vec![2, 3], unknowns: vec![2, 3] },
-        ]);
+        assert_eq!(
+            b,
+            vec![
+                Block {
+                    equations: vec![0, 1],
+                    unknowns: vec![0, 1]
+                },
+                Block {
+                    equations: vec![2, 3],
+                    unknowns: vec![2, 3]
+                },
+            ]
+        );
     }
 
     #[test]
@@ -160,8 +183,14 @@ mod tests {
 
     #[test]
     fn structural_errors() {
-        assert_eq!(blocks(&[vec![0], vec![]], 2), Err(StructureError::EmptyEquations(vec![1])));
-        assert_eq!(blocks(&[vec![0], vec![0]], 2), Err(StructureError::UnusedUnknowns(vec![1])));
+        assert_eq!(
+            blocks(&[vec![0], vec![]], 2),
+            Err(StructureError::EmptyEquations(vec![1]))
+        );
+        assert_eq!(
+            blocks(&[vec![0], vec![0]], 2),
+            Err(StructureError::UnusedUnknowns(vec![1]))
+        );
         assert_eq!(
             blocks(&[vec![0], vec![0], vec![1, 2]], 3),
             Err(StructureError::Unmatched(vec![2]))

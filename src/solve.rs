@@ -73,6 +73,8 @@ pub fn check_finite<T: Real>(quantity: Quantity, values: &[T]) -> Result<(), Sol
 /// Solves `a z = b` by Gaussian elimination with column equilibration and partial pivoting.
 /// Returns the solution and the pivot ratio, or the pivot ratio when `a` is singular to working
 /// precision.
+// `!(a > b)` is deliberate: a NaN must fail the test.
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 pub fn gauss<T: Real, const K: usize>(
     mut a: SMatrix<T, K, K>,
     mut b: SVector<T, K>,

@@ -651,7 +651,7 @@ fn strip_usize(line: &str) -> String {
             .next()
             .is_some_and(|c| c.is_alphanumeric() || c == '_');
         out.push_str(head);
-        if !(digits_before && !word_after) {
+        if !digits_before || word_after {
             out.push_str("usize");
         }
         rest = &tail[5..];

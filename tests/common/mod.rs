@@ -51,7 +51,7 @@ pub fn sweep_columns(info: &MechanismInfo, rows: &[Row]) -> Vec<(String, Kind, b
     let mut cols = Vec::new();
     let get = |f: &dyn Fn(&mechgen::sweep::Solved) -> f64| -> Vec<f64> {
         rows.iter()
-            .map(|r| r.result.as_ref().map_or(f64::NAN, |s| f(s)))
+            .map(|r| r.result.as_ref().map_or(f64::NAN, f))
             .collect()
     };
     for (i, u) in info.unknowns.iter().enumerate() {

@@ -1,0 +1,71 @@
+//! Whatever mechanism file this build compiled in (`mechanism.toml`, or `MECHGEN_MECHANISM`), every
+//! compiled-in mechanism that has an independent reference CSV in `tests/data/` or
+//! `tests/fixtures/` is swept and compared with it. CI builds once per fixture file with
+//! `MECHGEN_MECHANISM` set and `MECHGEN_EXPECT_COMPARED` naming how many must be compared.
+
+mod common;
+
+use common::{Table, compare};
+use mechgen::sweep::{Continuation, sweep};
+
+fn reference_for(name: &str) -> Option<(Table, Option<[f64; 3]>)> {
+    let root = env!("CARGO_MANIFEST_DIR");
+    for dir in ["tests/data", "tests/fixtures"] {
+        let csv = format!("{root}/{dir}/{name}.csv");
+        if std::path::Path::new(&csv).exists() {
+            let range = std::fs::read_to_string(format!("{root}/{dir}/{name}.sweep"))
+                .ok()
+                .map(|s| {
+                    let v: Vec<f64> = s
+                        .split_whitespace()
+                        .map(|t| t.parse().expect("number in .sweep"))
+                        .collect();
+                    [v[0], v[1], v[2]]
+                });
+            return Some((Table::read(&csv), range));
+        }
+    }
+    None
+}
+
+#[test]
+fn compiled_in_mechanisms_match_their_references() {
+    let mut compared = Vec::new();
+    for name in mechgen::MECHANISMS {
+        let Some((reference, _)) = reference_for(name) else {
+            continue;
+        };
+        let k = mechgen::lookup::<f64>(name).expect("listed");
+        let info = k.info();
+        let values = reference.column(&reference.header[0]);
+        let span = values.last().copied().unwrap_or(0.0) - values[0];
+        let rows = sweep(
+            k.as_ref(),
+            0,
+            &values,
+            1.0,
+            &Continuation::for_input(info.inputs[0].1, span),
+        );
+        for (i, r) in rows.iter().enumerate() {
+            assert!(
+                r.result.is_ok(),
+                "{name}: row {i} ({}) failed: {:?}",
+                r.input,
+                r.result
+            );
+        }
+        for (col, err) in compare(&info, &rows, &reference) {
+            assert!(err <= 1e-10, "{name}.{col}: error {err:e}");
+        }
+        compared.push(name);
+    }
+    eprintln!("compared with references: {compared:?}");
+    if let Ok(n) = std::env::var("MECHGEN_EXPECT_COMPARED") {
+        let n: usize = n.parse().expect("MECHGEN_EXPECT_COMPARED is a number");
+        assert_eq!(
+            compared.len(),
+            n,
+            "expected {n} mechanisms compared, got {compared:?}"
+        );
+    }
+}

@@ -390,7 +390,8 @@ fn type_of(
         },
         ExprKind::Neg(x) => go!(x, angles),
         ExprKind::Binary(op, a, b) => {
-            let (ta, tb) = (go!(a, angles)?, go!(b, angles)?);
+            let (ta, tb) = (go!(a, angles), go!(b, angles));
+            let (ta, tb) = (ta?, tb?);
             match (op, ta, tb) {
                 (BinOp::Add | BinOp::Sub, Ty::Scalar, Ty::Scalar) => Some(Ty::Scalar),
                 (BinOp::Add | BinOp::Sub, _, _) => Some(Ty::Vector),

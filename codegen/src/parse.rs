@@ -304,8 +304,12 @@ impl Parser<'_> {
                 span,
             }),
             Some(_) => {
+                // Reported here; the name stays declared so no undefined-name errors follow.
                 self.error(span, "non-finite number (nan or inf)");
-                None
+                Some(Expr {
+                    kind: ExprKind::Number(0.0),
+                    span,
+                })
             }
             None => {
                 self.error(span, "number out of range");

@@ -1,0 +1,185 @@
+//! The typed generated solvers allocate nothing: 100 full solves (position from the previous
+//! solution at an input 1° further on, velocity, acceleration, points) of every seed mechanism, in
+//! f64 and f32, under a counting global allocator.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::hint::black_box;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use mechgen::{NewtonOptions, SolveError};
+
+/// Allocations (alloc, alloc_zeroed, realloc) made while a thread had counting switched on.
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+thread_local! {
+    /// Counting is per thread: the harness's allocations on other threads never count.
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+}
+
+fn counting() -> bool {
+    // `try_with`: the allocator may run while this thread's locals are being torn down.
+    COUNTING.try_with(Cell::get).unwrap_or(false)
+}
+
+/// `System`, counting the allocations of threads that switched counting on.
+struct Counting;
+
+// The crate allows no `unsafe` anywhere else: this test file is the one exception, because a
+// `GlobalAlloc` can only be implemented as an `unsafe impl` with `unsafe fn`s. Every method
+// forwards to `System` unchanged.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if counting() {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        // SAFETY: forwarded unchanged; the caller upholds `GlobalAlloc::alloc`'s contract.
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        if counting() {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        // SAFETY: forwarded unchanged; the caller upholds `GlobalAlloc::alloc_zeroed`'s contract.
+        unsafe { System.alloc_zeroed(layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if counting() {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        // SAFETY: forwarded unchanged; `ptr` came from this allocator, i.e. from `System`.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: forwarded unchanged; `ptr` came from this allocator, i.e. from `System`.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Runs `f` with counting on for this thread; returns the allocations it made and its result.
+fn count<R>(f: impl FnOnce() -> R) -> (usize, R) {
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    COUNTING.with(|c| c.set(true));
+    let result = f();
+    COUNTING.with(|c| c.set(false));
+    (ALLOCATIONS.load(Ordering::SeqCst) - before, result)
+}
+
+const SOLVES: usize = 100;
+
+/// (allocations, solves done, the first error).
+type Outcome = (usize, usize, Option<SolveError>);
+
+/// For one mechanism type and scalar: counts the allocations of `SOLVES` full solves through the
+/// separate stages, and of `SOLVES` more through `solve`, both continuing from the start
+/// configuration 1° at a time.
+macro_rules! solves {
+    ($fn:ident, $module:ident :: $ty:ident, $t:ty) => {
+        fn $fn() -> Outcome {
+            use mechgen::$module::{Inputs, Unknowns, $ty};
+            let m = black_box($ty::<$t>::default());
+            let options = NewtonOptions::<$t>::default();
+            let (x0, q0) = $ty::<$t>::start();
+            let x0 = x0.to_array();
+            let step = (1.0f64).to_radians() as $t;
+            let xd = [1.0 as $t];
+            let xdd = [0.0 as $t];
+            let (allocations, (done, error)) = count(|| {
+                let mut done = 0;
+                // Stage by stage.
+                let mut q = q0.to_array();
+                for i in 0..SOLVES {
+                    let x = [x0[0] + step * i as $t];
+                    let stages = m.solve_position(&x, &mut q, &options).and_then(|_| {
+                        let qd = m.solve_velocity(&x, &q, &xd)?;
+                        let qdd = m.solve_acceleration(&x, &q, &xd, &qd, &xdd)?;
+                        Ok(m.point_motion(&x, &q, &xd, &qd, &xdd, &qdd))
+                    });
+                    match stages {
+                        Ok(points) => {
+                            black_box((&q, points));
+                            done += 1;
+                        }
+                        Err(e) => return (done, Some(e)),
+                    }
+                }
+                // All at once.
+                let mut guess: Unknowns<$t> = q0;
+                for i in 0..SOLVES {
+                    let x = Inputs::from_array([x0[0] + step * i as $t]);
+                    match m.solve(
+                        x,
+                        Inputs::from_array(xd),
+                        Inputs::from_array(xdd),
+                        guess,
+                        &options,
+                    ) {
+                        Ok(motion) => {
+                            guess = motion.q;
+                            black_box(motion);
+                            done += 1;
+                        }
+                        Err(e) => return (done, Some(e)),
+                    }
+                }
+                (done, None)
+            });
+            (allocations, done, error)
+        }
+    };
+}
+
+solves!(sixbar_f64, sixbar::Sixbar, f64);
+solves!(shaper_f64, shaper::Shaper, f64);
+solves!(four_bar_f64, four_bar::FourBar, f64);
+solves!(slider_crank_f64, slider_crank::SliderCrank, f64);
+solves!(sixbar_f32, sixbar::Sixbar, f32);
+solves!(shaper_f32, shaper::Shaper, f32);
+solves!(four_bar_f32, four_bar::FourBar, f32);
+solves!(slider_crank_f32, slider_crank::SliderCrank, f32);
+
+/// One test only, so no two counting regions of this binary ever overlap.
+#[test]
+fn generated_solvers_do_not_allocate() {
+    // The counter works: an allocation on this thread, with counting on, is seen.
+    let (seen, _) = count(|| black_box(Box::new(black_box(7u64))));
+    assert!(
+        seen >= 1,
+        "the counting allocator saw {seen} allocations of a Box"
+    );
+    // ... and nothing is counted with counting off.
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    black_box(vec![0u8; 64]);
+    assert_eq!(ALLOCATIONS.load(Ordering::SeqCst), before);
+
+    let cases = [
+        ("sixbar f64", sixbar_f64 as fn() -> Outcome),
+        ("shaper f64", shaper_f64),
+        ("four_bar f64", four_bar_f64),
+        ("slider_crank f64", slider_crank_f64),
+        ("sixbar f32", sixbar_f32),
+        ("shaper f32", shaper_f32),
+        ("four_bar f32", four_bar_f32),
+        ("slider_crank f32", slider_crank_f32),
+    ];
+    let mut failures = Vec::new();
+    for (name, run) in cases {
+        let (allocations, done, error) = run();
+        eprintln!("{name}: {done} full solves, {allocations} allocations");
+        if let Some(e) = error {
+            failures.push(format!("{name}: solve {} failed: {e:?}", done + 1));
+        }
+        if allocations != 0 {
+            failures.push(format!(
+                "{name}: {allocations} allocations in {done} full solves"
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

@@ -17,6 +17,8 @@
 extern crate self as mechgen;
 
 pub mod error;
+#[cfg(feature = "runtime")]
+pub mod generic;
 pub mod mechanism;
 pub mod report;
 pub mod scalar;
@@ -39,3 +41,9 @@ pub mod generated {
     include!(concat!(env!("OUT_DIR"), "/mechanisms.rs"));
 }
 pub use generated::*;
+
+/// The mechanism file the solvers were generated from: `SOURCE_NAME` and `SOURCE` (its text), for
+/// the generic engine ([`generic::load`]), drawings and `mechgen check`.
+pub mod source {
+    include!(concat!(env!("OUT_DIR"), "/mechanism_source.rs"));
+}

@@ -1,14 +1,21 @@
 //! The `mechgen` command: `sweep`, `check`, and with no arguments the main job (every compiled-in
-//! mechanism swept over a full turn, tables printed, CSVs written).
+//! mechanism swept over a full turn, tables printed, CSVs and plots written to `mechgen-out/`).
 
+#[macro_use]
+mod cli;
+
+use std::path::Path;
 use std::process::ExitCode;
 
-use mechgen::sweep::{Continuation, sweep};
+use cli::options::{Options, sweep_values};
+use mechgen::generic::{self, Generic};
+use mechgen::sweep::{Continuation, Row, sweep};
 use mechgen::{Kind, Kinematics, MechanismInfo, report};
 
-const USAGE: &str = "usage:
-  mechgen                         sweep every compiled-in mechanism, print tables, write CSVs to ./mechgen-out
-  mechgen sweep NAME [--file PATH] [--engine generated|generic] [--from X --to X --step X] [--rate V] [--csv PATH]
+pub const USAGE: &str = "usage:
+  mechgen                         sweep every compiled-in mechanism: tables, CSVs and plots in ./mechgen-out
+  mechgen sweep NAME [--file PATH] [--engine generated|generic] [--from X --to X --step X]
+                     [--rate V] [--csv PATH] [--plot DIR]
   mechgen check [--file PATH]     validate a mechanism file and print its structure";
 
 fn main() -> ExitCode {
@@ -18,7 +25,7 @@ fn main() -> ExitCode {
         Some("sweep") => run_sweep(&args[1..]),
         Some("check") => run_check(&args[1..]),
         Some("-h" | "--help" | "help") => {
-            println!("{USAGE}");
+            say!("{USAGE}");
             Ok(())
         }
         Some(other) => Err(format!("unknown command `{other}`\n{USAGE}")),
@@ -32,114 +39,100 @@ fn main() -> ExitCode {
     }
 }
 
-/// `--name value` options.
-struct Options {
-    pairs: Vec<(String, String)>,
-    positional: Vec<String>,
+/// The mechanism to sweep: its solvers, and the generic engine of the same file (for drawings).
+struct Selected {
+    solver: Box<dyn Kinematics<f64>>,
+    model: Generic,
 }
 
-impl Options {
-    fn parse(args: &[String], known: &[&str]) -> Result<Options, String> {
-        let (mut pairs, mut positional) = (Vec::new(), Vec::new());
-        let mut it = args.iter();
-        while let Some(a) = it.next() {
-            if let Some(name) = a.strip_prefix("--") {
-                if !known.contains(&name) {
-                    return Err(format!("unknown option `{a}`\n{USAGE}"));
-                }
-                let v = it
-                    .next()
-                    .ok_or_else(|| format!("option `{a}` needs a value"))?;
-                pairs.push((name.to_string(), v.clone()));
-            } else {
-                positional.push(a.clone());
-            }
-        }
-        Ok(Options { pairs, positional })
+/// Loads every mechanism of a file (or of the compiled-in file) for the generic engine.
+fn load(path: Option<&str>) -> Result<Vec<Generic>, String> {
+    match path {
+        Some(p) => generic::load_file(Path::new(p)).map_err(|e| e.to_string()),
+        None => generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
+            .map_err(|e| e.to_string()),
     }
+}
 
-    fn get(&self, name: &str) -> Option<&str> {
-        self.pairs
+fn select(name: &str, opts: &Options) -> Result<Selected, String> {
+    let file = opts.get("file");
+    let engine = match opts.get("engine") {
+        None if file.is_some() => "generic",
+        None => "generated",
+        Some(e @ ("generated" | "generic")) => e,
+        Some(e) => return Err(format!("unknown engine `{e}` (generated or generic)")),
+    };
+    if file.is_some() && engine == "generated" {
+        return Err(
+            "--engine generated exists only for compiled-in mechanisms; use --engine generic with --file"
+                .into(),
+        );
+    }
+    let mechs = load(file)?;
+    let available = || {
+        mechs
             .iter()
-            .rev()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.as_str())
-    }
-
-    fn number(&self, name: &str) -> Result<Option<f64>, String> {
-        match self.get(name) {
-            None => Ok(None),
-            Some(v) => match v.parse::<f64>() {
-                Ok(x) if x.is_finite() => Ok(Some(x)),
-                _ => Err(format!("--{name} needs a finite number, got `{v}`")),
-            },
-        }
-    }
-}
-
-/// The input values of a sweep, both ends included, in sweep units.
-fn sweep_values(from: f64, to: f64, step: f64) -> Result<Vec<f64>, String> {
-    if step == 0.0 {
-        return Err("--step must not be zero".into());
-    }
-    let n = ((to - from) / step.abs().copysign(to - from)).abs();
-    if n > 10_000_000.0 {
-        return Err("too many sweep rows (more than 10 000 000)".into());
-    }
-    let count = (n + 1e-9).floor() as usize;
-    let dir = if to >= from { 1.0 } else { -1.0 };
-    let mut v: Vec<f64> = (0..=count)
-        .map(|i| from + dir * step.abs() * i as f64)
-        .collect();
-    if (to - v[v.len() - 1]).abs() > 1e-9 * step.abs() {
-        v.push(to);
-    } else if let Some(last) = v.last_mut() {
-        *last = to;
-    }
-    Ok(v)
-}
-
-fn engine_for(name: &str, opts: &Options) -> Result<Box<dyn Kinematics<f64>>, String> {
-    let engine = opts.get("engine");
-    if opts.get("file").is_some() || engine == Some("generic") {
-        return Err("the generic engine (--file, --engine generic) is not built yet".into());
-    }
-    if let Some(e) = engine
-        && e != "generated"
-    {
-        return Err(format!("unknown engine `{e}` (generated or generic)"));
-    }
-    mechgen::lookup::<f64>(name).ok_or_else(|| {
-        format!(
-            "no compiled-in mechanism `{name}` (compiled in: {})",
-            mechgen::MECHANISMS.join(", ")
-        )
-    })
+            .map(Generic::name)
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let model = mechs
+        .iter()
+        .find(|m| m.name() == name)
+        .cloned()
+        .ok_or_else(|| {
+            format!(
+                "no mechanism `{name}` in {} (it has: {})",
+                file.unwrap_or(mechgen::source::SOURCE_NAME),
+                available()
+            )
+        })?;
+    let solver: Box<dyn Kinematics<f64>> = if engine == "generic" {
+        Box::new(model.clone())
+    } else {
+        mechgen::lookup::<f64>(name).ok_or_else(|| format!("no compiled-in mechanism `{name}`"))?
+    };
+    Ok(Selected { solver, model })
 }
 
 fn run_sweep(args: &[String]) -> Result<(), String> {
     let opts = Options::parse(
         args,
-        &["file", "engine", "from", "to", "step", "rate", "csv"],
+        &[
+            "file", "engine", "from", "to", "step", "rate", "csv", "plot",
+        ],
     )?;
     let [name] = opts.positional.as_slice() else {
         return Err(format!("sweep takes one mechanism name\n{USAGE}"));
     };
-    let k = engine_for(name, &opts)?;
-    let info = k.info();
-    let (rows_text, csv_text) = sweep_mechanism(k.as_ref(), &info, &opts)?;
-    print!("{rows_text}");
+    let sel = select(name, &opts)?;
+    let info = sel.solver.info();
+    let rows = sweep_mechanism(sel.solver.as_ref(), &info, &opts)?;
+    say_raw!(
+        "{} ({} rows)\n{}",
+        info.name,
+        rows.len(),
+        report::table(&info, 0, &rows)
+    );
     if let Some(path) = opts.get("csv") {
-        std::fs::write(path, csv_text).map_err(|e| format!("cannot write {path}: {e}"))?;
+        std::fs::write(path, report::csv(&info, 0, &rows))
+            .map_err(|e| format!("cannot write {path}: {e}"))?;
+    }
+    if let Some(dir) = opts.get("plot") {
+        let written = cli::plots::write(Path::new(dir), &sel.model, &info, &rows)?;
+        for p in written {
+            eprintln!("wrote {}", p.display());
+        }
     }
     Ok(())
 }
 
+/// Runs the sweep the options describe (defaults per interfaces.md).
 fn sweep_mechanism(
     k: &dyn Kinematics<f64>,
     info: &MechanismInfo,
     opts: &Options,
-) -> Result<(String, String), String> {
+) -> Result<Vec<Row>, String> {
     let (_, kind, _) = info.inputs.first().ok_or("mechanism has no input")?;
     let (from, to, step) = (
         opts.number("from")?,
@@ -158,15 +151,17 @@ fn sweep_mechanism(
         },
     };
     let rate = opts.number("rate")?.unwrap_or(1.0);
-    let mut values = sweep_values(from, to, step)?;
+    let mut values = sweep_values(from, to, if step == 0.0 && from == to { 1.0 } else { step })?;
     if *kind == Kind::Angle {
         values.iter_mut().for_each(|v| *v = v.to_radians());
     }
-    let continuation = Continuation::for_input(*kind, to - from);
-    let rows = sweep(k, 0, &values, rate, &continuation);
-    let mut text = format!("{} ({} rows)\n", info.name, rows.len());
-    text.push_str(&report::table(info, 0, &rows));
-    Ok((text, report::csv(info, 0, &rows)))
+    let span = if *kind == Kind::Angle {
+        (to - from).to_radians()
+    } else {
+        to - from
+    };
+    let continuation = Continuation::for_input(*kind, span);
+    Ok(sweep(k, 0, &values, rate, &continuation))
 }
 
 fn run_check(args: &[String]) -> Result<(), String> {
@@ -174,112 +169,34 @@ fn run_check(args: &[String]) -> Result<(), String> {
     if !opts.positional.is_empty() {
         return Err(format!("check takes no positional arguments\n{USAGE}"));
     }
-    let (name, text) = match opts.get("file") {
-        Some(path) => (
-            path.to_string(),
-            std::fs::read_to_string(path).map_err(|e| format!("cannot read {path}: {e}"))?,
-        ),
-        None => ("mechanism.toml (compiled in)".to_string(), String::new()),
-    };
-    if opts.get("file").is_none() {
-        for n in mechgen::MECHANISMS {
-            if let Some(k) = mechgen::lookup::<f64>(n) {
-                print_structure(&k.info());
-            }
+    match opts.get("file") {
+        Some(path) => {
+            let text =
+                std::fs::read_to_string(path).map_err(|e| format!("cannot read {path}: {e}"))?;
+            cli::check::check(path, &text)
         }
-        return Ok(());
+        None => cli::check::check(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE),
     }
-    let file = mechgen_codegen::SourceFile::new(name, text);
-    let (mechs, diags) = mechgen_codegen::analyze(&file);
-    let rendered = mechgen_codegen::diagnostic::render(&file, &diags);
-    if diags.iter().any(|d| d.is_error()) {
-        eprint!("{rendered}");
-        return Err(format!(
-            "{}: {} error(s)",
-            file.name,
-            diags.iter().filter(|d| d.is_error()).count()
-        ));
-    }
-    eprint!("{rendered}");
-    for m in &mechs {
-        let info = MechanismInfo {
-            name: m.model.name.text.clone(),
-            description: m.model.description.clone(),
-            inputs: m
-                .model
-                .inputs
-                .iter()
-                .map(|c| (c.name.text.clone(), kind(c.kind), c.start))
-                .collect(),
-            unknowns: m
-                .model
-                .unknowns
-                .iter()
-                .map(|c| (c.name.text.clone(), kind(c.kind), c.start))
-                .collect(),
-            params: m
-                .model
-                .params
-                .iter()
-                .map(|p| (p.name.text.clone(), kind(p.kind), p.value))
-                .collect(),
-            points: m.model.points.iter().map(|p| p.0.text.clone()).collect(),
-            blocks: m.blocks.iter().map(|b| b.block.unknowns.clone()).collect(),
-        };
-        print_structure(&info);
-    }
-    Ok(())
-}
-
-fn kind(k: mechgen_codegen::check::Kind) -> Kind {
-    match k {
-        mechgen_codegen::check::Kind::Angle => Kind::Angle,
-        mechgen_codegen::check::Kind::Length => Kind::Length,
-    }
-}
-
-fn print_structure(info: &MechanismInfo) {
-    let names = |v: &[(String, Kind, f64)]| {
-        v.iter()
-            .map(|(n, k, _)| {
-                format!(
-                    "{n} ({})",
-                    if *k == Kind::Angle { "angle" } else { "length" }
-                )
-            })
-            .collect::<Vec<_>>()
-    };
-    println!("mechanism {}: {}", info.name, info.description);
-    println!("  inputs:   {}", names(&info.inputs).join(", "));
-    println!("  unknowns: {}", names(&info.unknowns).join(", "));
-    println!("  params:   {}", info.params.len());
-    println!("  points:   {}", info.points.join(", "));
-    let blocks: Vec<String> = info
-        .blocks
-        .iter()
-        .map(|b| {
-            let us: Vec<&str> = b.iter().map(|&u| info.unknowns[u].0.as_str()).collect();
-            format!("{}x{} [{}]", b.len(), b.len(), us.join(", "))
-        })
-        .collect();
-    println!("  blocks:   {}", blocks.join(" -> "));
 }
 
 fn main_job() -> Result<(), String> {
-    let dir = std::path::Path::new("mechgen-out");
+    let dir = Path::new("mechgen-out");
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let no_opts = Options {
-        pairs: vec![],
-        positional: vec![],
-    };
+    let none = Options::none();
     for name in mechgen::MECHANISMS {
-        let k = engine_for(name, &no_opts)?;
-        let info = k.info();
-        let (text, csv) = sweep_mechanism(k.as_ref(), &info, &no_opts)?;
-        println!("{text}");
+        let sel = select(name, &none)?;
+        let info = sel.solver.info();
+        let rows = sweep_mechanism(sel.solver.as_ref(), &info, &none)?;
+        say!("{} — {}", info.name, info.description);
+        say!("{}", report::table(&info, 0, &rows));
         let path = dir.join(format!("{name}.csv"));
-        std::fs::write(&path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        std::fs::write(&path, report::csv(&info, 0, &rows))
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        cli::plots::write(dir, &sel.model, &info, &rows)?;
     }
-    println!("CSV files written to {}/", dir.display());
+    say!(
+        "CSV files and plots written to {}/ (one CSV, a motion plot and a drawing per mechanism)",
+        dir.display()
+    );
     Ok(())
 }

@@ -1,7 +1,8 @@
 //! Numerical kernels the generated solvers call: Gaussian elimination on fixed-size blocks and
 //! block-wise Newton. Allocation-free; every failure is a [`SolveError`].
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OMatrix, OVector, SMatrix, SVector};
 
 use crate::error::{Quantity, SolveError, Stage};
 use crate::scalar::Real;
@@ -73,30 +74,46 @@ pub fn check_finite<T: Real>(quantity: Quantity, values: &[T]) -> Result<(), Sol
 /// Solves `a z = b` by Gaussian elimination with column equilibration and partial pivoting.
 /// Returns the solution and the pivot ratio, or the pivot ratio when `a` is singular to working
 /// precision.
-// `!(a > b)` is deliberate: a NaN must fail the test.
-#[allow(clippy::neg_cmp_op_on_partial_ord)]
+#[inline]
 pub fn gauss<T: Real, const K: usize>(
     mut a: SMatrix<T, K, K>,
     mut b: SVector<T, K>,
 ) -> Result<(SVector<T, K>, T), T> {
-    let mut col_scale = [T::one(); K];
-    for (j, s) in col_scale.iter_mut().enumerate() {
+    let mut scale = SVector::<T, K>::zeros();
+    let ratio = gauss_in_place(&mut a, &mut b, &mut scale)?;
+    Ok((b, ratio))
+}
+
+/// [`gauss`] for any dimension (fixed or dynamic): on success `b` holds the solution and the
+/// pivot ratio is returned; `a` is overwritten and `scale` is workspace of `b`'s size.
+// `!(a > b)` is deliberate: a NaN must fail the test.
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
+pub fn gauss_in_place<T: Real, D: Dim>(
+    a: &mut OMatrix<T, D, D>,
+    b: &mut OVector<T, D>,
+    scale: &mut OVector<T, D>,
+) -> Result<T, T>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    let k = b.len();
+    for j in 0..k {
         let mut m = T::zero();
-        for i in 0..K {
+        for i in 0..k {
             m = m.max(a[(i, j)].abs());
         }
         if !(m > T::zero()) || !m.is_finite() {
             return Err(T::zero());
         }
-        *s = m;
-        for i in 0..K {
+        scale[j] = m;
+        for i in 0..k {
             a[(i, j)] = a[(i, j)] / m;
         }
     }
     let (mut pmin, mut pmax) = (T::lit(f64::INFINITY), T::zero());
-    for c in 0..K {
+    for c in 0..k {
         let mut p = c;
-        for r in c + 1..K {
+        for r in c + 1..k {
             if a[(r, c)].abs() > a[(p, c)].abs() {
                 p = r;
             }
@@ -108,36 +125,36 @@ pub fn gauss<T: Real, const K: usize>(
         let piv = a[(c, c)];
         pmin = pmin.min(piv.abs());
         pmax = pmax.max(piv.abs());
-        if !(pmin > pmax * T::EPSILON * T::lit(K as f64)) {
+        if !(pmin > pmax * T::EPSILON * T::lit(k as f64)) {
             return Err(if pmax > T::zero() {
                 pmin / pmax
             } else {
                 T::zero()
             });
         }
-        for r in c + 1..K {
+        for r in c + 1..k {
             let f = a[(r, c)] / piv;
             if f != T::zero() {
-                for k in c + 1..K {
-                    let v = a[(c, k)];
-                    a[(r, k)] -= f * v;
+                for j in c + 1..k {
+                    let v = a[(c, j)];
+                    a[(r, j)] -= f * v;
                 }
                 let v = b[c];
                 b[r] -= f * v;
             }
         }
     }
-    for c in (0..K).rev() {
+    for c in (0..k).rev() {
         let mut s = b[c];
-        for k in c + 1..K {
-            s -= a[(c, k)] * b[k];
+        for j in c + 1..k {
+            s -= a[(c, j)] * b[j];
         }
         b[c] = s / a[(c, c)];
     }
-    for (j, s) in col_scale.iter().enumerate() {
-        b[j] = b[j] / *s;
+    for j in 0..k {
+        b[j] = b[j] / scale[j];
     }
-    Ok((b, pmin / pmax))
+    Ok(pmin / pmax)
 }
 
 /// One linear block solve of a velocity or acceleration pass.
@@ -163,8 +180,9 @@ pub fn solve_block<T: Real, const K: usize>(
 /// unknown `i` is a length), `eval` gives the block residual and Jacobian at `q`.
 ///
 /// Converges when the relative step is at most the tolerance, or when small steps stop shrinking
-/// (rounding noise; convergence is only linear at a dead point, so no fixed count is assumed). On failure: `Unassemblable` when the
-/// residual stayed large, `NoConvergence` when it is small but the steps are not.
+/// (rounding noise; convergence is only linear at a dead point, so no fixed count is assumed). On
+/// failure: `Unassemblable` when the residual stayed large, `NoConvergence` when it is small but
+/// the steps are not.
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn newton_block<T: Real, const K: usize, const N: usize>(
@@ -177,15 +195,65 @@ pub fn newton_block<T: Real, const K: usize, const N: usize>(
     report: &mut NewtonReport<T>,
     eval: impl Fn(&[T; N]) -> (SVector<T, K>, SMatrix<T, K, K>),
 ) -> Result<(), SolveError> {
+    let mut work = NewtonWork {
+        residual: SVector::<T, K>::zeros(),
+        jacobian: SMatrix::<T, K, K>::zeros(),
+        scale: SVector::<T, K>::zeros(),
+    };
+    newton_in_place(
+        block,
+        q,
+        &idx,
+        &length,
+        scale,
+        options,
+        report,
+        &mut work,
+        |q, r, j| {
+            let (rr, jj) = eval(q);
+            *r = rr;
+            *j = jj;
+        },
+    )
+}
+
+/// Workspace of [`newton_in_place`]: the block's residual, Jacobian and column scales.
+pub struct NewtonWork<T: Real, D: Dim>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    pub residual: OVector<T, D>,
+    pub jacobian: OMatrix<T, D, D>,
+    pub scale: OVector<T, D>,
+}
+
+/// [`newton_block`] for any block dimension (fixed or dynamic) and any storage of `q`: the one
+/// Newton both engines run. `eval` writes the block residual and Jacobian at `q`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn newton_in_place<T: Real, D: Dim, Q: AsRef<[T]> + AsMut<[T]> + ?Sized>(
+    block: usize,
+    q: &mut Q,
+    idx: &[usize],
+    length: &[bool],
+    scale: T,
+    options: &NewtonOptions<T>,
+    report: &mut NewtonReport<T>,
+    work: &mut NewtonWork<T, D>,
+    mut eval: impl FnMut(&Q, &mut OVector<T, D>, &mut OMatrix<T, D, D>),
+) -> Result<(), SolveError>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
     let inv_scale = T::one() / scale;
     let rounding = T::EPSILON * T::lit(64.0);
     let mut prev_step = T::lit(f64::INFINITY);
     let mut residual = T::zero();
     let mut step = T::zero();
     for it in 1..=options.max_iterations {
-        let (r, jac) = eval(q);
+        eval(q, &mut work.residual, &mut work.jacobian);
         residual = T::zero();
-        for v in r.iter() {
+        for v in work.residual.iter() {
             residual = residual.max(v.abs() * inv_scale);
         }
         if !residual.is_finite() {
@@ -195,8 +263,8 @@ pub fn newton_block<T: Real, const K: usize, const N: usize>(
                 iterations: it,
             });
         }
-        let (dz, ratio) = match gauss(jac, r) {
-            Ok(s) => s,
+        let ratio = match gauss_in_place(&mut work.jacobian, &mut work.residual, &mut work.scale) {
+            Ok(ratio) => ratio,
             Err(ratio) => {
                 // An exact solution at a singular Jacobian (a dead point hit exactly) is still a solution.
                 if residual <= rounding {
@@ -213,14 +281,16 @@ pub fn newton_block<T: Real, const K: usize, const N: usize>(
             }
         };
         step = T::zero();
-        for i in 0..K {
-            let s = if length[i] {
-                dz[i].abs() * inv_scale
+        let qs = q.as_mut();
+        for (i, (&k, &is_length)) in idx.iter().zip(length).enumerate() {
+            let dz = work.residual[i];
+            let s = if is_length {
+                dz.abs() * inv_scale
             } else {
-                dz[i].abs()
+                dz.abs()
             };
             step = step.max(s);
-            q[idx[i]] -= dz[i];
+            qs[k] -= dz;
         }
         if !step.is_finite() {
             return Err(SolveError::Unassemblable {

@@ -7,6 +7,9 @@ use crate::diagnostic::{SourceFile, render};
 
 /// Name of the generated file in `OUT_DIR`.
 pub const GENERATED_FILE: &str = "mechanisms.rs";
+/// Name of the file in `OUT_DIR` holding the mechanism file's name and text as two constants,
+/// `SOURCE_NAME` and `SOURCE` (for run-time engines, drawings and `check`).
+pub const SOURCE_FILE: &str = "mechanism_source.rs";
 /// Environment variable naming the mechanism file (an absolute path).
 pub const ENV_VAR: &str = "MECHGEN_MECHANISM";
 
@@ -26,11 +29,15 @@ pub fn generate(input: &Path, display_name: &str, out_dir: &Path) -> Result<Gene
     match crate::compile(&file) {
         Ok((code, warnings)) => {
             let path = out_dir.join(GENERATED_FILE);
-            // Write only on change, so an unchanged file does not rebuild dependents.
-            if std::fs::read_to_string(&path).ok().as_deref() != Some(code.as_str()) {
-                std::fs::write(&path, code)
-                    .map_err(|e| format!("{}: error: cannot write: {e}", path.display()))?;
-            }
+            write_if_changed(&path, &code)?;
+            let source = format!(
+                "/// Name of the mechanism file the solvers were generated from.\n\
+                 pub const SOURCE_NAME: &str = {:?};\n\
+                 /// Its text.\n\
+                 pub const SOURCE: &str = {:?};\n",
+                file.name, file.text
+            );
+            write_if_changed(&out_dir.join(SOURCE_FILE), &source)?;
             Ok(Generated {
                 path,
                 warnings: render(&file, &warnings),
@@ -38,6 +45,15 @@ pub fn generate(input: &Path, display_name: &str, out_dir: &Path) -> Result<Gene
         }
         Err(diags) => Err(render(&file, &diags)),
     }
+}
+
+/// Writes only on change, so an unchanged file does not rebuild dependents.
+fn write_if_changed(path: &Path, text: &str) -> Result<(), String> {
+    if std::fs::read_to_string(path).ok().as_deref() != Some(text) {
+        std::fs::write(path, text)
+            .map_err(|e| format!("{}: error: cannot write: {e}", path.display()))?;
+    }
+    Ok(())
 }
 
 /// The whole build script: `fn main() { mechgen_codegen::build_script::run() }`. Exits with status

@@ -139,3 +139,76 @@ fn binary(dag: &mut Dag, op: BinOp, a: Value, b: Value) -> Value {
         (_, a, _) => a,
     }
 }
+
+/// One side of a loop drawn as a chain of joints: the loop `Σ a − Σ b = 0` gives the chains
+/// `a₁, a₁+a₂, …` and `b₁, b₁+b₂, …`, both from the origin, constant terms (ground offsets) first.
+/// Used to draw the mechanism; nodes live in the system's DAG.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chain {
+    /// Joint positions, the origin first.
+    pub vertices: Vec<[NodeId; 2]>,
+    /// How many leading segments are ground (constant terms).
+    pub ground_segments: usize,
+}
+
+/// The drawing chains of every loop (two per loop: its added and its subtracted terms).
+///
+/// Loops are usually written as a path out from the origin, then back (`A + AB + BC − DC − AD`),
+/// so the subtracted terms are taken in reverse order: `AD`, then `DC`.
+pub fn chains(model: &Model, dag: &mut Dag) -> Vec<Chain> {
+    let mut out = Vec::new();
+    for l in &model.loops {
+        let mut terms = Vec::new();
+        flatten(l, true, &mut terms);
+        let (plus, mut minus): (Vec<_>, Vec<_>) = terms.into_iter().partition(|(_, s)| *s);
+        minus.reverse();
+        for side in [plus, minus] {
+            let lowered: Vec<([NodeId; 2], bool)> = side
+                .into_iter()
+                .map(|(e, _)| {
+                    let v = vector(dag, model, e);
+                    let ground = v
+                        .iter()
+                        .all(|&c| dag.vars_of(c).iter().all(|var| matches!(var, Var::P(_))));
+                    (v, ground)
+                })
+                .collect();
+            let ground_segments = lowered.iter().filter(|(_, g)| *g).count();
+            let zero = dag.constant(0.0);
+            let mut at = [zero, zero];
+            let mut vertices = vec![at];
+            // Ground offsets first, then the moving links in their written order.
+            for (v, _) in lowered
+                .iter()
+                .filter(|(_, g)| *g)
+                .chain(lowered.iter().filter(|(_, g)| !*g))
+            {
+                at = [dag.add(at[0], v[0]), dag.add(at[1], v[1])];
+                vertices.push(at);
+            }
+            if vertices.len() > 1 {
+                out.push(Chain {
+                    vertices,
+                    ground_segments,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The terms of a sum with their signs (`true` = added).
+fn flatten<'e>(e: &'e Expr, sign: bool, out: &mut Vec<(&'e Expr, bool)>) {
+    match &e.kind {
+        ExprKind::Binary(BinOp::Add, a, b) => {
+            flatten(a, sign, out);
+            flatten(b, sign, out);
+        }
+        ExprKind::Binary(BinOp::Sub, a, b) => {
+            flatten(a, sign, out);
+            flatten(b, !sign, out);
+        }
+        ExprKind::Neg(a) => flatten(a, !sign, out),
+        _ => out.push((e, sign)),
+    }
+}

@@ -1,0 +1,49 @@
+//! CLI, `mechgen check`: validates a mechanism file through the generator's front end and prints
+//! its structure, or every diagnostic as FILE:LINE:COLUMN.
+
+use mechgen::{Kind, MechanismInfo, generic};
+
+/// Checks `name`/`text`; prints structure to stdout and diagnostics to stderr.
+pub fn check(name: &str, text: &str) -> Result<(), String> {
+    match generic::load_with_warnings(name, text) {
+        Ok((mechs, warnings)) => {
+            eprint!("{warnings}");
+            for m in &mechs {
+                print_structure(&mechgen::Kinematics::<f64>::info(m));
+            }
+            Ok(())
+        }
+        Err(e) => {
+            eprint!("{}", e.rendered);
+            let n = e.diagnostics.iter().filter(|d| d.is_error()).count();
+            Err(format!("{name}: {n} error(s)"))
+        }
+    }
+}
+
+fn print_structure(info: &MechanismInfo) {
+    let names = |v: &[(String, Kind, f64)]| {
+        v.iter()
+            .map(|(n, k, _)| {
+                format!(
+                    "{n} ({})",
+                    if *k == Kind::Angle { "angle" } else { "length" }
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+    say!("mechanism {}: {}", info.name, info.description);
+    say!("  inputs:   {}", names(&info.inputs).join(", "));
+    say!("  unknowns: {}", names(&info.unknowns).join(", "));
+    say!("  params:   {}", info.params.len());
+    say!("  points:   {}", info.points.join(", "));
+    let blocks: Vec<String> = info
+        .blocks
+        .iter()
+        .map(|b| {
+            let us: Vec<&str> = b.iter().map(|&u| info.unknowns[u].0.as_str()).collect();
+            format!("{}x{} [{}]", b.len(), b.len(), us.join(", "))
+        })
+        .collect();
+    say!("  blocks:   {}", blocks.join(" -> "));
+}

@@ -1,0 +1,21 @@
+//! The command's pieces: option parsing, `check`, and the plots a sweep writes.
+
+/// `println!` that ignores a closed stdout (`mechgen | head` must not panic).
+macro_rules! say {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($t)*);
+    }};
+}
+
+/// `print!` that ignores a closed stdout.
+macro_rules! say_raw {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stdout(), $($t)*);
+    }};
+}
+
+pub mod check;
+pub mod options;
+pub mod plots;

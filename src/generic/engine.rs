@@ -1,0 +1,300 @@
+//! Generic engine, solvers: a mechanism loaded at run time (through mechgen-codegen's parser,
+//! checker, lowering and derivatives), its DAG compiled to tapes per diagonal block, solved with
+//! the same block Newton and elimination as the generated code on nalgebra `DMatrix`/`DVector`.
+//! Implements [`Kinematics`] with the generated solvers' semantics and error values.
+
+use mechgen_codegen::check::Kind as CodegenKind;
+use mechgen_codegen::{Compiled, Diagnostic, SourceFile};
+use nalgebra::{DMatrix, DVector, Dyn};
+
+use super::tape::{Env, Tape};
+use crate::error::{Quantity, SolveError, Stage};
+use crate::mechanism::{Kind, MechanismInfo};
+use crate::scalar::Real;
+use crate::solve::{NewtonWork, check_finite, gauss_in_place};
+
+/// A mechanism file that could not be loaded: every diagnostic, rendered as FILE:LINE:COLUMN.
+#[derive(Clone, Debug)]
+pub struct LoadError {
+    pub rendered: String,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl std::fmt::Display for LoadError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.rendered.trim_end())
+    }
+}
+
+impl std::error::Error for LoadError {}
+
+/// The tapes of one diagonal block.
+#[derive(Clone, Debug)]
+pub(super) struct BlockTapes {
+    pub unknowns: Vec<usize>,
+    pub length: Vec<bool>,
+    /// k residuals, then the k×k Jacobian row-major.
+    pub position: Tape,
+    /// k right-hand sides, then the Jacobian.
+    pub velocity: Tape,
+    pub acceleration: Tape,
+}
+
+/// A mechanism solved by interpreting its expression DAG.
+#[derive(Clone, Debug)]
+pub struct Generic {
+    pub(super) info: MechanismInfo,
+    pub(super) params: Vec<f64>,
+    pub(super) length_param: Vec<bool>,
+    pub(super) blocks: Vec<BlockTapes>,
+    pub(super) residual: Tape,
+    pub(super) jacobian: Tape,
+    pub(super) input_jacobian: Tape,
+    pub(super) jacobian_dot: Tape,
+    pub(super) acceleration_rhs: Tape,
+    /// Per point: x, y, vx, vy, ax, ay.
+    pub(super) points: Tape,
+    /// Joint positions of the drawing chains, and each chain's (vertex count, ground segments).
+    pub(super) chains: Tape,
+    pub(super) chain_shape: Vec<(usize, usize)>,
+}
+
+fn kind(k: CodegenKind) -> Kind {
+    match k {
+        CodegenKind::Angle => Kind::Angle,
+        CodegenKind::Length => Kind::Length,
+    }
+}
+
+/// Loads every mechanism of a file's text. Warnings are dropped; see [`load_with_warnings`].
+pub fn load(name: &str, text: &str) -> Result<Vec<Generic>, LoadError> {
+    load_with_warnings(name, text).map(|(m, _)| m)
+}
+
+/// Loads every mechanism of a file's text; also returns the rendered warnings.
+pub fn load_with_warnings(name: &str, text: &str) -> Result<(Vec<Generic>, String), LoadError> {
+    let file = SourceFile::new(name, text);
+    let (compiled, diagnostics) = mechgen_codegen::analyze(&file);
+    let rendered = mechgen_codegen::diagnostic::render(&file, &diagnostics);
+    if diagnostics.iter().any(Diagnostic::is_error) {
+        return Err(LoadError {
+            rendered,
+            diagnostics,
+        });
+    }
+    Ok((compiled.iter().map(Generic::new).collect(), rendered))
+}
+
+/// Reads and loads a mechanism file.
+pub fn load_file(path: &std::path::Path) -> Result<Vec<Generic>, LoadError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| LoadError {
+        rendered: format!("{name}: error: cannot read mechanism file: {e}"),
+        diagnostics: Vec::new(),
+    })?;
+    load(&name, &text)
+}
+
+impl Generic {
+    /// Compiles the tapes of an analysed mechanism.
+    pub fn new(c: &Compiled) -> Generic {
+        let m = &c.model;
+        let mut dag = c.system.dag.clone();
+        let chains = mechgen_codegen::lower::chains(m, &mut dag);
+        let d = &c.derivatives;
+        let flat = |rows: &[Vec<_>]| rows.iter().flatten().copied().collect::<Vec<_>>();
+        let coords = |cs: &[mechgen_codegen::check::Coord]| {
+            cs.iter()
+                .map(|c| (c.name.text.clone(), kind(c.kind), c.start))
+                .collect::<Vec<_>>()
+        };
+        let info = MechanismInfo {
+            name: m.name.text.clone(),
+            description: m.description.clone(),
+            inputs: coords(&m.inputs),
+            unknowns: coords(&m.unknowns),
+            params: m
+                .params
+                .iter()
+                .map(|p| (p.name.text.clone(), kind(p.kind), p.value))
+                .collect(),
+            points: m.points.iter().map(|p| p.0.text.clone()).collect(),
+            blocks: c.blocks.iter().map(|b| b.block.unknowns.clone()).collect(),
+        };
+        let blocks = c
+            .blocks
+            .iter()
+            .map(|b| {
+                let with_jac = |head: &[_]| {
+                    let mut roots = head.to_vec();
+                    roots.extend(flat(&b.jacobian));
+                    Tape::new(&dag, &roots)
+                };
+                BlockTapes {
+                    unknowns: b.block.unknowns.clone(),
+                    length: b
+                        .block
+                        .unknowns
+                        .iter()
+                        .map(|&k| m.unknowns[k].kind == CodegenKind::Length)
+                        .collect(),
+                    position: with_jac(&b.residual),
+                    velocity: with_jac(&b.velocity_rhs),
+                    acceleration: with_jac(&b.acceleration_rhs),
+                }
+            })
+            .collect();
+        let mut point_roots = Vec::new();
+        for p in 0..m.points.len() {
+            point_roots.extend(c.system.points[p]);
+            point_roots.extend(d.point_velocity[p]);
+            point_roots.extend(d.point_acceleration[p]);
+        }
+        let chain_roots: Vec<_> = chains.iter().flat_map(|ch| ch.vertices.concat()).collect();
+        Generic {
+            params: m.params.iter().map(|p| p.value).collect(),
+            length_param: m
+                .params
+                .iter()
+                .map(|p| p.kind == CodegenKind::Length)
+                .collect(),
+            blocks,
+            residual: Tape::new(&dag, &c.system.residuals),
+            jacobian: Tape::new(&dag, &flat(&d.jacobian)),
+            input_jacobian: Tape::new(&dag, &flat(&d.input_jacobian)),
+            jacobian_dot: Tape::new(&dag, &flat(&d.jacobian_dot)),
+            acceleration_rhs: Tape::new(&dag, &d.acceleration_rhs),
+            points: Tape::new(&dag, &point_roots),
+            chains: Tape::new(&dag, &chain_roots),
+            chain_shape: chains
+                .iter()
+                .map(|ch| (ch.vertices.len(), ch.ground_segments))
+                .collect(),
+            info,
+        }
+    }
+
+    pub fn name(&self) -> &str {
+        &self.info.name
+    }
+
+    /// Current param values, in the file's order.
+    pub fn params(&self) -> &[f64] {
+        &self.params
+    }
+
+    /// Sets a param by name. Params derived by expressions in the file keep their file values.
+    pub fn set_param(&mut self, name: &str, value: f64) -> Result<(), String> {
+        let i = self
+            .info
+            .params
+            .iter()
+            .position(|p| p.0 == name)
+            .ok_or_else(|| format!("no param `{name}` in `{}`", self.info.name))?;
+        self.params[i] = value;
+        self.info.params[i].2 = value;
+        Ok(())
+    }
+
+    /// Largest length param (or 1): what relative length tolerances are relative to.
+    pub fn length_scale(&self) -> f64 {
+        let s = self
+            .params
+            .iter()
+            .zip(&self.length_param)
+            .filter(|(_, l)| **l)
+            .fold(0.0f64, |m, (p, _)| m.max(p.abs()));
+        if s > 0.0 { s } else { 1.0 }
+    }
+
+    /// Newton on every block in order, from the guess in `q`.
+    pub(super) fn newton<T: Real>(
+        &self,
+        x: &[T],
+        q: &mut [T],
+        options: &crate::NewtonOptions<T>,
+    ) -> Result<crate::NewtonReport<T>, SolveError> {
+        check_finite(Quantity::Param, &self.params)?;
+        check_finite(Quantity::Input, x)?;
+        check_finite(Quantity::Guess, q)?;
+        let scale = T::lit(self.length_scale());
+        let mut report = crate::NewtonReport::new();
+        let mut regs = Vec::new();
+        let mut out = Vec::new();
+        for (bi, b) in self.blocks.iter().enumerate() {
+            let k = b.unknowns.len();
+            let mut work: NewtonWork<T, Dyn> = NewtonWork {
+                residual: DVector::zeros(k),
+                jacobian: DMatrix::zeros(k, k),
+                scale: DVector::zeros(k),
+            };
+            out.resize(k + k * k, T::zero());
+            crate::solve::newton_in_place(
+                bi,
+                q,
+                &b.unknowns,
+                &b.length,
+                scale,
+                options,
+                &mut report,
+                &mut work,
+                |q, r, j| {
+                    b.position
+                        .eval(&Env::position(x, q, &self.params), &mut regs, &mut out);
+                    fill(&out, k, r, j);
+                },
+            )?;
+        }
+        Ok(report)
+    }
+
+    /// Velocity or acceleration: one linear solve per block, earlier blocks' rates known.
+    pub(super) fn linear<T: Real>(
+        &self,
+        stage: Stage,
+        env: Env<'_, T>,
+        z: &mut [T],
+    ) -> Result<(), SolveError> {
+        z.iter_mut().for_each(|v| *v = T::zero());
+        let mut regs = Vec::new();
+        let mut out = Vec::new();
+        for (bi, b) in self.blocks.iter().enumerate() {
+            let k = b.unknowns.len();
+            let (tape, env) = match stage {
+                Stage::Velocity => (&b.velocity, Env { qd: z, ..env }),
+                _ => (&b.acceleration, Env { qdd: z, ..env }),
+            };
+            out.resize(k + k * k, T::zero());
+            tape.eval(&env, &mut regs, &mut out);
+            let mut rhs = DVector::zeros(k);
+            let mut jac = DMatrix::zeros(k, k);
+            let mut scale = DVector::zeros(k);
+            fill(&out, k, &mut rhs, &mut jac);
+            match gauss_in_place(&mut jac, &mut rhs, &mut scale) {
+                Ok(_) if rhs.iter().all(|v| v.is_finite()) => {}
+                Ok(_) => return Err(SolveError::Overflow { block: bi, stage }),
+                Err(ratio) => {
+                    return Err(SolveError::Singular {
+                        block: bi,
+                        stage,
+                        pivot_ratio: ratio.to_f64(),
+                    });
+                }
+            }
+            for (i, &u) in b.unknowns.iter().enumerate() {
+                z[u] = rhs[i];
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Splits a block tape's outputs into its vector (first `k`) and its matrix (row-major).
+fn fill<T: Real>(out: &[T], k: usize, v: &mut DVector<T>, m: &mut DMatrix<T>) {
+    for i in 0..k {
+        v[i] = out[i];
+        for j in 0..k {
+            m[(i, j)] = out[k + i * k + j];
+        }
+    }
+}

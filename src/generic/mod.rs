@@ -1,0 +1,266 @@
+//! The generic runtime engine (feature `runtime`): loads a mechanism file at run time and solves
+//! it by interpreting the same derivatives the generator emits ([`tape`]), with the same block
+//! Newton and error values ([`engine`]). It is the `--file` path of the CLI and the honest
+//! comparison for the generated solvers. [`Kinematics`] is implemented here.
+
+mod engine;
+pub mod tape;
+
+pub use engine::{Generic, LoadError, load, load_file, load_with_warnings};
+
+use crate::error::{SolveError, Stage};
+use crate::mechanism::{Kinematics, MechanismInfo, PointMotion};
+use crate::scalar::Real;
+use crate::solve::{NewtonOptions, NewtonReport, check_finite};
+use tape::Env;
+
+fn len<T>(s: &[T], expected: usize) -> Result<(), SolveError> {
+    if s.len() == expected {
+        Ok(())
+    } else {
+        Err(SolveError::BadLength {
+            expected,
+            got: s.len(),
+        })
+    }
+}
+
+/// One chain of the mechanism drawing at a configuration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChainPosition {
+    /// Joint positions, the origin first.
+    pub vertices: Vec<[f64; 2]>,
+    /// How many leading segments are ground offsets (not links).
+    pub ground_segments: usize,
+}
+
+impl Generic {
+    fn sizes(&self) -> (usize, usize, usize) {
+        (
+            self.info.inputs.len(),
+            self.info.unknowns.len(),
+            self.info.points.len(),
+        )
+    }
+
+    fn check(&self, x: &[f64], q: &[f64]) -> Result<(), SolveError> {
+        let (ni, nu, _) = self.sizes();
+        len(x, ni)?;
+        len(q, nu)
+    }
+
+    /// The drawing chains (links and ground offsets of every loop) at `(x, q)`.
+    pub fn chains(&self, x: &[f64], q: &[f64]) -> Result<Vec<ChainPosition>, SolveError> {
+        self.check(x, q)?;
+        let mut out = vec![0.0; self.chains.outputs()];
+        self.chains.eval(
+            &Env::position(x, q, &self.params),
+            &mut Vec::new(),
+            &mut out,
+        );
+        let mut at = 0;
+        Ok(self
+            .chain_shape
+            .iter()
+            .map(|&(n, ground_segments)| {
+                let vertices = (0..n)
+                    .map(|i| [out[at + 2 * i], out[at + 2 * i + 1]])
+                    .collect();
+                at += 2 * n;
+                ChainPosition {
+                    vertices,
+                    ground_segments,
+                }
+            })
+            .collect())
+    }
+
+    fn eval_into<T: Real>(
+        &self,
+        tape: &tape::Tape,
+        env: Env<'_, T>,
+        out: &mut [T],
+    ) -> Result<(), SolveError> {
+        len(out, tape.outputs())?;
+        tape.eval(&env, &mut Vec::new(), out);
+        Ok(())
+    }
+}
+
+/// Implemented for f64 and f32 (a blanket `impl<T: Real>` would overlap the one for generated
+/// mechanisms).
+macro_rules! kinematics {
+    ($t:ty) => {
+        impl Kinematics<$t> for Generic {
+            fn info(&self) -> MechanismInfo {
+                self.info.clone()
+            }
+
+            fn residual(&self, x: &[$t], q: &[$t], out: &mut [$t]) -> Result<(), SolveError> {
+                let (ni, nu, _) = self.sizes();
+                len(x, ni)?;
+                len(q, nu)?;
+                self.eval_into(&self.residual, Env::position(x, q, &self.params), out)
+            }
+
+            fn jacobian(&self, x: &[$t], q: &[$t], out: &mut [$t]) -> Result<(), SolveError> {
+                let (ni, nu, _) = self.sizes();
+                len(x, ni)?;
+                len(q, nu)?;
+                self.eval_into(&self.jacobian, Env::position(x, q, &self.params), out)
+            }
+
+            fn input_jacobian(&self, x: &[$t], q: &[$t], out: &mut [$t]) -> Result<(), SolveError> {
+                let (ni, nu, _) = self.sizes();
+                len(x, ni)?;
+                len(q, nu)?;
+                self.eval_into(&self.input_jacobian, Env::position(x, q, &self.params), out)
+            }
+
+            fn jacobian_dot(
+                &self,
+                x: &[$t],
+                q: &[$t],
+                xd: &[$t],
+                qd: &[$t],
+                out: &mut [$t],
+            ) -> Result<(), SolveError> {
+                let (ni, nu, _) = self.sizes();
+                len(x, ni)?;
+                len(q, nu)?;
+                len(xd, ni)?;
+                len(qd, nu)?;
+                let env = Env {
+                    xd,
+                    qd,
+                    ..Env::position(x, q, &self.params)
+                };
+                self.eval_into(&self.jacobian_dot, env, out)
+            }
+
+            fn acceleration_rhs(
+                &self,
+                x: &[$t],
+                q: &[$t],
+                xd: &[$t],
+                qd: &[$t],
+                xdd: &[$t],
+                out: &mut [$t],
+            ) -> Result<(), SolveError> {
+                let (ni, nu, _) = self.sizes();
+                len(x, ni)?;
+                len(q, nu)?;
+                len(xd, ni)?;
+                len(qd, nu)?;
+                len(xdd, ni)?;
+                let env = Env {
+                    xd,
+                    qd,
+                    xdd,
+                    ..Env::position(x, q, &self.params)
+                };
+                self.eval_into(&self.acceleration_rhs, env, out)
+            }
+
+            fn solve_position(
+                &self,
+                x: &[$t],
+                q: &mut [$t],
+                options: &NewtonOptions<$t>,
+            ) -> Result<NewtonReport<$t>, SolveError> {
+                let (ni, nu, _) = self.sizes();
+                len(x, ni)?;
+                len(q, nu)?;
+                self.newton(x, q, options)
+            }
+
+            fn solve_velocity(
+                &self,
+                x: &[$t],
+                q: &[$t],
+                xd: &[$t],
+                qd: &mut [$t],
+            ) -> Result<(), SolveError> {
+                let (ni, nu, _) = self.sizes();
+                len(x, ni)?;
+                len(q, nu)?;
+                len(xd, ni)?;
+                len(qd, nu)?;
+                check_finite(crate::Quantity::InputRate, xd)?;
+                let env = Env {
+                    xd,
+                    ..Env::position(x, q, &self.params)
+                };
+                self.linear(Stage::Velocity, env, qd)
+            }
+
+            fn solve_acceleration(
+                &self,
+                x: &[$t],
+                q: &[$t],
+                xd: &[$t],
+                qd: &[$t],
+                xdd: &[$t],
+                qdd: &mut [$t],
+            ) -> Result<(), SolveError> {
+                let (ni, nu, _) = self.sizes();
+                len(x, ni)?;
+                len(q, nu)?;
+                len(xd, ni)?;
+                len(qd, nu)?;
+                len(xdd, ni)?;
+                len(qdd, nu)?;
+                check_finite(crate::Quantity::InputAcceleration, xdd)?;
+                let env = Env {
+                    xd,
+                    qd,
+                    xdd,
+                    ..Env::position(x, q, &self.params)
+                };
+                self.linear(Stage::Acceleration, env, qdd)
+            }
+
+            fn points(
+                &self,
+                x: &[$t],
+                q: &[$t],
+                xd: &[$t],
+                qd: &[$t],
+                xdd: &[$t],
+                qdd: &[$t],
+                out: &mut [PointMotion<$t>],
+            ) -> Result<(), SolveError> {
+                let (ni, nu, np) = self.sizes();
+                len(x, ni)?;
+                len(q, nu)?;
+                len(xd, ni)?;
+                len(qd, nu)?;
+                len(xdd, ni)?;
+                len(qdd, nu)?;
+                len(out, np)?;
+                let env = Env {
+                    x,
+                    q,
+                    p: &self.params,
+                    xd,
+                    qd,
+                    xdd,
+                    qdd,
+                };
+                let mut v = vec![<$t as num_traits::Zero>::zero(); 6 * np];
+                self.points.eval(&env, &mut Vec::new(), &mut v);
+                for (o, c) in out.iter_mut().zip(v.chunks_exact(6)) {
+                    *o = PointMotion {
+                        position: [c[0], c[1]],
+                        velocity: [c[2], c[3]],
+                        acceleration: [c[4], c[5]],
+                    };
+                }
+                Ok(())
+            }
+        }
+    };
+}
+
+kinematics!(f64);
+kinematics!(f32);

@@ -1,0 +1,187 @@
+//! Generic engine, evaluation: the roots of an expression DAG compiled into a flat register
+//! program (a tape) and interpreted. Only the nodes the roots need are kept, children before
+//! parents, and a `sin` and `cos` of the same argument become one `sin_cos`.
+
+use mechgen_codegen::dag::{Dag, Node, NodeId, Var};
+
+use crate::scalar::Real;
+
+/// One instruction; operands are register numbers (every instruction writes the next register).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Op {
+    Const(f64),
+    Var(Var),
+    Add(u32, u32),
+    Sub(u32, u32),
+    Mul(u32, u32),
+    Div(u32, u32),
+    Neg(u32),
+    /// Writes `sin` to this register and `cos` to the next one (whose op is [`Op::Cos2`]).
+    SinCos(u32),
+    /// Placeholder for the `cos` half of the preceding [`Op::SinCos`].
+    Cos2,
+    Sin(u32),
+    Cos(u32),
+    Tan(u32),
+    Sqrt(u32),
+}
+
+/// The values the variables of a tape take. Slices a tape does not read may be empty; a missing
+/// value reads as zero (callers check lengths before evaluating).
+#[derive(Clone, Copy, Debug)]
+pub struct Env<'a, T> {
+    pub x: &'a [T],
+    pub q: &'a [T],
+    pub p: &'a [f64],
+    pub xd: &'a [T],
+    pub qd: &'a [T],
+    pub xdd: &'a [T],
+    pub qdd: &'a [T],
+}
+
+impl<'a, T: Real> Env<'a, T> {
+    /// Only positions (and params) known.
+    pub fn position(x: &'a [T], q: &'a [T], p: &'a [f64]) -> Self {
+        Env {
+            x,
+            q,
+            p,
+            xd: &[],
+            qd: &[],
+            xdd: &[],
+            qdd: &[],
+        }
+    }
+
+    #[inline]
+    fn get(&self, v: Var) -> T {
+        let (slice, i) = match v {
+            Var::X(i) => (self.x, i),
+            Var::Q(i) => (self.q, i),
+            Var::P(i) => return self.p.get(i as usize).map_or(T::zero(), |&p| T::lit(p)),
+            Var::Xd(i) => (self.xd, i),
+            Var::Qd(i) => (self.qd, i),
+            Var::Xdd(i) => (self.xdd, i),
+            Var::Qdd(i) => (self.qdd, i),
+        };
+        slice.get(i as usize).copied().unwrap_or(T::zero())
+    }
+}
+
+/// A compiled program: evaluates some roots of a DAG.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Tape {
+    ops: Vec<Op>,
+    outputs: Vec<u32>,
+}
+
+impl Tape {
+    /// Compiles the nodes `roots` depend on.
+    pub fn new(dag: &Dag, roots: &[NodeId]) -> Tape {
+        let nodes = dag.nodes();
+        let mut needed = vec![false; nodes.len()];
+        let mut stack: Vec<NodeId> = roots.to_vec();
+        while let Some(n) = stack.pop() {
+            if !std::mem::replace(&mut needed[n.index()], true) {
+                stack.extend(nodes[n.index()].children());
+            }
+        }
+        // Arguments of both a needed sin and a needed cos.
+        let mut has_sin = vec![false; nodes.len()];
+        let mut has_cos = vec![false; nodes.len()];
+        for (n, _) in nodes.iter().zip(&needed).filter(|(_, k)| **k) {
+            match *n {
+                Node::Sin(a) => has_sin[a.index()] = true,
+                Node::Cos(a) => has_cos[a.index()] = true,
+                _ => {}
+            }
+        }
+        let mut reg = vec![u32::MAX; nodes.len()];
+        // Register of the sin of each paired argument (its cos is the next register).
+        let mut sincos = vec![u32::MAX; nodes.len()];
+        let mut ops = Vec::new();
+        for (i, n) in nodes.iter().enumerate() {
+            if !needed[i] {
+                continue;
+            }
+            let r = |id: NodeId| reg[id.index()];
+            let op = match *n {
+                Node::Const(b) => Op::Const(f64::from_bits(b)),
+                Node::Var(v) => Op::Var(v),
+                Node::Add(a, b) => Op::Add(r(a), r(b)),
+                Node::Sub(a, b) => Op::Sub(r(a), r(b)),
+                Node::Mul(a, b) => Op::Mul(r(a), r(b)),
+                Node::Div(a, b) => Op::Div(r(a), r(b)),
+                Node::Neg(a) => Op::Neg(r(a)),
+                Node::Sin(a) | Node::Cos(a) if has_sin[a.index()] && has_cos[a.index()] => {
+                    let at = a.index();
+                    if sincos[at] == u32::MAX {
+                        sincos[at] = ops.len() as u32;
+                        ops.push(Op::SinCos(r(a)));
+                        ops.push(Op::Cos2);
+                    }
+                    let cos = matches!(n, Node::Cos(_));
+                    reg[i] = sincos[at] + u32::from(cos);
+                    continue;
+                }
+                Node::Sin(a) => Op::Sin(r(a)),
+                Node::Cos(a) => Op::Cos(r(a)),
+                Node::Tan(a) => Op::Tan(r(a)),
+                Node::Sqrt(a) => Op::Sqrt(r(a)),
+            };
+            reg[i] = ops.len() as u32;
+            ops.push(op);
+        }
+        let outputs = roots.iter().map(|r| reg[r.index()]).collect();
+        Tape { ops, outputs }
+    }
+
+    /// Number of instructions.
+    pub fn len(&self) -> usize {
+        self.ops.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.ops.is_empty()
+    }
+
+    /// Number of roots.
+    pub fn outputs(&self) -> usize {
+        self.outputs.len()
+    }
+
+    /// Runs the program; `regs` is workspace (resized as needed). Returns the root values through
+    /// `out` (as many as fit).
+    pub fn eval<T: Real>(&self, env: &Env<'_, T>, regs: &mut Vec<T>, out: &mut [T]) {
+        regs.clear();
+        regs.resize(self.ops.len(), T::zero());
+        for i in 0..self.ops.len() {
+            let g = |k: u32| regs[k as usize];
+            let v = match self.ops[i] {
+                Op::Const(c) => T::lit(c),
+                Op::Var(v) => env.get(v),
+                Op::Add(a, b) => g(a) + g(b),
+                Op::Sub(a, b) => g(a) - g(b),
+                Op::Mul(a, b) => g(a) * g(b),
+                Op::Div(a, b) => g(a) / g(b),
+                Op::Neg(a) => -g(a),
+                Op::SinCos(a) => {
+                    let (s, c) = g(a).sin_cos();
+                    if let Some(next) = regs.get_mut(i + 1) {
+                        *next = c;
+                    }
+                    s
+                }
+                Op::Cos2 => continue,
+                Op::Sin(a) => g(a).sin(),
+                Op::Cos(a) => g(a).cos(),
+                Op::Tan(a) => g(a).tan(),
+                Op::Sqrt(a) => g(a).sqrt(),
+            };
+            regs[i] = v;
+        }
+        for (o, &r) in out.iter_mut().zip(&self.outputs) {
+            *o = regs[r as usize];
+        }
+    }
+}

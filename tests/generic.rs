@@ -1,0 +1,190 @@
+//! The generic runtime engine against the generated solvers: same file, same sweeps, same
+//! answers (1e-12), same errors; and single evaluations (J, Φx, J̇, γ, residual) agree too.
+#![cfg(feature = "runtime")]
+
+mod common;
+
+use common::angle_diff;
+use mechgen::sweep::{Continuation, sweep};
+use mechgen::{Kind, Kinematics, MechanismInfo, generic};
+
+fn engines() -> Vec<(Box<dyn Kinematics<f64>>, generic::Generic)> {
+    let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
+        .expect("the compiled-in file loads at run time");
+    assert_eq!(loaded.len(), mechgen::MECHANISMS.len());
+    loaded
+        .into_iter()
+        .map(|g| {
+            let k = mechgen::lookup::<f64>(g.name()).expect("compiled in");
+            (k, g)
+        })
+        .collect()
+}
+
+/// Largest difference over two sweeps: angles folded, everything relative to the column's
+/// largest magnitude (at least 1). Failed rows must fail alike, with the same status.
+fn sweep_difference(
+    info: &MechanismInfo,
+    a: &[mechgen::sweep::Row],
+    b: &[mechgen::sweep::Row],
+) -> f64 {
+    let mut worst: f64 = 0.0;
+    let nu = info.unknowns.len();
+    for (ra, rb) in a.iter().zip(b) {
+        match (&ra.result, &rb.result) {
+            (Ok(sa), Ok(sb)) => {
+                for i in 0..nu {
+                    let d = if info.unknowns[i].1 == Kind::Angle {
+                        angle_diff(sa.q[i], sb.q[i])
+                    } else {
+                        sa.q[i] - sb.q[i]
+                    };
+                    worst = worst.max(d.abs() / sa.q[i].abs().max(1.0));
+                    worst = worst.max((sa.qd[i] - sb.qd[i]).abs() / sa.qd[i].abs().max(1.0));
+                    worst = worst.max((sa.qdd[i] - sb.qdd[i]).abs() / sa.qdd[i].abs().max(1.0));
+                }
+                for (pa, pb) in sa.points.iter().zip(&sb.points) {
+                    for c in 0..2 {
+                        for (u, v) in [
+                            (pa.position[c], pb.position[c]),
+                            (pa.velocity[c], pb.velocity[c]),
+                            (pa.acceleration[c], pb.acceleration[c]),
+                        ] {
+                            worst = worst.max((u - v).abs() / u.abs().max(1.0));
+                        }
+                    }
+                }
+            }
+            (Err(ea), Err(eb)) => assert_eq!(
+                ea.status(),
+                eb.status(),
+                "{}: input {}: {ea} vs {eb}",
+                info.name,
+                ra.input
+            ),
+            (x, y) => panic!("{}: input {}: {x:?} vs {y:?}", info.name, ra.input),
+        }
+    }
+    worst
+}
+
+#[test]
+fn generic_and_generated_agree_over_full_sweeps() {
+    for (k, g) in engines() {
+        let info = k.info();
+        assert_eq!(info, Kinematics::<f64>::info(&g), "same description");
+        let values: Vec<f64> = (0..=72).map(|i| f64::from(i) * 5f64.to_radians()).collect();
+        let c = Continuation::for_input(info.inputs[0].1, 1.0);
+        let (values, c) = if info.inputs[0].1 == Kind::Length {
+            let s = info.inputs[0].2;
+            let v: Vec<f64> = (0..=20).map(|i| s * (1.0 + 0.01 * f64::from(i))).collect();
+            (
+                v,
+                Continuation::for_input(Kind::Length, 0.2 * s.abs().max(1.0)),
+            )
+        } else {
+            (values, c)
+        };
+        let a = sweep(k.as_ref(), 0, &values, 1.3, &c);
+        let b = sweep(&g, 0, &values, 1.3, &c);
+        let ok = a.iter().filter(|r| r.result.is_ok()).count();
+        assert!(
+            ok > values.len() / 4,
+            "{}: only {ok} rows solved",
+            info.name
+        );
+        let d = sweep_difference(&info, &a, &b);
+        eprintln!(
+            "{}: {ok}/{} rows, largest difference {d:e}",
+            info.name,
+            values.len()
+        );
+        assert!(
+            d <= 1e-12,
+            "{}: generic and generated differ by {d:e}",
+            info.name
+        );
+    }
+}
+
+#[test]
+fn single_evaluations_agree() {
+    for (k, g) in engines() {
+        let info = k.info();
+        let (ni, nu) = (info.inputs.len(), info.unknowns.len());
+        let x: Vec<f64> = (0..ni).map(|i| 0.3 + 0.1 * i as f64).collect();
+        let q: Vec<f64> = (0..nu).map(|i| 0.7 + 0.37 * i as f64).collect();
+        let xd: Vec<f64> = (0..ni).map(|i| 1.1 - 0.2 * i as f64).collect();
+        let qd: Vec<f64> = (0..nu).map(|i| -0.4 + 0.3 * i as f64).collect();
+        let xdd = vec![0.25; ni];
+        let mut a = vec![0.0; nu * nu.max(ni)];
+        let mut b = a.clone();
+        let close = |a: &[f64], b: &[f64], what: &str| {
+            for (u, v) in a.iter().zip(b) {
+                assert!(
+                    (u - v).abs() <= 1e-13 * u.abs().max(1.0),
+                    "{}: {what}: {u} vs {v}",
+                    info.name
+                );
+            }
+        };
+        k.residual(&x, &q, &mut a[..nu]).unwrap();
+        g.residual(&x, &q, &mut b[..nu]).unwrap();
+        close(&a[..nu], &b[..nu], "residual");
+        k.jacobian(&x, &q, &mut a[..nu * nu]).unwrap();
+        g.jacobian(&x, &q, &mut b[..nu * nu]).unwrap();
+        close(&a[..nu * nu], &b[..nu * nu], "jacobian");
+        k.input_jacobian(&x, &q, &mut a[..nu * ni]).unwrap();
+        g.input_jacobian(&x, &q, &mut b[..nu * ni]).unwrap();
+        close(&a[..nu * ni], &b[..nu * ni], "input jacobian");
+        k.jacobian_dot(&x, &q, &xd, &qd, &mut a[..nu * nu]).unwrap();
+        g.jacobian_dot(&x, &q, &xd, &qd, &mut b[..nu * nu]).unwrap();
+        close(&a[..nu * nu], &b[..nu * nu], "jacobian dot");
+        k.acceleration_rhs(&x, &q, &xd, &qd, &xdd, &mut a[..nu])
+            .unwrap();
+        g.acceleration_rhs(&x, &q, &xd, &qd, &xdd, &mut b[..nu])
+            .unwrap();
+        close(&a[..nu], &b[..nu], "acceleration rhs");
+    }
+}
+
+#[test]
+fn same_error_values() {
+    for (k, g) in engines() {
+        let info = k.info();
+        let (ni, nu) = (info.inputs.len(), info.unknowns.len());
+        let x = vec![f64::NAN; ni];
+        let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
+        let opts = mechgen::NewtonOptions::default();
+        assert_eq!(
+            k.solve_position(&x, &mut q.clone(), &opts),
+            g.solve_position(&x, &mut q, &opts)
+        );
+        let short = vec![0.0; nu + 1];
+        assert_eq!(
+            k.solve_position(&vec![0.0; ni], &mut short.clone(), &opts)
+                .unwrap_err(),
+            g.solve_position(&vec![0.0; ni], &mut short.clone(), &opts)
+                .unwrap_err()
+        );
+        let mut qd = vec![0.0; nu];
+        let xs: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
+        let q0: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
+        assert_eq!(
+            k.solve_velocity(&xs, &q0, &vec![f64::INFINITY; ni], &mut qd),
+            g.solve_velocity(&xs, &q0, &vec![f64::INFINITY; ni], &mut qd)
+        );
+    }
+}
+
+#[test]
+fn generic_f32_runs() {
+    for (_, g) in engines() {
+        let info = Kinematics::<f32>::info(&g);
+        let x: Vec<f32> = info.inputs.iter().map(|i| i.2 as f32).collect();
+        let mut q: Vec<f32> = info.unknowns.iter().map(|u| u.2 as f32).collect();
+        let r = g.solve_position(&x, &mut q, &mechgen::NewtonOptions::default());
+        assert!(r.is_ok(), "{}: {r:?}", info.name);
+        assert!(q.iter().all(|v| v.is_finite()));
+    }
+}

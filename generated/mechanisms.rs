@@ -25,6 +25,16 @@ pub fn lookup<T: ::mechgen::Real>(
         _ => None,
     }
 }
+/// Calls `v.visit` with every compiled-in mechanism (default params), statically typed, in
+/// file order: generic code over whatever the build compiled in, without dynamic dispatch.
+pub fn visit_all<T: ::mechgen::Real, V: ::mechgen::Visitor<T>>(v: &mut V) {
+    v.visit(&sixbar::Sixbar::<T>::default());
+    v.visit(&shaper::Shaper::<T>::default());
+    v.visit(&four_bar::FourBar::<T>::default());
+    v.visit(&slider_crank::SliderCrank::<T>::default());
+    v.visit(&rocker_four_bar::RockerFourBar::<T>::default());
+    v.visit(&sixbar_g::SixbarG::<T>::default());
+}
 /// Six-bar linkage: crank-rocker four-bar ABCD plus the RRR dyad E-F-G on the coupler point E
 pub mod sixbar {
     #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]

@@ -28,7 +28,7 @@ pub mod sweep;
 pub use error::{Quantity, SolveError, Stage};
 pub use mechanism::{
     Array, CoordInfo, Kind, Kinematics, Mechanism, MechanismInfo, ParamInfo, PointMotion,
-    StaticInfo,
+    StaticInfo, Visitor,
 };
 pub use nalgebra;
 pub use scalar::Real;

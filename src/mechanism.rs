@@ -158,6 +158,11 @@ pub trait Mechanism<T: Real>: Send + Sync {
     );
 }
 
+/// Generic code run on every compiled-in mechanism by `visit_all`, with static dispatch.
+pub trait Visitor<T: Real> {
+    fn visit<M: Mechanism<T> + 'static>(&mut self, mechanism: &M);
+}
+
 /// Object-safe kinematics on slices: what sweeps, benches and the CLI use, for generated
 /// mechanisms (through [`Mechanism`]) and the generic engine alike. Slices of the wrong length give
 /// [`SolveError::BadLength`].

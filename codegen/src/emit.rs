@@ -20,6 +20,10 @@ pub fn emit(mechs: &[Compiled], source_name: &str) -> Result<String, String> {
         let (module, ty) = (format_ident!("{}", name), type_ident(&m.model));
         quote!(#name => Some(Box::new(#module::#ty::<T>::default())),)
     });
+    let visits = mechs.iter().map(|m| {
+        let (module, ty) = (format_ident!("{}", m.model.name.text), type_ident(&m.model));
+        quote!(v.visit(&#module::#ty::<T>::default());)
+    });
     let file = quote! {
         /// Names of the compiled-in mechanisms, in file order.
         pub const MECHANISMS: [&str; #count] = [#(#names),*];
@@ -30,6 +34,12 @@ pub fn emit(mechs: &[Compiled], source_name: &str) -> Result<String, String> {
                 #(#arms)*
                 _ => None,
             }
+        }
+
+        /// Calls `v.visit` with every compiled-in mechanism (default params), statically typed, in
+        /// file order: generic code over whatever the build compiled in, without dynamic dispatch.
+        pub fn visit_all<T: ::mechgen::Real, V: ::mechgen::Visitor<T>>(v: &mut V) {
+            #(#visits)*
         }
 
         #(#modules)*

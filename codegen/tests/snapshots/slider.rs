@@ -11,6 +11,11 @@ pub fn lookup<T: ::mechgen::Real>(
         _ => None,
     }
 }
+/// Calls `v.visit` with every compiled-in mechanism (default params), statically typed, in
+/// file order: generic code over whatever the build compiled in, without dynamic dispatch.
+pub fn visit_all<T: ::mechgen::Real, V: ::mechgen::Visitor<T>>(v: &mut V) {
+    v.visit(&slider::Slider::<T>::default());
+}
 /// Centred slider-crank: crank l1, rod l2, slider s on the x axis
 pub mod slider {
     #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]

@@ -1,0 +1,238 @@
+//! `cargo bench --bench solvers`: every compiled-in mechanism, both engines, ids
+//! `<mechanism>/<stage>/<engine>` with stage `position`, `velocity`, `acceleration` or `step`.
+//!
+//! Work: a set of states along the start branch, 1 degree apart (1/360 of the length scale for a
+//! length input), precomputed. Each iteration takes the next state in turn:
+//! - `position`: positions at the next input, Newton from the state's `q`;
+//! - `velocity`, `acceleration`: the linear solves at the state;
+//! - `step` (one simulator tick, interfaces.md): from the full state (x, q, q̇, q̈), advance the input
+//!   by one step, predict q + (dq/dx)·Δx, solve positions, velocities, accelerations and all points.
+//!
+//! The generated engine runs with static dispatch (`visit_all`, fixed arrays); the generic engine
+//! is loaded at run time from the same file.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use mechgen::sweep::{Continuation, sweep};
+use mechgen::{Array, Kind, Kinematics, Mechanism, NewtonOptions, PointMotion, Visitor};
+
+/// A solved state and the input one step further (which is solvable too).
+struct State {
+    x: Vec<f64>,
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    qdd: Vec<f64>,
+    x_next: Vec<f64>,
+}
+
+/// States along the start branch with a solvable next step, input rate 1.
+fn states(k: &dyn Kinematics<f64>) -> (Vec<State>, f64) {
+    let info = k.info();
+    let (_, kind, start) = info.inputs[0].clone();
+    let dx = match kind {
+        Kind::Angle => 1f64.to_radians(),
+        Kind::Length => {
+            let scale = info
+                .params
+                .iter()
+                .filter(|p| p.1 == Kind::Length)
+                .fold(0.0f64, |m, p| m.max(p.2.abs()));
+            (if scale > 0.0 { scale } else { 1.0 }) / 360.0
+        }
+    };
+    let values: Vec<f64> = (-180..=180).map(|i| start + f64::from(i) * dx).collect();
+    let rows = sweep(
+        k,
+        0,
+        &values,
+        1.0,
+        &Continuation::for_input(kind, 360.0 * dx),
+    );
+    let mut out = Vec::new();
+    for pair in rows.windows(2) {
+        if let (Ok(s), Ok(_)) = (&pair[0].result, &pair[1].result) {
+            let mut x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
+            x[0] = pair[0].input;
+            let mut x_next = x.clone();
+            x_next[0] = pair[1].input;
+            out.push(State {
+                x,
+                q: s.q.clone(),
+                qd: s.qd.clone(),
+                qdd: s.qdd.clone(),
+                x_next,
+            });
+        }
+    }
+    assert!(!out.is_empty(), "{}: no solvable states", info.name);
+    (out, dx)
+}
+
+fn unit_rate(n: usize) -> (Vec<f64>, Vec<f64>) {
+    let mut xd = vec![0.0; n];
+    xd[0] = 1.0;
+    (xd, vec![0.0; n])
+}
+
+/// The generated solvers, statically typed.
+struct Generated<'c> {
+    c: &'c mut Criterion,
+}
+
+fn arr<A: Array<f64>>(v: &[f64]) -> A {
+    let mut a = A::zeros();
+    a.as_mut().copy_from_slice(v);
+    a
+}
+
+impl Visitor<f64> for Generated<'_> {
+    fn visit<M: Mechanism<f64> + 'static>(&mut self, m: &M) {
+        let (states, dx) = states(m);
+        type Typed<M> = (
+            <M as Mechanism<f64>>::X,
+            <M as Mechanism<f64>>::Q,
+            <M as Mechanism<f64>>::Q,
+            <M as Mechanism<f64>>::Q,
+            <M as Mechanism<f64>>::X,
+        );
+        let typed: Vec<Typed<M>> = states
+            .iter()
+            .map(|s| {
+                (
+                    arr(&s.x),
+                    arr(&s.q),
+                    arr(&s.qd),
+                    arr(&s.qdd),
+                    arr(&s.x_next),
+                )
+            })
+            .collect();
+        let (xd_v, xdd_v) = unit_rate(M::INPUTS);
+        let (xd, xdd): (M::X, M::X) = (arr(&xd_v), arr(&xdd_v));
+        let opts = NewtonOptions::default();
+        let n = typed.len();
+        let mut g = self.c.benchmark_group(M::NAME);
+        let mut i = 0;
+        g.bench_function("position/generated", |b| {
+            b.iter(|| {
+                i = (i + 1) % n;
+                let (_, q, _, _, xn) = &typed[i];
+                let mut q = *q;
+                black_box(m.solve_position(black_box(xn), &mut q, &opts)).ok();
+                q
+            })
+        });
+        g.bench_function("velocity/generated", |b| {
+            b.iter(|| {
+                i = (i + 1) % n;
+                let (x, q, ..) = &typed[i];
+                m.solve_velocity(black_box(x), black_box(q), &xd)
+            })
+        });
+        g.bench_function("acceleration/generated", |b| {
+            b.iter(|| {
+                i = (i + 1) % n;
+                let (x, q, qd, ..) = &typed[i];
+                m.solve_acceleration(black_box(x), black_box(q), &xd, qd, &xdd)
+            })
+        });
+        let mut points = vec![PointMotion::default(); M::POINTS];
+        g.bench_function("step/generated", |b| {
+            b.iter(|| {
+                i = (i + 1) % n;
+                let (_, q, qd, _, xn) = &typed[i];
+                let xn = black_box(xn);
+                let mut q1 = *q;
+                for (v, d) in q1.as_mut().iter_mut().zip(qd.as_ref()) {
+                    *v += d * dx;
+                }
+                let tick = m.solve_position(xn, &mut q1, &opts).and_then(|_| {
+                    let qd1 = m.solve_velocity(xn, &q1, &xd)?;
+                    let qdd1 = m.solve_acceleration(xn, &q1, &xd, &qd1, &xdd)?;
+                    m.points(xn, &q1, &xd, &qd1, &xdd, &qdd1, &mut points);
+                    Ok((q1, qd1, qdd1))
+                });
+                black_box(&points);
+                tick
+            })
+        });
+        g.finish();
+    }
+}
+
+/// The generic engine: interpreted tapes, slices, `DMatrix`.
+fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
+    let k: &dyn Kinematics<f64> = k;
+    let info = k.info();
+    let (states, dx) = states(k);
+    let (xd, xdd) = unit_rate(info.inputs.len());
+    let opts = NewtonOptions::default();
+    let n = states.len();
+    let nu = info.unknowns.len();
+    let mut g = c.benchmark_group(info.name.as_str());
+    let mut i = 0;
+    let mut q = vec![0.0; nu];
+    let mut qd = vec![0.0; nu];
+    let mut qdd = vec![0.0; nu];
+    g.bench_function("position/generic", |b| {
+        b.iter(|| {
+            i = (i + 1) % n;
+            let s = &states[i];
+            q.copy_from_slice(&s.q);
+            black_box(k.solve_position(black_box(&s.x_next), &mut q, &opts)).ok();
+        })
+    });
+    g.bench_function("velocity/generic", |b| {
+        b.iter(|| {
+            i = (i + 1) % n;
+            let s = &states[i];
+            black_box(k.solve_velocity(black_box(&s.x), &s.q, &xd, &mut qd)).ok();
+        })
+    });
+    g.bench_function("acceleration/generic", |b| {
+        b.iter(|| {
+            i = (i + 1) % n;
+            let s = &states[i];
+            black_box(k.solve_acceleration(black_box(&s.x), &s.q, &xd, &s.qd, &xdd, &mut qdd)).ok();
+        })
+    });
+    let mut points = vec![PointMotion::default(); info.points.len()];
+    g.bench_function("step/generic", |b| {
+        b.iter(|| {
+            i = (i + 1) % n;
+            let s = &states[i];
+            let xn = black_box(&s.x_next);
+            for ((v, q0), d) in q.iter_mut().zip(&s.q).zip(&s.qd) {
+                *v = q0 + d * dx;
+            }
+            let tick = k.solve_position(xn, &mut q, &opts).and_then(|_| {
+                k.solve_velocity(xn, &q, &xd, &mut qd)?;
+                k.solve_acceleration(xn, &q, &xd, &qd, &xdd, &mut qdd)?;
+                k.points(xn, &q, &xd, &qd, &xdd, &qdd, &mut points)
+            });
+            black_box((&points, tick)).1.ok();
+        })
+    });
+    g.finish();
+}
+
+fn benches(c: &mut Criterion) {
+    mechgen::visit_all(&mut Generated { c });
+    let loaded = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
+        .expect("the compiled-in file loads");
+    for k in &loaded {
+        generic(c, k);
+    }
+}
+
+criterion_group! {
+    name = solvers;
+    config = Criterion::default()
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2))
+        .sample_size(50);
+    targets = benches
+}
+criterion_main!(solvers);

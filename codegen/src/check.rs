@@ -63,6 +63,8 @@ pub struct Model {
     pub points: Vec<(Name, Expr)>,
     pub scenes: Vec<Scene>,
     pub symbols: HashMap<String, Symbol>,
+    /// Where the `start` values are written (the mechanism name when there are none).
+    pub start_span: Span,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,6 +76,12 @@ enum Ty {
 /// Checks every mechanism and scene; a mechanism with errors yields no model.
 pub fn check(file: &ast::File, diags: &mut Vec<Diagnostic>) -> Vec<Model> {
     let mut models = Vec::new();
+    if file.mechanisms.is_empty() && !file.syntax_errors && !diags.iter().any(|d| d.is_error()) {
+        diags.push(
+            Diagnostic::error(Span::new(0, 0), "no mechanism defined")
+                .with_note("a file holds one or more `[mechanism.NAME]` tables"),
+        );
+    }
     let mut seen: HashMap<&str, Span> = HashMap::new();
     for m in &file.mechanisms {
         if let Some(prev) = seen.insert(&m.name.text, m.name.span) {
@@ -82,7 +90,7 @@ pub fn check(file: &ast::File, diags: &mut Vec<Diagnostic>) -> Vec<Model> {
         }
         let before = diags.iter().filter(|d| d.is_error()).count();
         let model = check_mechanism(m, diags);
-        if diags.iter().filter(|d| d.is_error()).count() == before {
+        if diags.iter().filter(|d| d.is_error()).count() == before && !m.parse_errors {
             models.push(model);
         }
     }
@@ -102,7 +110,7 @@ fn duplicate(name: &Name, prev: Span, what: &str) -> Diagnostic {
         format!("{what} `{}` is declared twice", name.text),
     )
     .with_label("second declaration")
-    .with_note(format!("first declared at byte {}", prev.start))
+    .with_related(prev, "first declared here")
 }
 
 fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
@@ -194,17 +202,19 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         p.kind = kind_of(Symbol::Param(i));
     }
 
-    // Equations vs unknowns.
-    if 2 * m.loops.len() != m.unknowns.len() {
+    // Equations vs unknowns (a missing `loops` key is reported by the parser).
+    if let Some(loops) = m.loop_count
+        && 2 * loops != m.unknowns.len()
+    {
         let span = m.loops.first().map_or(m.name.span, |l| l.span);
+        let (s, es) = if loops == 1 { ("", "s") } else { ("s", "") };
         diags.push(
             Diagnostic::error(
                 span,
                 format!(
-                    "mechanism `{}` is not square: {} loops give {} equations for {} unknowns",
+                    "mechanism `{}` is not square: {loops} loop{s} give{es} {} equations for {} unknowns",
                     m.name.text,
-                    m.loops.len(),
-                    2 * m.loops.len(),
+                    2 * loops,
                     m.unknowns.len()
                 ),
             )
@@ -251,13 +261,15 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
             .map(|(i, n)| {
                 let value = start.get(n.text.as_str()).copied();
                 if value.is_none() {
-                    diags.push(
-                        Diagnostic::error(
-                            n.span,
-                            format!("missing `start` value for `{}`", n.text),
-                        )
-                        .with_note("`start` needs a value for every input and unknown"),
-                    );
+                    let mut d = Diagnostic::error(
+                        n.span,
+                        format!("missing `start` value for `{}`", n.text),
+                    )
+                    .with_note("`start` needs a value for every input and unknown");
+                    if !m.start.is_empty() {
+                        d = d.with_related(start_span(m), format!("no `{}` here", n.text));
+                    }
+                    diags.push(d);
                 }
                 Coord {
                     name: n.clone(),
@@ -279,6 +291,15 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         points: m.points.clone(),
         scenes: Vec::new(),
         symbols,
+        start_span: start_span(m),
+    }
+}
+
+/// From the first `start` key to the end of the last value.
+fn start_span(m: &ast::Mechanism) -> Span {
+    match (m.start.first(), m.start.last()) {
+        (Some((first, _)), Some((_, last))) => first.span.join(last.span),
+        _ => m.name.span,
     }
 }
 
@@ -308,11 +329,14 @@ fn check_scene(
         None => 2,
         Some((o @ 0..=2, _)) => o as u8,
         Some((o, span)) => {
-            diags.push(Diagnostic::error(
-                span,
-                format!("scene order {o} is not 0, 1 or 2"),
-            ));
-            return;
+            diags.push(
+                Diagnostic::error(
+                    span,
+                    format!("scene `{}`: order {o} is not 0, 1 or 2", s.name.text),
+                )
+                .with_note("0: positions, 1: and velocities, 2: and accelerations"),
+            );
+            2
         }
     };
     let mut scene = Scene {
@@ -346,6 +370,11 @@ fn is_snake_case(s: &str) -> bool {
     s.chars().next().is_some_and(|c| c.is_ascii_lowercase())
         && s.chars()
             .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+}
+
+fn undefined_function(name: &str, span: Span) -> Diagnostic {
+    Diagnostic::error(span, format!("undefined function `{name}`"))
+        .with_note("functions: e, c, deg, sin, cos, tan, sqrt")
 }
 
 fn undefined(name: &str, span: Span) -> Diagnostic {
@@ -400,7 +429,9 @@ fn type_of(
                 | (BinOp::Mul | BinOp::Div, Ty::Vector, Ty::Scalar) => Some(Ty::Vector),
                 (BinOp::Mul, Ty::Vector, Ty::Vector) => {
                     diags.push(
-                        Diagnostic::error(e.span, "vector × vector is not defined")
+                        Diagnostic::error(a.span, "vector × vector is not defined")
+                            .with_label("a vector")
+                            .with_related(b.span, "times a vector")
                             .with_note("multiply a vector by a scalar, e.g. `l1*e(q1)`"),
                     );
                     None
@@ -420,16 +451,15 @@ fn type_of(
                 "c" => (2, false, Ty::Vector),
                 "sin" | "cos" | "tan" => (1, true, Ty::Scalar),
                 "deg" | "sqrt" => (1, false, Ty::Scalar),
+                // Param expressions report unknown functions during evaluation.
+                _ if params_only => return None,
                 other => {
-                    let msg = if symbols.contains_key(other) {
-                        format!("`{other}` is not a function")
+                    diags.push(if symbols.contains_key(other) {
+                        Diagnostic::error(f.span, format!("`{other}` is not a function"))
+                            .with_note("functions: e, c, deg, sin, cos, tan, sqrt")
                     } else {
-                        format!("undefined function `{other}`")
-                    };
-                    diags.push(
-                        Diagnostic::error(f.span, msg)
-                            .with_note("functions: e, c, deg, sin, cos, tan, sqrt"),
-                    );
+                        undefined_function(other, f.span)
+                    });
                     return None;
                 }
             };
@@ -544,14 +574,22 @@ fn eval_inner(
                 "cos" => x.cos(),
                 "tan" => x.tan(),
                 "sqrt" => x.sqrt(),
-                _ => {
+                "e" | "c" => {
                     diags.push(Diagnostic::error(
                         e.span,
                         format!("{what} must be a scalar, `{}` is not", f.text),
                     ));
                     return None;
                 }
+                other => {
+                    diags.push(undefined_function(other, f.span));
+                    return None;
+                }
             }
+        }
+        ExprKind::Call(f, _) if !RESERVED.contains(&f.text.as_str()) => {
+            diags.push(undefined_function(&f.text, f.span));
+            return None;
         }
         ExprKind::Call(f, _) => {
             diags.push(Diagnostic::error(

@@ -3,7 +3,7 @@
 //! Pipeline (one module per stage, chained in [`compile`]):
 //! [`parse`] (TOML + syn, with spans) → [`check`] (names, types, angles) → [`lower`] (loops to
 //! scalar residuals in the hash-consed [`dag`]) → [`differentiate`] (J, Φx, J̇, γ, points) →
-//! [`structure`] (matching, block-triangular order) → [`plan`] (per-block forms) → [`emit`]
+//! [`structure`] (matching, block-triangular order) → [`plan`] (per-block forms), [`start`] (the start configuration against the loops) → [`emit`]
 //! (quote → prettyplease). [`diagnostic`] renders errors as FILE:LINE:COLUMN; [`build_script`] is
 //! the entry point for a `build.rs`.
 
@@ -26,6 +26,7 @@ pub mod emit_body;
 pub mod lower;
 pub mod parse;
 pub mod plan;
+pub mod start;
 pub mod structure;
 
 pub use compile::{Compiled, analyze, compile};

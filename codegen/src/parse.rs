@@ -3,6 +3,7 @@
 
 use std::borrow::Cow;
 
+use quote::ToTokens as _;
 use syn::spanned::Spanned as _;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
@@ -19,6 +20,9 @@ pub fn parse(file: &SourceFile) -> (File, Vec<Diagnostic>) {
         diags: Vec::new(),
     };
     let (root, errors) = DeTable::parse_recoverable(&file.text);
+    // After a TOML syntax error the recovered tables are guesses: report every syntax error and
+    // nothing built on the guesses.
+    let syntax_errors = !errors.is_empty();
     for e in errors {
         let span = e
             .span()
@@ -28,7 +32,13 @@ pub fn parse(file: &SourceFile) -> (File, Vec<Diagnostic>) {
             format!("TOML syntax error: {}", e.message().trim()),
         ));
     }
-    let mut out = File::default();
+    let mut out = File {
+        syntax_errors,
+        ..File::default()
+    };
+    if syntax_errors {
+        return (out, p.diags);
+    }
     for (key, value) in sorted(root.get_ref()) {
         match key.get_ref().as_ref() {
             "mechanism" => {
@@ -114,12 +124,15 @@ impl Parser<'_> {
     ) -> Option<Mechanism> {
         let name = name_of(key);
         let table = self.table(body, &format!("mechanism.{}", name.text))?;
+        let before = self.diags.len();
         let mut m = Mechanism {
             name,
             description: None,
             inputs: vec![],
             unknowns: vec![],
             loops: vec![],
+            loop_count: None,
+            parse_errors: false,
             params: vec![],
             points: vec![],
             start: vec![],
@@ -135,11 +148,9 @@ impl Parser<'_> {
                 "unknowns" => (seen[1], m.unknowns) = (true, self.names(v, "unknowns")),
                 "loops" => {
                     seen[2] = true;
-                    m.loops = self
-                        .array(v, "loops")
-                        .iter()
-                        .filter_map(|e| self.string_expr(e))
-                        .collect();
+                    let items = self.array(v, "loops");
+                    m.loop_count = Some(items.len());
+                    m.loops = items.iter().filter_map(|e| self.string_expr(e)).collect();
                 }
                 "params" => m.params = self.assignments(v, "params", true),
                 "points" => m.points = self.assignments(v, "points", false),
@@ -162,6 +173,7 @@ impl Parser<'_> {
                 self.diags.push(d);
             }
         }
+        m.parse_errors = self.diags.len() > before;
         Some(m)
     }
 
@@ -269,8 +281,16 @@ impl Parser<'_> {
                 continue;
             }
             let expr = match v.get_ref() {
+                // A param or start value that does not parse stays declared (as 0, after the
+                // error), so its uses do not add undefined-name errors.
+                DeValue::String(_) if numbers => {
+                    Some(self.string_expr(v).unwrap_or_else(|| Expr {
+                        kind: ExprKind::Number(0.0),
+                        span: span_of(v),
+                    }))
+                }
                 DeValue::String(_) => self.string_expr(v),
-                DeValue::Integer(_) | DeValue::Float(_) if numbers => self.number(v),
+                DeValue::Integer(_) | DeValue::Float(_) if numbers => self.number(v, &name, what),
                 _ => {
                     let kind = if numbers {
                         "a number or an expression string"
@@ -291,7 +311,7 @@ impl Parser<'_> {
         out
     }
 
-    fn number(&mut self, v: &Spanned<DeValue<'_>>) -> Option<Expr> {
+    fn number(&mut self, v: &Spanned<DeValue<'_>>, name: &Name, what: &str) -> Option<Expr> {
         let span = span_of(v);
         let value = match v.get_ref() {
             DeValue::Integer(i) => int_value(i).map(|n| n as f64),
@@ -305,14 +325,24 @@ impl Parser<'_> {
             }),
             Some(_) => {
                 // Reported here; the name stays declared so no undefined-name errors follow.
-                self.error(span, "non-finite number (nan or inf)");
+                let raw = self.text.get(span.start..span.end).unwrap_or("nan or inf");
+                let d = Diagnostic::error(
+                    span,
+                    format!("`{}` in `{what}` is not a finite number: {raw}", name.text),
+                )
+                .with_label("not finite")
+                .with_note("nan and inf are valid TOML but not valid values");
+                self.diags.push(d);
                 Some(Expr {
                     kind: ExprKind::Number(0.0),
                     span,
                 })
             }
             None => {
-                self.error(span, "number out of range");
+                self.error(
+                    span,
+                    format!("`{}` in `{what}`: number out of range", name.text),
+                );
                 None
             }
         }
@@ -348,16 +378,29 @@ impl Parser<'_> {
                 Span::new(inner.start + r.start, inner.start + r.end)
             }
         };
+        if let Some((at, msg)) = unbalanced(s) {
+            let d = Diagnostic::error(map(at..at + 1), format!("expression syntax error: {msg}"))
+                .with_label(msg);
+            self.diags.push(d);
+            return None;
+        }
         match syn::parse_str::<syn::Expr>(s) {
             Ok(e) => self.expr(&e, &map),
             Err(err) => {
-                let span = if s.trim().is_empty() {
-                    value
+                let at_end = err.to_string().starts_with("unexpected end of input");
+                let end = s.trim_end().len();
+                let (span, label) = if s.trim().is_empty() {
+                    (value, "empty expression")
+                } else if at_end {
+                    (map(end..end), "the expression ends here")
                 } else {
-                    map(err.span().byte_range())
+                    (
+                        map(err.span().byte_range()),
+                        "cannot parse this as an expression",
+                    )
                 };
                 let d = Diagnostic::error(span, format!("expression syntax error: {err}"))
-                    .with_label("cannot parse this as an expression");
+                    .with_label(label);
                 self.diags.push(d);
                 None
             }
@@ -393,12 +436,22 @@ impl Parser<'_> {
                 _ => return unsupported(self, "a unary operator other than `-`"),
             },
             syn::Expr::Binary(b) => {
-                let op = match b.op {
+                let op = match &b.op {
                     syn::BinOp::Add(_) => BinOp::Add,
                     syn::BinOp::Sub(_) => BinOp::Sub,
                     syn::BinOp::Mul(_) => BinOp::Mul,
                     syn::BinOp::Div(_) => BinOp::Div,
-                    _ => return unsupported(self, "an operator other than + - * /"),
+                    other => {
+                        let op = other.to_token_stream().to_string();
+                        let d = Diagnostic::error(
+                            map(other.span().byte_range()),
+                            format!("unsupported operator `{op}`"),
+                        )
+                        .with_label("not one of + - * /")
+                        .with_note("for a power, multiply (`l1*l1`) or use `sqrt`");
+                        self.diags.push(d);
+                        return None;
+                    }
                 };
                 let (l, r) = (self.expr(&b.left, map), self.expr(&b.right, map));
                 ExprKind::Binary(op, Box::new(l?), Box::new(r?))
@@ -421,6 +474,31 @@ impl Parser<'_> {
         };
         Some(Expr { kind, span })
     }
+}
+
+/// The first unbalanced bracket of an expression string: its byte offset and what is wrong (syn
+/// only says "cannot parse string into token stream").
+fn unbalanced(s: &str) -> Option<(usize, String)> {
+    let mut open: Vec<(usize, char)> = Vec::new();
+    for (i, c) in s.char_indices() {
+        match c {
+            '(' | '[' | '{' => open.push((i, c)),
+            ')' | ']' | '}' => {
+                let want = match c {
+                    ')' => '(',
+                    ']' => '[',
+                    _ => '{',
+                };
+                match open.pop() {
+                    Some((_, o)) if o == want => {}
+                    Some((j, o)) => return Some((j, format!("`{o}` closed by `{c}`"))),
+                    None => return Some((i, format!("unmatched `{c}`"))),
+                }
+            }
+            _ => {}
+        }
+    }
+    open.pop().map(|(i, c)| (i, format!("unclosed `{c}`")))
 }
 
 fn is_identifier(s: &str) -> bool {

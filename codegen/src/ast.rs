@@ -42,6 +42,10 @@ pub struct Mechanism {
     pub inputs: Vec<Name>,
     pub unknowns: Vec<Name>,
     pub loops: Vec<Expr>,
+    /// How many loop strings the file gives (parsed or not); `None` without a `loops` key.
+    pub loop_count: Option<usize>,
+    /// The parser reported errors inside this table (it is still checked, but yields no model).
+    pub parse_errors: bool,
     pub params: Vec<(Name, Expr)>,
     pub points: Vec<(Name, Expr)>,
     pub start: Vec<(Name, Expr)>,
@@ -61,4 +65,6 @@ pub struct Scene {
 pub struct File {
     pub mechanisms: Vec<Mechanism>,
     pub scenes: Vec<Scene>,
+    /// The TOML itself did not parse; nothing was read.
+    pub syntax_errors: bool,
 }

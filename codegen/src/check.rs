@@ -3,8 +3,10 @@
 
 use std::collections::HashMap;
 
-use crate::ast::{self, BinOp, Expr, ExprKind, Name};
+use crate::ast::{self, Expr, ExprKind, Name};
 use crate::diagnostic::{Diagnostic, Span};
+pub use crate::eval::{Shown, eval};
+use crate::typing::{Ty, type_of};
 
 /// The built-in functions and constants; no declared name may use them.
 pub const RESERVED: [&str; 8] = ["e", "c", "deg", "pi", "sin", "cos", "tan", "sqrt"];
@@ -63,17 +65,19 @@ pub struct Model {
     pub points: Vec<(Name, Expr)>,
     pub scenes: Vec<Scene>,
     pub symbols: HashMap<String, Symbol>,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Ty {
-    Scalar,
-    Vector,
+    /// Where the `start` values are written (the mechanism name when there are none).
+    pub start_span: Span,
 }
 
 /// Checks every mechanism and scene; a mechanism with errors yields no model.
 pub fn check(file: &ast::File, diags: &mut Vec<Diagnostic>) -> Vec<Model> {
     let mut models = Vec::new();
+    if file.mechanisms.is_empty() && !file.syntax_errors && !diags.iter().any(|d| d.is_error()) {
+        diags.push(
+            Diagnostic::error(Span::new(0, 0), "no mechanism defined")
+                .with_note("a file holds one or more `[mechanism.NAME]` tables"),
+        );
+    }
     let mut seen: HashMap<&str, Span> = HashMap::new();
     for m in &file.mechanisms {
         if let Some(prev) = seen.insert(&m.name.text, m.name.span) {
@@ -82,7 +86,7 @@ pub fn check(file: &ast::File, diags: &mut Vec<Diagnostic>) -> Vec<Model> {
         }
         let before = diags.iter().filter(|d| d.is_error()).count();
         let model = check_mechanism(m, diags);
-        if diags.iter().filter(|d| d.is_error()).count() == before {
+        if diags.iter().filter(|d| d.is_error()).count() == before && !m.parse_errors {
             models.push(model);
         }
     }
@@ -102,7 +106,7 @@ fn duplicate(name: &Name, prev: Span, what: &str) -> Diagnostic {
         format!("{what} `{}` is declared twice", name.text),
     )
     .with_label("second declaration")
-    .with_note(format!("first declared at byte {}", prev.start))
+    .with_related(prev, "first declared here")
 }
 
 fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
@@ -194,17 +198,19 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         p.kind = kind_of(Symbol::Param(i));
     }
 
-    // Equations vs unknowns.
-    if 2 * m.loops.len() != m.unknowns.len() {
+    // Equations vs unknowns (a missing `loops` key is reported by the parser).
+    if let Some(loops) = m.loop_count
+        && 2 * loops != m.unknowns.len()
+    {
         let span = m.loops.first().map_or(m.name.span, |l| l.span);
+        let (s, es) = if loops == 1 { ("", "s") } else { ("s", "") };
         diags.push(
             Diagnostic::error(
                 span,
                 format!(
-                    "mechanism `{}` is not square: {} loops give {} equations for {} unknowns",
+                    "mechanism `{}` is not square: {loops} loop{s} give{es} {} equations for {} unknowns",
                     m.name.text,
-                    m.loops.len(),
-                    2 * m.loops.len(),
+                    2 * loops,
                     m.unknowns.len()
                 ),
             )
@@ -251,13 +257,15 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
             .map(|(i, n)| {
                 let value = start.get(n.text.as_str()).copied();
                 if value.is_none() {
-                    diags.push(
-                        Diagnostic::error(
-                            n.span,
-                            format!("missing `start` value for `{}`", n.text),
-                        )
-                        .with_note("`start` needs a value for every input and unknown"),
-                    );
+                    let mut d = Diagnostic::error(
+                        n.span,
+                        format!("missing `start` value for `{}`", n.text),
+                    )
+                    .with_note("`start` needs a value for every input and unknown");
+                    if !m.start.is_empty() {
+                        d = d.with_related(start_span(m), format!("no `{}` here", n.text));
+                    }
+                    diags.push(d);
                 }
                 Coord {
                     name: n.clone(),
@@ -279,6 +287,15 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         points: m.points.clone(),
         scenes: Vec::new(),
         symbols,
+        start_span: start_span(m),
+    }
+}
+
+/// From the first `start` key to the end of the last value.
+fn start_span(m: &ast::Mechanism) -> Span {
+    match (m.start.first(), m.start.last()) {
+        (Some((first, _)), Some((_, last))) => first.span.join(last.span),
+        _ => m.name.span,
     }
 }
 
@@ -308,11 +325,14 @@ fn check_scene(
         None => 2,
         Some((o @ 0..=2, _)) => o as u8,
         Some((o, span)) => {
-            diags.push(Diagnostic::error(
-                span,
-                format!("scene order {o} is not 0, 1 or 2"),
-            ));
-            return;
+            diags.push(
+                Diagnostic::error(
+                    span,
+                    format!("scene `{}`: order {o} is not 0, 1 or 2", s.name.text),
+                )
+                .with_note("0: positions, 1: and velocities, 2: and accelerations"),
+            );
+            2
         }
     };
     let mut scene = Scene {
@@ -346,251 +366,4 @@ fn is_snake_case(s: &str) -> bool {
     s.chars().next().is_some_and(|c| c.is_ascii_lowercase())
         && s.chars()
             .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
-}
-
-fn undefined(name: &str, span: Span) -> Diagnostic {
-    Diagnostic::error(span, format!("undefined name `{name}`"))
-        .with_label("not an input, unknown or param")
-}
-
-/// Type of an expression; `None` after an error was reported. `params_only`: param expressions may
-/// use only params. Coordinates under `e()` or a trig function are recorded in `angles`.
-fn type_of(
-    e: &Expr,
-    symbols: &HashMap<String, Symbol>,
-    params_only: bool,
-    angles: &mut Vec<Symbol>,
-    diags: &mut Vec<Diagnostic>,
-) -> Option<Ty> {
-    macro_rules! go {
-        ($x:expr, $angles:expr) => {
-            type_of($x, symbols, params_only, $angles, diags)
-        };
-    }
-    match &e.kind {
-        ExprKind::Number(_) => Some(Ty::Scalar),
-        ExprKind::Name(n) if n == "pi" => Some(Ty::Scalar),
-        ExprKind::Name(n) => match symbols.get(n) {
-            Some(Symbol::Param(_)) => Some(Ty::Scalar),
-            Some(_) if !params_only => Some(Ty::Scalar),
-            Some(_) => {
-                diags.push(Diagnostic::error(
-                    e.span,
-                    format!("param expression uses coordinate `{n}`"),
-                ));
-                None
-            }
-            None => {
-                // Param expressions report their own undefined names during evaluation.
-                if !params_only {
-                    diags.push(undefined(n, e.span));
-                }
-                None
-            }
-        },
-        ExprKind::Neg(x) => go!(x, angles),
-        ExprKind::Binary(op, a, b) => {
-            let (ta, tb) = (go!(a, angles), go!(b, angles));
-            let (ta, tb) = (ta?, tb?);
-            match (op, ta, tb) {
-                (BinOp::Add | BinOp::Sub, Ty::Scalar, Ty::Scalar) => Some(Ty::Scalar),
-                (BinOp::Add | BinOp::Sub, _, _) => Some(Ty::Vector),
-                (BinOp::Mul | BinOp::Div, Ty::Scalar, Ty::Scalar) => Some(Ty::Scalar),
-                (BinOp::Mul, Ty::Scalar, Ty::Vector)
-                | (BinOp::Mul | BinOp::Div, Ty::Vector, Ty::Scalar) => Some(Ty::Vector),
-                (BinOp::Mul, Ty::Vector, Ty::Vector) => {
-                    diags.push(
-                        Diagnostic::error(e.span, "vector × vector is not defined")
-                            .with_note("multiply a vector by a scalar, e.g. `l1*e(q1)`"),
-                    );
-                    None
-                }
-                (BinOp::Div, _, Ty::Vector) => {
-                    diags.push(Diagnostic::error(
-                        b.span,
-                        "division by a vector is not defined",
-                    ));
-                    None
-                }
-            }
-        }
-        ExprKind::Call(f, args) => {
-            let (arity, angle_arg, result) = match f.text.as_str() {
-                "e" => (1, true, Ty::Vector),
-                "c" => (2, false, Ty::Vector),
-                "sin" | "cos" | "tan" => (1, true, Ty::Scalar),
-                "deg" | "sqrt" => (1, false, Ty::Scalar),
-                other => {
-                    let msg = if symbols.contains_key(other) {
-                        format!("`{other}` is not a function")
-                    } else {
-                        format!("undefined function `{other}`")
-                    };
-                    diags.push(
-                        Diagnostic::error(f.span, msg)
-                            .with_note("functions: e, c, deg, sin, cos, tan, sqrt"),
-                    );
-                    return None;
-                }
-            };
-            if args.len() != arity {
-                diags.push(Diagnostic::error(
-                    e.span,
-                    format!(
-                        "`{}` takes {arity} argument{}, got {}",
-                        f.text,
-                        if arity == 1 { "" } else { "s" },
-                        args.len()
-                    ),
-                ));
-                return None;
-            }
-            let mut ok = true;
-            for a in args {
-                match go!(a, angles) {
-                    Some(Ty::Scalar) => {}
-                    Some(Ty::Vector) => {
-                        diags.push(Diagnostic::error(
-                            a.span,
-                            format!("`{}` of a vector is not defined", f.text),
-                        ));
-                        ok = false;
-                    }
-                    None => ok = false,
-                }
-                if angle_arg {
-                    collect_names(a, symbols, angles);
-                }
-            }
-            ok.then_some(result)
-        }
-    }
-}
-
-fn collect_names(e: &Expr, symbols: &HashMap<String, Symbol>, out: &mut Vec<Symbol>) {
-    match &e.kind {
-        ExprKind::Name(n) => {
-            if let Some(s) = symbols.get(n)
-                && !out.contains(s)
-            {
-                out.push(*s);
-            }
-        }
-        ExprKind::Number(_) => {}
-        ExprKind::Neg(x) => collect_names(x, symbols, out),
-        ExprKind::Binary(_, a, b) => {
-            collect_names(a, symbols, out);
-            collect_names(b, symbols, out);
-        }
-        ExprKind::Call(_, args) => args.iter().for_each(|a| collect_names(a, symbols, out)),
-    }
-}
-
-/// Evaluates a scalar expression of params (params, start values) in f64.
-pub fn eval(
-    e: &Expr,
-    values: &HashMap<String, f64>,
-    what: &str,
-    diags: &mut Vec<Diagnostic>,
-) -> Option<f64> {
-    let v = eval_inner(e, values, what, diags)?;
-    if v.is_finite() {
-        Some(v)
-    } else {
-        diags.push(Diagnostic::error(
-            e.span,
-            format!("{what} evaluates to a non-finite value ({v})"),
-        ));
-        None
-    }
-}
-
-fn eval_inner(
-    e: &Expr,
-    values: &HashMap<String, f64>,
-    what: &str,
-    diags: &mut Vec<Diagnostic>,
-) -> Option<f64> {
-    let mut go = |x: &Expr| eval_inner(x, values, what, diags);
-    Some(match &e.kind {
-        ExprKind::Number(x) => *x,
-        ExprKind::Name(n) if n == "pi" => std::f64::consts::PI,
-        ExprKind::Name(n) => match values.get(n) {
-            Some(v) => *v,
-            None => {
-                diags.push(
-                    Diagnostic::error(e.span, format!("undefined name `{n}` in {what}"))
-                        .with_label("not a param defined before this one"),
-                );
-                return None;
-            }
-        },
-        ExprKind::Neg(x) => -go(x)?,
-        ExprKind::Binary(op, a, b) => {
-            let (a, b) = (go(a), go(b));
-            let (a, b) = (a?, b?);
-            match op {
-                BinOp::Add => a + b,
-                BinOp::Sub => a - b,
-                BinOp::Mul => a * b,
-                BinOp::Div => a / b,
-            }
-        }
-        ExprKind::Call(f, args) if args.len() == 1 => {
-            let x = go(&args[0])?;
-            match f.text.as_str() {
-                "deg" => x.to_radians(),
-                "sin" => x.sin(),
-                "cos" => x.cos(),
-                "tan" => x.tan(),
-                "sqrt" => x.sqrt(),
-                _ => {
-                    diags.push(Diagnostic::error(
-                        e.span,
-                        format!("{what} must be a scalar, `{}` is not", f.text),
-                    ));
-                    return None;
-                }
-            }
-        }
-        ExprKind::Call(f, _) => {
-            diags.push(Diagnostic::error(
-                e.span,
-                format!("{what} must be a scalar, `{}(…)` is not", f.text),
-            ));
-            return None;
-        }
-    })
-}
-
-/// Prints an expression back in the file's syntax (fully parenthesised where it matters).
-pub struct Shown<'a>(pub &'a Expr);
-
-impl std::fmt::Display for Shown<'_> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match &self.0.kind {
-            ExprKind::Number(x) => write!(f, "{x:?}"),
-            ExprKind::Name(n) => write!(f, "{n}"),
-            ExprKind::Neg(x) => write!(f, "-{}", Shown(x)),
-            ExprKind::Binary(op, a, b) => {
-                let o = match op {
-                    BinOp::Add => "+",
-                    BinOp::Sub => "-",
-                    BinOp::Mul => "*",
-                    BinOp::Div => "/",
-                };
-                write!(f, "({} {o} {})", Shown(a), Shown(b))
-            }
-            ExprKind::Call(name, args) => {
-                write!(f, "{}(", name.text)?;
-                for (i, a) in args.iter().enumerate() {
-                    if i > 0 {
-                        write!(f, ", ")?;
-                    }
-                    write!(f, "{}", Shown(a))?;
-                }
-                write!(f, ")")
-            }
-        }
-    }
 }

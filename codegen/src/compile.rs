@@ -7,7 +7,7 @@ use crate::differentiate::{self, Derivatives};
 use crate::lower::{self, System};
 use crate::plan::{self, BlockForms};
 use crate::structure::{self, StructureError};
-use crate::{emit, parse};
+use crate::{emit, parse, start};
 
 /// One mechanism through every analysis stage.
 #[derive(Clone, Debug)]
@@ -19,7 +19,7 @@ pub struct Compiled {
 }
 
 /// Runs every stage up to code generation. Mechanisms with errors are left out; all diagnostics of
-/// the file (errors and warnings) are returned.
+/// the file (errors and warnings) are returned, in file order.
 pub fn analyze(file: &SourceFile) -> (Vec<Compiled>, Vec<Diagnostic>) {
     let (ast, mut diags) = parse::parse(file);
     let models = check::check(&ast, &mut diags);
@@ -37,6 +37,12 @@ pub fn analyze(file: &SourceFile) -> (Vec<Compiled>, Vec<Diagnostic>) {
             .collect();
         match structure::blocks(&incidence, nu) {
             Ok(blocks) if diags[before..].iter().all(|d| !d.is_error()) => {
+                let start = start::check(&model, &system, &derivatives);
+                let failed = start.as_ref().is_some_and(Diagnostic::is_error);
+                diags.extend(start);
+                if failed {
+                    continue;
+                }
                 let blocks = plan::block_forms(&mut system, &derivatives, &blocks);
                 out.push(Compiled {
                     model,
@@ -49,6 +55,7 @@ pub fn analyze(file: &SourceFile) -> (Vec<Compiled>, Vec<Diagnostic>) {
             Err(e) => diags.extend(structure_diagnostics(&model, &system, e)),
         }
     }
+    diags.sort_by_key(|d| d.span.start);
     (out, diags)
 }
 
@@ -128,7 +135,8 @@ fn structure_diagnostics(model: &Model, system: &System, e: StructureError) -> V
         Diagnostic::error(
             l.span,
             format!(
-                "structurally singular: the {comp} equation of loop {} {what}",
+                "mechanism `{}` is structurally singular: the {comp} equation of loop {} {what}",
+                model.name.text,
                 i / 2 + 1
             ),
         )

@@ -40,6 +40,8 @@ pub struct Diagnostic {
     pub label: String,
     /// Extra `= note: ...` lines.
     pub notes: Vec<String>,
+    /// Secondary spans drawn in the same excerpt (e.g. a first declaration), with their labels.
+    pub related: Vec<(Span, String)>,
 }
 
 impl Diagnostic {
@@ -50,6 +52,7 @@ impl Diagnostic {
             span,
             label: String::new(),
             notes: Vec::new(),
+            related: Vec::new(),
         }
     }
 
@@ -67,6 +70,12 @@ impl Diagnostic {
 
     pub fn with_note(mut self, note: impl Into<String>) -> Self {
         self.notes.push(note.into());
+        self
+    }
+
+    /// Also draws `span` (in the same file) with `label`, as context.
+    pub fn with_related(mut self, span: Span, label: impl Into<String>) -> Self {
+        self.related.push((span, label.into()));
         self
     }
 
@@ -119,22 +128,35 @@ pub fn render(file: &SourceFile, diagnostics: &[Diagnostic]) -> String {
 pub fn render_one(file: &SourceFile, diagnostic: &Diagnostic) -> String {
     let text = file.text.as_str();
     let (start, end) = snap(text, diagnostic.span);
-    // Excerpt: the whole lines the span touches, so rendering costs O(excerpt), not O(file).
-    let first = text[..start].rfind('\n').map_or(0, |i| i + 1);
-    let last = text[end..].find('\n').map_or(text.len(), |i| end + i + 1);
+    let related: Vec<((usize, usize), &str)> = diagnostic
+        .related
+        .iter()
+        .map(|(s, l)| (snap(text, *s), l.as_str()))
+        .collect();
+    let lo = related.iter().map(|r| r.0.0).fold(start, usize::min);
+    let hi = related.iter().map(|r| r.0.1).fold(end, usize::max);
+    // Excerpt: the whole lines the spans touch (lines between them are folded by the renderer),
+    // so rendering costs O(excerpt), not O(file).
+    let first = text[..lo].rfind('\n').map_or(0, |i| i + 1);
+    let last = text[hi..].find('\n').map_or(text.len(), |i| hi + i + 1);
     let line_start = file.line_col(first).0;
 
     let mut annotation = AnnotationKind::Primary.span(start - first..end - first);
     if !diagnostic.label.is_empty() {
         annotation = annotation.label(diagnostic.label.as_str());
     }
+    let context = related.iter().map(|&((s, e), label)| {
+        let a = AnnotationKind::Context.span(s - first..e - first);
+        if label.is_empty() { a } else { a.label(label) }
+    });
     let (level, name) = match diagnostic.severity {
         Severity::Error => (Level::ERROR, "error"),
         Severity::Warning => (Level::WARNING, "warning"),
     };
     let snippet = Snippet::source(&text[first..last])
         .line_start(line_start)
-        .annotation(annotation);
+        .annotation(annotation)
+        .annotations(context);
     let group = Group::with_level(level).element(snippet).elements(
         diagnostic
             .notes
@@ -290,6 +312,20 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn related_span_on_an_earlier_line() {
+        let file = SourceFile::new("m.toml", "a = 1\nb = 2\nc = 3\nd = 4\na = 5\n");
+        let d = Diagnostic::error(Span::new(24, 25), "`a` twice")
+            .with_related(Span::new(0, 1), "first");
+        let out = render_one(&file, &d);
+        assert!(out.starts_with("m.toml:5:1: error: `a` twice\n"), "{out}");
+        assert!(out.contains("1 | a = 1\n  | - first\n"), "{out}");
+        assert!(out.contains("5 | a = 5\n  | ^\n"), "{out}");
+        assert!(!out.contains("c = 3"), "lines between are folded:\n{out}");
+        let far = Diagnostic::error(Span::new(2, 3), "x").with_related(Span::new(99, 120), "");
+        assert!(render_one(&file, &far).starts_with("m.toml:1:3: error: x\n"));
     }
 
     #[test]

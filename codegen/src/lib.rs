@@ -1,9 +1,9 @@
 //! mechgen-codegen: mechanism.toml → Rust kinematics solvers.
 //!
 //! Pipeline (one module per stage, chained in [`compile`]):
-//! [`parse`] (TOML + syn, with spans) → [`check`] (names, types, angles) → [`lower`] (loops to
+//! [`parse`] (TOML + syn, with spans) → [`check`] (names; [`typing`]: types, angles; [`eval`]: values) → [`lower`] (loops to
 //! scalar residuals in the hash-consed [`dag`]) → [`differentiate`] (J, Φx, J̇, γ, points) →
-//! [`structure`] (matching, block-triangular order) → [`plan`] (per-block forms) → [`emit`]
+//! [`structure`] (matching, block-triangular order) → [`plan`] (per-block forms), [`start`] (the start configuration against the loops) → [`emit`]
 //! (quote → prettyplease). [`diagnostic`] renders errors as FILE:LINE:COLUMN; [`build_script`] is
 //! the entry point for a `build.rs`.
 
@@ -23,10 +23,14 @@ pub mod diagnostic;
 pub mod differentiate;
 pub mod emit;
 pub mod emit_body;
+pub mod eval;
 pub mod lower;
 pub mod parse;
+mod parse_expr;
 pub mod plan;
+pub mod start;
 pub mod structure;
+pub mod typing;
 
 pub use compile::{Compiled, analyze, compile};
 pub use diagnostic::{Diagnostic, Severity, SourceFile, Span};

@@ -1,13 +1,13 @@
 //! Stage 1: mechanism file text → [`ast::File`]. TOML with spans (toml's `DeTable`), each expression
-//! string with `syn`, spans mapped back into the file so diagnostics point inside the strings.
+//! string with `syn` (in `parse_expr.rs`), spans mapped back into the file so diagnostics point
+//! inside the strings. After a TOML syntax error only the syntax errors are reported.
 
 use std::borrow::Cow;
 
-use syn::spanned::Spanned as _;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
-use crate::ast::{BinOp, Expr, ExprKind, File, Mechanism, Name, Scene};
+use crate::ast::{Expr, ExprKind, File, Mechanism, Name, Scene};
 use crate::diagnostic::{Diagnostic, SourceFile, Span};
 
 type Item<'a> = (&'a Spanned<Cow<'a, str>>, &'a Spanned<DeValue<'a>>);
@@ -19,6 +19,9 @@ pub fn parse(file: &SourceFile) -> (File, Vec<Diagnostic>) {
         diags: Vec::new(),
     };
     let (root, errors) = DeTable::parse_recoverable(&file.text);
+    // After a TOML syntax error the recovered tables are guesses: report every syntax error and
+    // nothing built on the guesses.
+    let syntax_errors = !errors.is_empty();
     for e in errors {
         let span = e
             .span()
@@ -28,7 +31,13 @@ pub fn parse(file: &SourceFile) -> (File, Vec<Diagnostic>) {
             format!("TOML syntax error: {}", e.message().trim()),
         ));
     }
-    let mut out = File::default();
+    let mut out = File {
+        syntax_errors,
+        ..File::default()
+    };
+    if syntax_errors {
+        return (out, p.diags);
+    }
     for (key, value) in sorted(root.get_ref()) {
         match key.get_ref().as_ref() {
             "mechanism" => {
@@ -58,7 +67,7 @@ fn sorted<'a>(t: &'a DeTable<'a>) -> Vec<Item<'a>> {
     v
 }
 
-fn span_of<T>(s: &Spanned<T>) -> Span {
+pub(crate) fn span_of<T>(s: &Spanned<T>) -> Span {
     let r = s.span();
     Span::new(r.start, r.end)
 }
@@ -70,13 +79,13 @@ fn name_of(key: &Spanned<Cow<'_, str>>) -> Name {
     }
 }
 
-struct Parser<'t> {
-    text: &'t str,
-    diags: Vec<Diagnostic>,
+pub(crate) struct Parser<'t> {
+    pub(crate) text: &'t str,
+    pub(crate) diags: Vec<Diagnostic>,
 }
 
 impl Parser<'_> {
-    fn error(&mut self, span: Span, msg: impl Into<String>) {
+    pub(crate) fn error(&mut self, span: Span, msg: impl Into<String>) {
         self.diags.push(Diagnostic::error(span, msg));
     }
 
@@ -114,12 +123,15 @@ impl Parser<'_> {
     ) -> Option<Mechanism> {
         let name = name_of(key);
         let table = self.table(body, &format!("mechanism.{}", name.text))?;
+        let before = self.diags.len();
         let mut m = Mechanism {
             name,
             description: None,
             inputs: vec![],
             unknowns: vec![],
             loops: vec![],
+            loop_count: None,
+            parse_errors: false,
             params: vec![],
             points: vec![],
             start: vec![],
@@ -135,11 +147,9 @@ impl Parser<'_> {
                 "unknowns" => (seen[1], m.unknowns) = (true, self.names(v, "unknowns")),
                 "loops" => {
                     seen[2] = true;
-                    m.loops = self
-                        .array(v, "loops")
-                        .iter()
-                        .filter_map(|e| self.string_expr(e))
-                        .collect();
+                    let items = self.array(v, "loops");
+                    m.loop_count = Some(items.len());
+                    m.loops = items.iter().filter_map(|e| self.string_expr(e)).collect();
                 }
                 "params" => m.params = self.assignments(v, "params", true),
                 "points" => m.points = self.assignments(v, "points", false),
@@ -162,6 +172,7 @@ impl Parser<'_> {
                 self.diags.push(d);
             }
         }
+        m.parse_errors = self.diags.len() > before;
         Some(m)
     }
 
@@ -269,8 +280,16 @@ impl Parser<'_> {
                 continue;
             }
             let expr = match v.get_ref() {
+                // A param or start value that does not parse stays declared (as 0, after the
+                // error), so its uses do not add undefined-name errors.
+                DeValue::String(_) if numbers => {
+                    Some(self.string_expr(v).unwrap_or_else(|| Expr {
+                        kind: ExprKind::Number(0.0),
+                        span: span_of(v),
+                    }))
+                }
                 DeValue::String(_) => self.string_expr(v),
-                DeValue::Integer(_) | DeValue::Float(_) if numbers => self.number(v),
+                DeValue::Integer(_) | DeValue::Float(_) if numbers => self.number(v, &name, what),
                 _ => {
                     let kind = if numbers {
                         "a number or an expression string"
@@ -291,7 +310,7 @@ impl Parser<'_> {
         out
     }
 
-    fn number(&mut self, v: &Spanned<DeValue<'_>>) -> Option<Expr> {
+    fn number(&mut self, v: &Spanned<DeValue<'_>>, name: &Name, what: &str) -> Option<Expr> {
         let span = span_of(v);
         let value = match v.get_ref() {
             DeValue::Integer(i) => int_value(i).map(|n| n as f64),
@@ -305,121 +324,27 @@ impl Parser<'_> {
             }),
             Some(_) => {
                 // Reported here; the name stays declared so no undefined-name errors follow.
-                self.error(span, "non-finite number (nan or inf)");
+                let raw = self.text.get(span.start..span.end).unwrap_or("nan or inf");
+                let d = Diagnostic::error(
+                    span,
+                    format!("`{}` in `{what}` is not a finite number: {raw}", name.text),
+                )
+                .with_label("not finite")
+                .with_note("nan and inf are valid TOML but not valid values");
+                self.diags.push(d);
                 Some(Expr {
                     kind: ExprKind::Number(0.0),
                     span,
                 })
             }
             None => {
-                self.error(span, "number out of range");
+                self.error(
+                    span,
+                    format!("`{}` in `{what}`: number out of range", name.text),
+                );
                 None
             }
         }
-    }
-
-    /// Where the content of a string value starts, when the content is the raw text (no escapes).
-    fn inner_span(&self, value: Span, content: &str) -> Span {
-        let raw = self.text.get(value.start..value.end).unwrap_or("");
-        let quote = if raw.starts_with("\"\"\"") || raw.starts_with("'''") {
-            3
-        } else {
-            1
-        };
-        let start = value.start + quote;
-        match self.text.get(start..start + content.len()) {
-            Some(s) if s == content => Span::new(start, start + content.len()),
-            _ => value,
-        }
-    }
-
-    fn string_expr(&mut self, v: &Spanned<DeValue<'_>>) -> Option<Expr> {
-        let DeValue::String(s) = v.get_ref() else {
-            self.error(span_of(v), "expected an expression string");
-            return None;
-        };
-        let value = span_of(v);
-        let inner = self.inner_span(value, s);
-        // Byte offsets inside the string map 1:1 to the file only when there are no escapes.
-        let map = |r: std::ops::Range<usize>| {
-            if inner == value {
-                value
-            } else {
-                Span::new(inner.start + r.start, inner.start + r.end)
-            }
-        };
-        match syn::parse_str::<syn::Expr>(s) {
-            Ok(e) => self.expr(&e, &map),
-            Err(err) => {
-                let span = if s.trim().is_empty() {
-                    value
-                } else {
-                    map(err.span().byte_range())
-                };
-                let d = Diagnostic::error(span, format!("expression syntax error: {err}"))
-                    .with_label("cannot parse this as an expression");
-                self.diags.push(d);
-                None
-            }
-        }
-    }
-
-    fn expr(
-        &mut self,
-        e: &syn::Expr,
-        map: &dyn Fn(std::ops::Range<usize>) -> Span,
-    ) -> Option<Expr> {
-        let span = map(e.span().byte_range());
-        let unsupported = |p: &mut Self, what: &str| {
-            let d = Diagnostic::error(span, format!("unsupported expression: {what}"))
-                .with_note("expressions use numbers, names, + - * /, parentheses and e(), c(), deg(), sin(), cos(), tan(), sqrt(), pi");
-            p.diags.push(d);
-            None
-        };
-        let kind = match e {
-            syn::Expr::Lit(l) => match &l.lit {
-                syn::Lit::Int(i) => ExprKind::Number(i.base10_digits().parse::<f64>().ok()?),
-                syn::Lit::Float(f) => ExprKind::Number(f.base10_digits().parse::<f64>().ok()?),
-                _ => return unsupported(self, "a literal that is not a number"),
-            },
-            syn::Expr::Path(p) => match p.path.get_ident() {
-                Some(id) if p.qself.is_none() => ExprKind::Name(id.to_string()),
-                _ => return unsupported(self, "a path"),
-            },
-            syn::Expr::Paren(p) => return self.expr(&p.expr, map),
-            syn::Expr::Group(g) => return self.expr(&g.expr, map),
-            syn::Expr::Unary(u) => match u.op {
-                syn::UnOp::Neg(_) => ExprKind::Neg(Box::new(self.expr(&u.expr, map)?)),
-                _ => return unsupported(self, "a unary operator other than `-`"),
-            },
-            syn::Expr::Binary(b) => {
-                let op = match b.op {
-                    syn::BinOp::Add(_) => BinOp::Add,
-                    syn::BinOp::Sub(_) => BinOp::Sub,
-                    syn::BinOp::Mul(_) => BinOp::Mul,
-                    syn::BinOp::Div(_) => BinOp::Div,
-                    _ => return unsupported(self, "an operator other than + - * /"),
-                };
-                let (l, r) = (self.expr(&b.left, map), self.expr(&b.right, map));
-                ExprKind::Binary(op, Box::new(l?), Box::new(r?))
-            }
-            syn::Expr::Call(c) => {
-                let syn::Expr::Path(p) = &*c.func else {
-                    return unsupported(self, "a call of a non-name");
-                };
-                let Some(id) = p.path.get_ident() else {
-                    return unsupported(self, "a call of a path");
-                };
-                let callee = Name {
-                    text: id.to_string(),
-                    span: map(id.span().byte_range()),
-                };
-                let args: Vec<Option<Expr>> = c.args.iter().map(|a| self.expr(a, map)).collect();
-                ExprKind::Call(callee, args.into_iter().collect::<Option<Vec<_>>>()?)
-            }
-            _ => return unsupported(self, "this kind of Rust expression"),
-        };
-        Some(Expr { kind, span })
     }
 }
 

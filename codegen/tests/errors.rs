@@ -45,7 +45,10 @@ fn all_errors_are_reported() {
         .replace("params = {", "colour = 1\nparams = {");
     let out = errors(&text);
     assert!(out.contains("vector × vector"), "{out}");
-    assert!(out.contains("non-finite number"), "{out}");
+    assert!(
+        out.contains("`l1` in `params` is not a finite number"),
+        "{out}"
+    );
     assert!(out.contains("unknown key `colour`"), "{out}");
     assert_eq!(out.matches(": error: ").count(), 3, "{out}");
 }

@@ -1,0 +1,243 @@
+//! The `start` configuration against the loops: residual at the start values, and Newton (f64,
+//! dense) from them when they do not close, so that a start off its branch is caught at build time.
+//!
+//! Rule (relative residual = largest |Φi| at `start` / the largest length param, or 1):
+//! - at most [`CLOSED`]: nothing to say;
+//! - above it, Newton on the unknowns (inputs fixed) from the start values:
+//!   - does not converge: error;
+//!   - converges, and the residual was above [`WARN`]: warning with the converged values;
+//!   - converges from a residual at most [`WARN`] (start values rounded to a tenth of a degree or
+//!     so, like the seed documents'): nothing — the solvers correct that on their first step.
+
+use crate::check::{Kind, Model};
+use crate::dag::Var;
+use crate::diagnostic::Diagnostic;
+use crate::differentiate::Derivatives;
+use crate::lower::System;
+
+/// Relative residual below which the start configuration counts as assembled.
+pub const CLOSED: f64 = 1e-6;
+/// Relative residual above which a start that Newton repairs still gets a warning.
+pub const WARN: f64 = 5e-2;
+/// Newton's relative tolerance and iteration cap.
+const TOLERANCE: f64 = 1e-12;
+const MAX_ITERATIONS: usize = 50;
+
+/// What Newton from the start values did.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Outcome {
+    /// The start values close the loops (relative residual).
+    Closed(f64),
+    /// Newton converged: the start's relative residual and the converged unknowns.
+    Converged(f64, Vec<f64>),
+    /// Newton failed: the start's relative residual and why.
+    Failed(f64, &'static str),
+}
+
+/// Evaluates the loops at `start` and, when they do not close, runs Newton from there.
+pub fn newton_from_start(model: &Model, system: &System, derivatives: &Derivatives) -> Outcome {
+    let scale = model
+        .params
+        .iter()
+        .filter(|p| p.kind == Kind::Length)
+        .map(|p| p.value.abs())
+        .fold(0.0, f64::max);
+    let scale = if scale > 0.0 { scale } else { 1.0 };
+    let mut q: Vec<f64> = model.unknowns.iter().map(|u| u.start).collect();
+    let roots: Vec<_> = system
+        .residuals
+        .iter()
+        .chain(derivatives.jacobian.iter().flatten())
+        .copied()
+        .collect();
+    let evaluate = |q: &[f64]| {
+        let var = |v: Var| match v {
+            Var::X(i) => model.inputs.get(i as usize).map_or(0.0, |c| c.start),
+            Var::Q(k) => q.get(k as usize).copied().unwrap_or(0.0),
+            Var::P(i) => model.params.get(i as usize).map_or(0.0, |p| p.value),
+            _ => 0.0,
+        };
+        let values = system.dag.eval(&roots, &var);
+        let residual: Vec<f64> = system.residuals.iter().map(|r| values[r.index()]).collect();
+        let norm = residual.iter().fold(0.0, |m: f64, r| m.max(r.abs())) / scale;
+        let jacobian: Vec<Vec<f64>> = derivatives
+            .jacobian
+            .iter()
+            .map(|row| row.iter().map(|j| values[j.index()]).collect())
+            .collect();
+        (residual, norm, jacobian)
+    };
+    let (mut residual, start_norm, mut jacobian) = evaluate(&q);
+    if !start_norm.is_finite() {
+        return Outcome::Failed(start_norm, "the loops are not finite at the start values");
+    }
+    if start_norm <= CLOSED {
+        return Outcome::Closed(start_norm);
+    }
+    for _ in 0..MAX_ITERATIONS {
+        let rhs: Vec<f64> = residual.iter().map(|r| -r).collect();
+        let Some(step) = solve(jacobian, rhs) else {
+            return Outcome::Failed(start_norm, "the Jacobian is singular on the way");
+        };
+        q.iter_mut().zip(&step).for_each(|(x, d)| *x += d);
+        let norm;
+        (residual, norm, jacobian) = evaluate(&q);
+        if !norm.is_finite() {
+            return Outcome::Failed(start_norm, "the iterates left the finite numbers");
+        }
+        let small_step = step.iter().all(|d| d.abs() <= 1e-9 * (1.0 + scale));
+        if norm <= TOLERANCE || (norm <= CLOSED && small_step) {
+            return Outcome::Converged(start_norm, q);
+        }
+    }
+    Outcome::Failed(start_norm, "the iteration cap was reached")
+}
+
+/// Gaussian elimination with partial pivoting; `None` when a pivot is negligible.
+fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
+    let n = b.len();
+    let size = a.iter().flatten().fold(0.0, |m: f64, x| m.max(x.abs()));
+    for col in 0..n {
+        let pivot = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
+        if a[pivot][col].abs() <= 1e-13 * size || !a[pivot][col].is_finite() {
+            return None;
+        }
+        a.swap(col, pivot);
+        b.swap(col, pivot);
+        for row in col + 1..n {
+            let f = a[row][col] / a[col][col];
+            for k in col..n {
+                a[row][k] -= f * a[col][k];
+            }
+            b[row] -= f * b[col];
+        }
+    }
+    let mut x = vec![0.0; n];
+    for row in (0..n).rev() {
+        let s: f64 = (row + 1..n).map(|k| a[row][k] * x[k]).sum();
+        x[row] = (b[row] - s) / a[row][row];
+    }
+    Some(x)
+}
+
+/// The diagnostic for a start configuration, if any (see the module rule).
+pub fn check(model: &Model, system: &System, derivatives: &Derivatives) -> Option<Diagnostic> {
+    let name = &model.name.text;
+    match newton_from_start(model, system, derivatives) {
+        Outcome::Closed(_) => None,
+        Outcome::Converged(r, _) if r <= WARN => None,
+        Outcome::Converged(r, q) => {
+            let values: Vec<String> = model
+                .inputs
+                .iter()
+                .map(|c| (c, c.start))
+                .chain(model.unknowns.iter().zip(q))
+                .map(|(c, v)| format!("{} = {v:?}", c.name.text))
+                .collect();
+            Some(
+                Diagnostic::warning(
+                    model.start_span,
+                    format!(
+                        "start configuration of `{name}` does not satisfy the loops \
+                         (relative residual {r:.1e}); Newton from it converges"
+                    ),
+                )
+                .with_label("off the loops")
+                .with_note(format!(
+                    "converged start: start = {{ {} }}",
+                    values.join(", ")
+                ))
+                .with_note("check that this is the wanted assembly branch"),
+            )
+        }
+        Outcome::Failed(r, why) => Some(
+            Diagnostic::error(
+                model.start_span,
+                format!(
+                    "start configuration of `{name}` does not satisfy the loops (relative \
+                     residual {r:.1e}) and Newton from it does not converge"
+                ),
+            )
+            .with_label("not an assembled configuration")
+            .with_note(format!("Newton stopped: {why}"))
+            .with_note(
+                "give values that close every loop; if none exist, the params cannot be assembled",
+            ),
+        ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::SourceFile;
+    use crate::compile::analyze;
+
+    fn outcomes(text: &str) -> Vec<Outcome> {
+        let (mechs, _) = analyze(&SourceFile::new("t.toml", text));
+        mechs
+            .iter()
+            .map(|m| newton_from_start(&m.model, &m.system, &m.derivatives))
+            .collect()
+    }
+
+    const FOUR_BAR: &str = r#"[mechanism.m]
+inputs = ["q1"]
+unknowns = ["q2", "q3"]
+loops = ["l1*e(q1) + l2*e(q2) - l4 - l3*e(q3)"]
+params = { l1 = 0.1, l2 = 0.35, l3 = 0.3, l4 = 0.4 }
+start = { q1 = 0.0, q2 = Q2, q3 = Q3 }
+"#;
+
+    #[test]
+    fn exact_rounded_and_far_starts() {
+        let exact = FOUR_BAR
+            .replace("Q2", "0.9479697413828936")
+            .replace("Q3", "1.8959394827657874");
+        assert!(matches!(outcomes(&exact)[..], [Outcome::Closed(r)] if r < 1e-14));
+        let rounded = FOUR_BAR
+            .replace("Q2", "\"deg(54.3)\"")
+            .replace("Q3", "\"deg(108.6)\"");
+        let [Outcome::Converged(r, q)] = &outcomes(&rounded)[..] else {
+            panic!("{:?}", outcomes(&rounded));
+        };
+        assert!(*r > CLOSED && *r < WARN, "{r}");
+        assert!((q[0] - 0.9479697413828936).abs() < 1e-12, "{q:?}");
+        let far = rounded.replace("deg(54.3)", "deg(70)");
+        assert!(matches!(outcomes(&far)[..], [Outcome::Converged(r, _)] if r > WARN));
+        let (mechs, diags) = analyze(&SourceFile::new("t.toml", far));
+        assert_eq!((mechs.len(), diags.len()), (1, 1), "{diags:?}");
+        assert!(!diags[0].is_error() && diags[0].notes[0].contains("q2 = 0.94796974138289"));
+        let unreachable = exact.replace("l4 = 0.4", "l4 = 1.0");
+        let (mechs, diags) = analyze(&SourceFile::new("t.toml", unreachable));
+        assert!(
+            mechs.is_empty() && diags.len() == 1 && diags[0].is_error(),
+            "{diags:?}"
+        );
+    }
+
+    #[test]
+    fn default_seed_and_fixture_files_are_quiet() {
+        let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+        let fixtures = std::fs::read_dir(format!("{root}/tests/fixtures")).expect("fixtures");
+        let mut paths: Vec<String> = fixtures
+            .filter_map(|e| Some(e.ok()?.path().display().to_string()))
+            .filter(|p| p.ends_with(".toml"))
+            .collect();
+        paths.extend(["mechanism.toml", "tests/data/seeds.toml"].map(|p| format!("{root}/{p}")));
+        assert!(paths.len() >= 6, "{paths:?}");
+        for path in paths {
+            let text = std::fs::read_to_string(&path).expect("file");
+            let (mechs, diags) = analyze(&SourceFile::new(path.as_str(), text));
+            assert!(diags.is_empty(), "{path}: {diags:?}");
+            for m in &mechs {
+                let o = newton_from_start(&m.model, &m.system, &m.derivatives);
+                let r = match o {
+                    Outcome::Closed(r) | Outcome::Converged(r, _) => r,
+                    Outcome::Failed(..) => panic!("{}: {o:?}", m.model.name.text),
+                };
+                assert!(r < WARN, "{}: {r}", m.model.name.text);
+            }
+        }
+    }
+}

@@ -18,6 +18,8 @@ extern crate self as mechgen;
 
 pub mod error;
 pub mod mechanism;
+#[cfg(feature = "plot")]
+pub mod plot;
 pub mod report;
 pub mod scalar;
 pub mod solve;

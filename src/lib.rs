@@ -20,6 +20,8 @@ pub mod error;
 #[cfg(feature = "runtime")]
 pub mod generic;
 pub mod mechanism;
+#[cfg(feature = "plot")]
+pub mod plot;
 pub mod report;
 pub mod scalar;
 pub mod solve;

@@ -1,0 +1,340 @@
+//! `drawing_svg`: the mechanism drawn at several inputs (first frame bold, the others faded), the
+//! paths of its named points (`point_paths` takes them from a sweep), ground pivots marked, at equal
+//! scale on both axes.
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use crate::mechanism::MechanismInfo;
+use crate::sweep::Row;
+
+use super::{
+    FAMILY, PlotError, Ticked, color, drawing_error, ensure_font, finite_runs, padded_range,
+    tick_text, ticks,
+};
+
+type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
+
+const WIDTH: u32 = 1000;
+const LEGEND: u32 = 230;
+const INK: RGBColor = RGBColor(35, 35, 35);
+const FADED: RGBColor = RGBColor(140, 140, 140);
+const FADED_ALPHA: f64 = 0.6;
+
+/// One frame of the mechanism drawing, in file units.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Frame {
+    /// The input value this frame shows (shown in the legend for the first frame, as given).
+    pub input: f64,
+    /// Links as polylines: each inner `Vec` a chain of joints (a closed body repeats its first
+    /// joint at the end).
+    pub links: Vec<Vec<[f64; 2]>>,
+    /// Ground pivots.
+    pub ground: Vec<[f64; 2]>,
+    /// Named points, labelled in the first frame.
+    pub points: Vec<(String, [f64; 2])>,
+}
+
+fn finite(p: &[f64; 2]) -> bool {
+    p[0].is_finite() && p[1].is_finite()
+}
+
+fn pair(p: &[f64; 2]) -> (f64, f64) {
+    (p[0], p[1])
+}
+
+/// The mechanism: links as polylines, joints as circles, ground pivots as hatched triangles, the
+/// first frame bold and the others faded, the `paths` of named points over the sweep as thin
+/// curves (a non-finite entry is a gap), equal scale on both axes and a legend beside the plot.
+/// Non-finite coordinates are skipped.
+pub fn drawing_svg(
+    title: &str,
+    frames: &[Frame],
+    paths: &[(String, Vec<[f64; 2]>)],
+) -> Result<String, PlotError> {
+    ensure_font()?;
+    let all: Vec<[f64; 2]> = frames
+        .iter()
+        .flat_map(|f| {
+            let links = f.links.iter().flatten();
+            links.chain(&f.ground).chain(f.points.iter().map(|p| &p.1))
+        })
+        .chain(paths.iter().flat_map(|p| &p.1))
+        .copied()
+        .filter(finite)
+        .collect();
+    let xr = padded_range(all.iter().map(|p| p[0]), 0.0).ok_or(PlotError::NoData)?;
+    let yr = padded_range(all.iter().map(|p| p[1]), 0.0).ok_or(PlotError::NoData)?;
+    // Room for pivot triangles and labels: a share of the larger span on every side.
+    let pad = 0.1 * (xr.1 - xr.0).max(yr.1 - yr.0);
+    let (xr, yr) = ((xr.0 - pad, xr.1 + pad), (yr.0 - pad, yr.1 + pad));
+    let plot_width = f64::from(WIDTH - LEGEND - 100);
+    let height = (plot_width * (yr.1 - yr.0) / (xr.1 - xr.0)).clamp(320.0, 1000.0) as u32 + 120;
+
+    // Equal scale: measure the plotting area this layout leaves, then widen one range to fit it.
+    let (pw, ph) = {
+        let mut scratch = String::new();
+        let area = SVGBackend::with_string(&mut scratch, (WIDTH, height)).into_drawing_area();
+        let (left, _) = area.split_horizontally(WIDTH - LEGEND);
+        let chart = builder(&left, title, xr, yr)?;
+        chart.plotting_area().dim_in_pixel()
+    };
+    let scale = (f64::from(pw) / (xr.1 - xr.0)).min(f64::from(ph) / (yr.1 - yr.0));
+    let widen = |r: (f64, f64), px: u32| {
+        let (mid, half) = ((r.0 + r.1) / 2.0, f64::from(px) / scale / 2.0);
+        (mid - half, mid + half)
+    };
+    let (xr, yr) = (widen(xr, pw), widen(yr, ph));
+
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (WIDTH, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(drawing_error)?;
+        let (left, right) = root.split_horizontally(WIDTH - LEGEND);
+        let mut chart = builder(&left, title, xr, yr)?;
+        let (x_step, y_step) = (ticks(xr.0, xr.1, 8, false).1, ticks(yr.0, yr.1, 8, false).1);
+        let x_fmt = move |v: &f64| tick_text(*v, x_step);
+        let y_fmt = move |v: &f64| tick_text(*v, y_step);
+        chart
+            .configure_mesh()
+            .bold_line_style(RGBColor(230, 230, 230))
+            .light_line_style(TRANSPARENT)
+            .label_style((FAMILY, 15))
+            .axis_desc_style((FAMILY, 16))
+            .x_label_formatter(&x_fmt)
+            .y_label_formatter(&y_fmt)
+            .x_desc("x [units]")
+            .y_desc("y [units]")
+            .draw()
+            .map_err(drawing_error)?;
+
+        for frame in frames.iter().skip(1) {
+            draw_frame(&mut chart, frame, false)?;
+        }
+        for (i, (_, path)) in paths.iter().enumerate() {
+            let runs = finite_runs(path.iter().map(|p| Some(pair(p))));
+            for run in runs {
+                let line = LineSeries::new(run, color(i).stroke_width(2));
+                chart.draw_series(line).map_err(drawing_error)?;
+            }
+        }
+        if let Some(first) = frames.first() {
+            draw_frame(&mut chart, first, true)?;
+        }
+        draw_legend(&right, frames, paths)?;
+        root.present().map_err(drawing_error)?;
+    }
+    Ok(svg)
+}
+
+type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<Ticked, Ticked>>;
+
+fn builder<'a, 'b>(
+    area: &'a Area<'b>,
+    title: &str,
+    xr: (f64, f64),
+    yr: (f64, f64),
+) -> Result<Chart<'a, 'b>, PlotError> {
+    let (x_axis, _) = Ticked::new(xr.0, xr.1, 8, false);
+    let (y_axis, _) = Ticked::new(yr.0, yr.1, 8, false);
+    ChartBuilder::on(area)
+        .caption(title, (FAMILY, 24).into_font())
+        .margin(12)
+        .x_label_area_size(50)
+        .y_label_area_size(80)
+        .build_cartesian_2d(x_axis, y_axis)
+        .map_err(drawing_error)
+}
+
+/// Links, joints, ground pivots and (first frame only) point labels.
+fn draw_frame(chart: &mut Chart, frame: &Frame, bold: bool) -> Result<(), PlotError> {
+    let (ink, width, radius) = if bold { (INK, 3, 5) } else { (FADED, 1, 3) };
+    let alpha = if bold { 1.0 } else { FADED_ALPHA };
+    for link in &frame.links {
+        for run in finite_runs(link.iter().map(|p| Some(pair(p)))) {
+            let line = LineSeries::new(run, ink.mix(alpha).stroke_width(width));
+            chart.draw_series(line).map_err(drawing_error)?;
+        }
+    }
+    let ground = frame.ground.iter().filter(|p| finite(p)).map(pair);
+    if bold {
+        let hatch = INK.stroke_width(2);
+        let pivots = ground.map(|p| {
+            let triangle = vec![(0, 0), (-10, 16), (10, 16)];
+            EmptyElement::at(p)
+                + Polygon::new(triangle, RGBColor(200, 200, 200).filled())
+                + PathElement::new(
+                    vec![(0, 0), (-10, 16), (10, 16), (0, 0)],
+                    INK.stroke_width(1),
+                )
+                + PathElement::new(vec![(-15, 16), (15, 16)], hatch)
+                + PathElement::new(vec![(-12, 22), (-6, 16)], INK.stroke_width(1))
+                + PathElement::new(vec![(-3, 22), (3, 16)], INK.stroke_width(1))
+                + PathElement::new(vec![(6, 22), (12, 16)], INK.stroke_width(1))
+        });
+        chart.draw_series(pivots).map_err(drawing_error)?;
+    }
+    let joints: Vec<(f64, f64)> = frame
+        .links
+        .iter()
+        .flatten()
+        .chain(&frame.ground)
+        .filter(|p| finite(p))
+        .map(pair)
+        .collect();
+    let fill = if bold {
+        WHITE.mix(1.0)
+    } else {
+        WHITE.mix(alpha)
+    };
+    chart
+        .draw_series(joints.iter().map(|&p| {
+            EmptyElement::at(p)
+                + Circle::new((0, 0), radius, fill.filled())
+                + Circle::new((0, 0), radius, ink.mix(alpha).stroke_width(2))
+        }))
+        .map_err(drawing_error)?;
+    if bold {
+        draw_labels(chart, frame, &joints)?;
+    }
+    Ok(())
+}
+
+/// Point names, each placed away from the centre of the joints (beside a ground pivot, never on
+/// its triangle) on a white box, so that links running under it do not hide it.
+fn draw_labels(chart: &mut Chart, frame: &Frame, joints: &[(f64, f64)]) -> Result<(), PlotError> {
+    let n = joints.len().max(1) as f64;
+    let centre = joints
+        .iter()
+        .fold((0.0, 0.0), |c, p| (c.0 + p.0 / n, c.1 + p.1 / n));
+    let font = (FAMILY, 17).into_font();
+    for (name, p) in frame.points.iter().filter(|p| finite(&p.1)) {
+        let (mut dx, mut dy) = (p[0] - centre.0, p[1] - centre.1);
+        let norm = dx.hypot(dy);
+        (dx, dy) = if norm > 0.0 && norm.is_finite() {
+            (dx / norm, dy / norm)
+        } else {
+            (0.7, 0.7)
+        };
+        if dy < 0.0 && frame.ground.iter().any(|g| g == p) {
+            // Beside a ground pivot, not on its triangle.
+            (dx, dy) = (if dx < 0.0 { -1.0 } else { 1.0 }, 0.0);
+        }
+        let h = if dx > 0.35 {
+            HPos::Left
+        } else if dx < -0.35 {
+            HPos::Right
+        } else {
+            HPos::Center
+        };
+        let v = if dy > 0.35 {
+            VPos::Bottom
+        } else if dy < -0.35 {
+            VPos::Top
+        } else {
+            VPos::Center
+        };
+        // Pixel offset: y grows downwards.
+        let (ox, oy) = ((dx * 11.0).round() as i32, (-dy * 11.0).round() as i32);
+        let style = font.color(&INK).pos(Pos::new(h, v));
+        let (w, th) = chart
+            .plotting_area()
+            .estimate_text_size(name, &style)
+            .map_err(drawing_error)?;
+        let (w, th) = (w as i32, th as i32);
+        let x0 = match h {
+            HPos::Left => ox,
+            HPos::Right => ox - w,
+            HPos::Center => ox - w / 2,
+        };
+        let y0 = match v {
+            VPos::Top => oy,
+            VPos::Bottom => oy - th,
+            VPos::Center => oy - th / 2,
+        };
+        let backdrop = Rectangle::new(
+            [(x0 - 2, y0 - 1), (x0 + w + 2, y0 + th + 2)],
+            WHITE.mix(0.85).filled(),
+        );
+        let label = EmptyElement::at(pair(p)) + backdrop + Text::new(name.clone(), (ox, oy), style);
+        chart.draw_series([label]).map_err(drawing_error)?;
+    }
+    Ok(())
+}
+
+/// The legend beside the plot: one entry per path, the frames and the symbols.
+fn draw_legend(
+    area: &Area,
+    frames: &[Frame],
+    paths: &[(String, Vec<[f64; 2]>)],
+) -> Result<(), PlotError> {
+    let text = (FAMILY, 16)
+        .into_font()
+        .color(&INK)
+        .pos(Pos::new(HPos::Left, VPos::Center));
+    let mut y = 80;
+    let x = 8;
+    let line = |label: String, style: ShapeStyle, y: i32| -> Result<(), PlotError> {
+        area.draw(&PathElement::new(vec![(x, y), (x + 30, y)], style))
+            .map_err(drawing_error)?;
+        area.draw(&Text::new(label, (x + 40, y), text.clone()))
+            .map_err(drawing_error)
+    };
+    for (i, (name, _)) in paths.iter().enumerate() {
+        line(format!("path of {name}"), color(i).stroke_width(2), y)?;
+        y += 28;
+    }
+    if let Some(first) = frames.first() {
+        y += 8;
+        let input = tick_text(first.input, 1e-3);
+        line(format!("input = {input}"), INK.stroke_width(3), y)?;
+        y += 28;
+        if frames.len() > 1 {
+            let n = frames.len() - 1;
+            let label = format!("{n} other input{}", if n == 1 { "" } else { "s" });
+            line(label, FADED.mix(FADED_ALPHA).stroke_width(1), y)?;
+            y += 28;
+        }
+        y += 8;
+        let pivot = EmptyElement::at((x + 15, y - 8))
+            + Polygon::new(
+                vec![(0, 0), (-10, 16), (10, 16)],
+                RGBColor(200, 200, 200).filled(),
+            )
+            + PathElement::new(
+                vec![(0, 0), (-10, 16), (10, 16), (0, 0)],
+                INK.stroke_width(1),
+            );
+        area.draw(&pivot).map_err(drawing_error)?;
+        area.draw(&Text::new("ground pivot", (x + 40, y), text.clone()))
+            .map_err(drawing_error)?;
+        y += 28;
+        let joint = EmptyElement::at((x + 15, y))
+            + Circle::new((0, 0), 5, WHITE.filled())
+            + Circle::new((0, 0), 5, INK.stroke_width(2));
+        area.draw(&joint).map_err(drawing_error)?;
+        area.draw(&Text::new("joint", (x + 40, y), text))
+            .map_err(drawing_error)?;
+    }
+    Ok(())
+}
+
+/// The path of every named point over a sweep, in file units: one entry per row, with a
+/// non-finite entry (a gap) at every failed row, as [`drawing_svg`] expects.
+pub fn point_paths(info: &MechanismInfo, rows: &[Row]) -> Vec<(String, Vec<[f64; 2]>)> {
+    info.points
+        .iter()
+        .enumerate()
+        .map(|(i, name)| {
+            let path = rows
+                .iter()
+                .map(|r| match &r.result {
+                    Ok(s) => s.points.get(i).map_or([f64::NAN; 2], |p| p.position),
+                    Err(_) => [f64::NAN; 2],
+                })
+                .collect();
+            (name.clone(), path)
+        })
+        .collect()
+}

@@ -1,0 +1,389 @@
+//! SVG plots of sweeps (`motion_svg`) and drawings of the mechanism (`drawing_svg`), drawn with
+//! `plotters` into a `String`. Text is laid out with the bundled DejaVu Sans (no system fonts);
+//! non-finite values are never drawn, and failed rows are gaps, never joined across.
+
+mod drawing;
+mod motion;
+
+use std::fmt;
+use std::sync::OnceLock;
+
+use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
+use plotters::coord::types::RangedCoordf64;
+use plotters::style::{FontStyle, RGBColor};
+
+pub use drawing::{Frame, drawing_svg, point_paths};
+pub use motion::motion_svg;
+
+/// The family name text is registered under and written into the SVG: a generic CSS family, so a
+/// viewer without DejaVu Sans still shows a sans-serif face.
+const FAMILY: &str = "sans-serif";
+
+/// DejaVu Sans, for text layout (see `assets/fonts/LICENSE-DejaVu.txt`).
+static FONT: &[u8] = include_bytes!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/assets/fonts/DejaVuSans.ttf"
+));
+
+/// Why a plot could not be made.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum PlotError {
+    /// The bundled font could not be registered with plotters.
+    Font,
+    /// The swept input index is not an input of the mechanism.
+    BadInput { index: usize, inputs: usize },
+    /// Nothing finite to draw.
+    NoData,
+    /// plotters failed while drawing.
+    Drawing(String),
+}
+
+impl fmt::Display for PlotError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PlotError::Font => write!(f, "the bundled plot font could not be loaded"),
+            PlotError::BadInput { index, inputs } => write!(
+                f,
+                "input index {index} out of range (the mechanism has {inputs} input(s))"
+            ),
+            PlotError::NoData => write!(f, "nothing finite to plot"),
+            PlotError::Drawing(e) => write!(f, "plot drawing failed: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for PlotError {}
+
+/// Maps a plotters drawing error.
+fn drawing_error<E: fmt::Display>(e: E) -> PlotError {
+    PlotError::Drawing(e.to_string())
+}
+
+/// Registers the bundled font once per process; later calls return the first outcome.
+fn ensure_font() -> Result<(), PlotError> {
+    static REGISTERED: OnceLock<bool> = OnceLock::new();
+    let ok = *REGISTERED
+        .get_or_init(|| plotters::style::register_font(FAMILY, FontStyle::Normal, FONT).is_ok());
+    if ok { Ok(()) } else { Err(PlotError::Font) }
+}
+
+/// Series colours (a colour-blind-friendly qualitative palette), cycled.
+const PALETTE: [RGBColor; 8] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(120, 120, 120),
+    RGBColor(160, 40, 40),
+];
+
+fn color(i: usize) -> RGBColor {
+    PALETTE[i % PALETTE.len()]
+}
+
+/// Runs of consecutive finite points of one curve.
+type Runs = Vec<Vec<(f64, f64)>>;
+
+/// Splits a sequence of optional points into runs of consecutive finite points: `None` and
+/// non-finite coordinates end a run.
+fn finite_runs<I>(points: I) -> Runs
+where
+    I: IntoIterator<Item = Option<(f64, f64)>>,
+{
+    let mut runs = Vec::new();
+    let mut run = Vec::new();
+    for p in points {
+        match p {
+            Some((x, y)) if x.is_finite() && y.is_finite() => run.push((x, y)),
+            _ => {
+                if !run.is_empty() {
+                    runs.push(std::mem::take(&mut run));
+                }
+            }
+        }
+    }
+    if !run.is_empty() {
+        runs.push(run);
+    }
+    runs
+}
+
+/// The finite range of `values`, padded by `pad` of its width on each side (and to a nonzero width
+/// when all values are equal). `None` when no value is finite.
+fn padded_range(values: impl IntoIterator<Item = f64>, pad: f64) -> Option<(f64, f64)> {
+    let (lo, hi) = values
+        .into_iter()
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if lo > hi {
+        return None;
+    }
+    let mut width = hi - lo;
+    let (mut lo, mut hi) = (lo, hi);
+    if !(width > 1e-12 * lo.abs().max(hi.abs()) && width.is_finite()) {
+        // All (nearly) equal: a band around the value.
+        let mid = lo / 2.0 + hi / 2.0;
+        width = mid.abs().max(1.0) * 0.1;
+        (lo, hi) = (mid - width / 2.0, mid + width / 2.0);
+    }
+    let (lo, hi) = (lo - pad * width, hi + pad * width);
+    (lo.is_finite() && hi.is_finite()).then_some((lo, hi))
+}
+
+/// Tick positions in `[lo, hi]`, about `target` of them, at 1-2-5 steps (at 15°, 30°, 45°, 90°…
+/// steps when `degrees`), and the step.
+fn ticks(lo: f64, hi: f64, target: usize, degrees: bool) -> (Vec<f64>, f64) {
+    let span = hi - lo;
+    if !(span > 0.0 && span.is_finite()) {
+        return (Vec::new(), 1.0);
+    }
+    let raw = span / target.max(1) as f64;
+    let step = if degrees && raw >= 1.0 {
+        [1.0, 2.0, 5.0, 10.0, 15.0, 30.0, 45.0, 90.0, 180.0, 360.0]
+            .into_iter()
+            .find(|s| *s >= raw)
+            .unwrap_or(360.0 * (raw / 360.0).ceil())
+    } else {
+        let mag = 10f64.powf(raw.log10().floor());
+        let n = raw / mag;
+        mag * if n <= 1.0 {
+            1.0
+        } else if n <= 2.0 {
+            2.0
+        } else if n <= 2.5 {
+            2.5
+        } else if n <= 5.0 {
+            5.0
+        } else {
+            10.0
+        }
+    };
+    let (first, last) = ((lo / step).ceil(), (hi / step).floor());
+    if !(first.is_finite() && last.is_finite()) || last - first > 1000.0 {
+        return (Vec::new(), step);
+    }
+    let mut v = Vec::new();
+    let mut k = first;
+    while k <= last {
+        // Snap rounding noise (and -0) to the grid value.
+        let t = k * step;
+        v.push(if t.abs() < step * 1e-9 { 0.0 } else { t });
+        k += 1.0;
+    }
+    (v, step)
+}
+
+/// The y range of a panel whose values may spike (rates near a dead point): the padded full range,
+/// unless it is more than three times as wide as the 2nd..98th percentile band; then the range
+/// stops one band width past the band and `true` says values were clipped.
+fn robust_range(values: &[f64], pad: f64) -> Option<((f64, f64), bool)> {
+    let mut v: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+    v.sort_by(f64::total_cmp);
+    let (&min, &max) = (v.first()?, v.last()?);
+    let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
+    let (lo, hi) = (at(0.02), at(0.98));
+    let band = hi - lo;
+    let (a, b) = if max - min > 3.0 * band {
+        ((lo - band).max(min), (hi + band).min(max))
+    } else {
+        (min, max)
+    };
+    let clipped = a > min || b < max;
+    padded_range([a, b], pad).map(|r| (r, clipped))
+}
+
+/// Cuts runs of points to the band `y0..=y1`: a segment leaving the band ends its run where it
+/// crosses the edge, and one entering starts a new run there.
+fn clip_runs(runs: Runs, y0: f64, y1: f64) -> Runs {
+    let inside = |p: (f64, f64)| (y0..=y1).contains(&p.1);
+    let mut out = Vec::new();
+    for run in runs {
+        let mut cur: Vec<(f64, f64)> = Vec::new();
+        if let Some(&p) = run.first().filter(|p| inside(**p)) {
+            cur.push(p);
+        }
+        for w in run.windows(2) {
+            let (p, q) = (w[0], w[1]);
+            // The part of the segment inside the band, as parameters t0..t1 along it.
+            let (mut t0, mut t1) = (0.0f64, 1.0f64);
+            let dy = q.1 - p.1;
+            if dy == 0.0 {
+                if !inside(p) {
+                    continue;
+                }
+            } else {
+                let (ta, tb) = ((y0 - p.1) / dy, (y1 - p.1) / dy);
+                t0 = t0.max(ta.min(tb));
+                t1 = t1.min(ta.max(tb));
+                if t0 > t1 {
+                    continue;
+                }
+            }
+            let at = |t: f64| (p.0 + t * (q.0 - p.0), p.1 + t * dy);
+            if t0 > 0.0 {
+                if cur.len() > 1 {
+                    out.push(std::mem::take(&mut cur));
+                }
+                cur = vec![at(t0)];
+            }
+            cur.push(if t1 < 1.0 { at(t1) } else { q });
+            if t1 < 1.0 {
+                if cur.len() > 1 {
+                    out.push(std::mem::take(&mut cur));
+                }
+                cur.clear();
+            }
+        }
+        if !cur.is_empty() {
+            out.push(cur);
+        }
+    }
+    out
+}
+
+/// A linear f64 axis whose grid lines and labels sit at the given round values.
+struct Ticked {
+    inner: RangedCoordf64,
+    ticks: Vec<f64>,
+}
+
+impl Ticked {
+    fn new(lo: f64, hi: f64, target: usize, degrees: bool) -> (Ticked, f64) {
+        let (ticks, step) = ticks(lo, hi, target, degrees);
+        let inner = RangedCoordf64::from(lo..hi);
+        (Ticked { inner, ticks }, step)
+    }
+}
+
+impl Ranged for Ticked {
+    type FormatOption = DefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
+        self.inner.map(value, limit)
+    }
+
+    fn key_points<Hint: KeyPointHint>(&self, hint: Hint) -> Vec<f64> {
+        // Bold grid lines and labels only; no light lines.
+        if hint.weight().allow_light_points() {
+            Vec::new()
+        } else {
+            self.ticks.clone()
+        }
+    }
+
+    fn range(&self) -> std::ops::Range<f64> {
+        self.inner.range()
+    }
+}
+
+/// Tick-label text for ticks `step` apart: as few decimals as the step needs, scientific notation
+/// for very large or very small values, never `-0` or `NaN`.
+fn tick_text(v: f64, step: f64) -> String {
+    if !v.is_finite() || v == 0.0 {
+        return "0".into();
+    }
+    let scale = v.abs().max(step.abs());
+    if !(1e-4..1e6).contains(&scale) || step.abs() < 1e-4 || step.is_nan() {
+        let s = format!("{v:.2e}");
+        return match s.split_once('e') {
+            Some((m, e)) => {
+                let m = m.trim_end_matches('0').trim_end_matches('.');
+                format!("{m}e{e}")
+            }
+            None => s,
+        };
+    }
+    let decimals = (0..=6)
+        .find(|d| {
+            let f = step * 10f64.powi(*d);
+            (f - f.round()).abs() < 1e-6 * f.abs().max(1.0)
+        })
+        .unwrap_or(6);
+    let s = format!("{v:.*}", decimals as usize);
+    if s.trim_start_matches('-')
+        .chars()
+        .all(|c| c == '0' || c == '.')
+    {
+        "0".into()
+    } else {
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn runs_split_at_gaps_and_non_finite_values() {
+        let pts = [
+            Some((0.0, 1.0)),
+            Some((1.0, 2.0)),
+            None,
+            Some((2.0, f64::NAN)),
+            Some((3.0, 1.0)),
+            Some((f64::INFINITY, 1.0)),
+        ];
+        let runs = finite_runs(pts);
+        assert_eq!(runs, vec![vec![(0.0, 1.0), (1.0, 2.0)], vec![(3.0, 1.0)]]);
+    }
+
+    #[test]
+    fn ranges_skip_non_finite_values_and_widen_constants() {
+        assert_eq!(padded_range([f64::NAN, f64::INFINITY], 0.05), None);
+        let (lo, hi) = padded_range([2.0, f64::NAN, 2.0], 0.0).unwrap_or((0.0, 0.0));
+        assert!(lo < 2.0 && hi > 2.0);
+        assert_eq!(padded_range([0.0, 10.0], 0.1), Some((-1.0, 11.0)));
+    }
+
+    #[test]
+    fn spikes_are_clipped_and_runs_cut_at_the_band() {
+        let mut v: Vec<f64> = (0..100).map(|i| f64::from(i % 10)).collect();
+        v.push(1e6);
+        let ((lo, hi), clipped) = robust_range(&v, 0.0).unwrap_or(((0.0, 0.0), false));
+        assert!(clipped && lo == 0.0 && hi > 9.0 && hi < 20.0, "{lo} {hi}");
+        let mut w = v[..100].to_vec();
+        w.push(20.0);
+        assert!(!robust_range(&w, 0.0).is_some_and(|r| r.1));
+        let ((_, hi), clipped) = robust_range(&v[..100], 0.0).unwrap_or(((0.0, 0.0), true));
+        assert!(!clipped && hi == 9.0);
+
+        let run = vec![(0.0, 0.0), (1.0, 2.0), (2.0, 0.0), (3.0, 0.5)];
+        let cut = clip_runs(vec![run], -1.0, 1.0);
+        assert_eq!(
+            cut,
+            vec![
+                vec![(0.0, 0.0), (0.5, 1.0)],
+                vec![(1.5, 1.0), (2.0, 0.0), (3.0, 0.5)]
+            ]
+        );
+        assert!(clip_runs(vec![vec![(0.0, 5.0), (1.0, 6.0)]], -1.0, 1.0).is_empty());
+    }
+
+    #[test]
+    fn ticks_land_on_round_values() {
+        assert_eq!(
+            ticks(0.0, 360.0, 8, true).0,
+            vec![0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0, 360.0]
+        );
+        assert_eq!(ticks(-0.13, 0.27, 5, false).0.len(), 4);
+        assert_eq!(ticks(1.0, 1.0, 5, false).0, Vec::<f64>::new());
+        assert_eq!(tick_text(90.0, 45.0), "90");
+        assert_eq!(tick_text(-0.25, 0.05), "-0.25");
+        assert_eq!(tick_text(0.30000000000000004, 0.1), "0.3");
+        assert_eq!(tick_text(2.5e-5, 5e-6), "2.5e-5");
+        assert_eq!(tick_text(2.0e6, 5e5), "2e6");
+        assert_eq!(tick_text(-1e-12, 0.1), "0");
+    }
+
+    #[test]
+    fn font_registers() {
+        assert_eq!(ensure_font(), Ok(()));
+        assert_eq!(ensure_font(), Ok(()));
+    }
+}

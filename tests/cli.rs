@@ -235,3 +235,22 @@ fn check_prints_structure_or_errors() {
     assert!(err.contains("bad.toml:4:"), "{err}");
     assert!(err.contains("`zz`"), "{err}");
 }
+
+#[test]
+fn plot_option_writes_svgs() {
+    let dir = temp("plots");
+    let out = mechgen(&[
+        "sweep",
+        "shaper",
+        "--step",
+        "30",
+        "--plot",
+        dir.to_str().expect("utf-8"),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    for kind in ["motion", "drawing"] {
+        let svg = std::fs::read_to_string(dir.join(format!("shaper-{kind}.svg"))).expect("written");
+        assert!(svg.starts_with("<svg"), "{kind}");
+        assert!(!svg.contains("NaN") && !svg.contains("inf\""), "{kind}");
+    }
+}

@@ -6,7 +6,7 @@
 //! - `position`: positions at the next input, Newton from the state's `q`;
 //! - `velocity`, `acceleration`: the linear solves at the state;
 //! - `step` (one simulator tick, interfaces.md): from the full state (x, q, q̇, q̈), advance the input
-//!   by one step, predict q + (dq/dx)·Δx, solve positions, velocities, accelerations and all points.
+//!   by one step, predict q + q'·Δx + q''·Δx²/2 (input rate 1, so q' = q̇ and q'' = q̈), solve positions, velocities, accelerations and all points.
 //!
 //! The generated engine runs with static dispatch (`visit_all`, fixed arrays); the generic engine
 //! is loaded at run time from the same file.
@@ -144,9 +144,10 @@ impl Visitor<f64> for Generated<'_> {
                 i = (i + 1) % n;
                 let (_, q, qd, _, xn) = &typed[i];
                 let xn = black_box(xn);
+                let (_, _, _, qdd, _) = &typed[i];
                 let mut q1 = *q;
-                for (v, d) in q1.as_mut().iter_mut().zip(qd.as_ref()) {
-                    *v += d * dx;
+                for ((v, d), a) in q1.as_mut().iter_mut().zip(qd.as_ref()).zip(qdd.as_ref()) {
+                    *v += dx * (d + 0.5 * dx * a);
                 }
                 let tick = m.solve_position(xn, &mut q1, &opts).and_then(|_| {
                     let qd1 = m.solve_velocity(xn, &q1, &xd)?;
@@ -204,8 +205,8 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
             i = (i + 1) % n;
             let s = &states[i];
             let xn = black_box(&s.x_next);
-            for ((v, q0), d) in q.iter_mut().zip(&s.q).zip(&s.qd) {
-                *v = q0 + d * dx;
+            for (((v, q0), d), a) in q.iter_mut().zip(&s.q).zip(&s.qd).zip(&s.qdd) {
+                *v = q0 + dx * (d + 0.5 * dx * a);
             }
             let tick = k.solve_position(xn, &mut q, &opts).and_then(|_| {
                 k.solve_velocity(xn, &q, &xd, &mut qd)?;

@@ -341,25 +341,30 @@ pub mod sixbar {
             let t11 = p_l3 * s_v_q3;
             let t12 = t8 - t10;
             let t13 = t7 - t11;
-            let t14 = v_q2 - p_alpha;
-            let (s15, c15) = t14.sin_cos();
-            let t16 = p_l2e * c15;
-            let t17 = p_l2e * s15;
-            let t18 = t6 + t16;
-            let t19 = t7 + t17;
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t15 = c_v_q2 * c_p_alpha;
+            let t16 = s_v_q2 * s_p_alpha;
+            let t17 = s_v_q2 * c_p_alpha;
+            let t18 = c_v_q2 * s_p_alpha;
+            let t19 = t15 + t16;
+            let t20 = t17 - t18;
+            let t21 = p_l2e * t19;
+            let t22 = p_l2e * t20;
+            let t23 = t6 + t21;
+            let t24 = t7 + t22;
             let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t21 = p_l5 * c_v_q5;
-            let t22 = p_l5 * s_v_q5;
-            let t23 = t18 - t21;
-            let t24 = t19 - t22;
-            let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t26 = p_l6 * c_v_q6;
-            let t27 = p_l6 * s_v_q6;
+            let t26 = p_l5 * c_v_q5;
+            let t27 = p_l5 * s_v_q5;
             let t28 = t23 - t26;
             let t29 = t24 - t27;
-            let t30 = t28 - p_xg;
-            let t31 = t29 - p_yg;
-            [t12, t13, t30, t31]
+            let (s_v_q6, c_v_q6) = v_q6.sin_cos();
+            let t31 = p_l6 * c_v_q6;
+            let t32 = p_l6 * s_v_q6;
+            let t33 = t28 - t31;
+            let t34 = t29 - t32;
+            let t35 = t33 - p_xg;
+            let t36 = t34 - p_yg;
+            [t12, t13, t35, t36]
         }
         /// J = ∂Φ/∂q at (x, q).
         pub fn jacobian(
@@ -383,43 +388,48 @@ pub mod sixbar {
             let (s_v_q3, c_v_q3) = v_q3.sin_cos();
             let t4 = p_l3 * c_v_q3;
             let t5 = p_l3 * s_v_q3;
-            let t6 = v_q2 - p_alpha;
-            let (s7, c7) = t6.sin_cos();
-            let t8 = p_l2e * c7;
-            let t9 = p_l2e * s7;
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t7 = c_v_q2 * c_p_alpha;
+            let t8 = s_v_q2 * s_p_alpha;
+            let t9 = s_v_q2 * c_p_alpha;
+            let t10 = c_v_q2 * s_p_alpha;
+            let t11 = t7 + t8;
+            let t12 = p_l2e * t11;
             let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t11 = p_l5 * c_v_q5;
-            let t12 = p_l5 * s_v_q5;
+            let t14 = p_l5 * c_v_q5;
+            let t15 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t14 = p_l6 * c_v_q6;
-            let t15 = p_l6 * s_v_q6;
-            let t16 = -t2;
-            let t17 = -t4;
-            let t18 = t16 - t9;
-            let t19 = t1 + t8;
-            let t20 = -t11;
-            let t21 = -t14;
+            let t17 = p_l6 * c_v_q6;
+            let t18 = p_l6 * s_v_q6;
+            let t19 = -t2;
+            let t20 = -t4;
+            let t21 = t10 - t9;
+            let t22 = p_l2e * t21;
+            let t23 = t22 - t2;
+            let t24 = t1 + t12;
+            let t25 = -t14;
+            let t26 = -t17;
             let mut m = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
-            m[(0, 0)] = t16;
+            m[(0, 0)] = t19;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
             m[(0, 1)] = t5;
             // [1][0] = ∂Φ1/∂q2 (loop 1, y)
             m[(1, 0)] = t1;
             // [1][1] = ∂Φ1/∂q3 (loop 1, y)
-            m[(1, 1)] = t17;
+            m[(1, 1)] = t20;
             // [2][0] = ∂Φ2/∂q2 (loop 2, x)
-            m[(2, 0)] = t18;
+            m[(2, 0)] = t23;
             // [2][2] = ∂Φ2/∂q5 (loop 2, x)
-            m[(2, 2)] = t12;
+            m[(2, 2)] = t15;
             // [2][3] = ∂Φ2/∂q6 (loop 2, x)
-            m[(2, 3)] = t15;
+            m[(2, 3)] = t18;
             // [3][0] = ∂Φ3/∂q2 (loop 2, y)
-            m[(3, 0)] = t19;
+            m[(3, 0)] = t24;
             // [3][2] = ∂Φ3/∂q5 (loop 2, y)
-            m[(3, 2)] = t20;
+            m[(3, 2)] = t25;
             // [3][3] = ∂Φ3/∂q6 (loop 2, y)
-            m[(3, 3)] = t21;
+            m[(3, 3)] = t26;
             m
         }
         /// Φx = ∂Φ/∂x at (x, q).
@@ -473,53 +483,57 @@ pub mod sixbar {
             let (s_v_q3, c_v_q3) = v_q3.sin_cos();
             let t4 = p_l3 * c_v_q3;
             let t5 = p_l3 * s_v_q3;
-            let t6 = v_q2 - p_alpha;
-            let (s7, c7) = t6.sin_cos();
-            let t8 = p_l2e * c7;
-            let t9 = p_l2e * s7;
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t7 = c_v_q2 * c_p_alpha;
+            let t8 = s_v_q2 * s_p_alpha;
+            let t9 = s_v_q2 * c_p_alpha;
+            let t10 = c_v_q2 * s_p_alpha;
             let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t11 = p_l5 * c_v_q5;
-            let t12 = p_l5 * s_v_q5;
+            let t12 = p_l5 * c_v_q5;
+            let t13 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t14 = p_l6 * c_v_q6;
-            let t15 = p_l6 * s_v_q6;
-            let t16 = -t2;
-            let t17 = t16 - t9;
-            let t18 = -t1;
-            let t19 = t1 * v_q2_d;
-            let t20 = -t19;
-            let t21 = t4 * v_q3_d;
-            let t22 = t2 * v_q2_d;
-            let t23 = -t22;
-            let t24 = t5 * v_q3_d;
-            let t25 = t18 - t8;
-            let t26 = v_q2_d * t25;
-            let t27 = t11 * v_q5_d;
-            let t28 = t14 * v_q6_d;
-            let t29 = t17 * v_q2_d;
-            let t30 = t12 * v_q5_d;
-            let t31 = t15 * v_q6_d;
+            let t15 = p_l6 * c_v_q6;
+            let t16 = p_l6 * s_v_q6;
+            let t17 = t10 - t9;
+            let t18 = p_l2e * t17;
+            let t19 = t18 - t2;
+            let t20 = -t8;
+            let t21 = t1 * v_q2_d;
+            let t22 = -t21;
+            let t23 = t4 * v_q3_d;
+            let t24 = t2 * v_q2_d;
+            let t25 = -t24;
+            let t26 = t5 * v_q3_d;
+            let t27 = t20 - t7;
+            let t28 = p_l2e * t27;
+            let t29 = t28 - t1;
+            let t30 = v_q2_d * t29;
+            let t31 = t12 * v_q5_d;
+            let t32 = t15 * v_q6_d;
+            let t33 = t19 * v_q2_d;
+            let t34 = t13 * v_q5_d;
+            let t35 = t16 * v_q6_d;
             let mut m = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
-            m[(0, 0)] = t20;
+            m[(0, 0)] = t22;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
-            m[(0, 1)] = t21;
+            m[(0, 1)] = t23;
             // [1][0] = ∂Φ1/∂q2 (loop 1, y)
-            m[(1, 0)] = t23;
+            m[(1, 0)] = t25;
             // [1][1] = ∂Φ1/∂q3 (loop 1, y)
-            m[(1, 1)] = t24;
+            m[(1, 1)] = t26;
             // [2][0] = ∂Φ2/∂q2 (loop 2, x)
-            m[(2, 0)] = t26;
+            m[(2, 0)] = t30;
             // [2][2] = ∂Φ2/∂q5 (loop 2, x)
-            m[(2, 2)] = t27;
+            m[(2, 2)] = t31;
             // [2][3] = ∂Φ2/∂q6 (loop 2, x)
-            m[(2, 3)] = t28;
+            m[(2, 3)] = t32;
             // [3][0] = ∂Φ3/∂q2 (loop 2, y)
-            m[(3, 0)] = t29;
+            m[(3, 0)] = t33;
             // [3][2] = ∂Φ3/∂q5 (loop 2, y)
-            m[(3, 2)] = t30;
+            m[(3, 2)] = t34;
             // [3][3] = ∂Φ3/∂q6 (loop 2, y)
-            m[(3, 3)] = t31;
+            m[(3, 3)] = t35;
             m
         }
         /// −Φx ẋ: the right-hand side of J q̇ = −Φx ẋ.
@@ -576,65 +590,69 @@ pub mod sixbar {
             let (s_v_q3, c_v_q3) = v_q3.sin_cos();
             let t7 = p_l3 * c_v_q3;
             let t8 = p_l3 * s_v_q3;
-            let t9 = v_q2 - p_alpha;
-            let (s10, c10) = t9.sin_cos();
-            let t11 = p_l2e * c10;
-            let t12 = p_l2e * s10;
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t10 = c_v_q2 * c_p_alpha;
+            let t11 = s_v_q2 * s_p_alpha;
+            let t12 = s_v_q2 * c_p_alpha;
+            let t13 = c_v_q2 * s_p_alpha;
             let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t14 = p_l5 * c_v_q5;
-            let t15 = p_l5 * s_v_q5;
+            let t15 = p_l5 * c_v_q5;
+            let t16 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t17 = p_l6 * c_v_q6;
-            let t18 = p_l6 * s_v_q6;
-            let t19 = -t5;
-            let t20 = t19 - t12;
-            let t21 = -t4;
-            let t22 = t4 * v_q2_d;
-            let t23 = t7 * v_q3_d;
-            let t24 = t5 * v_q2_d;
-            let t25 = t8 * v_q3_d;
-            let t26 = t21 - t11;
-            let t27 = v_q2_d * t26;
-            let t28 = t14 * v_q5_d;
-            let t29 = t17 * v_q6_d;
-            let t30 = t20 * v_q2_d;
-            let t31 = t15 * v_q5_d;
-            let t32 = t18 * v_q6_d;
-            let t33 = t2 * v_q1_d;
-            let t34 = t1 * v_q1_d;
-            let t35 = v_q1_d * t34;
-            let t36 = -t35;
-            let t37 = v_q2_d * t22;
-            let t38 = t36 - t37;
-            let t39 = v_q3_d * t23;
-            let t40 = t38 + t39;
-            let t41 = t2 * v_q1_dd;
-            let t42 = t41 - t40;
-            let t43 = v_q1_d * t33;
-            let t44 = -t43;
-            let t45 = v_q2_d * t24;
-            let t46 = t44 - t45;
-            let t47 = v_q3_d * t25;
-            let t48 = t46 + t47;
-            let t49 = t1 * v_q1_dd;
-            let t50 = t48 + t49;
-            let t51 = -t50;
-            let t52 = v_q2_d * t27;
-            let t53 = t52 - t35;
-            let t54 = v_q5_d * t28;
-            let t55 = t53 + t54;
-            let t56 = v_q6_d * t29;
-            let t57 = t55 + t56;
-            let t58 = t41 - t57;
-            let t59 = v_q2_d * t30;
-            let t60 = t59 - t43;
-            let t61 = v_q5_d * t31;
-            let t62 = t60 + t61;
-            let t63 = v_q6_d * t32;
-            let t64 = t62 + t63;
-            let t65 = t49 + t64;
-            let t66 = -t65;
-            ::mechgen::nalgebra::SVector::from([t42, t51, t58, t66])
+            let t18 = p_l6 * c_v_q6;
+            let t19 = p_l6 * s_v_q6;
+            let t20 = t13 - t12;
+            let t21 = p_l2e * t20;
+            let t22 = t21 - t5;
+            let t23 = -t11;
+            let t24 = t4 * v_q2_d;
+            let t25 = t7 * v_q3_d;
+            let t26 = t5 * v_q2_d;
+            let t27 = t8 * v_q3_d;
+            let t28 = t23 - t10;
+            let t29 = p_l2e * t28;
+            let t30 = t29 - t4;
+            let t31 = v_q2_d * t30;
+            let t32 = t15 * v_q5_d;
+            let t33 = t18 * v_q6_d;
+            let t34 = t22 * v_q2_d;
+            let t35 = t16 * v_q5_d;
+            let t36 = t19 * v_q6_d;
+            let t37 = t2 * v_q1_d;
+            let t38 = t1 * v_q1_d;
+            let t39 = v_q1_d * t38;
+            let t40 = -t39;
+            let t41 = v_q2_d * t24;
+            let t42 = t40 - t41;
+            let t43 = v_q3_d * t25;
+            let t44 = t42 + t43;
+            let t45 = t2 * v_q1_dd;
+            let t46 = t45 - t44;
+            let t47 = v_q1_d * t37;
+            let t48 = -t47;
+            let t49 = v_q2_d * t26;
+            let t50 = t48 - t49;
+            let t51 = v_q3_d * t27;
+            let t52 = t50 + t51;
+            let t53 = t1 * v_q1_dd;
+            let t54 = t52 + t53;
+            let t55 = -t54;
+            let t56 = v_q2_d * t31;
+            let t57 = t56 - t39;
+            let t58 = v_q5_d * t32;
+            let t59 = t57 + t58;
+            let t60 = v_q6_d * t33;
+            let t61 = t59 + t60;
+            let t62 = t45 - t61;
+            let t63 = v_q2_d * t34;
+            let t64 = t63 - t47;
+            let t65 = v_q5_d * t35;
+            let t66 = t64 + t65;
+            let t67 = v_q6_d * t36;
+            let t68 = t66 + t67;
+            let t69 = t53 + t68;
+            let t70 = -t69;
+            ::mechgen::nalgebra::SVector::from([t46, t55, t62, t70])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(
@@ -656,13 +674,18 @@ pub mod sixbar {
             let t5 = p_l2 * s_v_q2;
             let t6 = t1 + t4;
             let t7 = t2 + t5;
-            let t8 = v_q2 - p_alpha;
-            let (s9, c9) = t8.sin_cos();
-            let t10 = p_l2e * c9;
-            let t11 = p_l2e * s9;
-            let t12 = t6 + t10;
-            let t13 = t7 + t11;
-            [[t12, t13]]
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t9 = c_v_q2 * c_p_alpha;
+            let t10 = s_v_q2 * s_p_alpha;
+            let t11 = s_v_q2 * c_p_alpha;
+            let t12 = c_v_q2 * s_p_alpha;
+            let t13 = t9 + t10;
+            let t14 = t11 - t12;
+            let t15 = p_l2e * t13;
+            let t16 = p_l2e * t14;
+            let t17 = t6 + t15;
+            let t18 = t7 + t16;
+            [[t17, t18]]
         }
         /// Position, velocity and acceleration of every point, in `POINT_NAMES` order.
         pub fn point_motion(
@@ -692,43 +715,51 @@ pub mod sixbar {
             let t5 = p_l2 * s_v_q2;
             let t6 = t1 + t4;
             let t7 = t2 + t5;
-            let t8 = v_q2 - p_alpha;
-            let (s9, c9) = t8.sin_cos();
-            let t10 = p_l2e * c9;
-            let t11 = p_l2e * s9;
-            let t12 = t6 + t10;
-            let t13 = t7 + t11;
-            let t14 = -t5;
-            let t15 = t14 - t11;
-            let t16 = t4 + t10;
-            let t17 = -t4;
-            let t18 = t17 - t10;
-            let t19 = v_q2_d * t18;
-            let t20 = t15 * v_q2_d;
-            let t21 = t2 * v_q1_d;
-            let t22 = t1 * v_q1_d;
-            let t23 = v_q1_d * t22;
-            let t24 = t2 * v_q1_dd;
-            let t25 = v_q1_d * t21;
-            let t26 = t1 * v_q1_dd;
-            let t27 = t20 - t21;
-            let t28 = v_q2_d * t19;
-            let t29 = t28 - t23;
-            let t30 = t16 * v_q2_d;
-            let t31 = t22 + t30;
-            let t32 = v_q2_d * t20;
-            let t33 = t32 - t25;
-            let t34 = t29 - t24;
-            let t35 = t15 * v_q2_dd;
-            let t36 = t34 + t35;
-            let t37 = t26 + t33;
-            let t38 = t16 * v_q2_dd;
-            let t39 = t37 + t38;
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t9 = c_v_q2 * c_p_alpha;
+            let t10 = s_v_q2 * s_p_alpha;
+            let t11 = s_v_q2 * c_p_alpha;
+            let t12 = c_v_q2 * s_p_alpha;
+            let t13 = t9 + t10;
+            let t14 = t11 - t12;
+            let t15 = p_l2e * t13;
+            let t16 = p_l2e * t14;
+            let t17 = t6 + t15;
+            let t18 = t7 + t16;
+            let t19 = t12 - t11;
+            let t20 = p_l2e * t19;
+            let t21 = t20 - t5;
+            let t22 = -t10;
+            let t23 = t4 + t15;
+            let t24 = t22 - t9;
+            let t25 = p_l2e * t24;
+            let t26 = t25 - t4;
+            let t27 = v_q2_d * t26;
+            let t28 = t21 * v_q2_d;
+            let t29 = t2 * v_q1_d;
+            let t30 = t1 * v_q1_d;
+            let t31 = v_q1_d * t30;
+            let t32 = t2 * v_q1_dd;
+            let t33 = v_q1_d * t29;
+            let t34 = t1 * v_q1_dd;
+            let t35 = t28 - t29;
+            let t36 = v_q2_d * t27;
+            let t37 = t36 - t31;
+            let t38 = t23 * v_q2_d;
+            let t39 = t30 + t38;
+            let t40 = v_q2_d * t28;
+            let t41 = t40 - t33;
+            let t42 = t37 - t32;
+            let t43 = t21 * v_q2_dd;
+            let t44 = t42 + t43;
+            let t45 = t34 + t41;
+            let t46 = t23 * v_q2_dd;
+            let t47 = t45 + t46;
             [
                 ::mechgen::PointMotion {
-                    position: [t12, t13],
-                    velocity: [t27, t31],
-                    acceleration: [t36, t39],
+                    position: [t17, t18],
+                    velocity: [t35, t39],
+                    acceleration: [t44, t47],
                 },
             ]
         }
@@ -738,6 +769,9 @@ pub mod sixbar {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
         ) -> (
             ::mechgen::nalgebra::SVector<T, 2>,
             ::mechgen::nalgebra::SMatrix<T, 2, 2>,
@@ -749,32 +783,32 @@ pub mod sixbar {
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let t6 = t1 + t4;
-            let t7 = t2 + t5;
-            let t8 = t6 - p_l4;
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t10 = p_l3 * c_v_q3;
-            let t11 = p_l3 * s_v_q3;
-            let t12 = t8 - t10;
-            let t13 = t7 - t11;
-            let t14 = -t5;
-            let t15 = -t10;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let t4 = t0 + t2;
+            let t5 = t1 + t3;
+            let t6 = t4 - p_l4;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t7 = p_l3 * c_v_q3;
+            let t8 = p_l3 * s_v_q3;
+            let t9 = t6 - t7;
+            let t10 = t5 - t8;
+            let t11 = -t3;
+            let t12 = -t7;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t14;
+            jac[(0, 0)] = t11;
             // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t11;
+            jac[(0, 1)] = t8;
             // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t4;
+            jac[(1, 0)] = t2;
             // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t15;
-            (::mechgen::nalgebra::SVector::from([t12, t13]), jac)
+            jac[(1, 1)] = t12;
+            (::mechgen::nalgebra::SVector::from([t9, t10]), jac)
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
         #[inline]
@@ -782,6 +816,9 @@ pub mod sixbar {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
         ) -> (
@@ -795,30 +832,30 @@ pub mod sixbar {
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let v_q1_d = xd[0];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t7 = p_l3 * c_v_q3;
-            let t8 = p_l3 * s_v_q3;
-            let t9 = -t5;
-            let t10 = -t7;
-            let t11 = t2 * v_q1_d;
-            let t12 = t1 * v_q1_d;
-            let t13 = -t12;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t4 = p_l3 * c_v_q3;
+            let t5 = p_l3 * s_v_q3;
+            let t6 = -t3;
+            let t7 = -t4;
+            let t8 = t1 * v_q1_d;
+            let t9 = t0 * v_q1_d;
+            let t10 = -t9;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t9;
+            jac[(0, 0)] = t6;
             // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t8;
+            jac[(0, 1)] = t5;
             // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t4;
+            jac[(1, 0)] = t2;
             // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t10;
-            (::mechgen::nalgebra::SVector::from([t11, t13]), jac)
+            jac[(1, 1)] = t7;
+            (::mechgen::nalgebra::SVector::from([t8, t10]), jac)
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
         #[inline]
@@ -826,6 +863,9 @@ pub mod sixbar {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
@@ -844,50 +884,50 @@ pub mod sixbar {
             let v_q2_d = qd[0];
             let v_q3_d = qd[1];
             let v_q1_dd = xdd[0];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t7 = p_l3 * c_v_q3;
-            let t8 = p_l3 * s_v_q3;
-            let t9 = -t5;
-            let t10 = -t7;
-            let t11 = t4 * v_q2_d;
-            let t12 = t7 * v_q3_d;
-            let t13 = t5 * v_q2_d;
-            let t14 = t8 * v_q3_d;
-            let t15 = t2 * v_q1_d;
-            let t16 = t1 * v_q1_d;
-            let t17 = v_q1_d * t16;
-            let t18 = -t17;
-            let t19 = v_q2_d * t11;
-            let t20 = t18 - t19;
-            let t21 = v_q3_d * t12;
-            let t22 = t20 + t21;
-            let t23 = t2 * v_q1_dd;
-            let t24 = t23 - t22;
-            let t25 = v_q1_d * t15;
-            let t26 = -t25;
-            let t27 = v_q2_d * t13;
-            let t28 = t26 - t27;
-            let t29 = v_q3_d * t14;
-            let t30 = t28 + t29;
-            let t31 = t1 * v_q1_dd;
-            let t32 = t30 + t31;
-            let t33 = -t32;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t4 = p_l3 * c_v_q3;
+            let t5 = p_l3 * s_v_q3;
+            let t6 = -t3;
+            let t7 = -t4;
+            let t8 = t2 * v_q2_d;
+            let t9 = t4 * v_q3_d;
+            let t10 = t3 * v_q2_d;
+            let t11 = t5 * v_q3_d;
+            let t12 = t1 * v_q1_d;
+            let t13 = t0 * v_q1_d;
+            let t14 = v_q1_d * t13;
+            let t15 = -t14;
+            let t16 = v_q2_d * t8;
+            let t17 = t15 - t16;
+            let t18 = v_q3_d * t9;
+            let t19 = t17 + t18;
+            let t20 = t1 * v_q1_dd;
+            let t21 = t20 - t19;
+            let t22 = v_q1_d * t12;
+            let t23 = -t22;
+            let t24 = v_q2_d * t10;
+            let t25 = t23 - t24;
+            let t26 = v_q3_d * t11;
+            let t27 = t25 + t26;
+            let t28 = t0 * v_q1_dd;
+            let t29 = t27 + t28;
+            let t30 = -t29;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t9;
+            jac[(0, 0)] = t6;
             // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t8;
+            jac[(0, 1)] = t5;
             // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t4;
+            jac[(1, 0)] = t2;
             // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t10;
-            (::mechgen::nalgebra::SVector::from([t24, t33]), jac)
+            jac[(1, 1)] = t7;
+            (::mechgen::nalgebra::SVector::from([t21, t30]), jac)
         }
         /// Block 1: q5, q6 from loop 2 (x, y). Its residual and Jacobian block.
         #[inline]
@@ -895,6 +935,9 @@ pub mod sixbar {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
         ) -> (
             ::mechgen::nalgebra::SVector<T, 2>,
             ::mechgen::nalgebra::SMatrix<T, 2, 2>,
@@ -911,37 +954,42 @@ pub mod sixbar {
             let p_xg = self.params.xg;
             let p_yg = self.params.yg;
             let p_alpha = self.params.alpha;
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let t6 = t1 + t4;
-            let t7 = t2 + t5;
-            let t8 = v_q2 - p_alpha;
-            let (s9, c9) = t8.sin_cos();
-            let t10 = p_l2e * c9;
-            let t11 = p_l2e * s9;
-            let t12 = t6 + t10;
-            let t13 = t7 + t11;
-            let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t15 = p_l5 * c_v_q5;
-            let t16 = p_l5 * s_v_q5;
-            let t17 = t12 - t15;
-            let t18 = t13 - t16;
-            let (s_v_q6, c_v_q6) = v_q6.sin_cos();
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let t4 = t0 + t2;
+            let t5 = t1 + t3;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t6 = c_v_q2 * c_p_alpha;
+            let t7 = s_v_q2 * s_p_alpha;
+            let t8 = s_v_q2 * c_p_alpha;
+            let t9 = c_v_q2 * s_p_alpha;
+            let t10 = t6 + t7;
+            let t11 = t8 - t9;
+            let t12 = p_l2e * t10;
+            let t13 = p_l2e * t11;
+            let t14 = t4 + t12;
+            let t15 = t5 + t13;
+            let (s_v_q5, c_v_q5) = tq[2];
+            let t16 = p_l5 * c_v_q5;
+            let t17 = p_l5 * s_v_q5;
+            let t18 = t14 - t16;
+            let t19 = t15 - t17;
+            let (s_v_q6, c_v_q6) = tq[3];
             let t20 = p_l6 * c_v_q6;
             let t21 = p_l6 * s_v_q6;
-            let t22 = t17 - t20;
-            let t23 = t18 - t21;
+            let t22 = t18 - t20;
+            let t23 = t19 - t21;
             let t24 = t22 - p_xg;
             let t25 = t23 - p_yg;
-            let t26 = -t15;
+            let t26 = -t16;
             let t27 = -t20;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[2][2] = ∂Φ2/∂q5
-            jac[(0, 0)] = t16;
+            jac[(0, 0)] = t17;
             // J[2][3] = ∂Φ2/∂q6
             jac[(0, 1)] = t21;
             // J[3][2] = ∂Φ3/∂q5
@@ -956,6 +1004,9 @@ pub mod sixbar {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
         ) -> (
@@ -974,44 +1025,48 @@ pub mod sixbar {
             let p_alpha = self.params.alpha;
             let v_q1_d = xd[0];
             let v_q2_d = qd[0];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let t6 = v_q2 - p_alpha;
-            let (s7, c7) = t6.sin_cos();
-            let t8 = p_l2e * c7;
-            let t9 = p_l2e * s7;
-            let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t11 = p_l5 * c_v_q5;
-            let t12 = p_l5 * s_v_q5;
-            let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t14 = p_l6 * c_v_q6;
-            let t15 = p_l6 * s_v_q6;
-            let t16 = -t5;
-            let t17 = t16 - t9;
-            let t18 = t4 + t8;
-            let t19 = -t11;
-            let t20 = -t14;
-            let t21 = t17 * v_q2_d;
-            let t22 = t2 * v_q1_d;
-            let t23 = t1 * v_q1_d;
-            let t24 = -t23;
-            let t25 = t18 * v_q2_d;
-            let t26 = t22 - t21;
-            let t27 = t24 - t25;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t4 = c_v_q2 * c_p_alpha;
+            let t5 = s_v_q2 * s_p_alpha;
+            let t6 = s_v_q2 * c_p_alpha;
+            let t7 = c_v_q2 * s_p_alpha;
+            let t8 = t4 + t5;
+            let t9 = p_l2e * t8;
+            let (s_v_q5, c_v_q5) = tq[2];
+            let t10 = p_l5 * c_v_q5;
+            let t11 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = tq[3];
+            let t12 = p_l6 * c_v_q6;
+            let t13 = p_l6 * s_v_q6;
+            let t14 = t7 - t6;
+            let t15 = p_l2e * t14;
+            let t16 = t15 - t3;
+            let t17 = t2 + t9;
+            let t18 = -t10;
+            let t19 = -t12;
+            let t20 = t16 * v_q2_d;
+            let t21 = t1 * v_q1_d;
+            let t22 = t0 * v_q1_d;
+            let t23 = -t22;
+            let t24 = t17 * v_q2_d;
+            let t25 = t21 - t20;
+            let t26 = t23 - t24;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[2][2] = ∂Φ2/∂q5
-            jac[(0, 0)] = t12;
+            jac[(0, 0)] = t11;
             // J[2][3] = ∂Φ2/∂q6
-            jac[(0, 1)] = t15;
+            jac[(0, 1)] = t13;
             // J[3][2] = ∂Φ3/∂q5
-            jac[(1, 0)] = t19;
+            jac[(1, 0)] = t18;
             // J[3][3] = ∂Φ3/∂q6
-            jac[(1, 1)] = t20;
-            (::mechgen::nalgebra::SVector::from([t26, t27]), jac)
+            jac[(1, 1)] = t19;
+            (::mechgen::nalgebra::SVector::from([t25, t26]), jac)
         }
         /// Block 1: q5, q6 from loop 2 (x, y). Its right-hand side and Jacobian block.
         #[inline]
@@ -1019,6 +1074,9 @@ pub mod sixbar {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
@@ -1043,70 +1101,275 @@ pub mod sixbar {
             let v_q6_d = qd[3];
             let v_q1_dd = xdd[0];
             let v_q2_dd = qdd[0];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let t6 = v_q2 - p_alpha;
-            let (s7, c7) = t6.sin_cos();
-            let t8 = p_l2e * c7;
-            let t9 = p_l2e * s7;
-            let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t11 = p_l5 * c_v_q5;
-            let t12 = p_l5 * s_v_q5;
-            let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t14 = p_l6 * c_v_q6;
-            let t15 = p_l6 * s_v_q6;
-            let t16 = -t5;
-            let t17 = t16 - t9;
-            let t18 = t4 + t8;
-            let t19 = -t11;
-            let t20 = -t14;
-            let t21 = -t4;
-            let t22 = t21 - t8;
-            let t23 = v_q2_d * t22;
-            let t24 = t11 * v_q5_d;
-            let t25 = t14 * v_q6_d;
-            let t26 = t17 * v_q2_d;
-            let t27 = t12 * v_q5_d;
-            let t28 = t15 * v_q6_d;
-            let t29 = t2 * v_q1_d;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t4 = c_v_q2 * c_p_alpha;
+            let t5 = s_v_q2 * s_p_alpha;
+            let t6 = s_v_q2 * c_p_alpha;
+            let t7 = c_v_q2 * s_p_alpha;
+            let t8 = t4 + t5;
+            let t9 = p_l2e * t8;
+            let (s_v_q5, c_v_q5) = tq[2];
+            let t10 = p_l5 * c_v_q5;
+            let t11 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = tq[3];
+            let t12 = p_l6 * c_v_q6;
+            let t13 = p_l6 * s_v_q6;
+            let t14 = t7 - t6;
+            let t15 = p_l2e * t14;
+            let t16 = t15 - t3;
+            let t17 = -t5;
+            let t18 = t2 + t9;
+            let t19 = -t10;
+            let t20 = -t12;
+            let t21 = t17 - t4;
+            let t22 = p_l2e * t21;
+            let t23 = t22 - t2;
+            let t24 = v_q2_d * t23;
+            let t25 = t10 * v_q5_d;
+            let t26 = t12 * v_q6_d;
+            let t27 = t16 * v_q2_d;
+            let t28 = t11 * v_q5_d;
+            let t29 = t13 * v_q6_d;
             let t30 = t1 * v_q1_d;
-            let t31 = v_q1_d * t30;
-            let t32 = t2 * v_q1_dd;
-            let t33 = v_q1_d * t29;
-            let t34 = t1 * v_q1_dd;
-            let t35 = v_q2_d * t23;
-            let t36 = t35 - t31;
-            let t37 = v_q5_d * t24;
-            let t38 = t36 + t37;
-            let t39 = v_q6_d * t25;
-            let t40 = t38 + t39;
-            let t41 = t32 - t40;
-            let t42 = v_q2_d * t26;
-            let t43 = t42 - t33;
-            let t44 = v_q5_d * t27;
-            let t45 = t43 + t44;
-            let t46 = v_q6_d * t28;
-            let t47 = t45 + t46;
-            let t48 = t34 + t47;
-            let t49 = -t48;
-            let t50 = t17 * v_q2_dd;
-            let t51 = t18 * v_q2_dd;
-            let t52 = t41 - t50;
-            let t53 = t49 - t51;
+            let t31 = t0 * v_q1_d;
+            let t32 = v_q1_d * t31;
+            let t33 = t1 * v_q1_dd;
+            let t34 = v_q1_d * t30;
+            let t35 = t0 * v_q1_dd;
+            let t36 = v_q2_d * t24;
+            let t37 = t36 - t32;
+            let t38 = v_q5_d * t25;
+            let t39 = t37 + t38;
+            let t40 = v_q6_d * t26;
+            let t41 = t39 + t40;
+            let t42 = t33 - t41;
+            let t43 = v_q2_d * t27;
+            let t44 = t43 - t34;
+            let t45 = v_q5_d * t28;
+            let t46 = t44 + t45;
+            let t47 = v_q6_d * t29;
+            let t48 = t46 + t47;
+            let t49 = t35 + t48;
+            let t50 = -t49;
+            let t51 = t16 * v_q2_dd;
+            let t52 = t18 * v_q2_dd;
+            let t53 = t42 - t51;
+            let t54 = t50 - t52;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[2][2] = ∂Φ2/∂q5
-            jac[(0, 0)] = t12;
+            jac[(0, 0)] = t11;
             // J[2][3] = ∂Φ2/∂q6
-            jac[(0, 1)] = t15;
+            jac[(0, 1)] = t13;
             // J[3][2] = ∂Φ3/∂q5
             jac[(1, 0)] = t19;
             // J[3][3] = ∂Φ3/∂q6
             jac[(1, 1)] = t20;
-            (::mechgen::nalgebra::SVector::from([t52, t53]), jac)
+            (::mechgen::nalgebra::SVector::from([t53, t54]), jac)
+        }
+        /// Sines and cosines of the inputs and params that appear in a sin or cos.
+        #[inline]
+        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 10]) {
+            let params = self.params.to_array();
+            let mut tx = [(T::zero(), T::one()); 1];
+            let mut tp = [(T::zero(), T::one()); 10];
+            tx[0] = x[0].sin_cos();
+            tp[9] = params[9].sin_cos();
+            (tx, tp)
+        }
+        /// The unknowns with the sines and cosines the solvers read.
+        #[inline]
+        fn trig_state(q: [T; 4]) -> ::mechgen::TrigState<T, 4> {
+            ::mechgen::TrigState::new(q, [true, true, true, true])
+        }
+        #[inline]
+        fn position_cached(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            options: &::mechgen::NewtonOptions<T>,
+            report: &mut ::mechgen::NewtonReport<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            let scale = self.params.length_scale();
+            // Block 0: q2, q3 from loop 1 (x, y).
+            ::mechgen::newton_block(
+                0,
+                st,
+                [0, 1],
+                [false, false],
+                scale,
+                options,
+                report,
+                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            // Block 1: q5, q6 from loop 2 (x, y).
+            ::mechgen::newton_block(
+                1,
+                st,
+                [2, 3],
+                [false, false],
+                scale,
+                options,
+                report,
+                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            Ok(())
+        }
+        #[inline]
+        fn velocity_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
+            xd: &[T; 1],
+        ) -> Result<[T; 4], ::mechgen::SolveError> {
+            let mut qd = [T::zero(); 4];
+            // Block 0: q2, q3 from loop 1 (x, y).
+            let (rhs, jac) = self.block0_velocity(x, q, tx, tp, tq, xd, &qd);
+            let z = ::mechgen::solve_block(
+                0,
+                ::mechgen::Stage::Velocity,
+                jac,
+                rhs,
+            )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            // Block 1: q5, q6 from loop 2 (x, y).
+            let (rhs, jac) = self.block1_velocity(x, q, tx, tp, tq, xd, &qd);
+            let z = ::mechgen::solve_block(
+                1,
+                ::mechgen::Stage::Velocity,
+                jac,
+                rhs,
+            )?;
+            qd[2] = z[0];
+            qd[3] = z[1];
+            Ok(qd)
+        }
+        #[inline]
+        fn acceleration_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
+            xd: &[T; 1],
+            qd: &[T; 4],
+            xdd: &[T; 1],
+        ) -> Result<[T; 4], ::mechgen::SolveError> {
+            let mut qdd = [T::zero(); 4];
+            // Block 0: q2, q3 from loop 1 (x, y).
+            let (rhs, jac) = self
+                .block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
+            let z = ::mechgen::solve_block(
+                0,
+                ::mechgen::Stage::Acceleration,
+                jac,
+                rhs,
+            )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            // Block 1: q5, q6 from loop 2 (x, y).
+            let (rhs, jac) = self
+                .block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
+            let z = ::mechgen::solve_block(
+                1,
+                ::mechgen::Stage::Acceleration,
+                jac,
+                rhs,
+            )?;
+            qdd[2] = z[0];
+            qdd[3] = z[1];
+            Ok(qdd)
+        }
+        #[inline]
+        fn point_motion_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
+            xd: &[T; 1],
+            qd: &[T; 4],
+            xdd: &[T; 1],
+            qdd: &[T; 4],
+        ) -> [::mechgen::PointMotion<T>; 1] {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l2e = self.params.l2e;
+            let p_alpha = self.params.alpha;
+            let v_q1_d = xd[0];
+            let v_q2_d = qd[0];
+            let v_q1_dd = xdd[0];
+            let v_q2_dd = qdd[0];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let t4 = t0 + t2;
+            let t5 = t1 + t3;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t6 = c_v_q2 * c_p_alpha;
+            let t7 = s_v_q2 * s_p_alpha;
+            let t8 = s_v_q2 * c_p_alpha;
+            let t9 = c_v_q2 * s_p_alpha;
+            let t10 = t6 + t7;
+            let t11 = t8 - t9;
+            let t12 = p_l2e * t10;
+            let t13 = p_l2e * t11;
+            let t14 = t4 + t12;
+            let t15 = t5 + t13;
+            let t16 = t9 - t8;
+            let t17 = p_l2e * t16;
+            let t18 = t17 - t3;
+            let t19 = -t7;
+            let t20 = t2 + t12;
+            let t21 = t19 - t6;
+            let t22 = p_l2e * t21;
+            let t23 = t22 - t2;
+            let t24 = v_q2_d * t23;
+            let t25 = t18 * v_q2_d;
+            let t26 = t1 * v_q1_d;
+            let t27 = t0 * v_q1_d;
+            let t28 = v_q1_d * t27;
+            let t29 = t1 * v_q1_dd;
+            let t30 = v_q1_d * t26;
+            let t31 = t0 * v_q1_dd;
+            let t32 = t25 - t26;
+            let t33 = v_q2_d * t24;
+            let t34 = t33 - t28;
+            let t35 = t20 * v_q2_d;
+            let t36 = t27 + t35;
+            let t37 = v_q2_d * t25;
+            let t38 = t37 - t30;
+            let t39 = t34 - t29;
+            let t40 = t18 * v_q2_dd;
+            let t41 = t39 + t40;
+            let t42 = t31 + t38;
+            let t43 = t20 * v_q2_dd;
+            let t44 = t42 + t43;
+            [
+                ::mechgen::PointMotion {
+                    position: [t14, t15],
+                    velocity: [t32, t36],
+                    acceleration: [t41, t44],
+                },
+            ]
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -1122,30 +1385,11 @@ pub mod sixbar {
             )?;
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-            let scale = self.params.length_scale();
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::NewtonReport::new();
-            // Block 0: q2, q3 from loop 1 (x, y).
-            ::mechgen::newton_block(
-                0,
-                q,
-                [0, 1],
-                [false, false],
-                scale,
-                options,
-                &mut report,
-                |q| self.block0_position(x, q),
-            )?;
-            // Block 1: q5, q6 from loop 2 (x, y).
-            ::mechgen::newton_block(
-                1,
-                q,
-                [2, 3],
-                [false, false],
-                scale,
-                options,
-                &mut report,
-                |q| self.block1_position(x, q),
-            )?;
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
             Ok(report)
         }
         /// q̇ from J q̇ = −Φx ẋ at a solved position.
@@ -1156,28 +1400,9 @@ pub mod sixbar {
             xd: &[T; 1],
         ) -> Result<[T; 4], ::mechgen::SolveError> {
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            let mut qd = [T::zero(); 4];
-            // Block 0: q2, q3 from loop 1 (x, y).
-            let (rhs, jac) = self.block0_velocity(x, q, xd, &qd);
-            let z = ::mechgen::solve_block(
-                0,
-                ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
-            )?;
-            qd[0] = z[0];
-            qd[1] = z[1];
-            // Block 1: q5, q6 from loop 2 (x, y).
-            let (rhs, jac) = self.block1_velocity(x, q, xd, &qd);
-            let z = ::mechgen::solve_block(
-                1,
-                ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
-            )?;
-            qd[2] = z[0];
-            qd[3] = z[1];
-            Ok(qd)
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
         }
         /// q̈ from J q̈ = γ at a solved position and velocity.
         pub fn solve_acceleration(
@@ -1189,28 +1414,46 @@ pub mod sixbar {
             xdd: &[T; 1],
         ) -> Result<[T; 4], ::mechgen::SolveError> {
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-            let mut qdd = [T::zero(); 4];
-            // Block 0: q2, q3 from loop 1 (x, y).
-            let (rhs, jac) = self.block0_acceleration(x, q, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
-                0,
-                ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+        }
+        /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
+        /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        pub fn solve_arrays(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            q: &mut [T; 4],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<
+            (
+                [T; 4],
+                [T; 4],
+                [::mechgen::PointMotion<T>; 1],
+                ::mechgen::NewtonReport<T>,
+            ),
+            ::mechgen::SolveError,
+        > {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
             )?;
-            qdd[0] = z[0];
-            qdd[1] = z[1];
-            // Block 1: q5, q6 from loop 2 (x, y).
-            let (rhs, jac) = self.block1_acceleration(x, q, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
-                1,
-                ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
-            )?;
-            qdd[2] = z[0];
-            qdd[3] = z[1];
-            Ok(qdd)
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
+            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self
+                .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            Ok((qd, qdd, points, report))
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
         pub fn solve(
@@ -1221,14 +1464,15 @@ pub mod sixbar {
             guess: Unknowns<T>,
             options: &::mechgen::NewtonOptions<T>,
         ) -> Result<Motion<T>, ::mechgen::SolveError> {
-            let (xa, xda, xdda) = (x.to_array(), xd.to_array(), xdd.to_array());
             let mut q = guess.to_array();
-            let report = self.solve_position(&xa, &mut q, options)?;
-            let qd = self.solve_velocity(&xa, &q, &xda)?;
-            let qdd = self.solve_acceleration(&xa, &q, &xda, &qd, &xdda)?;
-            let points = Points::from_array(
-                self.point_motion(&xa, &q, &xda, &qd, &xdda, &qdd),
-            );
+            let (qd, qdd, points, report) = self
+                .solve_arrays(
+                    &x.to_array(),
+                    &xd.to_array(),
+                    &xdd.to_array(),
+                    &mut q,
+                    options,
+                )?;
             Ok(Motion {
                 x,
                 xd,
@@ -1236,7 +1480,7 @@ pub mod sixbar {
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
-                points,
+                points: Points::from_array(points),
                 report,
             })
         }
@@ -1322,6 +1566,25 @@ pub mod sixbar {
             {
                 *o = p;
             }
+        }
+        fn solve_motion(
+            &self,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            q: &mut Self::Q,
+            qd: &mut Self::Q,
+            qdd: &mut Self::Q,
+            points: &mut [::mechgen::PointMotion<T>],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            let (v, a, p, report) = Sixbar::solve_arrays(self, x, xd, xdd, q, options)?;
+            *qd = v;
+            *qdd = a;
+            for (o, m) in points.iter_mut().zip(p) {
+                *o = m;
+            }
+            Ok(report)
         }
     }
 }
@@ -1859,6 +2122,9 @@ pub mod shaper {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
         ) -> (
             ::mechgen::nalgebra::SVector<T, 2>,
             ::mechgen::nalgebra::SMatrix<T, 2, 2>,
@@ -1868,26 +2134,26 @@ pub mod shaper {
             let v_q3 = q[1];
             let p_l1 = self.params.l1;
             let p_lAC = self.params.lAC;
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t1 = v_s3 * c_v_q3;
-            let t2 = v_s3 * s_v_q3;
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t4 = p_l1 * c_v_q1;
-            let t5 = p_l1 * s_v_q1;
-            let t6 = t1 - t4;
-            let t7 = t2 - t5;
-            let t8 = t7 - p_lAC;
-            let t9 = -t2;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t0 = v_s3 * c_v_q3;
+            let t1 = v_s3 * s_v_q3;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t2 = p_l1 * c_v_q1;
+            let t3 = p_l1 * s_v_q1;
+            let t4 = t0 - t2;
+            let t5 = t1 - t3;
+            let t6 = t5 - p_lAC;
+            let t7 = -t1;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t9;
+            jac[(0, 1)] = t7;
             // J[1][0] = ∂Φ1/∂s3
             jac[(1, 0)] = s_v_q3;
             // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t1;
-            (::mechgen::nalgebra::SVector::from([t6, t8]), jac)
+            jac[(1, 1)] = t0;
+            (::mechgen::nalgebra::SVector::from([t4, t6]), jac)
         }
         /// Block 0: s3, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
         #[inline]
@@ -1895,6 +2161,9 @@ pub mod shaper {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
         ) -> (
@@ -1906,26 +2175,26 @@ pub mod shaper {
             let v_q3 = q[1];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t1 = v_s3 * c_v_q3;
-            let t2 = v_s3 * s_v_q3;
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t4 = p_l1 * c_v_q1;
-            let t5 = p_l1 * s_v_q1;
-            let t6 = -t2;
-            let t7 = t5 * v_q1_d;
-            let t8 = -t7;
-            let t9 = t4 * v_q1_d;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t0 = v_s3 * c_v_q3;
+            let t1 = v_s3 * s_v_q3;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t2 = p_l1 * c_v_q1;
+            let t3 = p_l1 * s_v_q1;
+            let t4 = -t1;
+            let t5 = t3 * v_q1_d;
+            let t6 = -t5;
+            let t7 = t2 * v_q1_d;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t6;
+            jac[(0, 1)] = t4;
             // J[1][0] = ∂Φ1/∂s3
             jac[(1, 0)] = s_v_q3;
             // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t1;
-            (::mechgen::nalgebra::SVector::from([t8, t9]), jac)
+            jac[(1, 1)] = t0;
+            (::mechgen::nalgebra::SVector::from([t6, t7]), jac)
         }
         /// Block 0: s3, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
         #[inline]
@@ -1933,6 +2202,9 @@ pub mod shaper {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
@@ -1949,49 +2221,49 @@ pub mod shaper {
             let v_s3_d = qd[0];
             let v_q3_d = qd[1];
             let v_q1_dd = xdd[0];
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t1 = v_s3 * c_v_q3;
-            let t2 = v_s3 * s_v_q3;
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t4 = p_l1 * c_v_q1;
-            let t5 = p_l1 * s_v_q1;
-            let t6 = -t2;
-            let t7 = s_v_q3 * v_q3_d;
-            let t8 = s_v_q3 * v_s3_d;
-            let t9 = -t8;
-            let t10 = t1 * v_q3_d;
-            let t11 = t9 - t10;
-            let t12 = c_v_q3 * v_q3_d;
-            let t13 = c_v_q3 * v_s3_d;
-            let t14 = t2 * v_q3_d;
-            let t15 = t13 - t14;
-            let t16 = t5 * v_q1_d;
-            let t17 = t4 * v_q1_d;
-            let t18 = v_q1_d * t17;
-            let t19 = t7 * v_s3_d;
-            let t20 = t18 - t19;
-            let t21 = v_q3_d * t11;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t0 = v_s3 * c_v_q3;
+            let t1 = v_s3 * s_v_q3;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t2 = p_l1 * c_v_q1;
+            let t3 = p_l1 * s_v_q1;
+            let t4 = -t1;
+            let t5 = s_v_q3 * v_q3_d;
+            let t6 = s_v_q3 * v_s3_d;
+            let t7 = -t6;
+            let t8 = t0 * v_q3_d;
+            let t9 = t7 - t8;
+            let t10 = c_v_q3 * v_q3_d;
+            let t11 = c_v_q3 * v_s3_d;
+            let t12 = t1 * v_q3_d;
+            let t13 = t11 - t12;
+            let t14 = t3 * v_q1_d;
+            let t15 = t2 * v_q1_d;
+            let t16 = v_q1_d * t15;
+            let t17 = t5 * v_s3_d;
+            let t18 = t16 - t17;
+            let t19 = v_q3_d * t9;
+            let t20 = t18 + t19;
+            let t21 = t3 * v_q1_dd;
             let t22 = t20 + t21;
-            let t23 = t5 * v_q1_dd;
-            let t24 = t22 + t23;
-            let t25 = -t24;
-            let t26 = v_q1_d * t16;
-            let t27 = v_s3_d * t12;
+            let t23 = -t22;
+            let t24 = v_q1_d * t14;
+            let t25 = v_s3_d * t10;
+            let t26 = t24 + t25;
+            let t27 = v_q3_d * t13;
             let t28 = t26 + t27;
-            let t29 = v_q3_d * t15;
-            let t30 = t28 + t29;
-            let t31 = t4 * v_q1_dd;
-            let t32 = t31 - t30;
+            let t29 = t2 * v_q1_dd;
+            let t30 = t29 - t28;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t6;
+            jac[(0, 1)] = t4;
             // J[1][0] = ∂Φ1/∂s3
             jac[(1, 0)] = s_v_q3;
             // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t1;
-            (::mechgen::nalgebra::SVector::from([t25, t32]), jac)
+            jac[(1, 1)] = t0;
+            (::mechgen::nalgebra::SVector::from([t23, t30]), jac)
         }
         /// Block 1: q4 from loop 2 (y). Its residual and Jacobian block.
         #[inline]
@@ -1999,6 +2271,9 @@ pub mod shaper {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
         ) -> (
             ::mechgen::nalgebra::SVector<T, 1>,
             ::mechgen::nalgebra::SMatrix<T, 1, 1>,
@@ -2008,17 +2283,17 @@ pub mod shaper {
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
             let p_yE = self.params.yE;
-            let t0 = v_q3.sin();
-            let t1 = t0 * p_l3;
-            let (s_v_q4, c_v_q4) = v_q4.sin_cos();
-            let t3 = p_l4 * c_v_q4;
-            let t4 = p_l4 * s_v_q4;
-            let t5 = t1 + t4;
-            let t6 = t5 - p_yE;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t0 = s_v_q3 * p_l3;
+            let (s_v_q4, c_v_q4) = tq[2];
+            let t1 = p_l4 * c_v_q4;
+            let t2 = p_l4 * s_v_q4;
+            let t3 = t0 + t2;
+            let t4 = t3 - p_yE;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[3][2] = ∂Φ3/∂q4
-            jac[(0, 0)] = t3;
-            (::mechgen::nalgebra::SVector::from([t6]), jac)
+            jac[(0, 0)] = t1;
+            (::mechgen::nalgebra::SVector::from([t4]), jac)
         }
         /// Block 1: q4 from loop 2 (y). Its right-hand side and Jacobian block.
         #[inline]
@@ -2026,6 +2301,9 @@ pub mod shaper {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
         ) -> (
@@ -2037,16 +2315,16 @@ pub mod shaper {
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
             let v_q3_d = qd[1];
-            let t0 = v_q3.cos();
-            let t1 = t0 * p_l3;
-            let t2 = v_q4.cos();
-            let t3 = p_l4 * t2;
-            let t4 = t1 * v_q3_d;
-            let t5 = -t4;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t0 = c_v_q3 * p_l3;
+            let (s_v_q4, c_v_q4) = tq[2];
+            let t1 = p_l4 * c_v_q4;
+            let t2 = t0 * v_q3_d;
+            let t3 = -t2;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[3][2] = ∂Φ3/∂q4
-            jac[(0, 0)] = t3;
-            (::mechgen::nalgebra::SVector::from([t5]), jac)
+            jac[(0, 0)] = t1;
+            (::mechgen::nalgebra::SVector::from([t3]), jac)
         }
         /// Block 1: q4 from loop 2 (y). Its right-hand side and Jacobian block.
         #[inline]
@@ -2054,6 +2332,9 @@ pub mod shaper {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
@@ -2069,24 +2350,24 @@ pub mod shaper {
             let v_q3_d = qd[1];
             let v_q4_d = qd[2];
             let v_q3_dd = qdd[1];
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t1 = c_v_q3 * p_l3;
-            let t2 = s_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = v_q4.sin_cos();
-            let t4 = p_l4 * c_v_q4;
-            let t5 = p_l4 * s_v_q4;
-            let t6 = t2 * v_q3_d;
-            let t7 = t5 * v_q4_d;
-            let t8 = v_q3_d * t6;
-            let t9 = -t8;
-            let t10 = v_q4_d * t7;
-            let t11 = t10 - t9;
-            let t12 = t1 * v_q3_dd;
-            let t13 = t11 - t12;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t0 = c_v_q3 * p_l3;
+            let t1 = s_v_q3 * p_l3;
+            let (s_v_q4, c_v_q4) = tq[2];
+            let t2 = p_l4 * c_v_q4;
+            let t3 = p_l4 * s_v_q4;
+            let t4 = t1 * v_q3_d;
+            let t5 = t3 * v_q4_d;
+            let t6 = v_q3_d * t4;
+            let t7 = -t6;
+            let t8 = v_q4_d * t5;
+            let t9 = t8 - t7;
+            let t10 = t0 * v_q3_dd;
+            let t11 = t9 - t10;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[3][2] = ∂Φ3/∂q4
-            jac[(0, 0)] = t4;
-            (::mechgen::nalgebra::SVector::from([t13]), jac)
+            jac[(0, 0)] = t2;
+            (::mechgen::nalgebra::SVector::from([t11]), jac)
         }
         /// Block 2: sE from loop 2 (x). Its residual and Jacobian block.
         #[inline]
@@ -2094,6 +2375,9 @@ pub mod shaper {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
         ) -> (
             ::mechgen::nalgebra::SVector<T, 1>,
             ::mechgen::nalgebra::SMatrix<T, 1, 1>,
@@ -2103,16 +2387,16 @@ pub mod shaper {
             let v_sE = q[3];
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
-            let t0 = v_q3.cos();
-            let t1 = t0 * p_l3;
-            let t2 = v_q4.cos();
-            let t3 = p_l4 * t2;
-            let t4 = t1 + t3;
-            let t5 = t4 - v_sE;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t0 = c_v_q3 * p_l3;
+            let (s_v_q4, c_v_q4) = tq[2];
+            let t1 = p_l4 * c_v_q4;
+            let t2 = t0 + t1;
+            let t3 = t2 - v_sE;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t5]), jac)
+            (::mechgen::nalgebra::SVector::from([t3]), jac)
         }
         /// Block 2: sE from loop 2 (x). Its right-hand side and Jacobian block.
         #[inline]
@@ -2120,6 +2404,9 @@ pub mod shaper {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
         ) -> (
@@ -2132,18 +2419,18 @@ pub mod shaper {
             let p_l4 = self.params.l4;
             let v_q3_d = qd[1];
             let v_q4_d = qd[2];
-            let t0 = v_q3.sin();
-            let t1 = t0 * p_l3;
-            let t2 = v_q4.sin();
-            let t3 = p_l4 * t2;
-            let t4 = t1 * v_q3_d;
-            let t5 = -t4;
-            let t6 = t3 * v_q4_d;
-            let t7 = t6 - t5;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t0 = s_v_q3 * p_l3;
+            let (s_v_q4, c_v_q4) = tq[2];
+            let t1 = p_l4 * s_v_q4;
+            let t2 = t0 * v_q3_d;
+            let t3 = -t2;
+            let t4 = t1 * v_q4_d;
+            let t5 = t4 - t3;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t7]), jac)
+            (::mechgen::nalgebra::SVector::from([t5]), jac)
         }
         /// Block 2: sE from loop 2 (x). Its right-hand side and Jacobian block.
         #[inline]
@@ -2151,6 +2438,9 @@ pub mod shaper {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
@@ -2167,27 +2457,221 @@ pub mod shaper {
             let v_q4_d = qd[2];
             let v_q3_dd = qdd[1];
             let v_q4_dd = qdd[2];
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t1 = c_v_q3 * p_l3;
-            let t2 = s_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = v_q4.sin_cos();
-            let t4 = p_l4 * c_v_q4;
-            let t5 = p_l4 * s_v_q4;
-            let t6 = t1 * v_q3_d;
-            let t7 = t4 * v_q4_d;
-            let t8 = v_q3_d * t6;
-            let t9 = -t8;
-            let t10 = v_q4_d * t7;
-            let t11 = t10 - t9;
-            let t12 = t2 * v_q3_dd;
-            let t13 = -t12;
-            let t14 = t5 * v_q4_dd;
-            let t15 = t13 - t14;
-            let t16 = t11 - t15;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t0 = c_v_q3 * p_l3;
+            let t1 = s_v_q3 * p_l3;
+            let (s_v_q4, c_v_q4) = tq[2];
+            let t2 = p_l4 * c_v_q4;
+            let t3 = p_l4 * s_v_q4;
+            let t4 = t0 * v_q3_d;
+            let t5 = t2 * v_q4_d;
+            let t6 = v_q3_d * t4;
+            let t7 = -t6;
+            let t8 = v_q4_d * t5;
+            let t9 = t8 - t7;
+            let t10 = t1 * v_q3_dd;
+            let t11 = -t10;
+            let t12 = t3 * v_q4_dd;
+            let t13 = t11 - t12;
+            let t14 = t9 - t13;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t16]), jac)
+            (::mechgen::nalgebra::SVector::from([t14]), jac)
+        }
+        /// Sines and cosines of the inputs and params that appear in a sin or cos.
+        #[inline]
+        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 5]) {
+            let params = self.params.to_array();
+            let mut tx = [(T::zero(), T::one()); 1];
+            let mut tp = [(T::zero(), T::one()); 5];
+            tx[0] = x[0].sin_cos();
+            (tx, tp)
+        }
+        /// The unknowns with the sines and cosines the solvers read.
+        #[inline]
+        fn trig_state(q: [T; 4]) -> ::mechgen::TrigState<T, 4> {
+            ::mechgen::TrigState::new(q, [false, true, true, false])
+        }
+        #[inline]
+        fn position_cached(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            options: &::mechgen::NewtonOptions<T>,
+            report: &mut ::mechgen::NewtonReport<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            let scale = self.params.length_scale();
+            // Block 0: s3, q3 from loop 1 (x, y).
+            ::mechgen::newton_block(
+                0,
+                st,
+                [0, 1],
+                [true, false],
+                scale,
+                options,
+                report,
+                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            // Block 1: q4 from loop 2 (y).
+            ::mechgen::newton_block(
+                1,
+                st,
+                [2],
+                [false],
+                scale,
+                options,
+                report,
+                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            // Block 2: sE from loop 2 (x).
+            ::mechgen::newton_block(
+                2,
+                st,
+                [3],
+                [true],
+                scale,
+                options,
+                report,
+                |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            Ok(())
+        }
+        #[inline]
+        fn velocity_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
+            xd: &[T; 1],
+        ) -> Result<[T; 4], ::mechgen::SolveError> {
+            let mut qd = [T::zero(); 4];
+            // Block 0: s3, q3 from loop 1 (x, y).
+            let (rhs, jac) = self.block0_velocity(x, q, tx, tp, tq, xd, &qd);
+            let z = ::mechgen::solve_block(
+                0,
+                ::mechgen::Stage::Velocity,
+                jac,
+                rhs,
+            )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            // Block 1: q4 from loop 2 (y).
+            let (rhs, jac) = self.block1_velocity(x, q, tx, tp, tq, xd, &qd);
+            let z = ::mechgen::solve_block(
+                1,
+                ::mechgen::Stage::Velocity,
+                jac,
+                rhs,
+            )?;
+            qd[2] = z[0];
+            // Block 2: sE from loop 2 (x).
+            let (rhs, jac) = self.block2_velocity(x, q, tx, tp, tq, xd, &qd);
+            let z = ::mechgen::solve_block(
+                2,
+                ::mechgen::Stage::Velocity,
+                jac,
+                rhs,
+            )?;
+            qd[3] = z[0];
+            Ok(qd)
+        }
+        #[inline]
+        fn acceleration_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
+            xd: &[T; 1],
+            qd: &[T; 4],
+            xdd: &[T; 1],
+        ) -> Result<[T; 4], ::mechgen::SolveError> {
+            let mut qdd = [T::zero(); 4];
+            // Block 0: s3, q3 from loop 1 (x, y).
+            let (rhs, jac) = self
+                .block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
+            let z = ::mechgen::solve_block(
+                0,
+                ::mechgen::Stage::Acceleration,
+                jac,
+                rhs,
+            )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            // Block 1: q4 from loop 2 (y).
+            let (rhs, jac) = self
+                .block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
+            let z = ::mechgen::solve_block(
+                1,
+                ::mechgen::Stage::Acceleration,
+                jac,
+                rhs,
+            )?;
+            qdd[2] = z[0];
+            // Block 2: sE from loop 2 (x).
+            let (rhs, jac) = self
+                .block2_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
+            let z = ::mechgen::solve_block(
+                2,
+                ::mechgen::Stage::Acceleration,
+                jac,
+                rhs,
+            )?;
+            qdd[3] = z[0];
+            Ok(qdd)
+        }
+        #[inline]
+        fn point_motion_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
+            xd: &[T; 1],
+            qd: &[T; 4],
+            xdd: &[T; 1],
+            qdd: &[T; 4],
+        ) -> [::mechgen::PointMotion<T>; 2] {
+            let v_q3 = q[1];
+            let v_sE = q[3];
+            let p_l3 = self.params.l3;
+            let p_yE = self.params.yE;
+            let v_q3_d = qd[1];
+            let v_sE_d = qd[3];
+            let v_q3_dd = qdd[1];
+            let v_sE_dd = qdd[3];
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t0 = c_v_q3 * p_l3;
+            let t1 = s_v_q3 * p_l3;
+            let t2 = t0 * v_q3_d;
+            let t3 = t1 * v_q3_d;
+            let t4 = -t3;
+            let t5 = v_q3_d * t2;
+            let t6 = -t5;
+            let t7 = v_q3_d * t3;
+            let t8 = t1 * v_q3_dd;
+            let t9 = t6 - t8;
+            let t10 = t0 * v_q3_dd;
+            let t11 = t10 - t7;
+            [
+                ::mechgen::PointMotion {
+                    position: [v_sE, p_yE],
+                    velocity: [v_sE_d, T::zero()],
+                    acceleration: [v_sE_dd, T::zero()],
+                },
+                ::mechgen::PointMotion {
+                    position: [t0, t1],
+                    velocity: [t4, t2],
+                    acceleration: [t9, t11],
+                },
+            ]
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -2203,41 +2687,11 @@ pub mod shaper {
             )?;
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-            let scale = self.params.length_scale();
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::NewtonReport::new();
-            // Block 0: s3, q3 from loop 1 (x, y).
-            ::mechgen::newton_block(
-                0,
-                q,
-                [0, 1],
-                [true, false],
-                scale,
-                options,
-                &mut report,
-                |q| self.block0_position(x, q),
-            )?;
-            // Block 1: q4 from loop 2 (y).
-            ::mechgen::newton_block(
-                1,
-                q,
-                [2],
-                [false],
-                scale,
-                options,
-                &mut report,
-                |q| self.block1_position(x, q),
-            )?;
-            // Block 2: sE from loop 2 (x).
-            ::mechgen::newton_block(
-                2,
-                q,
-                [3],
-                [true],
-                scale,
-                options,
-                &mut report,
-                |q| self.block2_position(x, q),
-            )?;
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
             Ok(report)
         }
         /// q̇ from J q̇ = −Φx ẋ at a solved position.
@@ -2248,36 +2702,9 @@ pub mod shaper {
             xd: &[T; 1],
         ) -> Result<[T; 4], ::mechgen::SolveError> {
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            let mut qd = [T::zero(); 4];
-            // Block 0: s3, q3 from loop 1 (x, y).
-            let (rhs, jac) = self.block0_velocity(x, q, xd, &qd);
-            let z = ::mechgen::solve_block(
-                0,
-                ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
-            )?;
-            qd[0] = z[0];
-            qd[1] = z[1];
-            // Block 1: q4 from loop 2 (y).
-            let (rhs, jac) = self.block1_velocity(x, q, xd, &qd);
-            let z = ::mechgen::solve_block(
-                1,
-                ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
-            )?;
-            qd[2] = z[0];
-            // Block 2: sE from loop 2 (x).
-            let (rhs, jac) = self.block2_velocity(x, q, xd, &qd);
-            let z = ::mechgen::solve_block(
-                2,
-                ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
-            )?;
-            qd[3] = z[0];
-            Ok(qd)
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
         }
         /// q̈ from J q̈ = γ at a solved position and velocity.
         pub fn solve_acceleration(
@@ -2289,36 +2716,46 @@ pub mod shaper {
             xdd: &[T; 1],
         ) -> Result<[T; 4], ::mechgen::SolveError> {
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-            let mut qdd = [T::zero(); 4];
-            // Block 0: s3, q3 from loop 1 (x, y).
-            let (rhs, jac) = self.block0_acceleration(x, q, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
-                0,
-                ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+        }
+        /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
+        /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        pub fn solve_arrays(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            q: &mut [T; 4],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<
+            (
+                [T; 4],
+                [T; 4],
+                [::mechgen::PointMotion<T>; 2],
+                ::mechgen::NewtonReport<T>,
+            ),
+            ::mechgen::SolveError,
+        > {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
             )?;
-            qdd[0] = z[0];
-            qdd[1] = z[1];
-            // Block 1: q4 from loop 2 (y).
-            let (rhs, jac) = self.block1_acceleration(x, q, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
-                1,
-                ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
-            )?;
-            qdd[2] = z[0];
-            // Block 2: sE from loop 2 (x).
-            let (rhs, jac) = self.block2_acceleration(x, q, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
-                2,
-                ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
-            )?;
-            qdd[3] = z[0];
-            Ok(qdd)
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
+            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self
+                .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            Ok((qd, qdd, points, report))
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
         pub fn solve(
@@ -2329,14 +2766,15 @@ pub mod shaper {
             guess: Unknowns<T>,
             options: &::mechgen::NewtonOptions<T>,
         ) -> Result<Motion<T>, ::mechgen::SolveError> {
-            let (xa, xda, xdda) = (x.to_array(), xd.to_array(), xdd.to_array());
             let mut q = guess.to_array();
-            let report = self.solve_position(&xa, &mut q, options)?;
-            let qd = self.solve_velocity(&xa, &q, &xda)?;
-            let qdd = self.solve_acceleration(&xa, &q, &xda, &qd, &xdda)?;
-            let points = Points::from_array(
-                self.point_motion(&xa, &q, &xda, &qd, &xdda, &qdd),
-            );
+            let (qd, qdd, points, report) = self
+                .solve_arrays(
+                    &x.to_array(),
+                    &xd.to_array(),
+                    &xdd.to_array(),
+                    &mut q,
+                    options,
+                )?;
             Ok(Motion {
                 x,
                 xd,
@@ -2344,7 +2782,7 @@ pub mod shaper {
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
-                points,
+                points: Points::from_array(points),
                 report,
             })
         }
@@ -2430,6 +2868,25 @@ pub mod shaper {
             {
                 *o = p;
             }
+        }
+        fn solve_motion(
+            &self,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            q: &mut Self::Q,
+            qd: &mut Self::Q,
+            qdd: &mut Self::Q,
+            points: &mut [::mechgen::PointMotion<T>],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            let (v, a, p, report) = Shaper::solve_arrays(self, x, xd, xdd, q, options)?;
+            *qd = v;
+            *qdd = a;
+            for (o, m) in points.iter_mut().zip(p) {
+                *o = m;
+            }
+            Ok(report)
         }
     }
 }
@@ -2849,17 +3306,23 @@ pub mod four_bar {
             let (s_v_q1, c_v_q1) = v_q1.sin_cos();
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
             let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t4 = p_l3 * c_v_q3;
-            let t5 = p_l3 * s_v_q3;
-            let t6 = p_l4 + t4;
-            let t7 = v_q2 + p_beta;
-            let (s8, c8) = t7.sin_cos();
-            let t9 = p_lp * c8;
-            let t10 = p_lp * s8;
-            let t11 = t1 + t9;
-            let t12 = t2 + t10;
-            [[t1, t2], [t6, t5], [t11, t12]]
+            let t5 = p_l3 * c_v_q3;
+            let t6 = p_l3 * s_v_q3;
+            let t7 = p_l4 + t5;
+            let (s_p_beta, c_p_beta) = p_beta.sin_cos();
+            let t9 = c_v_q2 * c_p_beta;
+            let t10 = s_v_q2 * s_p_beta;
+            let t11 = s_v_q2 * c_p_beta;
+            let t12 = c_v_q2 * s_p_beta;
+            let t13 = t9 - t10;
+            let t14 = t11 + t12;
+            let t15 = p_lp * t13;
+            let t16 = p_lp * t14;
+            let t17 = t1 + t15;
+            let t18 = t2 + t16;
+            [[t1, t2], [t7, t6], [t17, t18]]
         }
         /// Position, velocity and acceleration of every point, in `POINT_NAMES` order.
         pub fn point_motion(
@@ -2888,66 +3351,77 @@ pub mod four_bar {
             let (s_v_q1, c_v_q1) = v_q1.sin_cos();
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
             let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t4 = p_l3 * c_v_q3;
-            let t5 = p_l3 * s_v_q3;
-            let t6 = p_l4 + t4;
-            let t7 = v_q2 + p_beta;
-            let (s8, c8) = t7.sin_cos();
-            let t9 = p_lp * c8;
-            let t10 = p_lp * s8;
-            let t11 = t1 + t9;
-            let t12 = t2 + t10;
-            let t13 = t4 * v_q3_d;
-            let t14 = t5 * v_q3_d;
-            let t15 = t2 * v_q1_d;
-            let t16 = -t15;
-            let t17 = t1 * v_q1_d;
-            let t18 = v_q1_d * t17;
-            let t19 = -t18;
-            let t20 = v_q3_d * t13;
-            let t21 = t2 * v_q1_dd;
-            let t22 = v_q1_d * t15;
-            let t23 = -t22;
-            let t24 = -t14;
-            let t25 = v_q3_d * t14;
-            let t26 = t1 * v_q1_dd;
-            let t27 = t10 * v_q2_d;
-            let t28 = t16 - t27;
-            let t29 = t9 * v_q2_d;
-            let t30 = t17 + t29;
-            let t31 = t19 - t21;
-            let t32 = t26 - t22;
-            let t33 = -t20;
-            let t34 = t5 * v_q3_dd;
-            let t35 = t33 - t34;
-            let t36 = t4 * v_q3_dd;
-            let t37 = t36 - t25;
-            let t38 = v_q2_d * t29;
-            let t39 = t19 - t38;
-            let t40 = t39 - t21;
-            let t41 = t10 * v_q2_dd;
-            let t42 = t40 - t41;
-            let t43 = v_q2_d * t27;
-            let t44 = t23 - t43;
-            let t45 = t26 + t44;
-            let t46 = t9 * v_q2_dd;
-            let t47 = t45 + t46;
+            let t5 = p_l3 * c_v_q3;
+            let t6 = p_l3 * s_v_q3;
+            let t7 = p_l4 + t5;
+            let (s_p_beta, c_p_beta) = p_beta.sin_cos();
+            let t9 = c_v_q2 * c_p_beta;
+            let t10 = s_v_q2 * s_p_beta;
+            let t11 = s_v_q2 * c_p_beta;
+            let t12 = c_v_q2 * s_p_beta;
+            let t13 = t9 - t10;
+            let t14 = t11 + t12;
+            let t15 = p_lp * t13;
+            let t16 = p_lp * t14;
+            let t17 = t1 + t15;
+            let t18 = t2 + t16;
+            let t19 = t5 * v_q3_d;
+            let t20 = t6 * v_q3_d;
+            let t21 = t2 * v_q1_d;
+            let t22 = -t21;
+            let t23 = t1 * v_q1_d;
+            let t24 = v_q1_d * t23;
+            let t25 = -t24;
+            let t26 = v_q3_d * t19;
+            let t27 = t2 * v_q1_dd;
+            let t28 = v_q1_d * t21;
+            let t29 = -t20;
+            let t30 = v_q3_d * t20;
+            let t31 = t1 * v_q1_dd;
+            let t32 = -t11;
+            let t33 = t32 - t12;
+            let t34 = p_lp * t33;
+            let t35 = v_q2_d * t34;
+            let t36 = t35 - t21;
+            let t37 = t15 * v_q2_d;
+            let t38 = t23 + t37;
+            let t39 = t25 - t27;
+            let t40 = t31 - t28;
+            let t41 = -t26;
+            let t42 = t6 * v_q3_dd;
+            let t43 = t41 - t42;
+            let t44 = t5 * v_q3_dd;
+            let t45 = t44 - t30;
+            let t46 = t10 - t9;
+            let t47 = p_lp * t46;
+            let t48 = v_q2_d * t47;
+            let t49 = v_q2_d * t48;
+            let t50 = t49 - t24;
+            let t51 = t50 - t27;
+            let t52 = t34 * v_q2_dd;
+            let t53 = t51 + t52;
+            let t54 = v_q2_d * t35;
+            let t55 = t54 - t28;
+            let t56 = t31 + t55;
+            let t57 = t15 * v_q2_dd;
+            let t58 = t56 + t57;
             [
                 ::mechgen::PointMotion {
                     position: [t1, t2],
-                    velocity: [t16, t17],
-                    acceleration: [t31, t32],
+                    velocity: [t22, t23],
+                    acceleration: [t39, t40],
                 },
                 ::mechgen::PointMotion {
-                    position: [t6, t5],
-                    velocity: [t24, t13],
-                    acceleration: [t35, t37],
+                    position: [t7, t6],
+                    velocity: [t29, t19],
+                    acceleration: [t43, t45],
                 },
                 ::mechgen::PointMotion {
-                    position: [t11, t12],
-                    velocity: [t28, t30],
-                    acceleration: [t42, t47],
+                    position: [t17, t18],
+                    velocity: [t36, t38],
+                    acceleration: [t53, t58],
                 },
             ]
         }
@@ -2957,6 +3431,9 @@ pub mod four_bar {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 6],
+            tq: &[(T, T); 2],
         ) -> (
             ::mechgen::nalgebra::SVector<T, 2>,
             ::mechgen::nalgebra::SMatrix<T, 2, 2>,
@@ -2968,32 +3445,32 @@ pub mod four_bar {
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let t6 = t1 + t4;
-            let t7 = t2 + t5;
-            let t8 = t6 - p_l4;
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t10 = p_l3 * c_v_q3;
-            let t11 = p_l3 * s_v_q3;
-            let t12 = t8 - t10;
-            let t13 = t7 - t11;
-            let t14 = -t5;
-            let t15 = -t10;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let t4 = t0 + t2;
+            let t5 = t1 + t3;
+            let t6 = t4 - p_l4;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t7 = p_l3 * c_v_q3;
+            let t8 = p_l3 * s_v_q3;
+            let t9 = t6 - t7;
+            let t10 = t5 - t8;
+            let t11 = -t3;
+            let t12 = -t7;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t14;
+            jac[(0, 0)] = t11;
             // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t11;
+            jac[(0, 1)] = t8;
             // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t4;
+            jac[(1, 0)] = t2;
             // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t15;
-            (::mechgen::nalgebra::SVector::from([t12, t13]), jac)
+            jac[(1, 1)] = t12;
+            (::mechgen::nalgebra::SVector::from([t9, t10]), jac)
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
         #[inline]
@@ -3001,6 +3478,9 @@ pub mod four_bar {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 6],
+            tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
         ) -> (
@@ -3014,30 +3494,30 @@ pub mod four_bar {
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let v_q1_d = xd[0];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t7 = p_l3 * c_v_q3;
-            let t8 = p_l3 * s_v_q3;
-            let t9 = -t5;
-            let t10 = -t7;
-            let t11 = t2 * v_q1_d;
-            let t12 = t1 * v_q1_d;
-            let t13 = -t12;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t4 = p_l3 * c_v_q3;
+            let t5 = p_l3 * s_v_q3;
+            let t6 = -t3;
+            let t7 = -t4;
+            let t8 = t1 * v_q1_d;
+            let t9 = t0 * v_q1_d;
+            let t10 = -t9;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t9;
+            jac[(0, 0)] = t6;
             // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t8;
+            jac[(0, 1)] = t5;
             // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t4;
+            jac[(1, 0)] = t2;
             // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t10;
-            (::mechgen::nalgebra::SVector::from([t11, t13]), jac)
+            jac[(1, 1)] = t7;
+            (::mechgen::nalgebra::SVector::from([t8, t10]), jac)
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
         #[inline]
@@ -3045,6 +3525,9 @@ pub mod four_bar {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 6],
+            tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
@@ -3063,50 +3546,242 @@ pub mod four_bar {
             let v_q2_d = qd[0];
             let v_q3_d = qd[1];
             let v_q1_dd = xdd[0];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t7 = p_l3 * c_v_q3;
-            let t8 = p_l3 * s_v_q3;
-            let t9 = -t5;
-            let t10 = -t7;
-            let t11 = t4 * v_q2_d;
-            let t12 = t7 * v_q3_d;
-            let t13 = t5 * v_q2_d;
-            let t14 = t8 * v_q3_d;
-            let t15 = t2 * v_q1_d;
-            let t16 = t1 * v_q1_d;
-            let t17 = v_q1_d * t16;
-            let t18 = -t17;
-            let t19 = v_q2_d * t11;
-            let t20 = t18 - t19;
-            let t21 = v_q3_d * t12;
-            let t22 = t20 + t21;
-            let t23 = t2 * v_q1_dd;
-            let t24 = t23 - t22;
-            let t25 = v_q1_d * t15;
-            let t26 = -t25;
-            let t27 = v_q2_d * t13;
-            let t28 = t26 - t27;
-            let t29 = v_q3_d * t14;
-            let t30 = t28 + t29;
-            let t31 = t1 * v_q1_dd;
-            let t32 = t30 + t31;
-            let t33 = -t32;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t4 = p_l3 * c_v_q3;
+            let t5 = p_l3 * s_v_q3;
+            let t6 = -t3;
+            let t7 = -t4;
+            let t8 = t2 * v_q2_d;
+            let t9 = t4 * v_q3_d;
+            let t10 = t3 * v_q2_d;
+            let t11 = t5 * v_q3_d;
+            let t12 = t1 * v_q1_d;
+            let t13 = t0 * v_q1_d;
+            let t14 = v_q1_d * t13;
+            let t15 = -t14;
+            let t16 = v_q2_d * t8;
+            let t17 = t15 - t16;
+            let t18 = v_q3_d * t9;
+            let t19 = t17 + t18;
+            let t20 = t1 * v_q1_dd;
+            let t21 = t20 - t19;
+            let t22 = v_q1_d * t12;
+            let t23 = -t22;
+            let t24 = v_q2_d * t10;
+            let t25 = t23 - t24;
+            let t26 = v_q3_d * t11;
+            let t27 = t25 + t26;
+            let t28 = t0 * v_q1_dd;
+            let t29 = t27 + t28;
+            let t30 = -t29;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t9;
+            jac[(0, 0)] = t6;
             // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t8;
+            jac[(0, 1)] = t5;
             // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t4;
+            jac[(1, 0)] = t2;
             // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t10;
-            (::mechgen::nalgebra::SVector::from([t24, t33]), jac)
+            jac[(1, 1)] = t7;
+            (::mechgen::nalgebra::SVector::from([t21, t30]), jac)
+        }
+        /// Sines and cosines of the inputs and params that appear in a sin or cos.
+        #[inline]
+        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 6]) {
+            let params = self.params.to_array();
+            let mut tx = [(T::zero(), T::one()); 1];
+            let mut tp = [(T::zero(), T::one()); 6];
+            tx[0] = x[0].sin_cos();
+            tp[5] = params[5].sin_cos();
+            (tx, tp)
+        }
+        /// The unknowns with the sines and cosines the solvers read.
+        #[inline]
+        fn trig_state(q: [T; 2]) -> ::mechgen::TrigState<T, 2> {
+            ::mechgen::TrigState::new(q, [true, true])
+        }
+        #[inline]
+        fn position_cached(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 6],
+            options: &::mechgen::NewtonOptions<T>,
+            report: &mut ::mechgen::NewtonReport<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            let scale = self.params.length_scale();
+            // Block 0: q2, q3 from loop 1 (x, y).
+            ::mechgen::newton_block(
+                0,
+                st,
+                [0, 1],
+                [false, false],
+                scale,
+                options,
+                report,
+                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            Ok(())
+        }
+        #[inline]
+        fn velocity_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 6],
+            tq: &[(T, T); 2],
+            xd: &[T; 1],
+        ) -> Result<[T; 2], ::mechgen::SolveError> {
+            let mut qd = [T::zero(); 2];
+            // Block 0: q2, q3 from loop 1 (x, y).
+            let (rhs, jac) = self.block0_velocity(x, q, tx, tp, tq, xd, &qd);
+            let z = ::mechgen::solve_block(
+                0,
+                ::mechgen::Stage::Velocity,
+                jac,
+                rhs,
+            )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            Ok(qd)
+        }
+        #[inline]
+        fn acceleration_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 6],
+            tq: &[(T, T); 2],
+            xd: &[T; 1],
+            qd: &[T; 2],
+            xdd: &[T; 1],
+        ) -> Result<[T; 2], ::mechgen::SolveError> {
+            let mut qdd = [T::zero(); 2];
+            // Block 0: q2, q3 from loop 1 (x, y).
+            let (rhs, jac) = self
+                .block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
+            let z = ::mechgen::solve_block(
+                0,
+                ::mechgen::Stage::Acceleration,
+                jac,
+                rhs,
+            )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            Ok(qdd)
+        }
+        #[inline]
+        fn point_motion_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 6],
+            tq: &[(T, T); 2],
+            xd: &[T; 1],
+            qd: &[T; 2],
+            xdd: &[T; 1],
+            qdd: &[T; 2],
+        ) -> [::mechgen::PointMotion<T>; 3] {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let v_q3 = q[1];
+            let p_l1 = self.params.l1;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let p_lp = self.params.lp;
+            let p_beta = self.params.beta;
+            let v_q1_d = xd[0];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let v_q2_dd = qdd[0];
+            let v_q3_dd = qdd[1];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t2 = p_l3 * c_v_q3;
+            let t3 = p_l3 * s_v_q3;
+            let t4 = p_l4 + t2;
+            let (s_p_beta, c_p_beta) = tp[5];
+            let t5 = c_v_q2 * c_p_beta;
+            let t6 = s_v_q2 * s_p_beta;
+            let t7 = s_v_q2 * c_p_beta;
+            let t8 = c_v_q2 * s_p_beta;
+            let t9 = t5 - t6;
+            let t10 = t7 + t8;
+            let t11 = p_lp * t9;
+            let t12 = p_lp * t10;
+            let t13 = t0 + t11;
+            let t14 = t1 + t12;
+            let t15 = t2 * v_q3_d;
+            let t16 = t3 * v_q3_d;
+            let t17 = t1 * v_q1_d;
+            let t18 = -t17;
+            let t19 = t0 * v_q1_d;
+            let t20 = v_q1_d * t19;
+            let t21 = -t20;
+            let t22 = v_q3_d * t15;
+            let t23 = t1 * v_q1_dd;
+            let t24 = v_q1_d * t17;
+            let t25 = -t16;
+            let t26 = v_q3_d * t16;
+            let t27 = t0 * v_q1_dd;
+            let t28 = -t7;
+            let t29 = t28 - t8;
+            let t30 = p_lp * t29;
+            let t31 = v_q2_d * t30;
+            let t32 = t31 - t17;
+            let t33 = t11 * v_q2_d;
+            let t34 = t19 + t33;
+            let t35 = t21 - t23;
+            let t36 = t27 - t24;
+            let t37 = -t22;
+            let t38 = t3 * v_q3_dd;
+            let t39 = t37 - t38;
+            let t40 = t2 * v_q3_dd;
+            let t41 = t40 - t26;
+            let t42 = t6 - t5;
+            let t43 = p_lp * t42;
+            let t44 = v_q2_d * t43;
+            let t45 = v_q2_d * t44;
+            let t46 = t45 - t20;
+            let t47 = t46 - t23;
+            let t48 = t30 * v_q2_dd;
+            let t49 = t47 + t48;
+            let t50 = v_q2_d * t31;
+            let t51 = t50 - t24;
+            let t52 = t27 + t51;
+            let t53 = t11 * v_q2_dd;
+            let t54 = t52 + t53;
+            [
+                ::mechgen::PointMotion {
+                    position: [t0, t1],
+                    velocity: [t18, t19],
+                    acceleration: [t35, t36],
+                },
+                ::mechgen::PointMotion {
+                    position: [t4, t3],
+                    velocity: [t25, t15],
+                    acceleration: [t39, t41],
+                },
+                ::mechgen::PointMotion {
+                    position: [t13, t14],
+                    velocity: [t32, t34],
+                    acceleration: [t49, t54],
+                },
+            ]
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -3122,19 +3797,11 @@ pub mod four_bar {
             )?;
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-            let scale = self.params.length_scale();
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::NewtonReport::new();
-            // Block 0: q2, q3 from loop 1 (x, y).
-            ::mechgen::newton_block(
-                0,
-                q,
-                [0, 1],
-                [false, false],
-                scale,
-                options,
-                &mut report,
-                |q| self.block0_position(x, q),
-            )?;
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
             Ok(report)
         }
         /// q̇ from J q̇ = −Φx ẋ at a solved position.
@@ -3145,18 +3812,9 @@ pub mod four_bar {
             xd: &[T; 1],
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            let mut qd = [T::zero(); 2];
-            // Block 0: q2, q3 from loop 1 (x, y).
-            let (rhs, jac) = self.block0_velocity(x, q, xd, &qd);
-            let z = ::mechgen::solve_block(
-                0,
-                ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
-            )?;
-            qd[0] = z[0];
-            qd[1] = z[1];
-            Ok(qd)
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
         }
         /// q̈ from J q̈ = γ at a solved position and velocity.
         pub fn solve_acceleration(
@@ -3168,18 +3826,46 @@ pub mod four_bar {
             xdd: &[T; 1],
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-            let mut qdd = [T::zero(); 2];
-            // Block 0: q2, q3 from loop 1 (x, y).
-            let (rhs, jac) = self.block0_acceleration(x, q, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
-                0,
-                ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+        }
+        /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
+        /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        pub fn solve_arrays(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            q: &mut [T; 2],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<
+            (
+                [T; 2],
+                [T; 2],
+                [::mechgen::PointMotion<T>; 3],
+                ::mechgen::NewtonReport<T>,
+            ),
+            ::mechgen::SolveError,
+        > {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
             )?;
-            qdd[0] = z[0];
-            qdd[1] = z[1];
-            Ok(qdd)
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
+            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self
+                .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            Ok((qd, qdd, points, report))
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
         pub fn solve(
@@ -3190,14 +3876,15 @@ pub mod four_bar {
             guess: Unknowns<T>,
             options: &::mechgen::NewtonOptions<T>,
         ) -> Result<Motion<T>, ::mechgen::SolveError> {
-            let (xa, xda, xdda) = (x.to_array(), xd.to_array(), xdd.to_array());
             let mut q = guess.to_array();
-            let report = self.solve_position(&xa, &mut q, options)?;
-            let qd = self.solve_velocity(&xa, &q, &xda)?;
-            let qdd = self.solve_acceleration(&xa, &q, &xda, &qd, &xdda)?;
-            let points = Points::from_array(
-                self.point_motion(&xa, &q, &xda, &qd, &xdda, &qdd),
-            );
+            let (qd, qdd, points, report) = self
+                .solve_arrays(
+                    &x.to_array(),
+                    &xd.to_array(),
+                    &xdd.to_array(),
+                    &mut q,
+                    options,
+                )?;
             Ok(Motion {
                 x,
                 xd,
@@ -3205,7 +3892,7 @@ pub mod four_bar {
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
-                points,
+                points: Points::from_array(points),
                 report,
             })
         }
@@ -3291,6 +3978,25 @@ pub mod four_bar {
             {
                 *o = p;
             }
+        }
+        fn solve_motion(
+            &self,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            q: &mut Self::Q,
+            qd: &mut Self::Q,
+            qdd: &mut Self::Q,
+            points: &mut [::mechgen::PointMotion<T>],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            let (v, a, p, report) = FourBar::solve_arrays(self, x, xd, xdd, q, options)?;
+            *qd = v;
+            *qdd = a;
+            for (o, m) in points.iter_mut().zip(p) {
+                *o = m;
+            }
+            Ok(report)
         }
     }
 }
@@ -3733,6 +4439,9 @@ pub mod slider_crank {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            tq: &[(T, T); 2],
         ) -> (
             ::mechgen::nalgebra::SVector<T, 1>,
             ::mechgen::nalgebra::SMatrix<T, 1, 1>,
@@ -3742,17 +4451,17 @@ pub mod slider_crank {
             let p_r = self.params.r;
             let p_l = self.params.l;
             let p_off = self.params.off;
-            let t0 = v_q1.sin();
-            let t1 = p_r * t0;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t3 = p_l * c_v_q2;
-            let t4 = p_l * s_v_q2;
-            let t5 = t1 + t4;
-            let t6 = t5 - p_off;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_r * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t1 = p_l * c_v_q2;
+            let t2 = p_l * s_v_q2;
+            let t3 = t0 + t2;
+            let t4 = t3 - p_off;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
-            jac[(0, 0)] = t3;
-            (::mechgen::nalgebra::SVector::from([t6]), jac)
+            jac[(0, 0)] = t1;
+            (::mechgen::nalgebra::SVector::from([t4]), jac)
         }
         /// Block 0: q2 from loop 1 (y). Its right-hand side and Jacobian block.
         #[inline]
@@ -3760,6 +4469,9 @@ pub mod slider_crank {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
         ) -> (
@@ -3771,16 +4483,16 @@ pub mod slider_crank {
             let p_r = self.params.r;
             let p_l = self.params.l;
             let v_q1_d = xd[0];
-            let t0 = v_q1.cos();
-            let t1 = p_r * t0;
-            let t2 = v_q2.cos();
-            let t3 = p_l * t2;
-            let t4 = t1 * v_q1_d;
-            let t5 = -t4;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_r * c_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t1 = p_l * c_v_q2;
+            let t2 = t0 * v_q1_d;
+            let t3 = -t2;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
-            jac[(0, 0)] = t3;
-            (::mechgen::nalgebra::SVector::from([t5]), jac)
+            jac[(0, 0)] = t1;
+            (::mechgen::nalgebra::SVector::from([t3]), jac)
         }
         /// Block 0: q2 from loop 1 (y). Its right-hand side and Jacobian block.
         #[inline]
@@ -3788,6 +4500,9 @@ pub mod slider_crank {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
@@ -3803,25 +4518,25 @@ pub mod slider_crank {
             let v_q1_d = xd[0];
             let v_q2_d = qd[0];
             let v_q1_dd = xdd[0];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_r * c_v_q1;
-            let t2 = p_r * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l * c_v_q2;
-            let t5 = p_l * s_v_q2;
-            let t6 = t5 * v_q2_d;
-            let t7 = t2 * v_q1_d;
-            let t8 = v_q1_d * t7;
-            let t9 = -t8;
-            let t10 = v_q2_d * t6;
-            let t11 = t9 - t10;
-            let t12 = t1 * v_q1_dd;
-            let t13 = t11 + t12;
-            let t14 = -t13;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_r * c_v_q1;
+            let t1 = p_r * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l * c_v_q2;
+            let t3 = p_l * s_v_q2;
+            let t4 = t3 * v_q2_d;
+            let t5 = t1 * v_q1_d;
+            let t6 = v_q1_d * t5;
+            let t7 = -t6;
+            let t8 = v_q2_d * t4;
+            let t9 = t7 - t8;
+            let t10 = t0 * v_q1_dd;
+            let t11 = t9 + t10;
+            let t12 = -t11;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
-            jac[(0, 0)] = t4;
-            (::mechgen::nalgebra::SVector::from([t14]), jac)
+            jac[(0, 0)] = t2;
+            (::mechgen::nalgebra::SVector::from([t12]), jac)
         }
         /// Block 1: sC from loop 1 (x). Its residual and Jacobian block.
         #[inline]
@@ -3829,6 +4544,9 @@ pub mod slider_crank {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            tq: &[(T, T); 2],
         ) -> (
             ::mechgen::nalgebra::SVector<T, 1>,
             ::mechgen::nalgebra::SMatrix<T, 1, 1>,
@@ -3838,16 +4556,16 @@ pub mod slider_crank {
             let v_sC = q[1];
             let p_r = self.params.r;
             let p_l = self.params.l;
-            let t0 = v_q1.cos();
-            let t1 = p_r * t0;
-            let t2 = v_q2.cos();
-            let t3 = p_l * t2;
-            let t4 = t1 + t3;
-            let t5 = t4 - v_sC;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_r * c_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t1 = p_l * c_v_q2;
+            let t2 = t0 + t1;
+            let t3 = t2 - v_sC;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂sC
             jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t5]), jac)
+            (::mechgen::nalgebra::SVector::from([t3]), jac)
         }
         /// Block 1: sC from loop 1 (x). Its right-hand side and Jacobian block.
         #[inline]
@@ -3855,6 +4573,9 @@ pub mod slider_crank {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
         ) -> (
@@ -3867,17 +4588,17 @@ pub mod slider_crank {
             let p_l = self.params.l;
             let v_q1_d = xd[0];
             let v_q2_d = qd[0];
-            let t0 = v_q1.sin();
-            let t1 = p_r * t0;
-            let t2 = v_q2.sin();
-            let t3 = p_l * t2;
-            let t4 = t3 * v_q2_d;
-            let t5 = t1 * v_q1_d;
-            let t6 = t4 + t5;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_r * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t1 = p_l * s_v_q2;
+            let t2 = t1 * v_q2_d;
+            let t3 = t0 * v_q1_d;
+            let t4 = t2 + t3;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂sC
             jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t6]), jac)
+            (::mechgen::nalgebra::SVector::from([t4]), jac)
         }
         /// Block 1: sC from loop 1 (x). Its right-hand side and Jacobian block.
         #[inline]
@@ -3885,6 +4606,9 @@ pub mod slider_crank {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
@@ -3901,26 +4625,218 @@ pub mod slider_crank {
             let v_q2_d = qd[0];
             let v_q1_dd = xdd[0];
             let v_q2_dd = qdd[0];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_r * c_v_q1;
-            let t2 = p_r * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l * c_v_q2;
-            let t5 = p_l * s_v_q2;
-            let t6 = t4 * v_q2_d;
-            let t7 = t1 * v_q1_d;
-            let t8 = v_q1_d * t7;
-            let t9 = -t8;
-            let t10 = v_q2_d * t6;
-            let t11 = t9 - t10;
-            let t12 = t2 * v_q1_dd;
-            let t13 = t12 - t11;
-            let t14 = t5 * v_q2_dd;
-            let t15 = t13 + t14;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_r * c_v_q1;
+            let t1 = p_r * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l * c_v_q2;
+            let t3 = p_l * s_v_q2;
+            let t4 = t2 * v_q2_d;
+            let t5 = t0 * v_q1_d;
+            let t6 = v_q1_d * t5;
+            let t7 = -t6;
+            let t8 = v_q2_d * t4;
+            let t9 = t7 - t8;
+            let t10 = t1 * v_q1_dd;
+            let t11 = t10 - t9;
+            let t12 = t3 * v_q2_dd;
+            let t13 = t11 + t12;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂sC
             jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t15]), jac)
+            (::mechgen::nalgebra::SVector::from([t13]), jac)
+        }
+        /// Sines and cosines of the inputs and params that appear in a sin or cos.
+        #[inline]
+        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 3]) {
+            let params = self.params.to_array();
+            let mut tx = [(T::zero(), T::one()); 1];
+            let mut tp = [(T::zero(), T::one()); 3];
+            tx[0] = x[0].sin_cos();
+            (tx, tp)
+        }
+        /// The unknowns with the sines and cosines the solvers read.
+        #[inline]
+        fn trig_state(q: [T; 2]) -> ::mechgen::TrigState<T, 2> {
+            ::mechgen::TrigState::new(q, [true, false])
+        }
+        #[inline]
+        fn position_cached(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            options: &::mechgen::NewtonOptions<T>,
+            report: &mut ::mechgen::NewtonReport<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            let scale = self.params.length_scale();
+            // Block 0: q2 from loop 1 (y).
+            ::mechgen::newton_block(
+                0,
+                st,
+                [0],
+                [false],
+                scale,
+                options,
+                report,
+                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            // Block 1: sC from loop 1 (x).
+            ::mechgen::newton_block(
+                1,
+                st,
+                [1],
+                [true],
+                scale,
+                options,
+                report,
+                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            Ok(())
+        }
+        #[inline]
+        fn velocity_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            tq: &[(T, T); 2],
+            xd: &[T; 1],
+        ) -> Result<[T; 2], ::mechgen::SolveError> {
+            let mut qd = [T::zero(); 2];
+            // Block 0: q2 from loop 1 (y).
+            let (rhs, jac) = self.block0_velocity(x, q, tx, tp, tq, xd, &qd);
+            let z = ::mechgen::solve_block(
+                0,
+                ::mechgen::Stage::Velocity,
+                jac,
+                rhs,
+            )?;
+            qd[0] = z[0];
+            // Block 1: sC from loop 1 (x).
+            let (rhs, jac) = self.block1_velocity(x, q, tx, tp, tq, xd, &qd);
+            let z = ::mechgen::solve_block(
+                1,
+                ::mechgen::Stage::Velocity,
+                jac,
+                rhs,
+            )?;
+            qd[1] = z[0];
+            Ok(qd)
+        }
+        #[inline]
+        fn acceleration_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            tq: &[(T, T); 2],
+            xd: &[T; 1],
+            qd: &[T; 2],
+            xdd: &[T; 1],
+        ) -> Result<[T; 2], ::mechgen::SolveError> {
+            let mut qdd = [T::zero(); 2];
+            // Block 0: q2 from loop 1 (y).
+            let (rhs, jac) = self
+                .block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
+            let z = ::mechgen::solve_block(
+                0,
+                ::mechgen::Stage::Acceleration,
+                jac,
+                rhs,
+            )?;
+            qdd[0] = z[0];
+            // Block 1: sC from loop 1 (x).
+            let (rhs, jac) = self
+                .block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
+            let z = ::mechgen::solve_block(
+                1,
+                ::mechgen::Stage::Acceleration,
+                jac,
+                rhs,
+            )?;
+            qdd[1] = z[0];
+            Ok(qdd)
+        }
+        #[inline]
+        fn point_motion_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            tq: &[(T, T); 2],
+            xd: &[T; 1],
+            qd: &[T; 2],
+            xdd: &[T; 1],
+            qdd: &[T; 2],
+        ) -> [::mechgen::PointMotion<T>; 3] {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let v_sC = q[1];
+            let p_r = self.params.r;
+            let p_l = self.params.l;
+            let p_off = self.params.off;
+            let v_q1_d = xd[0];
+            let v_q2_d = qd[0];
+            let v_sC_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let v_q2_dd = qdd[0];
+            let v_sC_dd = qdd[1];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_r * c_v_q1;
+            let t1 = p_r * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l / T::lit(2.0);
+            let t3 = c_v_q2 * t2;
+            let t4 = s_v_q2 * t2;
+            let t5 = t0 + t3;
+            let t6 = t1 + t4;
+            let t7 = t1 * v_q1_d;
+            let t8 = -t7;
+            let t9 = t0 * v_q1_d;
+            let t10 = v_q1_d * t9;
+            let t11 = -t10;
+            let t12 = t1 * v_q1_dd;
+            let t13 = v_q1_d * t7;
+            let t14 = -t13;
+            let t15 = t0 * v_q1_dd;
+            let t16 = t4 * v_q2_d;
+            let t17 = t8 - t16;
+            let t18 = t3 * v_q2_d;
+            let t19 = t9 + t18;
+            let t20 = t11 - t12;
+            let t21 = t15 - t13;
+            let t22 = v_q2_d * t18;
+            let t23 = t11 - t22;
+            let t24 = t23 - t12;
+            let t25 = t4 * v_q2_dd;
+            let t26 = t24 - t25;
+            let t27 = v_q2_d * t16;
+            let t28 = t14 - t27;
+            let t29 = t15 + t28;
+            let t30 = t3 * v_q2_dd;
+            let t31 = t29 + t30;
+            [
+                ::mechgen::PointMotion {
+                    position: [t0, t1],
+                    velocity: [t8, t9],
+                    acceleration: [t20, t21],
+                },
+                ::mechgen::PointMotion {
+                    position: [v_sC, p_off],
+                    velocity: [v_sC_d, T::zero()],
+                    acceleration: [v_sC_dd, T::zero()],
+                },
+                ::mechgen::PointMotion {
+                    position: [t5, t6],
+                    velocity: [t17, t19],
+                    acceleration: [t26, t31],
+                },
+            ]
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -3936,30 +4852,11 @@ pub mod slider_crank {
             )?;
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-            let scale = self.params.length_scale();
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::NewtonReport::new();
-            // Block 0: q2 from loop 1 (y).
-            ::mechgen::newton_block(
-                0,
-                q,
-                [0],
-                [false],
-                scale,
-                options,
-                &mut report,
-                |q| self.block0_position(x, q),
-            )?;
-            // Block 1: sC from loop 1 (x).
-            ::mechgen::newton_block(
-                1,
-                q,
-                [1],
-                [true],
-                scale,
-                options,
-                &mut report,
-                |q| self.block1_position(x, q),
-            )?;
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
             Ok(report)
         }
         /// q̇ from J q̇ = −Φx ẋ at a solved position.
@@ -3970,26 +4867,9 @@ pub mod slider_crank {
             xd: &[T; 1],
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            let mut qd = [T::zero(); 2];
-            // Block 0: q2 from loop 1 (y).
-            let (rhs, jac) = self.block0_velocity(x, q, xd, &qd);
-            let z = ::mechgen::solve_block(
-                0,
-                ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
-            )?;
-            qd[0] = z[0];
-            // Block 1: sC from loop 1 (x).
-            let (rhs, jac) = self.block1_velocity(x, q, xd, &qd);
-            let z = ::mechgen::solve_block(
-                1,
-                ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
-            )?;
-            qd[1] = z[0];
-            Ok(qd)
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
         }
         /// q̈ from J q̈ = γ at a solved position and velocity.
         pub fn solve_acceleration(
@@ -4001,26 +4881,46 @@ pub mod slider_crank {
             xdd: &[T; 1],
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-            let mut qdd = [T::zero(); 2];
-            // Block 0: q2 from loop 1 (y).
-            let (rhs, jac) = self.block0_acceleration(x, q, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
-                0,
-                ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+        }
+        /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
+        /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        pub fn solve_arrays(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            q: &mut [T; 2],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<
+            (
+                [T; 2],
+                [T; 2],
+                [::mechgen::PointMotion<T>; 3],
+                ::mechgen::NewtonReport<T>,
+            ),
+            ::mechgen::SolveError,
+        > {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
             )?;
-            qdd[0] = z[0];
-            // Block 1: sC from loop 1 (x).
-            let (rhs, jac) = self.block1_acceleration(x, q, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
-                1,
-                ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
-            )?;
-            qdd[1] = z[0];
-            Ok(qdd)
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
+            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self
+                .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            Ok((qd, qdd, points, report))
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
         pub fn solve(
@@ -4031,14 +4931,15 @@ pub mod slider_crank {
             guess: Unknowns<T>,
             options: &::mechgen::NewtonOptions<T>,
         ) -> Result<Motion<T>, ::mechgen::SolveError> {
-            let (xa, xda, xdda) = (x.to_array(), xd.to_array(), xdd.to_array());
             let mut q = guess.to_array();
-            let report = self.solve_position(&xa, &mut q, options)?;
-            let qd = self.solve_velocity(&xa, &q, &xda)?;
-            let qdd = self.solve_acceleration(&xa, &q, &xda, &qd, &xdda)?;
-            let points = Points::from_array(
-                self.point_motion(&xa, &q, &xda, &qd, &xdda, &qdd),
-            );
+            let (qd, qdd, points, report) = self
+                .solve_arrays(
+                    &x.to_array(),
+                    &xd.to_array(),
+                    &xdd.to_array(),
+                    &mut q,
+                    options,
+                )?;
             Ok(Motion {
                 x,
                 xd,
@@ -4046,7 +4947,7 @@ pub mod slider_crank {
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
-                points,
+                points: Points::from_array(points),
                 report,
             })
         }
@@ -4135,6 +5036,32 @@ pub mod slider_crank {
             {
                 *o = p;
             }
+        }
+        fn solve_motion(
+            &self,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            q: &mut Self::Q,
+            qd: &mut Self::Q,
+            qdd: &mut Self::Q,
+            points: &mut [::mechgen::PointMotion<T>],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            let (v, a, p, report) = SliderCrank::solve_arrays(
+                self,
+                x,
+                xd,
+                xdd,
+                q,
+                options,
+            )?;
+            *qd = v;
+            *qdd = a;
+            for (o, m) in points.iter_mut().zip(p) {
+                *o = m;
+            }
+            Ok(report)
         }
     }
 }
@@ -4603,6 +5530,9 @@ pub mod rocker_four_bar {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 4],
+            tq: &[(T, T); 2],
         ) -> (
             ::mechgen::nalgebra::SVector<T, 2>,
             ::mechgen::nalgebra::SMatrix<T, 2, 2>,
@@ -4614,32 +5544,32 @@ pub mod rocker_four_bar {
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let t6 = t1 + t4;
-            let t7 = t2 + t5;
-            let t8 = t6 - p_l4;
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t10 = p_l3 * c_v_q3;
-            let t11 = p_l3 * s_v_q3;
-            let t12 = t8 - t10;
-            let t13 = t7 - t11;
-            let t14 = -t5;
-            let t15 = -t10;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let t4 = t0 + t2;
+            let t5 = t1 + t3;
+            let t6 = t4 - p_l4;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t7 = p_l3 * c_v_q3;
+            let t8 = p_l3 * s_v_q3;
+            let t9 = t6 - t7;
+            let t10 = t5 - t8;
+            let t11 = -t3;
+            let t12 = -t7;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t14;
+            jac[(0, 0)] = t11;
             // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t11;
+            jac[(0, 1)] = t8;
             // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t4;
+            jac[(1, 0)] = t2;
             // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t15;
-            (::mechgen::nalgebra::SVector::from([t12, t13]), jac)
+            jac[(1, 1)] = t12;
+            (::mechgen::nalgebra::SVector::from([t9, t10]), jac)
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
         #[inline]
@@ -4647,6 +5577,9 @@ pub mod rocker_four_bar {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 4],
+            tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
         ) -> (
@@ -4660,30 +5593,30 @@ pub mod rocker_four_bar {
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let v_q1_d = xd[0];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t7 = p_l3 * c_v_q3;
-            let t8 = p_l3 * s_v_q3;
-            let t9 = -t5;
-            let t10 = -t7;
-            let t11 = t2 * v_q1_d;
-            let t12 = t1 * v_q1_d;
-            let t13 = -t12;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t4 = p_l3 * c_v_q3;
+            let t5 = p_l3 * s_v_q3;
+            let t6 = -t3;
+            let t7 = -t4;
+            let t8 = t1 * v_q1_d;
+            let t9 = t0 * v_q1_d;
+            let t10 = -t9;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t9;
+            jac[(0, 0)] = t6;
             // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t8;
+            jac[(0, 1)] = t5;
             // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t4;
+            jac[(1, 0)] = t2;
             // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t10;
-            (::mechgen::nalgebra::SVector::from([t11, t13]), jac)
+            jac[(1, 1)] = t7;
+            (::mechgen::nalgebra::SVector::from([t8, t10]), jac)
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
         #[inline]
@@ -4691,6 +5624,9 @@ pub mod rocker_four_bar {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 4],
+            tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
@@ -4709,50 +5645,199 @@ pub mod rocker_four_bar {
             let v_q2_d = qd[0];
             let v_q3_d = qd[1];
             let v_q1_dd = xdd[0];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t7 = p_l3 * c_v_q3;
-            let t8 = p_l3 * s_v_q3;
-            let t9 = -t5;
-            let t10 = -t7;
-            let t11 = t4 * v_q2_d;
-            let t12 = t7 * v_q3_d;
-            let t13 = t5 * v_q2_d;
-            let t14 = t8 * v_q3_d;
-            let t15 = t2 * v_q1_d;
-            let t16 = t1 * v_q1_d;
-            let t17 = v_q1_d * t16;
-            let t18 = -t17;
-            let t19 = v_q2_d * t11;
-            let t20 = t18 - t19;
-            let t21 = v_q3_d * t12;
-            let t22 = t20 + t21;
-            let t23 = t2 * v_q1_dd;
-            let t24 = t23 - t22;
-            let t25 = v_q1_d * t15;
-            let t26 = -t25;
-            let t27 = v_q2_d * t13;
-            let t28 = t26 - t27;
-            let t29 = v_q3_d * t14;
-            let t30 = t28 + t29;
-            let t31 = t1 * v_q1_dd;
-            let t32 = t30 + t31;
-            let t33 = -t32;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t4 = p_l3 * c_v_q3;
+            let t5 = p_l3 * s_v_q3;
+            let t6 = -t3;
+            let t7 = -t4;
+            let t8 = t2 * v_q2_d;
+            let t9 = t4 * v_q3_d;
+            let t10 = t3 * v_q2_d;
+            let t11 = t5 * v_q3_d;
+            let t12 = t1 * v_q1_d;
+            let t13 = t0 * v_q1_d;
+            let t14 = v_q1_d * t13;
+            let t15 = -t14;
+            let t16 = v_q2_d * t8;
+            let t17 = t15 - t16;
+            let t18 = v_q3_d * t9;
+            let t19 = t17 + t18;
+            let t20 = t1 * v_q1_dd;
+            let t21 = t20 - t19;
+            let t22 = v_q1_d * t12;
+            let t23 = -t22;
+            let t24 = v_q2_d * t10;
+            let t25 = t23 - t24;
+            let t26 = v_q3_d * t11;
+            let t27 = t25 + t26;
+            let t28 = t0 * v_q1_dd;
+            let t29 = t27 + t28;
+            let t30 = -t29;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t9;
+            jac[(0, 0)] = t6;
             // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t8;
+            jac[(0, 1)] = t5;
             // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t4;
+            jac[(1, 0)] = t2;
             // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t10;
-            (::mechgen::nalgebra::SVector::from([t24, t33]), jac)
+            jac[(1, 1)] = t7;
+            (::mechgen::nalgebra::SVector::from([t21, t30]), jac)
+        }
+        /// Sines and cosines of the inputs and params that appear in a sin or cos.
+        #[inline]
+        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 4]) {
+            let params = self.params.to_array();
+            let mut tx = [(T::zero(), T::one()); 1];
+            let mut tp = [(T::zero(), T::one()); 4];
+            tx[0] = x[0].sin_cos();
+            (tx, tp)
+        }
+        /// The unknowns with the sines and cosines the solvers read.
+        #[inline]
+        fn trig_state(q: [T; 2]) -> ::mechgen::TrigState<T, 2> {
+            ::mechgen::TrigState::new(q, [true, true])
+        }
+        #[inline]
+        fn position_cached(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 4],
+            options: &::mechgen::NewtonOptions<T>,
+            report: &mut ::mechgen::NewtonReport<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            let scale = self.params.length_scale();
+            // Block 0: q2, q3 from loop 1 (x, y).
+            ::mechgen::newton_block(
+                0,
+                st,
+                [0, 1],
+                [false, false],
+                scale,
+                options,
+                report,
+                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            Ok(())
+        }
+        #[inline]
+        fn velocity_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 4],
+            tq: &[(T, T); 2],
+            xd: &[T; 1],
+        ) -> Result<[T; 2], ::mechgen::SolveError> {
+            let mut qd = [T::zero(); 2];
+            // Block 0: q2, q3 from loop 1 (x, y).
+            let (rhs, jac) = self.block0_velocity(x, q, tx, tp, tq, xd, &qd);
+            let z = ::mechgen::solve_block(
+                0,
+                ::mechgen::Stage::Velocity,
+                jac,
+                rhs,
+            )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            Ok(qd)
+        }
+        #[inline]
+        fn acceleration_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 4],
+            tq: &[(T, T); 2],
+            xd: &[T; 1],
+            qd: &[T; 2],
+            xdd: &[T; 1],
+        ) -> Result<[T; 2], ::mechgen::SolveError> {
+            let mut qdd = [T::zero(); 2];
+            // Block 0: q2, q3 from loop 1 (x, y).
+            let (rhs, jac) = self
+                .block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
+            let z = ::mechgen::solve_block(
+                0,
+                ::mechgen::Stage::Acceleration,
+                jac,
+                rhs,
+            )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            Ok(qdd)
+        }
+        #[inline]
+        fn point_motion_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 4],
+            tq: &[(T, T); 2],
+            xd: &[T; 1],
+            qd: &[T; 2],
+            xdd: &[T; 1],
+            qdd: &[T; 2],
+        ) -> [::mechgen::PointMotion<T>; 2] {
+            let v_q1 = x[0];
+            let v_q3 = q[1];
+            let p_l1 = self.params.l1;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let v_q1_d = xd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let v_q3_dd = qdd[1];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t2 = p_l3 * c_v_q3;
+            let t3 = p_l3 * s_v_q3;
+            let t4 = p_l4 + t2;
+            let t5 = t2 * v_q3_d;
+            let t6 = t3 * v_q3_d;
+            let t7 = t1 * v_q1_d;
+            let t8 = -t7;
+            let t9 = t0 * v_q1_d;
+            let t10 = v_q1_d * t9;
+            let t11 = -t10;
+            let t12 = v_q3_d * t5;
+            let t13 = t1 * v_q1_dd;
+            let t14 = v_q1_d * t7;
+            let t15 = -t6;
+            let t16 = v_q3_d * t6;
+            let t17 = t0 * v_q1_dd;
+            let t18 = t11 - t13;
+            let t19 = t17 - t14;
+            let t20 = -t12;
+            let t21 = t3 * v_q3_dd;
+            let t22 = t20 - t21;
+            let t23 = t2 * v_q3_dd;
+            let t24 = t23 - t16;
+            [
+                ::mechgen::PointMotion {
+                    position: [t0, t1],
+                    velocity: [t8, t9],
+                    acceleration: [t18, t19],
+                },
+                ::mechgen::PointMotion {
+                    position: [t4, t3],
+                    velocity: [t15, t5],
+                    acceleration: [t22, t24],
+                },
+            ]
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -4768,19 +5853,11 @@ pub mod rocker_four_bar {
             )?;
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-            let scale = self.params.length_scale();
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::NewtonReport::new();
-            // Block 0: q2, q3 from loop 1 (x, y).
-            ::mechgen::newton_block(
-                0,
-                q,
-                [0, 1],
-                [false, false],
-                scale,
-                options,
-                &mut report,
-                |q| self.block0_position(x, q),
-            )?;
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
             Ok(report)
         }
         /// q̇ from J q̇ = −Φx ẋ at a solved position.
@@ -4791,18 +5868,9 @@ pub mod rocker_four_bar {
             xd: &[T; 1],
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            let mut qd = [T::zero(); 2];
-            // Block 0: q2, q3 from loop 1 (x, y).
-            let (rhs, jac) = self.block0_velocity(x, q, xd, &qd);
-            let z = ::mechgen::solve_block(
-                0,
-                ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
-            )?;
-            qd[0] = z[0];
-            qd[1] = z[1];
-            Ok(qd)
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
         }
         /// q̈ from J q̈ = γ at a solved position and velocity.
         pub fn solve_acceleration(
@@ -4814,18 +5882,46 @@ pub mod rocker_four_bar {
             xdd: &[T; 1],
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-            let mut qdd = [T::zero(); 2];
-            // Block 0: q2, q3 from loop 1 (x, y).
-            let (rhs, jac) = self.block0_acceleration(x, q, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
-                0,
-                ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+        }
+        /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
+        /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        pub fn solve_arrays(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            q: &mut [T; 2],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<
+            (
+                [T; 2],
+                [T; 2],
+                [::mechgen::PointMotion<T>; 2],
+                ::mechgen::NewtonReport<T>,
+            ),
+            ::mechgen::SolveError,
+        > {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
             )?;
-            qdd[0] = z[0];
-            qdd[1] = z[1];
-            Ok(qdd)
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
+            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self
+                .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            Ok((qd, qdd, points, report))
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
         pub fn solve(
@@ -4836,14 +5932,15 @@ pub mod rocker_four_bar {
             guess: Unknowns<T>,
             options: &::mechgen::NewtonOptions<T>,
         ) -> Result<Motion<T>, ::mechgen::SolveError> {
-            let (xa, xda, xdda) = (x.to_array(), xd.to_array(), xdd.to_array());
             let mut q = guess.to_array();
-            let report = self.solve_position(&xa, &mut q, options)?;
-            let qd = self.solve_velocity(&xa, &q, &xda)?;
-            let qdd = self.solve_acceleration(&xa, &q, &xda, &qd, &xdda)?;
-            let points = Points::from_array(
-                self.point_motion(&xa, &q, &xda, &qd, &xdda, &qdd),
-            );
+            let (qd, qdd, points, report) = self
+                .solve_arrays(
+                    &x.to_array(),
+                    &xd.to_array(),
+                    &xdd.to_array(),
+                    &mut q,
+                    options,
+                )?;
             Ok(Motion {
                 x,
                 xd,
@@ -4851,7 +5948,7 @@ pub mod rocker_four_bar {
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
-                points,
+                points: Points::from_array(points),
                 report,
             })
         }
@@ -4940,6 +6037,32 @@ pub mod rocker_four_bar {
             {
                 *o = p;
             }
+        }
+        fn solve_motion(
+            &self,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            q: &mut Self::Q,
+            qd: &mut Self::Q,
+            qdd: &mut Self::Q,
+            points: &mut [::mechgen::PointMotion<T>],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            let (v, a, p, report) = RockerFourBar::solve_arrays(
+                self,
+                x,
+                xd,
+                xdd,
+                q,
+                options,
+            )?;
+            *qd = v;
+            *qdd = a;
+            for (o, m) in points.iter_mut().zip(p) {
+                *o = m;
+            }
+            Ok(report)
         }
     }
 }
@@ -5249,25 +6372,30 @@ pub mod sixbar_g {
             let t11 = p_l3 * s_v_q3;
             let t12 = t8 - t10;
             let t13 = t7 - t11;
-            let t14 = v_q2 - p_alpha;
-            let (s15, c15) = t14.sin_cos();
-            let t16 = p_l2e * c15;
-            let t17 = p_l2e * s15;
-            let t18 = t6 + t16;
-            let t19 = t7 + t17;
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t15 = c_v_q2 * c_p_alpha;
+            let t16 = s_v_q2 * s_p_alpha;
+            let t17 = s_v_q2 * c_p_alpha;
+            let t18 = c_v_q2 * s_p_alpha;
+            let t19 = t15 + t16;
+            let t20 = t17 - t18;
+            let t21 = p_l2e * t19;
+            let t22 = p_l2e * t20;
+            let t23 = t6 + t21;
+            let t24 = t7 + t22;
             let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t21 = p_l5 * c_v_q5;
-            let t22 = p_l5 * s_v_q5;
-            let t23 = t18 - t21;
-            let t24 = t19 - t22;
-            let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t26 = p_l6 * c_v_q6;
-            let t27 = p_l6 * s_v_q6;
+            let t26 = p_l5 * c_v_q5;
+            let t27 = p_l5 * s_v_q5;
             let t28 = t23 - t26;
             let t29 = t24 - t27;
-            let t30 = t28 - p_xg;
-            let t31 = t29 - p_yg;
-            [t12, t13, t30, t31]
+            let (s_v_q6, c_v_q6) = v_q6.sin_cos();
+            let t31 = p_l6 * c_v_q6;
+            let t32 = p_l6 * s_v_q6;
+            let t33 = t28 - t31;
+            let t34 = t29 - t32;
+            let t35 = t33 - p_xg;
+            let t36 = t34 - p_yg;
+            [t12, t13, t35, t36]
         }
         /// J = ∂Φ/∂q at (x, q).
         pub fn jacobian(
@@ -5294,24 +6422,29 @@ pub mod sixbar_g {
             let (s_v_q3, c_v_q3) = v_q3.sin_cos();
             let t7 = p_l3 * c_v_q3;
             let t8 = p_l3 * s_v_q3;
-            let t9 = v_q2 - p_alpha;
-            let (s10, c10) = t9.sin_cos();
-            let t11 = p_l2e * c10;
-            let t12 = p_l2e * s10;
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t10 = c_v_q2 * c_p_alpha;
+            let t11 = s_v_q2 * s_p_alpha;
+            let t12 = s_v_q2 * c_p_alpha;
+            let t13 = c_v_q2 * s_p_alpha;
+            let t14 = t10 + t11;
+            let t15 = p_l2e * t14;
             let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t14 = p_l5 * c_v_q5;
-            let t15 = p_l5 * s_v_q5;
-            let t16 = -t2;
-            let t17 = -t5;
-            let t18 = -t7;
-            let t19 = t17 - t12;
-            let t20 = t4 + t11;
-            let t21 = -t14;
+            let t17 = p_l5 * c_v_q5;
+            let t18 = p_l5 * s_v_q5;
+            let t19 = -t2;
+            let t20 = -t5;
+            let t21 = -t7;
+            let t22 = t13 - t12;
+            let t23 = p_l2e * t22;
+            let t24 = t23 - t5;
+            let t25 = t4 + t15;
+            let t26 = -t17;
             let mut m = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
-            m[(0, 0)] = t16;
+            m[(0, 0)] = t19;
             // [0][1] = ∂Φ0/∂q2 (loop 1, x)
-            m[(0, 1)] = t17;
+            m[(0, 1)] = t20;
             // [0][2] = ∂Φ0/∂q3 (loop 1, x)
             m[(0, 2)] = t8;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -5319,19 +6452,19 @@ pub mod sixbar_g {
             // [1][1] = ∂Φ1/∂q2 (loop 1, y)
             m[(1, 1)] = t4;
             // [1][2] = ∂Φ1/∂q3 (loop 1, y)
-            m[(1, 2)] = t18;
+            m[(1, 2)] = t21;
             // [2][0] = ∂Φ2/∂q1 (loop 2, x)
-            m[(2, 0)] = t16;
+            m[(2, 0)] = t19;
             // [2][1] = ∂Φ2/∂q2 (loop 2, x)
-            m[(2, 1)] = t19;
+            m[(2, 1)] = t24;
             // [2][3] = ∂Φ2/∂q5 (loop 2, x)
-            m[(2, 3)] = t15;
+            m[(2, 3)] = t18;
             // [3][0] = ∂Φ3/∂q1 (loop 2, y)
             m[(3, 0)] = t1;
             // [3][1] = ∂Φ3/∂q2 (loop 2, y)
-            m[(3, 1)] = t20;
+            m[(3, 1)] = t25;
             // [3][3] = ∂Φ3/∂q5 (loop 2, y)
-            m[(3, 3)] = t21;
+            m[(3, 3)] = t26;
             m
         }
         /// Φx = ∂Φ/∂x at (x, q).
@@ -5384,56 +6517,60 @@ pub mod sixbar_g {
             let (s_v_q3, c_v_q3) = v_q3.sin_cos();
             let t7 = p_l3 * c_v_q3;
             let t8 = p_l3 * s_v_q3;
-            let t9 = v_q2 - p_alpha;
-            let (s10, c10) = t9.sin_cos();
-            let t11 = p_l2e * c10;
-            let t12 = p_l2e * s10;
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t10 = c_v_q2 * c_p_alpha;
+            let t11 = s_v_q2 * s_p_alpha;
+            let t12 = s_v_q2 * c_p_alpha;
+            let t13 = c_v_q2 * s_p_alpha;
             let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t14 = p_l5 * c_v_q5;
-            let t15 = p_l5 * s_v_q5;
-            let t16 = -t5;
-            let t17 = t16 - t12;
-            let t18 = t1 * v_q1_d;
-            let t19 = -t18;
-            let t20 = -t4;
-            let t21 = t4 * v_q2_d;
+            let t15 = p_l5 * c_v_q5;
+            let t16 = p_l5 * s_v_q5;
+            let t17 = t13 - t12;
+            let t18 = p_l2e * t17;
+            let t19 = t18 - t5;
+            let t20 = -t11;
+            let t21 = t1 * v_q1_d;
             let t22 = -t21;
-            let t23 = t7 * v_q3_d;
-            let t24 = t2 * v_q1_d;
-            let t25 = -t24;
-            let t26 = t5 * v_q2_d;
+            let t23 = t4 * v_q2_d;
+            let t24 = -t23;
+            let t25 = t7 * v_q3_d;
+            let t26 = t2 * v_q1_d;
             let t27 = -t26;
-            let t28 = t8 * v_q3_d;
-            let t29 = t20 - t11;
-            let t30 = v_q2_d * t29;
-            let t31 = t14 * v_q5_d;
-            let t32 = t17 * v_q2_d;
-            let t33 = t15 * v_q5_d;
+            let t28 = t5 * v_q2_d;
+            let t29 = -t28;
+            let t30 = t8 * v_q3_d;
+            let t31 = t20 - t10;
+            let t32 = p_l2e * t31;
+            let t33 = t32 - t4;
+            let t34 = v_q2_d * t33;
+            let t35 = t15 * v_q5_d;
+            let t36 = t19 * v_q2_d;
+            let t37 = t16 * v_q5_d;
             let mut m = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
-            m[(0, 0)] = t19;
+            m[(0, 0)] = t22;
             // [0][1] = ∂Φ0/∂q2 (loop 1, x)
-            m[(0, 1)] = t22;
+            m[(0, 1)] = t24;
             // [0][2] = ∂Φ0/∂q3 (loop 1, x)
-            m[(0, 2)] = t23;
+            m[(0, 2)] = t25;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
-            m[(1, 0)] = t25;
+            m[(1, 0)] = t27;
             // [1][1] = ∂Φ1/∂q2 (loop 1, y)
-            m[(1, 1)] = t27;
+            m[(1, 1)] = t29;
             // [1][2] = ∂Φ1/∂q3 (loop 1, y)
-            m[(1, 2)] = t28;
+            m[(1, 2)] = t30;
             // [2][0] = ∂Φ2/∂q1 (loop 2, x)
-            m[(2, 0)] = t19;
+            m[(2, 0)] = t22;
             // [2][1] = ∂Φ2/∂q2 (loop 2, x)
-            m[(2, 1)] = t30;
+            m[(2, 1)] = t34;
             // [2][3] = ∂Φ2/∂q5 (loop 2, x)
-            m[(2, 3)] = t31;
+            m[(2, 3)] = t35;
             // [3][0] = ∂Φ3/∂q1 (loop 2, y)
-            m[(3, 0)] = t25;
+            m[(3, 0)] = t27;
             // [3][1] = ∂Φ3/∂q2 (loop 2, y)
-            m[(3, 1)] = t32;
+            m[(3, 1)] = t36;
             // [3][3] = ∂Φ3/∂q5 (loop 2, y)
-            m[(3, 3)] = t33;
+            m[(3, 3)] = t37;
             m
         }
         /// −Φx ẋ: the right-hand side of J q̇ = −Φx ẋ.
@@ -5490,64 +6627,68 @@ pub mod sixbar_g {
             let (s_v_q3, c_v_q3) = v_q3.sin_cos();
             let t7 = p_l3 * c_v_q3;
             let t8 = p_l3 * s_v_q3;
-            let t9 = v_q2 - p_alpha;
-            let (s10, c10) = t9.sin_cos();
-            let t11 = p_l2e * c10;
-            let t12 = p_l2e * s10;
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t10 = c_v_q2 * c_p_alpha;
+            let t11 = s_v_q2 * s_p_alpha;
+            let t12 = s_v_q2 * c_p_alpha;
+            let t13 = c_v_q2 * s_p_alpha;
             let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t14 = p_l5 * c_v_q5;
-            let t15 = p_l5 * s_v_q5;
+            let t15 = p_l5 * c_v_q5;
+            let t16 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t17 = p_l6 * c_v_q6;
-            let t18 = p_l6 * s_v_q6;
-            let t19 = -t5;
-            let t20 = t19 - t12;
-            let t21 = t1 * v_q1_d;
-            let t22 = -t4;
-            let t23 = t4 * v_q2_d;
-            let t24 = t7 * v_q3_d;
-            let t25 = t2 * v_q1_d;
-            let t26 = t5 * v_q2_d;
-            let t27 = t8 * v_q3_d;
-            let t28 = t22 - t11;
-            let t29 = v_q2_d * t28;
-            let t30 = t14 * v_q5_d;
-            let t31 = t20 * v_q2_d;
-            let t32 = t15 * v_q5_d;
-            let t33 = t18 * v_q6_d;
-            let t34 = t17 * v_q6_d;
-            let t35 = v_q1_d * t21;
-            let t36 = -t35;
-            let t37 = v_q2_d * t23;
-            let t38 = t36 - t37;
-            let t39 = v_q3_d * t24;
-            let t40 = t38 + t39;
-            let t41 = -t40;
-            let t42 = v_q1_d * t25;
-            let t43 = -t42;
-            let t44 = v_q2_d * t26;
-            let t45 = t43 - t44;
-            let t46 = v_q3_d * t27;
-            let t47 = t45 + t46;
-            let t48 = -t47;
-            let t49 = v_q6_d * t34;
-            let t50 = t49 - t35;
-            let t51 = v_q2_d * t29;
-            let t52 = t50 + t51;
-            let t53 = v_q5_d * t30;
-            let t54 = t52 + t53;
-            let t55 = t18 * v_q6_dd;
+            let t18 = p_l6 * c_v_q6;
+            let t19 = p_l6 * s_v_q6;
+            let t20 = t13 - t12;
+            let t21 = p_l2e * t20;
+            let t22 = t21 - t5;
+            let t23 = -t11;
+            let t24 = t1 * v_q1_d;
+            let t25 = t4 * v_q2_d;
+            let t26 = t7 * v_q3_d;
+            let t27 = t2 * v_q1_d;
+            let t28 = t5 * v_q2_d;
+            let t29 = t8 * v_q3_d;
+            let t30 = t23 - t10;
+            let t31 = p_l2e * t30;
+            let t32 = t31 - t4;
+            let t33 = v_q2_d * t32;
+            let t34 = t15 * v_q5_d;
+            let t35 = t22 * v_q2_d;
+            let t36 = t16 * v_q5_d;
+            let t37 = t19 * v_q6_d;
+            let t38 = t18 * v_q6_d;
+            let t39 = v_q1_d * t24;
+            let t40 = -t39;
+            let t41 = v_q2_d * t25;
+            let t42 = t40 - t41;
+            let t43 = v_q3_d * t26;
+            let t44 = t42 + t43;
+            let t45 = -t44;
+            let t46 = v_q1_d * t27;
+            let t47 = -t46;
+            let t48 = v_q2_d * t28;
+            let t49 = t47 - t48;
+            let t50 = v_q3_d * t29;
+            let t51 = t49 + t50;
+            let t52 = -t51;
+            let t53 = v_q6_d * t38;
+            let t54 = t53 - t39;
+            let t55 = v_q2_d * t33;
             let t56 = t54 + t55;
-            let t57 = -t56;
-            let t58 = v_q6_d * t33;
-            let t59 = t58 - t42;
-            let t60 = v_q2_d * t31;
-            let t61 = t59 + t60;
-            let t62 = v_q5_d * t32;
-            let t63 = t61 + t62;
-            let t64 = t17 * v_q6_dd;
-            let t65 = t64 - t63;
-            ::mechgen::nalgebra::SVector::from([t41, t48, t57, t65])
+            let t57 = v_q5_d * t34;
+            let t58 = t56 + t57;
+            let t59 = t19 * v_q6_dd;
+            let t60 = t58 + t59;
+            let t61 = -t60;
+            let t62 = v_q6_d * t37;
+            let t63 = t62 - t46;
+            let t64 = v_q2_d * t35;
+            let t65 = t63 + t64;
+            let t66 = v_q5_d * t36;
+            let t67 = t65 + t66;
+            let t68 = t18 * v_q6_dd;
+            let t69 = t68 - t67;
+            ::mechgen::nalgebra::SVector::from([t45, t52, t61, t69])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(
@@ -5569,13 +6710,18 @@ pub mod sixbar_g {
             let t5 = p_l2 * s_v_q2;
             let t6 = t1 + t4;
             let t7 = t2 + t5;
-            let t8 = v_q2 - p_alpha;
-            let (s9, c9) = t8.sin_cos();
-            let t10 = p_l2e * c9;
-            let t11 = p_l2e * s9;
-            let t12 = t6 + t10;
-            let t13 = t7 + t11;
-            [[t12, t13]]
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t9 = c_v_q2 * c_p_alpha;
+            let t10 = s_v_q2 * s_p_alpha;
+            let t11 = s_v_q2 * c_p_alpha;
+            let t12 = c_v_q2 * s_p_alpha;
+            let t13 = t9 + t10;
+            let t14 = t11 - t12;
+            let t15 = p_l2e * t13;
+            let t16 = p_l2e * t14;
+            let t17 = t6 + t15;
+            let t18 = t7 + t16;
+            [[t17, t18]]
         }
         /// Position, velocity and acceleration of every point, in `POINT_NAMES` order.
         pub fn point_motion(
@@ -5605,43 +6751,51 @@ pub mod sixbar_g {
             let t5 = p_l2 * s_v_q2;
             let t6 = t1 + t4;
             let t7 = t2 + t5;
-            let t8 = v_q2 - p_alpha;
-            let (s9, c9) = t8.sin_cos();
-            let t10 = p_l2e * c9;
-            let t11 = p_l2e * s9;
-            let t12 = t6 + t10;
-            let t13 = t7 + t11;
-            let t14 = -t5;
-            let t15 = t14 - t11;
-            let t16 = t4 + t10;
-            let t17 = t1 * v_q1_d;
-            let t18 = -t4;
-            let t19 = t2 * v_q1_d;
-            let t20 = t18 - t10;
-            let t21 = v_q2_d * t20;
-            let t22 = t15 * v_q2_d;
-            let t23 = v_q1_d * t17;
-            let t24 = v_q1_d * t19;
-            let t25 = v_q2_d * t21;
-            let t26 = t16 * v_q2_d;
-            let t27 = v_q2_d * t22;
-            let t28 = t22 - t19;
-            let t29 = t17 + t26;
-            let t30 = t25 - t23;
-            let t31 = t2 * v_q1_dd;
-            let t32 = t30 - t31;
-            let t33 = t15 * v_q2_dd;
-            let t34 = t32 + t33;
-            let t35 = t27 - t24;
-            let t36 = t1 * v_q1_dd;
-            let t37 = t35 + t36;
-            let t38 = t16 * v_q2_dd;
-            let t39 = t37 + t38;
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t9 = c_v_q2 * c_p_alpha;
+            let t10 = s_v_q2 * s_p_alpha;
+            let t11 = s_v_q2 * c_p_alpha;
+            let t12 = c_v_q2 * s_p_alpha;
+            let t13 = t9 + t10;
+            let t14 = t11 - t12;
+            let t15 = p_l2e * t13;
+            let t16 = p_l2e * t14;
+            let t17 = t6 + t15;
+            let t18 = t7 + t16;
+            let t19 = t12 - t11;
+            let t20 = p_l2e * t19;
+            let t21 = t20 - t5;
+            let t22 = -t10;
+            let t23 = t4 + t15;
+            let t24 = t1 * v_q1_d;
+            let t25 = t2 * v_q1_d;
+            let t26 = t22 - t9;
+            let t27 = p_l2e * t26;
+            let t28 = t27 - t4;
+            let t29 = v_q2_d * t28;
+            let t30 = t21 * v_q2_d;
+            let t31 = v_q1_d * t24;
+            let t32 = v_q1_d * t25;
+            let t33 = v_q2_d * t29;
+            let t34 = t23 * v_q2_d;
+            let t35 = v_q2_d * t30;
+            let t36 = t30 - t25;
+            let t37 = t24 + t34;
+            let t38 = t33 - t31;
+            let t39 = t2 * v_q1_dd;
+            let t40 = t38 - t39;
+            let t41 = t21 * v_q2_dd;
+            let t42 = t40 + t41;
+            let t43 = t35 - t32;
+            let t44 = t1 * v_q1_dd;
+            let t45 = t43 + t44;
+            let t46 = t23 * v_q2_dd;
+            let t47 = t45 + t46;
             [
                 ::mechgen::PointMotion {
-                    position: [t12, t13],
-                    velocity: [t28, t29],
-                    acceleration: [t34, t39],
+                    position: [t17, t18],
+                    velocity: [t36, t37],
+                    acceleration: [t42, t47],
                 },
             ]
         }
@@ -5651,6 +6805,9 @@ pub mod sixbar_g {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
         ) -> (
             ::mechgen::nalgebra::SVector<T, 4>,
             ::mechgen::nalgebra::SMatrix<T, 4, 4>,
@@ -5670,70 +6827,77 @@ pub mod sixbar_g {
             let p_xg = self.params.xg;
             let p_yg = self.params.yg;
             let p_alpha = self.params.alpha;
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let t6 = t1 + t4;
-            let t7 = t2 + t5;
-            let t8 = t6 - p_l4;
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t10 = p_l3 * c_v_q3;
-            let t11 = p_l3 * s_v_q3;
-            let t12 = t8 - t10;
-            let t13 = t7 - t11;
-            let t14 = v_q2 - p_alpha;
-            let (s15, c15) = t14.sin_cos();
-            let t16 = p_l2e * c15;
-            let t17 = p_l2e * s15;
-            let t18 = t6 + t16;
-            let t19 = t7 + t17;
-            let (s_v_q5, c_v_q5) = v_q5.sin_cos();
+            let (s_v_q1, c_v_q1) = tq[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[1];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let t4 = t0 + t2;
+            let t5 = t1 + t3;
+            let t6 = t4 - p_l4;
+            let (s_v_q3, c_v_q3) = tq[2];
+            let t7 = p_l3 * c_v_q3;
+            let t8 = p_l3 * s_v_q3;
+            let t9 = t6 - t7;
+            let t10 = t5 - t8;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t11 = c_v_q2 * c_p_alpha;
+            let t12 = s_v_q2 * s_p_alpha;
+            let t13 = s_v_q2 * c_p_alpha;
+            let t14 = c_v_q2 * s_p_alpha;
+            let t15 = t11 + t12;
+            let t16 = t13 - t14;
+            let t17 = p_l2e * t15;
+            let t18 = p_l2e * t16;
+            let t19 = t4 + t17;
+            let t20 = t5 + t18;
+            let (s_v_q5, c_v_q5) = tq[3];
             let t21 = p_l5 * c_v_q5;
             let t22 = p_l5 * s_v_q5;
-            let t23 = t18 - t21;
-            let t24 = t19 - t22;
-            let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t26 = p_l6 * c_v_q6;
-            let t27 = p_l6 * s_v_q6;
-            let t28 = t23 - t26;
-            let t29 = t24 - t27;
-            let t30 = t28 - p_xg;
-            let t31 = t29 - p_yg;
-            let t32 = -t2;
-            let t33 = -t5;
-            let t34 = -t10;
-            let t35 = t33 - t17;
-            let t36 = t4 + t16;
-            let t37 = -t21;
+            let t23 = t19 - t21;
+            let t24 = t20 - t22;
+            let (s_v_q6, c_v_q6) = tx[0];
+            let t25 = p_l6 * c_v_q6;
+            let t26 = p_l6 * s_v_q6;
+            let t27 = t23 - t25;
+            let t28 = t24 - t26;
+            let t29 = t27 - p_xg;
+            let t30 = t28 - p_yg;
+            let t31 = -t1;
+            let t32 = -t3;
+            let t33 = -t7;
+            let t34 = t14 - t13;
+            let t35 = p_l2e * t34;
+            let t36 = t35 - t3;
+            let t37 = t2 + t17;
+            let t38 = -t21;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // J[0][0] = ∂Φ0/∂q1
-            jac[(0, 0)] = t32;
+            jac[(0, 0)] = t31;
             // J[0][1] = ∂Φ0/∂q2
-            jac[(0, 1)] = t33;
+            jac[(0, 1)] = t32;
             // J[0][2] = ∂Φ0/∂q3
-            jac[(0, 2)] = t11;
+            jac[(0, 2)] = t8;
             // J[1][0] = ∂Φ1/∂q1
-            jac[(1, 0)] = t1;
+            jac[(1, 0)] = t0;
             // J[1][1] = ∂Φ1/∂q2
-            jac[(1, 1)] = t4;
+            jac[(1, 1)] = t2;
             // J[1][2] = ∂Φ1/∂q3
-            jac[(1, 2)] = t34;
+            jac[(1, 2)] = t33;
             // J[2][0] = ∂Φ2/∂q1
-            jac[(2, 0)] = t32;
+            jac[(2, 0)] = t31;
             // J[2][1] = ∂Φ2/∂q2
-            jac[(2, 1)] = t35;
+            jac[(2, 1)] = t36;
             // J[2][3] = ∂Φ2/∂q5
             jac[(2, 3)] = t22;
             // J[3][0] = ∂Φ3/∂q1
-            jac[(3, 0)] = t1;
+            jac[(3, 0)] = t0;
             // J[3][1] = ∂Φ3/∂q2
-            jac[(3, 1)] = t36;
+            jac[(3, 1)] = t37;
             // J[3][3] = ∂Φ3/∂q5
-            jac[(3, 3)] = t37;
-            (::mechgen::nalgebra::SVector::from([t12, t13, t30, t31]), jac)
+            jac[(3, 3)] = t38;
+            (::mechgen::nalgebra::SVector::from([t9, t10, t29, t30]), jac)
         }
         /// Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y). Its right-hand side and Jacobian block.
         #[inline]
@@ -5741,6 +6905,9 @@ pub mod sixbar_g {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
         ) -> (
@@ -5760,60 +6927,65 @@ pub mod sixbar_g {
             let p_l2e = self.params.l2e;
             let p_alpha = self.params.alpha;
             let v_q6_d = xd[0];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t7 = p_l3 * c_v_q3;
-            let t8 = p_l3 * s_v_q3;
-            let t9 = v_q2 - p_alpha;
-            let (s10, c10) = t9.sin_cos();
-            let t11 = p_l2e * c10;
-            let t12 = p_l2e * s10;
-            let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t14 = p_l5 * c_v_q5;
-            let t15 = p_l5 * s_v_q5;
-            let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t17 = p_l6 * c_v_q6;
-            let t18 = p_l6 * s_v_q6;
-            let t19 = -t2;
-            let t20 = -t5;
-            let t21 = -t7;
-            let t22 = t20 - t12;
-            let t23 = t4 + t11;
-            let t24 = -t14;
-            let t25 = t18 * v_q6_d;
-            let t26 = -t25;
-            let t27 = t17 * v_q6_d;
+            let (s_v_q1, c_v_q1) = tq[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[1];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[2];
+            let t4 = p_l3 * c_v_q3;
+            let t5 = p_l3 * s_v_q3;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t6 = c_v_q2 * c_p_alpha;
+            let t7 = s_v_q2 * s_p_alpha;
+            let t8 = s_v_q2 * c_p_alpha;
+            let t9 = c_v_q2 * s_p_alpha;
+            let t10 = t6 + t7;
+            let t11 = p_l2e * t10;
+            let (s_v_q5, c_v_q5) = tq[3];
+            let t12 = p_l5 * c_v_q5;
+            let t13 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = tx[0];
+            let t14 = p_l6 * c_v_q6;
+            let t15 = p_l6 * s_v_q6;
+            let t16 = -t1;
+            let t17 = -t3;
+            let t18 = -t4;
+            let t19 = t9 - t8;
+            let t20 = p_l2e * t19;
+            let t21 = t20 - t3;
+            let t22 = t2 + t11;
+            let t23 = -t12;
+            let t24 = t15 * v_q6_d;
+            let t25 = -t24;
+            let t26 = t14 * v_q6_d;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // J[0][0] = ∂Φ0/∂q1
-            jac[(0, 0)] = t19;
+            jac[(0, 0)] = t16;
             // J[0][1] = ∂Φ0/∂q2
-            jac[(0, 1)] = t20;
+            jac[(0, 1)] = t17;
             // J[0][2] = ∂Φ0/∂q3
-            jac[(0, 2)] = t8;
+            jac[(0, 2)] = t5;
             // J[1][0] = ∂Φ1/∂q1
-            jac[(1, 0)] = t1;
+            jac[(1, 0)] = t0;
             // J[1][1] = ∂Φ1/∂q2
-            jac[(1, 1)] = t4;
+            jac[(1, 1)] = t2;
             // J[1][2] = ∂Φ1/∂q3
-            jac[(1, 2)] = t21;
+            jac[(1, 2)] = t18;
             // J[2][0] = ∂Φ2/∂q1
-            jac[(2, 0)] = t19;
+            jac[(2, 0)] = t16;
             // J[2][1] = ∂Φ2/∂q2
-            jac[(2, 1)] = t22;
+            jac[(2, 1)] = t21;
             // J[2][3] = ∂Φ2/∂q5
-            jac[(2, 3)] = t15;
+            jac[(2, 3)] = t13;
             // J[3][0] = ∂Φ3/∂q1
-            jac[(3, 0)] = t1;
+            jac[(3, 0)] = t0;
             // J[3][1] = ∂Φ3/∂q2
-            jac[(3, 1)] = t23;
+            jac[(3, 1)] = t22;
             // J[3][3] = ∂Φ3/∂q5
-            jac[(3, 3)] = t24;
-            (::mechgen::nalgebra::SVector::from([T::zero(), T::zero(), t26, t27]), jac)
+            jac[(3, 3)] = t23;
+            (::mechgen::nalgebra::SVector::from([T::zero(), T::zero(), t25, t26]), jac)
         }
         /// Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y). Its right-hand side and Jacobian block.
         #[inline]
@@ -5821,6 +6993,9 @@ pub mod sixbar_g {
             &self,
             x: &[T; 1],
             q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
@@ -5847,102 +7022,280 @@ pub mod sixbar_g {
             let v_q3_d = qd[2];
             let v_q5_d = qd[3];
             let v_q6_dd = xdd[0];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t7 = p_l3 * c_v_q3;
-            let t8 = p_l3 * s_v_q3;
-            let t9 = v_q2 - p_alpha;
-            let (s10, c10) = t9.sin_cos();
-            let t11 = p_l2e * c10;
-            let t12 = p_l2e * s10;
-            let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t14 = p_l5 * c_v_q5;
-            let t15 = p_l5 * s_v_q5;
-            let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t17 = p_l6 * c_v_q6;
-            let t18 = p_l6 * s_v_q6;
-            let t19 = -t2;
-            let t20 = -t5;
-            let t21 = -t7;
-            let t22 = t20 - t12;
-            let t23 = t4 + t11;
-            let t24 = -t14;
-            let t25 = t1 * v_q1_d;
-            let t26 = -t4;
-            let t27 = t4 * v_q2_d;
-            let t28 = t7 * v_q3_d;
-            let t29 = t2 * v_q1_d;
-            let t30 = t5 * v_q2_d;
-            let t31 = t8 * v_q3_d;
-            let t32 = t26 - t11;
-            let t33 = v_q2_d * t32;
-            let t34 = t14 * v_q5_d;
-            let t35 = t22 * v_q2_d;
-            let t36 = t15 * v_q5_d;
-            let t37 = t18 * v_q6_d;
-            let t38 = t17 * v_q6_d;
-            let t39 = v_q1_d * t25;
-            let t40 = -t39;
-            let t41 = v_q2_d * t27;
-            let t42 = t40 - t41;
-            let t43 = v_q3_d * t28;
-            let t44 = t42 + t43;
-            let t45 = -t44;
-            let t46 = v_q1_d * t29;
-            let t47 = -t46;
-            let t48 = v_q2_d * t30;
-            let t49 = t47 - t48;
-            let t50 = v_q3_d * t31;
-            let t51 = t49 + t50;
-            let t52 = -t51;
-            let t53 = v_q6_d * t38;
-            let t54 = t53 - t39;
-            let t55 = v_q2_d * t33;
-            let t56 = t54 + t55;
-            let t57 = v_q5_d * t34;
-            let t58 = t56 + t57;
-            let t59 = t18 * v_q6_dd;
-            let t60 = t58 + t59;
-            let t61 = -t60;
-            let t62 = v_q6_d * t37;
-            let t63 = t62 - t46;
-            let t64 = v_q2_d * t35;
-            let t65 = t63 + t64;
-            let t66 = v_q5_d * t36;
-            let t67 = t65 + t66;
-            let t68 = t17 * v_q6_dd;
-            let t69 = t68 - t67;
+            let (s_v_q1, c_v_q1) = tq[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[1];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[2];
+            let t4 = p_l3 * c_v_q3;
+            let t5 = p_l3 * s_v_q3;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t6 = c_v_q2 * c_p_alpha;
+            let t7 = s_v_q2 * s_p_alpha;
+            let t8 = s_v_q2 * c_p_alpha;
+            let t9 = c_v_q2 * s_p_alpha;
+            let t10 = t6 + t7;
+            let t11 = p_l2e * t10;
+            let (s_v_q5, c_v_q5) = tq[3];
+            let t12 = p_l5 * c_v_q5;
+            let t13 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = tx[0];
+            let t14 = p_l6 * c_v_q6;
+            let t15 = p_l6 * s_v_q6;
+            let t16 = -t1;
+            let t17 = -t3;
+            let t18 = -t4;
+            let t19 = t9 - t8;
+            let t20 = p_l2e * t19;
+            let t21 = t20 - t3;
+            let t22 = -t7;
+            let t23 = t2 + t11;
+            let t24 = -t12;
+            let t25 = t0 * v_q1_d;
+            let t26 = t2 * v_q2_d;
+            let t27 = t4 * v_q3_d;
+            let t28 = t1 * v_q1_d;
+            let t29 = t3 * v_q2_d;
+            let t30 = t5 * v_q3_d;
+            let t31 = t22 - t6;
+            let t32 = p_l2e * t31;
+            let t33 = t32 - t2;
+            let t34 = v_q2_d * t33;
+            let t35 = t12 * v_q5_d;
+            let t36 = t21 * v_q2_d;
+            let t37 = t13 * v_q5_d;
+            let t38 = t15 * v_q6_d;
+            let t39 = t14 * v_q6_d;
+            let t40 = v_q1_d * t25;
+            let t41 = -t40;
+            let t42 = v_q2_d * t26;
+            let t43 = t41 - t42;
+            let t44 = v_q3_d * t27;
+            let t45 = t43 + t44;
+            let t46 = -t45;
+            let t47 = v_q1_d * t28;
+            let t48 = -t47;
+            let t49 = v_q2_d * t29;
+            let t50 = t48 - t49;
+            let t51 = v_q3_d * t30;
+            let t52 = t50 + t51;
+            let t53 = -t52;
+            let t54 = v_q6_d * t39;
+            let t55 = t54 - t40;
+            let t56 = v_q2_d * t34;
+            let t57 = t55 + t56;
+            let t58 = v_q5_d * t35;
+            let t59 = t57 + t58;
+            let t60 = t15 * v_q6_dd;
+            let t61 = t59 + t60;
+            let t62 = -t61;
+            let t63 = v_q6_d * t38;
+            let t64 = t63 - t47;
+            let t65 = v_q2_d * t36;
+            let t66 = t64 + t65;
+            let t67 = v_q5_d * t37;
+            let t68 = t66 + t67;
+            let t69 = t14 * v_q6_dd;
+            let t70 = t69 - t68;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // J[0][0] = ∂Φ0/∂q1
-            jac[(0, 0)] = t19;
+            jac[(0, 0)] = t16;
             // J[0][1] = ∂Φ0/∂q2
-            jac[(0, 1)] = t20;
+            jac[(0, 1)] = t17;
             // J[0][2] = ∂Φ0/∂q3
-            jac[(0, 2)] = t8;
+            jac[(0, 2)] = t5;
             // J[1][0] = ∂Φ1/∂q1
-            jac[(1, 0)] = t1;
+            jac[(1, 0)] = t0;
             // J[1][1] = ∂Φ1/∂q2
-            jac[(1, 1)] = t4;
+            jac[(1, 1)] = t2;
             // J[1][2] = ∂Φ1/∂q3
-            jac[(1, 2)] = t21;
+            jac[(1, 2)] = t18;
             // J[2][0] = ∂Φ2/∂q1
-            jac[(2, 0)] = t19;
+            jac[(2, 0)] = t16;
             // J[2][1] = ∂Φ2/∂q2
-            jac[(2, 1)] = t22;
+            jac[(2, 1)] = t21;
             // J[2][3] = ∂Φ2/∂q5
-            jac[(2, 3)] = t15;
+            jac[(2, 3)] = t13;
             // J[3][0] = ∂Φ3/∂q1
-            jac[(3, 0)] = t1;
+            jac[(3, 0)] = t0;
             // J[3][1] = ∂Φ3/∂q2
             jac[(3, 1)] = t23;
             // J[3][3] = ∂Φ3/∂q5
             jac[(3, 3)] = t24;
-            (::mechgen::nalgebra::SVector::from([t45, t52, t61, t69]), jac)
+            (::mechgen::nalgebra::SVector::from([t46, t53, t62, t70]), jac)
+        }
+        /// Sines and cosines of the inputs and params that appear in a sin or cos.
+        #[inline]
+        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 10]) {
+            let params = self.params.to_array();
+            let mut tx = [(T::zero(), T::one()); 1];
+            let mut tp = [(T::zero(), T::one()); 10];
+            tx[0] = x[0].sin_cos();
+            tp[9] = params[9].sin_cos();
+            (tx, tp)
+        }
+        /// The unknowns with the sines and cosines the solvers read.
+        #[inline]
+        fn trig_state(q: [T; 4]) -> ::mechgen::TrigState<T, 4> {
+            ::mechgen::TrigState::new(q, [true, true, true, true])
+        }
+        #[inline]
+        fn position_cached(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            options: &::mechgen::NewtonOptions<T>,
+            report: &mut ::mechgen::NewtonReport<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            let scale = self.params.length_scale();
+            // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
+            ::mechgen::newton_block(
+                0,
+                st,
+                [0, 1, 2, 3],
+                [false, false, false, false],
+                scale,
+                options,
+                report,
+                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            Ok(())
+        }
+        #[inline]
+        fn velocity_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
+            xd: &[T; 1],
+        ) -> Result<[T; 4], ::mechgen::SolveError> {
+            let mut qd = [T::zero(); 4];
+            // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
+            let (rhs, jac) = self.block0_velocity(x, q, tx, tp, tq, xd, &qd);
+            let z = ::mechgen::solve_block(
+                0,
+                ::mechgen::Stage::Velocity,
+                jac,
+                rhs,
+            )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            qd[2] = z[2];
+            qd[3] = z[3];
+            Ok(qd)
+        }
+        #[inline]
+        fn acceleration_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
+            xd: &[T; 1],
+            qd: &[T; 4],
+            xdd: &[T; 1],
+        ) -> Result<[T; 4], ::mechgen::SolveError> {
+            let mut qdd = [T::zero(); 4];
+            // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
+            let (rhs, jac) = self
+                .block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
+            let z = ::mechgen::solve_block(
+                0,
+                ::mechgen::Stage::Acceleration,
+                jac,
+                rhs,
+            )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            qdd[2] = z[2];
+            qdd[3] = z[3];
+            Ok(qdd)
+        }
+        #[inline]
+        fn point_motion_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
+            xd: &[T; 1],
+            qd: &[T; 4],
+            xdd: &[T; 1],
+            qdd: &[T; 4],
+        ) -> [::mechgen::PointMotion<T>; 1] {
+            let v_q1 = q[0];
+            let v_q2 = q[1];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l2e = self.params.l2e;
+            let p_alpha = self.params.alpha;
+            let v_q1_d = qd[0];
+            let v_q2_d = qd[1];
+            let v_q1_dd = qdd[0];
+            let v_q2_dd = qdd[1];
+            let (s_v_q1, c_v_q1) = tq[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[1];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let t4 = t0 + t2;
+            let t5 = t1 + t3;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t6 = c_v_q2 * c_p_alpha;
+            let t7 = s_v_q2 * s_p_alpha;
+            let t8 = s_v_q2 * c_p_alpha;
+            let t9 = c_v_q2 * s_p_alpha;
+            let t10 = t6 + t7;
+            let t11 = t8 - t9;
+            let t12 = p_l2e * t10;
+            let t13 = p_l2e * t11;
+            let t14 = t4 + t12;
+            let t15 = t5 + t13;
+            let t16 = t9 - t8;
+            let t17 = p_l2e * t16;
+            let t18 = t17 - t3;
+            let t19 = -t7;
+            let t20 = t2 + t12;
+            let t21 = t0 * v_q1_d;
+            let t22 = t1 * v_q1_d;
+            let t23 = t19 - t6;
+            let t24 = p_l2e * t23;
+            let t25 = t24 - t2;
+            let t26 = v_q2_d * t25;
+            let t27 = t18 * v_q2_d;
+            let t28 = v_q1_d * t21;
+            let t29 = v_q1_d * t22;
+            let t30 = v_q2_d * t26;
+            let t31 = t20 * v_q2_d;
+            let t32 = v_q2_d * t27;
+            let t33 = t27 - t22;
+            let t34 = t21 + t31;
+            let t35 = t30 - t28;
+            let t36 = t1 * v_q1_dd;
+            let t37 = t35 - t36;
+            let t38 = t18 * v_q2_dd;
+            let t39 = t37 + t38;
+            let t40 = t32 - t29;
+            let t41 = t0 * v_q1_dd;
+            let t42 = t40 + t41;
+            let t43 = t20 * v_q2_dd;
+            let t44 = t42 + t43;
+            [
+                ::mechgen::PointMotion {
+                    position: [t14, t15],
+                    velocity: [t33, t34],
+                    acceleration: [t39, t44],
+                },
+            ]
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -5958,19 +7311,11 @@ pub mod sixbar_g {
             )?;
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-            let scale = self.params.length_scale();
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::NewtonReport::new();
-            // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
-            ::mechgen::newton_block(
-                0,
-                q,
-                [0, 1, 2, 3],
-                [false, false, false, false],
-                scale,
-                options,
-                &mut report,
-                |q| self.block0_position(x, q),
-            )?;
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
             Ok(report)
         }
         /// q̇ from J q̇ = −Φx ẋ at a solved position.
@@ -5981,20 +7326,9 @@ pub mod sixbar_g {
             xd: &[T; 1],
         ) -> Result<[T; 4], ::mechgen::SolveError> {
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            let mut qd = [T::zero(); 4];
-            // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
-            let (rhs, jac) = self.block0_velocity(x, q, xd, &qd);
-            let z = ::mechgen::solve_block(
-                0,
-                ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
-            )?;
-            qd[0] = z[0];
-            qd[1] = z[1];
-            qd[2] = z[2];
-            qd[3] = z[3];
-            Ok(qd)
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
         }
         /// q̈ from J q̈ = γ at a solved position and velocity.
         pub fn solve_acceleration(
@@ -6006,20 +7340,46 @@ pub mod sixbar_g {
             xdd: &[T; 1],
         ) -> Result<[T; 4], ::mechgen::SolveError> {
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-            let mut qdd = [T::zero(); 4];
-            // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
-            let (rhs, jac) = self.block0_acceleration(x, q, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
-                0,
-                ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+        }
+        /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
+        /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        pub fn solve_arrays(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            q: &mut [T; 4],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<
+            (
+                [T; 4],
+                [T; 4],
+                [::mechgen::PointMotion<T>; 1],
+                ::mechgen::NewtonReport<T>,
+            ),
+            ::mechgen::SolveError,
+        > {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
             )?;
-            qdd[0] = z[0];
-            qdd[1] = z[1];
-            qdd[2] = z[2];
-            qdd[3] = z[3];
-            Ok(qdd)
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
+            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self
+                .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            Ok((qd, qdd, points, report))
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
         pub fn solve(
@@ -6030,14 +7390,15 @@ pub mod sixbar_g {
             guess: Unknowns<T>,
             options: &::mechgen::NewtonOptions<T>,
         ) -> Result<Motion<T>, ::mechgen::SolveError> {
-            let (xa, xda, xdda) = (x.to_array(), xd.to_array(), xdd.to_array());
             let mut q = guess.to_array();
-            let report = self.solve_position(&xa, &mut q, options)?;
-            let qd = self.solve_velocity(&xa, &q, &xda)?;
-            let qdd = self.solve_acceleration(&xa, &q, &xda, &qd, &xdda)?;
-            let points = Points::from_array(
-                self.point_motion(&xa, &q, &xda, &qd, &xdda, &qdd),
-            );
+            let (qd, qdd, points, report) = self
+                .solve_arrays(
+                    &x.to_array(),
+                    &xd.to_array(),
+                    &xdd.to_array(),
+                    &mut q,
+                    options,
+                )?;
             Ok(Motion {
                 x,
                 xd,
@@ -6045,7 +7406,7 @@ pub mod sixbar_g {
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
-                points,
+                points: Points::from_array(points),
                 report,
             })
         }
@@ -6131,6 +7492,25 @@ pub mod sixbar_g {
             {
                 *o = p;
             }
+        }
+        fn solve_motion(
+            &self,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            q: &mut Self::Q,
+            qd: &mut Self::Q,
+            qdd: &mut Self::Q,
+            points: &mut [::mechgen::PointMotion<T>],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            let (v, a, p, report) = SixbarG::solve_arrays(self, x, xd, xdd, q, options)?;
+            *qd = v;
+            *qdd = a;
+            for (o, m) in points.iter_mut().zip(p) {
+                *o = m;
+            }
+            Ok(report)
         }
     }
 }

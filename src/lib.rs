@@ -35,7 +35,8 @@ pub use mechanism::{
 pub use nalgebra;
 pub use scalar::Real;
 pub use solve::{
-    NewtonOptions, NewtonReport, check_finite, copy_row_major, gauss, newton_block, solve_block,
+    NewtonOptions, NewtonReport, NewtonState, TrigState, check_finite, copy_row_major, gauss,
+    newton_block, solve_block,
 };
 
 /// The solvers generated from the build's mechanism file (`mechanism.toml`, or `MECHGEN_MECHANISM`).

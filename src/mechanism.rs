@@ -156,6 +156,20 @@ pub trait Mechanism<T: Real>: Send + Sync {
         qdd: &Self::Q,
         out: &mut [PointMotion<T>],
     );
+    /// One tick: positions from the guess in `q`, then velocities, accelerations and the points
+    /// (into `points`, as many as fit), sharing the trigonometry between the stages.
+    #[allow(clippy::too_many_arguments)]
+    fn solve_motion(
+        &self,
+        x: &Self::X,
+        xd: &Self::X,
+        xdd: &Self::X,
+        q: &mut Self::Q,
+        qd: &mut Self::Q,
+        qdd: &mut Self::Q,
+        points: &mut [PointMotion<T>],
+        options: &NewtonOptions<T>,
+    ) -> Result<NewtonReport<T>, SolveError>;
 }
 
 /// Generic code run on every compiled-in mechanism by `visit_all`, with static dispatch.
@@ -216,6 +230,26 @@ pub trait Kinematics<T: Real> {
         qdd: &[T],
         out: &mut [PointMotion<T>],
     ) -> Result<(), SolveError>;
+    /// One tick: positions from the guess in `q`, then velocities, accelerations and points. The
+    /// default calls the four solves in turn; generated mechanisms share work between them.
+    #[allow(clippy::too_many_arguments)]
+    fn solve_motion(
+        &self,
+        x: &[T],
+        xd: &[T],
+        xdd: &[T],
+        q: &mut [T],
+        qd: &mut [T],
+        qdd: &mut [T],
+        points: &mut [PointMotion<T>],
+        options: &NewtonOptions<T>,
+    ) -> Result<NewtonReport<T>, SolveError> {
+        let report = self.solve_position(x, q, options)?;
+        self.solve_velocity(x, q, xd, qd)?;
+        self.solve_acceleration(x, q, xd, qd, xdd, qdd)?;
+        self.points(x, q, xd, qd, xdd, qdd, points)?;
+        Ok(report)
+    }
 }
 
 fn arr<T: Real, A: Array<T>>(s: &[T]) -> Result<A, SolveError> {
@@ -352,5 +386,34 @@ impl<T: Real, M: Mechanism<T>> Kinematics<T> for M {
             out,
         );
         Ok(())
+    }
+    fn solve_motion(
+        &self,
+        x: &[T],
+        xd: &[T],
+        xdd: &[T],
+        q: &mut [T],
+        qd: &mut [T],
+        qdd: &mut [T],
+        points: &mut [PointMotion<T>],
+        options: &NewtonOptions<T>,
+    ) -> Result<NewtonReport<T>, SolveError> {
+        len(points, M::POINTS)?;
+        let (mut qa, mut qda, mut qdda): (M::Q, M::Q, M::Q) = (arr(q)?, arr(qd)?, arr(qdd)?);
+        let report = Mechanism::solve_motion(
+            self,
+            &arr(x)?,
+            &arr(xd)?,
+            &arr(xdd)?,
+            &mut qa,
+            &mut qda,
+            &mut qdda,
+            points,
+            options,
+        )?;
+        put(q, qa.as_ref())?;
+        put(qd, qda.as_ref())?;
+        put(qdd, qdda.as_ref())?;
+        Ok(report)
     }
 }

@@ -179,21 +179,23 @@ pub fn solve_block<T: Real, const K: usize>(
 /// Newton's method on one diagonal block: `q[idx]` are the block's unknowns (`length[i]` when
 /// unknown `i` is a length), `eval` gives the block residual and Jacobian at `q`.
 ///
-/// Converges when the relative step is at most the tolerance, or when small steps stop shrinking
-/// (rounding noise; convergence is only linear at a dead point, so no fixed count is assumed). On
+/// Converges when the relative step is at most the tolerance, when the convergence is quadratic and
+/// the next step would be at rounding level (so it is not taken), or when small steps stop
+/// shrinking (rounding noise; convergence is only linear at a dead point, so no fixed count is
+/// assumed). On
 /// failure: `Unassemblable` when the residual stayed large, `NoConvergence` when it is small but
 /// the steps are not.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn newton_block<T: Real, const K: usize, const N: usize>(
+pub fn newton_block<T: Real, const K: usize, S: NewtonState<T> + ?Sized>(
     block: usize,
-    q: &mut [T; N],
+    q: &mut S,
     idx: [usize; K],
     length: [bool; K],
     scale: T,
     options: &NewtonOptions<T>,
     report: &mut NewtonReport<T>,
-    eval: impl Fn(&[T; N]) -> (SVector<T, K>, SMatrix<T, K, K>),
+    eval: impl Fn(&S) -> (SVector<T, K>, SMatrix<T, K, K>),
 ) -> Result<(), SolveError> {
     let mut work = NewtonWork {
         residual: SVector::<T, K>::zeros(),
@@ -217,6 +219,81 @@ pub fn newton_block<T: Real, const K: usize, const N: usize>(
     )
 }
 
+/// What Newton updates: the unknowns, and whatever is kept in step with them.
+pub trait NewtonState<T> {
+    /// `q[k] -= dz`.
+    fn apply(&mut self, k: usize, dz: T);
+}
+
+impl<T: Real> NewtonState<T> for [T] {
+    #[inline]
+    fn apply(&mut self, k: usize, dz: T) {
+        self[k] -= dz;
+    }
+}
+
+impl<T: Real, const N: usize> NewtonState<T> for [T; N] {
+    #[inline]
+    fn apply(&mut self, k: usize, dz: T) {
+        self[k] -= dz;
+    }
+}
+
+/// The unknowns with the sine and cosine of each angle that appears in a sin or cos (`angle[k]`),
+/// kept in step by rotation through each Newton step: no `sin_cos` call for a small step. The
+/// generated solvers read their trigonometry from here.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrigState<T, const N: usize> {
+    pub q: [T; N],
+    /// (sin, cos) of `q[k]` where `angle[k]`; (0, 1) elsewhere.
+    pub sc: [(T, T); N],
+    angle: [bool; N],
+}
+
+impl<T: Real, const N: usize> TrigState<T, N> {
+    #[inline]
+    pub fn new(q: [T; N], angle: [bool; N]) -> Self {
+        let mut sc = [(T::zero(), T::one()); N];
+        for k in 0..N {
+            if angle[k] {
+                sc[k] = q[k].sin_cos();
+            }
+        }
+        TrigState { q, sc, angle }
+    }
+}
+
+impl<T: Real, const N: usize> NewtonState<T> for TrigState<T, N> {
+    #[inline]
+    fn apply(&mut self, k: usize, dz: T) {
+        self.q[k] -= dz;
+        if self.angle[k] {
+            self.sc[k] = rotate(self.sc[k], self.q[k], dz);
+        }
+    }
+}
+
+/// (sin, cos) of `q − dz` from `(s, c)` = (sin q, cos q) and the new angle `q_new`: by the
+/// addition theorem with a Taylor series of `dz` when the step is small (truncation below 1e-19),
+/// by `sin_cos(q_new)` otherwise.
+#[inline]
+pub fn rotate<T: Real>((s, c): (T, T), q_new: T, dz: T) -> (T, T) {
+    if dz.abs() > T::lit(0.03) {
+        return q_new.sin_cos();
+    }
+    let d2 = dz * dz;
+    let sd = dz
+        * (T::one()
+            - d2 * T::lit(1.0 / 6.0)
+                * (T::one() - d2 * T::lit(1.0 / 20.0) * (T::one() - d2 * T::lit(1.0 / 42.0))));
+    let cd = T::one()
+        - d2 * T::lit(0.5)
+            * (T::one()
+                - d2 * T::lit(1.0 / 12.0)
+                    * (T::one() - d2 * T::lit(1.0 / 30.0) * (T::one() - d2 * T::lit(1.0 / 56.0))));
+    (s * cd - c * sd, c * cd + s * sd)
+}
+
 /// Workspace of [`newton_in_place`]: the block's residual, Jacobian and column scales.
 pub struct NewtonWork<T: Real, D: Dim>
 where
@@ -231,7 +308,7 @@ where
 /// Newton both engines run. `eval` writes the block residual and Jacobian at `q`.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn newton_in_place<T: Real, D: Dim, Q: AsRef<[T]> + AsMut<[T]> + ?Sized>(
+pub fn newton_in_place<T: Real, D: Dim, Q: NewtonState<T> + ?Sized>(
     block: usize,
     q: &mut Q,
     idx: &[usize],
@@ -281,7 +358,6 @@ where
             }
         };
         step = T::zero();
-        let qs = q.as_mut();
         for (i, (&k, &is_length)) in idx.iter().zip(length).enumerate() {
             let dz = work.residual[i];
             let s = if is_length {
@@ -290,7 +366,7 @@ where
                 dz.abs()
             };
             step = step.max(s);
-            qs[k] -= dz;
+            q.apply(k, dz);
         }
         if !step.is_finite() {
             return Err(SolveError::Unassemblable {
@@ -301,7 +377,12 @@ where
         }
         // Steps that stopped shrinking, at a level only rounding explains: nothing more to gain.
         let stagnated = step <= T::EPSILON.sqrt() && step >= prev_step;
-        if step <= options.tolerance || stagnated {
+        // Quadratic convergence: the next step would be about step³ / prev_step², so once that
+        // is at rounding level the answer is already as accurate as f64 (or f32) allows.
+        let done = it > 1
+            && step <= prev_step * T::lit(0.5)
+            && step * step * step <= prev_step * prev_step * T::EPSILON;
+        if step <= options.tolerance || stagnated || done {
             report.iterations += it;
             report.residual = report.residual.max(residual);
             report.pivot_ratio = report.pivot_ratio.min(ratio);

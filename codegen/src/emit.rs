@@ -76,7 +76,7 @@ pub fn emit(mechs: &[Compiled], source_name: &str) -> Result<String, String> {
     Ok(out)
 }
 
-fn comment(text: &str) -> TokenStream {
+pub(crate) fn comment(text: &str) -> TokenStream {
     quote!(__comment!(#text);)
 }
 
@@ -97,7 +97,7 @@ pub fn type_ident(model: &Model) -> Ident {
 }
 
 /// Reads variables from the generated functions' arguments `x, q, xd, qd, xdd, qdd` and `self.params`.
-struct Args<'a>(&'a Model);
+pub(crate) struct Args<'a>(pub &'a Model);
 
 impl VarSource for Args<'_> {
     fn bind(&self, v: Var) -> (Ident, TokenStream) {
@@ -381,104 +381,7 @@ fn module(c: &Compiled) -> TokenStream {
         },
     );
 
-    // Block functions and the block-wise solvers.
-    let mut block_fns = TokenStream::new();
-    let mut pos_steps = TokenStream::new();
-    let mut vel_steps = TokenStream::new();
-    let mut acc_steps = TokenStream::new();
-    for (bi, bf) in c.blocks.iter().enumerate() {
-        let k = bf.block.unknowns.len();
-        let idx = &bf.block.unknowns;
-        let members: Vec<&str> = idx
-            .iter()
-            .map(|&u| m.unknowns[u].name.text.as_str())
-            .collect();
-        let header = format!(
-            "Block {bi}: {} from {}.",
-            members.join(", "),
-            equations_text(&bf.block.equations)
-        );
-        let lengths = idx.iter().map(|&u| m.unknowns[u].kind == Kind::Length);
-        let jac_sets = |b: &crate::emit_body::Body, offset: usize| {
-            let mut sets = TokenStream::new();
-            for r in 0..k {
-                for cc in 0..k {
-                    if dag.is_zero(bf.jacobian[r][cc]) {
-                        continue;
-                    }
-                    let v = &b.roots[offset + r * k + cc];
-                    let (eq, un) = (bf.block.equations[r], idx[cc]);
-                    sets.extend(comment(&format!(
-                        "J[{eq}][{un}] = ∂Φ{eq}/∂{}",
-                        m.unknowns[un].name.text
-                    )));
-                    sets.extend(quote!(jac[(#r, #cc)] = #v;));
-                }
-            }
-            sets
-        };
-        let jroots: Vec<NodeId> = bf.jacobian.iter().flatten().copied().collect();
-        let pos_fn = format_ident!("block{}_position", bi);
-        let vel_fn = format_ident!("block{}_velocity", bi);
-        let acc_fn = format_ident!("block{}_acceleration", bi);
-        for (fname, vec_roots, params) in [
-            (&pos_fn, &bf.residual, quote!(x: &[T; #ni], q: &[T; #nu])),
-            (
-                &vel_fn,
-                &bf.velocity_rhs,
-                quote!(x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni], qd: &[T; #nu]),
-            ),
-            (
-                &acc_fn,
-                &bf.acceleration_rhs,
-                quote!(x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni], qdd: &[T; #nu]),
-            ),
-        ] {
-            let mut roots = vec_roots.clone();
-            roots.extend(&jroots);
-            let b = body(dag, &roots, &args);
-            let stmts = &b.stmts;
-            let v = &b.roots[..k];
-            let sets = jac_sets(&b, k);
-            let what = if *fname == pos_fn {
-                "residual"
-            } else {
-                "right-hand side"
-            };
-            let doc = format!(" {header} Its {what} and Jacobian block.");
-            block_fns.extend(quote! {
-                #[doc = #doc]
-                #[inline]
-                fn #fname(&self, #params) -> (::mechgen::nalgebra::SVector<T, #k>, ::mechgen::nalgebra::SMatrix<T, #k, #k>) {
-                    #stmts
-                    let mut jac = ::mechgen::nalgebra::SMatrix::<T, #k, #k>::zeros();
-                    #sets
-                    (::mechgen::nalgebra::SVector::from([#(#v),*]), jac)
-                }
-            });
-        }
-        let c_text = comment(&header);
-        let lengths: Vec<bool> = lengths.collect();
-        pos_steps.extend(quote! {
-            #c_text
-            ::mechgen::newton_block(#bi, q, [#(#idx),*], [#(#lengths),*], scale, options, &mut report, |q| self.#pos_fn(x, q))?;
-        });
-        let zi = 0..k;
-        let idx2 = idx.clone();
-        vel_steps.extend(quote! {
-            #c_text
-            let (rhs, jac) = self.#vel_fn(x, q, xd, &qd);
-            let z = ::mechgen::solve_block(#bi, ::mechgen::Stage::Velocity, jac, rhs)?;
-            #( qd[#idx2] = z[#zi]; )*
-        });
-        let zi = 0..k;
-        acc_steps.extend(quote! {
-            #c_text
-            let (rhs, jac) = self.#acc_fn(x, q, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(#bi, ::mechgen::Stage::Acceleration, jac, rhs)?;
-            #( qdd[#idx] = z[#zi]; )*
-        });
-    }
+    let solvers = crate::emit_solve::solvers(c, &args);
     let nblocks = c.blocks.len();
 
     quote! {
@@ -565,49 +468,15 @@ fn module(c: &Compiled) -> TokenStream {
                 #acceleration_rhs
                 #point_positions
                 #point_motion
-                #block_fns
-
-                /// Solves the positions block by block by Newton's method from the guess in `q`;
-                /// on success `q` holds the solution on the guess's branch.
-                pub fn solve_position(&self, x: &[T; #ni], q: &mut [T; #nu], options: &::mechgen::NewtonOptions<T>)
-                    -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
-                    ::mechgen::check_finite(::mechgen::Quantity::Param, &self.params.to_array())?;
-                    ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-                    ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-                    let scale = self.params.length_scale();
-                    let mut report = ::mechgen::NewtonReport::new();
-                    #pos_steps
-                    Ok(report)
-                }
-
-                /// q̇ from J q̇ = −Φx ẋ at a solved position.
-                pub fn solve_velocity(&self, x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni]) -> Result<[T; #nu], ::mechgen::SolveError> {
-                    ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-                    let mut qd = [T::zero(); #nu];
-                    #vel_steps
-                    Ok(qd)
-                }
-
-                /// q̈ from J q̈ = γ at a solved position and velocity.
-                pub fn solve_acceleration(&self, x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni])
-                    -> Result<[T; #nu], ::mechgen::SolveError> {
-                    ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-                    let mut qdd = [T::zero(); #nu];
-                    #acc_steps
-                    Ok(qdd)
-                }
+                #solvers
 
                 /// Everything at once: positions from `guess`, velocities, accelerations and points.
                 pub fn solve(&self, x: Inputs<T>, xd: Inputs<T>, xdd: Inputs<T>, guess: Unknowns<T>, options: &::mechgen::NewtonOptions<T>)
                     -> Result<Motion<T>, ::mechgen::SolveError> {
-                    let (xa, xda, xdda) = (x.to_array(), xd.to_array(), xdd.to_array());
                     let mut q = guess.to_array();
-                    let report = self.solve_position(&xa, &mut q, options)?;
-                    let qd = self.solve_velocity(&xa, &q, &xda)?;
-                    let qdd = self.solve_acceleration(&xa, &q, &xda, &qd, &xdda)?;
-                    let points = Points::from_array(self.point_motion(&xa, &q, &xda, &qd, &xdda, &qdd));
+                    let (qd, qdd, points, report) = self.solve_arrays(&x.to_array(), &xd.to_array(), &xdd.to_array(), &mut q, options)?;
                     Ok(Motion { x, xd, xdd, q: Unknowns::from_array(q), qd: Unknowns::from_array(qd),
-                        qdd: Unknowns::from_array(qdd), points, report })
+                        qdd: Unknowns::from_array(qdd), points: Points::from_array(points), report })
                 }
             }
 
@@ -637,6 +506,15 @@ fn module(c: &Compiled) -> TokenStream {
                     -> Result<Self::Q, ::mechgen::SolveError> { #ty::solve_acceleration(self, x, q, xd, qd, xdd) }
                 fn points(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X, qdd: &Self::Q, out: &mut [::mechgen::PointMotion<T>]) {
                     for (o, p) in out.iter_mut().zip(#ty::point_motion(self, x, q, xd, qd, xdd, qdd)) { *o = p; }
+                }
+                fn solve_motion(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, q: &mut Self::Q, qd: &mut Self::Q, qdd: &mut Self::Q,
+                    points: &mut [::mechgen::PointMotion<T>], options: &::mechgen::NewtonOptions<T>)
+                    -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+                    let (v, a, p, report) = #ty::solve_arrays(self, x, xd, xdd, q, options)?;
+                    *qd = v;
+                    *qdd = a;
+                    for (o, m) in points.iter_mut().zip(p) { *o = m; }
+                    Ok(report)
                 }
             }
         }
@@ -671,7 +549,7 @@ fn strip_usize(line: &str) -> String {
 }
 
 /// `loop 1 (x, y), loop 2 (x)` for a block's equations.
-fn equations_text(eqs: &[usize]) -> String {
+pub(crate) fn equations_text(eqs: &[usize]) -> String {
     let mut parts: Vec<String> = Vec::new();
     let mut i = 0;
     while i < eqs.len() {

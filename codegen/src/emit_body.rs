@@ -13,6 +13,11 @@ use crate::dag::{Dag, Node, NodeId, Var};
 pub trait VarSource {
     /// The local name a variable is bound to, and the expression that reads it from the arguments.
     fn bind(&self, v: Var) -> (Ident, TokenStream);
+    /// An expression giving `(sin v, cos v)` without computing them (a cache), if there is one.
+    fn trig(&self, v: Var) -> Option<TokenStream> {
+        let _ = v;
+        None
+    }
 }
 
 /// Statements computing `roots`, and the expression (an identifier or a literal) of each root.
@@ -69,6 +74,21 @@ pub fn body(dag: &Dag, roots: &[NodeId], vars: &dyn VarSource) -> Body {
                 let (ident, read) = vars.bind(v);
                 var_binds.push((v, quote!(let #ident = #read;)));
                 names[i] = Some(quote!(#ident));
+                continue;
+            }
+            Node::Sin(a) | Node::Cos(a) if matches!(dag.node(a), Node::Var(v) if vars.trig(v).is_some()) =>
+            {
+                let Node::Var(v) = dag.node(a) else { continue };
+                let (ident, _) = vars.bind(v);
+                let (sn, cn) = (format_ident!("s_{}", ident), format_ident!("c_{}", ident));
+                let src = vars.trig(v).unwrap_or_default();
+                stmts.extend(quote!(let (#sn, #cn) = #src;));
+                if let Some(s) = sin_of.get(&a) {
+                    names[s.index()] = Some(quote!(#sn));
+                }
+                if let Some(c) = cos_of.get(&a) {
+                    names[c.index()] = Some(quote!(#cn));
+                }
                 continue;
             }
             Node::Sin(a) | Node::Cos(a) if sin_of.contains_key(&a) && cos_of.contains_key(&a) => {

@@ -23,6 +23,7 @@ pub mod diagnostic;
 pub mod differentiate;
 pub mod emit;
 pub mod emit_body;
+pub mod emit_solve;
 pub mod eval;
 pub mod lower;
 pub mod parse;

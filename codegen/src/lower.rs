@@ -3,7 +3,7 @@
 
 use crate::ast::{BinOp, Expr, ExprKind};
 use crate::check::{Model, Symbol};
-use crate::dag::{Dag, NodeId, Var};
+use crate::dag::{Dag, Node, NodeId, Var};
 
 /// The position-level system of one mechanism.
 #[derive(Clone, Debug)]
@@ -92,7 +92,8 @@ fn value(dag: &mut Dag, model: &Model, e: &Expr) -> Value {
             match f.text.as_str() {
                 "e" => {
                     let t = scalar(arg(0));
-                    Value::Vector(dag.cos(t), dag.sin(t))
+                    let (c, s) = cos_sin(dag, t);
+                    Value::Vector(c, s)
                 }
                 "c" => {
                     let (x, y) = (scalar(arg(0)), scalar(arg(1)));
@@ -101,8 +102,8 @@ fn value(dag: &mut Dag, model: &Model, e: &Expr) -> Value {
                 name => {
                     let x = scalar(arg(0));
                     Value::Scalar(match name {
-                        "sin" => dag.sin(x),
-                        "cos" => dag.cos(x),
+                        "sin" => cos_sin(dag, x).1,
+                        "cos" => cos_sin(dag, x).0,
                         "tan" => dag.tan(x),
                         "sqrt" => dag.sqrt(x),
                         _ => {
@@ -113,6 +114,32 @@ fn value(dag: &mut Dag, model: &Model, e: &Expr) -> Value {
                 }
             }
         }
+    }
+}
+
+/// cos and sin of `t`, sums and differences expanded by the addition theorems, so that only sines
+/// and cosines of single variables (and of other non-sums) remain: `e(q2 - alpha)` becomes
+/// `(cos q2 cos α + sin q2 sin α, sin q2 cos α − cos q2 sin α)`. The generated solvers keep the
+/// sines and cosines of the unknowns up to date during Newton and share them between stages, so
+/// they call `sin_cos` once per angle per solve.
+fn cos_sin(dag: &mut Dag, t: NodeId) -> (NodeId, NodeId) {
+    match dag.node(t) {
+        Node::Add(a, b) | Node::Sub(a, b) => {
+            let plus = matches!(dag.node(t), Node::Add(..));
+            let ((ca, sa), (cb, sb)) = (cos_sin(dag, a), cos_sin(dag, b));
+            let (cc, ss) = (dag.mul(ca, cb), dag.mul(sa, sb));
+            let (sc, cs) = (dag.mul(sa, cb), dag.mul(ca, sb));
+            if plus {
+                (dag.sub(cc, ss), dag.add(sc, cs))
+            } else {
+                (dag.add(cc, ss), dag.sub(sc, cs))
+            }
+        }
+        Node::Neg(a) => {
+            let (c, s) = cos_sin(dag, a);
+            (c, dag.neg(s))
+        }
+        _ => (dag.cos(t), dag.sin(t)),
     }
 }
 

@@ -389,6 +389,9 @@ pub mod slider {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+            tq: &[(T, T); 2],
         ) -> (
             ::mechgen::nalgebra::SVector<T, 1>,
             ::mechgen::nalgebra::SMatrix<T, 1, 1>,
@@ -397,16 +400,16 @@ pub mod slider {
             let v_q2 = q[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
-            let t0 = v_q1.sin();
-            let t1 = p_l1 * t0;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t3 = p_l2 * c_v_q2;
-            let t4 = p_l2 * s_v_q2;
-            let t5 = t1 + t4;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t1 = p_l2 * c_v_q2;
+            let t2 = p_l2 * s_v_q2;
+            let t3 = t0 + t2;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
-            jac[(0, 0)] = t3;
-            (::mechgen::nalgebra::SVector::from([t5]), jac)
+            jac[(0, 0)] = t1;
+            (::mechgen::nalgebra::SVector::from([t3]), jac)
         }
         /// Block 0: q2 from loop 1 (y). Its right-hand side and Jacobian block.
         #[inline]
@@ -414,6 +417,9 @@ pub mod slider {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+            tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
         ) -> (
@@ -425,16 +431,16 @@ pub mod slider {
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let v_q1_d = xd[0];
-            let t0 = v_q1.cos();
-            let t1 = p_l1 * t0;
-            let t2 = v_q2.cos();
-            let t3 = p_l2 * t2;
-            let t4 = t1 * v_q1_d;
-            let t5 = -t4;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t1 = p_l2 * c_v_q2;
+            let t2 = t0 * v_q1_d;
+            let t3 = -t2;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
-            jac[(0, 0)] = t3;
-            (::mechgen::nalgebra::SVector::from([t5]), jac)
+            jac[(0, 0)] = t1;
+            (::mechgen::nalgebra::SVector::from([t3]), jac)
         }
         /// Block 0: q2 from loop 1 (y). Its right-hand side and Jacobian block.
         #[inline]
@@ -442,6 +448,9 @@ pub mod slider {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+            tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
@@ -457,25 +466,25 @@ pub mod slider {
             let v_q1_d = xd[0];
             let v_q2_d = qd[0];
             let v_q1_dd = xdd[0];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let t6 = t5 * v_q2_d;
-            let t7 = t2 * v_q1_d;
-            let t8 = v_q1_d * t7;
-            let t9 = -t8;
-            let t10 = v_q2_d * t6;
-            let t11 = t9 - t10;
-            let t12 = t1 * v_q1_dd;
-            let t13 = t11 + t12;
-            let t14 = -t13;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let t4 = t3 * v_q2_d;
+            let t5 = t1 * v_q1_d;
+            let t6 = v_q1_d * t5;
+            let t7 = -t6;
+            let t8 = v_q2_d * t4;
+            let t9 = t7 - t8;
+            let t10 = t0 * v_q1_dd;
+            let t11 = t9 + t10;
+            let t12 = -t11;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
-            jac[(0, 0)] = t4;
-            (::mechgen::nalgebra::SVector::from([t14]), jac)
+            jac[(0, 0)] = t2;
+            (::mechgen::nalgebra::SVector::from([t12]), jac)
         }
         /// Block 1: s from loop 1 (x). Its residual and Jacobian block.
         #[inline]
@@ -483,6 +492,9 @@ pub mod slider {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+            tq: &[(T, T); 2],
         ) -> (
             ::mechgen::nalgebra::SVector<T, 1>,
             ::mechgen::nalgebra::SMatrix<T, 1, 1>,
@@ -492,16 +504,16 @@ pub mod slider {
             let v_s = q[1];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
-            let t0 = v_q1.cos();
-            let t1 = p_l1 * t0;
-            let t2 = v_q2.cos();
-            let t3 = p_l2 * t2;
-            let t4 = t1 + t3;
-            let t5 = t4 - v_s;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t1 = p_l2 * c_v_q2;
+            let t2 = t0 + t1;
+            let t3 = t2 - v_s;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂s
             jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t5]), jac)
+            (::mechgen::nalgebra::SVector::from([t3]), jac)
         }
         /// Block 1: s from loop 1 (x). Its right-hand side and Jacobian block.
         #[inline]
@@ -509,6 +521,9 @@ pub mod slider {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+            tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
         ) -> (
@@ -521,17 +536,17 @@ pub mod slider {
             let p_l2 = self.params.l2;
             let v_q1_d = xd[0];
             let v_q2_d = qd[0];
-            let t0 = v_q1.sin();
-            let t1 = p_l1 * t0;
-            let t2 = v_q2.sin();
-            let t3 = p_l2 * t2;
-            let t4 = t3 * v_q2_d;
-            let t5 = t1 * v_q1_d;
-            let t6 = t4 + t5;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t1 = p_l2 * s_v_q2;
+            let t2 = t1 * v_q2_d;
+            let t3 = t0 * v_q1_d;
+            let t4 = t2 + t3;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂s
             jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t6]), jac)
+            (::mechgen::nalgebra::SVector::from([t4]), jac)
         }
         /// Block 1: s from loop 1 (x). Its right-hand side and Jacobian block.
         #[inline]
@@ -539,6 +554,9 @@ pub mod slider {
             &self,
             x: &[T; 1],
             q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+            tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
@@ -555,26 +573,179 @@ pub mod slider {
             let v_q2_d = qd[0];
             let v_q1_dd = xdd[0];
             let v_q2_dd = qdd[0];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let t6 = t4 * v_q2_d;
-            let t7 = t1 * v_q1_d;
-            let t8 = v_q1_d * t7;
-            let t9 = -t8;
-            let t10 = v_q2_d * t6;
-            let t11 = t9 - t10;
-            let t12 = t2 * v_q1_dd;
-            let t13 = t12 - t11;
-            let t14 = t5 * v_q2_dd;
-            let t15 = t13 + t14;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let t4 = t2 * v_q2_d;
+            let t5 = t0 * v_q1_d;
+            let t6 = v_q1_d * t5;
+            let t7 = -t6;
+            let t8 = v_q2_d * t4;
+            let t9 = t7 - t8;
+            let t10 = t1 * v_q1_dd;
+            let t11 = t10 - t9;
+            let t12 = t3 * v_q2_dd;
+            let t13 = t11 + t12;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂s
             jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t15]), jac)
+            (::mechgen::nalgebra::SVector::from([t13]), jac)
+        }
+        /// Sines and cosines of the inputs and params that appear in a sin or cos.
+        #[inline]
+        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 2]) {
+            let params = self.params.to_array();
+            let mut tx = [(T::zero(), T::one()); 1];
+            let mut tp = [(T::zero(), T::one()); 2];
+            tx[0] = x[0].sin_cos();
+            (tx, tp)
+        }
+        /// The unknowns with the sines and cosines the solvers read.
+        #[inline]
+        fn trig_state(q: [T; 2]) -> ::mechgen::TrigState<T, 2> {
+            ::mechgen::TrigState::new(q, [true, false])
+        }
+        #[inline]
+        fn position_cached(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+            options: &::mechgen::NewtonOptions<T>,
+            report: &mut ::mechgen::NewtonReport<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            let scale = self.params.length_scale();
+            // Block 0: q2 from loop 1 (y).
+            ::mechgen::newton_block(
+                0,
+                st,
+                [0],
+                [false],
+                scale,
+                options,
+                report,
+                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            // Block 1: s from loop 1 (x).
+            ::mechgen::newton_block(
+                1,
+                st,
+                [1],
+                [true],
+                scale,
+                options,
+                report,
+                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            Ok(())
+        }
+        #[inline]
+        fn velocity_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+            tq: &[(T, T); 2],
+            xd: &[T; 1],
+        ) -> Result<[T; 2], ::mechgen::SolveError> {
+            let mut qd = [T::zero(); 2];
+            // Block 0: q2 from loop 1 (y).
+            let (rhs, jac) = self.block0_velocity(x, q, tx, tp, tq, xd, &qd);
+            let z = ::mechgen::solve_block(
+                0,
+                ::mechgen::Stage::Velocity,
+                jac,
+                rhs,
+            )?;
+            qd[0] = z[0];
+            // Block 1: s from loop 1 (x).
+            let (rhs, jac) = self.block1_velocity(x, q, tx, tp, tq, xd, &qd);
+            let z = ::mechgen::solve_block(
+                1,
+                ::mechgen::Stage::Velocity,
+                jac,
+                rhs,
+            )?;
+            qd[1] = z[0];
+            Ok(qd)
+        }
+        #[inline]
+        fn acceleration_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+            tq: &[(T, T); 2],
+            xd: &[T; 1],
+            qd: &[T; 2],
+            xdd: &[T; 1],
+        ) -> Result<[T; 2], ::mechgen::SolveError> {
+            let mut qdd = [T::zero(); 2];
+            // Block 0: q2 from loop 1 (y).
+            let (rhs, jac) = self
+                .block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
+            let z = ::mechgen::solve_block(
+                0,
+                ::mechgen::Stage::Acceleration,
+                jac,
+                rhs,
+            )?;
+            qdd[0] = z[0];
+            // Block 1: s from loop 1 (x).
+            let (rhs, jac) = self
+                .block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
+            let z = ::mechgen::solve_block(
+                1,
+                ::mechgen::Stage::Acceleration,
+                jac,
+                rhs,
+            )?;
+            qdd[1] = z[0];
+            Ok(qdd)
+        }
+        #[inline]
+        fn point_motion_cached(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+            tq: &[(T, T); 2],
+            xd: &[T; 1],
+            qd: &[T; 2],
+            xdd: &[T; 1],
+            qdd: &[T; 2],
+        ) -> [::mechgen::PointMotion<T>; 1] {
+            let v_q1 = x[0];
+            let p_l1 = self.params.l1;
+            let v_q1_d = xd[0];
+            let v_q1_dd = xdd[0];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = t1 * v_q1_d;
+            let t3 = -t2;
+            let t4 = t0 * v_q1_d;
+            let t5 = v_q1_d * t4;
+            let t6 = -t5;
+            let t7 = t1 * v_q1_dd;
+            let t8 = v_q1_d * t2;
+            let t9 = t0 * v_q1_dd;
+            let t10 = t6 - t7;
+            let t11 = t9 - t8;
+            [
+                ::mechgen::PointMotion {
+                    position: [t0, t1],
+                    velocity: [t3, t4],
+                    acceleration: [t10, t11],
+                },
+            ]
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -590,30 +761,11 @@ pub mod slider {
             )?;
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-            let scale = self.params.length_scale();
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::NewtonReport::new();
-            // Block 0: q2 from loop 1 (y).
-            ::mechgen::newton_block(
-                0,
-                q,
-                [0],
-                [false],
-                scale,
-                options,
-                &mut report,
-                |q| self.block0_position(x, q),
-            )?;
-            // Block 1: s from loop 1 (x).
-            ::mechgen::newton_block(
-                1,
-                q,
-                [1],
-                [true],
-                scale,
-                options,
-                &mut report,
-                |q| self.block1_position(x, q),
-            )?;
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
             Ok(report)
         }
         /// q̇ from J q̇ = −Φx ẋ at a solved position.
@@ -624,26 +776,9 @@ pub mod slider {
             xd: &[T; 1],
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            let mut qd = [T::zero(); 2];
-            // Block 0: q2 from loop 1 (y).
-            let (rhs, jac) = self.block0_velocity(x, q, xd, &qd);
-            let z = ::mechgen::solve_block(
-                0,
-                ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
-            )?;
-            qd[0] = z[0];
-            // Block 1: s from loop 1 (x).
-            let (rhs, jac) = self.block1_velocity(x, q, xd, &qd);
-            let z = ::mechgen::solve_block(
-                1,
-                ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
-            )?;
-            qd[1] = z[0];
-            Ok(qd)
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
         }
         /// q̈ from J q̈ = γ at a solved position and velocity.
         pub fn solve_acceleration(
@@ -655,26 +790,46 @@ pub mod slider {
             xdd: &[T; 1],
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-            let mut qdd = [T::zero(); 2];
-            // Block 0: q2 from loop 1 (y).
-            let (rhs, jac) = self.block0_acceleration(x, q, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
-                0,
-                ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+        }
+        /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
+        /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        pub fn solve_arrays(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            q: &mut [T; 2],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<
+            (
+                [T; 2],
+                [T; 2],
+                [::mechgen::PointMotion<T>; 1],
+                ::mechgen::NewtonReport<T>,
+            ),
+            ::mechgen::SolveError,
+        > {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
             )?;
-            qdd[0] = z[0];
-            // Block 1: s from loop 1 (x).
-            let (rhs, jac) = self.block1_acceleration(x, q, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
-                1,
-                ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
-            )?;
-            qdd[1] = z[0];
-            Ok(qdd)
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
+            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self
+                .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            Ok((qd, qdd, points, report))
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
         pub fn solve(
@@ -685,14 +840,15 @@ pub mod slider {
             guess: Unknowns<T>,
             options: &::mechgen::NewtonOptions<T>,
         ) -> Result<Motion<T>, ::mechgen::SolveError> {
-            let (xa, xda, xdda) = (x.to_array(), xd.to_array(), xdd.to_array());
             let mut q = guess.to_array();
-            let report = self.solve_position(&xa, &mut q, options)?;
-            let qd = self.solve_velocity(&xa, &q, &xda)?;
-            let qdd = self.solve_acceleration(&xa, &q, &xda, &qd, &xdda)?;
-            let points = Points::from_array(
-                self.point_motion(&xa, &q, &xda, &qd, &xdda, &qdd),
-            );
+            let (qd, qdd, points, report) = self
+                .solve_arrays(
+                    &x.to_array(),
+                    &xd.to_array(),
+                    &xdd.to_array(),
+                    &mut q,
+                    options,
+                )?;
             Ok(Motion {
                 x,
                 xd,
@@ -700,7 +856,7 @@ pub mod slider {
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
-                points,
+                points: Points::from_array(points),
                 report,
             })
         }
@@ -786,6 +942,25 @@ pub mod slider {
             {
                 *o = p;
             }
+        }
+        fn solve_motion(
+            &self,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            q: &mut Self::Q,
+            qd: &mut Self::Q,
+            qdd: &mut Self::Q,
+            points: &mut [::mechgen::PointMotion<T>],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            let (v, a, p, report) = Slider::solve_arrays(self, x, xd, xdd, q, options)?;
+            *qd = v;
+            *qdd = a;
+            for (o, m) in points.iter_mut().zip(p) {
+                *o = m;
+            }
+            Ok(report)
         }
     }
 }

@@ -1,0 +1,298 @@
+//! Stage 6b: the block-wise solvers of one mechanism. Block functions read the sines and cosines
+//! of inputs, params and unknowns from caches (`tx`, `tp`, and the Newton [`TrigState`]'s `sc`),
+//! which are computed once per solve and kept in step through Newton by rotation; `solve` shares
+//! them between positions, velocities, accelerations and points.
+//!
+//! [`TrigState`]: ../../mechgen/solve/struct.TrigState.html
+
+use proc_macro2::{Ident, TokenStream};
+use quote::{format_ident, quote};
+
+use crate::check::Kind;
+use crate::compile::Compiled;
+use crate::dag::{Node, NodeId, Var};
+use crate::emit::{Args, comment};
+use crate::emit_body::{Body, VarSource, body};
+
+/// Variables whose sine and cosine come from caches.
+struct Cached<'a> {
+    args: &'a Args<'a>,
+    /// Inputs, unknowns and params that appear as the argument of a sin or cos.
+    x: Vec<bool>,
+    q: Vec<bool>,
+    p: Vec<bool>,
+}
+
+impl VarSource for Cached<'_> {
+    fn bind(&self, v: Var) -> (Ident, TokenStream) {
+        self.args.bind(v)
+    }
+    fn trig(&self, v: Var) -> Option<TokenStream> {
+        let (mask, arr, i) = match v {
+            Var::X(i) => (&self.x, quote!(tx), i as usize),
+            Var::Q(i) => (&self.q, quote!(tq), i as usize),
+            Var::P(i) => (&self.p, quote!(tp), i as usize),
+            _ => return None,
+        };
+        mask[i].then(|| quote!(#arr[#i]))
+    }
+}
+
+fn trig_masks(c: &Compiled) -> (Vec<bool>, Vec<bool>, Vec<bool>) {
+    let m = &c.model;
+    let (mut x, mut q, mut p) = (
+        vec![false; m.inputs.len()],
+        vec![false; m.unknowns.len()],
+        vec![false; m.params.len()],
+    );
+    let dag = &c.system.dag;
+    for n in dag.nodes() {
+        if let Node::Sin(a) | Node::Cos(a) = *n {
+            match dag.node(a) {
+                Node::Var(Var::X(i)) => x[i as usize] = true,
+                Node::Var(Var::Q(i)) => q[i as usize] = true,
+                Node::Var(Var::P(i)) => p[i as usize] = true,
+                _ => {}
+            }
+        }
+    }
+    (x, q, p)
+}
+
+/// The solver methods of a mechanism's type (inside its `impl<T: Real>` block).
+pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
+    let m = &c.model;
+    let dag = &c.system.dag;
+    let (ni, nu, np, npar) = (
+        m.inputs.len(),
+        m.unknowns.len(),
+        m.points.len(),
+        m.params.len(),
+    );
+    let (xm, qm, pm) = trig_masks(c);
+    let cached = Cached {
+        args,
+        x: xm.clone(),
+        q: qm.clone(),
+        p: pm.clone(),
+    };
+    let trig_sets = |mask: &[bool], arr: TokenStream, src: TokenStream| -> TokenStream {
+        let idx: Vec<usize> = (0..mask.len()).filter(|&i| mask[i]).collect();
+        quote!(#( #arr[#idx] = #src[#idx].sin_cos(); )*)
+    };
+    let tx_sets = trig_sets(&xm, quote!(tx), quote!(x));
+    let tp_sets = trig_sets(&pm, quote!(tp), quote!(params));
+    let ctx = quote!(tx: &[(T, T); #ni], tp: &[(T, T); #npar], tq: &[(T, T); #nu]);
+
+    let mut block_fns = TokenStream::new();
+    let (mut pos_steps, mut vel_steps, mut acc_steps) =
+        (TokenStream::new(), TokenStream::new(), TokenStream::new());
+    for (bi, bf) in c.blocks.iter().enumerate() {
+        let k = bf.block.unknowns.len();
+        let idx = &bf.block.unknowns;
+        let members: Vec<&str> = idx
+            .iter()
+            .map(|&u| m.unknowns[u].name.text.as_str())
+            .collect();
+        let header = format!(
+            "Block {bi}: {} from {}.",
+            members.join(", "),
+            crate::emit::equations_text(&bf.block.equations)
+        );
+        let jac_sets = |b: &Body| {
+            let mut sets = TokenStream::new();
+            for r in 0..k {
+                for cc in 0..k {
+                    if dag.is_zero(bf.jacobian[r][cc]) {
+                        continue;
+                    }
+                    let v = &b.roots[k + r * k + cc];
+                    let (eq, un) = (bf.block.equations[r], idx[cc]);
+                    sets.extend(comment(&format!(
+                        "J[{eq}][{un}] = ∂Φ{eq}/∂{}",
+                        m.unknowns[un].name.text
+                    )));
+                    sets.extend(quote!(jac[(#r, #cc)] = #v;));
+                }
+            }
+            sets
+        };
+        let jroots: Vec<NodeId> = bf.jacobian.iter().flatten().copied().collect();
+        let names = [
+            format_ident!("block{}_position", bi),
+            format_ident!("block{}_velocity", bi),
+            format_ident!("block{}_acceleration", bi),
+        ];
+        let params = [
+            quote!(x: &[T; #ni], q: &[T; #nu], #ctx),
+            quote!(x: &[T; #ni], q: &[T; #nu], #ctx, xd: &[T; #ni], qd: &[T; #nu]),
+            quote!(x: &[T; #ni], q: &[T; #nu], #ctx, xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni], qdd: &[T; #nu]),
+        ];
+        let heads = [&bf.residual, &bf.velocity_rhs, &bf.acceleration_rhs];
+        for s in 0..3 {
+            let mut roots = heads[s].clone();
+            roots.extend(&jroots);
+            let b = body(dag, &roots, &cached);
+            let (stmts, v, sets, fname) = (&b.stmts, &b.roots[..k], jac_sets(&b), &names[s]);
+            let what = if s == 0 {
+                "residual"
+            } else {
+                "right-hand side"
+            };
+            let doc = format!(" {header} Its {what} and Jacobian block.");
+            let p = &params[s];
+            block_fns.extend(quote! {
+                #[doc = #doc]
+                #[inline]
+                fn #fname(&self, #p) -> (::mechgen::nalgebra::SVector<T, #k>, ::mechgen::nalgebra::SMatrix<T, #k, #k>) {
+                    #stmts
+                    let mut jac = ::mechgen::nalgebra::SMatrix::<T, #k, #k>::zeros();
+                    #sets
+                    (::mechgen::nalgebra::SVector::from([#(#v),*]), jac)
+                }
+            });
+        }
+        let c_text = comment(&header);
+        let lengths: Vec<bool> = idx
+            .iter()
+            .map(|&u| m.unknowns[u].kind == Kind::Length)
+            .collect();
+        let [pos_fn, vel_fn, acc_fn] = &names;
+        pos_steps.extend(quote! {
+            #c_text
+            ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], scale, options, report,
+                |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
+        });
+        let zi: Vec<usize> = (0..k).collect();
+        vel_steps.extend(quote! {
+            #c_text
+            let (rhs, jac) = self.#vel_fn(x, q, tx, tp, tq, xd, &qd);
+            let z = ::mechgen::solve_block(#bi, ::mechgen::Stage::Velocity, jac, rhs)?;
+            #( qd[#idx] = z[#zi]; )*
+        });
+        acc_steps.extend(quote! {
+            #c_text
+            let (rhs, jac) = self.#acc_fn(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
+            let z = ::mechgen::solve_block(#bi, ::mechgen::Stage::Acceleration, jac, rhs)?;
+            #( qdd[#idx] = z[#zi]; )*
+        });
+    }
+
+    let mut motion_roots = Vec::new();
+    for p in 0..np {
+        motion_roots.extend(c.system.points[p]);
+        motion_roots.extend(c.derivatives.point_velocity[p]);
+        motion_roots.extend(c.derivatives.point_acceleration[p]);
+    }
+    let b = body(dag, &motion_roots, &cached);
+    let motion_stmts = &b.stmts;
+    let items = b.roots.chunks(6).map(|p| {
+        let (px, py, vx, vy, ax, ay) = (&p[0], &p[1], &p[2], &p[3], &p[4], &p[5]);
+        quote!(::mechgen::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] })
+    });
+    let angle_mask = &qm;
+
+    quote! {
+        #block_fns
+
+        /// Sines and cosines of the inputs and params that appear in a sin or cos.
+        #[inline]
+        fn trig_fixed(&self, x: &[T; #ni]) -> ([(T, T); #ni], [(T, T); #npar]) {
+            let params = self.params.to_array();
+            let mut tx = [(T::zero(), T::one()); #ni];
+            let mut tp = [(T::zero(), T::one()); #npar];
+            #tx_sets
+            #tp_sets
+            (tx, tp)
+        }
+
+        /// The unknowns with the sines and cosines the solvers read.
+        #[inline]
+        fn trig_state(q: [T; #nu]) -> ::mechgen::TrigState<T, #nu> {
+            ::mechgen::TrigState::new(q, [#(#angle_mask),*])
+        }
+
+        #[inline]
+        fn position_cached(&self, x: &[T; #ni], st: &mut ::mechgen::TrigState<T, #nu>, tx: &[(T, T); #ni], tp: &[(T, T); #npar],
+            options: &::mechgen::NewtonOptions<T>, report: &mut ::mechgen::NewtonReport<T>) -> Result<(), ::mechgen::SolveError> {
+            let scale = self.params.length_scale();
+            #pos_steps
+            Ok(())
+        }
+
+        #[inline]
+        fn velocity_cached(&self, x: &[T; #ni], q: &[T; #nu], #ctx, xd: &[T; #ni]) -> Result<[T; #nu], ::mechgen::SolveError> {
+            let mut qd = [T::zero(); #nu];
+            #vel_steps
+            Ok(qd)
+        }
+
+        #[inline]
+        fn acceleration_cached(&self, x: &[T; #ni], q: &[T; #nu], #ctx, xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni])
+            -> Result<[T; #nu], ::mechgen::SolveError> {
+            let mut qdd = [T::zero(); #nu];
+            #acc_steps
+            Ok(qdd)
+        }
+
+        #[inline]
+        fn point_motion_cached(&self, x: &[T; #ni], q: &[T; #nu], #ctx, xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni], qdd: &[T; #nu])
+            -> [::mechgen::PointMotion<T>; #np] {
+            #motion_stmts
+            [#(#items),*]
+        }
+
+        /// Solves the positions block by block by Newton's method from the guess in `q`;
+        /// on success `q` holds the solution on the guess's branch.
+        pub fn solve_position(&self, x: &[T; #ni], q: &mut [T; #nu], options: &::mechgen::NewtonOptions<T>)
+            -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            ::mechgen::check_finite(::mechgen::Quantity::Param, &self.params.to_array())?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
+            Ok(report)
+        }
+
+        /// q̇ from J q̇ = −Φx ẋ at a solved position.
+        pub fn solve_velocity(&self, x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni]) -> Result<[T; #nu], ::mechgen::SolveError> {
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
+        }
+
+        /// q̈ from J q̈ = γ at a solved position and velocity.
+        pub fn solve_acceleration(&self, x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni])
+            -> Result<[T; #nu], ::mechgen::SolveError> {
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+        }
+
+        /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
+        /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        pub fn solve_arrays(&self, x: &[T; #ni], xd: &[T; #ni], xdd: &[T; #ni], q: &mut [T; #nu],
+            options: &::mechgen::NewtonOptions<T>)
+            -> Result<([T; #nu], [T; #nu], [::mechgen::PointMotion<T>; #np], ::mechgen::NewtonReport<T>), ::mechgen::SolveError> {
+            ::mechgen::check_finite(::mechgen::Quantity::Param, &self.params.to_array())?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = Self::trig_state(*q);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            *q = st.q;
+            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self.point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            Ok((qd, qdd, points, report))
+        }
+    }
+}

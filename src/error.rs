@@ -26,8 +26,9 @@ pub enum Quantity {
 pub enum SolveError {
     /// A param, input, rate or guess is NaN or infinite (`index` in its array).
     NonFinite { quantity: Quantity, index: usize },
-    /// Newton found no configuration: the residual stayed large (relative norm given). Past a dead
-    /// point, or an input out of the mechanism's range.
+    /// Newton found no configuration: its steps stopped shrinking while the residual stayed above
+    /// rounding level (the smallest relative residual seen is given). Past a dead point, or an
+    /// input out of the mechanism's range.
     Unassemblable {
         block: usize,
         residual: f64,
@@ -40,8 +41,8 @@ pub enum SolveError {
         stage: Stage,
         pivot_ratio: f64,
     },
-    /// Newton stopped at the iteration cap with a small residual but without reaching the
-    /// tolerance (raise `max_iterations` or loosen `tolerance`).
+    /// Newton hit the iteration cap while its steps were still shrinking: it was converging, but
+    /// the cap is too tight for this guess (raise `max_iterations` or loosen `tolerance`).
     NoConvergence {
         block: usize,
         residual: f64,

@@ -126,12 +126,40 @@ pub fn table(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
                 }
             }
             Err(e) => {
-                let _ = write!(out, "  {}: {e}", e.status());
+                let name = &info.inputs[index].0;
+                let at = |input: f64| {
+                    format!(
+                        "{name} = {:.4}{}",
+                        input * deg(input_kind),
+                        unit_word(input_kind)
+                    )
+                };
+                let _ = match r.stopped {
+                    Some(s) if s.at_dead_point() => write!(
+                        out,
+                        "  {}: dead point near {} (cond {:.1e}), the branch cannot be continued past it",
+                        e.status(),
+                        at(s.input),
+                        s.condition
+                    ),
+                    Some(s) => write!(
+                        out,
+                        "  {}: {e}; branch stopped at {} (cond {:.1e})",
+                        e.status(),
+                        at(s.input),
+                        s.condition
+                    ),
+                    None => write!(out, "  {}: {e}", e.status()),
+                };
             }
         }
         out.push('\n');
     }
     out
+}
+
+fn unit_word(k: Kind) -> &'static str {
+    if k == Kind::Angle { " deg" } else { "" }
 }
 
 fn unit(k: Kind) -> &'static str {

@@ -176,15 +176,31 @@ pub fn solve_block<T: Real, const K: usize>(
     }
 }
 
+/// A step counts as progress when it is below this fraction of the smallest step so far. Newton
+/// converges quadratically at a regular solution and linearly (ratio 1/2) at a dead point, so a
+/// converging run makes progress at every iteration.
+const PROGRESS: f64 = 0.9;
+
+/// Consecutive iterations without progress after which the block is declared unassemblable. Just
+/// past a dead point no solution exists and the iterates wander (their steps never fall below the
+/// square root of the distance to the dead point), so waiting longer only risks a wild step that
+/// lands on another assembly branch.
+const STALL_LIMIT: u32 = 6;
+
 /// Newton's method on one diagonal block: `q[idx]` are the block's unknowns (`length[i]` when
 /// unknown `i` is a length), `eval` gives the block residual and Jacobian at `q`.
 ///
-/// Converges when the relative step is at most the tolerance, when the convergence is quadratic and
-/// the next step would be at rounding level (so it is not taken), or when small steps stop
-/// shrinking (rounding noise; convergence is only linear at a dead point, so no fixed count is
-/// assumed). On
-/// failure: `Unassemblable` when the residual stayed large, `NoConvergence` when it is small but
-/// the steps are not.
+/// Stops on what the steps do, not on a fixed count (near a dead point convergence is only
+/// linear):
+/// - converged when the relative step is at most the tolerance; when the convergence is quadratic
+///   and the next step would be at rounding level (so it is not taken); or when the steps stop
+///   shrinking while the residual is at rounding level (nothing more to gain in this precision);
+/// - `Unassemblable` when the steps stop shrinking (`STALL_LIMIT` = 6 iterations without progress)
+///   while the residual is not at rounding level: no configuration near the guess, as just past a
+///   dead point;
+/// - `NoConvergence` when the iteration cap is hit while the steps are still shrinking (the cap or
+///   the tolerance is too tight for this guess);
+/// - `Singular` when the Jacobian block is singular to working precision away from a solution.
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn newton_block<T: Real, const K: usize, S: NewtonState<T> + ?Sized>(
@@ -323,10 +339,20 @@ where
     DefaultAllocator: Allocator<D, D> + Allocator<D>,
 {
     let inv_scale = T::one() / scale;
+    // A relative residual this small is what rounding leaves in the loop sums.
     let rounding = T::EPSILON * T::lit(64.0);
+    let mut best_step = T::lit(f64::INFINITY);
     let mut prev_step = T::lit(f64::INFINITY);
+    let mut best_residual = T::lit(f64::INFINITY);
+    let mut stalls = 0u32;
     let mut residual = T::zero();
     let mut step = T::zero();
+    let mut converged = |it: u32, residual: T, ratio: T| {
+        report.iterations += it;
+        report.residual = report.residual.max(residual);
+        report.pivot_ratio = report.pivot_ratio.min(ratio);
+        Ok(())
+    };
     for it in 1..=options.max_iterations {
         eval(q, &mut work.residual, &mut work.jacobian);
         residual = T::zero();
@@ -340,15 +366,13 @@ where
                 iterations: it,
             });
         }
+        best_residual = best_residual.min(residual);
         let ratio = match gauss_in_place(&mut work.jacobian, &mut work.residual, &mut work.scale) {
             Ok(ratio) => ratio,
             Err(ratio) => {
                 // An exact solution at a singular Jacobian (a dead point hit exactly) is still a solution.
                 if residual <= rounding {
-                    report.iterations += it - 1;
-                    report.residual = report.residual.max(residual);
-                    report.pivot_ratio = report.pivot_ratio.min(ratio);
-                    return Ok(());
+                    return converged(it - 1, residual, ratio);
                 }
                 return Err(SolveError::Singular {
                     block,
@@ -357,6 +381,7 @@ where
                 });
             }
         };
+        // `work.residual` now holds the step dz.
         step = T::zero();
         for (i, (&k, &is_length)) in idx.iter().zip(length).enumerate() {
             let dz = work.residual[i];
@@ -371,37 +396,54 @@ where
         if !step.is_finite() {
             return Err(SolveError::Unassemblable {
                 block,
-                residual: residual.to_f64(),
+                residual: best_residual.to_f64(),
                 iterations: it,
             });
         }
-        // Steps that stopped shrinking, at a level only rounding explains: nothing more to gain.
-        let stagnated = step <= T::EPSILON.sqrt() && step >= prev_step;
         // Quadratic convergence: the next step would be about step³ / prev_step², so once that
-        // is at rounding level the answer is already as accurate as f64 (or f32) allows.
+        // is at rounding level the answer is already as accurate as the precision allows.
         let done = it > 1
             && step <= prev_step * T::lit(0.5)
             && step * step * step <= prev_step * prev_step * T::EPSILON;
-        if step <= options.tolerance || stagnated || done {
-            report.iterations += it;
-            report.residual = report.residual.max(residual);
-            report.pivot_ratio = report.pivot_ratio.min(ratio);
-            return Ok(());
+        if step <= options.tolerance || done {
+            return converged(it, residual, ratio);
         }
         prev_step = step;
+        if step < best_step * T::lit(PROGRESS) {
+            best_step = step;
+            stalls = 0;
+        } else {
+            stalls += 1;
+            // Steps that stopped shrinking at a residual only rounding explains: converged as far
+            // as this precision allows (near a dead point the last digits of q are ill-determined).
+            // The iterate the residual was measured at is kept, not the noise step from it.
+            if residual <= rounding {
+                for (i, &k) in idx.iter().enumerate() {
+                    q.apply(k, -work.residual[i]);
+                }
+                return converged(it, residual, ratio);
+            }
+            if stalls >= STALL_LIMIT {
+                return Err(SolveError::Unassemblable {
+                    block,
+                    residual: best_residual.to_f64(),
+                    iterations: it,
+                });
+            }
+        }
     }
     let iterations = options.max_iterations;
-    if residual > T::EPSILON.sqrt() {
-        Err(SolveError::Unassemblable {
-            block,
-            residual: residual.to_f64(),
-            iterations,
-        })
-    } else {
+    if stalls == 0 {
         Err(SolveError::NoConvergence {
             block,
             residual: residual.to_f64(),
             step: step.to_f64(),
+            iterations,
+        })
+    } else {
+        Err(SolveError::Unassemblable {
+            block,
+            residual: best_residual.to_f64(),
             iterations,
         })
     }
@@ -418,5 +460,62 @@ pub fn copy_row_major<T: Real, const R: usize, const C: usize>(
                 *o = m[(i, j)];
             }
         }
+    }
+}
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Newton on the fold f(s) = s² − c from s = 1: two roots ±√c for c > 0, a double root at
+    /// c = 0 (a dead point), none for c < 0 (past it).
+    fn fold(c: f64, options: &NewtonOptions<f64>) -> (Result<(), SolveError>, f64, u32) {
+        let mut q = [1.0];
+        let mut report = NewtonReport::new();
+        let result = newton_block(0, &mut q, [0], [false], 1.0, options, &mut report, |q| {
+            (
+                SVector::from([q[0] * q[0] - c]),
+                SMatrix::from([[2.0 * q[0]]]),
+            )
+        });
+        (result, q[0], report.iterations)
+    }
+
+    #[test]
+    fn regular_root_converges() {
+        let (r, s, _) = fold(0.25, &NewtonOptions::default());
+        assert_eq!(r, Ok(()));
+        assert!((s - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn double_root_converges_linearly_without_a_fixed_count() {
+        let (r, s, iterations) = fold(0.0, &NewtonOptions::default());
+        assert_eq!(r, Ok(()));
+        // Halving from 1 to the rounding level of a double root (√ε ≈ 1.5e-8) takes ~26 steps.
+        assert!(s.abs() < 1e-7 && iterations > 20, "{s} after {iterations}");
+    }
+
+    /// (Within rounding of the dead point, |c| below 64 ε, a residual of |c| is a solution.)
+    #[test]
+    fn no_root_is_unassemblable_early() {
+        for c in [-1e-12, -1e-8, -1e-4, -0.5] {
+            let (r, _, _) = fold(c, &NewtonOptions::default());
+            match r {
+                Err(SolveError::Unassemblable { iterations, .. }) => {
+                    assert!(iterations < 64, "c = {c}: {iterations} iterations")
+                }
+                other => panic!("c = {c}: {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn a_tight_cap_on_a_converging_run_is_no_convergence() {
+        let tight = NewtonOptions {
+            max_iterations: 2,
+            ..NewtonOptions::default()
+        };
+        let (r, _, _) = fold(0.25, &tight);
+        assert!(matches!(r, Err(SolveError::NoConvergence { .. })), "{r:?}");
     }
 }

@@ -47,6 +47,29 @@ pub struct Solved {
 pub struct Row {
     pub input: f64,
     pub result: Result<Solved, SolveError>,
+    /// On a failed row, where the branch stopped; `None` on a solved row.
+    pub stopped: Option<Stopped>,
+}
+
+/// Condition estimate above which a branch that cannot be continued is reported as ending at a
+/// dead point. Regular configurations of the compiled-in mechanisms are below 1e2; continuation
+/// stops within about 1e-10 of a dead point, where the estimate is above 1e4.
+pub const DEAD_POINT_CONDITION: f64 = 1e3;
+
+/// Where a continuation that could not reach a row stopped: the last state on the branch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stopped {
+    /// The last input value reached (radians or file units).
+    pub input: f64,
+    /// Condition estimate of the Jacobian there (infinite when it could not be evaluated).
+    pub condition: f64,
+}
+
+impl Stopped {
+    /// The branch ends at a dead point: its Jacobian is (nearly) singular where it stopped.
+    pub fn at_dead_point(&self) -> bool {
+        self.condition >= DEAD_POINT_CONDITION
+    }
 }
 
 /// Follows the branch of the state `(x, q)` as the input `index` moves to `target`. On success
@@ -67,6 +90,7 @@ pub fn continue_to(
     let mut unit = vec![0.0; x.len()];
     unit[index] = 1.0;
     let mut last_err = None;
+    let limit = predictor_limits(k, q);
     loop {
         let remaining = target - x[index];
         let dir = remaining.signum();
@@ -84,9 +108,37 @@ pub fn continue_to(
             trial[i] = q[i] + if have_tangent { tangent[i] * dx } else { 0.0 };
         }
         let predicted = trial.clone();
-        match k.solve_position(&xt, &mut trial, &c.newton) {
+        // Leaving a dead point the tangent is huge: a substep it would carry far is shortened
+        // before Newton sees it (else angles land many turns away and lose their precision).
+        let too_far = (0..n).any(|i| (predicted[i] - q[i]).abs() > limit[i]);
+        let corrected = if too_far {
+            None
+        } else {
+            Some(k.solve_position(&xt, &mut trial, &c.newton))
+        };
+        let accepted = match corrected {
             // Accept only a corrector that stayed near the prediction: no silent branch jump.
-            Ok(report) if jump(&predicted, &trial, q) <= 0.25 => {
+            Some(Ok(report)) if jump(&predicted, &trial, q) <= 0.25 => Some(report),
+            // Already at the target: nothing smaller to try.
+            Some(Err(e)) if dx == 0.0 => return Err(e),
+            Some(Err(e)) => {
+                last_err = Some(e);
+                None
+            }
+            _ => None,
+        };
+        // Leaving a dead point the tangent overshoots (the branch bends like √δ): Newton from the
+        // current state is accepted when it moved along the tangent and not beyond it.
+        let accepted = accepted.or_else(|| {
+            if too_far || !have_tangent || dx == 0.0 {
+                return None;
+            }
+            trial.copy_from_slice(q);
+            let report = k.solve_position(&xt, &mut trial, &c.newton).ok()?;
+            leaves_along(&predicted, &trial, q).then_some(report)
+        });
+        match accepted {
+            Some(report) => {
                 q.copy_from_slice(&trial);
                 x[index] = xt[index];
                 if x[index] == target {
@@ -94,15 +146,7 @@ pub fn continue_to(
                 }
                 h = (h * 2.0).min(c.max_step);
             }
-            Ok(_) => {
-                h *= 0.5;
-            }
-            // Already at the target: nothing smaller to try.
-            Err(e) if dx == 0.0 => return Err(e),
-            Err(e) => {
-                last_err = Some(e);
-                h *= 0.5;
-            }
+            None => h *= 0.5,
         }
         if h < c.max_step * c.min_fraction {
             return Err(last_err.unwrap_or(SolveError::Unassemblable {
@@ -112,6 +156,42 @@ pub fn continue_to(
             }));
         }
     }
+}
+
+/// Largest change of an unknown a predictor substep may make: this many radians for an angle,
+/// this fraction of the largest length unknown for a length.
+const MAX_PREDICTED: f64 = 0.5;
+
+/// Per unknown, the largest change a predictor substep may make (see [`MAX_PREDICTED`]).
+fn predictor_limits(k: &dyn Kinematics<f64>, q: &[f64]) -> Vec<f64> {
+    let kinds: Vec<Kind> = k.info().unknowns.iter().map(|u| u.1).collect();
+    let length = q
+        .iter()
+        .zip(&kinds)
+        .filter(|(_, kind)| **kind == Kind::Length)
+        .fold(0.0f64, |m, (v, _)| m.max(v.abs()));
+    kinds
+        .iter()
+        .map(|kind| match kind {
+            Kind::Angle => MAX_PREDICTED,
+            Kind::Length if length > 0.0 => MAX_PREDICTED * length,
+            Kind::Length => f64::INFINITY,
+        })
+        .collect()
+}
+
+/// Whether the move from `before` to `corrected` goes the way of the tangent prediction (cosine
+/// above 0.9) and not farther: true of a move away from a dead point along the branch (√δ is
+/// concave), false of a jump to the other branch there (it goes backwards).
+fn leaves_along(predicted: &[f64], corrected: &[f64], before: &[f64]) -> bool {
+    let (mut dot, mut pp, mut cc) = (0.0, 0.0, 0.0);
+    for i in 0..before.len() {
+        let (p, c) = (predicted[i] - before[i], corrected[i] - before[i]);
+        dot += p * c;
+        pp += p * p;
+        cc += c * c;
+    }
+    cc > 0.0 && cc <= pp && dot >= 0.9 * (pp * cc).sqrt()
 }
 
 /// How far the corrector moved from the prediction, relative to the substep's change of the state.
@@ -134,7 +214,8 @@ fn jump(predicted: &[f64], corrected: &[f64], before: &[f64]) -> f64 {
 
 /// Sweeps input `index` over `values` (radians or file units) from the file's start configuration,
 /// with input rate `rate` and zero input acceleration. Failed rows keep the sweep going from the
-/// last state reached.
+/// last state reached and record it in [`Row::stopped`]: a branch that ends at a dead point stays
+/// there (the rows past it fail) instead of jumping to another branch.
 pub fn sweep(
     k: &dyn Kinematics<f64>,
     index: usize,
@@ -174,9 +255,21 @@ pub fn sweep(
                     condition,
                 })
             });
+            let stopped = result.is_err().then(|| {
+                // The state is a converged solution: one more solve gives its condition estimate.
+                let mut settled = q.clone();
+                let condition = k
+                    .solve_position(&x, &mut settled, &c.newton)
+                    .map_or(f64::INFINITY, |r| r.condition());
+                Stopped {
+                    input: x[index],
+                    condition,
+                }
+            });
             Row {
                 input: target,
                 result,
+                stopped,
             }
         })
         .collect()

@@ -154,6 +154,7 @@ fn motion_errors_and_empty_sweeps() {
                 expected: 2,
                 got: 1,
             }),
+            stopped: None,
         })
         .collect();
     let svg = motion_svg(&info, 0, &failed).expect("plot of failures");

@@ -1,6 +1,8 @@
 //! Shared test helpers: reading reference CSVs and comparing sweeps with them.
 #![allow(dead_code)]
 
+pub mod stress;
+
 use mechgen::sweep::Row;
 use mechgen::{Kind, MechanismInfo};
 

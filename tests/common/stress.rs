@@ -1,0 +1,97 @@
+//! Helpers of the stress suite (`tests/stress_*.rs`): the dead-point references of
+//! `tests/data/stress/`, settled start configurations and full motions through `Kinematics`.
+#![allow(dead_code)]
+
+use super::Table;
+use mechgen::sweep::Continuation;
+use mechgen::{Kind, Kinematics, MechanismInfo, NewtonOptions, PointMotion};
+
+/// The dead-point mechanisms of `mechanism.toml` with references in `tests/data/stress/`.
+pub const DEAD_POINT_MECHANISMS: [&str; 2] = ["rocker_four_bar", "sixbar_g"];
+
+/// The length scale of a mechanism: its largest length param (tolerances are relative to it).
+pub fn length_scale(info: &MechanismInfo) -> f64 {
+    info.params
+        .iter()
+        .filter(|p| p.1 == Kind::Length)
+        .fold(0.0f64, |m, p| m.max(p.2.abs()))
+}
+
+fn data(file: &str) -> Table {
+    Table::read(&format!(
+        "{}/tests/data/stress/{file}",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+}
+
+/// The reference rows near the dead points of `name` (side, offset_deg, input, unknowns, …).
+pub fn reference(name: &str) -> Table {
+    data(&format!("{name}.csv"))
+}
+
+/// A number of a reference row, by column name.
+pub fn cell(table: &Table, row: &[String], column: &str) -> f64 {
+    let i = table
+        .header
+        .iter()
+        .position(|h| h == column)
+        .unwrap_or_else(|| panic!("no column {column}"));
+    row[i].parse().expect("number")
+}
+
+/// (side, input) of the dead points of `name`: "upper" is reached by increasing the input.
+pub fn dead_points(name: &str) -> Vec<(String, f64)> {
+    data("dead_points.csv")
+        .rows
+        .iter()
+        .filter(|r| r[0] == name)
+        .map(|r| (r[1].clone(), r[2].parse().expect("input")))
+        .collect()
+}
+
+/// The generated mechanism and its settled start configuration (x, q).
+pub fn start(name: &str) -> (Box<dyn Kinematics<f64>>, Vec<f64>, Vec<f64>) {
+    let k = mechgen::lookup::<f64>(name).expect("compiled in");
+    let info = k.info();
+    let x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
+    let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
+    k.solve_position(&x, &mut q, &NewtonOptions::default())
+        .expect("start assembles");
+    (k, x, q)
+}
+
+/// The default continuation of an angle input.
+pub fn continuation() -> Continuation {
+    Continuation::for_input(Kind::Angle, 0.0)
+}
+
+/// q̇, q̈ and the points at a solved state of a one-input mechanism, for input rate 1 and input
+/// acceleration 0.
+pub fn motion(
+    k: &dyn Kinematics<f64>,
+    x: &[f64],
+    q: &[f64],
+) -> (Vec<f64>, Vec<f64>, Vec<PointMotion<f64>>) {
+    let n = q.len();
+    let (mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n]);
+    let mut points = vec![PointMotion::default(); k.info().points.len()];
+    k.solve_velocity(x, q, &[1.0], &mut qd).expect("velocity");
+    k.solve_acceleration(x, q, &[1.0], &qd, &[0.0], &mut qdd)
+        .expect("acceleration");
+    k.points(x, q, &[1.0], &qd, &[0.0], &qdd, &mut points)
+        .expect("points");
+    (qd, qdd, points)
+}
+
+/// Largest |got − want| over the largest |want|.
+pub fn relative(got: &[f64], want: &[f64]) -> f64 {
+    let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    got.iter()
+        .zip(want)
+        .fold(0.0f64, |m, (g, w)| m.max((g - w).abs() / scale))
+}
+
+/// `error <= bound`, false for a NaN error.
+pub fn within(error: f64, bound: f64) -> bool {
+    error <= bound
+}

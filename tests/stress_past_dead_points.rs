@@ -1,0 +1,257 @@
+//! Past a dead point: `solve_position` reports `Unassemblable` (not `NoConvergence`, not a
+//! configuration of another branch), sweeps stop at the dead point and say so, and
+//! `NoConvergence` still means "the iteration cap was too tight".
+
+mod common;
+
+use common::angle_diff;
+use common::stress::{DEAD_POINT_MECHANISMS, cell, continuation, dead_points, reference, start};
+use mechgen::report::table;
+use mechgen::sweep::{Row, continue_to, sweep};
+use mechgen::{NewtonOptions, SolveError};
+
+/// Degrees beyond the dead point at which no configuration exists.
+const BEYOND_DEG: [f64; 5] = [1e-6, 1e-5, 1e-4, 1e-2, 1.0];
+
+#[test]
+fn just_past_a_dead_point_is_unassemblable() {
+    for name in DEAD_POINT_MECHANISMS {
+        let table = reference(name);
+        for (side, dead) in dead_points(name) {
+            let direction = if side == "upper" { 1.0 } else { -1.0 };
+            // Guesses: the states reached by continuation at 1e-2, 1e-4 and 1e-6 degrees inside.
+            let (k, mut x, mut q) = start(name);
+            let mut guesses = Vec::new();
+            for row in table.rows.iter().filter(|r| r[0] == side) {
+                let input = cell(&table, row, &k.info().inputs[0].0);
+                continue_to(k.as_ref(), &mut x, &mut q, 0, input, &continuation())
+                    .expect("inside the range");
+                if cell(&table, row, "offset_deg") < 0.1 {
+                    guesses.push(q.clone());
+                }
+            }
+            for beyond in BEYOND_DEG {
+                let past = [dead + direction * beyond.to_radians()];
+                for guess in &guesses {
+                    let mut trial = guess.clone();
+                    let result = k.solve_position(&past, &mut trial, &NewtonOptions::default());
+                    assert!(
+                        matches!(result, Err(SolveError::Unassemblable { .. })),
+                        "{name} {side}, {beyond:e} deg past the dead point: {result:?}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn at_the_dead_point_itself_newton_converges_linearly() {
+    for name in DEAD_POINT_MECHANISMS {
+        for (side, dead) in dead_points(name) {
+            let direction = if side == "upper" { 1.0 } else { -1.0 };
+            let (k, mut x, mut q) = start(name);
+            let inside = dead - direction * 1e-2f64.to_radians();
+            continue_to(k.as_ref(), &mut x, &mut q, 0, inside, &continuation())
+                .expect("inside the range");
+            // The Jacobian is singular at the solution: convergence is only linear, and Newton
+            // must run until its steps stagnate at rounding level, not stop at a fixed count.
+            let report = k
+                .solve_position(&[dead], &mut q, &NewtonOptions::default())
+                .unwrap_or_else(|e| panic!("{name} {side}: {e:?}"));
+            assert!(report.iterations > 10, "{name} {side}: {report:?}");
+            assert!(
+                report.residual <= 64.0 * f64::EPSILON,
+                "{name} {side}: {report:?}"
+            );
+            assert!(report.condition() > 1e6, "{name} {side}: {report:?}");
+        }
+    }
+}
+
+#[test]
+fn no_convergence_means_the_iteration_cap_was_too_tight() {
+    for name in DEAD_POINT_MECHANISMS {
+        let (k, x, q) = start(name);
+        // An ordinary configuration 0.2 rad from the start, from the start's values.
+        let moved = [x[0] + 0.2];
+        let tight = NewtonOptions {
+            max_iterations: 2,
+            ..NewtonOptions::default()
+        };
+        let mut trial = q.clone();
+        let result = k.solve_position(&moved, &mut trial, &tight);
+        assert!(
+            matches!(result, Err(SolveError::NoConvergence { .. })),
+            "{name}: two iterations: {result:?}"
+        );
+        // The same solve with the default cap converges, continuing from where it stopped.
+        let report = k
+            .solve_position(&moved, &mut trial, &NewtonOptions::default())
+            .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+        assert!(report.residual <= 64.0 * f64::EPSILON, "{name}: {report:?}");
+        // A tolerance below rounding is met as far as the precision allows: steps that stop
+        // shrinking at a rounding-level residual are convergence, not failure.
+        let exact = NewtonOptions {
+            tolerance: 0.0,
+            ..NewtonOptions::default()
+        };
+        let mut again = q.clone();
+        let report = k
+            .solve_position(&moved, &mut again, &exact)
+            .unwrap_or_else(|e| panic!("{name}, tolerance 0: {e:?}"));
+        assert!(report.iterations < 64, "{name}: {report:?}");
+        for (a, b) in again.iter().zip(&trial) {
+            assert!((a - b).abs() < 1e-14, "{name}: {again:?} vs {trial:?}");
+        }
+    }
+}
+
+/// The sweep rows at `inputs` (radians) from the start configuration.
+fn sweep_rows(name: &str, inputs: &[f64]) -> Vec<Row> {
+    let (k, _, _) = start(name);
+    sweep(k.as_ref(), 0, inputs, 1.0, &continuation())
+}
+
+/// Asserts that the rows are solved exactly where `stop_at` gives no dead point, and that the
+/// others are `Unassemblable`, stopped at that dead point (radians) and named so in the table.
+fn check_stops(name: &str, rows: &[Row], stop_at: impl Fn(f64) -> Option<f64>) {
+    let info = mechgen::lookup::<f64>(name).expect("compiled in").info();
+    let text = table(&info, 0, rows);
+    for r in rows {
+        let at = format!("{name} at {:.4} deg", r.input.to_degrees());
+        let Some(dead) = stop_at(r.input) else {
+            assert!(r.result.is_ok(), "{at}: {:?}", r.result);
+            assert_eq!(r.stopped, None, "{at}");
+            continue;
+        };
+        assert!(
+            matches!(r.result, Err(SolveError::Unassemblable { .. })),
+            "{at}: {:?}",
+            r.result
+        );
+        let stopped = r
+            .stopped
+            .unwrap_or_else(|| panic!("{at}: no stop recorded"));
+        // Continuation halves its substep down to 1e-9 of 2 degrees: it gets within ~1e-10 rad.
+        assert!(
+            (stopped.input - dead).abs() < 1e-9,
+            "{at}: stopped at {} rad, dead point {dead}",
+            stopped.input
+        );
+        assert!(stopped.at_dead_point(), "{at}: {stopped:?}");
+        let expected = format!(
+            "unassemblable: dead point near {} = {:.4} deg",
+            info.inputs[0].0,
+            dead.to_degrees()
+        );
+        assert!(
+            text.contains(&expected),
+            "{name}: table lacks {expected:?}:\n{text}"
+        );
+    }
+}
+
+/// The reference rows of one dead point at `offset_deg`, as (input, unknowns).
+fn reference_row(name: &str, side: &str, offset_deg: &str) -> (f64, Vec<f64>) {
+    let table = reference(name);
+    let row = table
+        .rows
+        .iter()
+        .find(|r| r[0] == side && r[1] == offset_deg)
+        .expect("reference row");
+    let info = mechgen::lookup::<f64>(name).expect("compiled in").info();
+    let q = info
+        .unknowns
+        .iter()
+        .map(|u| cell(&table, row, &u.0))
+        .collect();
+    (cell(&table, row, &info.inputs[0].0), q)
+}
+
+/// The row at `input` is on the start branch: its unknowns match the reference (modulo 2π).
+fn check_branch(rows: &[Row], input: f64, want: &[f64]) {
+    let row = rows.iter().find(|r| r.input == input).expect("row");
+    let got = &row.result.as_ref().expect("solved").q;
+    for (g, w) in got.iter().zip(want) {
+        assert!(angle_diff(*g, *w).abs() < 1e-12, "{got:?} vs {want:?}");
+    }
+}
+
+/// Rows at the same inputs hold the same values: not only modulo 2π (angles that drifted by whole
+/// turns lose digits).
+fn check_same(a: &[Row], b: &[Row]) {
+    for (ra, rb) in a.iter().zip(b) {
+        assert_eq!(ra.input, rb.input);
+        let (qa, qb) = (
+            &ra.result.as_ref().expect("a").q,
+            &rb.result.as_ref().expect("b").q,
+        );
+        for (x, y) in qa.iter().zip(qb) {
+            assert!((x - y).abs() < 1e-10, "at {}: {qa:?} vs {qb:?}", ra.input);
+        }
+    }
+}
+
+#[test]
+fn a_sweep_stops_at_the_dead_point_and_says_so() {
+    // rocker_four_bar over a full turn: past 135.95 deg nothing is reachable on this branch
+    // (the mirror range from 224 deg on belongs to the other side of the dead point).
+    let name = "rocker_four_bar";
+    let dead = dead_points(name)[0].1;
+    let (near, near_q) = reference_row(name, "upper", "1e-2");
+    let mut inputs: Vec<f64> = (0..=36).map(|d| f64::from(d * 10).to_radians()).collect();
+    inputs.insert(14, near);
+    // Back inside after the stop: the branch continues from the dead point, on the same side.
+    inputs.push(100f64.to_radians());
+    let rows = sweep_rows(name, &inputs);
+    check_stops(name, &rows[..rows.len() - 1], |x| {
+        (x > dead).then_some(dead)
+    });
+    check_branch(&rows, near, &near_q);
+    check_same(&rows[10..11], &rows[rows.len() - 1..]);
+
+    // sixbar_g from 250 deg up, and from the start down: each side stops at its dead point.
+    let name = "sixbar_g";
+    let deads = dead_points(name);
+    assert_eq!(
+        (deads[0].0.as_str(), deads[1].0.as_str()),
+        ("upper", "lower")
+    );
+    for (side, dead) in deads.clone() {
+        let (near, near_q) = reference_row(name, &side, "1e-2");
+        let mut inputs: Vec<f64> = if side == "upper" {
+            (50..=72).map(|d| f64::from(d * 5).to_radians()).collect()
+        } else {
+            (40..=56)
+                .rev()
+                .map(|d| f64::from(d * 5).to_radians())
+                .collect()
+        };
+        let at = inputs
+            .iter()
+            .position(|x| (x - dead).abs() < 5f64.to_radians())
+            .expect("near");
+        inputs.insert(at + 1, near);
+        let rows = sweep_rows(name, &inputs);
+        let beyond = |x: f64| if side == "upper" { x > dead } else { x < dead };
+        check_stops(name, &rows, |x| beyond(x).then_some(dead));
+        check_branch(&rows, near, &near_q);
+    }
+
+    // sixbar_g over a full turn, as `cargo run` sweeps it: from the start (280.7 deg) down to
+    // 0 deg it stops at the lower dead point, comes back from it for 250 to 340 deg (the same
+    // values as a sweep that never left the range) and stops at the upper one.
+    let full: Vec<f64> = (0..=36).map(|d| f64::from(d * 10).to_radians()).collect();
+    let rows = sweep_rows(name, &full);
+    let (upper, lower) = (deads[0].1, deads[1].1);
+    check_stops(name, &rows, |x| {
+        if x < lower {
+            Some(lower)
+        } else {
+            (x > upper).then_some(upper)
+        }
+    });
+    let direct = sweep_rows(name, &full[25..35]);
+    check_same(&rows[25..35], &direct);
+}

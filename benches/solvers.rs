@@ -142,20 +142,24 @@ impl Visitor<f64> for Generated<'_> {
         g.bench_function("step/generated", |b| {
             b.iter(|| {
                 i = (i + 1) % n;
-                let (_, q, qd, _, xn) = &typed[i];
+                let (_, q, qd, qdd, xn) = &typed[i];
                 let xn = black_box(xn);
-                let (_, _, _, qdd, _) = &typed[i];
                 let mut q1 = *q;
                 for ((v, d), a) in q1.as_mut().iter_mut().zip(qd.as_ref()).zip(qdd.as_ref()) {
                     *v += dx * (d + 0.5 * dx * a);
                 }
-                let tick = m.solve_position(xn, &mut q1, &opts).and_then(|_| {
-                    let qd1 = m.solve_velocity(xn, &q1, &xd)?;
-                    let qdd1 = m.solve_acceleration(xn, &q1, &xd, &qd1, &xdd)?;
-                    m.points(xn, &q1, &xd, &qd1, &xdd, &qdd1, &mut points);
-                    Ok((q1, qd1, qdd1))
-                });
-                black_box(&points);
+                let (mut qd1, mut qdd1) = (M::Q::zeros(), M::Q::zeros());
+                let tick = m.solve_motion(
+                    xn,
+                    &xd,
+                    &xdd,
+                    &mut q1,
+                    &mut qd1,
+                    &mut qdd1,
+                    &mut points,
+                    &opts,
+                );
+                black_box((&points, &q1, &qd1, &qdd1));
                 tick
             })
         });
@@ -208,11 +212,7 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
             for (((v, q0), d), a) in q.iter_mut().zip(&s.q).zip(&s.qd).zip(&s.qdd) {
                 *v = q0 + dx * (d + 0.5 * dx * a);
             }
-            let tick = k.solve_position(xn, &mut q, &opts).and_then(|_| {
-                k.solve_velocity(xn, &q, &xd, &mut qd)?;
-                k.solve_acceleration(xn, &q, &xd, &qd, &xdd, &mut qdd)?;
-                k.points(xn, &q, &xd, &qd, &xdd, &qdd, &mut points)
-            });
+            let tick = k.solve_motion(xn, &xd, &xdd, &mut q, &mut qd, &mut qdd, &mut points, &opts);
             black_box((&points, tick)).1.ok();
         })
     });

@@ -87,6 +87,7 @@ pub fn gauss<T: Real, const K: usize>(
 /// [`gauss`] for any dimension (fixed or dynamic): on success `b` holds the solution and the
 /// pivot ratio is returned; `a` is overwritten and `scale` is workspace of `b`'s size.
 // `!(a > b)` is deliberate: a NaN must fail the test.
+#[inline(always)]
 #[allow(clippy::neg_cmp_op_on_partial_ord)]
 pub fn gauss_in_place<T: Real, D: Dim>(
     a: &mut OMatrix<T, D, D>,

@@ -16,6 +16,7 @@
 // Generated code names this crate `::mechgen`, also inside it.
 extern crate self as mechgen;
 
+pub mod dyad;
 pub mod error;
 #[cfg(feature = "runtime")]
 pub mod generic;
@@ -27,6 +28,7 @@ pub mod scalar;
 pub mod solve;
 pub mod sweep;
 
+pub use dyad::solve_dyad;
 pub use error::{Quantity, SolveError, Stage};
 pub use mechanism::{
     Array, CoordInfo, Kind, Kinematics, Mechanism, MechanismInfo, ParamInfo, PointMotion,

@@ -36,6 +36,8 @@ pub trait Real:
     fn sin_cos(self) -> (Self, Self);
     fn tan(self) -> Self;
     fn sqrt(self) -> Self;
+    /// Angle of the point `(other, self)`, in (−π, π].
+    fn atan2(self, other: Self) -> Self;
     fn abs(self) -> Self;
     fn max(self, other: Self) -> Self;
     fn min(self, other: Self) -> Self;
@@ -74,6 +76,10 @@ macro_rules! impl_real {
             #[inline(always)]
             fn sqrt(self) -> Self {
                 <$t>::sqrt(self)
+            }
+            #[inline(always)]
+            fn atan2(self, other: Self) -> Self {
+                <$t>::atan2(self, other)
             }
             #[inline(always)]
             fn abs(self) -> Self {

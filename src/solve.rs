@@ -85,7 +85,8 @@ pub fn gauss<T: Real, const K: usize>(
 }
 
 /// [`gauss`] for any dimension (fixed or dynamic): on success `b` holds the solution and the
-/// pivot ratio is returned; `a` is overwritten and `scale` is workspace of `b`'s size.
+/// pivot ratio is returned; `a` is overwritten (its diagonal with the reciprocal pivots) and
+/// `scale` is workspace of `b`'s size (the reciprocal column scales).
 // `!(a > b)` is deliberate: a NaN must fail the test.
 #[inline(always)]
 #[allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -106,9 +107,11 @@ where
         if !(m > T::zero()) || !m.is_finite() {
             return Err(T::zero());
         }
-        scale[j] = m;
+        // Reciprocals: one division per column and per pivot, the rest multiplications.
+        let inv = T::one() / m;
+        scale[j] = inv;
         for i in 0..k {
-            a[(i, j)] = a[(i, j)] / m;
+            a[(i, j)] *= inv;
         }
     }
     let (mut pmin, mut pmax) = (T::lit(f64::INFINITY), T::zero());
@@ -133,8 +136,10 @@ where
                 T::zero()
             });
         }
+        let inv_piv = T::one() / piv;
+        a[(c, c)] = inv_piv;
         for r in c + 1..k {
-            let f = a[(r, c)] / piv;
+            let f = a[(r, c)] * inv_piv;
             if f != T::zero() {
                 for j in c + 1..k {
                     let v = a[(c, j)];
@@ -150,10 +155,10 @@ where
         for j in c + 1..k {
             s -= a[(c, j)] * b[j];
         }
-        b[c] = s / a[(c, c)];
+        b[c] = s * a[(c, c)];
     }
     for j in 0..k {
-        b[j] = b[j] / scale[j];
+        b[j] *= scale[j];
     }
     Ok(pmin / pmax)
 }

@@ -43,7 +43,7 @@ pub fn analyze(file: &SourceFile) -> (Vec<Compiled>, Vec<Diagnostic>) {
                 if failed {
                     continue;
                 }
-                let blocks = plan::block_forms(&mut system, &derivatives, &blocks);
+                let blocks = plan::block_forms(&mut system, &model, &derivatives, &blocks);
                 out.push(Compiled {
                     model,
                     system,

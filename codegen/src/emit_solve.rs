@@ -130,6 +130,9 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         ];
         let heads = [&bf.residual, &bf.velocity_rhs, &bf.acceleration_rhs];
         for s in 0..3 {
+            if s == 0 && bf.dyad.is_some() {
+                continue;
+            }
             let mut roots = heads[s].clone();
             roots.extend(&jroots);
             let b = body(dag, &roots, &cached);
@@ -158,11 +161,37 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             .map(|&u| m.unknowns[u].kind == Kind::Length)
             .collect();
         let [pos_fn, vel_fn, acc_fn] = &names;
-        pos_steps.extend(quote! {
-            #c_text
-            ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], scale, options, report,
-                |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
-        });
+        match &bf.dyad {
+            Some(d) => {
+                let dyad_fn = format_ident!("block{}_dyad", bi);
+                let b = body(dag, &d.roots, &cached);
+                let (stmts, r) = (&b.stmts, &b.roots);
+                let doc = format!(
+                    " {header} A dyad: K + M_a e({}) + M_b e({}) = 0; returns K, then (p, r) of M_a and of M_b.",
+                    m.unknowns[d.a].name.text, m.unknowns[d.b].name.text
+                );
+                block_fns.extend(quote! {
+                    #[doc = #doc]
+                    #[inline]
+                    fn #dyad_fn(&self, x: &[T; #ni], q: &[T; #nu], #ctx) -> [T; 6] {
+                        #stmts
+                        [#(#r),*]
+                    }
+                });
+                let (a, bu) = (d.a, d.b);
+                let c_text = comment(&format!("{header} Closed form (a dyad)."));
+                pos_steps.extend(quote! {
+                    #c_text
+                    let [kx, ky, pa, ra, pb, rb] = self.#dyad_fn(x, &st.q, tx, tp, &st.sc);
+                    ::mechgen::solve_dyad(#bi, st, #a, #bu, [kx, ky], (pa, ra), (pb, rb), scale, report)?;
+                });
+            }
+            None => pos_steps.extend(quote! {
+                #c_text
+                ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], scale, options, report,
+                    |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
+            }),
+        }
         let zi: Vec<usize> = (0..k).collect();
         vel_steps.extend(quote! {
             #c_text

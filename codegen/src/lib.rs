@@ -21,6 +21,7 @@ pub mod compile;
 pub mod dag;
 pub mod diagnostic;
 pub mod differentiate;
+pub mod dyad;
 pub mod emit;
 pub mod emit_body;
 pub mod emit_solve;

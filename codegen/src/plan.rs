@@ -2,8 +2,10 @@
 //! diagonal block its residual and Jacobian, and its velocity and acceleration right-hand sides
 //! with the unknowns of earlier blocks already substituted as known rates.
 
+use crate::check::Model;
 use crate::dag::{NodeId, Var};
 use crate::differentiate::{Derivatives, Differentiator};
+use crate::dyad::Dyad;
 use crate::lower::System;
 use crate::structure::Block;
 
@@ -19,15 +21,27 @@ pub struct BlockForms {
     pub velocity_rhs: Vec<NodeId>,
     /// J_bb q̈_b = acceleration_rhs: γ − Σ J_bk q̈_k over the other blocks' unknowns.
     pub acceleration_rhs: Vec<NodeId>,
+    /// The closed form of the positions when the block is a dyad; Newton otherwise.
+    pub dyad: Option<Dyad>,
 }
 
-pub fn block_forms(sys: &mut System, der: &Derivatives, blocks: &[Block]) -> Vec<BlockForms> {
+pub fn block_forms(
+    sys: &mut System,
+    model: &Model,
+    der: &Derivatives,
+    blocks: &[Block],
+) -> Vec<BlockForms> {
     let residuals = sys.residuals.clone();
+    let dyads: Vec<Option<Dyad>> = blocks
+        .iter()
+        .map(|b| crate::dyad::dyad(&mut sys.dag, model, &residuals, b))
+        .collect();
     let mut d = Differentiator::new(&mut sys.dag);
     let n = der.jacobian.first().map_or(0, Vec::len);
     blocks
         .iter()
-        .map(|b| {
+        .enumerate()
+        .map(|(bi, b)| {
             let others: Vec<usize> = (0..n).filter(|k| !b.unknowns.contains(k)).collect();
             let coupling = |d: &mut Differentiator, i: usize, rate: fn(u16) -> Var| -> NodeId {
                 let row: Vec<NodeId> = others.iter().map(|&k| der.jacobian[i][k]).collect();
@@ -60,6 +74,7 @@ pub fn block_forms(sys: &mut System, der: &Derivatives, blocks: &[Block]) -> Vec
                     .collect(),
                 velocity_rhs,
                 acceleration_rhs,
+                dyad: dyads[bi].clone(),
             }
         })
         .collect()

@@ -51,7 +51,23 @@ pub fn dead_points(name: &str) -> Vec<(String, f64)> {
 
 /// The generated mechanism and its settled start configuration (x, q).
 pub fn start(name: &str) -> (Box<dyn Kinematics<f64>>, Vec<f64>, Vec<f64>) {
-    let k = mechgen::lookup::<f64>(name).expect("compiled in");
+    start_with(mechgen::lookup::<f64>(name).expect("compiled in"))
+}
+
+/// The generic engine's copy of a compiled-in mechanism (always block Newton, no closed forms).
+#[cfg(feature = "runtime")]
+pub fn generic(name: &str) -> Box<dyn Kinematics<f64>> {
+    let all = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
+        .expect("compiled-in file loads");
+    Box::new(
+        all.into_iter()
+            .find(|m| m.name() == name)
+            .expect("in the file"),
+    )
+}
+
+/// [`start`] for a given engine.
+pub fn start_with(k: Box<dyn Kinematics<f64>>) -> (Box<dyn Kinematics<f64>>, Vec<f64>, Vec<f64>) {
     let info = k.info();
     let x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
     let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();

@@ -8,11 +8,12 @@ mod common;
 
 use common::angle_diff;
 use common::stress::{
-    DEAD_POINT_MECHANISMS, cell, continuation, dead_points, generic, reference, start, start_with,
+    DEAD_POINT_MECHANISMS, Started, cell, continuation, dead_points, generic, reference, start,
+    start_with,
 };
 use mechgen::report::table;
 use mechgen::sweep::{Row, continue_to, sweep};
-use mechgen::{Kinematics, NewtonOptions, SolveError};
+use mechgen::{NewtonOptions, SolveError};
 
 /// Degrees beyond the dead point at which no configuration exists.
 const BEYOND_DEG: [f64; 5] = [1e-6, 1e-5, 1e-4, 1e-2, 1.0];
@@ -51,7 +52,7 @@ fn just_past_a_dead_point_is_unassemblable() {
 
 /// The generated engine and the generic one (which runs block Newton where the generated code
 /// has a closed form).
-fn engines(name: &str) -> Vec<(Box<dyn Kinematics<f64>>, Vec<f64>, Vec<f64>)> {
+fn engines(name: &str) -> Vec<Started> {
     vec![start(name), start_with(generic(name))]
 }
 

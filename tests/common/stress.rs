@@ -50,7 +50,7 @@ pub fn dead_points(name: &str) -> Vec<(String, f64)> {
 }
 
 /// The generated mechanism and its settled start configuration (x, q).
-pub fn start(name: &str) -> (Box<dyn Kinematics<f64>>, Vec<f64>, Vec<f64>) {
+pub fn start(name: &str) -> Started {
     start_with(mechgen::lookup::<f64>(name).expect("compiled in"))
 }
 
@@ -66,8 +66,11 @@ pub fn generic(name: &str) -> Box<dyn Kinematics<f64>> {
     )
 }
 
+/// An engine with its start state (x, q).
+pub type Started = (Box<dyn Kinematics<f64>>, Vec<f64>, Vec<f64>);
+
 /// [`start`] for a given engine.
-pub fn start_with(k: Box<dyn Kinematics<f64>>) -> (Box<dyn Kinematics<f64>>, Vec<f64>, Vec<f64>) {
+pub fn start_with(k: Box<dyn Kinematics<f64>>) -> Started {
     let info = k.info();
     let x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
     let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();

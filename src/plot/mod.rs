@@ -1,9 +1,11 @@
-//! SVG plots of sweeps (`motion_svg`) and drawings of the mechanism (`drawing_svg`), drawn with
-//! `plotters` into a `String`. Text is laid out with the bundled DejaVu Sans (no system fonts);
-//! non-finite values are never drawn, and failed rows are gaps, never joined across.
+//! SVG plots of sweeps (`motion_svg`), drawings of the mechanism (`drawing_svg`) and labelled
+//! log-log scatter plots (`log_log_scatter_svg`), drawn with `plotters` into a `String`. Text is
+//! laid out with the bundled DejaVu Sans (no system fonts); non-finite values are never drawn, and
+//! failed rows are gaps, never joined across.
 
 mod drawing;
 mod motion;
+mod scatter;
 
 use std::fmt;
 use std::sync::OnceLock;
@@ -14,6 +16,7 @@ use plotters::style::{FontStyle, RGBColor};
 
 pub use drawing::{Frame, drawing_svg, point_paths};
 pub use motion::motion_svg;
+pub use scatter::{Marker, ScatterLayout, log_log_scatter_svg};
 
 /// The family name text is registered under and written into the SVG: a generic CSS family, so a
 /// viewer without DejaVu Sans still shows a sans-serif face.

@@ -1,0 +1,332 @@
+//! Run time against error for the seed six-bar over a full turn:
+//! `cargo run --release --example accuracy -- OUT_DIR` writes `OUT_DIR/accuracy.md` (the table,
+//! also printed) and `OUT_DIR/accuracy.svg` (time per step against the largest error, log-log).
+//!
+//! Work: like a simulator tick (and the `step` bench), from the previous full state the positions
+//! are predicted as q + q'·Δx + q''·Δx²/2, then positions, velocities, accelerations and the
+//! points are solved; 360 steps of 1° from 0° to 360° (input rate 1, acceleration 0), after an
+//! untimed assembly at 0° from the file's start values. The error is the largest over the states
+//! at 0°, 10°, …, 360° against the 40-digit reference (`tests/data/sixbar.csv`): positions in
+//! radians (modulo 2π), velocities and accelerations relative to their column's largest magnitude.
+//! Time per step: the median over 15 repetitions of (time of N full turns) / (360 N), N chosen
+//! so a repetition takes about 40 ms, after a warm-up turn; the repetitions go round the variants
+//! in turn, so a slow spell of a shared machine hits them all alike (the spread is printed to
+//! stderr).
+//!
+//! Variants: the generated solvers at several tolerances; with an iteration cap at tolerance 1e-12
+//! (a tick whose position solve fails keeps the predicted positions and solves the rates there:
+//! a simulator on a fixed budget cannot retry, and the solvers return the iterate only on
+//! success); with exactly k iterations accepted without a convergence test; in f32; the generic
+//! engine; and a hand-written-style solver that only evaluates the residual (finite-difference
+//! Jacobians, dense Newton, see `variants.rs`).
+
+mod variants;
+
+use std::error::Error;
+use std::fmt::Write as _;
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use mechgen::NewtonOptions;
+use mechgen::plot::{Marker, ScatterLayout, log_log_scatter_svg};
+use variants::{
+    Budget, Engine, Errors, FiniteDifferences, Generated, Pass, STEPS, Scheme, Stepper, errors,
+    inputs, reference, run,
+};
+
+/// Wall time one repetition aims at.
+const REPETITION: Duration = Duration::from_millis(40);
+const REPETITIONS: usize = 15;
+
+/// The legend groups of the plot.
+const GROUPS: [&str; 6] = [
+    "generated f64, tolerance (cap 64)",
+    "generated f64, cap k at tolerance 1e-12 (a failed tick keeps the prediction)",
+    "generated f64, k iterations per block accepted",
+    "generated f32, tolerance",
+    "generic engine f64",
+    "generic residual + finite-difference Jacobians",
+];
+
+/// One row of the table.
+struct Row {
+    variant: String,
+    label: String,
+    group: usize,
+    tolerance: String,
+    cap: String,
+    ns_per_step: f64,
+    iterations_per_step: f64,
+    errors: Errors,
+    failed: usize,
+}
+
+/// A variant under measurement: one full turn per call (timed steps), its warm-up result and how
+/// many turns make a repetition.
+struct Timed<'a> {
+    row: Row,
+    turn: Box<dyn FnMut() -> Result<(Pass, Duration), String> + 'a>,
+    first: Pass,
+    turns: u32,
+    per_step: Vec<f64>,
+}
+
+impl<'a> Timed<'a> {
+    /// The warm-up turn (whose states give the errors) and the number of turns per repetition.
+    fn new<S: Stepper + 'a>(mut s: S, xs: &'a [f64], row: Row) -> Result<Self, String> {
+        let (first, t) = run(&mut s, xs)?;
+        let turns = (REPETITION.as_secs_f64() / t.as_secs_f64().max(1e-9))
+            .ceil()
+            .max(1.0) as u32;
+        let turn = Box::new(move || run(black_box(&mut s), black_box(xs)));
+        Ok(Timed {
+            row,
+            turn,
+            first,
+            turns,
+            per_step: Vec::new(),
+        })
+    }
+
+    /// One repetition: `turns` full turns; every turn must repeat the warm-up's results.
+    fn repeat(&mut self) -> Result<(), String> {
+        let mut total = Duration::ZERO;
+        for _ in 0..self.turns {
+            let (pass, t) = (self.turn)()?;
+            if black_box(&pass) != &self.first {
+                return Err(format!(
+                    "{}: a turn differs from the first",
+                    self.row.variant
+                ));
+            }
+            total += t;
+        }
+        self.per_step
+            .push(total.as_secs_f64() * 1e9 / (f64::from(self.turns) * STEPS as f64));
+        Ok(())
+    }
+}
+
+fn sci(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:.1e}")
+    } else {
+        "—".into()
+    }
+}
+
+fn table(rows: &[Row]) -> String {
+    let mut t = String::from(
+        "| variant | tolerance | iteration cap | time per step [ns] | Newton iterations per step \
+         | max error positions [rad] | velocities (rel.) | accelerations (rel.) | failed steps |\n\
+         | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            t,
+            "| {} | {} | {} | {:.0} | {:.2} | {} | {} | {} | {} |",
+            r.variant,
+            r.tolerance,
+            r.cap,
+            r.ns_per_step,
+            r.iterations_per_step,
+            sci(r.errors.position),
+            sci(r.errors.velocity),
+            sci(r.errors.acceleration),
+            r.failed
+        );
+    }
+    t
+}
+
+fn main() -> Result<(), Box<dyn Error>> {
+    let out = PathBuf::from(
+        std::env::args()
+            .nth(1)
+            .ok_or("usage: cargo run --release --example accuracy -- OUT_DIR")?,
+    );
+    std::fs::create_dir_all(&out)?;
+    if cfg!(debug_assertions) {
+        eprintln!("warning: a debug build; run with --release for meaningful times");
+    }
+    let reference = reference()?;
+    let xs = inputs();
+    let loaded = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)?;
+    let generic = loaded
+        .iter()
+        .find(|g| g.name() == "sixbar")
+        .ok_or("the compiled-in file has no sixbar")?;
+
+    let mut timed: Vec<Timed> = Vec::new();
+    macro_rules! variant {
+        ($stepper:expr, $variant:expr, $label:expr, $group:expr, $tol:expr, $cap:expr) => {{
+            let row = Row {
+                variant: $variant.to_string(),
+                label: $label.to_string(),
+                group: $group,
+                tolerance: $tol.to_string(),
+                cap: $cap.to_string(),
+                ns_per_step: f64::NAN,
+                iterations_per_step: f64::NAN,
+                errors: errors(&[], &reference),
+                failed: 0,
+            };
+            timed.push(Timed::new($stepper, &xs, row)?);
+        }};
+    }
+
+    for (tolerance, name) in [
+        (1e-4, "1e-4"),
+        (1e-6, "1e-6"),
+        (1e-8, "1e-8"),
+        (1e-10, "1e-10"),
+        (1e-12, "1e-12"),
+        (1e-14, "1e-14"),
+    ] {
+        let default = if tolerance == 1e-12 { " (default)" } else { "" };
+        variant!(
+            Generated::<f64>::new(Budget::Options {
+                tolerance,
+                max_iterations: 64
+            }),
+            format!("generated f64, tolerance {name}{default}"),
+            name,
+            0,
+            name,
+            64
+        );
+    }
+    for cap in 1..=3 {
+        variant!(
+            Generated::<f64>::new(Budget::Options {
+                tolerance: 1e-12,
+                max_iterations: cap
+            }),
+            format!("generated f64, cap {cap}, failed tick keeps the prediction"),
+            format!("cap {cap}"),
+            1,
+            "1e-12",
+            cap
+        );
+    }
+    for k in 1..=3 {
+        variant!(
+            Generated::<f64>::new(Budget::Fixed(k)),
+            format!("generated f64, {k} iteration(s) per block accepted"),
+            format!("{k} it"),
+            2,
+            "none",
+            k
+        );
+    }
+    for (tolerance, name) in [(1e-5, "1e-5 (default)"), (1e-3, "1e-3")] {
+        variant!(
+            Generated::<f32>::new(Budget::Options {
+                tolerance,
+                max_iterations: 64
+            }),
+            format!("generated f32, tolerance {name}"),
+            format!("f32 {}", &name[..4]),
+            3,
+            &name[..4],
+            64
+        );
+    }
+    variant!(
+        Engine::new(generic, NewtonOptions::default()),
+        "generic engine f64 (default)",
+        "generic",
+        4,
+        "1e-12",
+        64
+    );
+    for (scheme, name) in [(Scheme::Forward, "forward"), (Scheme::Central, "central")] {
+        let fd = FiniteDifferences::new(generic, scheme);
+        let (tol, cap) = (fd.tolerance, fd.max_iterations);
+        variant!(
+            fd,
+            format!("generic residual + {name} differences, dense Newton"),
+            format!("FD {name}"),
+            5,
+            format!("{tol:e}"),
+            cap
+        );
+    }
+
+    // Repetitions interleaved over the variants, so a slow spell of the machine hits them all.
+    for rep in 0..REPETITIONS {
+        eprintln!("repetition {}/{REPETITIONS}", rep + 1);
+        for t in &mut timed {
+            t.repeat()?;
+        }
+    }
+    let rows: Vec<Row> = timed
+        .into_iter()
+        .map(|mut t| {
+            t.per_step.sort_by(f64::total_cmp);
+            let row = Row {
+                ns_per_step: t.per_step[t.per_step.len() / 2],
+                iterations_per_step: t.first.iterations as f64 / STEPS as f64,
+                errors: errors(&t.first.samples, &reference),
+                failed: t.first.failed,
+                ..t.row
+            };
+            eprintln!(
+                "{:<64} {:>6.0} ns/step (spread {:.0}..{:.0})  {:>5.2} it/step  max error {}  failed {}",
+                row.variant,
+                row.ns_per_step,
+                t.per_step[0],
+                t.per_step[t.per_step.len() - 1],
+                row.iterations_per_step,
+                sci(row.errors.max()),
+                row.failed
+            );
+            row
+        })
+        .collect();
+
+    let md = format!(
+        "Seed six-bar, full turn in 1° steps (360 ticks: predict q + q'·Δx + q''·Δx²/2, then \
+         positions, velocities, accelerations, points); largest error over 0°, 10°, …, 360° against \
+         the 40-digit reference (positions in rad modulo 2π, rates relative to the column's largest \
+         value). Time per step: median of {REPETITIONS} repetitions of about {} ms, interleaved \
+         over the variants.\n\n{}\n\
+         Newton iterations are block iterations summed over the six-bar's two 2×2 blocks (generated, \
+         generic) or iterations on the full 4×4 system (finite differences). A capped tick whose \
+         position solve fails (`NoConvergence`) keeps the predicted positions and solves the rates \
+         there; it is counted at the cap. \"k iterations\": k solves with `max_iterations: 1` and \
+         tolerance ∞, the iterate accepted untested. Finite differences: forward h = √ε·max(1, |z|), \
+         central h = ∛ε·max(1, |z|), accelerations through a central second difference along \
+         (ẋ, q̇); Newton stops at a step of 1e-12, cap 50.\n",
+        REPETITION.as_millis(),
+        table(&rows)
+    );
+    print!("{md}");
+    std::fs::write(out.join("accuracy.md"), &md)?;
+
+    let markers: Vec<Marker> = rows
+        .iter()
+        .map(|r| Marker {
+            label: r.label.clone(),
+            x: r.ns_per_step,
+            y: r.errors.max(),
+            group: r.group,
+        })
+        .collect();
+    let layout = ScatterLayout {
+        title: "Seed six-bar: time per step against error".into(),
+        subtitle: "full turn in 1° steps (predict, solve positions, velocities, accelerations, \
+                   points); largest error against the 40-digit reference"
+            .into(),
+        x_desc: "time per step [ns]".into(),
+        y_desc: "largest error (positions [rad], rates relative)".into(),
+        groups: GROUPS.iter().map(|g| g.to_string()).collect(),
+    };
+    std::fs::write(
+        out.join("accuracy.svg"),
+        log_log_scatter_svg(&layout, &markers)?,
+    )?;
+    eprintln!("wrote {}/accuracy.md and accuracy.svg", out.display());
+    Ok(())
+}

@@ -763,6 +763,53 @@ pub mod sixbar {
                 },
             ]
         }
+        /// Block 0: q2, q3 from loop 1 (x, y). Its residual and Jacobian block.
+        #[inline]
+        fn block0_position(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
+        ) -> (
+            ::mechgen::nalgebra::SVector<T, 2>,
+            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
+        ) {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let v_q3 = q[1];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let t4 = t0 + t2;
+            let t5 = t1 + t3;
+            let t6 = t4 - p_l4;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t7 = p_l3 * c_v_q3;
+            let t8 = p_l3 * s_v_q3;
+            let t9 = t6 - t7;
+            let t10 = t5 - t8;
+            let t11 = -t3;
+            let t12 = -t7;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t11;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t8;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t2;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t12;
+            (::mechgen::nalgebra::SVector::from([t9, t10]), jac)
+        }
         /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
         #[inline]
         fn block0_velocity(
@@ -903,6 +950,75 @@ pub mod sixbar {
             let t2 = -p_l3;
             let t3 = t0 - p_l4;
             [t3, t1, p_l2, T::zero(), t2, T::zero()]
+        }
+        /// Block 1: q5, q6 from loop 2 (x, y). Its residual and Jacobian block.
+        #[inline]
+        fn block1_position(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
+        ) -> (
+            ::mechgen::nalgebra::SVector<T, 2>,
+            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
+        ) {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let v_q5 = q[2];
+            let v_q6 = q[3];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l5 = self.params.l5;
+            let p_l6 = self.params.l6;
+            let p_l2e = self.params.l2e;
+            let p_xg = self.params.xg;
+            let p_yg = self.params.yg;
+            let p_alpha = self.params.alpha;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let t4 = t0 + t2;
+            let t5 = t1 + t3;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t6 = c_v_q2 * c_p_alpha;
+            let t7 = s_v_q2 * s_p_alpha;
+            let t8 = s_v_q2 * c_p_alpha;
+            let t9 = c_v_q2 * s_p_alpha;
+            let t10 = t6 + t7;
+            let t11 = t8 - t9;
+            let t12 = p_l2e * t10;
+            let t13 = p_l2e * t11;
+            let t14 = t4 + t12;
+            let t15 = t5 + t13;
+            let (s_v_q5, c_v_q5) = tq[2];
+            let t16 = p_l5 * c_v_q5;
+            let t17 = p_l5 * s_v_q5;
+            let t18 = t14 - t16;
+            let t19 = t15 - t17;
+            let (s_v_q6, c_v_q6) = tq[3];
+            let t20 = p_l6 * c_v_q6;
+            let t21 = p_l6 * s_v_q6;
+            let t22 = t18 - t20;
+            let t23 = t19 - t21;
+            let t24 = t22 - p_xg;
+            let t25 = t23 - p_yg;
+            let t26 = -t16;
+            let t27 = -t20;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[2][2] = ∂Φ2/∂q5
+            jac[(0, 0)] = t17;
+            // J[2][3] = ∂Φ2/∂q6
+            jac[(0, 1)] = t21;
+            // J[3][2] = ∂Φ3/∂q5
+            jac[(1, 0)] = t26;
+            // J[3][3] = ∂Φ3/∂q6
+            jac[(1, 1)] = t27;
+            (::mechgen::nalgebra::SVector::from([t24, t25]), jac)
         }
         /// Block 1: q5, q6 from loop 2 (x, y). Its right-hand side and Jacobian block.
         #[inline]
@@ -1150,31 +1266,59 @@ pub mod sixbar {
         ) -> Result<(), ::mechgen::SolveError> {
             let scale = self.params.length_scale();
             // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
-            let [kx, ky, pa, ra, pb, rb] = self.block0_dyad(x, &st.q, tx, tp, &st.sc);
-            ::mechgen::solve_dyad(
-                0,
-                st,
-                0,
-                1,
-                [kx, ky],
-                (pa, ra),
-                (pb, rb),
-                scale,
-                report,
-            )?;
+            if options.closed_forms {
+                let [kx, ky, pa, ra, pb, rb] = self
+                    .block0_dyad(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::solve_dyad(
+                    0,
+                    st,
+                    0,
+                    1,
+                    [kx, ky],
+                    (pa, ra),
+                    (pb, rb),
+                    scale,
+                    report,
+                )?;
+            } else {
+                ::mechgen::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [false, false],
+                    scale,
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
             // Block 1: q5, q6 from loop 2 (x, y). Closed form (a dyad).
-            let [kx, ky, pa, ra, pb, rb] = self.block1_dyad(x, &st.q, tx, tp, &st.sc);
-            ::mechgen::solve_dyad(
-                1,
-                st,
-                2,
-                3,
-                [kx, ky],
-                (pa, ra),
-                (pb, rb),
-                scale,
-                report,
-            )?;
+            if options.closed_forms {
+                let [kx, ky, pa, ra, pb, rb] = self
+                    .block1_dyad(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::solve_dyad(
+                    1,
+                    st,
+                    2,
+                    3,
+                    [kx, ky],
+                    (pa, ra),
+                    (pb, rb),
+                    scale,
+                    report,
+                )?;
+            } else {
+                ::mechgen::newton_block(
+                    1,
+                    st,
+                    [2, 3],
+                    [false, false],
+                    scale,
+                    options,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
             Ok(())
         }
         #[inline]
@@ -3380,6 +3524,53 @@ pub mod four_bar {
                 },
             ]
         }
+        /// Block 0: q2, q3 from loop 1 (x, y). Its residual and Jacobian block.
+        #[inline]
+        fn block0_position(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 6],
+            tq: &[(T, T); 2],
+        ) -> (
+            ::mechgen::nalgebra::SVector<T, 2>,
+            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
+        ) {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let v_q3 = q[1];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let t4 = t0 + t2;
+            let t5 = t1 + t3;
+            let t6 = t4 - p_l4;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t7 = p_l3 * c_v_q3;
+            let t8 = p_l3 * s_v_q3;
+            let t9 = t6 - t7;
+            let t10 = t5 - t8;
+            let t11 = -t3;
+            let t12 = -t7;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t11;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t8;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t2;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t12;
+            (::mechgen::nalgebra::SVector::from([t9, t10]), jac)
+        }
         /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
         #[inline]
         fn block0_velocity(
@@ -3548,18 +3739,32 @@ pub mod four_bar {
         ) -> Result<(), ::mechgen::SolveError> {
             let scale = self.params.length_scale();
             // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
-            let [kx, ky, pa, ra, pb, rb] = self.block0_dyad(x, &st.q, tx, tp, &st.sc);
-            ::mechgen::solve_dyad(
-                0,
-                st,
-                0,
-                1,
-                [kx, ky],
-                (pa, ra),
-                (pb, rb),
-                scale,
-                report,
-            )?;
+            if options.closed_forms {
+                let [kx, ky, pa, ra, pb, rb] = self
+                    .block0_dyad(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::solve_dyad(
+                    0,
+                    st,
+                    0,
+                    1,
+                    [kx, ky],
+                    (pa, ra),
+                    (pb, rb),
+                    scale,
+                    report,
+                )?;
+            } else {
+                ::mechgen::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [false, false],
+                    scale,
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
             Ok(())
         }
         #[inline]
@@ -5456,6 +5661,53 @@ pub mod rocker_four_bar {
                 },
             ]
         }
+        /// Block 0: q2, q3 from loop 1 (x, y). Its residual and Jacobian block.
+        #[inline]
+        fn block0_position(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 4],
+            tq: &[(T, T); 2],
+        ) -> (
+            ::mechgen::nalgebra::SVector<T, 2>,
+            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
+        ) {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let v_q3 = q[1];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let t4 = t0 + t2;
+            let t5 = t1 + t3;
+            let t6 = t4 - p_l4;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t7 = p_l3 * c_v_q3;
+            let t8 = p_l3 * s_v_q3;
+            let t9 = t6 - t7;
+            let t10 = t5 - t8;
+            let t11 = -t3;
+            let t12 = -t7;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t11;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t8;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t2;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t12;
+            (::mechgen::nalgebra::SVector::from([t9, t10]), jac)
+        }
         /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
         #[inline]
         fn block0_velocity(
@@ -5623,18 +5875,32 @@ pub mod rocker_four_bar {
         ) -> Result<(), ::mechgen::SolveError> {
             let scale = self.params.length_scale();
             // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
-            let [kx, ky, pa, ra, pb, rb] = self.block0_dyad(x, &st.q, tx, tp, &st.sc);
-            ::mechgen::solve_dyad(
-                0,
-                st,
-                0,
-                1,
-                [kx, ky],
-                (pa, ra),
-                (pb, rb),
-                scale,
-                report,
-            )?;
+            if options.closed_forms {
+                let [kx, ky, pa, ra, pb, rb] = self
+                    .block0_dyad(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::solve_dyad(
+                    0,
+                    st,
+                    0,
+                    1,
+                    [kx, ky],
+                    (pa, ra),
+                    (pb, rb),
+                    scale,
+                    report,
+                )?;
+            } else {
+                ::mechgen::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [false, false],
+                    scale,
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
             Ok(())
         }
         #[inline]

@@ -15,6 +15,9 @@ pub struct NewtonOptions<T> {
     pub tolerance: T,
     /// Iteration cap per block.
     pub max_iterations: u32,
+    /// Generated solvers: solve dyad blocks in closed form (exact, no iterations; the default).
+    /// `false` runs Newton on them like on every other block. The generic engine always iterates.
+    pub closed_forms: bool,
 }
 
 impl<T: Real> Default for NewtonOptions<T> {
@@ -22,6 +25,7 @@ impl<T: Real> Default for NewtonOptions<T> {
         NewtonOptions {
             tolerance: T::DEFAULT_TOLERANCE,
             max_iterations: 64,
+            closed_forms: true,
         }
     }
 }

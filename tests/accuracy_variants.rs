@@ -127,3 +127,13 @@ fn finite_differences_converge_positions_but_not_rates() {
         "{e:?}"
     );
 }
+
+#[test]
+fn closed_form_dyads_are_exact_without_iterations() {
+    let (pass, e) = turn(Generated::<f64>::new(Budget::ClosedForm));
+    assert!(e.max() < 1e-13, "{e:?}");
+    assert_eq!((pass.iterations, pass.failed), (0, 0));
+    let (pass, e) = turn(Generated::<f32>::new(Budget::ClosedForm));
+    assert!(e.max() < 1e-4 && e.max() > 1e-8, "{e:?}");
+    assert_eq!(pass.iterations, 0);
+}

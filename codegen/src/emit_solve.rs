@@ -130,9 +130,6 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         ];
         let heads = [&bf.residual, &bf.velocity_rhs, &bf.acceleration_rhs];
         for s in 0..3 {
-            if s == 0 && bf.dyad.is_some() {
-                continue;
-            }
             let mut roots = heads[s].clone();
             roots.extend(&jroots);
             let b = body(dag, &roots, &cached);
@@ -182,8 +179,13 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
                 let c_text = comment(&format!("{header} Closed form (a dyad)."));
                 pos_steps.extend(quote! {
                     #c_text
-                    let [kx, ky, pa, ra, pb, rb] = self.#dyad_fn(x, &st.q, tx, tp, &st.sc);
-                    ::mechgen::solve_dyad(#bi, st, #a, #bu, [kx, ky], (pa, ra), (pb, rb), scale, report)?;
+                    if options.closed_forms {
+                        let [kx, ky, pa, ra, pb, rb] = self.#dyad_fn(x, &st.q, tx, tp, &st.sc);
+                        ::mechgen::solve_dyad(#bi, st, #a, #bu, [kx, ky], (pa, ra), (pb, rb), scale, report)?;
+                    } else {
+                        ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], scale, options, report,
+                            |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
+                    }
                 });
             }
             None => pos_steps.extend(quote! {

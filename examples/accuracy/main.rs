@@ -40,13 +40,14 @@ const REPETITION: Duration = Duration::from_millis(40);
 const REPETITIONS: usize = 15;
 
 /// The legend groups of the plot.
-const GROUPS: [&str; 6] = [
+const GROUPS: [&str; 7] = [
     "generated f64, tolerance (cap 64)",
     "generated f64, cap k at tolerance 1e-12 (a failed tick keeps the prediction)",
     "generated f64, k iterations per block accepted",
     "generated f32, tolerance",
     "generic engine f64",
     "generic residual + finite-difference Jacobians",
+    "generated, closed-form dyads (the default)",
 ];
 
 /// One row of the table.
@@ -176,6 +177,22 @@ fn main() -> Result<(), Box<dyn Error>> {
         }};
     }
 
+    variant!(
+        Generated::<f64>::new(Budget::ClosedForm),
+        "generated f64, closed-form dyads (default)",
+        "closed form f64",
+        6,
+        "—",
+        "—"
+    );
+    variant!(
+        Generated::<f32>::new(Budget::ClosedForm),
+        "generated f32, closed-form dyads (default)",
+        "closed form f32",
+        6,
+        "—",
+        "—"
+    );
     for (tolerance, name) in [
         (1e-4, "1e-4"),
         (1e-6, "1e-6"),
@@ -184,13 +201,17 @@ fn main() -> Result<(), Box<dyn Error>> {
         (1e-12, "1e-12"),
         (1e-14, "1e-14"),
     ] {
-        let default = if tolerance == 1e-12 { " (default)" } else { "" };
+        let default = if tolerance == 1e-12 {
+            " (default tolerance)"
+        } else {
+            ""
+        };
         variant!(
             Generated::<f64>::new(Budget::Options {
                 tolerance,
                 max_iterations: 64
             }),
-            format!("generated f64, tolerance {name}{default}"),
+            format!("generated f64 Newton, tolerance {name}{default}"),
             name,
             0,
             name,
@@ -203,7 +224,7 @@ fn main() -> Result<(), Box<dyn Error>> {
                 tolerance: 1e-12,
                 max_iterations: cap
             }),
-            format!("generated f64, cap {cap}, failed tick keeps the prediction"),
+            format!("generated f64 Newton, cap {cap}, failed tick keeps the prediction"),
             format!("cap {cap}"),
             1,
             "1e-12",
@@ -213,7 +234,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     for k in 1..=3 {
         variant!(
             Generated::<f64>::new(Budget::Fixed(k)),
-            format!("generated f64, {k} iteration(s) per block accepted"),
+            format!("generated f64 Newton, {k} iteration(s) per block accepted"),
             format!("{k} it"),
             2,
             "none",
@@ -226,7 +247,7 @@ fn main() -> Result<(), Box<dyn Error>> {
                 tolerance,
                 max_iterations: 64
             }),
-            format!("generated f32, tolerance {name}"),
+            format!("generated f32 Newton, tolerance {name}"),
             format!("f32 {}", &name[..4]),
             3,
             &name[..4],

@@ -201,7 +201,10 @@ pub fn errors(samples: &[State], reference: &Reference) -> Errors {
 /// How a generated variant spends its Newton budget.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Budget {
-    /// `solve_motion` with these options; a tick whose position solve fails (e.g. `NoConvergence`
+    /// `solve_motion` with the default options: dyad blocks (both of the six-bar's) in closed
+    /// form, no Newton iterations.
+    ClosedForm,
+    /// `solve_motion` with Newton on every block (`closed_forms: false`) and these options; a tick whose position solve fails (e.g. `NoConvergence`
     /// at the cap) keeps the predicted positions and solves the rates there.
     Options { tolerance: f64, max_iterations: u32 },
     /// Exactly `k` Newton iterations per block, the iterate accepted without a convergence test:
@@ -230,11 +233,14 @@ impl<T: Real> Generated<T> {
             } => NewtonOptions {
                 tolerance: T::lit(tolerance),
                 max_iterations,
+                closed_forms: false,
             },
             Budget::Fixed(_) => NewtonOptions {
                 tolerance: T::lit(f64::INFINITY),
                 max_iterations: 1,
+                closed_forms: false,
             },
+            Budget::ClosedForm => NewtonOptions::default(),
         };
         Generated {
             mechanism: Sixbar::default(),

@@ -13,6 +13,10 @@ fn main() {
     }
     let t = std::time::Instant::now();
     let mut s = 0.0;
-    for i in 0..10_000_000 { let v = (i as f64) * 1e-3; let (a, b) = std::hint::black_box(v).sin_cos(); s += a + b; }
+    for i in 0..10_000_000 {
+        let v = (i as f64) * 1e-3;
+        let (a, b) = std::hint::black_box(v).sin_cos();
+        s += a + b;
+    }
     println!("sin_cos {:?} ns {}", t.elapsed().as_nanos() as f64 / 1e7, s);
 }

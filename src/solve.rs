@@ -252,11 +252,15 @@ where
     let mut step = T::zero();
     for it in 1..=options.max_iterations {
         eval(q, &mut work.residual, &mut work.jacobian);
+        // `max` drops NaN operands, so a NaN residual (a coordinate driven to infinity, e.g. by
+        // huge params) is caught entry by entry, not from the maximum.
         residual = T::zero();
+        let mut finite = true;
         for v in work.residual.iter() {
+            finite &= v.is_finite();
             residual = residual.max(v.abs() * inv_scale);
         }
-        if !residual.is_finite() {
+        if !finite || !residual.is_finite() {
             return Err(SolveError::Unassemblable {
                 block,
                 residual: f64::INFINITY,
@@ -291,8 +295,9 @@ where
             };
             step = step.max(s);
             qs[k] -= dz;
+            finite &= s.is_finite() && qs[k].is_finite();
         }
-        if !step.is_finite() {
+        if !finite || !step.is_finite() {
             return Err(SolveError::Unassemblable {
                 block,
                 residual: residual.to_f64(),

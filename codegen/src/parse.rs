@@ -10,6 +10,10 @@ use toml::de::{DeTable, DeValue};
 use crate::ast::{Expr, ExprKind, File, Mechanism, Name, Scene};
 use crate::diagnostic::{Diagnostic, SourceFile, Span};
 
+/// TOML syntax errors reported at most: after the first ones the parser's recovery mostly reports
+/// noise, and each rendering costs the length of its lines.
+pub const MAX_SYNTAX_ERRORS: usize = 20;
+
 type Item<'a> = (&'a Spanned<Cow<'a, str>>, &'a Spanned<DeValue<'a>>);
 
 /// Parses a whole file, collecting every error; what could be read is returned either way.
@@ -22,7 +26,8 @@ pub fn parse(file: &SourceFile) -> (File, Vec<Diagnostic>) {
     // After a TOML syntax error the recovered tables are guesses: report every syntax error and
     // nothing built on the guesses.
     let syntax_errors = !errors.is_empty();
-    for e in errors {
+    let more = errors.len().saturating_sub(MAX_SYNTAX_ERRORS);
+    for e in errors.into_iter().take(MAX_SYNTAX_ERRORS) {
         let span = e
             .span()
             .map_or(Span::new(0, 0), |r| Span::new(r.start, r.end));
@@ -30,6 +35,10 @@ pub fn parse(file: &SourceFile) -> (File, Vec<Diagnostic>) {
             span,
             format!("TOML syntax error: {}", e.message().trim()),
         ));
+    }
+    if let Some(last) = p.diags.last_mut().filter(|_| more > 0) {
+        last.notes
+            .push(format!("{more} more TOML syntax errors follow (not shown)"));
     }
     let mut out = File {
         syntax_errors,

@@ -14,6 +14,10 @@ use crate::diagnostic::{Diagnostic, SourceFile, Span};
 /// noise, and each rendering costs the length of its lines.
 pub const MAX_SYNTAX_ERRORS: usize = 20;
 
+/// Most inputs, unknowns, loops, params or points a mechanism may have (variables are numbered
+/// in 16 bits, and no linkage comes near).
+pub const MAX_ITEMS: usize = 1000;
+
 type Item<'a> = (&'a Spanned<Cow<'a, str>>, &'a Spanned<DeValue<'a>>);
 
 /// Parses a whole file, collecting every error; what could be read is returned either way.
@@ -180,6 +184,22 @@ impl Parser<'_> {
                 .with_label(format!("`{key}` is required"));
                 self.diags.push(d);
             }
+        }
+        let counts = [
+            ("inputs", m.inputs.len()),
+            ("unknowns", m.unknowns.len()),
+            ("loops", m.loop_count.unwrap_or(0)),
+            ("params", m.params.len()),
+            ("points", m.points.len()),
+        ];
+        for (what, n) in counts.into_iter().filter(|c| c.1 > MAX_ITEMS) {
+            self.error(
+                m.name.span,
+                format!(
+                    "mechanism `{}` has {n} {what}, more than {MAX_ITEMS}",
+                    m.name.text
+                ),
+            );
         }
         m.parse_errors = self.diags.len() > before;
         Some(m)

@@ -218,3 +218,18 @@ fn non_finite_constants_are_errors_not_generator_panics() {
     let out = errors(&GOOD.replace("l1 = 1.0", "l1 = \"1e400\""));
     assert!(out.contains("number `1e400` is out of range"), "{out}");
 }
+
+#[test]
+fn too_many_params_is_an_error() {
+    // Variables are numbered in 16 bits: param 65536 would alias param 0. Far below that, a
+    // mechanism is limited to 1000 names of each kind.
+    let many: Vec<String> = (0..1001).map(|i| format!("p{i} = 1.0")).collect();
+    let text = GOOD.replace("l4 = 3.5", &format!("l4 = 3.5, {}", many.join(", ")));
+    let out = errors(&text);
+    assert!(
+        out.contains("bad.toml:1:12: error: mechanism `m` has 1005 params, more than 1000"),
+        "{}",
+        &out[..out.len().min(500)]
+    );
+    assert_eq!(out.matches(": error: ").count(), 1);
+}

@@ -109,8 +109,16 @@ pub fn solve_dyad<T: Real, const N: usize>(
     let big_b = (d.0 - big_a.0, d.1 - big_a.1);
     let (ca, sa) = unapply(ma, big_a);
     let (cb, sb) = unapply(mb, big_b);
-    st.q[a] += turn(ea, (ca, sa));
-    st.q[b] += turn(eb, (cb, sb));
+    let (qa, qb) = (st.q[a] + turn(ea, (ca, sa)), st.q[b] + turn(eb, (cb, sb)));
+    if !(qa.is_finite() && qb.is_finite() && ca.is_finite() && sb.is_finite()) {
+        return Err(SolveError::Unassemblable {
+            block,
+            residual: f64::INFINITY,
+            iterations: 0,
+        });
+    }
+    st.q[a] = qa;
+    st.q[b] = qb;
     st.sc[a] = (sa, ca);
     st.sc[b] = (sb, cb);
     // The pivot ratio column-equilibrated elimination would find for J = [A⊥ B⊥].

@@ -249,6 +249,8 @@ pub fn newton_block<T: Real, const K: usize, S: NewtonState<T> + ?Sized>(
 pub trait NewtonState<T> {
     /// `q[k] -= dz`.
     fn apply(&mut self, k: usize, dz: T);
+    /// `q[k]`.
+    fn get(&self, k: usize) -> T;
 }
 
 impl<T: Real> NewtonState<T> for [T] {
@@ -256,12 +258,20 @@ impl<T: Real> NewtonState<T> for [T] {
     fn apply(&mut self, k: usize, dz: T) {
         self[k] -= dz;
     }
+    #[inline]
+    fn get(&self, k: usize) -> T {
+        self[k]
+    }
 }
 
 impl<T: Real, const N: usize> NewtonState<T> for [T; N] {
     #[inline]
     fn apply(&mut self, k: usize, dz: T) {
         self[k] -= dz;
+    }
+    #[inline]
+    fn get(&self, k: usize) -> T {
+        self[k]
     }
 }
 
@@ -296,6 +306,10 @@ impl<T: Real, const N: usize> NewtonState<T> for TrigState<T, N> {
         if self.angle[k] {
             self.sc[k] = rotate(self.sc[k], self.q[k], dz);
         }
+    }
+    #[inline]
+    fn get(&self, k: usize) -> T {
+        self.q[k]
     }
 }
 
@@ -365,11 +379,15 @@ where
     };
     for it in 1..=options.max_iterations {
         eval(q, &mut work.residual, &mut work.jacobian);
+        // `max` drops NaN operands, so a NaN residual (a coordinate driven to infinity, e.g. by
+        // huge params) is caught entry by entry, not from the maximum.
         residual = T::zero();
+        let mut finite = true;
         for v in work.residual.iter() {
+            finite &= v.is_finite();
             residual = residual.max(v.abs() * inv_scale);
         }
-        if !residual.is_finite() {
+        if !finite || !residual.is_finite() {
             return Err(SolveError::Unassemblable {
                 block,
                 residual: f64::INFINITY,
@@ -402,8 +420,9 @@ where
             };
             step = step.max(s);
             q.apply(k, dz);
+            finite &= s.is_finite() && q.get(k).is_finite();
         }
-        if !step.is_finite() {
+        if !finite || !step.is_finite() {
             return Err(SolveError::Unassemblable {
                 block,
                 residual: best_residual.to_f64(),

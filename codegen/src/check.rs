@@ -11,6 +11,27 @@ use crate::typing::{Ty, type_of};
 /// The built-in functions and constants; no declared name may use them.
 pub const RESERVED: [&str; 8] = ["e", "c", "deg", "pi", "sin", "cos", "tan", "sqrt"];
 
+/// Rust's keywords (strict and reserved, edition 2024) and `_`: names become modules and fields of
+/// the generated code, so these cannot be names.
+pub const RUST_KEYWORDS: [&str; 52] = [
+    "_", "abstract", "as", "async", "await", "become", "box", "break", "const", "continue",
+    "crate", "do", "dyn", "else", "enum", "extern", "false", "final", "fn", "for", "gen", "if",
+    "impl", "in", "let", "loop", "macro", "match", "mod", "move", "mut", "override", "priv", "pub",
+    "ref", "return", "self", "Self", "static", "struct", "super", "trait", "true", "try", "type",
+    "typeof", "unsafe", "unsized", "use", "virtual", "where", "while",
+];
+
+/// The error for a name that is a Rust keyword.
+fn keyword(name: &Name, what: &str) -> Option<Diagnostic> {
+    RUST_KEYWORDS.contains(&name.text.as_str()).then(|| {
+        Diagnostic::error(
+            name.span,
+            format!("{what} `{}` is a Rust keyword", name.text),
+        )
+        .with_note("names become modules and fields of the generated Rust code")
+    })
+}
+
 /// Angle (radians) or length (file units), inferred from use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Kind {
@@ -119,9 +140,12 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
             .with_note("it names the generated module; use lowercase letters, digits and `_`"),
         );
     }
+    diags.extend(keyword(&m.name, "mechanism name"));
     let mut symbols: HashMap<String, Symbol> = HashMap::new();
     let mut first: HashMap<String, Span> = HashMap::new();
     let mut declare = |name: &Name, sym: Symbol, diags: &mut Vec<Diagnostic>| {
+        // Still declared: its uses are not undefined.
+        diags.extend(keyword(name, "name"));
         if RESERVED.contains(&name.text.as_str()) {
             diags.push(
                 Diagnostic::error(name.span, format!("`{}` is a reserved name", name.text))
@@ -174,6 +198,7 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
                 format!("`{}` is a reserved name", name.text),
             ));
         }
+        diags.extend(keyword(name, "point name"));
         if type_of(p, &symbols, false, &mut angles, diags) == Some(Ty::Scalar) {
             diags.push(
                 Diagnostic::error(

@@ -1,7 +1,7 @@
 //! The pipeline, stage by stage: parse → check → lower → differentiate → structure → plan → emit.
 
 use crate::check::{self, Model};
-use crate::dag::Var;
+use crate::dag::{Dag, Node, NodeId, Var};
 use crate::diagnostic::{Diagnostic, SourceFile};
 use crate::differentiate::{self, Derivatives};
 use crate::lower::{self, System};
@@ -37,6 +37,11 @@ pub fn analyze(file: &SourceFile) -> (Vec<Compiled>, Vec<Diagnostic>) {
             .collect();
         match structure::blocks(&incidence, nu) {
             Ok(blocks) if diags[before..].iter().all(|d| !d.is_error()) => {
+                // Before the start check, which would only see non-finite loops.
+                if let Some(d) = overflow(&model, &system) {
+                    diags.push(d);
+                    continue;
+                }
                 let start = start::check(&model, &system, &derivatives);
                 let failed = start.as_ref().is_some_and(Diagnostic::is_error);
                 diags.extend(start);
@@ -44,6 +49,11 @@ pub fn analyze(file: &SourceFile) -> (Vec<Compiled>, Vec<Diagnostic>) {
                     continue;
                 }
                 let blocks = plan::block_forms(&mut system, &model, &derivatives, &blocks);
+                // Planning folds constants too.
+                if let Some(d) = overflow(&model, &system) {
+                    diags.push(d);
+                    continue;
+                }
                 out.push(Compiled {
                     model,
                     system,
@@ -69,6 +79,51 @@ pub fn compile(file: &SourceFile) -> Result<(String, Vec<Diagnostic>), Vec<Diagn
         Ok(code) => Ok((code, diags)),
         Err(msg) => Err(vec![Diagnostic::error(Default::default(), msg)]),
     }
+}
+
+/// A constant of the DAG that is not finite (`1e200*1e200`, `1/0` folded, or such a constant
+/// differentiated): the generated code cannot spell it. Points at the first loop or point that
+/// holds one, or at the mechanism when only derivatives do.
+fn overflow(model: &Model, system: &System) -> Option<Diagnostic> {
+    let dag = &system.dag;
+    let whole: Vec<NodeId> = (0..dag.len() as u32).map(NodeId).collect();
+    if !non_finite_constant(dag, &whole) {
+        return None;
+    }
+    let message = "a constant of this expression is not finite (it overflows f64)";
+    for (i, l) in model.loops.iter().enumerate() {
+        if non_finite_constant(dag, &system.residuals[2 * i..2 * i + 2]) {
+            return Some(Diagnostic::error(l.span, message).with_label("overflows"));
+        }
+    }
+    for ((_, e), xy) in model.points.iter().zip(&system.points) {
+        if non_finite_constant(dag, xy) {
+            return Some(Diagnostic::error(e.span, message).with_label("overflows"));
+        }
+    }
+    Some(Diagnostic::error(
+        model.name.span,
+        format!(
+            "mechanism `{}`: a constant of its derivatives is not finite (it overflows f64)",
+            model.name.text
+        ),
+    ))
+}
+
+/// Whether a node reachable from `roots` is a non-finite constant.
+fn non_finite_constant(dag: &Dag, roots: &[NodeId]) -> bool {
+    let mut seen = vec![false; dag.len()];
+    let mut stack = roots.to_vec();
+    while let Some(n) = stack.pop() {
+        if std::mem::replace(&mut seen[n.index()], true) {
+            continue;
+        }
+        match dag.node(n) {
+            Node::Const(bits) if !f64::from_bits(bits).is_finite() => return true,
+            node => stack.extend(node.children()),
+        }
+    }
+    false
 }
 
 /// Inputs that drive nothing (error) and params that are never used (warning).

@@ -10,6 +10,14 @@ use toml::de::{DeTable, DeValue};
 use crate::ast::{Expr, ExprKind, File, Mechanism, Name, Scene};
 use crate::diagnostic::{Diagnostic, SourceFile, Span};
 
+/// TOML syntax errors reported at most: after the first ones the parser's recovery mostly reports
+/// noise, and each rendering costs the length of its lines.
+pub const MAX_SYNTAX_ERRORS: usize = 20;
+
+/// Most inputs, unknowns, loops, params or points a mechanism may have (variables are numbered
+/// in 16 bits, and no linkage comes near).
+pub const MAX_ITEMS: usize = 1000;
+
 type Item<'a> = (&'a Spanned<Cow<'a, str>>, &'a Spanned<DeValue<'a>>);
 
 /// Parses a whole file, collecting every error; what could be read is returned either way.
@@ -22,7 +30,8 @@ pub fn parse(file: &SourceFile) -> (File, Vec<Diagnostic>) {
     // After a TOML syntax error the recovered tables are guesses: report every syntax error and
     // nothing built on the guesses.
     let syntax_errors = !errors.is_empty();
-    for e in errors {
+    let more = errors.len().saturating_sub(MAX_SYNTAX_ERRORS);
+    for e in errors.into_iter().take(MAX_SYNTAX_ERRORS) {
         let span = e
             .span()
             .map_or(Span::new(0, 0), |r| Span::new(r.start, r.end));
@@ -30,6 +39,10 @@ pub fn parse(file: &SourceFile) -> (File, Vec<Diagnostic>) {
             span,
             format!("TOML syntax error: {}", e.message().trim()),
         ));
+    }
+    if let Some(last) = p.diags.last_mut().filter(|_| more > 0) {
+        last.notes
+            .push(format!("{more} more TOML syntax errors follow (not shown)"));
     }
     let mut out = File {
         syntax_errors,
@@ -171,6 +184,22 @@ impl Parser<'_> {
                 .with_label(format!("`{key}` is required"));
                 self.diags.push(d);
             }
+        }
+        let counts = [
+            ("inputs", m.inputs.len()),
+            ("unknowns", m.unknowns.len()),
+            ("loops", m.loop_count.unwrap_or(0)),
+            ("params", m.params.len()),
+            ("points", m.points.len()),
+        ];
+        for (what, n) in counts.into_iter().filter(|c| c.1 > MAX_ITEMS) {
+            self.error(
+                m.name.span,
+                format!(
+                    "mechanism `{}` has {n} {what}, more than {MAX_ITEMS}",
+                    m.name.text
+                ),
+            );
         }
         m.parse_errors = self.diags.len() > before;
         Some(m)

@@ -47,6 +47,14 @@ impl Parser<'_> {
             self.diags.push(d);
             return None;
         }
+        if let Some((at, msg, label)) = too_complex(s) {
+            let end = at + s[at..].chars().next().map_or(0, char::len_utf8);
+            let d = Diagnostic::error(map(at..end), msg)
+                .with_label(label)
+                .with_note("params can hold parts that do not depend on inputs or unknowns");
+            self.diags.push(d);
+            return None;
+        }
         match syn::parse_str::<syn::Expr>(s) {
             Ok(e) => self.expr(&e, &map),
             Err(err) => {
@@ -83,11 +91,25 @@ impl Parser<'_> {
             None
         };
         let kind = match e {
-            syn::Expr::Lit(l) => match &l.lit {
-                syn::Lit::Int(i) => ExprKind::Number(i.base10_digits().parse::<f64>().ok()?),
-                syn::Lit::Float(f) => ExprKind::Number(f.base10_digits().parse::<f64>().ok()?),
-                _ => return unsupported(self, "a literal that is not a number"),
-            },
+            syn::Expr::Lit(l) => {
+                let digits = match &l.lit {
+                    syn::Lit::Int(i) => i.base10_digits(),
+                    syn::Lit::Float(f) => f.base10_digits(),
+                    _ => return unsupported(self, "a literal that is not a number"),
+                };
+                match digits.parse::<f64>() {
+                    Ok(x) if x.is_finite() => ExprKind::Number(x),
+                    _ => {
+                        let d = Diagnostic::error(
+                            span,
+                            format!("number `{digits}` is out of range (not a finite f64)"),
+                        )
+                        .with_label("too large");
+                        self.diags.push(d);
+                        return None;
+                    }
+                }
+            }
             syn::Expr::Path(p) => match p.path.get_ident() {
                 Some(id) if p.qself.is_none() => ExprKind::Name(id.to_string()),
                 _ => return unsupported(self, "a path"),
@@ -137,6 +159,46 @@ impl Parser<'_> {
         };
         Some(Expr { kind, span })
     }
+}
+
+/// Deepest bracket nesting an expression may have. Parsing, checking and lowering recurse on the
+/// syntax tree, whose depth is bounded by the nesting and the token count: these limits keep their
+/// stack use small (a few hundred levels overflow a 2 MiB thread stack in a debug build).
+pub const MAX_NESTING: usize = 32;
+/// Most tokens an expression may have (a name or number is one token, each other character one).
+/// The longest loop of the seed files has about 40.
+pub const MAX_TOKENS: usize = 256;
+
+/// Where an expression string exceeds [`MAX_NESTING`] or [`MAX_TOKENS`]: the byte offset of the
+/// bracket or token past the limit, the message and the label.
+fn too_complex(s: &str) -> Option<(usize, String, &'static str)> {
+    let word = |c: char| c.is_alphanumeric() || c == '_';
+    let (mut depth, mut tokens, mut in_word) = (0usize, 0usize, false);
+    for (i, c) in s.char_indices() {
+        let starts_token = !(c.is_whitespace() || in_word && word(c));
+        in_word = word(c);
+        if starts_token {
+            tokens += 1;
+            if tokens > MAX_TOKENS {
+                let msg = format!("expression too long (more than {MAX_TOKENS} tokens)");
+                return Some((i, msg, "one token too many"));
+            }
+        }
+        match c {
+            '(' | '[' | '{' => {
+                depth += 1;
+                if depth > MAX_NESTING {
+                    let msg = format!(
+                        "expression nested too deeply (more than {MAX_NESTING} levels of brackets)"
+                    );
+                    return Some((i, msg, "too deep here"));
+                }
+            }
+            ')' | ']' | '}' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+    }
+    None
 }
 
 /// The first unbalanced bracket of an expression string: its byte offset and what is wrong (syn

@@ -1278,6 +1278,7 @@ pub mod sixbar {
                     (pa, ra),
                     (pb, rb),
                     scale,
+                    options.tolerance,
                     report,
                 )?;
             } else {
@@ -1305,6 +1306,7 @@ pub mod sixbar {
                     (pa, ra),
                     (pb, rb),
                     scale,
+                    options.tolerance,
                     report,
                 )?;
             } else {
@@ -3751,6 +3753,7 @@ pub mod four_bar {
                     (pa, ra),
                     (pb, rb),
                     scale,
+                    options.tolerance,
                     report,
                 )?;
             } else {
@@ -5887,6 +5890,7 @@ pub mod rocker_four_bar {
                     (pa, ra),
                     (pb, rb),
                     scale,
+                    options.tolerance,
                     report,
                 )?;
             } else {

@@ -41,7 +41,10 @@ fn turn<T: Real>((cg, sg): (T, T), (c, s): (T, T)) -> T {
 
 /// Solves the dyad block `block` with unknowns `a` and `b` in place. `k` is `K`, `ma` and `mb` the
 /// `(p, r)` of `M_a` and `M_b`, all at the current state; `scale` the length scale. The guess in
-/// `st` picks the branch. Past a dead point (the circles do not meet): `Unassemblable`.
+/// `st` picks the branch. Past a dead point (the circles do not meet): `Unassemblable`. The new
+/// angles are the guess's plus the turn to the solution (so whole turns are kept), unless the
+/// guess is so large that f64 (or f32) cannot hold the answer to `tolerance` there: then the
+/// principal value in (−π, π].
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn solve_dyad<T: Real, const N: usize>(
@@ -53,6 +56,7 @@ pub fn solve_dyad<T: Real, const N: usize>(
     ma: (T, T),
     mb: (T, T),
     scale: T,
+    tolerance: T,
     report: &mut NewtonReport<T>,
 ) -> Result<(), SolveError> {
     let (ga, gb) = (st.sc[a], st.sc[b]);
@@ -109,7 +113,15 @@ pub fn solve_dyad<T: Real, const N: usize>(
     let big_b = (d.0 - big_a.0, d.1 - big_a.1);
     let (ca, sa) = unapply(ma, big_a);
     let (cb, sb) = unapply(mb, big_b);
-    let (qa, qb) = (st.q[a] + turn(ea, (ca, sa)), st.q[b] + turn(eb, (cb, sb)));
+    let near = |q: T, e: (T, T), (c, s): (T, T)| {
+        let q_new = q + turn(e, (c, s));
+        if T::EPSILON * q_new.abs() <= tolerance {
+            q_new
+        } else {
+            s.atan2(c)
+        }
+    };
+    let (qa, qb) = (near(st.q[a], ea, (ca, sa)), near(st.q[b], eb, (cb, sb)));
     if !(qa.is_finite() && qb.is_finite() && ca.is_finite() && sb.is_finite()) {
         return Err(SolveError::Unassemblable {
             block,
@@ -140,7 +152,18 @@ mod tests {
         let mut st = TrigState::new([ga, gb], [true, true]);
         let mut report = NewtonReport::new();
         let one = (1.0, 0.0);
-        solve_dyad(0, &mut st, 0, 1, [-d.0, -d.1], one, one, 1.0, &mut report)?;
+        solve_dyad(
+            0,
+            &mut st,
+            0,
+            1,
+            [-d.0, -d.1],
+            one,
+            one,
+            1.0,
+            1e-12,
+            &mut report,
+        )?;
         for k in 0..2 {
             let (s, c) = st.q[k].sin_cos();
             assert!((st.sc[k].0 - s).abs() < 1e-15 && (st.sc[k].1 - c).abs() < 1e-15);

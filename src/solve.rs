@@ -431,9 +431,13 @@ where
         }
         // Quadratic convergence: the next step would be about step³ / prev_step², so once that
         // is at rounding level the answer is already as accurate as the precision allows.
+        // (Written as step·θ², θ = step / prev_step, so that nothing overflows; only small steps,
+        // in the quadratic regime, qualify.)
+        let theta = step / prev_step;
         let done = it > 1
-            && step <= prev_step * T::lit(0.5)
-            && step * step * step <= prev_step * prev_step * T::EPSILON;
+            && step <= T::lit(1e-3)
+            && theta <= T::lit(0.5)
+            && step * theta * theta <= T::EPSILON;
         if step <= options.tolerance || done {
             return converged(it, residual, ratio);
         }

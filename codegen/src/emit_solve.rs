@@ -181,7 +181,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
                     #c_text
                     if options.closed_forms {
                         let [kx, ky, pa, ra, pb, rb] = self.#dyad_fn(x, &st.q, tx, tp, &st.sc);
-                        ::mechgen::solve_dyad(#bi, st, #a, #bu, [kx, ky], (pa, ra), (pb, rb), scale, report)?;
+                        ::mechgen::solve_dyad(#bi, st, #a, #bu, [kx, ky], (pa, ra), (pb, rb), scale, options.tolerance, report)?;
                     } else {
                         ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], scale, options, report,
                             |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;

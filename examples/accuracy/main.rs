@@ -41,10 +41,10 @@ const REPETITIONS: usize = 15;
 
 /// The legend groups of the plot.
 const GROUPS: [&str; 7] = [
-    "generated f64, tolerance (cap 64)",
-    "generated f64, cap k at tolerance 1e-12 (a failed tick keeps the prediction)",
-    "generated f64, k iterations per block accepted",
-    "generated f32, tolerance",
+    "generated f64 Newton, tolerance (cap 64)",
+    "generated f64 Newton, cap k at tolerance 1e-12 (a failed tick keeps the prediction)",
+    "generated f64 Newton, k iterations per block accepted",
+    "generated f32 Newton, tolerance",
     "generic engine f64",
     "generic residual + finite-difference Jacobians",
     "generated, closed-form dyads (the default)",

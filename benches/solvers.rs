@@ -66,7 +66,33 @@ fn states(k: &dyn Kinematics<f64>) -> (Vec<State>, f64) {
             });
         }
     }
-    assert!(!out.is_empty(), "{}: no solvable states", info.name);
+    if out.is_empty() {
+        // No step of the sweep could be taken (a start at a dead point, say): time ticks that stay
+        // at the start input, so every mechanism still has its benches.
+        let x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
+        let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
+        let n = q.len();
+        if k.solve_position(&x, &mut q, &NewtonOptions::default())
+            .is_ok()
+        {
+            eprintln!(
+                "{}: no step along the input solves; timing ticks in place",
+                info.name
+            );
+        } else {
+            eprintln!(
+                "{}: the start does not assemble; timing failing ticks",
+                info.name
+            );
+        }
+        out.push(State {
+            x_next: x.clone(),
+            x,
+            q,
+            qd: vec![0.0; n],
+            qdd: vec![0.0; n],
+        });
+    }
     (out, dx)
 }
 

@@ -276,7 +276,7 @@ fn put<T: Real>(dst: &mut [T], src: &[T]) -> Result<(), SolveError> {
     Ok(())
 }
 
-fn len<T>(s: &[T], expected: usize) -> Result<(), SolveError> {
+pub(crate) fn len<T>(s: &[T], expected: usize) -> Result<(), SolveError> {
     if s.len() == expected {
         Ok(())
     } else {

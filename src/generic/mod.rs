@@ -9,21 +9,10 @@ pub mod tape;
 pub use engine::{Generic, LoadError, load, load_file, load_with_warnings};
 
 use crate::error::{SolveError, Stage};
-use crate::mechanism::{Kinematics, MechanismInfo, PointMotion};
+use crate::mechanism::{Kinematics, MechanismInfo, PointMotion, len};
 use crate::scalar::Real;
 use crate::solve::{NewtonOptions, NewtonReport, check_finite};
 use tape::Env;
-
-fn len<T>(s: &[T], expected: usize) -> Result<(), SolveError> {
-    if s.len() == expected {
-        Ok(())
-    } else {
-        Err(SolveError::BadLength {
-            expected,
-            got: s.len(),
-        })
-    }
-}
 
 /// One chain of the mechanism drawing at a configuration.
 #[derive(Clone, Debug, PartialEq)]
@@ -35,23 +24,18 @@ pub struct ChainPosition {
 }
 
 impl Generic {
-    fn sizes(&self) -> (usize, usize, usize) {
-        (
-            self.info.inputs.len(),
-            self.info.unknowns.len(),
-            self.info.points.len(),
-        )
-    }
-
-    fn check(&self, x: &[f64], q: &[f64]) -> Result<(), SolveError> {
-        let (ni, nu, _) = self.sizes();
-        len(x, ni)?;
-        len(q, nu)
+    /// Checks the lengths of `[x, q, xd, qd, xdd, qdd]` (or a prefix): inputs, then unknowns.
+    fn lengths<T>(&self, slices: &[&[T]]) -> Result<(), SolveError> {
+        let (ni, nu) = (self.info.inputs.len(), self.info.unknowns.len());
+        for (i, s) in slices.iter().enumerate() {
+            len(s, if i % 2 == 0 { ni } else { nu })?;
+        }
+        Ok(())
     }
 
     /// The drawing chains (links and ground offsets of every loop) at `(x, q)`.
     pub fn chains(&self, x: &[f64], q: &[f64]) -> Result<Vec<ChainPosition>, SolveError> {
-        self.check(x, q)?;
+        self.lengths(&[x, q])?;
         let mut out = vec![0.0; self.chains.outputs()];
         self.chains.eval(
             &Env::position(x, q, &self.params),
@@ -97,23 +81,17 @@ macro_rules! kinematics {
             }
 
             fn residual(&self, x: &[$t], q: &[$t], out: &mut [$t]) -> Result<(), SolveError> {
-                let (ni, nu, _) = self.sizes();
-                len(x, ni)?;
-                len(q, nu)?;
+                self.lengths(&[x, q])?;
                 self.eval_into(&self.residual, Env::position(x, q, &self.params), out)
             }
 
             fn jacobian(&self, x: &[$t], q: &[$t], out: &mut [$t]) -> Result<(), SolveError> {
-                let (ni, nu, _) = self.sizes();
-                len(x, ni)?;
-                len(q, nu)?;
+                self.lengths(&[x, q])?;
                 self.eval_into(&self.jacobian, Env::position(x, q, &self.params), out)
             }
 
             fn input_jacobian(&self, x: &[$t], q: &[$t], out: &mut [$t]) -> Result<(), SolveError> {
-                let (ni, nu, _) = self.sizes();
-                len(x, ni)?;
-                len(q, nu)?;
+                self.lengths(&[x, q])?;
                 self.eval_into(&self.input_jacobian, Env::position(x, q, &self.params), out)
             }
 
@@ -125,11 +103,7 @@ macro_rules! kinematics {
                 qd: &[$t],
                 out: &mut [$t],
             ) -> Result<(), SolveError> {
-                let (ni, nu, _) = self.sizes();
-                len(x, ni)?;
-                len(q, nu)?;
-                len(xd, ni)?;
-                len(qd, nu)?;
+                self.lengths(&[x, q, xd, qd])?;
                 let env = Env {
                     xd,
                     qd,
@@ -147,12 +121,7 @@ macro_rules! kinematics {
                 xdd: &[$t],
                 out: &mut [$t],
             ) -> Result<(), SolveError> {
-                let (ni, nu, _) = self.sizes();
-                len(x, ni)?;
-                len(q, nu)?;
-                len(xd, ni)?;
-                len(qd, nu)?;
-                len(xdd, ni)?;
+                self.lengths(&[x, q, xd, qd, xdd])?;
                 let env = Env {
                     xd,
                     qd,
@@ -168,9 +137,7 @@ macro_rules! kinematics {
                 q: &mut [$t],
                 options: &NewtonOptions<$t>,
             ) -> Result<NewtonReport<$t>, SolveError> {
-                let (ni, nu, _) = self.sizes();
-                len(x, ni)?;
-                len(q, nu)?;
+                self.lengths(&[x, q])?;
                 self.newton(x, q, options)
             }
 
@@ -181,11 +148,7 @@ macro_rules! kinematics {
                 xd: &[$t],
                 qd: &mut [$t],
             ) -> Result<(), SolveError> {
-                let (ni, nu, _) = self.sizes();
-                len(x, ni)?;
-                len(q, nu)?;
-                len(xd, ni)?;
-                len(qd, nu)?;
+                self.lengths(&[x, q, xd, qd])?;
                 check_finite(crate::Quantity::InputRate, xd)?;
                 let env = Env {
                     xd,
@@ -203,13 +166,7 @@ macro_rules! kinematics {
                 xdd: &[$t],
                 qdd: &mut [$t],
             ) -> Result<(), SolveError> {
-                let (ni, nu, _) = self.sizes();
-                len(x, ni)?;
-                len(q, nu)?;
-                len(xd, ni)?;
-                len(qd, nu)?;
-                len(xdd, ni)?;
-                len(qdd, nu)?;
+                self.lengths(&[x, q, xd, qd, xdd, qdd])?;
                 check_finite(crate::Quantity::InputAcceleration, xdd)?;
                 let env = Env {
                     xd,
@@ -230,14 +187,8 @@ macro_rules! kinematics {
                 qdd: &[$t],
                 out: &mut [PointMotion<$t>],
             ) -> Result<(), SolveError> {
-                let (ni, nu, np) = self.sizes();
-                len(x, ni)?;
-                len(q, nu)?;
-                len(xd, ni)?;
-                len(qd, nu)?;
-                len(xdd, ni)?;
-                len(qdd, nu)?;
-                len(out, np)?;
+                self.lengths(&[x, q, xd, qd, xdd, qdd])?;
+                len(out, self.info.points.len())?;
                 let env = Env {
                     x,
                     q,
@@ -247,7 +198,7 @@ macro_rules! kinematics {
                     xdd,
                     qdd,
                 };
-                let mut v = vec![<$t as num_traits::Zero>::zero(); 6 * np];
+                let mut v = vec![<$t as num_traits::Zero>::zero(); 6 * self.info.points.len()];
                 self.points.eval(&env, &mut Vec::new(), &mut v);
                 for (o, c) in out.iter_mut().zip(v.chunks_exact(6)) {
                     *o = PointMotion {

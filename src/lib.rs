@@ -17,6 +17,7 @@
 extern crate self as mechgen;
 
 pub mod dyad;
+pub mod elimination;
 pub mod error;
 #[cfg(feature = "runtime")]
 pub mod generic;
@@ -27,8 +28,10 @@ pub mod report;
 pub mod scalar;
 pub mod solve;
 pub mod sweep;
+pub mod trig;
 
 pub use dyad::solve_dyad;
+pub use elimination::{copy_row_major, gauss, gauss_in_place, solve_block};
 pub use error::{Quantity, SolveError, Stage};
 pub use mechanism::{
     Array, CoordInfo, Kind, Kinematics, Mechanism, MechanismInfo, ParamInfo, PointMotion,
@@ -36,10 +39,8 @@ pub use mechanism::{
 };
 pub use nalgebra;
 pub use scalar::Real;
-pub use solve::{
-    NewtonOptions, NewtonReport, NewtonState, TrigState, check_finite, copy_row_major, gauss,
-    newton_block, solve_block,
-};
+pub use solve::{NewtonOptions, NewtonReport, check_finite, newton_block, newton_in_place};
+pub use trig::{NewtonState, TrigState};
 
 /// The solvers generated from the build's mechanism file (`mechanism.toml`, or `MECHGEN_MECHANISM`).
 pub mod generated {

@@ -1,7 +1,11 @@
-//! Numerical kernels the generated solvers call: Gaussian elimination on fixed-size blocks and
-//! block-wise Newton. Allocation-free; every failure is a [`SolveError`].
+//! Block-wise Newton, the one both engines run (generated code on `SMatrix`, the generic engine on
+//! `DMatrix`), its options and report. Allocation-free for fixed sizes; every failure is a
+//! [`SolveError`]. Elimination is in `elimination.rs`, the unknowns' trigonometry in `trig.rs`.
 
 use nalgebra::allocator::Allocator;
+
+use crate::elimination::gauss_in_place;
+pub use crate::trig::{NewtonState, TrigState, rotate};
 use nalgebra::{DefaultAllocator, Dim, OMatrix, OVector, SMatrix, SVector};
 
 use crate::error::{Quantity, SolveError, Stage};
@@ -75,117 +79,6 @@ pub fn check_finite<T: Real>(quantity: Quantity, values: &[T]) -> Result<(), Sol
     }
 }
 
-/// Solves `a z = b` by Gaussian elimination with column equilibration and partial pivoting.
-/// Returns the solution and the pivot ratio, or the pivot ratio when `a` is singular to working
-/// precision.
-#[inline]
-pub fn gauss<T: Real, const K: usize>(
-    mut a: SMatrix<T, K, K>,
-    mut b: SVector<T, K>,
-) -> Result<(SVector<T, K>, T), T> {
-    let mut scale = SVector::<T, K>::zeros();
-    let ratio = gauss_in_place(&mut a, &mut b, &mut scale)?;
-    Ok((b, ratio))
-}
-
-/// [`gauss`] for any dimension (fixed or dynamic): on success `b` holds the solution and the
-/// pivot ratio is returned; `a` is overwritten (its diagonal with the reciprocal pivots) and
-/// `scale` is workspace of `b`'s size (the reciprocal column scales).
-// `!(a > b)` is deliberate: a NaN must fail the test.
-#[inline(always)]
-#[allow(clippy::neg_cmp_op_on_partial_ord)]
-pub fn gauss_in_place<T: Real, D: Dim>(
-    a: &mut OMatrix<T, D, D>,
-    b: &mut OVector<T, D>,
-    scale: &mut OVector<T, D>,
-) -> Result<T, T>
-where
-    DefaultAllocator: Allocator<D, D> + Allocator<D>,
-{
-    let k = b.len();
-    for j in 0..k {
-        let mut m = T::zero();
-        for i in 0..k {
-            m = m.max(a[(i, j)].abs());
-        }
-        if !(m > T::zero()) || !m.is_finite() {
-            return Err(T::zero());
-        }
-        // Reciprocals: one division per column and per pivot, the rest multiplications.
-        let inv = T::one() / m;
-        scale[j] = inv;
-        for i in 0..k {
-            a[(i, j)] *= inv;
-        }
-    }
-    let (mut pmin, mut pmax) = (T::lit(f64::INFINITY), T::zero());
-    for c in 0..k {
-        let mut p = c;
-        for r in c + 1..k {
-            if a[(r, c)].abs() > a[(p, c)].abs() {
-                p = r;
-            }
-        }
-        if p != c {
-            a.swap_rows(p, c);
-            b.swap_rows(p, c);
-        }
-        let piv = a[(c, c)];
-        pmin = pmin.min(piv.abs());
-        pmax = pmax.max(piv.abs());
-        if !(pmin > pmax * T::EPSILON * T::lit(k as f64)) {
-            return Err(if pmax > T::zero() {
-                pmin / pmax
-            } else {
-                T::zero()
-            });
-        }
-        let inv_piv = T::one() / piv;
-        a[(c, c)] = inv_piv;
-        for r in c + 1..k {
-            let f = a[(r, c)] * inv_piv;
-            if f != T::zero() {
-                for j in c + 1..k {
-                    let v = a[(c, j)];
-                    a[(r, j)] -= f * v;
-                }
-                let v = b[c];
-                b[r] -= f * v;
-            }
-        }
-    }
-    for c in (0..k).rev() {
-        let mut s = b[c];
-        for j in c + 1..k {
-            s -= a[(c, j)] * b[j];
-        }
-        b[c] = s * a[(c, c)];
-    }
-    for j in 0..k {
-        b[j] *= scale[j];
-    }
-    Ok(pmin / pmax)
-}
-
-/// One linear block solve of a velocity or acceleration pass.
-#[inline]
-pub fn solve_block<T: Real, const K: usize>(
-    block: usize,
-    stage: Stage,
-    jac: SMatrix<T, K, K>,
-    rhs: SVector<T, K>,
-) -> Result<SVector<T, K>, SolveError> {
-    match gauss(jac, rhs) {
-        Ok((z, _)) if z.iter().all(|v| v.is_finite()) => Ok(z),
-        Ok(_) => Err(SolveError::Overflow { block, stage }),
-        Err(ratio) => Err(SolveError::Singular {
-            block,
-            stage,
-            pivot_ratio: ratio.to_f64(),
-        }),
-    }
-}
-
 /// A step counts as progress when it is below this fraction of the smallest step so far. Newton
 /// converges quadratically at a regular solution and linearly (ratio 1/2) at a dead point, so a
 /// converging run makes progress at every iteration.
@@ -243,95 +136,6 @@ pub fn newton_block<T: Real, const K: usize, S: NewtonState<T> + ?Sized>(
             *j = jj;
         },
     )
-}
-
-/// What Newton updates: the unknowns, and whatever is kept in step with them.
-pub trait NewtonState<T> {
-    /// `q[k] -= dz`.
-    fn apply(&mut self, k: usize, dz: T);
-    /// `q[k]`.
-    fn get(&self, k: usize) -> T;
-}
-
-impl<T: Real> NewtonState<T> for [T] {
-    #[inline]
-    fn apply(&mut self, k: usize, dz: T) {
-        self[k] -= dz;
-    }
-    #[inline]
-    fn get(&self, k: usize) -> T {
-        self[k]
-    }
-}
-
-impl<T: Real, const N: usize> NewtonState<T> for [T; N] {
-    #[inline]
-    fn apply(&mut self, k: usize, dz: T) {
-        self[k] -= dz;
-    }
-    #[inline]
-    fn get(&self, k: usize) -> T {
-        self[k]
-    }
-}
-
-/// The unknowns with the sine and cosine of each angle that appears in a sin or cos (`angle[k]`),
-/// kept in step by rotation through each Newton step: no `sin_cos` call for a small step. The
-/// generated solvers read their trigonometry from here.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TrigState<T, const N: usize> {
-    pub q: [T; N],
-    /// (sin, cos) of `q[k]` where `angle[k]`; (0, 1) elsewhere.
-    pub sc: [(T, T); N],
-    angle: [bool; N],
-}
-
-impl<T: Real, const N: usize> TrigState<T, N> {
-    #[inline]
-    pub fn new(q: [T; N], angle: [bool; N]) -> Self {
-        let mut sc = [(T::zero(), T::one()); N];
-        for k in 0..N {
-            if angle[k] {
-                sc[k] = q[k].sin_cos();
-            }
-        }
-        TrigState { q, sc, angle }
-    }
-}
-
-impl<T: Real, const N: usize> NewtonState<T> for TrigState<T, N> {
-    #[inline]
-    fn apply(&mut self, k: usize, dz: T) {
-        self.q[k] -= dz;
-        if self.angle[k] {
-            self.sc[k] = rotate(self.sc[k], self.q[k], dz);
-        }
-    }
-    #[inline]
-    fn get(&self, k: usize) -> T {
-        self.q[k]
-    }
-}
-
-/// (sin, cos) of `q − dz` from `(s, c)` = (sin q, cos q) and the new angle `q_new`: by the
-/// addition theorem with a Taylor series of `dz` when the step is small (truncation below 1e-19),
-/// by `sin_cos(q_new)` otherwise.
-#[inline]
-pub fn rotate<T: Real>((s, c): (T, T), q_new: T, dz: T) -> (T, T) {
-    if dz.abs() > T::lit(0.03) {
-        return q_new.sin_cos();
-    }
-    let d2 = dz * dz;
-    let sd = dz
-        * (T::one()
-            - d2 * T::lit(1.0 / 6.0)
-                * (T::one() - d2 * T::lit(1.0 / 20.0) * (T::one() - d2 * T::lit(1.0 / 42.0))));
-    let cd = T::one()
-        - d2 * T::lit(0.5)
-            * (T::one()
-                - d2 * T::lit(1.0 / 12.0)
-                    * (T::one() - d2 * T::lit(1.0 / 30.0) * (T::one() - d2 * T::lit(1.0 / 56.0))));
-    (s * cd - c * sd, c * cd + s * sd)
 }
 
 /// Workspace of [`newton_in_place`]: the block's residual, Jacobian and column scales.
@@ -482,19 +286,6 @@ where
     }
 }
 
-/// Copies a matrix into a row-major slice (as much as fits).
-pub fn copy_row_major<T: Real, const R: usize, const C: usize>(
-    m: &SMatrix<T, R, C>,
-    out: &mut [T],
-) {
-    for i in 0..R {
-        for j in 0..C {
-            if let Some(o) = out.get_mut(i * C + j) {
-                *o = m[(i, j)];
-            }
-        }
-    }
-}
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,9 +1,7 @@
 //! Stage 6b: the block-wise solvers of one mechanism. Block functions read the sines and cosines
-//! of inputs, params and unknowns from caches (`tx`, `tp`, and the Newton [`TrigState`]'s `sc`),
+//! of inputs, params and unknowns from caches (`tx`, `tp`, and the Newton `mechgen::TrigState`'s `sc`),
 //! which are computed once per solve and kept in step through Newton by rotation; `solve` shares
 //! them between positions, velocities, accelerations and points.
-//!
-//! [`TrigState`]: ../../mechgen/solve/struct.TrigState.html
 
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};

@@ -1,10 +1,10 @@
 //! mechgen-codegen: mechanism.toml → Rust kinematics solvers.
 //!
-//! Pipeline (one module per stage, chained in [`compile`]):
+//! Pipeline (one module per stage, chained in [`mod@compile`]):
 //! [`parse`] (TOML + syn, with spans) → [`check`] (names; [`typing`]: types, angles; [`eval`]: values) → [`lower`] (loops to
 //! scalar residuals in the hash-consed [`dag`]) → [`differentiate`] (J, Φx, J̇, γ, points) →
-//! [`structure`] (matching, block-triangular order) → [`plan`] (per-block forms), [`start`] (the start configuration against the loops) → [`emit`]
-//! (quote → prettyplease). [`diagnostic`] renders errors as FILE:LINE:COLUMN; [`build_script`] is
+//! [`structure`] (matching, block-triangular order) → [`plan`] (per-block forms, [`dyad`]: closed-form dyad blocks), [`start`] (the start configuration against the loops) → [`emit`]
+//! (quote → prettyplease; [`emit_solve`]: the block solvers). [`diagnostic`] renders errors as FILE:LINE:COLUMN; [`build_script`] is
 //! the entry point for a `build.rs`.
 
 // Float guards read better than float patterns; `% 2` is the loop component parity.

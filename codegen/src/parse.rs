@@ -1,4 +1,4 @@
-//! Stage 1: mechanism file text → [`ast::File`]. TOML with spans (toml's `DeTable`), each expression
+//! Stage 1: mechanism file text → [`crate::ast::File`]. TOML with spans (toml's `DeTable`), each expression
 //! string with `syn` (in `parse_expr.rs`), spans mapped back into the file so diagnostics point
 //! inside the strings. After a TOML syntax error only the syntax errors are reported.
 

@@ -8,10 +8,11 @@ use mechgen_codegen::{Compiled, Diagnostic, SourceFile};
 use nalgebra::{DMatrix, DVector, Dyn};
 
 use super::tape::{Env, Tape};
+use crate::elimination::gauss_in_place;
 use crate::error::{Quantity, SolveError, Stage};
 use crate::mechanism::{Kind, MechanismInfo};
 use crate::scalar::Real;
-use crate::solve::{NewtonWork, check_finite, gauss_in_place};
+use crate::solve::{NewtonWork, check_finite};
 
 /// A mechanism file that could not be loaded: every diagnostic, rendered as FILE:LINE:COLUMN.
 #[derive(Clone, Debug)]

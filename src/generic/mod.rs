@@ -1,6 +1,6 @@
 //! The generic runtime engine (feature `runtime`): loads a mechanism file at run time and solves
 //! it by interpreting the same derivatives the generator emits ([`tape`]), with the same block
-//! Newton and error values ([`engine`]). It is the `--file` path of the CLI and the honest
+//! Newton and error values (`engine.rs`). It is the `--file` path of the CLI and the honest
 //! comparison for the generated solvers. [`Kinematics`] is implemented here.
 
 mod engine;

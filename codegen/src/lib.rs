@@ -25,6 +25,7 @@ pub mod dyad;
 pub mod emit;
 pub mod emit_body;
 pub mod emit_solve;
+pub mod emit_system;
 pub mod eval;
 pub mod lower;
 pub mod parse;

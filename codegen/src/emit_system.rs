@@ -1,0 +1,169 @@
+//! Stage 6c: the whole-system functions of one mechanism's type: Φ, J, Φx, J̇, −Φx ẋ, γ and the
+//! points, each a straight-line function of (x, q, …) that computes its own trigonometry (the
+//! public evaluation API; the solvers in `emit_solve` read theirs from caches).
+
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+
+use crate::compile::Compiled;
+use crate::dag::NodeId;
+use crate::emit::{Args, comment, equation_name};
+use crate::emit_body::body;
+
+/// The whole-system methods (inside the mechanism type's `impl<T: Real>` block).
+pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
+    let m = &c.model;
+    let dag = &c.system.dag;
+    let (ni, nu, np) = (m.inputs.len(), m.unknowns.len(), m.points.len());
+    let matrix_fn = |fname: &str,
+                     doc: &str,
+                     entries: &[Vec<NodeId>],
+                     cols: usize,
+                     col_names: &[String],
+                     extra: TokenStream| {
+        let f = format_ident!("{}", fname);
+        let rows = entries.len();
+        let roots: Vec<NodeId> = entries.iter().flatten().copied().collect();
+        let b = body(dag, &roots, args);
+        let mut sets = TokenStream::new();
+        for (r, row) in entries.iter().enumerate() {
+            for (k, &e) in row.iter().enumerate() {
+                if dag.is_zero(e) {
+                    continue;
+                }
+                let v = &b.roots[r * cols + k];
+                sets.extend(comment(&format!(
+                    "[{r}][{k}] = ∂Φ{r}/∂{} ({})",
+                    col_names[k],
+                    equation_name(m, r)
+                )));
+                sets.extend(quote!(m[(#r, #k)] = #v;));
+            }
+        }
+        let stmts = b.stmts;
+        quote! {
+            #[doc = #doc]
+            pub fn #f(&self, x: &[T; #ni], q: &[T; #nu] #extra) -> ::mechgen::nalgebra::SMatrix<T, #rows, #cols> {
+                #stmts
+                let mut m = ::mechgen::nalgebra::SMatrix::<T, #rows, #cols>::zeros();
+                #sets
+                m
+            }
+        }
+    };
+    let unknown_names: Vec<String> = m.unknowns.iter().map(|u| u.name.text.clone()).collect();
+    let input_names: Vec<String> = m.inputs.iter().map(|u| u.name.text.clone()).collect();
+    let rates = quote!(, xd: &[T; #ni], qd: &[T; #nu]);
+    let jacobian = matrix_fn(
+        "jacobian",
+        "J = ∂Φ/∂q at (x, q).",
+        &c.derivatives.jacobian,
+        nu,
+        &unknown_names,
+        quote!(),
+    );
+    let input_jacobian = matrix_fn(
+        "input_jacobian",
+        "Φx = ∂Φ/∂x at (x, q).",
+        &c.derivatives.input_jacobian,
+        ni,
+        &input_names,
+        quote!(),
+    );
+    let jacobian_dot = matrix_fn(
+        "jacobian_dot",
+        "J̇ = dJ/dt at (x, q, ẋ, q̇).",
+        &c.derivatives.jacobian_dot,
+        nu,
+        &unknown_names,
+        rates,
+    );
+
+    let vector_fn = |fname: &str,
+                     doc: &str,
+                     roots: &[NodeId],
+                     params: TokenStream,
+                     ret: TokenStream,
+                     wrap: fn(&[TokenStream]) -> TokenStream| {
+        let f = format_ident!("{}", fname);
+        let b = body(dag, roots, args);
+        let stmts = b.stmts;
+        let value = wrap(&b.roots);
+        quote! {
+            #[doc = #doc]
+            pub fn #f(&self, #params) -> #ret { #stmts #value }
+        }
+    };
+    let array = |r: &[TokenStream]| quote!([#(#r),*]);
+    let svector = |r: &[TokenStream]| quote!(::mechgen::nalgebra::SVector::from([#(#r),*]));
+    let residual = vector_fn(
+        "residual",
+        "Φ(x, q): the loop-closure residuals, two per loop (x then y).",
+        &c.system.residuals,
+        quote!(x: &[T; #ni], q: &[T; #nu]),
+        quote!([T; #nu]),
+        array,
+    );
+    let velocity_rhs = vector_fn(
+        "velocity_rhs",
+        "−Φx ẋ: the right-hand side of J q̇ = −Φx ẋ.",
+        &c.derivatives.velocity_rhs,
+        quote!(x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni]),
+        quote!(::mechgen::nalgebra::SVector<T, #nu>),
+        svector,
+    );
+    let acceleration_rhs = vector_fn(
+        "acceleration_rhs",
+        "γ = −(J̇ q̇ + Φ̇x ẋ) − Φx ẍ: the right-hand side of J q̈ = γ.",
+        &c.derivatives.acceleration_rhs,
+        quote!(x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni]),
+        quote!(::mechgen::nalgebra::SVector<T, #nu>),
+        svector,
+    );
+    let pos_roots: Vec<NodeId> = c.system.points.iter().flatten().copied().collect();
+    let point_positions = vector_fn(
+        "point_positions",
+        "Positions of the points, in `POINT_NAMES` order.",
+        &pos_roots,
+        quote!(x: &[T; #ni], q: &[T; #nu]),
+        quote!([[T; 2]; #np]),
+        |r| {
+            let pairs = r.chunks(2).map(|p| {
+                let (a, b) = (&p[0], &p[1]);
+                quote!([#a, #b])
+            });
+            quote!([#(#pairs),*])
+        },
+    );
+    let mut motion_roots = Vec::new();
+    for p in 0..np {
+        motion_roots.extend(c.system.points[p]);
+        motion_roots.extend(c.derivatives.point_velocity[p]);
+        motion_roots.extend(c.derivatives.point_acceleration[p]);
+    }
+    let point_motion = vector_fn(
+        "point_motion",
+        "Position, velocity and acceleration of every point, in `POINT_NAMES` order.",
+        &motion_roots,
+        quote!(x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni], qdd: &[T; #nu]),
+        quote!([::mechgen::PointMotion<T>; #np]),
+        |r| {
+            let items = r.chunks(6).map(|p| {
+                let (px, py, vx, vy, ax, ay) = (&p[0], &p[1], &p[2], &p[3], &p[4], &p[5]);
+                quote!(::mechgen::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] })
+            });
+            quote!([#(#items),*])
+        },
+    );
+
+    quote! {
+        #residual
+        #jacobian
+        #input_jacobian
+        #jacobian_dot
+        #velocity_rhs
+        #acceleration_rhs
+        #point_positions
+        #point_motion
+    }
+}

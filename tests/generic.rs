@@ -188,3 +188,25 @@ fn generic_f32_runs() {
         assert!(q.iter().all(|v| v.is_finite()));
     }
 }
+
+#[test]
+fn a_failed_position_solve_leaves_the_guess_alone_in_both_engines() {
+    for (k, g) in engines() {
+        let info = k.info();
+        if info.name != "rocker_four_bar" {
+            continue;
+        }
+        // 170°: past the dead point at 135.95°, no configuration exists.
+        let x = [170f64.to_radians()];
+        let guess: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
+        for engine in [k.as_ref(), &g as &dyn Kinematics<f64>] {
+            let mut q = guess.clone();
+            let r = engine.solve_position(&x, &mut q, &mechgen::NewtonOptions::default());
+            assert!(
+                matches!(r, Err(mechgen::SolveError::Unassemblable { .. })),
+                "{r:?}"
+            );
+            assert_eq!(q, guess);
+        }
+    }
+}

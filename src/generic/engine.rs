@@ -208,7 +208,8 @@ impl Generic {
         if s > 0.0 { s } else { 1.0 }
     }
 
-    /// Newton on every block in order, from the guess in `q`.
+    /// Newton on every block in order, from the guess in `q`; `q` is written only on success
+    /// (as the generated solvers do).
     pub(super) fn newton<T: Real>(
         &self,
         x: &[T],
@@ -220,6 +221,7 @@ impl Generic {
         check_finite(Quantity::Guess, q)?;
         let scale = T::lit(self.length_scale());
         let mut report = crate::NewtonReport::new();
+        let mut trial = q.to_vec();
         let mut regs = Vec::new();
         let mut out = Vec::new();
         for (bi, b) in self.blocks.iter().enumerate() {
@@ -232,7 +234,7 @@ impl Generic {
             out.resize(k + k * k, T::zero());
             crate::solve::newton_in_place(
                 bi,
-                q,
+                trial.as_mut_slice(),
                 &b.unknowns,
                 &b.length,
                 scale,
@@ -246,6 +248,7 @@ impl Generic {
                 },
             )?;
         }
+        q.copy_from_slice(&trial);
         Ok(report)
     }
 

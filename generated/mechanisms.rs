@@ -1493,19 +1493,27 @@ pub mod sixbar {
             *q = st.q;
             Ok(report)
         }
-        /// q̇ from J q̇ = −Φx ẋ at a solved position.
+        /// q̇ from J q̇ = −Φx ẋ at a solved position. Non-finite arguments: `NonFinite` (params,
+        /// inputs, positions, input rates, in that order).
         pub fn solve_velocity(
             &self,
             x: &[T; 1],
             q: &[T; 4],
             xd: &[T; 1],
         ) -> Result<[T; 4], ::mechgen::SolveError> {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
         }
-        /// q̈ from J q̈ = γ at a solved position and velocity.
+        /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
+        /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
         pub fn solve_acceleration(
             &self,
             x: &[T; 1],
@@ -1514,6 +1522,14 @@ pub mod sixbar {
             qd: &[T; 4],
             xdd: &[T; 1],
         ) -> Result<[T; 4], ::mechgen::SolveError> {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Rate, qd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
@@ -2795,19 +2811,27 @@ pub mod shaper {
             *q = st.q;
             Ok(report)
         }
-        /// q̇ from J q̇ = −Φx ẋ at a solved position.
+        /// q̇ from J q̇ = −Φx ẋ at a solved position. Non-finite arguments: `NonFinite` (params,
+        /// inputs, positions, input rates, in that order).
         pub fn solve_velocity(
             &self,
             x: &[T; 1],
             q: &[T; 4],
             xd: &[T; 1],
         ) -> Result<[T; 4], ::mechgen::SolveError> {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
         }
-        /// q̈ from J q̈ = γ at a solved position and velocity.
+        /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
+        /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
         pub fn solve_acceleration(
             &self,
             x: &[T; 1],
@@ -2816,6 +2840,14 @@ pub mod shaper {
             qd: &[T; 4],
             xdd: &[T; 1],
         ) -> Result<[T; 4], ::mechgen::SolveError> {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Rate, qd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
@@ -3944,19 +3976,27 @@ pub mod four_bar {
             *q = st.q;
             Ok(report)
         }
-        /// q̇ from J q̇ = −Φx ẋ at a solved position.
+        /// q̇ from J q̇ = −Φx ẋ at a solved position. Non-finite arguments: `NonFinite` (params,
+        /// inputs, positions, input rates, in that order).
         pub fn solve_velocity(
             &self,
             x: &[T; 1],
             q: &[T; 2],
             xd: &[T; 1],
         ) -> Result<[T; 2], ::mechgen::SolveError> {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
         }
-        /// q̈ from J q̈ = γ at a solved position and velocity.
+        /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
+        /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
         pub fn solve_acceleration(
             &self,
             x: &[T; 1],
@@ -3965,6 +4005,14 @@ pub mod four_bar {
             qd: &[T; 2],
             xdd: &[T; 1],
         ) -> Result<[T; 2], ::mechgen::SolveError> {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Rate, qd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
@@ -4999,19 +5047,27 @@ pub mod slider_crank {
             *q = st.q;
             Ok(report)
         }
-        /// q̇ from J q̇ = −Φx ẋ at a solved position.
+        /// q̇ from J q̇ = −Φx ẋ at a solved position. Non-finite arguments: `NonFinite` (params,
+        /// inputs, positions, input rates, in that order).
         pub fn solve_velocity(
             &self,
             x: &[T; 1],
             q: &[T; 2],
             xd: &[T; 1],
         ) -> Result<[T; 2], ::mechgen::SolveError> {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
         }
-        /// q̈ from J q̈ = γ at a solved position and velocity.
+        /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
+        /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
         pub fn solve_acceleration(
             &self,
             x: &[T; 1],
@@ -5020,6 +5076,14 @@ pub mod slider_crank {
             qd: &[T; 2],
             xdd: &[T; 1],
         ) -> Result<[T; 2], ::mechgen::SolveError> {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Rate, qd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
@@ -6039,19 +6103,27 @@ pub mod rocker_four_bar {
             *q = st.q;
             Ok(report)
         }
-        /// q̇ from J q̇ = −Φx ẋ at a solved position.
+        /// q̇ from J q̇ = −Φx ẋ at a solved position. Non-finite arguments: `NonFinite` (params,
+        /// inputs, positions, input rates, in that order).
         pub fn solve_velocity(
             &self,
             x: &[T; 1],
             q: &[T; 2],
             xd: &[T; 1],
         ) -> Result<[T; 2], ::mechgen::SolveError> {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
         }
-        /// q̈ from J q̈ = γ at a solved position and velocity.
+        /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
+        /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
         pub fn solve_acceleration(
             &self,
             x: &[T; 1],
@@ -6060,6 +6132,14 @@ pub mod rocker_four_bar {
             qd: &[T; 2],
             xdd: &[T; 1],
         ) -> Result<[T; 2], ::mechgen::SolveError> {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Rate, qd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
@@ -7497,19 +7577,27 @@ pub mod sixbar_g {
             *q = st.q;
             Ok(report)
         }
-        /// q̇ from J q̇ = −Φx ẋ at a solved position.
+        /// q̇ from J q̇ = −Φx ẋ at a solved position. Non-finite arguments: `NonFinite` (params,
+        /// inputs, positions, input rates, in that order).
         pub fn solve_velocity(
             &self,
             x: &[T; 1],
             q: &[T; 4],
             xd: &[T; 1],
         ) -> Result<[T; 4], ::mechgen::SolveError> {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
         }
-        /// q̈ from J q̈ = γ at a solved position and velocity.
+        /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
+        /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
         pub fn solve_acceleration(
             &self,
             x: &[T; 1],
@@ -7518,6 +7606,14 @@ pub mod sixbar_g {
             qd: &[T; 4],
             xdd: &[T; 1],
         ) -> Result<[T; 4], ::mechgen::SolveError> {
+            ::mechgen::check_finite(
+                ::mechgen::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Rate, qd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);

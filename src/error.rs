@@ -17,7 +17,12 @@ pub enum Quantity {
     Input,
     InputRate,
     InputAcceleration,
+    /// The starting guess of a position solve.
     Guess,
+    /// The (solved) unknowns given to a velocity or acceleration solve.
+    Position,
+    /// The unknowns' velocities given to an acceleration solve.
+    Rate,
 }
 
 /// Why a solve failed. `block` is the index of the diagonal block (see `StaticInfo::blocks`).

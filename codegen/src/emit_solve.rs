@@ -286,17 +286,27 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             Ok(report)
         }
 
-        /// q̇ from J q̇ = −Φx ẋ at a solved position.
+        /// q̇ from J q̇ = −Φx ẋ at a solved position. Non-finite arguments: `NonFinite` (params,
+        /// inputs, positions, input rates, in that order).
         pub fn solve_velocity(&self, x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni]) -> Result<[T; #nu], ::mechgen::SolveError> {
+            ::mechgen::check_finite(::mechgen::Quantity::Param, &self.params.to_array())?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
         }
 
-        /// q̈ from J q̈ = γ at a solved position and velocity.
+        /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
+        /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
         pub fn solve_acceleration(&self, x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni])
             -> Result<[T; #nu], ::mechgen::SolveError> {
+            ::mechgen::check_finite(::mechgen::Quantity::Param, &self.params.to_array())?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Rate, qd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);

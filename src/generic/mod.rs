@@ -8,7 +8,7 @@ pub mod tape;
 
 pub use engine::{Generic, LoadError, load, load_file, load_with_warnings};
 
-use crate::error::{SolveError, Stage};
+use crate::error::{Quantity, SolveError, Stage};
 use crate::mechanism::{Kinematics, MechanismInfo, PointMotion, len};
 use crate::scalar::Real;
 use crate::solve::{NewtonOptions, NewtonReport, check_finite};
@@ -149,7 +149,10 @@ macro_rules! kinematics {
                 qd: &mut [$t],
             ) -> Result<(), SolveError> {
                 self.lengths(&[x, q, xd, qd])?;
-                check_finite(crate::Quantity::InputRate, xd)?;
+                check_finite(Quantity::Param, &self.params)?;
+                check_finite(Quantity::Input, x)?;
+                check_finite(Quantity::Position, q)?;
+                check_finite(Quantity::InputRate, xd)?;
                 let env = Env {
                     xd,
                     ..Env::position(x, q, &self.params)
@@ -167,7 +170,12 @@ macro_rules! kinematics {
                 qdd: &mut [$t],
             ) -> Result<(), SolveError> {
                 self.lengths(&[x, q, xd, qd, xdd, qdd])?;
-                check_finite(crate::Quantity::InputAcceleration, xdd)?;
+                check_finite(Quantity::Param, &self.params)?;
+                check_finite(Quantity::Input, x)?;
+                check_finite(Quantity::Position, q)?;
+                check_finite(Quantity::InputRate, xd)?;
+                check_finite(Quantity::Rate, qd)?;
+                check_finite(Quantity::InputAcceleration, xdd)?;
                 let env = Env {
                     xd,
                     qd,

@@ -1537,6 +1537,7 @@ pub mod sixbar {
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        #[inline]
         pub fn solve_arrays(
             &self,
             x: &[T; 1],
@@ -2855,6 +2856,7 @@ pub mod shaper {
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        #[inline]
         pub fn solve_arrays(
             &self,
             x: &[T; 1],
@@ -4020,6 +4022,7 @@ pub mod four_bar {
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        #[inline]
         pub fn solve_arrays(
             &self,
             x: &[T; 1],
@@ -5091,6 +5094,7 @@ pub mod slider_crank {
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        #[inline]
         pub fn solve_arrays(
             &self,
             x: &[T; 1],
@@ -6147,6 +6151,7 @@ pub mod rocker_four_bar {
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        #[inline]
         pub fn solve_arrays(
             &self,
             x: &[T; 1],
@@ -7621,6 +7626,7 @@ pub mod sixbar_g {
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        #[inline]
         pub fn solve_arrays(
             &self,
             x: &[T; 1],

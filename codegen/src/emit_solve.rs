@@ -315,6 +315,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
 
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        #[inline]
         pub fn solve_arrays(&self, x: &[T; #ni], xd: &[T; #ni], xdd: &[T; #ni], q: &mut [T; #nu],
             options: &::mechgen::NewtonOptions<T>)
             -> Result<([T; #nu], [T; #nu], [::mechgen::PointMotion<T>; #np], ::mechgen::NewtonReport<T>), ::mechgen::SolveError> {

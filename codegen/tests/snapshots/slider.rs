@@ -812,6 +812,7 @@ pub mod slider {
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
+        #[inline]
         pub fn solve_arrays(
             &self,
             x: &[T; 1],

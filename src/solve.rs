@@ -90,6 +90,9 @@ const PROGRESS: f64 = 0.9;
 /// lands on another assembly branch.
 const STALL_LIMIT: u32 = 6;
 
+/// The longest Newton step taken, relative (radians; lengths over the length scale): one radian.
+const MAX_STEP: f64 = 1.0;
+
 /// Newton's method on one diagonal block: `q[idx]` are the block's unknowns (`length[i]` when
 /// unknown `i` is a length), `eval` gives the block residual and Jacobian at `q`.
 ///
@@ -213,18 +216,25 @@ where
                 });
             }
         };
-        // `work.residual` now holds the step dz.
+        // `work.residual` now holds the step dz: its size, relative (radians; lengths over the
+        // length scale).
         step = T::zero();
-        for (i, (&k, &is_length)) in idx.iter().zip(length).enumerate() {
-            let dz = work.residual[i];
-            let s = if is_length {
-                dz.abs() * inv_scale
-            } else {
-                dz.abs()
-            };
-            step = step.max(s);
-            q.apply(k, dz);
-            finite &= s.is_finite() && q.get(k).is_finite();
+        for (i, &is_length) in length.iter().enumerate() {
+            let dz = work.residual[i].abs();
+            step = step.max(if is_length { dz * inv_scale } else { dz });
+        }
+        // A step longer than MAX_STEP (far from a solution) is shortened along its direction, so
+        // the iterates stay near the guess instead of landing whole turns or branches away.
+        if step > T::lit(MAX_STEP) {
+            let shrink = T::lit(MAX_STEP) / step;
+            for i in 0..idx.len() {
+                work.residual[i] *= shrink;
+            }
+            step = T::lit(MAX_STEP);
+        }
+        for (i, &k) in idx.iter().enumerate() {
+            q.apply(k, work.residual[i]);
+            finite &= work.residual[i].is_finite() && q.get(k).is_finite();
         }
         if !finite || !step.is_finite() {
             return Err(SolveError::Unassemblable {

@@ -235,6 +235,20 @@ pub fn sweep(
     // Settle the start configuration itself first (the file's values may be rounded).
     let mut start_q = q.clone();
     if k.solve_position(&x, &mut start_q, &c.newton).is_ok() {
+        // Angles as near the file's values as whole turns allow (a far-off start may have
+        // converged turns away, where angles lose precision).
+        for ((settled, &file), u) in start_q.iter_mut().zip(&q).zip(&info.unknowns) {
+            if u.1 == Kind::Angle {
+                let tau = std::f64::consts::TAU;
+                let turn = (*settled - file).rem_euclid(tau);
+                *settled = file
+                    + if turn > std::f64::consts::PI {
+                        turn - tau
+                    } else {
+                        turn
+                    };
+            }
+        }
         q = start_q;
     }
     values

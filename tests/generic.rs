@@ -210,3 +210,43 @@ fn a_failed_position_solve_leaves_the_guess_alone_in_both_engines() {
         }
     }
 }
+
+/// A five-bar (two inputs, the second held) whose `start` is far off its loops: Newton from it
+/// must not wander whole turns away (steps are capped, angles kept near the file's), so the sweep
+/// of the first input goes round a full turn with every row solved and angles of normal size.
+#[test]
+fn a_far_off_start_settles_nearby_and_sweeps_a_full_turn() {
+    let text = r#"[mechanism.fivebar]
+inputs = ["a", "b"]
+unknowns = ["q2", "q3"]
+loops = ["l1*e(a) + l2*e(q2) - l5 - l4*e(b) - l3*e(q3)"]
+params = { l1 = 1.0, l2 = 3.0, l3 = 3.0, l4 = 1.0, l5 = 2.0 }
+start = { a = 1.5, b = 1.5, q2 = 0.0, q3 = 3.14159 }
+"#;
+    let (mechs, warnings) = generic::load_with_warnings("fivebar.toml", text).expect("loads");
+    assert!(
+        warnings.contains("does not satisfy the loops"),
+        "{warnings}"
+    );
+    let values: Vec<f64> = (0..=12)
+        .map(|i| f64::from(i) * 30f64.to_radians())
+        .collect();
+    let rows = sweep(
+        &mechs[0],
+        0,
+        &values,
+        1.0,
+        &Continuation::for_input(Kind::Angle, 1.0),
+    );
+    for r in &rows {
+        let s = r
+            .result
+            .as_ref()
+            .unwrap_or_else(|e| panic!("{}: {e}", r.input));
+        assert!(s.q.iter().all(|v| v.abs() < 10.0), "{:?}", s.q);
+        let mut phi = [0.0; 2];
+        let x = [r.input, 1.5];
+        Kinematics::<f64>::residual(&mechs[0], &x, &s.q, &mut phi).expect("sizes");
+        assert!(phi.iter().all(|v| v.abs() < 1e-13), "{phi:?}");
+    }
+}

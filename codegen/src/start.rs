@@ -132,7 +132,17 @@ pub fn check(model: &Model, system: &System, derivatives: &Derivatives) -> Optio
                 .iter()
                 .map(|c| (c, c.start))
                 .chain(model.unknowns.iter().zip(q))
-                .map(|(c, v)| format!("{} = {v:?}", c.name.text))
+                .map(|(c, v)| {
+                    // Angles in (−π, π]: Newton may have wandered through whole turns.
+                    let v = if c.kind == crate::check::Kind::Angle {
+                        let tau = std::f64::consts::TAU;
+                        let w = v.rem_euclid(tau);
+                        if w > std::f64::consts::PI { w - tau } else { w }
+                    } else {
+                        v
+                    };
+                    format!("{} = {v:?}", c.name.text)
+                })
                 .collect();
             Some(
                 Diagnostic::warning(

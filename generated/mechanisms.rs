@@ -184,6 +184,21 @@ pub mod sixbar {
                 self.alpha,
             ]
         }
+        /// Params from an array in file order (see `INFO.params` for names and kinds).
+        pub fn from_array(a: [T; 10]) -> Self {
+            Params {
+                l1: a[0],
+                l2: a[1],
+                l3: a[2],
+                l4: a[3],
+                l5: a[4],
+                l6: a[5],
+                l2e: a[6],
+                xg: a[7],
+                yg: a[8],
+                alpha: a[9],
+            }
+        }
         /// The largest length param (1 when there is none): tolerances on lengths are relative to it.
         pub fn length_scale(&self) -> T {
             let mut s = T::zero();
@@ -1804,6 +1819,16 @@ pub mod shaper {
         pub fn to_array(&self) -> [T; 5] {
             [self.l1, self.l3, self.l4, self.lAC, self.yE]
         }
+        /// Params from an array in file order (see `INFO.params` for names and kinds).
+        pub fn from_array(a: [T; 5]) -> Self {
+            Params {
+                l1: a[0],
+                l3: a[1],
+                l4: a[2],
+                lAC: a[3],
+                yE: a[4],
+            }
+        }
         /// The largest length param (1 when there is none): tolerances on lengths are relative to it.
         pub fn length_scale(&self) -> T {
             let mut s = T::zero();
@@ -3121,6 +3146,17 @@ pub mod four_bar {
         pub fn to_array(&self) -> [T; 6] {
             [self.l1, self.l2, self.l3, self.l4, self.lp, self.beta]
         }
+        /// Params from an array in file order (see `INFO.params` for names and kinds).
+        pub fn from_array(a: [T; 6]) -> Self {
+            Params {
+                l1: a[0],
+                l2: a[1],
+                l3: a[2],
+                l4: a[3],
+                lp: a[4],
+                beta: a[5],
+            }
+        }
         /// The largest length param (1 when there is none): tolerances on lengths are relative to it.
         pub fn length_scale(&self) -> T {
             let mut s = T::zero();
@@ -4263,6 +4299,14 @@ pub mod slider_crank {
         pub fn to_array(&self) -> [T; 3] {
             [self.r, self.l, self.off]
         }
+        /// Params from an array in file order (see `INFO.params` for names and kinds).
+        pub fn from_array(a: [T; 3]) -> Self {
+            Params {
+                r: a[0],
+                l: a[1],
+                off: a[2],
+            }
+        }
         /// The largest length param (1 when there is none): tolerances on lengths are relative to it.
         pub fn length_scale(&self) -> T {
             let mut s = T::zero();
@@ -5352,6 +5396,15 @@ pub mod rocker_four_bar {
         /// All params in file order.
         pub fn to_array(&self) -> [T; 4] {
             [self.l1, self.l2, self.l3, self.l4]
+        }
+        /// Params from an array in file order (see `INFO.params` for names and kinds).
+        pub fn from_array(a: [T; 4]) -> Self {
+            Params {
+                l1: a[0],
+                l2: a[1],
+                l3: a[2],
+                l4: a[3],
+            }
         }
         /// The largest length param (1 when there is none): tolerances on lengths are relative to it.
         pub fn length_scale(&self) -> T {
@@ -6478,6 +6531,21 @@ pub mod sixbar_g {
                 self.yg,
                 self.alpha,
             ]
+        }
+        /// Params from an array in file order (see `INFO.params` for names and kinds).
+        pub fn from_array(a: [T; 10]) -> Self {
+            Params {
+                l1: a[0],
+                l2: a[1],
+                l3: a[2],
+                l4: a[3],
+                l5: a[4],
+                l6: a[5],
+                l2e: a[6],
+                xg: a[7],
+                yg: a[8],
+                alpha: a[9],
+            }
         }
         /// The largest length param (1 when there is none): tolerances on lengths are relative to it.
         pub fn length_scale(&self) -> T {

@@ -18,53 +18,34 @@ const FACTORS: [f64; 2] = [1e-3, 1e4];
 /// Angles (radians) and everything else relative to the length scale or the column's largest value.
 const TOLERANCE: f64 = 1e-12;
 
-fn sixbar(s: f64) -> Box<dyn Kinematics<f64>> {
-    use mechgen::sixbar::{Params, Sixbar};
-    let p = Params::<f64>::default();
-    let params = Params {
-        l1: p.l1 * s,
-        l2: p.l2 * s,
-        l3: p.l3 * s,
-        l4: p.l4 * s,
-        l5: p.l5 * s,
-        l6: p.l6 * s,
-        l2e: p.l2e * s,
-        xg: p.xg * s,
-        yg: p.yg * s,
-        alpha: p.alpha,
+/// A compiled-in mechanism with every length param multiplied by `s` (angles unchanged), through
+/// `Params::from_array` and the kinds in `INFO`.
+macro_rules! scaled {
+    ($module:ident :: $ty:ident) => {
+        |s: f64| -> Box<dyn Kinematics<f64>> {
+            use mechgen::$module::{INFO, Params};
+            let p = Params::<f64>::default().to_array();
+            let v = std::array::from_fn(|i| match INFO.params[i].kind {
+                Kind::Length => p[i] * s,
+                Kind::Angle => p[i],
+            });
+            Box::new(mechgen::$module::$ty {
+                params: Params::from_array(v),
+            })
+        }
     };
-    Box::new(Sixbar { params })
+}
+
+fn sixbar(s: f64) -> Box<dyn Kinematics<f64>> {
+    scaled!(sixbar::Sixbar)(s)
 }
 
 fn sixbar_g(s: f64) -> Box<dyn Kinematics<f64>> {
-    use mechgen::sixbar_g::{Params, SixbarG};
-    let p = Params::<f64>::default();
-    let params = Params {
-        l1: p.l1 * s,
-        l2: p.l2 * s,
-        l3: p.l3 * s,
-        l4: p.l4 * s,
-        l5: p.l5 * s,
-        l6: p.l6 * s,
-        l2e: p.l2e * s,
-        xg: p.xg * s,
-        yg: p.yg * s,
-        alpha: p.alpha,
-    };
-    Box::new(SixbarG { params })
+    scaled!(sixbar_g::SixbarG)(s)
 }
 
 fn shaper(s: f64) -> Box<dyn Kinematics<f64>> {
-    use mechgen::shaper::{Params, Shaper};
-    let p = Params::<f64>::default();
-    let params = Params {
-        l1: p.l1 * s,
-        l3: p.l3 * s,
-        l4: p.l4 * s,
-        lAC: p.lAC * s,
-        yE: p.yE * s,
-    };
-    Box::new(Shaper { params })
+    scaled!(shaper::Shaper)(s)
 }
 
 /// Every value of a sweep divided by the factor where it is a length (or its rate), with the

@@ -196,6 +196,7 @@ fn module(c: &Compiled) -> TokenStream {
     let marker =
         (npar == 0).then(|| quote!(#[doc(hidden)] pub _scalar: ::core::marker::PhantomData<T>,));
     let marker_init = (npar == 0).then(|| quote!(_scalar: ::core::marker::PhantomData,));
+    let param_idx = 0..npar;
     let length_params = m
         .params
         .iter()
@@ -269,6 +270,8 @@ fn module(c: &Compiled) -> TokenStream {
             impl<T: ::mechgen::Real> Params<T> {
                 /// All params in file order.
                 pub fn to_array(&self) -> [T; #npar] { [#(self.#param_fields),*] }
+                /// Params from an array in file order (see `INFO.params` for names and kinds).
+                pub fn from_array(a: [T; #npar]) -> Self { Params { #( #param_fields: a[#param_idx], )* #marker_init } }
                 /// The largest length param (1 when there is none): tolerances on lengths are relative to it.
                 pub fn length_scale(&self) -> T {
                     let mut s = T::zero();

@@ -80,6 +80,13 @@ pub mod slider {
         pub fn to_array(&self) -> [T; 2] {
             [self.l1, self.l2]
         }
+        /// Params from an array in file order (see `INFO.params` for names and kinds).
+        pub fn from_array(a: [T; 2]) -> Self {
+            Params {
+                l1: a[0],
+                l2: a[1],
+            }
+        }
         /// The largest length param (1 when there is none): tolerances on lengths are relative to it.
         pub fn length_scale(&self) -> T {
             let mut s = T::zero();

@@ -179,6 +179,30 @@ fn run_check(args: &[String]) -> Result<(), String> {
     }
 }
 
+/// The main job's sweep: a full turn for an angle input (the `sweep` defaults); for a length
+/// input, which has no default range, its start value ± a quarter of the mechanism's length
+/// scale (or of the start value, if larger), in 36 steps.
+fn main_job_range(info: &MechanismInfo) -> Options {
+    let Some((_, Kind::Length, start)) = info.inputs.first() else {
+        return Options::none();
+    };
+    let scale = info
+        .params
+        .iter()
+        .filter(|p| p.1 == Kind::Length)
+        .fold(start.abs(), |m, p| m.max(p.2.abs()));
+    let half = if scale > 0.0 { scale / 4.0 } else { 1.0 };
+    let args: Vec<String> = [
+        ("--from", start - half),
+        ("--to", start + half),
+        ("--step", half / 18.0),
+    ]
+    .iter()
+    .flat_map(|(k, v)| [k.to_string(), v.to_string()])
+    .collect();
+    Options::parse(&args, &["from", "to", "step"]).unwrap_or_else(|_| Options::none())
+}
+
 fn main_job() -> Result<(), String> {
     let dir = Path::new("mechgen-out");
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
@@ -186,7 +210,7 @@ fn main_job() -> Result<(), String> {
     for name in mechgen::MECHANISMS {
         let sel = select(name, &none)?;
         let info = sel.solver.info();
-        let rows = sweep_mechanism(sel.solver.as_ref(), &info, &none)?;
+        let rows = sweep_mechanism(sel.solver.as_ref(), &info, &main_job_range(&info))?;
         say!("{} — {}", info.name, info.description);
         say!("{}", report::table(&info, 0, &rows));
         let path = dir.join(format!("{name}.csv"));

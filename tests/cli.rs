@@ -254,3 +254,27 @@ fn plot_option_writes_svgs() {
         assert!(!svg.contains("NaN") && !svg.contains("inf\""), "{kind}");
     }
 }
+
+#[test]
+fn the_main_job_writes_a_csv_and_two_plots_per_mechanism() {
+    let dir = temp("main-job");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let out = Command::new(env!("CARGO_BIN_EXE_mechgen"))
+        .current_dir(&dir)
+        .output()
+        .expect("mechgen runs");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    for name in mechgen::MECHANISMS {
+        assert!(stdout.contains(&format!("{name} — ")), "{stdout}");
+        for file in [
+            format!("{name}.csv"),
+            format!("{name}-motion.svg"),
+            format!("{name}-drawing.svg"),
+        ] {
+            let path = dir.join("mechgen-out").join(&file);
+            assert!(path.exists(), "{file} missing");
+        }
+        check_csv_format(&dir.join("mechgen-out").join(format!("{name}.csv")));
+    }
+}

@@ -6,7 +6,11 @@
 //! - `position`: positions at the next input, Newton from the state's `q`;
 //! - `velocity`, `acceleration`: the linear solves at the state;
 //! - `step` (one simulator tick, interfaces.md): from the full state (x, q, q̇, q̈), advance the input
-//!   by one step, predict q + q'·Δx + q''·Δx²/2 (input rate 1, so q' = q̇ and q'' = q̈), solve positions, velocities, accelerations and all points.
+//!   by one step, predict q + q'·Δx + q''·Δx²/2 (input rate 1, so q' = q̇ and q'' = q̈), solve
+//!   positions, velocities, accelerations and all points. Both engines tick in place along the
+//!   states, 1° at a time, there and back: the generated engine with `Mechanism::tick` (its state,
+//!   a `Tick`, also holds the sines and cosines, and it predicts itself), the generic engine with
+//!   the same prediction as its guess for `Kinematics::solve_motion`.
 //!
 //! The generated engine runs with static dispatch (`visit_all`, fixed arrays); the generic engine
 //! is loaded at run time from the same file.
@@ -96,6 +100,29 @@ fn states(k: &dyn Kinematics<f64>) -> (Vec<State>, f64) {
     (out, dx)
 }
 
+/// Indices 0, 1, …, n−1, n−2, …, 0, 1, …: a state walking along the solved inputs and back.
+struct Walk {
+    at: usize,
+    n: usize,
+    up: bool,
+}
+
+impl Walk {
+    fn new(n: usize) -> Self {
+        Walk { at: 0, n, up: true }
+    }
+
+    fn next(&mut self) -> usize {
+        if self.n > 1 {
+            if (self.up && self.at + 1 == self.n) || (!self.up && self.at == 0) {
+                self.up = !self.up;
+            }
+            self.at = if self.up { self.at + 1 } else { self.at - 1 };
+        }
+        self.at
+    }
+}
+
 fn unit_rate(n: usize) -> (Vec<f64>, Vec<f64>) {
     let mut xd = vec![0.0; n];
     xd[0] = 1.0;
@@ -115,7 +142,7 @@ fn arr<A: Array<f64>>(v: &[f64]) -> A {
 
 impl Visitor<f64> for Generated<'_> {
     fn visit<M: Mechanism<f64> + 'static>(&mut self, m: &M) {
-        let (states, dx) = states(m);
+        let (states, _) = states(m);
         type Typed<M> = (
             <M as Mechanism<f64>>::X,
             <M as Mechanism<f64>>::Q,
@@ -164,31 +191,28 @@ impl Visitor<f64> for Generated<'_> {
                 m.solve_acceleration(black_box(x), black_box(q), &xd, qd, &xdd)
             })
         });
-        let mut points = vec![PointMotion::default(); M::POINTS];
-        g.bench_function("step/generated", |b| {
-            b.iter(|| {
-                i = (i + 1) % n;
-                let (_, q, qd, qdd, xn) = &typed[i];
-                let xn = black_box(xn);
-                let mut q1 = *q;
-                for ((v, d), a) in q1.as_mut().iter_mut().zip(qd.as_ref()).zip(qdd.as_ref()) {
-                    *v += dx * (d + 0.5 * dx * a);
-                }
-                let (mut qd1, mut qdd1) = (M::Q::zeros(), M::Q::zeros());
-                let tick = m.solve_motion(
-                    xn,
-                    &xd,
-                    &xdd,
-                    &mut q1,
-                    &mut qd1,
-                    &mut qdd1,
-                    &mut points,
-                    &opts,
-                );
-                black_box((&points, &q1, &qd1, &qdd1));
-                tick
-            })
-        });
+        // A simulator ticks in place: the state walks along the precomputed inputs (there and
+        // back at the ends of the list), each tick from the previous one.
+        let xs: Vec<M::X> = typed.iter().map(|s| s.0).collect();
+        let mut walk = Walk::new(xs.len());
+        let mut tick = m
+            .tick_start(&typed[0].0, &xd, &xdd, &typed[0].1, &opts)
+            .ok();
+        if tick.is_some() {
+            g.bench_function("step/generated", |b| {
+                b.iter(|| {
+                    let j = walk.next();
+                    let Some(t) = tick.as_mut() else { return };
+                    if m.tick(t, black_box(&xs[j]), &xd, &xdd, &opts).is_err() {
+                        // Off the branch (not expected along solved states): start again there.
+                        tick = m
+                            .tick_start(&typed[j].0, &xd, &xdd, &typed[j].1, &opts)
+                            .ok();
+                    }
+                    black_box(&tick);
+                })
+            });
+        }
         g.finish();
     }
 }
@@ -197,7 +221,7 @@ impl Visitor<f64> for Generated<'_> {
 fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
     let k: &dyn Kinematics<f64> = k;
     let info = k.info();
-    let (states, dx) = states(k);
+    let (states, _) = states(k);
     let (xd, xdd) = unit_rate(info.inputs.len());
     let opts = NewtonOptions::default();
     let n = states.len();
@@ -229,16 +253,30 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
             black_box(k.solve_acceleration(black_box(&s.x), &s.q, &xd, &s.qd, &xdd, &mut qdd)).ok();
         })
     });
+    // Ticking in place along the same walk: the predicted guess from the previous state, then
+    // `solve_motion`.
     let mut points = vec![PointMotion::default(); info.points.len()];
+    let mut walk = Walk::new(n);
+    let (mut x, mut qs) = (states[0].x.clone(), states[0].q.clone());
+    let (mut qds, mut qdds) = (states[0].qd.clone(), states[0].qdd.clone());
     g.bench_function("step/generic", |b| {
         b.iter(|| {
-            i = (i + 1) % n;
-            let s = &states[i];
-            let xn = black_box(&s.x_next);
-            for (((v, q0), d), a) in q.iter_mut().zip(&s.q).zip(&s.qd).zip(&s.qdd) {
-                *v = q0 + dx * (d + 0.5 * dx * a);
+            let j = walk.next();
+            let xn = black_box(&states[j].x);
+            let h = xn[0] - x[0];
+            for (((v, q0), d), a) in q.iter_mut().zip(&qs).zip(&qds).zip(&qdds) {
+                *v = q0 + h * (d + 0.5 * h * a);
             }
             let tick = k.solve_motion(xn, &xd, &xdd, &mut q, &mut qd, &mut qdd, &mut points, &opts);
+            if tick.is_ok() {
+                x.copy_from_slice(xn);
+                qs.copy_from_slice(&q);
+                qds.copy_from_slice(&qd);
+                qdds.copy_from_slice(&qdd);
+            } else {
+                let s = &states[j];
+                (x, qs, qds, qdds) = (s.x.clone(), s.q.clone(), s.qd.clone(), s.qdd.clone());
+            }
             black_box((&points, tick)).1.ok();
         })
     });

@@ -283,6 +283,8 @@ pub mod sixbar {
             Points { E: a[0] }
         }
     }
+    /// The state between simulator ticks (see `tick_start` and `tick`).
+    pub type Tick<T> = ::mechgen::Tick<T, 1, 4, 1, 10>;
     /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Motion<T> {
@@ -1588,6 +1590,72 @@ pub mod sixbar {
                 .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
         }
+        /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
+        /// cosines for [`Self::tick`].
+        pub fn tick_start(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            guess: &[T; 4],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<Tick<T>, ::mechgen::SolveError> {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = self
+                .solve_arrays(x, xd, xdd, &mut q, options)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(q);
+            Ok(
+                ::mechgen::Tick::new(::mechgen::Solution {
+                    x: *x,
+                    xd: *xd,
+                    q,
+                    qd,
+                    qdd,
+                    points,
+                    report,
+                    tx,
+                    tq: st.sc,
+                    tp,
+                    params: self.params.to_array(),
+                }),
+            )
+        }
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the cached
+        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
+        /// changed), then positions, velocities, accelerations and points. On error `t` is
+        /// unchanged.
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            let params = self.params.to_array();
+            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let fresh = t.fresh(&params);
+            let (tx, tp) = if fresh {
+                (t.inputs_trig(x, [true]), t.params_trig())
+            } else {
+                self.trig_fixed(x)
+            };
+            let mut st = t.predicted(x, [true, true, true, true], fresh);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let q = st.q;
+            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self
+                .point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            Ok(())
+        }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
         pub fn solve(
             &self,
@@ -1625,6 +1693,7 @@ pub mod sixbar {
         const POINTS: usize = 1;
         type X = [T; 1];
         type Q = [T; 4];
+        type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::StaticInfo {
             &INFO
         }
@@ -1699,6 +1768,26 @@ pub mod sixbar {
             {
                 *o = p;
             }
+        }
+        fn tick_start(
+            &self,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            guess: &Self::Q,
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<Self::Tick, ::mechgen::SolveError> {
+            Sixbar::tick_start(self, x, xd, xdd, guess, options)
+        }
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            Sixbar::tick(self, t, x, xd, xdd, options)
         }
         fn solve_motion(
             &self,
@@ -1913,6 +2002,8 @@ pub mod shaper {
             }
         }
     }
+    /// The state between simulator ticks (see `tick_start` and `tick`).
+    pub type Tick<T> = ::mechgen::Tick<T, 1, 4, 2, 5>;
     /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Motion<T> {
@@ -2917,6 +3008,72 @@ pub mod shaper {
                 .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
         }
+        /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
+        /// cosines for [`Self::tick`].
+        pub fn tick_start(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            guess: &[T; 4],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<Tick<T>, ::mechgen::SolveError> {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = self
+                .solve_arrays(x, xd, xdd, &mut q, options)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(q);
+            Ok(
+                ::mechgen::Tick::new(::mechgen::Solution {
+                    x: *x,
+                    xd: *xd,
+                    q,
+                    qd,
+                    qdd,
+                    points,
+                    report,
+                    tx,
+                    tq: st.sc,
+                    tp,
+                    params: self.params.to_array(),
+                }),
+            )
+        }
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the cached
+        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
+        /// changed), then positions, velocities, accelerations and points. On error `t` is
+        /// unchanged.
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            let params = self.params.to_array();
+            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let fresh = t.fresh(&params);
+            let (tx, tp) = if fresh {
+                (t.inputs_trig(x, [true]), t.params_trig())
+            } else {
+                self.trig_fixed(x)
+            };
+            let mut st = t.predicted(x, [false, true, true, false], fresh);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let q = st.q;
+            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self
+                .point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            Ok(())
+        }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
         pub fn solve(
             &self,
@@ -2954,6 +3111,7 @@ pub mod shaper {
         const POINTS: usize = 2;
         type X = [T; 1];
         type Q = [T; 4];
+        type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::StaticInfo {
             &INFO
         }
@@ -3028,6 +3186,26 @@ pub mod shaper {
             {
                 *o = p;
             }
+        }
+        fn tick_start(
+            &self,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            guess: &Self::Q,
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<Self::Tick, ::mechgen::SolveError> {
+            Shaper::tick_start(self, x, xd, xdd, guess, options)
+        }
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            Shaper::tick(self, t, x, xd, xdd, options)
         }
         fn solve_motion(
             &self,
@@ -3237,6 +3415,8 @@ pub mod four_bar {
             }
         }
     }
+    /// The state between simulator ticks (see `tick_start` and `tick`).
+    pub type Tick<T> = ::mechgen::Tick<T, 1, 2, 3, 6>;
     /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Motion<T> {
@@ -4094,6 +4274,72 @@ pub mod four_bar {
                 .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
         }
+        /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
+        /// cosines for [`Self::tick`].
+        pub fn tick_start(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            guess: &[T; 2],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<Tick<T>, ::mechgen::SolveError> {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = self
+                .solve_arrays(x, xd, xdd, &mut q, options)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(q);
+            Ok(
+                ::mechgen::Tick::new(::mechgen::Solution {
+                    x: *x,
+                    xd: *xd,
+                    q,
+                    qd,
+                    qdd,
+                    points,
+                    report,
+                    tx,
+                    tq: st.sc,
+                    tp,
+                    params: self.params.to_array(),
+                }),
+            )
+        }
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the cached
+        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
+        /// changed), then positions, velocities, accelerations and points. On error `t` is
+        /// unchanged.
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            let params = self.params.to_array();
+            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let fresh = t.fresh(&params);
+            let (tx, tp) = if fresh {
+                (t.inputs_trig(x, [true]), t.params_trig())
+            } else {
+                self.trig_fixed(x)
+            };
+            let mut st = t.predicted(x, [true, true], fresh);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let q = st.q;
+            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self
+                .point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            Ok(())
+        }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
         pub fn solve(
             &self,
@@ -4131,6 +4377,7 @@ pub mod four_bar {
         const POINTS: usize = 3;
         type X = [T; 1];
         type Q = [T; 2];
+        type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::StaticInfo {
             &INFO
         }
@@ -4205,6 +4452,26 @@ pub mod four_bar {
             {
                 *o = p;
             }
+        }
+        fn tick_start(
+            &self,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            guess: &Self::Q,
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<Self::Tick, ::mechgen::SolveError> {
+            FourBar::tick_start(self, x, xd, xdd, guess, options)
+        }
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            FourBar::tick(self, t, x, xd, xdd, options)
         }
         fn solve_motion(
             &self,
@@ -4385,6 +4652,8 @@ pub mod slider_crank {
             }
         }
     }
+    /// The state between simulator ticks (see `tick_start` and `tick`).
+    pub type Tick<T> = ::mechgen::Tick<T, 1, 2, 3, 3>;
     /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Motion<T> {
@@ -5174,6 +5443,72 @@ pub mod slider_crank {
                 .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
         }
+        /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
+        /// cosines for [`Self::tick`].
+        pub fn tick_start(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            guess: &[T; 2],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<Tick<T>, ::mechgen::SolveError> {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = self
+                .solve_arrays(x, xd, xdd, &mut q, options)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(q);
+            Ok(
+                ::mechgen::Tick::new(::mechgen::Solution {
+                    x: *x,
+                    xd: *xd,
+                    q,
+                    qd,
+                    qdd,
+                    points,
+                    report,
+                    tx,
+                    tq: st.sc,
+                    tp,
+                    params: self.params.to_array(),
+                }),
+            )
+        }
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the cached
+        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
+        /// changed), then positions, velocities, accelerations and points. On error `t` is
+        /// unchanged.
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            let params = self.params.to_array();
+            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let fresh = t.fresh(&params);
+            let (tx, tp) = if fresh {
+                (t.inputs_trig(x, [true]), t.params_trig())
+            } else {
+                self.trig_fixed(x)
+            };
+            let mut st = t.predicted(x, [true, false], fresh);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let q = st.q;
+            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self
+                .point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            Ok(())
+        }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
         pub fn solve(
             &self,
@@ -5211,6 +5546,7 @@ pub mod slider_crank {
         const POINTS: usize = 3;
         type X = [T; 1];
         type Q = [T; 2];
+        type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::StaticInfo {
             &INFO
         }
@@ -5288,6 +5624,26 @@ pub mod slider_crank {
             {
                 *o = p;
             }
+        }
+        fn tick_start(
+            &self,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            guess: &Self::Q,
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<Self::Tick, ::mechgen::SolveError> {
+            SliderCrank::tick_start(self, x, xd, xdd, guess, options)
+        }
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            SliderCrank::tick(self, t, x, xd, xdd, options)
         }
         fn solve_motion(
             &self,
@@ -5483,6 +5839,8 @@ pub mod rocker_four_bar {
             }
         }
     }
+    /// The state between simulator ticks (see `tick_start` and `tick`).
+    pub type Tick<T> = ::mechgen::Tick<T, 1, 2, 2, 4>;
     /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Motion<T> {
@@ -6240,6 +6598,72 @@ pub mod rocker_four_bar {
                 .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
         }
+        /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
+        /// cosines for [`Self::tick`].
+        pub fn tick_start(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            guess: &[T; 2],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<Tick<T>, ::mechgen::SolveError> {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = self
+                .solve_arrays(x, xd, xdd, &mut q, options)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(q);
+            Ok(
+                ::mechgen::Tick::new(::mechgen::Solution {
+                    x: *x,
+                    xd: *xd,
+                    q,
+                    qd,
+                    qdd,
+                    points,
+                    report,
+                    tx,
+                    tq: st.sc,
+                    tp,
+                    params: self.params.to_array(),
+                }),
+            )
+        }
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the cached
+        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
+        /// changed), then positions, velocities, accelerations and points. On error `t` is
+        /// unchanged.
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            let params = self.params.to_array();
+            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let fresh = t.fresh(&params);
+            let (tx, tp) = if fresh {
+                (t.inputs_trig(x, [true]), t.params_trig())
+            } else {
+                self.trig_fixed(x)
+            };
+            let mut st = t.predicted(x, [true, true], fresh);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let q = st.q;
+            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self
+                .point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            Ok(())
+        }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
         pub fn solve(
             &self,
@@ -6277,6 +6701,7 @@ pub mod rocker_four_bar {
         const POINTS: usize = 2;
         type X = [T; 1];
         type Q = [T; 2];
+        type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::StaticInfo {
             &INFO
         }
@@ -6354,6 +6779,26 @@ pub mod rocker_four_bar {
             {
                 *o = p;
             }
+        }
+        fn tick_start(
+            &self,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            guess: &Self::Q,
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<Self::Tick, ::mechgen::SolveError> {
+            RockerFourBar::tick_start(self, x, xd, xdd, guess, options)
+        }
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            RockerFourBar::tick(self, t, x, xd, xdd, options)
         }
         fn solve_motion(
             &self,
@@ -6631,6 +7076,8 @@ pub mod sixbar_g {
             Points { E: a[0] }
         }
     }
+    /// The state between simulator ticks (see `tick_start` and `tick`).
+    pub type Tick<T> = ::mechgen::Tick<T, 1, 4, 1, 10>;
     /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Motion<T> {
@@ -7730,6 +8177,72 @@ pub mod sixbar_g {
                 .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
         }
+        /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
+        /// cosines for [`Self::tick`].
+        pub fn tick_start(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            guess: &[T; 4],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<Tick<T>, ::mechgen::SolveError> {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = self
+                .solve_arrays(x, xd, xdd, &mut q, options)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(q);
+            Ok(
+                ::mechgen::Tick::new(::mechgen::Solution {
+                    x: *x,
+                    xd: *xd,
+                    q,
+                    qd,
+                    qdd,
+                    points,
+                    report,
+                    tx,
+                    tq: st.sc,
+                    tp,
+                    params: self.params.to_array(),
+                }),
+            )
+        }
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the cached
+        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
+        /// changed), then positions, velocities, accelerations and points. On error `t` is
+        /// unchanged.
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            let params = self.params.to_array();
+            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let fresh = t.fresh(&params);
+            let (tx, tp) = if fresh {
+                (t.inputs_trig(x, [true]), t.params_trig())
+            } else {
+                self.trig_fixed(x)
+            };
+            let mut st = t.predicted(x, [true, true, true, true], fresh);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let q = st.q;
+            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self
+                .point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            Ok(())
+        }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
         pub fn solve(
             &self,
@@ -7767,6 +8280,7 @@ pub mod sixbar_g {
         const POINTS: usize = 1;
         type X = [T; 1];
         type Q = [T; 4];
+        type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::StaticInfo {
             &INFO
         }
@@ -7841,6 +8355,26 @@ pub mod sixbar_g {
             {
                 *o = p;
             }
+        }
+        fn tick_start(
+            &self,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            guess: &Self::Q,
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<Self::Tick, ::mechgen::SolveError> {
+            SixbarG::tick_start(self, x, xd, xdd, guess, options)
+        }
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            SixbarG::tick(self, t, x, xd, xdd, options)
         }
         fn solve_motion(
             &self,

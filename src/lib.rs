@@ -28,6 +28,7 @@ pub mod report;
 pub mod scalar;
 pub mod solve;
 pub mod sweep;
+pub mod tick;
 pub mod trig;
 
 pub use dyad::solve_dyad;
@@ -40,6 +41,7 @@ pub use mechanism::{
 pub use nalgebra;
 pub use scalar::Real;
 pub use solve::{NewtonOptions, NewtonReport, check_finite, newton_block, newton_in_place};
+pub use tick::{Solution, Tick};
 pub use trig::{NewtonState, TrigState};
 
 /// The solvers generated from the build's mechanism file (`mechanism.toml`, or `MECHGEN_MECHANISM`).

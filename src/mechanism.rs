@@ -109,6 +109,8 @@ pub trait Mechanism<T: Real>: Send + Sync {
     type X: Array<T>;
     /// `[T; UNKNOWNS]`
     type Q: Array<T>;
+    /// The state between simulator ticks (`mechgen::Tick` of this mechanism's sizes).
+    type Tick: Copy + core::fmt::Debug + Send + Sync + 'static;
 
     fn info(&self) -> &'static StaticInfo;
     /// Φ(x, q).
@@ -156,6 +158,26 @@ pub trait Mechanism<T: Real>: Send + Sync {
         qdd: &Self::Q,
         out: &mut [PointMotion<T>],
     );
+    /// The first tick of a simulation, solved from `guess` (see [`Mechanism::tick`]).
+    fn tick_start(
+        &self,
+        x: &Self::X,
+        xd: &Self::X,
+        xdd: &Self::X,
+        guess: &Self::Q,
+        options: &NewtonOptions<T>,
+    ) -> Result<Self::Tick, SolveError>;
+    /// One simulator tick from the state `t` to the inputs `x`: a second-order predictor, the
+    /// cached sines and cosines rotated, then positions, velocities, accelerations and points.
+    /// On error `t` is unchanged.
+    fn tick(
+        &self,
+        t: &mut Self::Tick,
+        x: &Self::X,
+        xd: &Self::X,
+        xdd: &Self::X,
+        options: &NewtonOptions<T>,
+    ) -> Result<(), SolveError>;
     /// One tick: positions from the guess in `q`, then velocities, accelerations and the points
     /// (into `points`, as many as fit), sharing the trigonometry between the stages.
     #[allow(clippy::too_many_arguments)]

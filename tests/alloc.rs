@@ -77,8 +77,8 @@ const SOLVES: usize = 100;
 type Outcome = (usize, usize, Option<SolveError>);
 
 /// For one mechanism type and scalar: counts the allocations of `SOLVES` full solves through the
-/// separate stages, and of `SOLVES` more through `solve`, both continuing from the start
-/// configuration 1° at a time.
+/// separate stages, `SOLVES` more through `solve`, and `SOLVES` ticks (`tick_start`, `tick`), all
+/// continuing from the start configuration 1° at a time.
 macro_rules! solves {
     ($fn:ident, $module:ident :: $ty:ident, $t:ty) => {
         fn $fn() -> Outcome {
@@ -123,6 +123,21 @@ macro_rules! solves {
                         Ok(motion) => {
                             guess = motion.q;
                             black_box(motion);
+                            done += 1;
+                        }
+                        Err(e) => return (done, Some(e)),
+                    }
+                }
+                // Predictor stepping.
+                let mut tick = match m.tick_start(&x0, &xd, &xdd, &q0.to_array(), &options) {
+                    Ok(t) => t,
+                    Err(e) => return (done, Some(e)),
+                };
+                for i in 1..SOLVES {
+                    let x = [x0[0] + step * i as $t];
+                    match m.tick(&mut tick, &x, &xd, &xdd, &options) {
+                        Ok(()) => {
+                            black_box(&tick);
                             done += 1;
                         }
                         Err(e) => return (done, Some(e)),

@@ -290,6 +290,9 @@ fn module(c: &Compiled) -> TokenStream {
                 pub fn from_array(a: [::mechgen::PointMotion<T>; #np]) -> Self { Points { #( #point_fields: a[#point_idx], )* #marker_init } }
             }
 
+            /// The state between simulator ticks (see `tick_start` and `tick`).
+            pub type Tick<T> = ::mechgen::Tick<T, #ni, #nu, #np, #npar>;
+
             /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
             #[derive(Clone, Copy, Debug, PartialEq)]
             pub struct Motion<T> {
@@ -341,6 +344,7 @@ fn module(c: &Compiled) -> TokenStream {
                 const POINTS: usize = #np;
                 type X = [T; #ni];
                 type Q = [T; #nu];
+                type Tick = Tick<T>;
                 fn info(&self) -> &'static ::mechgen::StaticInfo { &INFO }
                 fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q { #ty::residual(self, x, q) }
                 fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) { ::mechgen::copy_row_major(&#ty::jacobian(self, x, q), out) }
@@ -361,6 +365,10 @@ fn module(c: &Compiled) -> TokenStream {
                 fn points(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X, qdd: &Self::Q, out: &mut [::mechgen::PointMotion<T>]) {
                     for (o, p) in out.iter_mut().zip(#ty::point_motion(self, x, q, xd, qd, xdd, qdd)) { *o = p; }
                 }
+                fn tick_start(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, guess: &Self::Q, options: &::mechgen::NewtonOptions<T>)
+                    -> Result<Self::Tick, ::mechgen::SolveError> { #ty::tick_start(self, x, xd, xdd, guess, options) }
+                fn tick(&self, t: &mut Self::Tick, x: &Self::X, xd: &Self::X, xdd: &Self::X, options: &::mechgen::NewtonOptions<T>)
+                    -> Result<(), ::mechgen::SolveError> { #ty::tick(self, t, x, xd, xdd, options) }
                 fn solve_motion(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, q: &mut Self::Q, qd: &mut Self::Q, qdd: &mut Self::Q,
                     points: &mut [::mechgen::PointMotion<T>], options: &::mechgen::NewtonOptions<T>)
                     -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {

@@ -220,6 +220,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         quote!(::mechgen::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] })
     });
     let angle_mask = &qm;
+    let input_mask = &xm;
 
     quote! {
         #block_fns
@@ -333,6 +334,47 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
             let points = self.point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
+        }
+
+        /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
+        /// cosines for [`Self::tick`].
+        pub fn tick_start(&self, x: &[T; #ni], xd: &[T; #ni], xdd: &[T; #ni], guess: &[T; #nu],
+            options: &::mechgen::NewtonOptions<T>) -> Result<Tick<T>, ::mechgen::SolveError> {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = self.solve_arrays(x, xd, xdd, &mut q, options)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(q);
+            Ok(::mechgen::Tick::new(::mechgen::Solution { x: *x, xd: *xd, q, qd, qdd, points, report,
+                tx, tq: st.sc, tp, params: self.params.to_array() }))
+        }
+
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the cached
+        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
+        /// changed), then positions, velocities, accelerations and points. On error `t` is
+        /// unchanged.
+        pub fn tick(&self, t: &mut Tick<T>, x: &[T; #ni], xd: &[T; #ni], xdd: &[T; #ni],
+            options: &::mechgen::NewtonOptions<T>) -> Result<(), ::mechgen::SolveError> {
+            let params = self.params.to_array();
+            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let fresh = t.fresh(&params);
+            let (tx, tp) = if fresh {
+                (t.inputs_trig(x, [#(#input_mask),*]), t.params_trig())
+            } else {
+                self.trig_fixed(x)
+            };
+            let mut st = t.predicted(x, [#(#angle_mask),*], fresh);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let q = st.q;
+            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self.point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            Ok(())
         }
     }
 }

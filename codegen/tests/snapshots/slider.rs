@@ -158,6 +158,8 @@ pub mod slider {
             Points { B: a[0] }
         }
     }
+    /// The state between simulator ticks (see `tick_start` and `tick`).
+    pub type Tick<T> = ::mechgen::Tick<T, 1, 2, 1, 2>;
     /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Motion<T> {
@@ -855,6 +857,72 @@ pub mod slider {
                 .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
         }
+        /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
+        /// cosines for [`Self::tick`].
+        pub fn tick_start(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            guess: &[T; 2],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<Tick<T>, ::mechgen::SolveError> {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = self
+                .solve_arrays(x, xd, xdd, &mut q, options)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(q);
+            Ok(
+                ::mechgen::Tick::new(::mechgen::Solution {
+                    x: *x,
+                    xd: *xd,
+                    q,
+                    qd,
+                    qdd,
+                    points,
+                    report,
+                    tx,
+                    tq: st.sc,
+                    tp,
+                    params: self.params.to_array(),
+                }),
+            )
+        }
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the cached
+        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
+        /// changed), then positions, velocities, accelerations and points. On error `t` is
+        /// unchanged.
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            let params = self.params.to_array();
+            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let fresh = t.fresh(&params);
+            let (tx, tp) = if fresh {
+                (t.inputs_trig(x, [true]), t.params_trig())
+            } else {
+                self.trig_fixed(x)
+            };
+            let mut st = t.predicted(x, [true, false], fresh);
+            let mut report = ::mechgen::NewtonReport::new();
+            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let q = st.q;
+            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
+            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
+            let points = self
+                .point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            Ok(())
+        }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
         pub fn solve(
             &self,
@@ -892,6 +960,7 @@ pub mod slider {
         const POINTS: usize = 1;
         type X = [T; 1];
         type Q = [T; 2];
+        type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::StaticInfo {
             &INFO
         }
@@ -966,6 +1035,26 @@ pub mod slider {
             {
                 *o = p;
             }
+        }
+        fn tick_start(
+            &self,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            guess: &Self::Q,
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<Self::Tick, ::mechgen::SolveError> {
+            Slider::tick_start(self, x, xd, xdd, guess, options)
+        }
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            x: &Self::X,
+            xd: &Self::X,
+            xdd: &Self::X,
+            options: &::mechgen::NewtonOptions<T>,
+        ) -> Result<(), ::mechgen::SolveError> {
+            Slider::tick(self, t, x, xd, xdd, options)
         }
         fn solve_motion(
             &self,

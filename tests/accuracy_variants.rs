@@ -133,6 +133,9 @@ fn closed_form_dyads_are_exact_without_iterations() {
     let (pass, e) = turn(Generated::<f64>::new(Budget::ClosedForm));
     assert!(e.max() < 1e-13, "{e:?}");
     assert_eq!((pass.iterations, pass.failed), (0, 0));
+    let (pass, e) = turn(Generated::<f64>::new(Budget::Ticked));
+    assert!(e.max() < 1e-13, "{e:?}");
+    assert_eq!((pass.iterations, pass.failed), (0, 0));
     let (pass, e) = turn(Generated::<f32>::new(Budget::ClosedForm));
     assert!(e.max() < 1e-4 && e.max() > 1e-8, "{e:?}");
     assert_eq!(pass.iterations, 0);

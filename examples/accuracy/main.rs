@@ -186,6 +186,14 @@ fn main() -> Result<(), Box<dyn Error>> {
         "—"
     );
     variant!(
+        Generated::<f64>::new(Budget::Ticked),
+        "generated f64, `tick` (predictor stepping, cached sines and cosines)",
+        "tick f64",
+        6,
+        "—",
+        "—"
+    );
+    variant!(
         Generated::<f32>::new(Budget::ClosedForm),
         "generated f32, closed-form dyads (default)",
         "closed form f32",

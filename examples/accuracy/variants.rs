@@ -204,6 +204,9 @@ pub enum Budget {
     /// `solve_motion` with the default options: dyad blocks (both of the six-bar's) in closed
     /// form, no Newton iterations.
     ClosedForm,
+    /// `tick` from the kept `Tick` (predictor and cached sines and cosines inside), default
+    /// options.
+    Ticked,
     /// `solve_motion` with Newton on every block (`closed_forms: false`) and these options; a tick whose position solve fails (e.g. `NoConvergence`
     /// at the cap) keeps the predicted positions and solves the rates there.
     Options { tolerance: f64, max_iterations: u32 },
@@ -222,6 +225,7 @@ pub struct Generated<T: Real> {
     qd: [T; N],
     qdd: [T; N],
     points: [PointMotion<T>; 1],
+    tick: Option<mechgen::sixbar::Tick<T>>,
 }
 
 impl<T: Real> Generated<T> {
@@ -240,7 +244,7 @@ impl<T: Real> Generated<T> {
                 max_iterations: 1,
                 closed_forms: false,
             },
-            Budget::ClosedForm => NewtonOptions::default(),
+            Budget::ClosedForm | Budget::Ticked => NewtonOptions::default(),
         };
         Generated {
             mechanism: Sixbar::default(),
@@ -250,6 +254,7 @@ impl<T: Real> Generated<T> {
             qd: [T::zero(); N],
             qdd: [T::zero(); N],
             points: [PointMotion::default()],
+            tick: None,
         }
     }
 
@@ -291,6 +296,14 @@ impl<T: Real> Stepper for Generated<T> {
         self.q = start.to_array();
         let (x, xd, xdd) = ([T::lit(x)], [T::one()], [T::zero()]);
         let m = &self.mechanism;
+        if self.budget == Budget::Ticked {
+            let t = m
+                .tick_start(&x, &xd, &xdd, &self.q, &self.options)
+                .map_err(|e| format!("assembly at {x:?}: {e}", x = x[0].to_f64()))?;
+            (self.q, self.qd, self.qdd) = (t.q, t.qd, t.qdd);
+            self.tick = Some(t);
+            return Ok(());
+        }
         Mechanism::solve_motion(
             m,
             &x,
@@ -309,6 +322,15 @@ impl<T: Real> Stepper for Generated<T> {
     #[inline]
     fn step(&mut self, x: f64, dx: f64) -> Result<Tick, String> {
         let (x, xd, xdd) = ([T::lit(x)], [T::one()], [T::zero()]);
+        if let Some(t) = self.tick.as_mut() {
+            let mut tick = Tick::default();
+            match self.mechanism.tick(t, &x, &xd, &xdd, &self.options) {
+                Ok(()) => tick.iterations += t.report.iterations,
+                Err(_) => tick.failed = true,
+            }
+            (self.q, self.qd, self.qdd) = (t.q, t.qd, t.qdd);
+            return Ok(tick);
+        }
         let dx = T::lit(dx);
         let half = T::lit(0.5);
         for j in 0..N {

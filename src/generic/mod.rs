@@ -24,6 +24,23 @@ pub struct ChainPosition {
 }
 
 impl Generic {
+    /// `NonFinite` for the first non-finite value among the params and `[x, q, xd, qd, xdd]` (or
+    /// a prefix), in that order, as the generated velocity and acceleration solves check.
+    fn finite<T: Real>(&self, slices: &[&[T]]) -> Result<(), SolveError> {
+        check_finite(Quantity::Param, &self.params)?;
+        let kinds = [
+            Quantity::Input,
+            Quantity::Position,
+            Quantity::InputRate,
+            Quantity::Rate,
+            Quantity::InputAcceleration,
+        ];
+        for (s, k) in slices.iter().zip(kinds) {
+            check_finite(k, s)?;
+        }
+        Ok(())
+    }
+
     /// Checks the lengths of `[x, q, xd, qd, xdd, qdd]` (or a prefix): inputs, then unknowns.
     fn lengths<T>(&self, slices: &[&[T]]) -> Result<(), SolveError> {
         let (ni, nu) = (self.info.inputs.len(), self.info.unknowns.len());
@@ -149,10 +166,7 @@ macro_rules! kinematics {
                 qd: &mut [$t],
             ) -> Result<(), SolveError> {
                 self.lengths(&[x, q, xd, qd])?;
-                check_finite(Quantity::Param, &self.params)?;
-                check_finite(Quantity::Input, x)?;
-                check_finite(Quantity::Position, q)?;
-                check_finite(Quantity::InputRate, xd)?;
+                self.finite(&[x, q, xd])?;
                 let env = Env {
                     xd,
                     ..Env::position(x, q, &self.params)
@@ -170,12 +184,7 @@ macro_rules! kinematics {
                 qdd: &mut [$t],
             ) -> Result<(), SolveError> {
                 self.lengths(&[x, q, xd, qd, xdd, qdd])?;
-                check_finite(Quantity::Param, &self.params)?;
-                check_finite(Quantity::Input, x)?;
-                check_finite(Quantity::Position, q)?;
-                check_finite(Quantity::InputRate, xd)?;
-                check_finite(Quantity::Rate, qd)?;
-                check_finite(Quantity::InputAcceleration, xdd)?;
+                self.finite(&[x, q, xd, qd, xdd])?;
                 let env = Env {
                     xd,
                     qd,

@@ -827,7 +827,40 @@ pub mod sixbar {
             jac[(1, 1)] = t12;
             (::mechgen::nalgebra::SVector::from([t9, t10]), jac)
         }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
+        /// Block 0: q2, q3 from loop 1 (x, y). Its Jacobian block.
+        #[inline]
+        fn block0_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
+        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+            let v_q2 = q[0];
+            let v_q3 = q[1];
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t0 = p_l2 * c_v_q2;
+            let t1 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t2 = p_l3 * c_v_q3;
+            let t3 = p_l3 * s_v_q3;
+            let t4 = -t1;
+            let t5 = -t2;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t4;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t3;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t0;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t5;
+            jac
+        }
+        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side (velocity).
         #[inline]
         fn block0_velocity(
             &self,
@@ -838,43 +871,19 @@ pub mod sixbar {
             tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 2>,
-            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let p_l3 = self.params.l3;
             let v_q1_d = xd[0];
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l2 * c_v_q2;
-            let t3 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t4 = p_l3 * c_v_q3;
-            let t5 = p_l3 * s_v_q3;
-            let t6 = -t3;
-            let t7 = -t4;
-            let t8 = t1 * v_q1_d;
-            let t9 = t0 * v_q1_d;
-            let t10 = -t9;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
-            // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t6;
-            // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t5;
-            // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t2;
-            // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t7;
-            (::mechgen::nalgebra::SVector::from([t8, t10]), jac)
+            let t2 = t1 * v_q1_d;
+            let t3 = t0 * v_q1_d;
+            let t4 = -t3;
+            ::mechgen::nalgebra::SVector::from([t2, t4])
         }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
+        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side (acceleration).
         #[inline]
         fn block0_acceleration(
             &self,
@@ -887,10 +896,7 @@ pub mod sixbar {
             qd: &[T; 4],
             xdd: &[T; 1],
             qdd: &[T; 4],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 2>,
-            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -910,41 +916,30 @@ pub mod sixbar {
             let (s_v_q3, c_v_q3) = tq[1];
             let t4 = p_l3 * c_v_q3;
             let t5 = p_l3 * s_v_q3;
-            let t6 = -t3;
-            let t7 = -t4;
-            let t8 = t2 * v_q2_d;
-            let t9 = t4 * v_q3_d;
-            let t10 = t3 * v_q2_d;
-            let t11 = t5 * v_q3_d;
-            let t12 = t1 * v_q1_d;
-            let t13 = t0 * v_q1_d;
-            let t14 = v_q1_d * t13;
-            let t15 = -t14;
-            let t16 = v_q2_d * t8;
-            let t17 = t15 - t16;
-            let t18 = v_q3_d * t9;
-            let t19 = t17 + t18;
-            let t20 = t1 * v_q1_dd;
-            let t21 = t20 - t19;
-            let t22 = v_q1_d * t12;
-            let t23 = -t22;
-            let t24 = v_q2_d * t10;
-            let t25 = t23 - t24;
-            let t26 = v_q3_d * t11;
+            let t6 = t2 * v_q2_d;
+            let t7 = t4 * v_q3_d;
+            let t8 = t3 * v_q2_d;
+            let t9 = t5 * v_q3_d;
+            let t10 = t1 * v_q1_d;
+            let t11 = t0 * v_q1_d;
+            let t12 = v_q1_d * t11;
+            let t13 = -t12;
+            let t14 = v_q2_d * t6;
+            let t15 = t13 - t14;
+            let t16 = v_q3_d * t7;
+            let t17 = t15 + t16;
+            let t18 = t1 * v_q1_dd;
+            let t19 = t18 - t17;
+            let t20 = v_q1_d * t10;
+            let t21 = -t20;
+            let t22 = v_q2_d * t8;
+            let t23 = t21 - t22;
+            let t24 = v_q3_d * t9;
+            let t25 = t23 + t24;
+            let t26 = t0 * v_q1_dd;
             let t27 = t25 + t26;
-            let t28 = t0 * v_q1_dd;
-            let t29 = t27 + t28;
-            let t30 = -t29;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
-            // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t6;
-            // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t5;
-            // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t2;
-            // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t7;
-            (::mechgen::nalgebra::SVector::from([t21, t30]), jac)
+            let t28 = -t27;
+            ::mechgen::nalgebra::SVector::from([t19, t28])
         }
         /// Block 0: q2, q3 from loop 1 (x, y). A dyad: K + M_a e(q2) + M_b e(q3) = 0; returns K, then (p, r) of M_a and of M_b.
         #[inline]
@@ -1037,7 +1032,40 @@ pub mod sixbar {
             jac[(1, 1)] = t27;
             (::mechgen::nalgebra::SVector::from([t24, t25]), jac)
         }
-        /// Block 1: q5, q6 from loop 2 (x, y). Its right-hand side and Jacobian block.
+        /// Block 1: q5, q6 from loop 2 (x, y). Its Jacobian block.
+        #[inline]
+        fn block1_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
+        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+            let v_q5 = q[2];
+            let v_q6 = q[3];
+            let p_l5 = self.params.l5;
+            let p_l6 = self.params.l6;
+            let (s_v_q5, c_v_q5) = tq[2];
+            let t0 = p_l5 * c_v_q5;
+            let t1 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = tq[3];
+            let t2 = p_l6 * c_v_q6;
+            let t3 = p_l6 * s_v_q6;
+            let t4 = -t0;
+            let t5 = -t2;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[2][2] = ∂Φ2/∂q5
+            jac[(0, 0)] = t1;
+            // J[2][3] = ∂Φ2/∂q6
+            jac[(0, 1)] = t3;
+            // J[3][2] = ∂Φ3/∂q5
+            jac[(1, 0)] = t4;
+            // J[3][3] = ∂Φ3/∂q6
+            jac[(1, 1)] = t5;
+            jac
+        }
+        /// Block 1: q5, q6 from loop 2 (x, y). Its right-hand side (velocity).
         #[inline]
         fn block1_velocity(
             &self,
@@ -1048,18 +1076,11 @@ pub mod sixbar {
             tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 2>,
-            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_q2 = q[0];
-            let v_q5 = q[2];
-            let v_q6 = q[3];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
-            let p_l5 = self.params.l5;
-            let p_l6 = self.params.l6;
             let p_l2e = self.params.l2e;
             let p_alpha = self.params.alpha;
             let v_q1_d = xd[0];
@@ -1077,37 +1098,20 @@ pub mod sixbar {
             let t7 = c_v_q2 * s_p_alpha;
             let t8 = t4 + t5;
             let t9 = p_l2e * t8;
-            let (s_v_q5, c_v_q5) = tq[2];
-            let t10 = p_l5 * c_v_q5;
-            let t11 = p_l5 * s_v_q5;
-            let (s_v_q6, c_v_q6) = tq[3];
-            let t12 = p_l6 * c_v_q6;
-            let t13 = p_l6 * s_v_q6;
-            let t14 = t7 - t6;
-            let t15 = p_l2e * t14;
-            let t16 = t15 - t3;
-            let t17 = t2 + t9;
-            let t18 = -t10;
-            let t19 = -t12;
-            let t20 = t16 * v_q2_d;
-            let t21 = t1 * v_q1_d;
-            let t22 = t0 * v_q1_d;
-            let t23 = -t22;
-            let t24 = t17 * v_q2_d;
-            let t25 = t21 - t20;
-            let t26 = t23 - t24;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
-            // J[2][2] = ∂Φ2/∂q5
-            jac[(0, 0)] = t11;
-            // J[2][3] = ∂Φ2/∂q6
-            jac[(0, 1)] = t13;
-            // J[3][2] = ∂Φ3/∂q5
-            jac[(1, 0)] = t18;
-            // J[3][3] = ∂Φ3/∂q6
-            jac[(1, 1)] = t19;
-            (::mechgen::nalgebra::SVector::from([t25, t26]), jac)
+            let t10 = t7 - t6;
+            let t11 = p_l2e * t10;
+            let t12 = t11 - t3;
+            let t13 = t2 + t9;
+            let t14 = t12 * v_q2_d;
+            let t15 = t1 * v_q1_d;
+            let t16 = t0 * v_q1_d;
+            let t17 = -t16;
+            let t18 = t13 * v_q2_d;
+            let t19 = t15 - t14;
+            let t20 = t17 - t18;
+            ::mechgen::nalgebra::SVector::from([t19, t20])
         }
-        /// Block 1: q5, q6 from loop 2 (x, y). Its right-hand side and Jacobian block.
+        /// Block 1: q5, q6 from loop 2 (x, y). Its right-hand side (acceleration).
         #[inline]
         fn block1_acceleration(
             &self,
@@ -1120,10 +1124,7 @@ pub mod sixbar {
             qd: &[T; 4],
             xdd: &[T; 1],
             qdd: &[T; 4],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 2>,
-            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q5 = q[2];
@@ -1164,52 +1165,41 @@ pub mod sixbar {
             let t16 = t15 - t3;
             let t17 = -t5;
             let t18 = t2 + t9;
-            let t19 = -t10;
-            let t20 = -t12;
-            let t21 = t17 - t4;
-            let t22 = p_l2e * t21;
-            let t23 = t22 - t2;
-            let t24 = v_q2_d * t23;
-            let t25 = t10 * v_q5_d;
-            let t26 = t12 * v_q6_d;
-            let t27 = t16 * v_q2_d;
-            let t28 = t11 * v_q5_d;
-            let t29 = t13 * v_q6_d;
-            let t30 = t1 * v_q1_d;
-            let t31 = t0 * v_q1_d;
-            let t32 = v_q1_d * t31;
-            let t33 = t1 * v_q1_dd;
-            let t34 = v_q1_d * t30;
-            let t35 = t0 * v_q1_dd;
-            let t36 = v_q2_d * t24;
-            let t37 = t36 - t32;
-            let t38 = v_q5_d * t25;
+            let t19 = t17 - t4;
+            let t20 = p_l2e * t19;
+            let t21 = t20 - t2;
+            let t22 = v_q2_d * t21;
+            let t23 = t10 * v_q5_d;
+            let t24 = t12 * v_q6_d;
+            let t25 = t16 * v_q2_d;
+            let t26 = t11 * v_q5_d;
+            let t27 = t13 * v_q6_d;
+            let t28 = t1 * v_q1_d;
+            let t29 = t0 * v_q1_d;
+            let t30 = v_q1_d * t29;
+            let t31 = t1 * v_q1_dd;
+            let t32 = v_q1_d * t28;
+            let t33 = t0 * v_q1_dd;
+            let t34 = v_q2_d * t22;
+            let t35 = t34 - t30;
+            let t36 = v_q5_d * t23;
+            let t37 = t35 + t36;
+            let t38 = v_q6_d * t24;
             let t39 = t37 + t38;
-            let t40 = v_q6_d * t26;
-            let t41 = t39 + t40;
-            let t42 = t33 - t41;
-            let t43 = v_q2_d * t27;
-            let t44 = t43 - t34;
-            let t45 = v_q5_d * t28;
+            let t40 = t31 - t39;
+            let t41 = v_q2_d * t25;
+            let t42 = t41 - t32;
+            let t43 = v_q5_d * t26;
+            let t44 = t42 + t43;
+            let t45 = v_q6_d * t27;
             let t46 = t44 + t45;
-            let t47 = v_q6_d * t29;
-            let t48 = t46 + t47;
-            let t49 = t35 + t48;
-            let t50 = -t49;
-            let t51 = t16 * v_q2_dd;
-            let t52 = t18 * v_q2_dd;
-            let t53 = t42 - t51;
-            let t54 = t50 - t52;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
-            // J[2][2] = ∂Φ2/∂q5
-            jac[(0, 0)] = t11;
-            // J[2][3] = ∂Φ2/∂q6
-            jac[(0, 1)] = t13;
-            // J[3][2] = ∂Φ3/∂q5
-            jac[(1, 0)] = t19;
-            // J[3][3] = ∂Φ3/∂q6
-            jac[(1, 1)] = t20;
-            (::mechgen::nalgebra::SVector::from([t53, t54]), jac)
+            let t47 = t33 + t46;
+            let t48 = -t47;
+            let t49 = t16 * v_q2_dd;
+            let t50 = t18 * v_q2_dd;
+            let t51 = t40 - t49;
+            let t52 = t48 - t50;
+            ::mechgen::nalgebra::SVector::from([t51, t52])
         }
         /// Block 1: q5, q6 from loop 2 (x, y). A dyad: K + M_a e(q5) + M_b e(q6) = 0; returns K, then (p, r) of M_a and of M_b.
         #[inline]
@@ -1352,23 +1342,31 @@ pub mod sixbar {
         ) -> Result<[T; 4], ::mechgen::SolveError> {
             let mut qd = [T::zero(); 4];
             // Block 0: q2, q3 from loop 1 (x, y).
-            let (rhs, jac) = self.block0_velocity(x, q, tx, tp, tq, xd, &qd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 0,
                 ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
+                self.block0_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Velocity,
+                    self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
+                )?;
             qd[0] = z[0];
             qd[1] = z[1];
             // Block 1: q5, q6 from loop 2 (x, y).
-            let (rhs, jac) = self.block1_velocity(x, q, tx, tp, tq, xd, &qd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 1,
                 ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
+                self.block1_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Velocity,
+                    self.block1_velocity(x, q, tx, tp, tq, xd, &qd),
+                )?;
             qd[2] = z[0];
             qd[3] = z[1];
             Ok(qd)
@@ -1387,107 +1385,300 @@ pub mod sixbar {
         ) -> Result<[T; 4], ::mechgen::SolveError> {
             let mut qdd = [T::zero(); 4];
             // Block 0: q2, q3 from loop 1 (x, y).
-            let (rhs, jac) = self
-                .block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 0,
                 ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+                self.block0_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Acceleration,
+                    self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
             // Block 1: q5, q6 from loop 2 (x, y).
-            let (rhs, jac) = self
-                .block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 1,
                 ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+                self.block1_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Acceleration,
+                    self.block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                )?;
             qdd[2] = z[0];
             qdd[3] = z[1];
             Ok(qdd)
         }
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
         #[inline]
-        fn point_motion_cached(
+        fn motion_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 4],
+            st: &mut ::mechgen::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
             xd: &[T; 1],
-            qd: &[T; 4],
             xdd: &[T; 1],
-            qdd: &[T; 4],
-        ) -> [::mechgen::PointMotion<T>; 1] {
+            options: &::mechgen::NewtonOptions<T>,
+            report: &mut ::mechgen::NewtonReport<T>,
+        ) -> Result<
+            ([T; 4], [T; 4], [::mechgen::PointMotion<T>; 1]),
+            ::mechgen::SolveError,
+        > {
+            let scale = self.params.length_scale();
+            let mut qd = [T::zero(); 4];
+            let mut qdd = [T::zero(); 4];
+            // Block 0: closed form (a dyad).
             let v_q1 = x[0];
-            let v_q2 = q[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
-            let p_l2e = self.params.l2e;
-            let p_alpha = self.params.alpha;
-            let v_q1_d = xd[0];
-            let v_q2_d = qd[0];
-            let v_q1_dd = xdd[0];
-            let v_q2_dd = qdd[0];
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l2 * c_v_q2;
-            let t3 = p_l2 * s_v_q2;
-            let t4 = t0 + t2;
-            let t5 = t1 + t3;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
+            if options.closed_forms {
+                ::mechgen::solve_dyad(
+                    0,
+                    st,
+                    0,
+                    1,
+                    [t3, t1],
+                    (p_l2, T::zero()),
+                    (t2, T::zero()),
+                    scale,
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [false, false],
+                    scale,
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: closed form (a dyad).
+            let v_q2 = st.q[0];
+            let p_l5 = self.params.l5;
+            let p_l6 = self.params.l6;
+            let p_l2e = self.params.l2e;
+            let p_xg = self.params.xg;
+            let p_yg = self.params.yg;
+            let p_alpha = self.params.alpha;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let t6 = t0 + t4;
+            let t7 = t1 + t5;
             let (s_p_alpha, c_p_alpha) = tp[9];
-            let t6 = c_v_q2 * c_p_alpha;
-            let t7 = s_v_q2 * s_p_alpha;
-            let t8 = s_v_q2 * c_p_alpha;
-            let t9 = c_v_q2 * s_p_alpha;
-            let t10 = t6 + t7;
-            let t11 = t8 - t9;
-            let t12 = p_l2e * t10;
-            let t13 = p_l2e * t11;
-            let t14 = t4 + t12;
-            let t15 = t5 + t13;
-            let t16 = t9 - t8;
-            let t17 = p_l2e * t16;
-            let t18 = t17 - t3;
-            let t19 = -t7;
-            let t20 = t2 + t12;
-            let t21 = t19 - t6;
-            let t22 = p_l2e * t21;
-            let t23 = t22 - t2;
-            let t24 = v_q2_d * t23;
-            let t25 = t18 * v_q2_d;
+            let t8 = c_v_q2 * c_p_alpha;
+            let t9 = s_v_q2 * s_p_alpha;
+            let t10 = s_v_q2 * c_p_alpha;
+            let t11 = c_v_q2 * s_p_alpha;
+            let t12 = t8 + t9;
+            let t13 = t10 - t11;
+            let t14 = p_l2e * t12;
+            let t15 = p_l2e * t13;
+            let t16 = t6 + t14;
+            let t17 = t7 + t15;
+            let t18 = -p_l5;
+            let t19 = -p_l6;
+            let t20 = t16 - p_xg;
+            let t21 = t17 - p_yg;
+            if options.closed_forms {
+                ::mechgen::solve_dyad(
+                    1,
+                    st,
+                    2,
+                    3,
+                    [t20, t21],
+                    (t18, T::zero()),
+                    (t19, T::zero()),
+                    scale,
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::newton_block(
+                    1,
+                    st,
+                    [2, 3],
+                    [false, false],
+                    scale,
+                    options,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 0: velocities and accelerations.
+            let v_q3 = st.q[1];
+            let v_q1_d = xd[0];
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t22 = p_l3 * c_v_q3;
+            let t23 = p_l3 * s_v_q3;
+            let t24 = -t5;
+            let t25 = -t22;
             let t26 = t1 * v_q1_d;
             let t27 = t0 * v_q1_d;
-            let t28 = v_q1_d * t27;
-            let t29 = t1 * v_q1_dd;
-            let t30 = v_q1_d * t26;
-            let t31 = t0 * v_q1_dd;
-            let t32 = t25 - t26;
-            let t33 = v_q2_d * t24;
-            let t34 = t33 - t28;
-            let t35 = t20 * v_q2_d;
-            let t36 = t27 + t35;
-            let t37 = v_q2_d * t25;
-            let t38 = t37 - t30;
-            let t39 = t34 - t29;
-            let t40 = t18 * v_q2_dd;
-            let t41 = t39 + t40;
-            let t42 = t31 + t38;
-            let t43 = t20 * v_q2_dd;
-            let t44 = t42 + t43;
-            [
-                ::mechgen::PointMotion {
-                    position: [t14, t15],
-                    velocity: [t32, t36],
-                    acceleration: [t41, t44],
-                },
-            ]
+            let t28 = -t27;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t24;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t23;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t4;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t25;
+            let lu = ::mechgen::factor_block(0, ::mechgen::Stage::Velocity, jac)?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Velocity,
+                    ::mechgen::nalgebra::SVector::from([t26, t28]),
+                )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t29 = t4 * v_q2_d;
+            let t30 = t22 * v_q3_d;
+            let t31 = t5 * v_q2_d;
+            let t32 = t23 * v_q3_d;
+            let t33 = v_q1_d * t27;
+            let t34 = -t33;
+            let t35 = v_q2_d * t29;
+            let t36 = t34 - t35;
+            let t37 = v_q3_d * t30;
+            let t38 = t36 + t37;
+            let t39 = t1 * v_q1_dd;
+            let t40 = t39 - t38;
+            let t41 = v_q1_d * t26;
+            let t42 = -t41;
+            let t43 = v_q2_d * t31;
+            let t44 = t42 - t43;
+            let t45 = v_q3_d * t32;
+            let t46 = t44 + t45;
+            let t47 = t0 * v_q1_dd;
+            let t48 = t46 + t47;
+            let t49 = -t48;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::nalgebra::SVector::from([t40, t49]),
+                )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            // Block 1: velocities and accelerations.
+            let v_q5 = st.q[2];
+            let v_q6 = st.q[3];
+            let (s_v_q5, c_v_q5) = st.sc[2];
+            let t50 = p_l5 * c_v_q5;
+            let t51 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = st.sc[3];
+            let t52 = p_l6 * c_v_q6;
+            let t53 = p_l6 * s_v_q6;
+            let t54 = t11 - t10;
+            let t55 = p_l2e * t54;
+            let t56 = t55 - t5;
+            let t57 = t4 + t14;
+            let t58 = -t50;
+            let t59 = -t52;
+            let t60 = t56 * v_q2_d;
+            let t61 = t57 * v_q2_d;
+            let t62 = t26 - t60;
+            let t63 = t28 - t61;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[2][2] = ∂Φ2/∂q5
+            jac[(0, 0)] = t51;
+            // J[2][3] = ∂Φ2/∂q6
+            jac[(0, 1)] = t53;
+            // J[3][2] = ∂Φ3/∂q5
+            jac[(1, 0)] = t58;
+            // J[3][3] = ∂Φ3/∂q6
+            jac[(1, 1)] = t59;
+            let lu = ::mechgen::factor_block(1, ::mechgen::Stage::Velocity, jac)?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Velocity,
+                    ::mechgen::nalgebra::SVector::from([t62, t63]),
+                )?;
+            qd[2] = z[0];
+            qd[3] = z[1];
+            let v_q5_d = qd[2];
+            let v_q6_d = qd[3];
+            let v_q2_dd = qdd[0];
+            let t64 = -t9;
+            let t65 = t64 - t8;
+            let t66 = p_l2e * t65;
+            let t67 = t66 - t4;
+            let t68 = v_q2_d * t67;
+            let t69 = t50 * v_q5_d;
+            let t70 = t52 * v_q6_d;
+            let t71 = t51 * v_q5_d;
+            let t72 = t53 * v_q6_d;
+            let t73 = v_q2_d * t68;
+            let t74 = t73 - t33;
+            let t75 = v_q5_d * t69;
+            let t76 = t74 + t75;
+            let t77 = v_q6_d * t70;
+            let t78 = t76 + t77;
+            let t79 = t39 - t78;
+            let t80 = v_q2_d * t60;
+            let t81 = t80 - t41;
+            let t82 = v_q5_d * t71;
+            let t83 = t81 + t82;
+            let t84 = v_q6_d * t72;
+            let t85 = t83 + t84;
+            let t86 = t47 + t85;
+            let t87 = -t86;
+            let t88 = t56 * v_q2_dd;
+            let t89 = t57 * v_q2_dd;
+            let t90 = t79 - t88;
+            let t91 = t87 - t89;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::nalgebra::SVector::from([t90, t91]),
+                )?;
+            qdd[2] = z[0];
+            qdd[3] = z[1];
+            // Points.
+            let t92 = t60 - t26;
+            let t93 = t27 + t61;
+            let t94 = t74 - t39;
+            let t95 = t94 + t88;
+            let t96 = t47 + t81;
+            let t97 = t96 + t89;
+            Ok((
+                qd,
+                qdd,
+                [
+                    ::mechgen::PointMotion {
+                        position: [t16, t17],
+                        velocity: [t92, t93],
+                        acceleration: [t95, t97],
+                    },
+                ],
+            ))
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -1582,12 +1773,9 @@ pub mod sixbar {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let (qd, qdd, points) = self
+                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
-            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self
-                .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
@@ -1621,11 +1809,11 @@ pub mod sixbar {
                 }),
             )
         }
-        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
-        /// second-order step from the last tick, their sines and cosines rotated from the cached
-        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
-        /// changed), then positions, velocities, accelerations and points. On error `t` is
-        /// unchanged.
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
+        /// blocks predicted by a second-order step from the last tick, their sines and cosines
+        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// when the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
         pub fn tick(
             &self,
             t: &mut Tick<T>,
@@ -1635,25 +1823,28 @@ pub mod sixbar {
             options: &::mechgen::NewtonOptions<T>,
         ) -> Result<(), ::mechgen::SolveError> {
             let params = self.params.to_array();
-            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            }
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-            let fresh = t.fresh(&params);
-            let (tx, tp) = if fresh {
+            let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
             } else {
                 self.trig_fixed(x)
             };
-            let mut st = t.predicted(x, [true, true, true, true], fresh);
+            let keep = if options.closed_forms {
+                [true, true, true, true]
+            } else {
+                [false; 4]
+            };
+            let mut st = t.predicted(x, [true, true, true, true], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
-            let q = st.q;
-            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self
-                .point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            let (qd, qdd, points) = self
+                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
             Ok(())
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
@@ -2389,7 +2580,34 @@ pub mod shaper {
             jac[(1, 1)] = t0;
             (::mechgen::nalgebra::SVector::from([t4, t6]), jac)
         }
-        /// Block 0: s3, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
+        /// Block 0: s3, q3 from loop 1 (x, y). Its Jacobian block.
+        #[inline]
+        fn block0_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
+        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+            let v_s3 = q[0];
+            let v_q3 = q[1];
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t0 = v_s3 * c_v_q3;
+            let t1 = v_s3 * s_v_q3;
+            let t2 = -t1;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂s3
+            jac[(0, 0)] = c_v_q3;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t2;
+            // J[1][0] = ∂Φ1/∂s3
+            jac[(1, 0)] = s_v_q3;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t0;
+            jac
+        }
+        /// Block 0: s3, q3 from loop 1 (x, y). Its right-hand side (velocity).
         #[inline]
         fn block0_velocity(
             &self,
@@ -2400,37 +2618,19 @@ pub mod shaper {
             tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 2>,
-            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
-            let v_s3 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t0 = v_s3 * c_v_q3;
-            let t1 = v_s3 * s_v_q3;
             let (s_v_q1, c_v_q1) = tx[0];
-            let t2 = p_l1 * c_v_q1;
-            let t3 = p_l1 * s_v_q1;
-            let t4 = -t1;
-            let t5 = t3 * v_q1_d;
-            let t6 = -t5;
-            let t7 = t2 * v_q1_d;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
-            // J[0][0] = ∂Φ0/∂s3
-            jac[(0, 0)] = c_v_q3;
-            // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t4;
-            // J[1][0] = ∂Φ1/∂s3
-            jac[(1, 0)] = s_v_q3;
-            // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t0;
-            (::mechgen::nalgebra::SVector::from([t6, t7]), jac)
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = t1 * v_q1_d;
+            let t3 = -t2;
+            let t4 = t0 * v_q1_d;
+            ::mechgen::nalgebra::SVector::from([t3, t4])
         }
-        /// Block 0: s3, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
+        /// Block 0: s3, q3 from loop 1 (x, y). Its right-hand side (acceleration).
         #[inline]
         fn block0_acceleration(
             &self,
@@ -2443,10 +2643,7 @@ pub mod shaper {
             qd: &[T; 4],
             xdd: &[T; 1],
             qdd: &[T; 4],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 2>,
-            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_s3 = q[0];
             let v_q3 = q[1];
@@ -2461,43 +2658,33 @@ pub mod shaper {
             let (s_v_q1, c_v_q1) = tx[0];
             let t2 = p_l1 * c_v_q1;
             let t3 = p_l1 * s_v_q1;
-            let t4 = -t1;
-            let t5 = s_v_q3 * v_q3_d;
-            let t6 = s_v_q3 * v_s3_d;
-            let t7 = -t6;
-            let t8 = t0 * v_q3_d;
-            let t9 = t7 - t8;
-            let t10 = c_v_q3 * v_q3_d;
-            let t11 = c_v_q3 * v_s3_d;
-            let t12 = t1 * v_q3_d;
-            let t13 = t11 - t12;
-            let t14 = t3 * v_q1_d;
-            let t15 = t2 * v_q1_d;
-            let t16 = v_q1_d * t15;
-            let t17 = t5 * v_s3_d;
-            let t18 = t16 - t17;
-            let t19 = v_q3_d * t9;
-            let t20 = t18 + t19;
-            let t21 = t3 * v_q1_dd;
-            let t22 = t20 + t21;
-            let t23 = -t22;
-            let t24 = v_q1_d * t14;
-            let t25 = v_s3_d * t10;
-            let t26 = t24 + t25;
-            let t27 = v_q3_d * t13;
-            let t28 = t26 + t27;
-            let t29 = t2 * v_q1_dd;
-            let t30 = t29 - t28;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
-            // J[0][0] = ∂Φ0/∂s3
-            jac[(0, 0)] = c_v_q3;
-            // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t4;
-            // J[1][0] = ∂Φ1/∂s3
-            jac[(1, 0)] = s_v_q3;
-            // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t0;
-            (::mechgen::nalgebra::SVector::from([t23, t30]), jac)
+            let t4 = s_v_q3 * v_q3_d;
+            let t5 = s_v_q3 * v_s3_d;
+            let t6 = -t5;
+            let t7 = t0 * v_q3_d;
+            let t8 = t6 - t7;
+            let t9 = c_v_q3 * v_q3_d;
+            let t10 = c_v_q3 * v_s3_d;
+            let t11 = t1 * v_q3_d;
+            let t12 = t10 - t11;
+            let t13 = t3 * v_q1_d;
+            let t14 = t2 * v_q1_d;
+            let t15 = v_q1_d * t14;
+            let t16 = t4 * v_s3_d;
+            let t17 = t15 - t16;
+            let t18 = v_q3_d * t8;
+            let t19 = t17 + t18;
+            let t20 = t3 * v_q1_dd;
+            let t21 = t19 + t20;
+            let t22 = -t21;
+            let t23 = v_q1_d * t13;
+            let t24 = v_s3_d * t9;
+            let t25 = t23 + t24;
+            let t26 = v_q3_d * t12;
+            let t27 = t25 + t26;
+            let t28 = t2 * v_q1_dd;
+            let t29 = t28 - t27;
+            ::mechgen::nalgebra::SVector::from([t22, t29])
         }
         /// Block 1: q4 from loop 2 (y). Its residual and Jacobian block.
         #[inline]
@@ -2529,7 +2716,26 @@ pub mod shaper {
             jac[(0, 0)] = t1;
             (::mechgen::nalgebra::SVector::from([t4]), jac)
         }
-        /// Block 1: q4 from loop 2 (y). Its right-hand side and Jacobian block.
+        /// Block 1: q4 from loop 2 (y). Its Jacobian block.
+        #[inline]
+        fn block1_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
+        ) -> ::mechgen::nalgebra::SMatrix<T, 1, 1> {
+            let v_q4 = q[2];
+            let p_l4 = self.params.l4;
+            let (s_v_q4, c_v_q4) = tq[2];
+            let t0 = p_l4 * c_v_q4;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[3][2] = ∂Φ3/∂q4
+            jac[(0, 0)] = t0;
+            jac
+        }
+        /// Block 1: q4 from loop 2 (y). Its right-hand side (velocity).
         #[inline]
         fn block1_velocity(
             &self,
@@ -2540,27 +2746,17 @@ pub mod shaper {
             tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 1> {
             let v_q3 = q[1];
-            let v_q4 = q[2];
             let p_l3 = self.params.l3;
-            let p_l4 = self.params.l4;
             let v_q3_d = qd[1];
             let (s_v_q3, c_v_q3) = tq[1];
             let t0 = c_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = tq[2];
-            let t1 = p_l4 * c_v_q4;
-            let t2 = t0 * v_q3_d;
-            let t3 = -t2;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
-            // J[3][2] = ∂Φ3/∂q4
-            jac[(0, 0)] = t1;
-            (::mechgen::nalgebra::SVector::from([t3]), jac)
+            let t1 = t0 * v_q3_d;
+            let t2 = -t1;
+            ::mechgen::nalgebra::SVector::from([t2])
         }
-        /// Block 1: q4 from loop 2 (y). Its right-hand side and Jacobian block.
+        /// Block 1: q4 from loop 2 (y). Its right-hand side (acceleration).
         #[inline]
         fn block1_acceleration(
             &self,
@@ -2573,10 +2769,7 @@ pub mod shaper {
             qd: &[T; 4],
             xdd: &[T; 1],
             qdd: &[T; 4],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 1> {
             let v_q3 = q[1];
             let v_q4 = q[2];
             let p_l3 = self.params.l3;
@@ -2588,20 +2781,16 @@ pub mod shaper {
             let t0 = c_v_q3 * p_l3;
             let t1 = s_v_q3 * p_l3;
             let (s_v_q4, c_v_q4) = tq[2];
-            let t2 = p_l4 * c_v_q4;
-            let t3 = p_l4 * s_v_q4;
-            let t4 = t1 * v_q3_d;
-            let t5 = t3 * v_q4_d;
-            let t6 = v_q3_d * t4;
-            let t7 = -t6;
-            let t8 = v_q4_d * t5;
-            let t9 = t8 - t7;
-            let t10 = t0 * v_q3_dd;
-            let t11 = t9 - t10;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
-            // J[3][2] = ∂Φ3/∂q4
-            jac[(0, 0)] = t2;
-            (::mechgen::nalgebra::SVector::from([t11]), jac)
+            let t2 = p_l4 * s_v_q4;
+            let t3 = t1 * v_q3_d;
+            let t4 = t2 * v_q4_d;
+            let t5 = v_q3_d * t3;
+            let t6 = -t5;
+            let t7 = v_q4_d * t4;
+            let t8 = t7 - t6;
+            let t9 = t0 * v_q3_dd;
+            let t10 = t8 - t9;
+            ::mechgen::nalgebra::SVector::from([t10])
         }
         /// Block 2: sE from loop 2 (x). Its residual and Jacobian block.
         #[inline]
@@ -2632,7 +2821,22 @@ pub mod shaper {
             jac[(0, 0)] = T::lit(-1.0);
             (::mechgen::nalgebra::SVector::from([t3]), jac)
         }
-        /// Block 2: sE from loop 2 (x). Its right-hand side and Jacobian block.
+        /// Block 2: sE from loop 2 (x). Its Jacobian block.
+        #[inline]
+        fn block2_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
+        ) -> ::mechgen::nalgebra::SMatrix<T, 1, 1> {
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[2][3] = ∂Φ2/∂sE
+            jac[(0, 0)] = T::lit(-1.0);
+            jac
+        }
+        /// Block 2: sE from loop 2 (x). Its right-hand side (velocity).
         #[inline]
         fn block2_velocity(
             &self,
@@ -2643,10 +2847,7 @@ pub mod shaper {
             tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 1> {
             let v_q3 = q[1];
             let v_q4 = q[2];
             let p_l3 = self.params.l3;
@@ -2661,12 +2862,9 @@ pub mod shaper {
             let t3 = -t2;
             let t4 = t1 * v_q4_d;
             let t5 = t4 - t3;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
-            // J[2][3] = ∂Φ2/∂sE
-            jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t5]), jac)
+            ::mechgen::nalgebra::SVector::from([t5])
         }
-        /// Block 2: sE from loop 2 (x). Its right-hand side and Jacobian block.
+        /// Block 2: sE from loop 2 (x). Its right-hand side (acceleration).
         #[inline]
         fn block2_acceleration(
             &self,
@@ -2679,10 +2877,7 @@ pub mod shaper {
             qd: &[T; 4],
             xdd: &[T; 1],
             qdd: &[T; 4],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 1> {
             let v_q3 = q[1];
             let v_q4 = q[2];
             let p_l3 = self.params.l3;
@@ -2708,10 +2903,7 @@ pub mod shaper {
             let t12 = t3 * v_q4_dd;
             let t13 = t11 - t12;
             let t14 = t9 - t13;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
-            // J[2][3] = ∂Φ2/∂sE
-            jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t14]), jac)
+            ::mechgen::nalgebra::SVector::from([t14])
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
@@ -2785,32 +2977,44 @@ pub mod shaper {
         ) -> Result<[T; 4], ::mechgen::SolveError> {
             let mut qd = [T::zero(); 4];
             // Block 0: s3, q3 from loop 1 (x, y).
-            let (rhs, jac) = self.block0_velocity(x, q, tx, tp, tq, xd, &qd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 0,
                 ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
+                self.block0_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Velocity,
+                    self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
+                )?;
             qd[0] = z[0];
             qd[1] = z[1];
             // Block 1: q4 from loop 2 (y).
-            let (rhs, jac) = self.block1_velocity(x, q, tx, tp, tq, xd, &qd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 1,
                 ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
+                self.block1_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Velocity,
+                    self.block1_velocity(x, q, tx, tp, tq, xd, &qd),
+                )?;
             qd[2] = z[0];
             // Block 2: sE from loop 2 (x).
-            let (rhs, jac) = self.block2_velocity(x, q, tx, tp, tq, xd, &qd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 2,
                 ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
+                self.block2_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    2,
+                    ::mechgen::Stage::Velocity,
+                    self.block2_velocity(x, q, tx, tp, tq, xd, &qd),
+                )?;
             qd[3] = z[0];
             Ok(qd)
         }
@@ -2828,84 +3032,264 @@ pub mod shaper {
         ) -> Result<[T; 4], ::mechgen::SolveError> {
             let mut qdd = [T::zero(); 4];
             // Block 0: s3, q3 from loop 1 (x, y).
-            let (rhs, jac) = self
-                .block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 0,
                 ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+                self.block0_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Acceleration,
+                    self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
             // Block 1: q4 from loop 2 (y).
-            let (rhs, jac) = self
-                .block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 1,
                 ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+                self.block1_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Acceleration,
+                    self.block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                )?;
             qdd[2] = z[0];
             // Block 2: sE from loop 2 (x).
-            let (rhs, jac) = self
-                .block2_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 2,
                 ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+                self.block2_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    2,
+                    ::mechgen::Stage::Acceleration,
+                    self.block2_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                )?;
             qdd[3] = z[0];
             Ok(qdd)
         }
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
         #[inline]
-        fn point_motion_cached(
+        fn motion_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 4],
+            st: &mut ::mechgen::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 5],
-            tq: &[(T, T); 4],
             xd: &[T; 1],
-            qd: &[T; 4],
             xdd: &[T; 1],
-            qdd: &[T; 4],
-        ) -> [::mechgen::PointMotion<T>; 2] {
-            let v_q3 = q[1];
-            let v_sE = q[3];
-            let p_l3 = self.params.l3;
-            let p_yE = self.params.yE;
-            let v_q3_d = qd[1];
-            let v_sE_d = qd[3];
-            let v_q3_dd = qdd[1];
-            let v_sE_dd = qdd[3];
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t0 = c_v_q3 * p_l3;
-            let t1 = s_v_q3 * p_l3;
-            let t2 = t0 * v_q3_d;
-            let t3 = t1 * v_q3_d;
-            let t4 = -t3;
-            let t5 = v_q3_d * t2;
+            options: &::mechgen::NewtonOptions<T>,
+            report: &mut ::mechgen::NewtonReport<T>,
+        ) -> Result<
+            ([T; 4], [T; 4], [::mechgen::PointMotion<T>; 2]),
+            ::mechgen::SolveError,
+        > {
+            let scale = self.params.length_scale();
+            let mut qd = [T::zero(); 4];
+            let mut qdd = [T::zero(); 4];
+            // Block 0: Newton.
+            ::mechgen::newton_block(
+                0,
+                st,
+                [0, 1],
+                [true, false],
+                scale,
+                options,
+                report,
+                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            // Block 1: Newton.
+            ::mechgen::newton_block(
+                1,
+                st,
+                [2],
+                [false],
+                scale,
+                options,
+                report,
+                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            // Block 2: Newton.
+            ::mechgen::newton_block(
+                2,
+                st,
+                [3],
+                [true],
+                scale,
+                options,
+                report,
+                |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            // Block 0: velocities and accelerations.
+            let v_q1 = x[0];
+            let v_s3 = st.q[0];
+            let v_q3 = st.q[1];
+            let p_l1 = self.params.l1;
+            let v_q1_d = xd[0];
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t0 = v_s3 * c_v_q3;
+            let t1 = v_s3 * s_v_q3;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t2 = p_l1 * c_v_q1;
+            let t3 = p_l1 * s_v_q1;
+            let t4 = -t1;
+            let t5 = t3 * v_q1_d;
             let t6 = -t5;
-            let t7 = v_q3_d * t3;
-            let t8 = t1 * v_q3_dd;
-            let t9 = t6 - t8;
-            let t10 = t0 * v_q3_dd;
-            let t11 = t10 - t7;
-            [
-                ::mechgen::PointMotion {
-                    position: [v_sE, p_yE],
-                    velocity: [v_sE_d, T::zero()],
-                    acceleration: [v_sE_dd, T::zero()],
-                },
-                ::mechgen::PointMotion {
-                    position: [t0, t1],
-                    velocity: [t4, t2],
-                    acceleration: [t9, t11],
-                },
-            ]
+            let t7 = t2 * v_q1_d;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂s3
+            jac[(0, 0)] = c_v_q3;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t4;
+            // J[1][0] = ∂Φ1/∂s3
+            jac[(1, 0)] = s_v_q3;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t0;
+            let lu = ::mechgen::factor_block(0, ::mechgen::Stage::Velocity, jac)?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Velocity,
+                    ::mechgen::nalgebra::SVector::from([t6, t7]),
+                )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_s3_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t8 = s_v_q3 * v_q3_d;
+            let t9 = s_v_q3 * v_s3_d;
+            let t10 = -t9;
+            let t11 = t0 * v_q3_d;
+            let t12 = t10 - t11;
+            let t13 = c_v_q3 * v_q3_d;
+            let t14 = c_v_q3 * v_s3_d;
+            let t15 = t1 * v_q3_d;
+            let t16 = t14 - t15;
+            let t17 = v_q1_d * t7;
+            let t18 = t8 * v_s3_d;
+            let t19 = t17 - t18;
+            let t20 = v_q3_d * t12;
+            let t21 = t19 + t20;
+            let t22 = t3 * v_q1_dd;
+            let t23 = t21 + t22;
+            let t24 = -t23;
+            let t25 = v_q1_d * t5;
+            let t26 = v_s3_d * t13;
+            let t27 = t25 + t26;
+            let t28 = v_q3_d * t16;
+            let t29 = t27 + t28;
+            let t30 = t2 * v_q1_dd;
+            let t31 = t30 - t29;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::nalgebra::SVector::from([t24, t31]),
+                )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            // Block 1: velocities and accelerations.
+            let v_q4 = st.q[2];
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let t32 = c_v_q3 * p_l3;
+            let (s_v_q4, c_v_q4) = st.sc[2];
+            let t33 = p_l4 * c_v_q4;
+            let t34 = t32 * v_q3_d;
+            let t35 = -t34;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[3][2] = ∂Φ3/∂q4
+            jac[(0, 0)] = t33;
+            let lu = ::mechgen::factor_block(1, ::mechgen::Stage::Velocity, jac)?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Velocity,
+                    ::mechgen::nalgebra::SVector::from([t35]),
+                )?;
+            qd[2] = z[0];
+            let v_q4_d = qd[2];
+            let v_q3_dd = qdd[1];
+            let t36 = s_v_q3 * p_l3;
+            let t37 = p_l4 * s_v_q4;
+            let t38 = t36 * v_q3_d;
+            let t39 = t37 * v_q4_d;
+            let t40 = v_q3_d * t38;
+            let t41 = -t40;
+            let t42 = v_q4_d * t39;
+            let t43 = t42 - t41;
+            let t44 = t32 * v_q3_dd;
+            let t45 = t43 - t44;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::nalgebra::SVector::from([t45]),
+                )?;
+            qdd[2] = z[0];
+            // Block 2: velocities and accelerations.
+            let t46 = -t38;
+            let t47 = t39 - t46;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[2][3] = ∂Φ2/∂sE
+            jac[(0, 0)] = T::lit(-1.0);
+            let lu = ::mechgen::factor_block(2, ::mechgen::Stage::Velocity, jac)?;
+            let z = lu
+                .solve(
+                    2,
+                    ::mechgen::Stage::Velocity,
+                    ::mechgen::nalgebra::SVector::from([t47]),
+                )?;
+            qd[3] = z[0];
+            let v_q4_dd = qdd[2];
+            let t48 = t33 * v_q4_d;
+            let t49 = v_q3_d * t34;
+            let t50 = -t49;
+            let t51 = v_q4_d * t48;
+            let t52 = t51 - t50;
+            let t53 = t36 * v_q3_dd;
+            let t54 = -t53;
+            let t55 = t37 * v_q4_dd;
+            let t56 = t54 - t55;
+            let t57 = t52 - t56;
+            let z = lu
+                .solve(
+                    2,
+                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::nalgebra::SVector::from([t57]),
+                )?;
+            qdd[3] = z[0];
+            // Points.
+            let v_sE = st.q[3];
+            let p_yE = self.params.yE;
+            let v_sE_d = qd[3];
+            let v_sE_dd = qdd[3];
+            let t58 = t50 - t53;
+            let t59 = t44 - t40;
+            Ok((
+                qd,
+                qdd,
+                [
+                    ::mechgen::PointMotion {
+                        position: [v_sE, p_yE],
+                        velocity: [v_sE_d, T::zero()],
+                        acceleration: [v_sE_dd, T::zero()],
+                    },
+                    ::mechgen::PointMotion {
+                        position: [t32, t36],
+                        velocity: [t46, t34],
+                        acceleration: [t58, t59],
+                    },
+                ],
+            ))
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -3000,12 +3384,9 @@ pub mod shaper {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let (qd, qdd, points) = self
+                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
-            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self
-                .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
@@ -3039,11 +3420,11 @@ pub mod shaper {
                 }),
             )
         }
-        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
-        /// second-order step from the last tick, their sines and cosines rotated from the cached
-        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
-        /// changed), then positions, velocities, accelerations and points. On error `t` is
-        /// unchanged.
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
+        /// blocks predicted by a second-order step from the last tick, their sines and cosines
+        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// when the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
         pub fn tick(
             &self,
             t: &mut Tick<T>,
@@ -3053,25 +3434,28 @@ pub mod shaper {
             options: &::mechgen::NewtonOptions<T>,
         ) -> Result<(), ::mechgen::SolveError> {
             let params = self.params.to_array();
-            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            }
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-            let fresh = t.fresh(&params);
-            let (tx, tp) = if fresh {
+            let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
             } else {
                 self.trig_fixed(x)
             };
-            let mut st = t.predicted(x, [false, true, true, false], fresh);
+            let keep = if options.closed_forms {
+                [false, false, false, false]
+            } else {
+                [false; 4]
+            };
+            let mut st = t.predicted(x, [false, true, true, false], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
-            let q = st.q;
-            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self
-                .point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            let (qd, qdd, points) = self
+                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
             Ok(())
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
@@ -3823,7 +4207,40 @@ pub mod four_bar {
             jac[(1, 1)] = t12;
             (::mechgen::nalgebra::SVector::from([t9, t10]), jac)
         }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
+        /// Block 0: q2, q3 from loop 1 (x, y). Its Jacobian block.
+        #[inline]
+        fn block0_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 6],
+            tq: &[(T, T); 2],
+        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+            let v_q2 = q[0];
+            let v_q3 = q[1];
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t0 = p_l2 * c_v_q2;
+            let t1 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t2 = p_l3 * c_v_q3;
+            let t3 = p_l3 * s_v_q3;
+            let t4 = -t1;
+            let t5 = -t2;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t4;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t3;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t0;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t5;
+            jac
+        }
+        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side (velocity).
         #[inline]
         fn block0_velocity(
             &self,
@@ -3834,43 +4251,19 @@ pub mod four_bar {
             tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 2>,
-            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let p_l3 = self.params.l3;
             let v_q1_d = xd[0];
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l2 * c_v_q2;
-            let t3 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t4 = p_l3 * c_v_q3;
-            let t5 = p_l3 * s_v_q3;
-            let t6 = -t3;
-            let t7 = -t4;
-            let t8 = t1 * v_q1_d;
-            let t9 = t0 * v_q1_d;
-            let t10 = -t9;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
-            // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t6;
-            // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t5;
-            // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t2;
-            // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t7;
-            (::mechgen::nalgebra::SVector::from([t8, t10]), jac)
+            let t2 = t1 * v_q1_d;
+            let t3 = t0 * v_q1_d;
+            let t4 = -t3;
+            ::mechgen::nalgebra::SVector::from([t2, t4])
         }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
+        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side (acceleration).
         #[inline]
         fn block0_acceleration(
             &self,
@@ -3883,10 +4276,7 @@ pub mod four_bar {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 2>,
-            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -3906,41 +4296,30 @@ pub mod four_bar {
             let (s_v_q3, c_v_q3) = tq[1];
             let t4 = p_l3 * c_v_q3;
             let t5 = p_l3 * s_v_q3;
-            let t6 = -t3;
-            let t7 = -t4;
-            let t8 = t2 * v_q2_d;
-            let t9 = t4 * v_q3_d;
-            let t10 = t3 * v_q2_d;
-            let t11 = t5 * v_q3_d;
-            let t12 = t1 * v_q1_d;
-            let t13 = t0 * v_q1_d;
-            let t14 = v_q1_d * t13;
-            let t15 = -t14;
-            let t16 = v_q2_d * t8;
-            let t17 = t15 - t16;
-            let t18 = v_q3_d * t9;
-            let t19 = t17 + t18;
-            let t20 = t1 * v_q1_dd;
-            let t21 = t20 - t19;
-            let t22 = v_q1_d * t12;
-            let t23 = -t22;
-            let t24 = v_q2_d * t10;
-            let t25 = t23 - t24;
-            let t26 = v_q3_d * t11;
+            let t6 = t2 * v_q2_d;
+            let t7 = t4 * v_q3_d;
+            let t8 = t3 * v_q2_d;
+            let t9 = t5 * v_q3_d;
+            let t10 = t1 * v_q1_d;
+            let t11 = t0 * v_q1_d;
+            let t12 = v_q1_d * t11;
+            let t13 = -t12;
+            let t14 = v_q2_d * t6;
+            let t15 = t13 - t14;
+            let t16 = v_q3_d * t7;
+            let t17 = t15 + t16;
+            let t18 = t1 * v_q1_dd;
+            let t19 = t18 - t17;
+            let t20 = v_q1_d * t10;
+            let t21 = -t20;
+            let t22 = v_q2_d * t8;
+            let t23 = t21 - t22;
+            let t24 = v_q3_d * t9;
+            let t25 = t23 + t24;
+            let t26 = t0 * v_q1_dd;
             let t27 = t25 + t26;
-            let t28 = t0 * v_q1_dd;
-            let t29 = t27 + t28;
-            let t30 = -t29;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
-            // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t6;
-            // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t5;
-            // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t2;
-            // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t7;
-            (::mechgen::nalgebra::SVector::from([t21, t30]), jac)
+            let t28 = -t27;
+            ::mechgen::nalgebra::SVector::from([t19, t28])
         }
         /// Block 0: q2, q3 from loop 1 (x, y). A dyad: K + M_a e(q2) + M_b e(q3) = 0; returns K, then (p, r) of M_a and of M_b.
         #[inline]
@@ -4032,13 +4411,17 @@ pub mod four_bar {
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             let mut qd = [T::zero(); 2];
             // Block 0: q2, q3 from loop 1 (x, y).
-            let (rhs, jac) = self.block0_velocity(x, q, tx, tp, tq, xd, &qd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 0,
                 ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
+                self.block0_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Velocity,
+                    self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
+                )?;
             qd[0] = z[0];
             qd[1] = z[1];
             Ok(qd)
@@ -4057,121 +4440,210 @@ pub mod four_bar {
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             let mut qdd = [T::zero(); 2];
             // Block 0: q2, q3 from loop 1 (x, y).
-            let (rhs, jac) = self
-                .block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 0,
                 ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+                self.block0_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Acceleration,
+                    self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
             Ok(qdd)
         }
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
         #[inline]
-        fn point_motion_cached(
+        fn motion_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            st: &mut ::mechgen::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 6],
-            tq: &[(T, T); 2],
             xd: &[T; 1],
-            qd: &[T; 2],
             xdd: &[T; 1],
-            qdd: &[T; 2],
-        ) -> [::mechgen::PointMotion<T>; 3] {
+            options: &::mechgen::NewtonOptions<T>,
+            report: &mut ::mechgen::NewtonReport<T>,
+        ) -> Result<
+            ([T; 2], [T; 2], [::mechgen::PointMotion<T>; 3]),
+            ::mechgen::SolveError,
+        > {
+            let scale = self.params.length_scale();
+            let mut qd = [T::zero(); 2];
+            let mut qdd = [T::zero(); 2];
+            // Block 0: closed form (a dyad).
             let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
-            let p_lp = self.params.lp;
-            let p_beta = self.params.beta;
-            let v_q1_d = xd[0];
-            let v_q2_d = qd[0];
-            let v_q3_d = qd[1];
-            let v_q1_dd = xdd[0];
-            let v_q2_dd = qdd[0];
-            let v_q3_dd = qdd[1];
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t2 = p_l3 * c_v_q3;
-            let t3 = p_l3 * s_v_q3;
-            let t4 = p_l4 + t2;
-            let (s_p_beta, c_p_beta) = tp[5];
-            let t5 = c_v_q2 * c_p_beta;
-            let t6 = s_v_q2 * s_p_beta;
-            let t7 = s_v_q2 * c_p_beta;
-            let t8 = c_v_q2 * s_p_beta;
-            let t9 = t5 - t6;
-            let t10 = t7 + t8;
-            let t11 = p_lp * t9;
-            let t12 = p_lp * t10;
-            let t13 = t0 + t11;
-            let t14 = t1 + t12;
-            let t15 = t2 * v_q3_d;
-            let t16 = t3 * v_q3_d;
-            let t17 = t1 * v_q1_d;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
+            if options.closed_forms {
+                ::mechgen::solve_dyad(
+                    0,
+                    st,
+                    0,
+                    1,
+                    [t3, t1],
+                    (p_l2, T::zero()),
+                    (t2, T::zero()),
+                    scale,
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [false, false],
+                    scale,
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 0: velocities and accelerations.
+            let v_q2 = st.q[0];
+            let v_q3 = st.q[1];
+            let v_q1_d = xd[0];
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t6 = p_l3 * c_v_q3;
+            let t7 = p_l3 * s_v_q3;
+            let t8 = -t5;
+            let t9 = -t6;
+            let t10 = t1 * v_q1_d;
+            let t11 = t0 * v_q1_d;
+            let t12 = -t11;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t8;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t7;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t4;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t9;
+            let lu = ::mechgen::factor_block(0, ::mechgen::Stage::Velocity, jac)?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Velocity,
+                    ::mechgen::nalgebra::SVector::from([t10, t12]),
+                )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t13 = t4 * v_q2_d;
+            let t14 = t6 * v_q3_d;
+            let t15 = t5 * v_q2_d;
+            let t16 = t7 * v_q3_d;
+            let t17 = v_q1_d * t11;
             let t18 = -t17;
-            let t19 = t0 * v_q1_d;
-            let t20 = v_q1_d * t19;
-            let t21 = -t20;
-            let t22 = v_q3_d * t15;
+            let t19 = v_q2_d * t13;
+            let t20 = t18 - t19;
+            let t21 = v_q3_d * t14;
+            let t22 = t20 + t21;
             let t23 = t1 * v_q1_dd;
-            let t24 = v_q1_d * t17;
-            let t25 = -t16;
-            let t26 = v_q3_d * t16;
-            let t27 = t0 * v_q1_dd;
-            let t28 = -t7;
-            let t29 = t28 - t8;
-            let t30 = p_lp * t29;
-            let t31 = v_q2_d * t30;
-            let t32 = t31 - t17;
-            let t33 = t11 * v_q2_d;
-            let t34 = t19 + t33;
-            let t35 = t21 - t23;
-            let t36 = t27 - t24;
-            let t37 = -t22;
-            let t38 = t3 * v_q3_dd;
-            let t39 = t37 - t38;
-            let t40 = t2 * v_q3_dd;
-            let t41 = t40 - t26;
-            let t42 = t6 - t5;
-            let t43 = p_lp * t42;
-            let t44 = v_q2_d * t43;
-            let t45 = v_q2_d * t44;
-            let t46 = t45 - t20;
-            let t47 = t46 - t23;
-            let t48 = t30 * v_q2_dd;
-            let t49 = t47 + t48;
-            let t50 = v_q2_d * t31;
-            let t51 = t50 - t24;
-            let t52 = t27 + t51;
-            let t53 = t11 * v_q2_dd;
-            let t54 = t52 + t53;
-            [
-                ::mechgen::PointMotion {
-                    position: [t0, t1],
-                    velocity: [t18, t19],
-                    acceleration: [t35, t36],
-                },
-                ::mechgen::PointMotion {
-                    position: [t4, t3],
-                    velocity: [t25, t15],
-                    acceleration: [t39, t41],
-                },
-                ::mechgen::PointMotion {
-                    position: [t13, t14],
-                    velocity: [t32, t34],
-                    acceleration: [t49, t54],
-                },
-            ]
+            let t24 = t23 - t22;
+            let t25 = v_q1_d * t10;
+            let t26 = -t25;
+            let t27 = v_q2_d * t15;
+            let t28 = t26 - t27;
+            let t29 = v_q3_d * t16;
+            let t30 = t28 + t29;
+            let t31 = t0 * v_q1_dd;
+            let t32 = t30 + t31;
+            let t33 = -t32;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::nalgebra::SVector::from([t24, t33]),
+                )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            // Points.
+            let p_lp = self.params.lp;
+            let p_beta = self.params.beta;
+            let v_q2_dd = qdd[0];
+            let v_q3_dd = qdd[1];
+            let t34 = p_l4 + t6;
+            let (s_p_beta, c_p_beta) = tp[5];
+            let t35 = c_v_q2 * c_p_beta;
+            let t36 = s_v_q2 * s_p_beta;
+            let t37 = s_v_q2 * c_p_beta;
+            let t38 = c_v_q2 * s_p_beta;
+            let t39 = t35 - t36;
+            let t40 = t37 + t38;
+            let t41 = p_lp * t39;
+            let t42 = p_lp * t40;
+            let t43 = t0 + t41;
+            let t44 = t1 + t42;
+            let t45 = -t10;
+            let t46 = -t16;
+            let t47 = -t37;
+            let t48 = t47 - t38;
+            let t49 = p_lp * t48;
+            let t50 = v_q2_d * t49;
+            let t51 = t50 - t10;
+            let t52 = t41 * v_q2_d;
+            let t53 = t11 + t52;
+            let t54 = t18 - t23;
+            let t55 = t31 - t25;
+            let t56 = -t21;
+            let t57 = t7 * v_q3_dd;
+            let t58 = t56 - t57;
+            let t59 = t6 * v_q3_dd;
+            let t60 = t59 - t29;
+            let t61 = t36 - t35;
+            let t62 = p_lp * t61;
+            let t63 = v_q2_d * t62;
+            let t64 = v_q2_d * t63;
+            let t65 = t64 - t17;
+            let t66 = t65 - t23;
+            let t67 = t49 * v_q2_dd;
+            let t68 = t66 + t67;
+            let t69 = v_q2_d * t50;
+            let t70 = t69 - t25;
+            let t71 = t31 + t70;
+            let t72 = t41 * v_q2_dd;
+            let t73 = t71 + t72;
+            Ok((
+                qd,
+                qdd,
+                [
+                    ::mechgen::PointMotion {
+                        position: [t0, t1],
+                        velocity: [t45, t11],
+                        acceleration: [t54, t55],
+                    },
+                    ::mechgen::PointMotion {
+                        position: [t34, t7],
+                        velocity: [t46, t14],
+                        acceleration: [t58, t60],
+                    },
+                    ::mechgen::PointMotion {
+                        position: [t43, t44],
+                        velocity: [t51, t53],
+                        acceleration: [t68, t73],
+                    },
+                ],
+            ))
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -4266,12 +4738,9 @@ pub mod four_bar {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let (qd, qdd, points) = self
+                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
-            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self
-                .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
@@ -4305,11 +4774,11 @@ pub mod four_bar {
                 }),
             )
         }
-        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
-        /// second-order step from the last tick, their sines and cosines rotated from the cached
-        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
-        /// changed), then positions, velocities, accelerations and points. On error `t` is
-        /// unchanged.
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
+        /// blocks predicted by a second-order step from the last tick, their sines and cosines
+        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// when the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
         pub fn tick(
             &self,
             t: &mut Tick<T>,
@@ -4319,25 +4788,24 @@ pub mod four_bar {
             options: &::mechgen::NewtonOptions<T>,
         ) -> Result<(), ::mechgen::SolveError> {
             let params = self.params.to_array();
-            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            }
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-            let fresh = t.fresh(&params);
-            let (tx, tp) = if fresh {
+            let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
             } else {
                 self.trig_fixed(x)
             };
-            let mut st = t.predicted(x, [true, true], fresh);
+            let keep = if options.closed_forms { [true, true] } else { [false; 2] };
+            let mut st = t.predicted(x, [true, true], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
-            let q = st.q;
-            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self
-                .point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            let (qd, qdd, points) = self
+                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
             Ok(())
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
@@ -4967,7 +5435,26 @@ pub mod slider_crank {
             jac[(0, 0)] = t1;
             (::mechgen::nalgebra::SVector::from([t4]), jac)
         }
-        /// Block 0: q2 from loop 1 (y). Its right-hand side and Jacobian block.
+        /// Block 0: q2 from loop 1 (y). Its Jacobian block.
+        #[inline]
+        fn block0_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            tq: &[(T, T); 2],
+        ) -> ::mechgen::nalgebra::SMatrix<T, 1, 1> {
+            let v_q2 = q[0];
+            let p_l = self.params.l;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t0 = p_l * c_v_q2;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(0, 0)] = t0;
+            jac
+        }
+        /// Block 0: q2 from loop 1 (y). Its right-hand side (velocity).
         #[inline]
         fn block0_velocity(
             &self,
@@ -4978,27 +5465,17 @@ pub mod slider_crank {
             tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
-            let v_q2 = q[0];
             let p_r = self.params.r;
-            let p_l = self.params.l;
             let v_q1_d = xd[0];
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_r * c_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t1 = p_l * c_v_q2;
-            let t2 = t0 * v_q1_d;
-            let t3 = -t2;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
-            // J[1][0] = ∂Φ1/∂q2
-            jac[(0, 0)] = t1;
-            (::mechgen::nalgebra::SVector::from([t3]), jac)
+            let t1 = t0 * v_q1_d;
+            let t2 = -t1;
+            ::mechgen::nalgebra::SVector::from([t2])
         }
-        /// Block 0: q2 from loop 1 (y). Its right-hand side and Jacobian block.
+        /// Block 0: q2 from loop 1 (y). Its right-hand side (acceleration).
         #[inline]
         fn block0_acceleration(
             &self,
@@ -5011,10 +5488,7 @@ pub mod slider_crank {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_r = self.params.r;
@@ -5026,21 +5500,17 @@ pub mod slider_crank {
             let t0 = p_r * c_v_q1;
             let t1 = p_r * s_v_q1;
             let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l * c_v_q2;
-            let t3 = p_l * s_v_q2;
-            let t4 = t3 * v_q2_d;
-            let t5 = t1 * v_q1_d;
-            let t6 = v_q1_d * t5;
-            let t7 = -t6;
-            let t8 = v_q2_d * t4;
-            let t9 = t7 - t8;
-            let t10 = t0 * v_q1_dd;
-            let t11 = t9 + t10;
-            let t12 = -t11;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
-            // J[1][0] = ∂Φ1/∂q2
-            jac[(0, 0)] = t2;
-            (::mechgen::nalgebra::SVector::from([t12]), jac)
+            let t2 = p_l * s_v_q2;
+            let t3 = t2 * v_q2_d;
+            let t4 = t1 * v_q1_d;
+            let t5 = v_q1_d * t4;
+            let t6 = -t5;
+            let t7 = v_q2_d * t3;
+            let t8 = t6 - t7;
+            let t9 = t0 * v_q1_dd;
+            let t10 = t8 + t9;
+            let t11 = -t10;
+            ::mechgen::nalgebra::SVector::from([t11])
         }
         /// Block 1: sC from loop 1 (x). Its residual and Jacobian block.
         #[inline]
@@ -5071,7 +5541,22 @@ pub mod slider_crank {
             jac[(0, 0)] = T::lit(-1.0);
             (::mechgen::nalgebra::SVector::from([t3]), jac)
         }
-        /// Block 1: sC from loop 1 (x). Its right-hand side and Jacobian block.
+        /// Block 1: sC from loop 1 (x). Its Jacobian block.
+        #[inline]
+        fn block1_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            tq: &[(T, T); 2],
+        ) -> ::mechgen::nalgebra::SMatrix<T, 1, 1> {
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[0][1] = ∂Φ0/∂sC
+            jac[(0, 0)] = T::lit(-1.0);
+            jac
+        }
+        /// Block 1: sC from loop 1 (x). Its right-hand side (velocity).
         #[inline]
         fn block1_velocity(
             &self,
@@ -5082,10 +5567,7 @@ pub mod slider_crank {
             tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_r = self.params.r;
@@ -5099,12 +5581,9 @@ pub mod slider_crank {
             let t2 = t1 * v_q2_d;
             let t3 = t0 * v_q1_d;
             let t4 = t2 + t3;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
-            // J[0][1] = ∂Φ0/∂sC
-            jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t4]), jac)
+            ::mechgen::nalgebra::SVector::from([t4])
         }
-        /// Block 1: sC from loop 1 (x). Its right-hand side and Jacobian block.
+        /// Block 1: sC from loop 1 (x). Its right-hand side (acceleration).
         #[inline]
         fn block1_acceleration(
             &self,
@@ -5117,10 +5596,7 @@ pub mod slider_crank {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_r = self.params.r;
@@ -5145,10 +5621,7 @@ pub mod slider_crank {
             let t11 = t10 - t9;
             let t12 = t3 * v_q2_dd;
             let t13 = t11 + t12;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
-            // J[0][1] = ∂Φ0/∂sC
-            jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t13]), jac)
+            ::mechgen::nalgebra::SVector::from([t13])
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
@@ -5211,22 +5684,30 @@ pub mod slider_crank {
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             let mut qd = [T::zero(); 2];
             // Block 0: q2 from loop 1 (y).
-            let (rhs, jac) = self.block0_velocity(x, q, tx, tp, tq, xd, &qd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 0,
                 ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
+                self.block0_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Velocity,
+                    self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
+                )?;
             qd[0] = z[0];
             // Block 1: sC from loop 1 (x).
-            let (rhs, jac) = self.block1_velocity(x, q, tx, tp, tq, xd, &qd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 1,
                 ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
+                self.block1_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Velocity,
+                    self.block1_velocity(x, q, tx, tp, tq, xd, &qd),
+                )?;
             qd[1] = z[0];
             Ok(qd)
         }
@@ -5244,103 +5725,197 @@ pub mod slider_crank {
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             let mut qdd = [T::zero(); 2];
             // Block 0: q2 from loop 1 (y).
-            let (rhs, jac) = self
-                .block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 0,
                 ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+                self.block0_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Acceleration,
+                    self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                )?;
             qdd[0] = z[0];
             // Block 1: sC from loop 1 (x).
-            let (rhs, jac) = self
-                .block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 1,
                 ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+                self.block1_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Acceleration,
+                    self.block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                )?;
             qdd[1] = z[0];
             Ok(qdd)
         }
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
         #[inline]
-        fn point_motion_cached(
+        fn motion_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            st: &mut ::mechgen::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 3],
-            tq: &[(T, T); 2],
             xd: &[T; 1],
-            qd: &[T; 2],
             xdd: &[T; 1],
-            qdd: &[T; 2],
-        ) -> [::mechgen::PointMotion<T>; 3] {
+            options: &::mechgen::NewtonOptions<T>,
+            report: &mut ::mechgen::NewtonReport<T>,
+        ) -> Result<
+            ([T; 2], [T; 2], [::mechgen::PointMotion<T>; 3]),
+            ::mechgen::SolveError,
+        > {
+            let scale = self.params.length_scale();
+            let mut qd = [T::zero(); 2];
+            let mut qdd = [T::zero(); 2];
+            // Block 0: Newton.
+            ::mechgen::newton_block(
+                0,
+                st,
+                [0],
+                [false],
+                scale,
+                options,
+                report,
+                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            // Block 1: Newton.
+            ::mechgen::newton_block(
+                1,
+                st,
+                [1],
+                [true],
+                scale,
+                options,
+                report,
+                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            // Block 0: velocities and accelerations.
             let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_sC = q[1];
+            let v_q2 = st.q[0];
             let p_r = self.params.r;
             let p_l = self.params.l;
-            let p_off = self.params.off;
             let v_q1_d = xd[0];
-            let v_q2_d = qd[0];
-            let v_sC_d = qd[1];
-            let v_q1_dd = xdd[0];
-            let v_q2_dd = qdd[0];
-            let v_sC_dd = qdd[1];
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_r * c_v_q1;
-            let t1 = p_r * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l / T::lit(2.0);
-            let t3 = c_v_q2 * t2;
-            let t4 = s_v_q2 * t2;
-            let t5 = t0 + t3;
-            let t6 = t1 + t4;
-            let t7 = t1 * v_q1_d;
-            let t8 = -t7;
-            let t9 = t0 * v_q1_d;
-            let t10 = v_q1_d * t9;
-            let t11 = -t10;
-            let t12 = t1 * v_q1_dd;
-            let t13 = v_q1_d * t7;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t1 = p_l * c_v_q2;
+            let t2 = t0 * v_q1_d;
+            let t3 = -t2;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(0, 0)] = t1;
+            let lu = ::mechgen::factor_block(0, ::mechgen::Stage::Velocity, jac)?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Velocity,
+                    ::mechgen::nalgebra::SVector::from([t3]),
+                )?;
+            qd[0] = z[0];
+            let v_q2_d = qd[0];
+            let v_q1_dd = xdd[0];
+            let t4 = p_r * s_v_q1;
+            let t5 = p_l * s_v_q2;
+            let t6 = t5 * v_q2_d;
+            let t7 = t4 * v_q1_d;
+            let t8 = v_q1_d * t7;
+            let t9 = -t8;
+            let t10 = v_q2_d * t6;
+            let t11 = t9 - t10;
+            let t12 = t0 * v_q1_dd;
+            let t13 = t11 + t12;
             let t14 = -t13;
-            let t15 = t0 * v_q1_dd;
-            let t16 = t4 * v_q2_d;
-            let t17 = t8 - t16;
-            let t18 = t3 * v_q2_d;
-            let t19 = t9 + t18;
-            let t20 = t11 - t12;
-            let t21 = t15 - t13;
-            let t22 = v_q2_d * t18;
-            let t23 = t11 - t22;
-            let t24 = t23 - t12;
-            let t25 = t4 * v_q2_dd;
-            let t26 = t24 - t25;
-            let t27 = v_q2_d * t16;
-            let t28 = t14 - t27;
-            let t29 = t15 + t28;
-            let t30 = t3 * v_q2_dd;
-            let t31 = t29 + t30;
-            [
-                ::mechgen::PointMotion {
-                    position: [t0, t1],
-                    velocity: [t8, t9],
-                    acceleration: [t20, t21],
-                },
-                ::mechgen::PointMotion {
-                    position: [v_sC, p_off],
-                    velocity: [v_sC_d, T::zero()],
-                    acceleration: [v_sC_dd, T::zero()],
-                },
-                ::mechgen::PointMotion {
-                    position: [t5, t6],
-                    velocity: [t17, t19],
-                    acceleration: [t26, t31],
-                },
-            ]
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::nalgebra::SVector::from([t14]),
+                )?;
+            qdd[0] = z[0];
+            // Block 1: velocities and accelerations.
+            let t15 = t6 + t7;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[0][1] = ∂Φ0/∂sC
+            jac[(0, 0)] = T::lit(-1.0);
+            let lu = ::mechgen::factor_block(1, ::mechgen::Stage::Velocity, jac)?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Velocity,
+                    ::mechgen::nalgebra::SVector::from([t15]),
+                )?;
+            qd[1] = z[0];
+            let v_q2_dd = qdd[0];
+            let t16 = t1 * v_q2_d;
+            let t17 = v_q1_d * t2;
+            let t18 = -t17;
+            let t19 = v_q2_d * t16;
+            let t20 = t18 - t19;
+            let t21 = t4 * v_q1_dd;
+            let t22 = t21 - t20;
+            let t23 = t5 * v_q2_dd;
+            let t24 = t22 + t23;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::nalgebra::SVector::from([t24]),
+                )?;
+            qdd[1] = z[0];
+            // Points.
+            let v_sC = st.q[1];
+            let p_off = self.params.off;
+            let v_sC_d = qd[1];
+            let v_sC_dd = qdd[1];
+            let t25 = p_l / T::lit(2.0);
+            let t26 = c_v_q2 * t25;
+            let t27 = s_v_q2 * t25;
+            let t28 = t0 + t26;
+            let t29 = t4 + t27;
+            let t30 = -t7;
+            let t31 = t27 * v_q2_d;
+            let t32 = t30 - t31;
+            let t33 = t26 * v_q2_d;
+            let t34 = t2 + t33;
+            let t35 = t18 - t21;
+            let t36 = t12 - t8;
+            let t37 = v_q2_d * t33;
+            let t38 = t18 - t37;
+            let t39 = t38 - t21;
+            let t40 = t27 * v_q2_dd;
+            let t41 = t39 - t40;
+            let t42 = v_q2_d * t31;
+            let t43 = t9 - t42;
+            let t44 = t12 + t43;
+            let t45 = t26 * v_q2_dd;
+            let t46 = t44 + t45;
+            Ok((
+                qd,
+                qdd,
+                [
+                    ::mechgen::PointMotion {
+                        position: [t0, t4],
+                        velocity: [t30, t2],
+                        acceleration: [t35, t36],
+                    },
+                    ::mechgen::PointMotion {
+                        position: [v_sC, p_off],
+                        velocity: [v_sC_d, T::zero()],
+                        acceleration: [v_sC_dd, T::zero()],
+                    },
+                    ::mechgen::PointMotion {
+                        position: [t28, t29],
+                        velocity: [t32, t34],
+                        acceleration: [t41, t46],
+                    },
+                ],
+            ))
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -5435,12 +6010,9 @@ pub mod slider_crank {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let (qd, qdd, points) = self
+                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
-            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self
-                .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
@@ -5474,11 +6046,11 @@ pub mod slider_crank {
                 }),
             )
         }
-        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
-        /// second-order step from the last tick, their sines and cosines rotated from the cached
-        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
-        /// changed), then positions, velocities, accelerations and points. On error `t` is
-        /// unchanged.
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
+        /// blocks predicted by a second-order step from the last tick, their sines and cosines
+        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// when the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
         pub fn tick(
             &self,
             t: &mut Tick<T>,
@@ -5488,25 +6060,28 @@ pub mod slider_crank {
             options: &::mechgen::NewtonOptions<T>,
         ) -> Result<(), ::mechgen::SolveError> {
             let params = self.params.to_array();
-            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            }
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-            let fresh = t.fresh(&params);
-            let (tx, tp) = if fresh {
+            let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
             } else {
                 self.trig_fixed(x)
             };
-            let mut st = t.predicted(x, [true, false], fresh);
+            let keep = if options.closed_forms {
+                [false, false]
+            } else {
+                [false; 2]
+            };
+            let mut st = t.predicted(x, [true, false], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
-            let q = st.q;
-            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self
-                .point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            let (qd, qdd, points) = self
+                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
             Ok(())
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
@@ -6190,7 +6765,40 @@ pub mod rocker_four_bar {
             jac[(1, 1)] = t12;
             (::mechgen::nalgebra::SVector::from([t9, t10]), jac)
         }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
+        /// Block 0: q2, q3 from loop 1 (x, y). Its Jacobian block.
+        #[inline]
+        fn block0_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 4],
+            tq: &[(T, T); 2],
+        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+            let v_q2 = q[0];
+            let v_q3 = q[1];
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t0 = p_l2 * c_v_q2;
+            let t1 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t2 = p_l3 * c_v_q3;
+            let t3 = p_l3 * s_v_q3;
+            let t4 = -t1;
+            let t5 = -t2;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t4;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t3;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t0;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t5;
+            jac
+        }
+        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side (velocity).
         #[inline]
         fn block0_velocity(
             &self,
@@ -6201,43 +6809,19 @@ pub mod rocker_four_bar {
             tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 2>,
-            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let p_l3 = self.params.l3;
             let v_q1_d = xd[0];
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l2 * c_v_q2;
-            let t3 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t4 = p_l3 * c_v_q3;
-            let t5 = p_l3 * s_v_q3;
-            let t6 = -t3;
-            let t7 = -t4;
-            let t8 = t1 * v_q1_d;
-            let t9 = t0 * v_q1_d;
-            let t10 = -t9;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
-            // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t6;
-            // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t5;
-            // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t2;
-            // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t7;
-            (::mechgen::nalgebra::SVector::from([t8, t10]), jac)
+            let t2 = t1 * v_q1_d;
+            let t3 = t0 * v_q1_d;
+            let t4 = -t3;
+            ::mechgen::nalgebra::SVector::from([t2, t4])
         }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side and Jacobian block.
+        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side (acceleration).
         #[inline]
         fn block0_acceleration(
             &self,
@@ -6250,10 +6834,7 @@ pub mod rocker_four_bar {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 2>,
-            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -6273,41 +6854,30 @@ pub mod rocker_four_bar {
             let (s_v_q3, c_v_q3) = tq[1];
             let t4 = p_l3 * c_v_q3;
             let t5 = p_l3 * s_v_q3;
-            let t6 = -t3;
-            let t7 = -t4;
-            let t8 = t2 * v_q2_d;
-            let t9 = t4 * v_q3_d;
-            let t10 = t3 * v_q2_d;
-            let t11 = t5 * v_q3_d;
-            let t12 = t1 * v_q1_d;
-            let t13 = t0 * v_q1_d;
-            let t14 = v_q1_d * t13;
-            let t15 = -t14;
-            let t16 = v_q2_d * t8;
-            let t17 = t15 - t16;
-            let t18 = v_q3_d * t9;
-            let t19 = t17 + t18;
-            let t20 = t1 * v_q1_dd;
-            let t21 = t20 - t19;
-            let t22 = v_q1_d * t12;
-            let t23 = -t22;
-            let t24 = v_q2_d * t10;
-            let t25 = t23 - t24;
-            let t26 = v_q3_d * t11;
+            let t6 = t2 * v_q2_d;
+            let t7 = t4 * v_q3_d;
+            let t8 = t3 * v_q2_d;
+            let t9 = t5 * v_q3_d;
+            let t10 = t1 * v_q1_d;
+            let t11 = t0 * v_q1_d;
+            let t12 = v_q1_d * t11;
+            let t13 = -t12;
+            let t14 = v_q2_d * t6;
+            let t15 = t13 - t14;
+            let t16 = v_q3_d * t7;
+            let t17 = t15 + t16;
+            let t18 = t1 * v_q1_dd;
+            let t19 = t18 - t17;
+            let t20 = v_q1_d * t10;
+            let t21 = -t20;
+            let t22 = v_q2_d * t8;
+            let t23 = t21 - t22;
+            let t24 = v_q3_d * t9;
+            let t25 = t23 + t24;
+            let t26 = t0 * v_q1_dd;
             let t27 = t25 + t26;
-            let t28 = t0 * v_q1_dd;
-            let t29 = t27 + t28;
-            let t30 = -t29;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
-            // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t6;
-            // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t5;
-            // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t2;
-            // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t7;
-            (::mechgen::nalgebra::SVector::from([t21, t30]), jac)
+            let t28 = -t27;
+            ::mechgen::nalgebra::SVector::from([t19, t28])
         }
         /// Block 0: q2, q3 from loop 1 (x, y). A dyad: K + M_a e(q2) + M_b e(q3) = 0; returns K, then (p, r) of M_a and of M_b.
         #[inline]
@@ -6398,13 +6968,17 @@ pub mod rocker_four_bar {
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             let mut qd = [T::zero(); 2];
             // Block 0: q2, q3 from loop 1 (x, y).
-            let (rhs, jac) = self.block0_velocity(x, q, tx, tp, tq, xd, &qd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 0,
                 ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
+                self.block0_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Velocity,
+                    self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
+                )?;
             qd[0] = z[0];
             qd[1] = z[1];
             Ok(qd)
@@ -6423,79 +6997,171 @@ pub mod rocker_four_bar {
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             let mut qdd = [T::zero(); 2];
             // Block 0: q2, q3 from loop 1 (x, y).
-            let (rhs, jac) = self
-                .block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 0,
                 ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+                self.block0_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Acceleration,
+                    self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
             Ok(qdd)
         }
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
         #[inline]
-        fn point_motion_cached(
+        fn motion_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            st: &mut ::mechgen::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 4],
-            tq: &[(T, T); 2],
             xd: &[T; 1],
-            qd: &[T; 2],
             xdd: &[T; 1],
-            qdd: &[T; 2],
-        ) -> [::mechgen::PointMotion<T>; 2] {
+            options: &::mechgen::NewtonOptions<T>,
+            report: &mut ::mechgen::NewtonReport<T>,
+        ) -> Result<
+            ([T; 2], [T; 2], [::mechgen::PointMotion<T>; 2]),
+            ::mechgen::SolveError,
+        > {
+            let scale = self.params.length_scale();
+            let mut qd = [T::zero(); 2];
+            let mut qdd = [T::zero(); 2];
+            // Block 0: closed form (a dyad).
             let v_q1 = x[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
-            let v_q1_d = xd[0];
-            let v_q3_d = qd[1];
-            let v_q1_dd = xdd[0];
-            let v_q3_dd = qdd[1];
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t2 = p_l3 * c_v_q3;
-            let t3 = p_l3 * s_v_q3;
-            let t4 = p_l4 + t2;
-            let t5 = t2 * v_q3_d;
-            let t6 = t3 * v_q3_d;
-            let t7 = t1 * v_q1_d;
-            let t8 = -t7;
-            let t9 = t0 * v_q1_d;
-            let t10 = v_q1_d * t9;
-            let t11 = -t10;
-            let t12 = v_q3_d * t5;
-            let t13 = t1 * v_q1_dd;
-            let t14 = v_q1_d * t7;
-            let t15 = -t6;
-            let t16 = v_q3_d * t6;
-            let t17 = t0 * v_q1_dd;
-            let t18 = t11 - t13;
-            let t19 = t17 - t14;
-            let t20 = -t12;
-            let t21 = t3 * v_q3_dd;
-            let t22 = t20 - t21;
-            let t23 = t2 * v_q3_dd;
-            let t24 = t23 - t16;
-            [
-                ::mechgen::PointMotion {
-                    position: [t0, t1],
-                    velocity: [t8, t9],
-                    acceleration: [t18, t19],
-                },
-                ::mechgen::PointMotion {
-                    position: [t4, t3],
-                    velocity: [t15, t5],
-                    acceleration: [t22, t24],
-                },
-            ]
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
+            if options.closed_forms {
+                ::mechgen::solve_dyad(
+                    0,
+                    st,
+                    0,
+                    1,
+                    [t3, t1],
+                    (p_l2, T::zero()),
+                    (t2, T::zero()),
+                    scale,
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [false, false],
+                    scale,
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 0: velocities and accelerations.
+            let v_q2 = st.q[0];
+            let v_q3 = st.q[1];
+            let v_q1_d = xd[0];
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t6 = p_l3 * c_v_q3;
+            let t7 = p_l3 * s_v_q3;
+            let t8 = -t5;
+            let t9 = -t6;
+            let t10 = t1 * v_q1_d;
+            let t11 = t0 * v_q1_d;
+            let t12 = -t11;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t8;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t7;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t4;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t9;
+            let lu = ::mechgen::factor_block(0, ::mechgen::Stage::Velocity, jac)?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Velocity,
+                    ::mechgen::nalgebra::SVector::from([t10, t12]),
+                )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t13 = t4 * v_q2_d;
+            let t14 = t6 * v_q3_d;
+            let t15 = t5 * v_q2_d;
+            let t16 = t7 * v_q3_d;
+            let t17 = v_q1_d * t11;
+            let t18 = -t17;
+            let t19 = v_q2_d * t13;
+            let t20 = t18 - t19;
+            let t21 = v_q3_d * t14;
+            let t22 = t20 + t21;
+            let t23 = t1 * v_q1_dd;
+            let t24 = t23 - t22;
+            let t25 = v_q1_d * t10;
+            let t26 = -t25;
+            let t27 = v_q2_d * t15;
+            let t28 = t26 - t27;
+            let t29 = v_q3_d * t16;
+            let t30 = t28 + t29;
+            let t31 = t0 * v_q1_dd;
+            let t32 = t30 + t31;
+            let t33 = -t32;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::nalgebra::SVector::from([t24, t33]),
+                )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            // Points.
+            let v_q3_dd = qdd[1];
+            let t34 = p_l4 + t6;
+            let t35 = -t10;
+            let t36 = -t16;
+            let t37 = t18 - t23;
+            let t38 = t31 - t25;
+            let t39 = -t21;
+            let t40 = t7 * v_q3_dd;
+            let t41 = t39 - t40;
+            let t42 = t6 * v_q3_dd;
+            let t43 = t42 - t29;
+            Ok((
+                qd,
+                qdd,
+                [
+                    ::mechgen::PointMotion {
+                        position: [t0, t1],
+                        velocity: [t35, t11],
+                        acceleration: [t37, t38],
+                    },
+                    ::mechgen::PointMotion {
+                        position: [t34, t7],
+                        velocity: [t36, t14],
+                        acceleration: [t41, t43],
+                    },
+                ],
+            ))
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -6590,12 +7256,9 @@ pub mod rocker_four_bar {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let (qd, qdd, points) = self
+                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
-            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self
-                .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
@@ -6629,11 +7292,11 @@ pub mod rocker_four_bar {
                 }),
             )
         }
-        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
-        /// second-order step from the last tick, their sines and cosines rotated from the cached
-        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
-        /// changed), then positions, velocities, accelerations and points. On error `t` is
-        /// unchanged.
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
+        /// blocks predicted by a second-order step from the last tick, their sines and cosines
+        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// when the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
         pub fn tick(
             &self,
             t: &mut Tick<T>,
@@ -6643,25 +7306,24 @@ pub mod rocker_four_bar {
             options: &::mechgen::NewtonOptions<T>,
         ) -> Result<(), ::mechgen::SolveError> {
             let params = self.params.to_array();
-            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            }
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-            let fresh = t.fresh(&params);
-            let (tx, tp) = if fresh {
+            let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
             } else {
                 self.trig_fixed(x)
             };
-            let mut st = t.predicted(x, [true, true], fresh);
+            let keep = if options.closed_forms { [true, true] } else { [false; 2] };
+            let mut st = t.predicted(x, [true, true], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
-            let q = st.q;
-            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self
-                .point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            let (qd, qdd, points) = self
+                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
             Ok(())
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
@@ -7678,22 +8340,16 @@ pub mod sixbar_g {
             jac[(3, 3)] = t38;
             (::mechgen::nalgebra::SVector::from([t9, t10, t29, t30]), jac)
         }
-        /// Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y). Its right-hand side and Jacobian block.
+        /// Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y). Its Jacobian block.
         #[inline]
-        fn block0_velocity(
+        fn block0_jacobian(
             &self,
             x: &[T; 1],
             q: &[T; 4],
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 4>,
-            ::mechgen::nalgebra::SMatrix<T, 4, 4>,
-        ) {
-            let v_q6 = x[0];
+        ) -> ::mechgen::nalgebra::SMatrix<T, 4, 4> {
             let v_q1 = q[0];
             let v_q2 = q[1];
             let v_q3 = q[2];
@@ -7702,10 +8358,8 @@ pub mod sixbar_g {
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let p_l5 = self.params.l5;
-            let p_l6 = self.params.l6;
             let p_l2e = self.params.l2e;
             let p_alpha = self.params.alpha;
-            let v_q6_d = xd[0];
             let (s_v_q1, c_v_q1) = tq[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
@@ -7725,25 +8379,19 @@ pub mod sixbar_g {
             let (s_v_q5, c_v_q5) = tq[3];
             let t12 = p_l5 * c_v_q5;
             let t13 = p_l5 * s_v_q5;
-            let (s_v_q6, c_v_q6) = tx[0];
-            let t14 = p_l6 * c_v_q6;
-            let t15 = p_l6 * s_v_q6;
-            let t16 = -t1;
-            let t17 = -t3;
-            let t18 = -t4;
-            let t19 = t9 - t8;
-            let t20 = p_l2e * t19;
-            let t21 = t20 - t3;
-            let t22 = t2 + t11;
-            let t23 = -t12;
-            let t24 = t15 * v_q6_d;
-            let t25 = -t24;
-            let t26 = t14 * v_q6_d;
+            let t14 = -t1;
+            let t15 = -t3;
+            let t16 = -t4;
+            let t17 = t9 - t8;
+            let t18 = p_l2e * t17;
+            let t19 = t18 - t3;
+            let t20 = t2 + t11;
+            let t21 = -t12;
             let mut jac = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // J[0][0] = ∂Φ0/∂q1
-            jac[(0, 0)] = t16;
+            jac[(0, 0)] = t14;
             // J[0][1] = ∂Φ0/∂q2
-            jac[(0, 1)] = t17;
+            jac[(0, 1)] = t15;
             // J[0][2] = ∂Φ0/∂q3
             jac[(0, 2)] = t5;
             // J[1][0] = ∂Φ1/∂q1
@@ -7751,22 +8399,45 @@ pub mod sixbar_g {
             // J[1][1] = ∂Φ1/∂q2
             jac[(1, 1)] = t2;
             // J[1][2] = ∂Φ1/∂q3
-            jac[(1, 2)] = t18;
+            jac[(1, 2)] = t16;
             // J[2][0] = ∂Φ2/∂q1
-            jac[(2, 0)] = t16;
+            jac[(2, 0)] = t14;
             // J[2][1] = ∂Φ2/∂q2
-            jac[(2, 1)] = t21;
+            jac[(2, 1)] = t19;
             // J[2][3] = ∂Φ2/∂q5
             jac[(2, 3)] = t13;
             // J[3][0] = ∂Φ3/∂q1
             jac[(3, 0)] = t0;
             // J[3][1] = ∂Φ3/∂q2
-            jac[(3, 1)] = t22;
+            jac[(3, 1)] = t20;
             // J[3][3] = ∂Φ3/∂q5
-            jac[(3, 3)] = t23;
-            (::mechgen::nalgebra::SVector::from([T::zero(), T::zero(), t25, t26]), jac)
+            jac[(3, 3)] = t21;
+            jac
         }
-        /// Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y). Its right-hand side and Jacobian block.
+        /// Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y). Its right-hand side (velocity).
+        #[inline]
+        fn block0_velocity(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            tq: &[(T, T); 4],
+            xd: &[T; 1],
+            qd: &[T; 4],
+        ) -> ::mechgen::nalgebra::SVector<T, 4> {
+            let v_q6 = x[0];
+            let p_l6 = self.params.l6;
+            let v_q6_d = xd[0];
+            let (s_v_q6, c_v_q6) = tx[0];
+            let t0 = p_l6 * c_v_q6;
+            let t1 = p_l6 * s_v_q6;
+            let t2 = t1 * v_q6_d;
+            let t3 = -t2;
+            let t4 = t0 * v_q6_d;
+            ::mechgen::nalgebra::SVector::from([T::zero(), T::zero(), t3, t4])
+        }
+        /// Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y). Its right-hand side (acceleration).
         #[inline]
         fn block0_acceleration(
             &self,
@@ -7779,10 +8450,7 @@ pub mod sixbar_g {
             qd: &[T; 4],
             xdd: &[T; 1],
             qdd: &[T; 4],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 4>,
-            ::mechgen::nalgebra::SMatrix<T, 4, 4>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 4> {
             let v_q6 = x[0];
             let v_q1 = q[0];
             let v_q2 = q[1];
@@ -7815,95 +8483,63 @@ pub mod sixbar_g {
             let t7 = s_v_q2 * s_p_alpha;
             let t8 = s_v_q2 * c_p_alpha;
             let t9 = c_v_q2 * s_p_alpha;
-            let t10 = t6 + t7;
-            let t11 = p_l2e * t10;
             let (s_v_q5, c_v_q5) = tq[3];
-            let t12 = p_l5 * c_v_q5;
-            let t13 = p_l5 * s_v_q5;
+            let t10 = p_l5 * c_v_q5;
+            let t11 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = tx[0];
-            let t14 = p_l6 * c_v_q6;
-            let t15 = p_l6 * s_v_q6;
-            let t16 = -t1;
-            let t17 = -t3;
-            let t18 = -t4;
-            let t19 = t9 - t8;
-            let t20 = p_l2e * t19;
-            let t21 = t20 - t3;
-            let t22 = -t7;
-            let t23 = t2 + t11;
-            let t24 = -t12;
-            let t25 = t0 * v_q1_d;
-            let t26 = t2 * v_q2_d;
-            let t27 = t4 * v_q3_d;
-            let t28 = t1 * v_q1_d;
-            let t29 = t3 * v_q2_d;
-            let t30 = t5 * v_q3_d;
-            let t31 = t22 - t6;
-            let t32 = p_l2e * t31;
-            let t33 = t32 - t2;
-            let t34 = v_q2_d * t33;
-            let t35 = t12 * v_q5_d;
-            let t36 = t21 * v_q2_d;
-            let t37 = t13 * v_q5_d;
-            let t38 = t15 * v_q6_d;
-            let t39 = t14 * v_q6_d;
-            let t40 = v_q1_d * t25;
+            let t12 = p_l6 * c_v_q6;
+            let t13 = p_l6 * s_v_q6;
+            let t14 = t9 - t8;
+            let t15 = p_l2e * t14;
+            let t16 = t15 - t3;
+            let t17 = -t7;
+            let t18 = t0 * v_q1_d;
+            let t19 = t2 * v_q2_d;
+            let t20 = t4 * v_q3_d;
+            let t21 = t1 * v_q1_d;
+            let t22 = t3 * v_q2_d;
+            let t23 = t5 * v_q3_d;
+            let t24 = t17 - t6;
+            let t25 = p_l2e * t24;
+            let t26 = t25 - t2;
+            let t27 = v_q2_d * t26;
+            let t28 = t10 * v_q5_d;
+            let t29 = t16 * v_q2_d;
+            let t30 = t11 * v_q5_d;
+            let t31 = t13 * v_q6_d;
+            let t32 = t12 * v_q6_d;
+            let t33 = v_q1_d * t18;
+            let t34 = -t33;
+            let t35 = v_q2_d * t19;
+            let t36 = t34 - t35;
+            let t37 = v_q3_d * t20;
+            let t38 = t36 + t37;
+            let t39 = -t38;
+            let t40 = v_q1_d * t21;
             let t41 = -t40;
-            let t42 = v_q2_d * t26;
+            let t42 = v_q2_d * t22;
             let t43 = t41 - t42;
-            let t44 = v_q3_d * t27;
+            let t44 = v_q3_d * t23;
             let t45 = t43 + t44;
             let t46 = -t45;
-            let t47 = v_q1_d * t28;
-            let t48 = -t47;
-            let t49 = v_q2_d * t29;
-            let t50 = t48 - t49;
-            let t51 = v_q3_d * t30;
+            let t47 = v_q6_d * t32;
+            let t48 = t47 - t33;
+            let t49 = v_q2_d * t27;
+            let t50 = t48 + t49;
+            let t51 = v_q5_d * t28;
             let t52 = t50 + t51;
-            let t53 = -t52;
-            let t54 = v_q6_d * t39;
-            let t55 = t54 - t40;
-            let t56 = v_q2_d * t34;
-            let t57 = t55 + t56;
-            let t58 = v_q5_d * t35;
+            let t53 = t13 * v_q6_dd;
+            let t54 = t52 + t53;
+            let t55 = -t54;
+            let t56 = v_q6_d * t31;
+            let t57 = t56 - t40;
+            let t58 = v_q2_d * t29;
             let t59 = t57 + t58;
-            let t60 = t15 * v_q6_dd;
+            let t60 = v_q5_d * t30;
             let t61 = t59 + t60;
-            let t62 = -t61;
-            let t63 = v_q6_d * t38;
-            let t64 = t63 - t47;
-            let t65 = v_q2_d * t36;
-            let t66 = t64 + t65;
-            let t67 = v_q5_d * t37;
-            let t68 = t66 + t67;
-            let t69 = t14 * v_q6_dd;
-            let t70 = t69 - t68;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
-            // J[0][0] = ∂Φ0/∂q1
-            jac[(0, 0)] = t16;
-            // J[0][1] = ∂Φ0/∂q2
-            jac[(0, 1)] = t17;
-            // J[0][2] = ∂Φ0/∂q3
-            jac[(0, 2)] = t5;
-            // J[1][0] = ∂Φ1/∂q1
-            jac[(1, 0)] = t0;
-            // J[1][1] = ∂Φ1/∂q2
-            jac[(1, 1)] = t2;
-            // J[1][2] = ∂Φ1/∂q3
-            jac[(1, 2)] = t18;
-            // J[2][0] = ∂Φ2/∂q1
-            jac[(2, 0)] = t16;
-            // J[2][1] = ∂Φ2/∂q2
-            jac[(2, 1)] = t21;
-            // J[2][3] = ∂Φ2/∂q5
-            jac[(2, 3)] = t13;
-            // J[3][0] = ∂Φ3/∂q1
-            jac[(3, 0)] = t0;
-            // J[3][1] = ∂Φ3/∂q2
-            jac[(3, 1)] = t23;
-            // J[3][3] = ∂Φ3/∂q5
-            jac[(3, 3)] = t24;
-            (::mechgen::nalgebra::SVector::from([t46, t53, t62, t70]), jac)
+            let t62 = t12 * v_q6_dd;
+            let t63 = t62 - t61;
+            ::mechgen::nalgebra::SVector::from([t39, t46, t55, t63])
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
@@ -7956,13 +8592,17 @@ pub mod sixbar_g {
         ) -> Result<[T; 4], ::mechgen::SolveError> {
             let mut qd = [T::zero(); 4];
             // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
-            let (rhs, jac) = self.block0_velocity(x, q, tx, tp, tq, xd, &qd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 0,
                 ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
+                self.block0_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Velocity,
+                    self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
+                )?;
             qd[0] = z[0];
             qd[1] = z[1];
             qd[2] = z[2];
@@ -7983,98 +8623,231 @@ pub mod sixbar_g {
         ) -> Result<[T; 4], ::mechgen::SolveError> {
             let mut qdd = [T::zero(); 4];
             // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
-            let (rhs, jac) = self
-                .block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 0,
                 ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+                self.block0_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Acceleration,
+                    self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
             qdd[2] = z[2];
             qdd[3] = z[3];
             Ok(qdd)
         }
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
         #[inline]
-        fn point_motion_cached(
+        fn motion_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 4],
+            st: &mut ::mechgen::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
             xd: &[T; 1],
-            qd: &[T; 4],
             xdd: &[T; 1],
-            qdd: &[T; 4],
-        ) -> [::mechgen::PointMotion<T>; 1] {
-            let v_q1 = q[0];
-            let v_q2 = q[1];
+            options: &::mechgen::NewtonOptions<T>,
+            report: &mut ::mechgen::NewtonReport<T>,
+        ) -> Result<
+            ([T; 4], [T; 4], [::mechgen::PointMotion<T>; 1]),
+            ::mechgen::SolveError,
+        > {
+            let scale = self.params.length_scale();
+            let mut qd = [T::zero(); 4];
+            let mut qdd = [T::zero(); 4];
+            // Block 0: Newton.
+            ::mechgen::newton_block(
+                0,
+                st,
+                [0, 1, 2, 3],
+                [false, false, false, false],
+                scale,
+                options,
+                report,
+                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            // Block 0: velocities and accelerations.
+            let v_q6 = x[0];
+            let v_q1 = st.q[0];
+            let v_q2 = st.q[1];
+            let v_q3 = st.q[2];
+            let v_q5 = st.q[3];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l5 = self.params.l5;
+            let p_l6 = self.params.l6;
             let p_l2e = self.params.l2e;
             let p_alpha = self.params.alpha;
-            let v_q1_d = qd[0];
-            let v_q2_d = qd[1];
-            let v_q1_dd = qdd[0];
-            let v_q2_dd = qdd[1];
-            let (s_v_q1, c_v_q1) = tq[0];
+            let v_q6_d = xd[0];
+            let (s_v_q1, c_v_q1) = st.sc[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[1];
+            let (s_v_q2, c_v_q2) = st.sc[1];
             let t2 = p_l2 * c_v_q2;
             let t3 = p_l2 * s_v_q2;
-            let t4 = t0 + t2;
-            let t5 = t1 + t3;
+            let (s_v_q3, c_v_q3) = st.sc[2];
+            let t4 = p_l3 * c_v_q3;
+            let t5 = p_l3 * s_v_q3;
             let (s_p_alpha, c_p_alpha) = tp[9];
             let t6 = c_v_q2 * c_p_alpha;
             let t7 = s_v_q2 * s_p_alpha;
             let t8 = s_v_q2 * c_p_alpha;
             let t9 = c_v_q2 * s_p_alpha;
             let t10 = t6 + t7;
-            let t11 = t8 - t9;
-            let t12 = p_l2e * t10;
-            let t13 = p_l2e * t11;
-            let t14 = t4 + t12;
-            let t15 = t5 + t13;
-            let t16 = t9 - t8;
-            let t17 = p_l2e * t16;
-            let t18 = t17 - t3;
-            let t19 = -t7;
-            let t20 = t2 + t12;
-            let t21 = t0 * v_q1_d;
-            let t22 = t1 * v_q1_d;
-            let t23 = t19 - t6;
-            let t24 = p_l2e * t23;
-            let t25 = t24 - t2;
-            let t26 = v_q2_d * t25;
-            let t27 = t18 * v_q2_d;
-            let t28 = v_q1_d * t21;
-            let t29 = v_q1_d * t22;
-            let t30 = v_q2_d * t26;
-            let t31 = t20 * v_q2_d;
-            let t32 = v_q2_d * t27;
-            let t33 = t27 - t22;
-            let t34 = t21 + t31;
-            let t35 = t30 - t28;
-            let t36 = t1 * v_q1_dd;
-            let t37 = t35 - t36;
-            let t38 = t18 * v_q2_dd;
-            let t39 = t37 + t38;
-            let t40 = t32 - t29;
-            let t41 = t0 * v_q1_dd;
-            let t42 = t40 + t41;
-            let t43 = t20 * v_q2_dd;
-            let t44 = t42 + t43;
-            [
-                ::mechgen::PointMotion {
-                    position: [t14, t15],
-                    velocity: [t33, t34],
-                    acceleration: [t39, t44],
-                },
-            ]
+            let t11 = p_l2e * t10;
+            let (s_v_q5, c_v_q5) = st.sc[3];
+            let t12 = p_l5 * c_v_q5;
+            let t13 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = tx[0];
+            let t14 = p_l6 * c_v_q6;
+            let t15 = p_l6 * s_v_q6;
+            let t16 = -t1;
+            let t17 = -t3;
+            let t18 = -t4;
+            let t19 = t9 - t8;
+            let t20 = p_l2e * t19;
+            let t21 = t20 - t3;
+            let t22 = t2 + t11;
+            let t23 = -t12;
+            let t24 = t15 * v_q6_d;
+            let t25 = -t24;
+            let t26 = t14 * v_q6_d;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            // J[0][0] = ∂Φ0/∂q1
+            jac[(0, 0)] = t16;
+            // J[0][1] = ∂Φ0/∂q2
+            jac[(0, 1)] = t17;
+            // J[0][2] = ∂Φ0/∂q3
+            jac[(0, 2)] = t5;
+            // J[1][0] = ∂Φ1/∂q1
+            jac[(1, 0)] = t0;
+            // J[1][1] = ∂Φ1/∂q2
+            jac[(1, 1)] = t2;
+            // J[1][2] = ∂Φ1/∂q3
+            jac[(1, 2)] = t18;
+            // J[2][0] = ∂Φ2/∂q1
+            jac[(2, 0)] = t16;
+            // J[2][1] = ∂Φ2/∂q2
+            jac[(2, 1)] = t21;
+            // J[2][3] = ∂Φ2/∂q5
+            jac[(2, 3)] = t13;
+            // J[3][0] = ∂Φ3/∂q1
+            jac[(3, 0)] = t0;
+            // J[3][1] = ∂Φ3/∂q2
+            jac[(3, 1)] = t22;
+            // J[3][3] = ∂Φ3/∂q5
+            jac[(3, 3)] = t23;
+            let lu = ::mechgen::factor_block(0, ::mechgen::Stage::Velocity, jac)?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Velocity,
+                    ::mechgen::nalgebra::SVector::from([T::zero(), T::zero(), t25, t26]),
+                )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            qd[2] = z[2];
+            qd[3] = z[3];
+            let v_q1_d = qd[0];
+            let v_q2_d = qd[1];
+            let v_q3_d = qd[2];
+            let v_q5_d = qd[3];
+            let v_q6_dd = xdd[0];
+            let t27 = -t7;
+            let t28 = t0 * v_q1_d;
+            let t29 = t2 * v_q2_d;
+            let t30 = t4 * v_q3_d;
+            let t31 = t1 * v_q1_d;
+            let t32 = t3 * v_q2_d;
+            let t33 = t5 * v_q3_d;
+            let t34 = t27 - t6;
+            let t35 = p_l2e * t34;
+            let t36 = t35 - t2;
+            let t37 = v_q2_d * t36;
+            let t38 = t12 * v_q5_d;
+            let t39 = t21 * v_q2_d;
+            let t40 = t13 * v_q5_d;
+            let t41 = v_q1_d * t28;
+            let t42 = -t41;
+            let t43 = v_q2_d * t29;
+            let t44 = t42 - t43;
+            let t45 = v_q3_d * t30;
+            let t46 = t44 + t45;
+            let t47 = -t46;
+            let t48 = v_q1_d * t31;
+            let t49 = -t48;
+            let t50 = v_q2_d * t32;
+            let t51 = t49 - t50;
+            let t52 = v_q3_d * t33;
+            let t53 = t51 + t52;
+            let t54 = -t53;
+            let t55 = v_q6_d * t26;
+            let t56 = t55 - t41;
+            let t57 = v_q2_d * t37;
+            let t58 = t56 + t57;
+            let t59 = v_q5_d * t38;
+            let t60 = t58 + t59;
+            let t61 = t15 * v_q6_dd;
+            let t62 = t60 + t61;
+            let t63 = -t62;
+            let t64 = v_q6_d * t24;
+            let t65 = t64 - t48;
+            let t66 = v_q2_d * t39;
+            let t67 = t65 + t66;
+            let t68 = v_q5_d * t40;
+            let t69 = t67 + t68;
+            let t70 = t14 * v_q6_dd;
+            let t71 = t70 - t69;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::nalgebra::SVector::from([t47, t54, t63, t71]),
+                )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            qdd[2] = z[2];
+            qdd[3] = z[3];
+            // Points.
+            let v_q1_dd = qdd[0];
+            let v_q2_dd = qdd[1];
+            let t72 = t0 + t2;
+            let t73 = t1 + t3;
+            let t74 = t8 - t9;
+            let t75 = p_l2e * t74;
+            let t76 = t72 + t11;
+            let t77 = t73 + t75;
+            let t78 = t22 * v_q2_d;
+            let t79 = t39 - t31;
+            let t80 = t28 + t78;
+            let t81 = t57 - t41;
+            let t82 = t1 * v_q1_dd;
+            let t83 = t81 - t82;
+            let t84 = t21 * v_q2_dd;
+            let t85 = t83 + t84;
+            let t86 = t66 - t48;
+            let t87 = t0 * v_q1_dd;
+            let t88 = t86 + t87;
+            let t89 = t22 * v_q2_dd;
+            let t90 = t88 + t89;
+            Ok((
+                qd,
+                qdd,
+                [
+                    ::mechgen::PointMotion {
+                        position: [t76, t77],
+                        velocity: [t79, t80],
+                        acceleration: [t85, t90],
+                    },
+                ],
+            ))
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -8169,12 +8942,9 @@ pub mod sixbar_g {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let (qd, qdd, points) = self
+                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
-            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self
-                .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
@@ -8208,11 +8978,11 @@ pub mod sixbar_g {
                 }),
             )
         }
-        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
-        /// second-order step from the last tick, their sines and cosines rotated from the cached
-        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
-        /// changed), then positions, velocities, accelerations and points. On error `t` is
-        /// unchanged.
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
+        /// blocks predicted by a second-order step from the last tick, their sines and cosines
+        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// when the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
         pub fn tick(
             &self,
             t: &mut Tick<T>,
@@ -8222,25 +8992,28 @@ pub mod sixbar_g {
             options: &::mechgen::NewtonOptions<T>,
         ) -> Result<(), ::mechgen::SolveError> {
             let params = self.params.to_array();
-            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            }
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-            let fresh = t.fresh(&params);
-            let (tx, tp) = if fresh {
+            let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
             } else {
                 self.trig_fixed(x)
             };
-            let mut st = t.predicted(x, [true, true, true, true], fresh);
+            let keep = if options.closed_forms {
+                [false, false, false, false]
+            } else {
+                [false; 4]
+            };
+            let mut st = t.predicted(x, [true, true, true, true], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
-            let q = st.q;
-            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self
-                .point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            let (qd, qdd, points) = self
+                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
             Ok(())
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.

@@ -12,31 +12,32 @@ fn apply<T: Real>((p, r): (T, T), (c, s): (T, T)) -> (T, T) {
     (p * c - r * s, r * c + p * s)
 }
 
-/// `M⁻¹ v` for a rotation-scaling `M = [[p, −r], [r, p]]`.
+/// `M⁻¹ v` for a rotation-scaling `M = [[p, −r], [r, p]]`, `inv` = 1 / (p² + r²).
 #[inline]
-fn unapply<T: Real>((p, r): (T, T), (x, y): (T, T)) -> (T, T) {
-    let inv = T::one() / (p * p + r * r);
+fn unapply<T: Real>((p, r): (T, T), inv: T, (x, y): (T, T)) -> (T, T) {
     ((p * x + r * y) * inv, (p * y - r * x) * inv)
 }
 
-/// Angle of `(c, s)` relative to `(cg, sg)`, in (−π, π]: a short series for the small turns of a
-/// simulator step, `atan2` otherwise.
+/// Angle of `(c, s)` relative to `(cg, sg)`, in (−π, π]: a short series for the turns of up to
+/// about 7° a simulator step makes, `atan2` otherwise.
 #[inline(always)]
 fn turn<T: Real>((cg, sg): (T, T), (c, s): (T, T)) -> T {
     let sin = cg * s - sg * c;
     let cos = cg * c + sg * s;
-    if cos > T::zero() && sin.abs() < T::lit(0.03) {
-        // Both directions are unit vectors, so the turn is asin(sin): s + s³/6 + 3s⁵/40 + 5s⁷/112
-        // + 35s⁹/1152 + 63s¹¹/2816 (truncation below 3e-22 for |s| < 0.03; no division).
-        let s2 = sin * sin;
-        let mut acc = T::lit(63.0 / 2816.0);
-        for c in [35.0 / 1152.0, 5.0 / 112.0, 3.0 / 40.0, 1.0 / 6.0, 1.0] {
-            acc = T::lit(c) + s2 * acc;
+    // Half the turn has tangent t = sin / (1 + cos) (both directions are unit vectors).
+    if cos > T::lit(0.99) {
+        let t = sin / (T::one() + cos);
+        if t.abs() < T::lit(0.06) {
+            // 2 atan t = 2 (t − t³/3 + t⁵/5 − … + t¹³/13): truncation below 5e-19 relative.
+            let t2 = t * t;
+            let mut acc = T::lit(1.0 / 13.0);
+            for k in [11.0, 9.0, 7.0, 5.0, 3.0, 1.0] {
+                acc = T::lit(1.0 / k) - t2 * acc;
+            }
+            return T::lit(2.0) * t * acc;
         }
-        sin * acc
-    } else {
-        sin.atan2(cos)
     }
+    sin.atan2(cos)
 }
 
 /// Solves the dyad block `block` with unknowns `a` and `b` in place. `k` is `K`, `ma` and `mb` the
@@ -61,58 +62,65 @@ pub fn solve_dyad<T: Real, const N: usize>(
 ) -> Result<(), SolveError> {
     let (ga, gb) = (st.sc[a], st.sc[b]);
     let (ea, eb) = ((ga.1, ga.0), (gb.1, gb.0));
-    let (la, lb) = (
-        (ma.0 * ma.0 + ma.1 * ma.1).sqrt(),
-        (mb.0 * mb.0 + mb.1 * mb.1).sqrt(),
-    );
-    // A + B = d, |A| = la, |B| = lb.
+    let (la2, lb2) = (ma.0 * ma.0 + ma.1 * ma.1, mb.0 * mb.0 + mb.1 * mb.1);
+    let (la, lb) = (la2.sqrt(), lb2.sqrt());
+    // A + B = d, |A| = la, |B| = lb. Everything on the way to A is written with |d|² (no square
+    // root before the one of the area), so the dependency chain is short.
     let d = (-k[0], -k[1]);
-    let l = (d.0 * d.0 + d.1 * d.1).sqrt();
+    let l2 = d.0 * d.0 + d.1 * d.1;
     let guess_a = apply(ma, ea);
-    let inv_scale = T::one() / scale;
-    if !(l.is_finite() && la.is_finite() && lb.is_finite() && guess_a.0.is_finite()) {
+    // One test for all three (each is a sum of squares, so none is negative).
+    if !(l2 + la2 + lb2).is_finite() {
         return Err(SolveError::Unassemblable {
             block,
             residual: f64::INFINITY,
             iterations: 0,
         });
     }
-    if !(l > T::zero() && la > T::zero() && lb > T::zero()) {
+    if !(l2 > T::zero() && la2 > T::zero() && lb2 > T::zero()) {
         return Err(SolveError::Singular {
             block,
             stage: Stage::Position,
             pivot_ratio: 0.0,
         });
     }
-    // Heron: 16 area² of the triangle (la, lb, l), each factor exact to rounding near a dead point.
-    let (f1, f2, f3) = (la + lb - l, l + la - lb, l + lb - la);
-    let heron = (la + lb + l) * f1 * f2 * f3;
-    let gap = (-f1).max(-f2).max(-f3);
-    let rounding = T::EPSILON * T::lit(64.0) * (la + lb + l);
-    if gap > rounding {
+    // Heron: 16 area² of the triangle (la, lb, |d|) = ((la + lb)² − |d|²)(|d|² − (la − lb)²); each
+    // factor is exact to rounding near its dead point (stretched out or folded).
+    let (far, folded) = ((la + lb) * (la + lb) - l2, l2 - (la - lb) * (la - lb));
+    let heron = far * folded;
+    // Rounding: 64 ε in length, times the other factor of each product at its dead point (at
+    // most (la + lb)² and |la² − lb²|).
+    let rounding = T::EPSILON * T::lit(256.0);
+    if far < -rounding * (la + lb) * (la + lb) || folded < -rounding * (la2 - lb2).abs() {
+        // How far apart the circles are, in length.
+        let l = l2.sqrt();
+        let gap = (l - la - lb).max((la - lb).abs() - l);
         return Err(SolveError::Unassemblable {
             block,
-            residual: (gap * inv_scale).to_f64(),
+            residual: (gap / scale).to_f64(),
             iterations: 0,
         });
     }
-    let inv_l = T::one() / l;
-    // la·cos φ and la·sin φ, φ the angle between d and A.
-    let along = (la * la + l * l - lb * lb) * T::lit(0.5) * inv_l;
-    let across = heron.max(T::zero()).sqrt() * T::lit(0.5) * inv_l;
-    let u = (d.0 * inv_l, d.1 * inv_l);
-    let n = (-u.1, u.0);
-    // The branch on the guess's side of d.
-    let side = if n.0 * guess_a.0 + n.1 * guess_a.1 < T::zero() {
-        -T::one()
+    let inv_2l2 = T::lit(0.5) / l2;
+    // A = d (la² + |d|² − lb²) / (2|d|²) ± d⊥ √heron / (2|d|²).
+    let along = (la2 + l2 - lb2) * inv_2l2;
+    // (Rounding can leave heron just below zero at a dead point.)
+    let across = if heron > T::zero() {
+        heron.sqrt() * inv_2l2
     } else {
-        T::one()
+        T::zero()
     };
-    let s = side * across;
-    let big_a = (along * u.0 + s * n.0, along * u.1 + s * n.1);
+    let n = (-d.1, d.0);
+    // The branch on the guess's side of d.
+    let s = if n.0 * guess_a.0 + n.1 * guess_a.1 < T::zero() {
+        -across
+    } else {
+        across
+    };
+    let big_a = (along * d.0 + s * n.0, along * d.1 + s * n.1);
     let big_b = (d.0 - big_a.0, d.1 - big_a.1);
-    let (ca, sa) = unapply(ma, big_a);
-    let (cb, sb) = unapply(mb, big_b);
+    let (ca, sa) = unapply(ma, T::one() / la2, big_a);
+    let (cb, sb) = unapply(mb, T::one() / lb2, big_b);
     let near = |q: T, e: (T, T), (c, s): (T, T)| {
         let q_new = q + turn(e, (c, s));
         if T::EPSILON * q_new.abs() <= tolerance {
@@ -122,7 +130,9 @@ pub fn solve_dyad<T: Real, const N: usize>(
         }
     };
     let (qa, qb) = (near(st.q[a], ea, (ca, sa)), near(st.q[b], eb, (cb, sb)));
-    if !(qa.is_finite() && qb.is_finite() && ca.is_finite() && sb.is_finite()) {
+    // The sines and cosines are at most 1 and the angles below tolerance / ε: the sum cannot
+    // overflow, so it is finite exactly when all four are.
+    if !(qa + qb + ca + sb).is_finite() {
         return Err(SolveError::Unassemblable {
             block,
             residual: f64::INFINITY,
@@ -133,13 +143,13 @@ pub fn solve_dyad<T: Real, const N: usize>(
     st.q[b] = qb;
     st.sc[a] = (sa, ca);
     st.sc[b] = (sb, cb);
-    // The pivot ratio column-equilibrated elimination would find for J = [A⊥ B⊥].
-    let (ja, jb) = ((-big_a.1, big_a.0), (-big_b.1, big_b.0));
-    let (na, nb) = (ja.0.abs().max(ja.1.abs()), jb.0.abs().max(jb.1.abs()));
-    let det = ((ja.0 * jb.1 - ja.1 * jb.0) / (na * nb)).abs();
-    let ratio = if det <= T::one() { det } else { T::one() / det };
+    // The condition of J = [A⊥ B⊥]: |A × B| / (|A| |B|), the sine of the angle between the two
+    // links (within a factor 2 of the pivot ratio of column-equilibrated elimination).
+    let ratio = (big_a.0 * big_b.1 - big_a.1 * big_b.0).abs() / (la * lb);
     // No iteration, and B = d − A closes the loop to rounding: nothing to add to the residual.
-    report.pivot_ratio = report.pivot_ratio.min(ratio);
+    if ratio < report.pivot_ratio {
+        report.pivot_ratio = ratio;
+    }
     Ok(())
 }
 

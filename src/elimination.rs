@@ -1,7 +1,10 @@
 //! Gaussian elimination with column equilibration and partial pivoting, for any nalgebra
 //! dimension (`SMatrix` in generated code, `DMatrix` in the generic engine): the linear kernel of
 //! Newton steps and of the velocity and acceleration solves, with the pivot ratio as the
-//! condition estimate every answer reports.
+//! condition estimate every answer reports. A factorization ([`lu_in_place`], [`Factored`]) can
+//! serve several right-hand sides: the velocity and the acceleration of a block share their
+//! Jacobian. A 2×2 block (the dyads of planar linkages) takes a closed form with the same pivot
+//! ratio and the same singularity test as the elimination.
 
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OMatrix, OVector, SMatrix, SVector};
@@ -23,11 +26,9 @@ pub fn gauss<T: Real, const K: usize>(
 }
 
 /// [`gauss`] for any dimension (fixed or dynamic): on success `b` holds the solution and the
-/// pivot ratio is returned; `a` is overwritten (its diagonal with the reciprocal pivots) and
-/// `scale` is workspace of `b`'s size (the reciprocal column scales).
-// `!(a > b)` is deliberate: a NaN must fail the test.
+/// pivot ratio is returned; `a` is overwritten by its factors and `scale` is workspace of `b`'s
+/// size (the reciprocal column scales).
 #[inline(always)]
-#[allow(clippy::neg_cmp_op_on_partial_ord)]
 pub fn gauss_in_place<T: Real, D: Dim>(
     a: &mut OMatrix<T, D, D>,
     b: &mut OVector<T, D>,
@@ -36,7 +37,30 @@ pub fn gauss_in_place<T: Real, D: Dim>(
 where
     DefaultAllocator: Allocator<D, D> + Allocator<D>,
 {
-    let k = b.len();
+    let ratio = lu_in_place(a, scale, |c, p| b.swap_rows(c, p))?;
+    lu_solve(a, scale, b);
+    Ok(ratio)
+}
+
+/// Factors `a` in place: columns equilibrated (their reciprocal maxima into `scale`), then
+/// partial pivoting, each row swap `(c, p)` reported to `swap` as it is made. Afterwards `a`
+/// holds the unit lower factor's multipliers below the diagonal, the upper factor above it and
+/// the reciprocal pivots on it, except for a 2×2 `a`, which holds the inverse of the
+/// equilibrated matrix (no swaps). Returns the pivot ratio (smallest over largest pivot), or
+/// `Err` with it when `a` is singular to working precision (a zero, infinite or NaN column
+/// included). [`lu_solve`] uses the factors.
+// `!(a > b)` is deliberate: a NaN must fail the test.
+#[inline(always)]
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
+pub fn lu_in_place<T: Real, D: Dim>(
+    a: &mut OMatrix<T, D, D>,
+    scale: &mut OVector<T, D>,
+    mut swap: impl FnMut(usize, usize),
+) -> Result<T, T>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    let k = a.nrows();
     for j in 0..k {
         let mut m = T::zero();
         for i in 0..k {
@@ -52,6 +76,31 @@ where
             a[(i, j)] *= inv;
         }
     }
+    let tiny = T::EPSILON * T::lit(k as f64);
+    let ratio = |pmin: T, pmax: T| {
+        if pmax > T::zero() {
+            pmin / pmax
+        } else {
+            T::zero()
+        }
+    };
+    if k == 2 {
+        // The elimination's pivots would be p₁ = max |a₀₀|, |a₁₀| and |det| / p₁.
+        let (a00, a01, a10, a11) = (a[(0, 0)], a[(0, 1)], a[(1, 0)], a[(1, 1)]);
+        let det = a00 * a11 - a01 * a10;
+        let p1 = a00.abs().max(a10.abs());
+        let p2 = det.abs() / p1;
+        let (pmin, pmax) = (p1.min(p2), p1.max(p2));
+        if !(pmin > pmax * tiny) {
+            return Err(ratio(pmin, pmax));
+        }
+        let inv = T::one() / det;
+        a[(0, 0)] = a11 * inv;
+        a[(0, 1)] = -a01 * inv;
+        a[(1, 0)] = -a10 * inv;
+        a[(1, 1)] = a00 * inv;
+        return Ok(pmin / pmax);
+    }
     let (mut pmin, mut pmax) = (T::lit(f64::INFINITY), T::zero());
     for c in 0..k {
         let mut p = c;
@@ -62,43 +111,169 @@ where
         }
         if p != c {
             a.swap_rows(p, c);
-            b.swap_rows(p, c);
+            swap(c, p);
         }
         let piv = a[(c, c)];
         pmin = pmin.min(piv.abs());
         pmax = pmax.max(piv.abs());
-        if !(pmin > pmax * T::EPSILON * T::lit(k as f64)) {
-            return Err(if pmax > T::zero() {
-                pmin / pmax
-            } else {
-                T::zero()
-            });
+        if !(pmin > pmax * tiny) {
+            return Err(ratio(pmin, pmax));
         }
         let inv_piv = T::one() / piv;
         a[(c, c)] = inv_piv;
         for r in c + 1..k {
             let f = a[(r, c)] * inv_piv;
+            a[(r, c)] = f;
             if f != T::zero() {
                 for j in c + 1..k {
                     let v = a[(c, j)];
                     a[(r, j)] -= f * v;
                 }
-                let v = b[c];
-                b[r] -= f * v;
             }
         }
     }
-    for c in (0..k).rev() {
-        let mut s = b[c];
-        for j in c + 1..k {
-            s -= a[(c, j)] * b[j];
+    Ok(pmin / pmax)
+}
+
+/// Solves with the factors of [`lu_in_place`]: `b`, already permuted by its swaps, becomes the
+/// solution.
+#[inline(always)]
+pub fn lu_solve<T: Real, D: Dim>(a: &OMatrix<T, D, D>, scale: &OVector<T, D>, b: &mut OVector<T, D>)
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    let k = b.len();
+    if k == 2 {
+        let (b0, b1) = (b[0], b[1]);
+        b[0] = a[(0, 0)] * b0 + a[(0, 1)] * b1;
+        b[1] = a[(1, 0)] * b0 + a[(1, 1)] * b1;
+    } else {
+        for c in 0..k {
+            let v = b[c];
+            if v != T::zero() {
+                for r in c + 1..k {
+                    b[r] -= a[(r, c)] * v;
+                }
+            }
         }
-        b[c] = s * a[(c, c)];
+        for c in (0..k).rev() {
+            let mut s = b[c];
+            for j in c + 1..k {
+                s -= a[(c, j)] * b[j];
+            }
+            b[c] = s * a[(c, c)];
+        }
     }
     for j in 0..k {
         b[j] *= scale[j];
     }
-    Ok(pmin / pmax)
+}
+
+/// A block Jacobian factored once for several right-hand sides (the velocity and the
+/// acceleration of a block).
+#[derive(Clone, Copy, Debug)]
+pub struct Factored<T, const K: usize> {
+    lu: SMatrix<T, K, K>,
+    scale: SVector<T, K>,
+    swaps: [usize; K],
+    /// The pivot ratio (condition estimate).
+    pub pivot_ratio: T,
+}
+
+/// Factors block `block`'s Jacobian for a linear solve of `stage`: `Singular` when it is
+/// singular to working precision.
+// `!(a > b)` is deliberate: a NaN must fail the test.
+#[inline(always)]
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
+pub fn factor_block<T: Real, const K: usize>(
+    block: usize,
+    stage: Stage,
+    mut jac: SMatrix<T, K, K>,
+) -> Result<Factored<T, K>, SolveError> {
+    let mut scale = SVector::<T, K>::from_element(T::one());
+    let mut swaps: [usize; K] = core::array::from_fn(|c| c);
+    if K == 2 {
+        // Cramer, which column scaling does not change; the pivot ratio and the test are the
+        // elimination's (its first pivot is 1 after equilibration, its second |det| / (m₀ m₁)).
+        let (a00, a01, a10, a11) = (jac[(0, 0)], jac[(0, 1)], jac[(1, 0)], jac[(1, 1)]);
+        let det = a00 * a11 - a01 * a10;
+        let mm = a00.abs().max(a10.abs()) * a01.abs().max(a11.abs());
+        if mm.is_normal() {
+            let r = det.abs() / mm;
+            // `!(r > …)`: a NaN fails.
+            if !(r > T::EPSILON * T::lit(2.0)) {
+                return Err(SolveError::Singular {
+                    block,
+                    stage,
+                    pivot_ratio: r.to_f64(),
+                });
+            }
+            let inv = T::one() / det;
+            jac[(0, 0)] = a11 * inv;
+            jac[(0, 1)] = -a01 * inv;
+            jac[(1, 0)] = -a10 * inv;
+            jac[(1, 1)] = a00 * inv;
+            let pivot_ratio = if r <= T::one() { r } else { T::one() / r };
+            return Ok(Factored {
+                lu: jac,
+                scale,
+                swaps,
+                pivot_ratio,
+            });
+        }
+        // Entries too large or too small for m₀ m₁: the equilibrated path below.
+    }
+    match lu_in_place(&mut jac, &mut scale, |c, p| swaps[c] = p) {
+        Ok(pivot_ratio) => {
+            if K == 2 {
+                // The inverse of A S is S⁻¹ A⁻¹: fold the column scales into the rows.
+                for i in 0..K {
+                    for j in 0..K {
+                        jac[(i, j)] *= scale[i];
+                    }
+                }
+            }
+            Ok(Factored {
+                lu: jac,
+                scale,
+                swaps,
+                pivot_ratio,
+            })
+        }
+        Err(ratio) => Err(SolveError::Singular {
+            block,
+            stage,
+            pivot_ratio: ratio.to_f64(),
+        }),
+    }
+}
+
+impl<T: Real, const K: usize> Factored<T, K> {
+    /// The solution for `rhs`, or `Overflow` when it is not finite.
+    #[inline(always)]
+    pub fn solve(
+        &self,
+        block: usize,
+        stage: Stage,
+        mut rhs: SVector<T, K>,
+    ) -> Result<SVector<T, K>, SolveError> {
+        if K == 2 {
+            // A 2×2 block holds its inverse (no scales, no swaps).
+            let (b0, b1) = (rhs[0], rhs[1]);
+            rhs[0] = self.lu[(0, 0)] * b0 + self.lu[(0, 1)] * b1;
+            rhs[1] = self.lu[(1, 0)] * b0 + self.lu[(1, 1)] * b1;
+        } else {
+            for c in 0..K {
+                rhs.swap_rows(c, self.swaps[c]);
+            }
+            lu_solve(&self.lu, &self.scale, &mut rhs);
+        }
+        if rhs.iter().all(|v| v.is_finite()) {
+            Ok(rhs)
+        } else {
+            Err(SolveError::Overflow { block, stage })
+        }
+    }
 }
 
 /// One linear block solve of a velocity or acceleration pass.
@@ -109,15 +284,7 @@ pub fn solve_block<T: Real, const K: usize>(
     jac: SMatrix<T, K, K>,
     rhs: SVector<T, K>,
 ) -> Result<SVector<T, K>, SolveError> {
-    match gauss(jac, rhs) {
-        Ok((z, _)) if z.iter().all(|v| v.is_finite()) => Ok(z),
-        Ok(_) => Err(SolveError::Overflow { block, stage }),
-        Err(ratio) => Err(SolveError::Singular {
-            block,
-            stage,
-            pivot_ratio: ratio.to_f64(),
-        }),
-    }
+    factor_block(block, stage, jac)?.solve(block, stage, rhs)
 }
 
 /// Copies a matrix into a row-major slice (as much as fits).
@@ -131,5 +298,105 @@ pub fn copy_row_major<T: Real, const R: usize, const C: usize>(
                 *o = m[(i, j)];
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A well-conditioned K×K matrix with entries of mixed scales, and a right-hand side.
+    fn system<const K: usize>(seed: u64, col_scale: f64) -> (SMatrix<f64, K, K>, SVector<f64, K>) {
+        let mut s = seed;
+        let mut next = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut a = SMatrix::<f64, K, K>::zeros();
+        for i in 0..K {
+            for j in 0..K {
+                a[(i, j)] = next() + if i == j { 2.0 } else { 0.0 };
+            }
+        }
+        for j in 0..K {
+            let s = col_scale.powi(j as i32);
+            for i in 0..K {
+                a[(i, j)] *= s;
+            }
+        }
+        (a, SVector::from_fn(|_, _| next()))
+    }
+
+    fn check<const K: usize>(seed: u64, col_scale: f64) {
+        let (a, b) = system::<K>(seed, col_scale);
+        let lu = factor_block(0, Stage::Velocity, a).expect("regular");
+        // Two right-hand sides from one factorization.
+        for rhs in [b, b * 3.0 - SVector::repeat(1.0)] {
+            let z = lu.solve(0, Stage::Velocity, rhs).expect("finite");
+            let r = a * z - rhs;
+            assert!(r.amax() < 1e-14, "K={K} seed={seed} residual {r}");
+            let (g, _) = gauss(a, rhs).expect("regular");
+            for i in 0..K {
+                let tol = 1e-13 * g[i].abs().max(1e-300);
+                assert!((z[i] - g[i]).abs() <= tol, "{z} vs {g}");
+            }
+        }
+    }
+
+    #[test]
+    fn factored_solves_match_elimination() {
+        for seed in 0..50 {
+            check::<1>(seed, 1.0);
+            check::<2>(seed, 1.0);
+            check::<3>(seed, 1.0);
+            check::<4>(seed, 1.0);
+            // Columns of very different scales (lengths next to angles).
+            check::<2>(seed, 1e3);
+            check::<3>(seed, 1e-3);
+        }
+    }
+
+    #[test]
+    fn two_by_two_outside_the_normal_range_takes_the_equilibrated_path() {
+        for scale in [1e-160, 1e160] {
+            let a = SMatrix::<f64, 2, 2>::new(1.0, 2.0, 3.0, -1.0) * scale;
+            let b = SVector::<f64, 2>::new(1.0, 1.0) * scale;
+            let z = solve_block(0, Stage::Velocity, a, b).expect("regular");
+            // [1 2; 3 -1] z = [1; 1]: z = (3/7, 2/7).
+            assert!((z[0] - 3.0 / 7.0).abs() < 1e-15 && (z[1] - 2.0 / 7.0).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn singular_and_non_finite_blocks_are_errors() {
+        let singular = SMatrix::<f64, 2, 2>::new(1.0, 2.0, 2.0, 4.0);
+        let b = SVector::<f64, 2>::new(1.0, 1.0);
+        assert!(matches!(
+            solve_block(3, Stage::Acceleration, singular, b),
+            Err(SolveError::Singular {
+                block: 3,
+                stage: Stage::Acceleration,
+                ..
+            })
+        ));
+        let nan = SMatrix::<f64, 2, 2>::new(f64::NAN, 2.0, 3.0, 4.0);
+        assert!(solve_block(0, Stage::Velocity, nan, b).is_err());
+        let nan3 = SMatrix::<f64, 3, 3>::new(1.0, 0.0, 0.0, 0.0, f64::NAN, 0.0, 0.0, 0.0, 1.0);
+        assert!(solve_block(0, Stage::Velocity, nan3, SVector::repeat(1.0)).is_err());
+        // A pivot ratio of |det| / (m₀ m₁) for 2×2: here 1e-20 / 1.
+        let near = SMatrix::<f64, 2, 2>::new(1.0, 1.0, 1.0, 1.0 + 1e-20);
+        match solve_block(0, Stage::Velocity, near, b) {
+            Err(SolveError::Singular { pivot_ratio, .. }) => assert!(pivot_ratio < 1e-15),
+            other => panic!("{other:?}"),
+        }
+        let ok = factor_block(
+            0,
+            Stage::Velocity,
+            SMatrix::<f64, 2, 2>::new(1.0, 1.0, 0.0, 0.5),
+        )
+        .expect("regular");
+        assert!((ok.pivot_ratio - 0.5).abs() < 1e-15);
     }
 }

@@ -32,7 +32,10 @@ pub mod tick;
 pub mod trig;
 
 pub use dyad::solve_dyad;
-pub use elimination::{copy_row_major, gauss, gauss_in_place, solve_block};
+pub use elimination::{
+    Factored, copy_row_major, factor_block, gauss, gauss_in_place, lu_in_place, lu_solve,
+    solve_block,
+};
 pub use error::{Quantity, SolveError, Stage};
 pub use mechanism::{
     Array, CoordInfo, Kind, Kinematics, Mechanism, MechanismInfo, ParamInfo, PointMotion,

@@ -42,6 +42,8 @@ pub trait Real:
     fn max(self, other: Self) -> Self;
     fn min(self, other: Self) -> Self;
     fn is_finite(self) -> bool;
+    /// Finite, non-zero and not subnormal.
+    fn is_normal(self) -> bool;
 }
 
 macro_rules! impl_real {
@@ -96,6 +98,10 @@ macro_rules! impl_real {
             #[inline(always)]
             fn is_finite(self) -> bool {
                 <$t>::is_finite(self)
+            }
+            #[inline(always)]
+            fn is_normal(self) -> bool {
+                <$t>::is_normal(self)
             }
         }
     };

@@ -10,7 +10,7 @@
 use crate::mechanism::PointMotion;
 use crate::scalar::Real;
 use crate::solve::NewtonReport;
-use crate::trig::{TrigState, rotate};
+use crate::trig::{TrigState, rotate, sin_cos_cold};
 
 /// Ticks after which every cached sine and cosine is recomputed, bounding rounding drift.
 pub const RESYNC_TICKS: u32 = 64;
@@ -71,24 +71,38 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         }
     }
 
-    /// Whether the caches may be used for the next tick: the params are unchanged and the
-    /// caches are younger than [`RESYNC_TICKS`].
-    pub fn fresh(&self, params: &[T; NPAR]) -> bool {
-        self.age < RESYNC_TICKS && self.params == *params
+    /// Whether `params` are the ones the caches were made with (then they are finite too: a
+    /// tick checks params it has not seen). A NaN param is never the same.
+    #[inline]
+    pub fn same_params(&self, params: &[T; NPAR]) -> bool {
+        self.params == *params
     }
 
-    /// The params' cached sines and cosines (valid when [`Tick::fresh`]).
+    /// Whether the rotated caches are due to be recomputed ([`RESYNC_TICKS`]).
+    #[inline]
+    fn resync(&self) -> bool {
+        self.age >= RESYNC_TICKS
+    }
+
+    /// The params' cached sines and cosines (valid when [`Tick::same_params`]).
+    #[inline]
     pub fn params_trig(&self) -> [(T, T); NPAR] {
         self.tp
     }
 
-    /// The inputs' sines and cosines at `x`, rotated from the cached ones (`angle[i]`: input `i`
-    /// appears in a sin or cos).
+    /// The inputs' sines and cosines at `x` (`angle[i]`: input `i` appears in a sin or cos),
+    /// rotated from the cached ones, or recomputed when they are due.
+    #[inline]
     pub fn inputs_trig(&self, x: &[T; NI], angle: [bool; NI]) -> [(T, T); NI] {
         let mut tx = self.tx;
+        let resync = self.resync();
         for i in 0..NI {
             if angle[i] {
-                tx[i] = rotate(self.tx[i], x[i], self.x[i] - x[i]);
+                tx[i] = if resync {
+                    sin_cos_cold(x[i])
+                } else {
+                    rotate(self.tx[i], x[i], self.x[i] - x[i])
+                };
             }
         }
         tx
@@ -96,8 +110,22 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
 
     /// The guess for input `x`: q + q̇ dt + q̈ dt²/2, dt fitted to the change of the inputs over
     /// their last rates (no prediction when they were at rest), with its sines and cosines
-    /// rotated from the cached ones when `fresh`, computed anew otherwise.
-    pub fn predicted(&self, x: &[T; NI], angle: [bool; NU], fresh: bool) -> TrigState<T, NU> {
+    /// rotated from the cached ones (recomputed when due, or all of them when the params are
+    /// not the same). Unknowns with `keep[k]` (those a closed form solves: it reads the guess
+    /// only for its branch and measures its turn from it, and leaves exact sines and cosines)
+    /// stay at the last tick's values.
+    #[inline(always)]
+    pub fn predicted(
+        &self,
+        x: &[T; NI],
+        angle: [bool; NU],
+        keep: [bool; NU],
+        same_params: bool,
+    ) -> TrigState<T, NU> {
+        if same_params && !self.resync() && keep.iter().all(|&k| k) {
+            // Nothing to predict: every unknown is solved in closed form.
+            return TrigState::from_parts(self.q, self.tq, angle);
+        }
         let (mut num, mut den) = (T::zero(), T::zero());
         for i in 0..NI {
             num += (x[i] - self.x[i]) * self.xd[i];
@@ -110,25 +138,32 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         };
         let mut q = self.q;
         for k in 0..NU {
-            q[k] += dt * (self.qd[k] + T::lit(0.5) * dt * self.qdd[k]);
+            if !keep[k] {
+                q[k] += dt * (self.qd[k] + T::lit(0.5) * dt * self.qdd[k]);
+            }
         }
         if !q.iter().all(|v| v.is_finite()) {
             q = self.q;
         }
-        if !fresh {
+        if !same_params {
             return TrigState::new(q, angle);
         }
+        let resync = self.resync();
         let mut sc = self.tq;
         for k in 0..NU {
-            if angle[k] {
-                sc[k] = rotate(self.tq[k], q[k], self.q[k] - q[k]);
+            if angle[k] && !keep[k] {
+                sc[k] = if resync {
+                    sin_cos_cold(q[k])
+                } else {
+                    rotate(self.tq[k], q[k], self.q[k] - q[k])
+                };
             }
         }
         TrigState::from_parts(q, sc, angle)
     }
 
-    /// Stores the next solution in place; `fresh` tells whether its caches were rotated (they
-    /// age) or recomputed.
+    /// Stores the next solution in place; `same_params` tells whether the params were the
+    /// cached ones (else they are stored, and every cache starts afresh).
     #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn update(
@@ -143,7 +178,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         tx: [(T, T); NI],
         tp: [(T, T); NPAR],
         params: &[T; NPAR],
-        fresh: bool,
+        same_params: bool,
     ) {
         self.x = *x;
         self.xd = *xd;
@@ -154,10 +189,14 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         self.points = points;
         self.report = report;
         self.tx = tx;
-        if !fresh {
+        if !same_params {
             self.tp = tp;
             self.params = *params;
         }
-        self.age = if fresh { self.age + 1 } else { 0 };
+        self.age = if same_params && !self.resync() {
+            self.age + 1
+        } else {
+            0
+        };
     }
 }

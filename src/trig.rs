@@ -97,7 +97,7 @@ impl<T: Real, const N: usize> NewtonState<T> for TrigState<T, N> {
 #[inline]
 pub fn rotate<T: Real>((s, c): (T, T), q_new: T, dz: T) -> (T, T) {
     if !(dz.abs() <= T::lit(0.1)) {
-        return q_new.sin_cos();
+        return sin_cos_cold(q_new);
     }
     let d2 = dz * dz;
     let f = |k: f64| d2 * T::lit(1.0 / k);
@@ -108,4 +108,14 @@ pub fn rotate<T: Real>((s, c): (T, T), q_new: T, dz: T) -> (T, T) {
             * (T::one()
                 - f(12.0) * (T::one() - f(30.0) * (T::one() - f(56.0) * (T::one() - f(90.0)))));
     (s * cd - c * sd, c * cd + s * sd)
+}
+
+/// `x.sin_cos()` behind a call the optimizer does not speculate. `sin` and `cos` are
+/// speculatable intrinsics to LLVM, so `if rare { x.sin_cos() } else { cheap }` would otherwise
+/// compile to both branches on every call (seen in the tick: a `sin_cos` per tick that was meant
+/// for one tick in 64).
+#[cold]
+#[inline(never)]
+pub fn sin_cos_cold<T: Real>(x: T) -> (T, T) {
+    x.sin_cos()
 }

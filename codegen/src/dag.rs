@@ -99,6 +99,11 @@ impl Dag {
         &self.nodes
     }
 
+    /// The node `n`, if the DAG holds it.
+    pub fn find(&self, n: &Node) -> Option<NodeId> {
+        self.memo.get(n).copied()
+    }
+
     fn insert(&mut self, n: Node) -> NodeId {
         if let Some(&id) = self.memo.get(&n) {
             return id;

@@ -97,14 +97,14 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             members.join(", "),
             crate::emit::equations_text(&bf.block.equations)
         );
-        let jac_sets = |b: &Body| {
+        let jac_sets = |b: &Body, off: usize| {
             let mut sets = TokenStream::new();
             for r in 0..k {
                 for cc in 0..k {
                     if dag.is_zero(bf.jacobian[r][cc]) {
                         continue;
                     }
-                    let v = &b.roots[k + r * k + cc];
+                    let v = &b.roots[off + r * k + cc];
                     let (eq, un) = (bf.block.equations[r], idx[cc]);
                     sets.extend(comment(&format!(
                         "J[{eq}][{un}] = ∂Φ{eq}/∂{}",
@@ -126,27 +126,57 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             quote!(x: &[T; #ni], q: &[T; #nu], #ctx, xd: &[T; #ni], qd: &[T; #nu]),
             quote!(x: &[T; #ni], q: &[T; #nu], #ctx, xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni], qdd: &[T; #nu]),
         ];
-        let heads = [&bf.residual, &bf.velocity_rhs, &bf.acceleration_rhs];
-        for s in 0..3 {
-            let mut roots = heads[s].clone();
-            roots.extend(&jroots);
-            let b = body(dag, &roots, &cached);
-            let (stmts, v, sets, fname) = (&b.stmts, &b.roots[..k], jac_sets(&b), &names[s]);
-            let what = if s == 0 {
-                "residual"
-            } else {
-                "right-hand side"
-            };
-            let doc = format!(" {header} Its {what} and Jacobian block.");
-            let p = &params[s];
+        // Newton reads the residual with the Jacobian; the linear passes read the Jacobian once
+        // per block (factored for both right-hand sides) and each right-hand side alone.
+        let mut roots = bf.residual.clone();
+        roots.extend(&jroots);
+        let b = body(dag, &roots, &cached);
+        let (stmts, v, sets, fname, p) = (
+            &b.stmts,
+            &b.roots[..k],
+            jac_sets(&b, k),
+            &names[0],
+            &params[0],
+        );
+        let doc = format!(" {header} Its residual and Jacobian block.");
+        block_fns.extend(quote! {
+            #[doc = #doc]
+            #[inline]
+            fn #fname(&self, #p) -> (::mechgen::nalgebra::SVector<T, #k>, ::mechgen::nalgebra::SMatrix<T, #k, #k>) {
+                #stmts
+                let mut jac = ::mechgen::nalgebra::SMatrix::<T, #k, #k>::zeros();
+                #sets
+                (::mechgen::nalgebra::SVector::from([#(#v),*]), jac)
+            }
+        });
+        let jac_fn = format_ident!("block{}_jacobian", bi);
+        let b = body(dag, &jroots, &cached);
+        let (stmts, sets, p) = (&b.stmts, jac_sets(&b, 0), &params[0]);
+        let doc = format!(" {header} Its Jacobian block.");
+        block_fns.extend(quote! {
+            #[doc = #doc]
+            #[inline]
+            fn #jac_fn(&self, #p) -> ::mechgen::nalgebra::SMatrix<T, #k, #k> {
+                #stmts
+                let mut jac = ::mechgen::nalgebra::SMatrix::<T, #k, #k>::zeros();
+                #sets
+                jac
+            }
+        });
+        let heads = [&bf.velocity_rhs, &bf.acceleration_rhs];
+        for s in 0..2 {
+            let b = body(dag, heads[s], &cached);
+            let (stmts, v, fname, p) = (&b.stmts, &b.roots, &names[s + 1], &params[s + 1]);
+            let doc = format!(
+                " {header} Its right-hand side ({}).",
+                ["velocity", "acceleration"][s]
+            );
             block_fns.extend(quote! {
                 #[doc = #doc]
                 #[inline]
-                fn #fname(&self, #p) -> (::mechgen::nalgebra::SVector<T, #k>, ::mechgen::nalgebra::SMatrix<T, #k, #k>) {
+                fn #fname(&self, #p) -> ::mechgen::nalgebra::SVector<T, #k> {
                     #stmts
-                    let mut jac = ::mechgen::nalgebra::SMatrix::<T, #k, #k>::zeros();
-                    #sets
-                    (::mechgen::nalgebra::SVector::from([#(#v),*]), jac)
+                    ::mechgen::nalgebra::SVector::from([#(#v),*])
                 }
             });
         }
@@ -156,7 +186,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             .map(|&u| m.unknowns[u].kind == Kind::Length)
             .collect();
         let [pos_fn, vel_fn, acc_fn] = &names;
-        match &bf.dyad {
+        let pos_step = match &bf.dyad {
             Some(d) => {
                 let dyad_fn = format_ident!("block{}_dyad", bi);
                 let b = body(dag, &d.roots, &cached);
@@ -175,7 +205,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
                 });
                 let (a, bu) = (d.a, d.b);
                 let c_text = comment(&format!("{header} Closed form (a dyad)."));
-                pos_steps.extend(quote! {
+                quote! {
                     #c_text
                     if options.closed_forms {
                         let [kx, ky, pa, ra, pb, rb] = self.#dyad_fn(x, &st.q, tx, tp, &st.sc);
@@ -184,42 +214,40 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
                         ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], scale, options, report,
                             |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
                     }
-                });
+                }
             }
-            None => pos_steps.extend(quote! {
+            None => quote! {
                 #c_text
                 ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], scale, options, report,
                     |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
-            }),
-        }
+            },
+        };
+        pos_steps.extend(pos_step);
         let zi: Vec<usize> = (0..k).collect();
+        let jac_fn = format_ident!("block{}_jacobian", bi);
         vel_steps.extend(quote! {
             #c_text
-            let (rhs, jac) = self.#vel_fn(x, q, tx, tp, tq, xd, &qd);
-            let z = ::mechgen::solve_block(#bi, ::mechgen::Stage::Velocity, jac, rhs)?;
+            let lu = ::mechgen::factor_block(#bi, ::mechgen::Stage::Velocity, self.#jac_fn(x, q, tx, tp, tq))?;
+            let z = lu.solve(#bi, ::mechgen::Stage::Velocity, self.#vel_fn(x, q, tx, tp, tq, xd, &qd))?;
             #( qd[#idx] = z[#zi]; )*
         });
         acc_steps.extend(quote! {
             #c_text
-            let (rhs, jac) = self.#acc_fn(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(#bi, ::mechgen::Stage::Acceleration, jac, rhs)?;
+            let lu = ::mechgen::factor_block(#bi, ::mechgen::Stage::Acceleration, self.#jac_fn(x, q, tx, tp, tq))?;
+            let z = lu.solve(#bi, ::mechgen::Stage::Acceleration, self.#acc_fn(x, q, tx, tp, tq, xd, qd, xdd, &qdd))?;
             #( qdd[#idx] = z[#zi]; )*
         });
     }
 
-    let mut motion_roots = Vec::new();
-    for p in 0..np {
-        motion_roots.extend(c.system.points[p]);
-        motion_roots.extend(c.derivatives.point_velocity[p]);
-        motion_roots.extend(c.derivatives.point_acceleration[p]);
-    }
-    let b = body(dag, &motion_roots, &cached);
-    let motion_stmts = &b.stmts;
-    let items = b.roots.chunks(6).map(|p| {
-        let (px, py, vx, vy, ax, ay) = (&p[0], &p[1], &p[2], &p[3], &p[4], &p[5]);
-        quote!(::mechgen::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] })
-    });
+    let motion = crate::emit_motion::motion(c, &cached);
     let angle_mask = &qm;
+    let mut closed_mask = vec![false; nu];
+    for bf in &c.blocks {
+        if let Some(d) = &bf.dyad {
+            closed_mask[d.a] = true;
+            closed_mask[d.b] = true;
+        }
+    }
     let input_mask = &xm;
 
     quote! {
@@ -265,12 +293,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             Ok(qdd)
         }
 
-        #[inline]
-        fn point_motion_cached(&self, x: &[T; #ni], q: &[T; #nu], #ctx, xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni], qdd: &[T; #nu])
-            -> [::mechgen::PointMotion<T>; #np] {
-            #motion_stmts
-            [#(#items),*]
-        }
+        #motion
 
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -328,11 +351,8 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let (qd, qdd, points) = self.motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
-            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self.point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
         }
 
@@ -348,32 +368,31 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
                 tx, tq: st.sc, tp, params: self.params.to_array() }))
         }
 
-        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
-        /// second-order step from the last tick, their sines and cosines rotated from the cached
-        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
-        /// changed), then positions, velocities, accelerations and points. On error `t` is
-        /// unchanged.
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
+        /// blocks predicted by a second-order step from the last tick, their sines and cosines
+        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// when the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
         pub fn tick(&self, t: &mut Tick<T>, x: &[T; #ni], xd: &[T; #ni], xdd: &[T; #ni],
             options: &::mechgen::NewtonOptions<T>) -> Result<(), ::mechgen::SolveError> {
             let params = self.params.to_array();
-            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            }
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-            let fresh = t.fresh(&params);
-            let (tx, tp) = if fresh {
+            let (tx, tp) = if same {
                 (t.inputs_trig(x, [#(#input_mask),*]), t.params_trig())
             } else {
                 self.trig_fixed(x)
             };
-            let mut st = t.predicted(x, [#(#angle_mask),*], fresh);
+            let keep = if options.closed_forms { [#(#closed_mask),*] } else { [false; #nu] };
+            let mut st = t.predicted(x, [#(#angle_mask),*], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
-            let q = st.q;
-            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self.point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            let (qd, qdd, points) = self.motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
             Ok(())
         }
     }

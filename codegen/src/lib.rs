@@ -24,6 +24,7 @@ pub mod differentiate;
 pub mod dyad;
 pub mod emit;
 pub mod emit_body;
+pub mod emit_motion;
 pub mod emit_solve;
 pub mod emit_system;
 pub mod eval;

@@ -420,7 +420,26 @@ pub mod slider {
             jac[(0, 0)] = t1;
             (::mechgen::nalgebra::SVector::from([t3]), jac)
         }
-        /// Block 0: q2 from loop 1 (y). Its right-hand side and Jacobian block.
+        /// Block 0: q2 from loop 1 (y). Its Jacobian block.
+        #[inline]
+        fn block0_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+            tq: &[(T, T); 2],
+        ) -> ::mechgen::nalgebra::SMatrix<T, 1, 1> {
+            let v_q2 = q[0];
+            let p_l2 = self.params.l2;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t0 = p_l2 * c_v_q2;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(0, 0)] = t0;
+            jac
+        }
+        /// Block 0: q2 from loop 1 (y). Its right-hand side (velocity).
         #[inline]
         fn block0_velocity(
             &self,
@@ -431,27 +450,17 @@ pub mod slider {
             tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
-            let v_q2 = q[0];
             let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
             let v_q1_d = xd[0];
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t1 = p_l2 * c_v_q2;
-            let t2 = t0 * v_q1_d;
-            let t3 = -t2;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
-            // J[1][0] = ∂Φ1/∂q2
-            jac[(0, 0)] = t1;
-            (::mechgen::nalgebra::SVector::from([t3]), jac)
+            let t1 = t0 * v_q1_d;
+            let t2 = -t1;
+            ::mechgen::nalgebra::SVector::from([t2])
         }
-        /// Block 0: q2 from loop 1 (y). Its right-hand side and Jacobian block.
+        /// Block 0: q2 from loop 1 (y). Its right-hand side (acceleration).
         #[inline]
         fn block0_acceleration(
             &self,
@@ -464,10 +473,7 @@ pub mod slider {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_l1 = self.params.l1;
@@ -479,21 +485,17 @@ pub mod slider {
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
             let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l2 * c_v_q2;
-            let t3 = p_l2 * s_v_q2;
-            let t4 = t3 * v_q2_d;
-            let t5 = t1 * v_q1_d;
-            let t6 = v_q1_d * t5;
-            let t7 = -t6;
-            let t8 = v_q2_d * t4;
-            let t9 = t7 - t8;
-            let t10 = t0 * v_q1_dd;
-            let t11 = t9 + t10;
-            let t12 = -t11;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
-            // J[1][0] = ∂Φ1/∂q2
-            jac[(0, 0)] = t2;
-            (::mechgen::nalgebra::SVector::from([t12]), jac)
+            let t2 = p_l2 * s_v_q2;
+            let t3 = t2 * v_q2_d;
+            let t4 = t1 * v_q1_d;
+            let t5 = v_q1_d * t4;
+            let t6 = -t5;
+            let t7 = v_q2_d * t3;
+            let t8 = t6 - t7;
+            let t9 = t0 * v_q1_dd;
+            let t10 = t8 + t9;
+            let t11 = -t10;
+            ::mechgen::nalgebra::SVector::from([t11])
         }
         /// Block 1: s from loop 1 (x). Its residual and Jacobian block.
         #[inline]
@@ -524,7 +526,22 @@ pub mod slider {
             jac[(0, 0)] = T::lit(-1.0);
             (::mechgen::nalgebra::SVector::from([t3]), jac)
         }
-        /// Block 1: s from loop 1 (x). Its right-hand side and Jacobian block.
+        /// Block 1: s from loop 1 (x). Its Jacobian block.
+        #[inline]
+        fn block1_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+            tq: &[(T, T); 2],
+        ) -> ::mechgen::nalgebra::SMatrix<T, 1, 1> {
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[0][1] = ∂Φ0/∂s
+            jac[(0, 0)] = T::lit(-1.0);
+            jac
+        }
+        /// Block 1: s from loop 1 (x). Its right-hand side (velocity).
         #[inline]
         fn block1_velocity(
             &self,
@@ -535,10 +552,7 @@ pub mod slider {
             tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_l1 = self.params.l1;
@@ -552,12 +566,9 @@ pub mod slider {
             let t2 = t1 * v_q2_d;
             let t3 = t0 * v_q1_d;
             let t4 = t2 + t3;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
-            // J[0][1] = ∂Φ0/∂s
-            jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t4]), jac)
+            ::mechgen::nalgebra::SVector::from([t4])
         }
-        /// Block 1: s from loop 1 (x). Its right-hand side and Jacobian block.
+        /// Block 1: s from loop 1 (x). Its right-hand side (acceleration).
         #[inline]
         fn block1_acceleration(
             &self,
@@ -570,10 +581,7 @@ pub mod slider {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
-        ) {
+        ) -> ::mechgen::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_l1 = self.params.l1;
@@ -598,10 +606,7 @@ pub mod slider {
             let t11 = t10 - t9;
             let t12 = t3 * v_q2_dd;
             let t13 = t11 + t12;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
-            // J[0][1] = ∂Φ0/∂s
-            jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t13]), jac)
+            ::mechgen::nalgebra::SVector::from([t13])
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
@@ -664,22 +669,30 @@ pub mod slider {
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             let mut qd = [T::zero(); 2];
             // Block 0: q2 from loop 1 (y).
-            let (rhs, jac) = self.block0_velocity(x, q, tx, tp, tq, xd, &qd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 0,
                 ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
+                self.block0_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Velocity,
+                    self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
+                )?;
             qd[0] = z[0];
             // Block 1: s from loop 1 (x).
-            let (rhs, jac) = self.block1_velocity(x, q, tx, tp, tq, xd, &qd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 1,
                 ::mechgen::Stage::Velocity,
-                jac,
-                rhs,
+                self.block1_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Velocity,
+                    self.block1_velocity(x, q, tx, tp, tq, xd, &qd),
+                )?;
             qd[1] = z[0];
             Ok(qd)
         }
@@ -697,64 +710,164 @@ pub mod slider {
         ) -> Result<[T; 2], ::mechgen::SolveError> {
             let mut qdd = [T::zero(); 2];
             // Block 0: q2 from loop 1 (y).
-            let (rhs, jac) = self
-                .block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 0,
                 ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+                self.block0_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Acceleration,
+                    self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                )?;
             qdd[0] = z[0];
             // Block 1: s from loop 1 (x).
-            let (rhs, jac) = self
-                .block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd);
-            let z = ::mechgen::solve_block(
+            let lu = ::mechgen::factor_block(
                 1,
                 ::mechgen::Stage::Acceleration,
-                jac,
-                rhs,
+                self.block1_jacobian(x, q, tx, tp, tq),
             )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Acceleration,
+                    self.block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                )?;
             qdd[1] = z[0];
             Ok(qdd)
         }
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
         #[inline]
-        fn point_motion_cached(
+        fn motion_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            st: &mut ::mechgen::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 2],
-            tq: &[(T, T); 2],
             xd: &[T; 1],
-            qd: &[T; 2],
             xdd: &[T; 1],
-            qdd: &[T; 2],
-        ) -> [::mechgen::PointMotion<T>; 1] {
+            options: &::mechgen::NewtonOptions<T>,
+            report: &mut ::mechgen::NewtonReport<T>,
+        ) -> Result<
+            ([T; 2], [T; 2], [::mechgen::PointMotion<T>; 1]),
+            ::mechgen::SolveError,
+        > {
+            let scale = self.params.length_scale();
+            let mut qd = [T::zero(); 2];
+            let mut qdd = [T::zero(); 2];
+            // Block 0: Newton.
+            ::mechgen::newton_block(
+                0,
+                st,
+                [0],
+                [false],
+                scale,
+                options,
+                report,
+                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            // Block 1: Newton.
+            ::mechgen::newton_block(
+                1,
+                st,
+                [1],
+                [true],
+                scale,
+                options,
+                report,
+                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            // Block 0: velocities and accelerations.
             let v_q1 = x[0];
+            let v_q2 = st.q[0];
             let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
             let v_q1_d = xd[0];
-            let v_q1_dd = xdd[0];
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let t2 = t1 * v_q1_d;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t1 = p_l2 * c_v_q2;
+            let t2 = t0 * v_q1_d;
             let t3 = -t2;
-            let t4 = t0 * v_q1_d;
-            let t5 = v_q1_d * t4;
-            let t6 = -t5;
-            let t7 = t1 * v_q1_dd;
-            let t8 = v_q1_d * t2;
-            let t9 = t0 * v_q1_dd;
-            let t10 = t6 - t7;
-            let t11 = t9 - t8;
-            [
-                ::mechgen::PointMotion {
-                    position: [t0, t1],
-                    velocity: [t3, t4],
-                    acceleration: [t10, t11],
-                },
-            ]
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(0, 0)] = t1;
+            let lu = ::mechgen::factor_block(0, ::mechgen::Stage::Velocity, jac)?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Velocity,
+                    ::mechgen::nalgebra::SVector::from([t3]),
+                )?;
+            qd[0] = z[0];
+            let v_q2_d = qd[0];
+            let v_q1_dd = xdd[0];
+            let t4 = p_l1 * s_v_q1;
+            let t5 = p_l2 * s_v_q2;
+            let t6 = t5 * v_q2_d;
+            let t7 = t4 * v_q1_d;
+            let t8 = v_q1_d * t7;
+            let t9 = -t8;
+            let t10 = v_q2_d * t6;
+            let t11 = t9 - t10;
+            let t12 = t0 * v_q1_dd;
+            let t13 = t11 + t12;
+            let t14 = -t13;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::nalgebra::SVector::from([t14]),
+                )?;
+            qdd[0] = z[0];
+            // Block 1: velocities and accelerations.
+            let t15 = t6 + t7;
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[0][1] = ∂Φ0/∂s
+            jac[(0, 0)] = T::lit(-1.0);
+            let lu = ::mechgen::factor_block(1, ::mechgen::Stage::Velocity, jac)?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Velocity,
+                    ::mechgen::nalgebra::SVector::from([t15]),
+                )?;
+            qd[1] = z[0];
+            let v_q2_dd = qdd[0];
+            let t16 = t1 * v_q2_d;
+            let t17 = v_q1_d * t2;
+            let t18 = -t17;
+            let t19 = v_q2_d * t16;
+            let t20 = t18 - t19;
+            let t21 = t4 * v_q1_dd;
+            let t22 = t21 - t20;
+            let t23 = t5 * v_q2_dd;
+            let t24 = t22 + t23;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::nalgebra::SVector::from([t24]),
+                )?;
+            qdd[1] = z[0];
+            // Points.
+            let t25 = -t7;
+            let t26 = t18 - t21;
+            let t27 = t12 - t8;
+            Ok((
+                qd,
+                qdd,
+                [
+                    ::mechgen::PointMotion {
+                        position: [t0, t4],
+                        velocity: [t25, t2],
+                        acceleration: [t26, t27],
+                    },
+                ],
+            ))
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -849,12 +962,9 @@ pub mod slider {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let (qd, qdd, points) = self
+                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
-            let qd = self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self
-                .point_motion_cached(x, q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
@@ -888,11 +998,11 @@ pub mod slider {
                 }),
             )
         }
-        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns predicted by a
-        /// second-order step from the last tick, their sines and cosines rotated from the cached
-        /// ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or when the params
-        /// changed), then positions, velocities, accelerations and points. On error `t` is
-        /// unchanged.
+        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
+        /// blocks predicted by a second-order step from the last tick, their sines and cosines
+        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// when the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
         pub fn tick(
             &self,
             t: &mut Tick<T>,
@@ -902,25 +1012,28 @@ pub mod slider {
             options: &::mechgen::NewtonOptions<T>,
         ) -> Result<(), ::mechgen::SolveError> {
             let params = self.params.to_array();
-            ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+            }
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
-            let fresh = t.fresh(&params);
-            let (tx, tp) = if fresh {
+            let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
             } else {
                 self.trig_fixed(x)
             };
-            let mut st = t.predicted(x, [true, false], fresh);
+            let keep = if options.closed_forms {
+                [false, false]
+            } else {
+                [false; 2]
+            };
+            let mut st = t.predicted(x, [true, false], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
-            let q = st.q;
-            let qd = self.velocity_cached(x, &q, &tx, &tp, &st.sc, xd)?;
-            let qdd = self.acceleration_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd)?;
-            let points = self
-                .point_motion_cached(x, &q, &tx, &tp, &st.sc, xd, &qd, xdd, &qdd);
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, fresh);
+            let (qd, qdd, points) = self
+                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
             Ok(())
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.

@@ -1,0 +1,161 @@
+//! Stage 6c: the fused motion solver of one mechanism (`motion_cached`), what a simulator tick
+//! and `solve_arrays` run. All blocks' positions, then each block's velocities and accelerations
+//! from one factorization of its Jacobian, then the points, written as segments of one
+//! straight-line body ([`Builder`]): a product such as `l2·cos q2` is computed once for the loop
+//! closure, the Jacobians, both right-hand sides and the points.
+
+use proc_macro2::{Ident, TokenStream};
+use quote::{format_ident, quote};
+
+use crate::check::Kind;
+use crate::compile::Compiled;
+use crate::dag::Var;
+use crate::emit::comment;
+use crate::emit_body::{Builder, VarSource};
+
+/// Variables as the fused body reads them: the unknowns and their sines and cosines from the
+/// Newton state `st` (written block by block), everything else as the cached solvers do.
+pub(crate) struct Fused<'a>(pub &'a dyn VarSource);
+
+impl VarSource for Fused<'_> {
+    fn bind(&self, v: Var) -> (Ident, TokenStream) {
+        let (ident, read) = self.0.bind(v);
+        match v {
+            Var::Q(i) => {
+                let i = i as usize;
+                (ident, quote!(st.q[#i]))
+            }
+            _ => (ident, read),
+        }
+    }
+    fn trig(&self, v: Var) -> Option<TokenStream> {
+        let src = self.0.trig(v)?;
+        Some(match v {
+            Var::Q(i) => {
+                let i = i as usize;
+                quote!(st.sc[#i])
+            }
+            _ => src,
+        })
+    }
+}
+
+/// `fn motion_cached(…) -> Result<(q̇, q̈, points), SolveError>`, inside the mechanism's impl.
+pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource) -> TokenStream {
+    let m = &c.model;
+    let dag = &c.system.dag;
+    let (ni, nu, np, npar) = (
+        m.inputs.len(),
+        m.unknowns.len(),
+        m.points.len(),
+        m.params.len(),
+    );
+    let fused = Fused(cached);
+    let mut b = Builder::new(dag, &fused);
+    let mut steps = TokenStream::new();
+    for (bi, bf) in c.blocks.iter().enumerate() {
+        let idx = &bf.block.unknowns;
+        let lengths: Vec<bool> = idx
+            .iter()
+            .map(|&u| m.unknowns[u].kind == Kind::Length)
+            .collect();
+        let pos_fn = format_ident!("block{}_position", bi);
+        let newton = quote! {
+            ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], scale, options, report,
+                |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
+        };
+        match &bf.dyad {
+            Some(d) => {
+                let seg = b.segment(&d.roots);
+                let stmts = &seg.stmts;
+                let [kx, ky, pa, ra, pb, rb] = [0, 1, 2, 3, 4, 5].map(|i| &seg.roots[i]);
+                let (a, bu) = (d.a, d.b);
+                steps.extend(comment(&format!("Block {bi}: closed form (a dyad).")));
+                steps.extend(quote! {
+                    #stmts
+                    if options.closed_forms {
+                        ::mechgen::solve_dyad(#bi, st, #a, #bu, [#kx, #ky], (#pa, #ra), (#pb, #rb),
+                            scale, options.tolerance, report)?;
+                    } else {
+                        #newton
+                    }
+                });
+            }
+            None => {
+                steps.extend(comment(&format!("Block {bi}: Newton.")));
+                steps.extend(newton);
+            }
+        }
+    }
+    for (bi, bf) in c.blocks.iter().enumerate() {
+        let k = bf.block.unknowns.len();
+        let idx = &bf.block.unknowns;
+        let zi: Vec<usize> = (0..k).collect();
+        let mut roots = bf.velocity_rhs.clone();
+        roots.extend(bf.jacobian.iter().flatten());
+        let seg = b.segment(&roots);
+        let (stmts, vel) = (&seg.stmts, &seg.roots[..k]);
+        let mut sets = TokenStream::new();
+        for r in 0..k {
+            for cc in 0..k {
+                if !dag.is_zero(bf.jacobian[r][cc]) {
+                    let v = &seg.roots[k + r * k + cc];
+                    let (eq, un) = (bf.block.equations[r], idx[cc]);
+                    sets.extend(comment(&format!(
+                        "J[{eq}][{un}] = ∂Φ{eq}/∂{}",
+                        m.unknowns[un].name.text
+                    )));
+                    sets.extend(quote!(jac[(#r, #cc)] = #v;));
+                }
+            }
+        }
+        steps.extend(comment(&format!(
+            "Block {bi}: velocities and accelerations."
+        )));
+        steps.extend(quote! {
+            #stmts
+            let mut jac = ::mechgen::nalgebra::SMatrix::<T, #k, #k>::zeros();
+            #sets
+            let lu = ::mechgen::factor_block(#bi, ::mechgen::Stage::Velocity, jac)?;
+            let z = lu.solve(#bi, ::mechgen::Stage::Velocity, ::mechgen::nalgebra::SVector::from([#(#vel),*]))?;
+            #( qd[#idx] = z[#zi]; )*
+        });
+        let seg = b.segment(&bf.acceleration_rhs);
+        let (stmts, acc) = (&seg.stmts, &seg.roots);
+        steps.extend(quote! {
+            #stmts
+            let z = lu.solve(#bi, ::mechgen::Stage::Acceleration, ::mechgen::nalgebra::SVector::from([#(#acc),*]))?;
+            #( qdd[#idx] = z[#zi]; )*
+        });
+    }
+    let mut roots = Vec::new();
+    for p in 0..np {
+        roots.extend(c.system.points[p]);
+        roots.extend(c.derivatives.point_velocity[p]);
+        roots.extend(c.derivatives.point_acceleration[p]);
+    }
+    let seg = b.segment(&roots);
+    let stmts = &seg.stmts;
+    let items = seg.roots.chunks(6).map(|p| {
+        let (px, py, vx, vy, ax, ay) = (&p[0], &p[1], &p[2], &p[3], &p[4], &p[5]);
+        quote!(::mechgen::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] })
+    });
+    steps.extend(comment("Points."));
+    quote! {
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
+        #[inline]
+        fn motion_cached(&self, x: &[T; #ni], st: &mut ::mechgen::TrigState<T, #nu>, tx: &[(T, T); #ni],
+            tp: &[(T, T); #npar], xd: &[T; #ni], xdd: &[T; #ni], options: &::mechgen::NewtonOptions<T>,
+            report: &mut ::mechgen::NewtonReport<T>)
+            -> Result<([T; #nu], [T; #nu], [::mechgen::PointMotion<T>; #np]), ::mechgen::SolveError> {
+            let scale = self.params.length_scale();
+            let mut qd = [T::zero(); #nu];
+            let mut qdd = [T::zero(); #nu];
+            #steps
+            #stmts
+            Ok((qd, qdd, [#(#items),*]))
+        }
+    }
+}

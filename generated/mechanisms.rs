@@ -1271,7 +1271,6 @@ pub mod sixbar {
             options: &::mechgen::NewtonOptions<T>,
             report: &mut ::mechgen::NewtonReport<T>,
         ) -> Result<(), ::mechgen::SolveError> {
-            let scale = self.params.length_scale();
             // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
             if options.closed_forms {
                 let [kx, ky, pa, ra, pb, rb] = self
@@ -1284,7 +1283,7 @@ pub mod sixbar {
                     [kx, ky],
                     (pa, ra),
                     (pb, rb),
-                    scale,
+                    || self.params.length_scale(),
                     options.tolerance,
                     report,
                 )?;
@@ -1294,7 +1293,7 @@ pub mod sixbar {
                     st,
                     [0, 1],
                     [false, false],
-                    scale,
+                    self.params.length_scale(),
                     options,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -1312,7 +1311,7 @@ pub mod sixbar {
                     [kx, ky],
                     (pa, ra),
                     (pb, rb),
-                    scale,
+                    || self.params.length_scale(),
                     options.tolerance,
                     report,
                 )?;
@@ -1322,7 +1321,7 @@ pub mod sixbar {
                     st,
                     [2, 3],
                     [false, false],
-                    scale,
+                    self.params.length_scale(),
                     options,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
@@ -1432,7 +1431,6 @@ pub mod sixbar {
             ([T; 4], [T; 4], [::mechgen::PointMotion<T>; 1]),
             ::mechgen::SolveError,
         > {
-            let scale = self.params.length_scale();
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
             // Block 0: closed form (a dyad).
@@ -1455,7 +1453,7 @@ pub mod sixbar {
                     [t3, t1],
                     (p_l2, T::zero()),
                     (t2, T::zero()),
-                    scale,
+                    || self.params.length_scale(),
                     options.tolerance,
                     report,
                 )?;
@@ -1465,7 +1463,7 @@ pub mod sixbar {
                     st,
                     [0, 1],
                     [false, false],
-                    scale,
+                    self.params.length_scale(),
                     options,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -1508,7 +1506,7 @@ pub mod sixbar {
                     [t20, t21],
                     (t18, T::zero()),
                     (t19, T::zero()),
-                    scale,
+                    || self.params.length_scale(),
                     options.tolerance,
                     report,
                 )?;
@@ -1518,7 +1516,7 @@ pub mod sixbar {
                     st,
                     [2, 3],
                     [false, false],
-                    scale,
+                    self.params.length_scale(),
                     options,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
@@ -1830,10 +1828,12 @@ pub mod sixbar {
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
             } else {
-                self.trig_fixed(x)
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
             };
             let keep = if options.closed_forms {
                 [true, true, true, true]
@@ -1843,8 +1843,18 @@ pub mod sixbar {
             let mut st = t.predicted(x, [true, true, true, true], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
+                .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+            t.update(
+                x,
+                xd,
+                &st,
+                qd,
+                qdd,
+                points,
+                report,
+                tx,
+                fresh_tp.as_ref().map(|tp| (&params, tp)),
+            );
             Ok(())
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
@@ -2929,14 +2939,13 @@ pub mod shaper {
             options: &::mechgen::NewtonOptions<T>,
             report: &mut ::mechgen::NewtonReport<T>,
         ) -> Result<(), ::mechgen::SolveError> {
-            let scale = self.params.length_scale();
             // Block 0: s3, q3 from loop 1 (x, y).
             ::mechgen::newton_block(
                 0,
                 st,
                 [0, 1],
                 [true, false],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -2947,7 +2956,7 @@ pub mod shaper {
                 st,
                 [2],
                 [false],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
@@ -2958,7 +2967,7 @@ pub mod shaper {
                 st,
                 [3],
                 [true],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
@@ -3091,7 +3100,6 @@ pub mod shaper {
             ([T; 4], [T; 4], [::mechgen::PointMotion<T>; 2]),
             ::mechgen::SolveError,
         > {
-            let scale = self.params.length_scale();
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
             // Block 0: Newton.
@@ -3100,7 +3108,7 @@ pub mod shaper {
                 st,
                 [0, 1],
                 [true, false],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -3111,7 +3119,7 @@ pub mod shaper {
                 st,
                 [2],
                 [false],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
@@ -3122,7 +3130,7 @@ pub mod shaper {
                 st,
                 [3],
                 [true],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
@@ -3441,10 +3449,12 @@ pub mod shaper {
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
             } else {
-                self.trig_fixed(x)
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
             };
             let keep = if options.closed_forms {
                 [false, false, false, false]
@@ -3454,8 +3464,18 @@ pub mod shaper {
             let mut st = t.predicted(x, [false, true, true, false], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
+                .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+            t.update(
+                x,
+                xd,
+                &st,
+                qd,
+                qdd,
+                points,
+                report,
+                tx,
+                fresh_tp.as_ref().map(|tp| (&params, tp)),
+            );
             Ok(())
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
@@ -4368,7 +4388,6 @@ pub mod four_bar {
             options: &::mechgen::NewtonOptions<T>,
             report: &mut ::mechgen::NewtonReport<T>,
         ) -> Result<(), ::mechgen::SolveError> {
-            let scale = self.params.length_scale();
             // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
             if options.closed_forms {
                 let [kx, ky, pa, ra, pb, rb] = self
@@ -4381,7 +4400,7 @@ pub mod four_bar {
                     [kx, ky],
                     (pa, ra),
                     (pb, rb),
-                    scale,
+                    || self.params.length_scale(),
                     options.tolerance,
                     report,
                 )?;
@@ -4391,7 +4410,7 @@ pub mod four_bar {
                     st,
                     [0, 1],
                     [false, false],
-                    scale,
+                    self.params.length_scale(),
                     options,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -4473,7 +4492,6 @@ pub mod four_bar {
             ([T; 2], [T; 2], [::mechgen::PointMotion<T>; 3]),
             ::mechgen::SolveError,
         > {
-            let scale = self.params.length_scale();
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: closed form (a dyad).
@@ -4496,7 +4514,7 @@ pub mod four_bar {
                     [t3, t1],
                     (p_l2, T::zero()),
                     (t2, T::zero()),
-                    scale,
+                    || self.params.length_scale(),
                     options.tolerance,
                     report,
                 )?;
@@ -4506,7 +4524,7 @@ pub mod four_bar {
                     st,
                     [0, 1],
                     [false, false],
-                    scale,
+                    self.params.length_scale(),
                     options,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -4795,17 +4813,29 @@ pub mod four_bar {
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
             } else {
-                self.trig_fixed(x)
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
             };
             let keep = if options.closed_forms { [true, true] } else { [false; 2] };
             let mut st = t.predicted(x, [true, true], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
+                .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+            t.update(
+                x,
+                xd,
+                &st,
+                qd,
+                qdd,
+                points,
+                report,
+                tx,
+                fresh_tp.as_ref().map(|tp| (&params, tp)),
+            );
             Ok(())
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
@@ -5647,14 +5677,13 @@ pub mod slider_crank {
             options: &::mechgen::NewtonOptions<T>,
             report: &mut ::mechgen::NewtonReport<T>,
         ) -> Result<(), ::mechgen::SolveError> {
-            let scale = self.params.length_scale();
             // Block 0: q2 from loop 1 (y).
             ::mechgen::newton_block(
                 0,
                 st,
                 [0],
                 [false],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -5665,7 +5694,7 @@ pub mod slider_crank {
                 st,
                 [1],
                 [true],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
@@ -5770,7 +5799,6 @@ pub mod slider_crank {
             ([T; 2], [T; 2], [::mechgen::PointMotion<T>; 3]),
             ::mechgen::SolveError,
         > {
-            let scale = self.params.length_scale();
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: Newton.
@@ -5779,7 +5807,7 @@ pub mod slider_crank {
                 st,
                 [0],
                 [false],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -5790,7 +5818,7 @@ pub mod slider_crank {
                 st,
                 [1],
                 [true],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
@@ -6067,10 +6095,12 @@ pub mod slider_crank {
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
             } else {
-                self.trig_fixed(x)
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
             };
             let keep = if options.closed_forms {
                 [false, false]
@@ -6080,8 +6110,18 @@ pub mod slider_crank {
             let mut st = t.predicted(x, [true, false], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
+                .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+            t.update(
+                x,
+                xd,
+                &st,
+                qd,
+                qdd,
+                points,
+                report,
+                tx,
+                fresh_tp.as_ref().map(|tp| (&params, tp)),
+            );
             Ok(())
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
@@ -6925,7 +6965,6 @@ pub mod rocker_four_bar {
             options: &::mechgen::NewtonOptions<T>,
             report: &mut ::mechgen::NewtonReport<T>,
         ) -> Result<(), ::mechgen::SolveError> {
-            let scale = self.params.length_scale();
             // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
             if options.closed_forms {
                 let [kx, ky, pa, ra, pb, rb] = self
@@ -6938,7 +6977,7 @@ pub mod rocker_four_bar {
                     [kx, ky],
                     (pa, ra),
                     (pb, rb),
-                    scale,
+                    || self.params.length_scale(),
                     options.tolerance,
                     report,
                 )?;
@@ -6948,7 +6987,7 @@ pub mod rocker_four_bar {
                     st,
                     [0, 1],
                     [false, false],
-                    scale,
+                    self.params.length_scale(),
                     options,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -7030,7 +7069,6 @@ pub mod rocker_four_bar {
             ([T; 2], [T; 2], [::mechgen::PointMotion<T>; 2]),
             ::mechgen::SolveError,
         > {
-            let scale = self.params.length_scale();
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: closed form (a dyad).
@@ -7053,7 +7091,7 @@ pub mod rocker_four_bar {
                     [t3, t1],
                     (p_l2, T::zero()),
                     (t2, T::zero()),
-                    scale,
+                    || self.params.length_scale(),
                     options.tolerance,
                     report,
                 )?;
@@ -7063,7 +7101,7 @@ pub mod rocker_four_bar {
                     st,
                     [0, 1],
                     [false, false],
-                    scale,
+                    self.params.length_scale(),
                     options,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -7313,17 +7351,29 @@ pub mod rocker_four_bar {
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
             } else {
-                self.trig_fixed(x)
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
             };
             let keep = if options.closed_forms { [true, true] } else { [false; 2] };
             let mut st = t.predicted(x, [true, true], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
+                .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+            t.update(
+                x,
+                xd,
+                &st,
+                qd,
+                qdd,
+                points,
+                report,
+                tx,
+                fresh_tp.as_ref().map(|tp| (&params, tp)),
+            );
             Ok(())
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.
@@ -8566,14 +8616,13 @@ pub mod sixbar_g {
             options: &::mechgen::NewtonOptions<T>,
             report: &mut ::mechgen::NewtonReport<T>,
         ) -> Result<(), ::mechgen::SolveError> {
-            let scale = self.params.length_scale();
             // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
             ::mechgen::newton_block(
                 0,
                 st,
                 [0, 1, 2, 3],
                 [false, false, false, false],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -8658,7 +8707,6 @@ pub mod sixbar_g {
             ([T; 4], [T; 4], [::mechgen::PointMotion<T>; 1]),
             ::mechgen::SolveError,
         > {
-            let scale = self.params.length_scale();
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
             // Block 0: Newton.
@@ -8667,7 +8715,7 @@ pub mod sixbar_g {
                 st,
                 [0, 1, 2, 3],
                 [false, false, false, false],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -8999,10 +9047,12 @@ pub mod sixbar_g {
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
             } else {
-                self.trig_fixed(x)
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
             };
             let keep = if options.closed_forms {
                 [false, false, false, false]
@@ -9012,8 +9062,18 @@ pub mod sixbar_g {
             let mut st = t.predicted(x, [true, true, true, true], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
+                .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+            t.update(
+                x,
+                xd,
+                &st,
+                qd,
+                qdd,
+                points,
+                report,
+                tx,
+                fresh_tp.as_ref().map(|tp| (&params, tp)),
+            );
             Ok(())
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.

@@ -12,12 +12,6 @@ fn apply<T: Real>((p, r): (T, T), (c, s): (T, T)) -> (T, T) {
     (p * c - r * s, r * c + p * s)
 }
 
-/// `M⁻¹ v` for a rotation-scaling `M = [[p, −r], [r, p]]`, `inv` = 1 / (p² + r²).
-#[inline]
-fn unapply<T: Real>((p, r): (T, T), inv: T, (x, y): (T, T)) -> (T, T) {
-    ((p * x + r * y) * inv, (p * y - r * x) * inv)
-}
-
 /// Angle of `(c, s)` relative to `(cg, sg)`, in (−π, π]: a short series for the turns of up to
 /// about 7° a simulator step makes, `atan2` otherwise.
 #[inline(always)]
@@ -40,8 +34,52 @@ fn turn<T: Real>((cg, sg): (T, T), (c, s): (T, T)) -> T {
     sin.atan2(cos)
 }
 
+/// [`near`] for both angles of a dyad, the common case (two small turns) written in lockstep so
+/// that it compiles to paired arithmetic.
+#[inline(always)]
+fn near_pair<T: Real>(
+    (qa, qb): (T, T),
+    (ea, eb): ((T, T), (T, T)),
+    (na, nb): ((T, T), (T, T)),
+    tolerance: T,
+) -> (T, T) {
+    let (sin_a, sin_b) = (ea.0 * na.1 - ea.1 * na.0, eb.0 * nb.1 - eb.1 * nb.0);
+    let (cos_a, cos_b) = (ea.0 * na.0 + ea.1 * na.1, eb.0 * nb.0 + eb.1 * nb.1);
+    let (ta, tb) = (sin_a / (T::one() + cos_a), sin_b / (T::one() + cos_b));
+    let lim = T::lit(0.06);
+    if cos_a > T::lit(0.99) && cos_b > T::lit(0.99) && ta.abs() < lim && tb.abs() < lim {
+        // As in `turn`.
+        let (t2a, t2b) = (ta * ta, tb * tb);
+        let (mut acc_a, mut acc_b) = (T::lit(1.0 / 13.0), T::lit(1.0 / 13.0));
+        for k in [11.0, 9.0, 7.0, 5.0, 3.0, 1.0] {
+            acc_a = T::lit(1.0 / k) - t2a * acc_a;
+            acc_b = T::lit(1.0 / k) - t2b * acc_b;
+        }
+        let two = T::lit(2.0);
+        let (ra, rb) = (qa + two * ta * acc_a, qb + two * tb * acc_b);
+        if T::EPSILON * (ra.abs() + rb.abs()) <= tolerance {
+            return (ra, rb);
+        }
+    }
+    (near(qa, ea, na, tolerance), near(qb, eb, nb, tolerance))
+}
+
+/// The angle of `(c, s)` nearest `q` (whose direction is `e`): `q` plus the turn, unless `q` is
+/// so large that the precision cannot hold the answer to `tolerance` there, then the principal
+/// value in (−π, π].
+#[inline(always)]
+fn near<T: Real>(q: T, e: (T, T), (c, s): (T, T), tolerance: T) -> T {
+    let q_new = q + turn(e, (c, s));
+    if T::EPSILON * q_new.abs() <= tolerance {
+        q_new
+    } else {
+        s.atan2(c)
+    }
+}
+
 /// Solves the dyad block `block` with unknowns `a` and `b` in place. `k` is `K`, `ma` and `mb` the
-/// `(p, r)` of `M_a` and `M_b`, all at the current state; `scale` the length scale. The guess in
+/// `(p, r)` of `M_a` and `M_b`, all at the current state; `scale` gives the length scale (asked
+/// for only to report an error). The guess in
 /// `st` picks the branch. Past a dead point (the circles do not meet): `Unassemblable`. The new
 /// angles are the guess's plus the turn to the solution (so whole turns are kept), unless the
 /// guess is so large that f64 (or f32) cannot hold the answer to `tolerance` there: then the
@@ -56,7 +94,7 @@ pub fn solve_dyad<T: Real, const N: usize>(
     k: [T; 2],
     ma: (T, T),
     mb: (T, T),
-    scale: T,
+    scale: impl FnOnce() -> T,
     tolerance: T,
     report: &mut NewtonReport<T>,
 ) -> Result<(), SolveError> {
@@ -97,7 +135,7 @@ pub fn solve_dyad<T: Real, const N: usize>(
         let gap = (l - la - lb).max((la - lb).abs() - l);
         return Err(SolveError::Unassemblable {
             block,
-            residual: (gap / scale).to_f64(),
+            residual: (gap / scale()).to_f64(),
             iterations: 0,
         });
     }
@@ -119,17 +157,22 @@ pub fn solve_dyad<T: Real, const N: usize>(
     };
     let big_a = (along * d.0 + s * n.0, along * d.1 + s * n.1);
     let big_b = (d.0 - big_a.0, d.1 - big_a.1);
-    let (ca, sa) = unapply(ma, T::one() / la2, big_a);
-    let (cb, sb) = unapply(mb, T::one() / lb2, big_b);
-    let near = |q: T, e: (T, T), (c, s): (T, T)| {
-        let q_new = q + turn(e, (c, s));
-        if T::EPSILON * q_new.abs() <= tolerance {
-            q_new
-        } else {
-            s.atan2(c)
-        }
-    };
-    let (qa, qb) = (near(st.q[a], ea, (ca, sa)), near(st.q[b], eb, (cb, sb)));
+    // e = M⁻¹ A with M⁻¹ = Mᵀ / |M|², both links in lockstep.
+    let (inv_a, inv_b) = (T::one() / la2, T::one() / lb2);
+    let (ca, cb) = (
+        (ma.0 * big_a.0 + ma.1 * big_a.1) * inv_a,
+        (mb.0 * big_b.0 + mb.1 * big_b.1) * inv_b,
+    );
+    let (sa, sb) = (
+        (ma.0 * big_a.1 - ma.1 * big_a.0) * inv_a,
+        (mb.0 * big_b.1 - mb.1 * big_b.0) * inv_b,
+    );
+    let (qa, qb) = near_pair(
+        (st.q[a], st.q[b]),
+        (ea, eb),
+        ((ca, sa), (cb, sb)),
+        tolerance,
+    );
     // The sines and cosines are at most 1 and the angles below tolerance / ε: the sum cannot
     // overflow, so it is finite exactly when all four are.
     if !(qa + qb + ca + sb).is_finite() {
@@ -170,7 +213,7 @@ mod tests {
             [-d.0, -d.1],
             one,
             one,
-            1.0,
+            || 1.0,
             1e-12,
             &mut report,
         )?;

@@ -33,6 +33,9 @@ pub struct Tick<T, const NI: usize, const NU: usize, const NP: usize, const NPAR
     age: u32,
 }
 
+/// Params a tick had not seen, with their sines and cosines.
+pub type NewParams<'a, T, const NPAR: usize> = (&'a [T; NPAR], &'a [(T, T); NPAR]);
+
 /// The solved state a tick stores (what `solve_arrays` returns, with the trigonometry it used).
 #[derive(Clone, Copy, Debug)]
 pub struct Solution<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> {
@@ -86,8 +89,8 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
 
     /// The params' cached sines and cosines (valid when [`Tick::same_params`]).
     #[inline]
-    pub fn params_trig(&self) -> [(T, T); NPAR] {
-        self.tp
+    pub fn params_trig(&self) -> &[(T, T); NPAR] {
+        &self.tp
     }
 
     /// The inputs' sines and cosines at `x` (`angle[i]`: input `i` appears in a sin or cos),
@@ -162,8 +165,9 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         TrigState::from_parts(q, sc, angle)
     }
 
-    /// Stores the next solution in place; `same_params` tells whether the params were the
-    /// cached ones (else they are stored, and every cache starts afresh).
+    /// Stores the next solution in place; `new_params` are the params and their sines and
+    /// cosines when they were not the cached ones (they are stored, and every cache starts
+    /// afresh).
     #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn update(
@@ -176,9 +180,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         points: [PointMotion<T>; NP],
         report: NewtonReport<T>,
         tx: [(T, T); NI],
-        tp: [(T, T); NPAR],
-        params: &[T; NPAR],
-        same_params: bool,
+        new_params: Option<NewParams<'_, T, NPAR>>,
     ) {
         self.x = *x;
         self.xd = *xd;
@@ -189,14 +191,14 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         self.points = points;
         self.report = report;
         self.tx = tx;
-        if !same_params {
-            self.tp = tp;
-            self.params = *params;
-        }
-        self.age = if same_params && !self.resync() {
+        self.age = if new_params.is_none() && !self.resync() {
             self.age + 1
         } else {
             0
         };
+        if let Some((params, tp)) = new_params {
+            self.params = *params;
+            self.tp = *tp;
+        }
     }
 }

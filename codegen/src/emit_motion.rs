@@ -61,7 +61,7 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource) -> TokenStream {
             .collect();
         let pos_fn = format_ident!("block{}_position", bi);
         let newton = quote! {
-            ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], scale, options, report,
+            ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
                 |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
         };
         match &bf.dyad {
@@ -75,7 +75,7 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource) -> TokenStream {
                     #stmts
                     if options.closed_forms {
                         ::mechgen::solve_dyad(#bi, st, #a, #bu, [#kx, #ky], (#pa, #ra), (#pb, #rb),
-                            scale, options.tolerance, report)?;
+                            || self.params.length_scale(), options.tolerance, report)?;
                     } else {
                         #newton
                     }
@@ -150,7 +150,6 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource) -> TokenStream {
             tp: &[(T, T); #npar], xd: &[T; #ni], xdd: &[T; #ni], options: &::mechgen::NewtonOptions<T>,
             report: &mut ::mechgen::NewtonReport<T>)
             -> Result<([T; #nu], [T; #nu], [::mechgen::PointMotion<T>; #np]), ::mechgen::SolveError> {
-            let scale = self.params.length_scale();
             let mut qd = [T::zero(); #nu];
             let mut qdd = [T::zero(); #nu];
             #steps

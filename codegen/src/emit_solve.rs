@@ -209,16 +209,16 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
                     #c_text
                     if options.closed_forms {
                         let [kx, ky, pa, ra, pb, rb] = self.#dyad_fn(x, &st.q, tx, tp, &st.sc);
-                        ::mechgen::solve_dyad(#bi, st, #a, #bu, [kx, ky], (pa, ra), (pb, rb), scale, options.tolerance, report)?;
+                        ::mechgen::solve_dyad(#bi, st, #a, #bu, [kx, ky], (pa, ra), (pb, rb), || self.params.length_scale(), options.tolerance, report)?;
                     } else {
-                        ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], scale, options, report,
+                        ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
                             |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
                     }
                 }
             }
             None => quote! {
                 #c_text
-                ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], scale, options, report,
+                ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
                     |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
             },
         };
@@ -273,7 +273,6 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         #[inline]
         fn position_cached(&self, x: &[T; #ni], st: &mut ::mechgen::TrigState<T, #nu>, tx: &[(T, T); #ni], tp: &[(T, T); #npar],
             options: &::mechgen::NewtonOptions<T>, report: &mut ::mechgen::NewtonReport<T>) -> Result<(), ::mechgen::SolveError> {
-            let scale = self.params.length_scale();
             #pos_steps
             Ok(())
         }
@@ -383,16 +382,18 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [#(#input_mask),*]), t.params_trig())
             } else {
-                self.trig_fixed(x)
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
             };
             let keep = if options.closed_forms { [#(#closed_mask),*] } else { [false; #nu] };
             let mut st = t.predicted(x, [#(#angle_mask),*], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
-            let (qd, qdd, points) = self.motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
+            let (qd, qdd, points) = self.motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+            t.update(x, xd, &st, qd, qdd, points, report, tx, fresh_tp.as_ref().map(|tp| (&params, tp)));
             Ok(())
         }
     }

@@ -632,14 +632,13 @@ pub mod slider {
             options: &::mechgen::NewtonOptions<T>,
             report: &mut ::mechgen::NewtonReport<T>,
         ) -> Result<(), ::mechgen::SolveError> {
-            let scale = self.params.length_scale();
             // Block 0: q2 from loop 1 (y).
             ::mechgen::newton_block(
                 0,
                 st,
                 [0],
                 [false],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -650,7 +649,7 @@ pub mod slider {
                 st,
                 [1],
                 [true],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
@@ -755,7 +754,6 @@ pub mod slider {
             ([T; 2], [T; 2], [::mechgen::PointMotion<T>; 1]),
             ::mechgen::SolveError,
         > {
-            let scale = self.params.length_scale();
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: Newton.
@@ -764,7 +762,7 @@ pub mod slider {
                 st,
                 [0],
                 [false],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -775,7 +773,7 @@ pub mod slider {
                 st,
                 [1],
                 [true],
-                scale,
+                self.params.length_scale(),
                 options,
                 report,
                 |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
@@ -1019,10 +1017,12 @@ pub mod slider {
             ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
             ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
             } else {
-                self.trig_fixed(x)
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
             };
             let keep = if options.closed_forms {
                 [false, false]
@@ -1032,8 +1032,18 @@ pub mod slider {
             let mut st = t.predicted(x, [true, false], keep, same);
             let mut report = ::mechgen::NewtonReport::new();
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
-            t.update(x, xd, &st, qd, qdd, points, report, tx, tp, &params, same);
+                .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+            t.update(
+                x,
+                xd,
+                &st,
+                qd,
+                qdd,
+                points,
+                report,
+                tx,
+                fresh_tp.as_ref().map(|tp| (&params, tp)),
+            );
             Ok(())
         }
         /// Everything at once: positions from `guess`, velocities, accelerations and points.

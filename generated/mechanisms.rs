@@ -1416,7 +1416,7 @@ pub mod sixbar {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[inline]
+        #[inline(always)]
         fn motion_cached(
             &self,
             x: &[T; 1],
@@ -3085,7 +3085,7 @@ pub mod shaper {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[inline]
+        #[inline(always)]
         fn motion_cached(
             &self,
             x: &[T; 1],
@@ -4477,7 +4477,7 @@ pub mod four_bar {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[inline]
+        #[inline(always)]
         fn motion_cached(
             &self,
             x: &[T; 1],
@@ -5784,7 +5784,7 @@ pub mod slider_crank {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[inline]
+        #[inline(always)]
         fn motion_cached(
             &self,
             x: &[T; 1],
@@ -7054,7 +7054,7 @@ pub mod rocker_four_bar {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[inline]
+        #[inline(always)]
         fn motion_cached(
             &self,
             x: &[T; 1],
@@ -8692,7 +8692,7 @@ pub mod sixbar_g {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[inline]
+        #[inline(always)]
         fn motion_cached(
             &self,
             x: &[T; 1],

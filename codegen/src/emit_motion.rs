@@ -145,7 +145,7 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource) -> TokenStream {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[inline]
+        #[inline(always)]
         fn motion_cached(&self, x: &[T; #ni], st: &mut ::mechgen::TrigState<T, #nu>, tx: &[(T, T); #ni],
             tp: &[(T, T); #npar], xd: &[T; #ni], xdd: &[T; #ni], options: &::mechgen::NewtonOptions<T>,
             report: &mut ::mechgen::NewtonReport<T>)

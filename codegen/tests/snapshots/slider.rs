@@ -739,7 +739,7 @@ pub mod slider {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[inline]
+        #[inline(always)]
         fn motion_cached(
             &self,
             x: &[T; 1],

@@ -100,13 +100,24 @@ pub fn solve_dyad<T: Real, const N: usize>(
 ) -> Result<(), SolveError> {
     let (ga, gb) = (st.sc[a], st.sc[b]);
     let (ea, eb) = ((ga.1, ga.0), (gb.1, gb.0));
-    let (la2, lb2) = (ma.0 * ma.0 + ma.1 * ma.1, mb.0 * mb.0 + mb.1 * mb.1);
-    let (la, lb) = (la2.sqrt(), lb2.sqrt());
+    // A link whose M has r = 0 (no angle offset; in generated code r is then the literal zero,
+    // so these branches fold away) is a plain scaling: |M| = |p|, M⁻¹ v = v / p.
+    let (pure_a, pure_b) = (ma.1 == T::zero(), mb.1 == T::zero());
+    let len2 = |(p, r): (T, T), pure: bool| if pure { p * p } else { p * p + r * r };
+    let (la2, lb2) = (len2(ma, pure_a), len2(mb, pure_b));
+    let (la, lb) = (
+        if pure_a { ma.0.abs() } else { la2.sqrt() },
+        if pure_b { mb.0.abs() } else { lb2.sqrt() },
+    );
     // A + B = d, |A| = la, |B| = lb. Everything on the way to A is written with |d|² (no square
     // root before the one of the area), so the dependency chain is short.
     let d = (-k[0], -k[1]);
     let l2 = d.0 * d.0 + d.1 * d.1;
-    let guess_a = apply(ma, ea);
+    let guess_a = if pure_a {
+        (ma.0 * ea.0, ma.0 * ea.1)
+    } else {
+        apply(ma, ea)
+    };
     // One test for all three (each is a sum of squares, so none is negative).
     if !(l2 + la2 + lb2).is_finite() {
         return Err(SolveError::Unassemblable {
@@ -157,16 +168,18 @@ pub fn solve_dyad<T: Real, const N: usize>(
     };
     let big_a = (along * d.0 + s * n.0, along * d.1 + s * n.1);
     let big_b = (d.0 - big_a.0, d.1 - big_a.1);
-    // e = M⁻¹ A with M⁻¹ = Mᵀ / |M|², both links in lockstep.
-    let (inv_a, inv_b) = (T::one() / la2, T::one() / lb2);
-    let (ca, cb) = (
-        (ma.0 * big_a.0 + ma.1 * big_a.1) * inv_a,
-        (mb.0 * big_b.0 + mb.1 * big_b.1) * inv_b,
-    );
-    let (sa, sb) = (
-        (ma.0 * big_a.1 - ma.1 * big_a.0) * inv_a,
-        (mb.0 * big_b.1 - mb.1 * big_b.0) * inv_b,
-    );
+    // e = M⁻¹ A with M⁻¹ = Mᵀ / |M|².
+    let unapply = |(p, r): (T, T), pure: bool, (x, y): (T, T)| {
+        if pure {
+            let inv = T::one() / p;
+            (x * inv, y * inv)
+        } else {
+            let inv = T::one() / (p * p + r * r);
+            ((p * x + r * y) * inv, (p * y - r * x) * inv)
+        }
+    };
+    let (ca, sa) = unapply(ma, pure_a, big_a);
+    let (cb, sb) = unapply(mb, pure_b, big_b);
     let (qa, qb) = near_pair(
         (st.q[a], st.q[b]),
         (ea, eb),
@@ -237,6 +250,38 @@ mod tests {
             (q[0] - 3.0 * tau).abs() < 1e-13
                 && (q[1] - std::f64::consts::FRAC_PI_2 + tau).abs() < 1e-13
         );
+    }
+
+    #[test]
+    fn links_with_angle_offsets_close_the_loop() {
+        // M = [[p, −r], [r, p]]: a link of length |(p, r)| at an offset atan2(r, p) from its
+        // angle; both the offset and the plain-scaling (r = 0) forms, in every combination.
+        let links = [(0.6, 0.8), (-1.3, 0.0), (0.9, -0.4), (1.1, 0.0)];
+        for ma in links {
+            for mb in links {
+                let k = [-0.7, -1.1];
+                for guess in [(0.2, 2.0), (2.0, 0.2)] {
+                    let mut st = TrigState::new([guess.0, guess.1], [true, true]);
+                    let mut report = NewtonReport::new();
+                    solve_dyad(0, &mut st, 0, 1, k, ma, mb, || 1.0, 1e-12, &mut report)
+                        .expect("assembles");
+                    let (a, b) = (
+                        apply(ma, (st.sc[0].1, st.sc[0].0)),
+                        apply(mb, (st.sc[1].1, st.sc[1].0)),
+                    );
+                    let r = (k[0] + a.0 + b.0, k[1] + a.1 + b.1);
+                    assert!(
+                        r.0.abs() < 1e-15 && r.1.abs() < 1e-15,
+                        "{ma:?} {mb:?}: {r:?}"
+                    );
+                    for i in 0..2 {
+                        let (s, c) = st.q[i].sin_cos();
+                        assert!((st.sc[i].0 - s).abs() < 1e-15 && (st.sc[i].1 - c).abs() < 1e-15);
+                    }
+                    assert!(report.pivot_ratio > 0.0 && report.pivot_ratio <= 1.0);
+                }
+            }
+        }
     }
 
     #[test]

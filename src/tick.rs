@@ -78,7 +78,12 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
     /// tick checks params it has not seen). A NaN param is never the same.
     #[inline]
     pub fn same_params(&self, params: &[T; NPAR]) -> bool {
-        self.params == *params
+        // Branch-free, so that it compiles to a few vector compares.
+        let mut same = true;
+        for i in 0..NPAR {
+            same &= self.params[i] == params[i];
+        }
+        same
     }
 
     /// Whether the rotated caches are due to be recomputed ([`RESYNC_TICKS`]).

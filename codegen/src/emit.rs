@@ -135,15 +135,20 @@ fn kind(k: Kind) -> TokenStream {
     }
 }
 
-fn module(c: &Compiled) -> TokenStream {
-    let m = &c.model;
-    let args = Args(m);
-    let (ni, nu, np, npar) = (
+/// How many inputs, unknowns, points and params a mechanism has (the sizes of its arrays).
+pub(crate) fn sizes(m: &Model) -> (usize, usize, usize, usize) {
+    (
         m.inputs.len(),
         m.unknowns.len(),
         m.points.len(),
         m.params.len(),
-    );
+    )
+}
+
+fn module(c: &Compiled) -> TokenStream {
+    let m = &c.model;
+    let args = Args(m);
+    let (ni, nu, np, npar) = crate::emit::sizes(m);
     let mod_name = format_ident!("{}", m.name.text);
     let ty = type_ident(m);
     let name = &m.name.text;

@@ -44,12 +44,7 @@ impl VarSource for Fused<'_> {
 pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource) -> TokenStream {
     let m = &c.model;
     let dag = &c.system.dag;
-    let (ni, nu, np, npar) = (
-        m.inputs.len(),
-        m.unknowns.len(),
-        m.points.len(),
-        m.params.len(),
-    );
+    let (ni, nu, np, npar) = crate::emit::sizes(m);
     let fused = Fused(cached);
     let mut b = Builder::new(dag, &fused);
     let mut steps = TokenStream::new();

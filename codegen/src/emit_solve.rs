@@ -61,12 +61,7 @@ fn trig_masks(c: &Compiled) -> (Vec<bool>, Vec<bool>, Vec<bool>) {
 pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
     let m = &c.model;
     let dag = &c.system.dag;
-    let (ni, nu, np, npar) = (
-        m.inputs.len(),
-        m.unknowns.len(),
-        m.points.len(),
-        m.params.len(),
-    );
+    let (ni, nu, np, npar) = crate::emit::sizes(m);
     let (xm, qm, pm) = trig_masks(c);
     let cached = Cached {
         args,

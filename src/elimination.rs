@@ -199,15 +199,16 @@ pub fn factor_block<T: Real, const K: usize>(
         let det = a00 * a11 - a01 * a10;
         let mm = a00.abs().max(a10.abs()) * a01.abs().max(a11.abs());
         if mm.is_normal() {
-            let r = det.abs() / mm;
-            // `!(r > …)`: a NaN fails.
-            if !(r > T::EPSILON * T::lit(2.0)) {
+            // `!(… > …)`: a NaN fails. (No division on the way: the ratio itself is only
+            // computed where it is read.)
+            if !(det.abs() > T::EPSILON * T::lit(2.0) * mm) {
                 return Err(SolveError::Singular {
                     block,
                     stage,
-                    pivot_ratio: r.to_f64(),
+                    pivot_ratio: (det.abs() / mm).to_f64(),
                 });
             }
+            let r = det.abs() / mm;
             let inv = T::one() / det;
             jac[(0, 0)] = a11 * inv;
             jac[(0, 1)] = -a01 * inv;

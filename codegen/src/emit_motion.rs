@@ -90,20 +90,7 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource) -> TokenStream {
         roots.extend(bf.jacobian.iter().flatten());
         let seg = b.segment(&roots);
         let (stmts, vel) = (&seg.stmts, &seg.roots[..k]);
-        let mut sets = TokenStream::new();
-        for r in 0..k {
-            for cc in 0..k {
-                if !dag.is_zero(bf.jacobian[r][cc]) {
-                    let v = &seg.roots[k + r * k + cc];
-                    let (eq, un) = (bf.block.equations[r], idx[cc]);
-                    sets.extend(comment(&format!(
-                        "J[{eq}][{un}] = ∂Φ{eq}/∂{}",
-                        m.unknowns[un].name.text
-                    )));
-                    sets.extend(quote!(jac[(#r, #cc)] = #v;));
-                }
-            }
-        }
+        let sets = crate::emit_solve::jacobian_sets(c, bi, &seg.roots[k..]);
         steps.extend(comment(&format!(
             "Block {bi}: velocities and accelerations."
         )));

@@ -57,6 +57,29 @@ fn trig_masks(c: &Compiled) -> (Vec<bool>, Vec<bool>, Vec<bool>) {
     (x, q, p)
 }
 
+/// `jac[(r, c)] = …;` for the structurally non-zero entries of block `bi`'s Jacobian, each under a
+/// comment naming the J entry; `roots` holds the entries' expressions row by row.
+pub(crate) fn jacobian_sets(c: &Compiled, bi: usize, roots: &[TokenStream]) -> TokenStream {
+    let (m, dag, bf) = (&c.model, &c.system.dag, &c.blocks[bi]);
+    let k = bf.block.unknowns.len();
+    let mut sets = TokenStream::new();
+    for r in 0..k {
+        for cc in 0..k {
+            if dag.is_zero(bf.jacobian[r][cc]) {
+                continue;
+            }
+            let v = &roots[r * k + cc];
+            let (eq, un) = (bf.block.equations[r], bf.block.unknowns[cc]);
+            sets.extend(comment(&format!(
+                "J[{eq}][{un}] = ∂Φ{eq}/∂{}",
+                m.unknowns[un].name.text
+            )));
+            sets.extend(quote!(jac[(#r, #cc)] = #v;));
+        }
+    }
+    sets
+}
+
 /// The solver methods of a mechanism's type (inside its `impl<T: Real>` block).
 pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
     let m = &c.model;
@@ -92,24 +115,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             members.join(", "),
             crate::emit::equations_text(&bf.block.equations)
         );
-        let jac_sets = |b: &Body, off: usize| {
-            let mut sets = TokenStream::new();
-            for r in 0..k {
-                for cc in 0..k {
-                    if dag.is_zero(bf.jacobian[r][cc]) {
-                        continue;
-                    }
-                    let v = &b.roots[off + r * k + cc];
-                    let (eq, un) = (bf.block.equations[r], idx[cc]);
-                    sets.extend(comment(&format!(
-                        "J[{eq}][{un}] = ∂Φ{eq}/∂{}",
-                        m.unknowns[un].name.text
-                    )));
-                    sets.extend(quote!(jac[(#r, #cc)] = #v;));
-                }
-            }
-            sets
-        };
+        let jac_sets = |b: &Body, off: usize| jacobian_sets(c, bi, &b.roots[off..]);
         let jroots: Vec<NodeId> = bf.jacobian.iter().flatten().copied().collect();
         let names = [
             format_ident!("block{}_position", bi),

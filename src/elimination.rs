@@ -197,8 +197,10 @@ pub fn factor_block<T: Real, const K: usize>(
         // elimination's (its first pivot is 1 after equilibration, its second |det| / (m₀ m₁)).
         let (a00, a01, a10, a11) = (jac[(0, 0)], jac[(0, 1)], jac[(1, 0)], jac[(1, 1)]);
         let det = a00 * a11 - a01 * a10;
-        let mm = a00.abs().max(a10.abs()) * a01.abs().max(a11.abs());
-        if mm.is_normal() {
+        // Plain comparisons (a NaN entry makes `det` NaN, which the test below rejects).
+        let larger = |x: T, y: T| if x > y { x } else { y };
+        let mm = larger(a00.abs(), a10.abs()) * larger(a01.abs(), a11.abs());
+        if mm >= T::MIN_POSITIVE && mm <= T::MAX {
             // `!(… > …)`: a NaN fails. (No division on the way: the ratio itself is only
             // computed where it is read.)
             if !(det.abs() > T::EPSILON * T::lit(2.0) * mm) {

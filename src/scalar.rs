@@ -26,6 +26,10 @@ pub trait Real:
 {
     /// Machine epsilon.
     const EPSILON: Self;
+    /// The smallest positive normal value.
+    const MIN_POSITIVE: Self;
+    /// The largest finite value.
+    const MAX: Self;
     /// Default relative Newton step tolerance for this precision.
     const DEFAULT_TOLERANCE: Self;
     /// An f64 constant in this precision (rounded to nearest).
@@ -50,6 +54,8 @@ macro_rules! impl_real {
     ($t:ty, $tol:expr) => {
         impl Real for $t {
             const EPSILON: Self = <$t>::EPSILON;
+            const MIN_POSITIVE: Self = <$t>::MIN_POSITIVE;
+            const MAX: Self = <$t>::MAX;
             const DEFAULT_TOLERANCE: Self = $tol;
             #[inline(always)]
             fn lit(x: f64) -> Self {

@@ -30,6 +30,14 @@ fn run<M: Mechanism<f64>>(m: &M, turns: u32, step_deg: f64) -> f64
 where
     M::Tick: AsTick,
 {
+    run_with(m, turns, step_deg, NewtonOptions::default())
+}
+
+/// [`run`] with given solver options.
+fn run_with<M: Mechanism<f64>>(m: &M, turns: u32, step_deg: f64, opts: NewtonOptions<f64>) -> f64
+where
+    M::Tick: AsTick,
+{
     let info = m.info();
     let kinds: Vec<Kind> = info.unknowns.iter().map(|u| u.kind).collect();
     let mut x = M::X::zeros();
@@ -43,11 +51,10 @@ where
     let mut xd = M::X::zeros();
     xd.as_mut()[0] = 1.3;
     let xdd = M::X::zeros();
-    let opts = NewtonOptions::default();
     let mut t = m
         .tick_start(&x, &xd, &xdd, &guess, &opts)
         .expect("the start assembles");
-    let steps = (f64::from(turns) * 360.0 / step_deg).round() as u32;
+    let steps = (f64::from(turns) * 360.0 / step_deg.abs()).round() as u32;
     let mut worst: f64 = 0.0;
     for _ in 0..steps {
         x.as_mut()[0] += step_deg.to_radians();
@@ -107,6 +114,27 @@ fn ticks_equal_fresh_solves() {
     let four_bar = mechgen::four_bar::FourBar::<f64>::default();
     let d = run(&four_bar, 1, 5.0);
     assert!(d < 1e-12, "four_bar: {d:e}");
+}
+
+#[test]
+fn large_ticks_and_newton_on_dyads() {
+    let sixbar = mechgen::sixbar::Sixbar::<f64>::default();
+    // 15° ticks: links turn by more than the turn series covers, so the dyads' angles come from
+    // atan2 (nearest the last tick's); backwards too.
+    let d = run(&sixbar, 1, 15.0);
+    eprintln!("sixbar, 24 ticks of 15°: {d:e}");
+    assert!(d < 1e-12, "sixbar 15°: {d:e}");
+    let d = run(&sixbar, 1, -7.5);
+    eprintln!("sixbar, 48 ticks of −7.5°: {d:e}");
+    assert!(d < 1e-12, "sixbar −7.5°: {d:e}");
+    // Newton on the dyad blocks: their unknowns are predicted and their caches rotated.
+    let newton = NewtonOptions {
+        closed_forms: false,
+        ..NewtonOptions::default()
+    };
+    let d = run_with(&sixbar, 1, 1.0, newton);
+    eprintln!("sixbar, Newton on dyads, 360 ticks of 1°: {d:e}");
+    assert!(d < 1e-12, "sixbar Newton: {d:e}");
 }
 
 #[test]

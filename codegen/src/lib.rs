@@ -1,11 +1,11 @@
-//! mechgen-codegen: mechanism.toml → Rust kinematics solvers.
+//! mechgen-codegen: mechanism.toml → Rust kinematics solvers, as a library for build scripts
+//! ([`build_script`]) and for run-time engines ([`analyze`] and the types it returns).
 //!
-//! Pipeline (one module per stage, chained in [`mod@compile`]):
-//! [`parse`] (TOML + syn, with spans) → [`check`] (names; [`typing`]: types, angles; [`eval`]: values) → [`lower`] (loops to
-//! scalar residuals in the hash-consed [`dag`]) → [`differentiate`] (J, Φx, J̇, γ, points) →
-//! [`structure`] (matching, block-triangular order) → [`plan`] (per-block forms, [`dyad`]: closed-form dyad blocks), [`start`] (the start configuration against the loops) → [`emit`]
-//! (quote → prettyplease; [`emit_solve`]: the block solvers). [`diagnostic`] renders errors as FILE:LINE:COLUMN; [`build_script`] is
-//! the entry point for a `build.rs`.
+//! Stages, one folder each, chained by the short driver in `compile.rs`:
+//! `front` (TOML + syn → syntax tree with spans) → `sema` (names, types, angles, values →
+//! `Model`) → `ir` (the hash-consed DAG, lowering, derivatives) → `lints` (start check, overflow,
+//! unused, structural errors) → `analysis` (block structure and the per-block plan → [`Compiled`])
+//! → emit (tokens → `prettyplease`). [`diagnostic`] renders errors as FILE:LINE:COLUMN.
 
 // Float guards read better than float patterns; `% 2` is the loop component parity.
 #![allow(
@@ -14,27 +14,31 @@
     clippy::needless_range_loop
 )]
 
-pub mod ast;
+mod analysis;
 pub mod build_script;
-pub mod check;
-pub mod compile;
-pub mod dag;
+mod compile;
 pub mod diagnostic;
-pub mod differentiate;
-pub mod dyad;
-pub mod emit;
-pub mod emit_body;
-pub mod emit_motion;
-pub mod emit_solve;
-pub mod emit_system;
-pub mod eval;
-pub mod lower;
-pub mod parse;
-mod parse_expr;
-pub mod plan;
-pub mod start;
-pub mod structure;
-pub mod typing;
+mod emit;
+mod emit_body;
+mod emit_motion;
+mod emit_solve;
+mod emit_system;
+mod front;
+mod ir;
+mod lints;
+mod sema;
 
-pub use compile::{Compiled, analyze, compile};
+// Transitional paths for the emitters until they move into their own stage folder.
+use ir::dag;
+use sema::model as check;
+
+pub use analysis::Compiled;
+pub use analysis::dyad::Dyad;
+pub use analysis::plan::BlockForms;
+pub use analysis::structure::Block;
+pub use compile::{analyze, compile};
 pub use diagnostic::{Diagnostic, Severity, SourceFile, Span};
+pub use ir::dag::{Dag, Node, NodeId, Var};
+pub use ir::differentiate::Derivatives;
+pub use ir::lower::{Chain, System, chains};
+pub use sema::model::{Coord, Kind, Model, Param, Scene, Symbol};

@@ -3,7 +3,7 @@
 //! the same block Newton and elimination as the generated code on nalgebra `DMatrix`/`DVector`.
 //! Implements [`Kinematics`] with the generated solvers' semantics and error values.
 
-use mechgen_codegen::check::Kind as CodegenKind;
+use mechgen_codegen::Kind as CodegenKind;
 use mechgen_codegen::{Compiled, Diagnostic, SourceFile};
 use nalgebra::{DMatrix, DVector, Dyn};
 
@@ -101,10 +101,10 @@ impl Generic {
     pub fn new(c: &Compiled) -> Generic {
         let m = &c.model;
         let mut dag = c.system.dag.clone();
-        let chains = mechgen_codegen::lower::chains(m, &mut dag);
+        let chains = mechgen_codegen::chains(m, &mut dag);
         let d = &c.derivatives;
         let flat = |rows: &[Vec<_>]| rows.iter().flatten().copied().collect::<Vec<_>>();
-        let coords = |cs: &[mechgen_codegen::check::Coord]| {
+        let coords = |cs: &[mechgen_codegen::Coord]| {
             cs.iter()
                 .map(|c| (c.name.text.clone(), kind(c.kind), c.start))
                 .collect::<Vec<_>>()

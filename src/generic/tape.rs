@@ -2,7 +2,7 @@
 //! program (a tape) and interpreted. Only the nodes the roots need are kept, children before
 //! parents, and a `sin` and `cos` of the same argument become one `sin_cos`.
 
-use mechgen_codegen::dag::{Dag, Node, NodeId, Var};
+use mechgen_codegen::{Dag, Node, NodeId, Var};
 
 use crate::scalar::Real;
 

@@ -9,11 +9,11 @@
 //!   - converges from a residual at most [`WARN`] (start values rounded to a tenth of a degree or
 //!     so, like the seed documents'): nothing — the solvers correct that on their first step.
 
-use crate::check::{Kind, Model};
-use crate::dag::Var;
 use crate::diagnostic::Diagnostic;
-use crate::differentiate::Derivatives;
-use crate::lower::System;
+use crate::ir::dag::Var;
+use crate::ir::differentiate::Derivatives;
+use crate::ir::lower::System;
+use crate::sema::model::{Kind, Model};
 
 /// Relative residual below which the start configuration counts as assembled.
 pub const CLOSED: f64 = 1e-6;
@@ -134,7 +134,7 @@ pub fn check(model: &Model, system: &System, derivatives: &Derivatives) -> Optio
                 .chain(model.unknowns.iter().zip(q))
                 .map(|(c, v)| {
                     // Angles in (−π, π]: Newton may have wandered through whole turns.
-                    let v = if c.kind == crate::check::Kind::Angle {
+                    let v = if c.kind == crate::sema::model::Kind::Angle {
                         let tau = std::f64::consts::TAU;
                         let w = v.rem_euclid(tau);
                         if w > std::f64::consts::PI { w - tau } else { w }

@@ -6,9 +6,9 @@ use syn::spanned::Spanned as _;
 use toml::Spanned;
 use toml::de::DeValue;
 
-use crate::ast::{BinOp, Expr, ExprKind, Name};
 use crate::diagnostic::{Diagnostic, Span};
-use crate::parse::{Parser, span_of};
+use crate::front::ast::{BinOp, Expr, ExprKind, Name};
+use crate::front::parse::{Parser, span_of};
 
 impl Parser<'_> {
     /// Where the content of a string value starts, when the content is the raw text (no escapes).

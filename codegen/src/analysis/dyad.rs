@@ -6,9 +6,9 @@
 
 use std::collections::HashMap;
 
-use crate::check::{Kind, Model};
-use crate::dag::{Dag, Node, NodeId, Var};
-use crate::structure::Block;
+use crate::analysis::structure::Block;
+use crate::ir::dag::{Dag, Node, NodeId, Var};
+use crate::sema::model::{Kind, Model};
 
 /// A dyad block as DAG nodes: `K + M_a e(q_a) + M_b e(q_b) = 0`, `M = [[p, −r], [r, p]]`.
 #[derive(Clone, Debug, PartialEq)]

@@ -3,10 +3,11 @@
 
 use std::collections::HashMap;
 
-use crate::ast::{BinOp, Expr, ExprKind};
-use crate::check::Symbol;
+use super::builtin::{Builtin, undefined_function};
+use super::eval::arity_error;
+use super::model::Symbol;
 use crate::diagnostic::{Diagnostic, Span};
-use crate::eval::undefined_function;
+use crate::front::ast::{BinOp, Expr, ExprKind};
 
 /// Scalar or planar vector.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -36,7 +37,7 @@ pub fn type_of(
     }
     match &e.kind {
         ExprKind::Number(_) => Some(Ty::Scalar),
-        ExprKind::Name(n) if n == "pi" => Some(Ty::Scalar),
+        ExprKind::Name(n) if Builtin::from_name(n) == Some(Builtin::Pi) => Some(Ty::Scalar),
         ExprKind::Name(n) => match symbols.get(n) {
             Some(Symbol::Param(_)) => Some(Ty::Scalar),
             Some(_) if !params_only => Some(Ty::Scalar),
@@ -84,33 +85,43 @@ pub fn type_of(
             }
         }
         ExprKind::Call(f, args) => {
-            let (arity, angle_arg, result) = match f.text.as_str() {
-                "e" => (1, true, Ty::Vector),
-                "c" => (2, false, Ty::Vector),
-                "sin" | "cos" | "tan" => (1, true, Ty::Scalar),
-                "deg" | "sqrt" => (1, false, Ty::Scalar),
+            let builtin = Builtin::from_name(&f.text);
+            let sig = match builtin.and_then(Builtin::signature) {
+                Some(sig) if params_only || !builtin.is_some_and(Builtin::params_only) => sig,
+                Some(_) => {
+                    diags.push(
+                        Diagnostic::error(
+                            f.span,
+                            format!("`{}` is allowed in params only", f.text),
+                        )
+                        .with_note(
+                            "define a param with it and use the param here: loops and points \
+                             are differentiated, params are fixed for a solve",
+                        ),
+                    );
+                    return None;
+                }
                 // Param expressions report unknown functions during evaluation.
-                _ if params_only => return None,
-                other => {
-                    diags.push(if symbols.contains_key(other) {
+                None if params_only => return None,
+                None => {
+                    let other = f.text.as_str();
+                    diags.push(if symbols.contains_key(other) || builtin.is_some() {
                         Diagnostic::error(f.span, format!("`{other}` is not a function"))
-                            .with_note("functions: e, c, deg, sin, cos, tan, sqrt")
+                            .with_note(format!("functions: {}", Builtin::function_list(false)))
                     } else {
-                        undefined_function(other, f.span)
+                        undefined_function(other, f.span, false)
                     });
                     return None;
                 }
             };
+            let (arity, angle_arg) = (sig.arity, sig.angle_arguments);
+            let result = if sig.vector_result {
+                Ty::Vector
+            } else {
+                Ty::Scalar
+            };
             if args.len() != arity {
-                diags.push(Diagnostic::error(
-                    e.span,
-                    format!(
-                        "`{}` takes {arity} argument{}, got {}",
-                        f.text,
-                        if arity == 1 { "" } else { "s" },
-                        args.len()
-                    ),
-                ));
+                diags.push(arity_error(e, &f.text, arity, args.len()));
                 return None;
             }
             let mut ok = true;

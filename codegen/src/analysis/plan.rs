@@ -2,12 +2,12 @@
 //! diagonal block its residual and Jacobian, and its velocity and acceleration right-hand sides
 //! with the unknowns of earlier blocks already substituted as known rates.
 
-use crate::check::Model;
-use crate::dag::{NodeId, Var};
-use crate::differentiate::{Derivatives, Differentiator};
-use crate::dyad::Dyad;
-use crate::lower::System;
-use crate::structure::Block;
+use crate::analysis::dyad::Dyad;
+use crate::analysis::structure::Block;
+use crate::ir::dag::{NodeId, Var};
+use crate::ir::differentiate::{Derivatives, Differentiator};
+use crate::ir::lower::System;
+use crate::sema::model::Model;
 
 /// Everything one diagonal block's solvers evaluate.
 #[derive(Clone, Debug)]
@@ -34,7 +34,7 @@ pub fn block_forms(
     let residuals = sys.residuals.clone();
     let dyads: Vec<Option<Dyad>> = blocks
         .iter()
-        .map(|b| crate::dyad::dyad(&mut sys.dag, model, &residuals, b))
+        .map(|b| crate::analysis::dyad::dyad(&mut sys.dag, model, &residuals, b))
         .collect();
     let mut d = Differentiator::new(&mut sys.dag);
     let n = der.jacobian.first().map_or(0, Vec::len);

@@ -3,13 +3,13 @@
 
 use std::collections::HashMap;
 
-use crate::ast::{self, Expr, ExprKind, Name};
+use super::builtin::Builtin;
+use super::eval::{Shown, eval};
+use super::model::{Coord, Kind, Model, Param, Scene, Symbol};
+use super::typing::{Ty, type_of};
 use crate::diagnostic::{Diagnostic, Span};
-pub use crate::eval::{Shown, eval};
-use crate::typing::{Ty, type_of};
-
-/// The built-in functions and constants; no declared name may use them.
-pub const RESERVED: [&str; 8] = ["e", "c", "deg", "pi", "sin", "cos", "tan", "sqrt"];
+use crate::front::ast::ExprKind;
+use crate::front::ast::{self, Name};
 
 /// Rust's keywords (strict and reserved, edition 2024) and `_`: names become modules and fields of
 /// the generated code, so these cannot be names.
@@ -30,64 +30,6 @@ fn keyword(name: &Name, what: &str) -> Option<Diagnostic> {
         )
         .with_note("names become modules and fields of the generated Rust code")
     })
-}
-
-/// Angle (radians) or length (file units), inferred from use.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Kind {
-    Angle,
-    Length,
-}
-
-/// What a name refers to.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Symbol {
-    Input(usize),
-    Unknown(usize),
-    Param(usize),
-}
-
-#[derive(Clone, Debug, PartialEq)]
-pub struct Coord {
-    pub name: Name,
-    pub kind: Kind,
-    /// Value in the `start` configuration.
-    pub start: f64,
-}
-
-#[derive(Clone, Debug, PartialEq)]
-pub struct Param {
-    pub name: Name,
-    pub kind: Kind,
-    /// Default value (the file's expression evaluated in f64).
-    pub value: f64,
-    /// The expression as written when it was not a plain number.
-    pub source: Option<String>,
-}
-
-/// A checked scene: which unknowns and points it reads, and up to which derivative order.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Scene {
-    pub name: Name,
-    pub unknowns: Vec<usize>,
-    pub points: Vec<usize>,
-    pub order: u8,
-}
-
-/// A checked mechanism: every name resolved, every expression well typed.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Model {
-    pub name: Name,
-    pub description: String,
-    pub inputs: Vec<Coord>,
-    pub unknowns: Vec<Coord>,
-    pub params: Vec<Param>,
-    pub loops: Vec<Expr>,
-    pub points: Vec<(Name, Expr)>,
-    pub scenes: Vec<Scene>,
-    pub symbols: HashMap<String, Symbol>,
-    /// Where the `start` values are written (the mechanism name when there are none).
-    pub start_span: Span,
 }
 
 /// Checks every mechanism and scene; a mechanism with errors yields no model.
@@ -121,6 +63,12 @@ pub fn check(file: &ast::File, diags: &mut Vec<Diagnostic>) -> Vec<Model> {
     models
 }
 
+fn reserved(name: &Name) -> Diagnostic {
+    let all: Vec<_> = Builtin::ALL.iter().map(|b| b.name()).collect();
+    Diagnostic::error(name.span, format!("`{}` is a reserved name", name.text))
+        .with_note(format!("built in: {}", all.join(", ")))
+}
+
 fn duplicate(name: &Name, prev: Span, what: &str) -> Diagnostic {
     Diagnostic::error(
         name.span,
@@ -146,11 +94,8 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
     let mut declare = |name: &Name, sym: Symbol, diags: &mut Vec<Diagnostic>| {
         // Still declared: its uses are not undefined.
         diags.extend(keyword(name, "name"));
-        if RESERVED.contains(&name.text.as_str()) {
-            diags.push(
-                Diagnostic::error(name.span, format!("`{}` is a reserved name", name.text))
-                    .with_note("e, c, deg, pi, sin, cos, tan and sqrt are built in"),
-            );
+        if Builtin::is_reserved(&name.text) {
+            diags.push(reserved(name));
         } else if let Some(prev) = first.get(&name.text) {
             diags.push(duplicate(name, *prev, "name"));
         } else {
@@ -172,17 +117,20 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
     let mut values: HashMap<String, f64> = HashMap::new();
     for (i, (name, expr)) in m.params.iter().enumerate() {
         declare(name, Symbol::Param(i), diags);
-        let value = eval(expr, &values, "a param", diags).unwrap_or(0.0);
+        let value = eval(expr, &values, &format!("param `{}`", name.text), diags).unwrap_or(0.0);
         values.insert(name.text.clone(), value);
         let source = match expr.kind {
             ExprKind::Number(_) => None,
             _ => Some(format!("{}", Shown(expr))),
         };
+        let mut uses = Vec::new();
+        params_used(expr, &params, &mut uses);
         params.push(Param {
             name: name.clone(),
             kind: Kind::Length,
             value,
             source,
+            uses,
         });
     }
 
@@ -192,11 +140,8 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         let _ = type_of(l, &symbols, false, &mut angles, diags);
     }
     for (name, p) in &m.points {
-        if RESERVED.contains(&name.text.as_str()) {
-            diags.push(Diagnostic::error(
-                name.span,
-                format!("`{}` is a reserved name", name.text),
-            ));
+        if Builtin::is_reserved(&name.text) {
+            diags.push(reserved(name));
         }
         diags.extend(keyword(name, "point name"));
         if type_of(p, &symbols, false, &mut angles, diags) == Some(Ty::Scalar) {
@@ -385,6 +330,26 @@ fn check_scene(
         }
     }
     model.scenes.push(scene);
+}
+
+/// The earlier params `e` names (each once, in order of first use).
+fn params_used(e: &ast::Expr, earlier: &[Param], out: &mut Vec<usize>) {
+    match &e.kind {
+        ExprKind::Number(_) => {}
+        ExprKind::Name(n) => {
+            if let Some(i) = earlier.iter().position(|p| p.name.text == *n)
+                && !out.contains(&i)
+            {
+                out.push(i);
+            }
+        }
+        ExprKind::Neg(x) => params_used(x, earlier, out),
+        ExprKind::Binary(_, a, b) => {
+            params_used(a, earlier, out);
+            params_used(b, earlier, out);
+        }
+        ExprKind::Call(_, args) => args.iter().for_each(|a| params_used(a, earlier, out)),
+    }
 }
 
 fn is_snake_case(s: &str) -> bool {

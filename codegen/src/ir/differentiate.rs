@@ -4,8 +4,8 @@
 
 use std::collections::HashMap;
 
-use crate::dag::{Dag, Node, NodeId, Var};
-use crate::lower::System;
+use crate::ir::dag::{Dag, Node, NodeId, Var};
+use crate::ir::lower::System;
 
 /// Every derivative the emitter needs, as nodes of the system's DAG.
 #[derive(Clone, Debug)]

@@ -1,15 +1,11 @@
-//! Part of stage 2: params and start values evaluated in f64, and expressions printed back.
+//! Part of stage 2 (semantics): params and start values evaluated in f64, and expressions printed
+//! back.
 
 use std::collections::HashMap;
 
-use crate::ast::{BinOp, Expr, ExprKind};
-use crate::check::RESERVED;
-use crate::diagnostic::{Diagnostic, Span};
-
-pub fn undefined_function(name: &str, span: Span) -> Diagnostic {
-    Diagnostic::error(span, format!("undefined function `{name}`"))
-        .with_note("functions: e, c, deg, sin, cos, tan, sqrt")
-}
+use super::builtin::{Builtin, undefined_function};
+use crate::diagnostic::Diagnostic;
+use crate::front::ast::{BinOp, Expr, ExprKind};
 
 /// Evaluates a scalar expression of params (params, start values) in f64.
 pub fn eval(
@@ -39,7 +35,7 @@ fn eval_inner(
     let mut go = |x: &Expr| eval_inner(x, values, what, diags);
     Some(match &e.kind {
         ExprKind::Number(x) => *x,
-        ExprKind::Name(n) if n == "pi" => std::f64::consts::PI,
+        ExprKind::Name(n) if Builtin::from_name(n) == Some(Builtin::Pi) => std::f64::consts::PI,
         ExprKind::Name(n) => match values.get(n) {
             Some(v) => *v,
             None => {
@@ -61,39 +57,41 @@ fn eval_inner(
                 BinOp::Div => a / b,
             }
         }
-        ExprKind::Call(f, args) if args.len() == 1 => {
-            let x = go(&args[0])?;
-            match f.text.as_str() {
-                "deg" => x.to_radians(),
-                "sin" => x.sin(),
-                "cos" => x.cos(),
-                "tan" => x.tan(),
-                "sqrt" => x.sqrt(),
-                "e" | "c" => {
-                    diags.push(Diagnostic::error(
-                        e.span,
-                        format!("{what} must be a scalar, `{}` is not", f.text),
-                    ));
-                    return None;
-                }
-                other => {
-                    diags.push(undefined_function(other, f.span));
-                    return None;
-                }
+        ExprKind::Call(f, args) => {
+            let builtin = Builtin::from_name(&f.text);
+            let Some(sig) = builtin.and_then(Builtin::signature) else {
+                diags.push(undefined_function(&f.text, f.span, true));
+                return None;
+            };
+            if sig.vector_result {
+                diags.push(Diagnostic::error(
+                    e.span,
+                    format!("{what} must be a scalar, `{}(…)` is not", f.text),
+                ));
+                return None;
             }
-        }
-        ExprKind::Call(f, _) if !RESERVED.contains(&f.text.as_str()) => {
-            diags.push(undefined_function(&f.text, f.span));
-            return None;
-        }
-        ExprKind::Call(f, _) => {
-            diags.push(Diagnostic::error(
-                e.span,
-                format!("{what} must be a scalar, `{}(…)` is not", f.text),
-            ));
-            return None;
+            if args.len() != sig.arity {
+                diags.push(arity_error(e, &f.text, sig.arity, args.len()));
+                return None;
+            }
+            let mut values = [0.0; 2];
+            for (v, a) in values.iter_mut().zip(args) {
+                *v = go(a)?;
+            }
+            builtin.and_then(|b| b.eval(&values[..sig.arity]))?
         }
     })
+}
+
+/// The error for a call with the wrong number of arguments.
+pub fn arity_error(e: &Expr, name: &str, arity: usize, got: usize) -> Diagnostic {
+    Diagnostic::error(
+        e.span,
+        format!(
+            "`{name}` takes {arity} argument{}, got {got}",
+            if arity == 1 { "" } else { "s" },
+        ),
+    )
 }
 
 /// Prints an expression back in the file's syntax (fully parenthesised where it matters).

@@ -1,4 +1,4 @@
-//! Stage 1: mechanism file text → [`crate::ast::File`]. TOML with spans (toml's `DeTable`), each expression
+//! Stage 1: mechanism file text → [`crate::front::ast::File`]. TOML with spans (toml's `DeTable`), each expression
 //! string with `syn` (in `parse_expr.rs`), spans mapped back into the file so diagnostics point
 //! inside the strings. After a TOML syntax error only the syntax errors are reported.
 
@@ -7,8 +7,8 @@ use std::borrow::Cow;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
-use crate::ast::{Expr, ExprKind, File, Mechanism, Name, Scene};
 use crate::diagnostic::{Diagnostic, SourceFile, Span};
+use crate::front::ast::{Expr, ExprKind, File, Mechanism, Name, Scene};
 
 /// TOML syntax errors reported at most: after the first ones the parser's recovery mostly reports
 /// noise, and each rendering costs the length of its lines.
@@ -31,13 +31,23 @@ pub fn parse(file: &SourceFile) -> (File, Vec<Diagnostic>) {
     // nothing built on the guesses.
     let syntax_errors = !errors.is_empty();
     let more = errors.len().saturating_sub(MAX_SYNTAX_ERRORS);
-    for e in errors.into_iter().take(MAX_SYNTAX_ERRORS) {
-        let span = e
-            .span()
-            .map_or(Span::new(0, 0), |r| Span::new(r.start, r.end));
+    // The parser's recovery reports follow-on errors out of order (an unterminated string is
+    // reported after the errors it causes below it): the first in the file is the real one, so
+    // sort by position before keeping the first few.
+    let mut located: Vec<(Span, String)> = errors
+        .into_iter()
+        .map(|e| {
+            let span = e
+                .span()
+                .map_or(Span::new(0, 0), |r| Span::new(r.start, r.end));
+            (span, e.message().trim().to_string())
+        })
+        .collect();
+    located.sort_by_key(|(span, _)| (span.start, span.end));
+    for (span, message) in located.into_iter().take(MAX_SYNTAX_ERRORS) {
         p.diags.push(Diagnostic::error(
             span,
-            format!("TOML syntax error: {}", e.message().trim()),
+            format!("TOML syntax error: {message}"),
         ));
     }
     if let Some(last) = p.diags.last_mut().filter(|_| more > 0) {

@@ -1,9 +1,10 @@
 //! Stage 3: a checked [`Model`] → scalar residuals and point coordinates in a [`Dag`]. Each loop
 //! becomes two residuals (x, y); a scalar term of a vector sum is the vector (s, 0).
 
-use crate::ast::{BinOp, Expr, ExprKind};
-use crate::check::{Model, Symbol};
-use crate::dag::{Dag, Node, NodeId, Var};
+use crate::front::ast::{BinOp, Expr, ExprKind};
+use crate::ir::dag::{Dag, Node, NodeId, Var};
+use crate::sema::builtin::Builtin;
+use crate::sema::model::{Model, Symbol};
 
 /// The position-level system of one mechanism.
 #[derive(Clone, Debug)]
@@ -66,7 +67,9 @@ fn scalar(v: Value) -> NodeId {
 fn value(dag: &mut Dag, model: &Model, e: &Expr) -> Value {
     match &e.kind {
         ExprKind::Number(x) => Value::Scalar(dag.constant(*x)),
-        ExprKind::Name(n) if n == "pi" => Value::Scalar(dag.constant(std::f64::consts::PI)),
+        ExprKind::Name(n) if Builtin::from_name(n) == Some(Builtin::Pi) => {
+            Value::Scalar(dag.constant(std::f64::consts::PI))
+        }
         ExprKind::Name(n) => {
             let var = match model.symbols.get(n) {
                 Some(Symbol::Input(i)) => Var::X(*i as u16),
@@ -85,33 +88,42 @@ fn value(dag: &mut Dag, model: &Model, e: &Expr) -> Value {
             binary(dag, *op, va, vb)
         }
         ExprKind::Call(f, args) => {
-            let mut arg = |i: usize| {
-                args.get(i)
-                    .map_or(Value::Scalar(dag.constant(0.0)), |a| value(dag, model, a))
+            // Arity is checked: a missing argument (unreachable) reads as 0.
+            let zero = dag.constant(0.0);
+            let mut arg_values = [Value::Scalar(zero); 2];
+            for (slot, a) in arg_values.iter_mut().zip(args) {
+                *slot = value(dag, model, a);
+            }
+            let arg = |i: usize| arg_values[i.min(1)];
+            // A checked model calls only built-ins that loops and points allow.
+            let Some(builtin) = Builtin::from_name(&f.text) else {
+                return Value::Scalar(dag.constant(0.0));
             };
-            match f.text.as_str() {
-                "e" => {
+            match builtin {
+                Builtin::E => {
                     let t = scalar(arg(0));
                     let (c, s) = cos_sin(dag, t);
                     Value::Vector(c, s)
                 }
-                "c" => {
+                Builtin::C => {
                     let (x, y) = (scalar(arg(0)), scalar(arg(1)));
                     Value::Vector(x, y)
                 }
-                name => {
-                    let x = scalar(arg(0));
-                    Value::Scalar(match name {
-                        "sin" => cos_sin(dag, x).1,
-                        "cos" => cos_sin(dag, x).0,
-                        "tan" => dag.tan(x),
-                        "sqrt" => dag.sqrt(x),
-                        _ => {
-                            let k = dag.constant(std::f64::consts::PI / 180.0);
-                            dag.mul(k, x)
-                        }
-                    })
+                Builtin::Sin => Value::Scalar(cos_sin(dag, scalar(arg(0))).1),
+                Builtin::Cos => Value::Scalar(cos_sin(dag, scalar(arg(0))).0),
+                Builtin::Tan => Value::Scalar(dag.tan(scalar(arg(0)))),
+                Builtin::Sqrt => Value::Scalar(dag.sqrt(scalar(arg(0)))),
+                Builtin::Deg => {
+                    let k = dag.constant(std::f64::consts::PI / 180.0);
+                    Value::Scalar(dag.mul(k, scalar(arg(0))))
                 }
+                Builtin::Pi
+                | Builtin::Asin
+                | Builtin::Acos
+                | Builtin::Atan
+                | Builtin::Atan2
+                | Builtin::Abs
+                | Builtin::Hypot => Value::Scalar(dag.constant(0.0)),
             }
         }
     }

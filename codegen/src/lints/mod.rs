@@ -1,0 +1,13 @@
+//! Stage 4 (lints): checks that need the lowered system rather than the syntax: the start
+//! configuration against the loops, non-finite constants, unused inputs and params, and the
+//! structural errors of the Jacobian told in the file's terms. Each returns diagnostics; none
+//! changes the system.
+
+mod overflow;
+pub mod start;
+mod structure;
+mod usage;
+
+pub use overflow::overflow;
+pub use structure::structure_diagnostics;
+pub use usage::usage;

@@ -1,0 +1,52 @@
+//! Lint (after lowering and after planning): a constant of the DAG that is not finite cannot be
+//! spelled in generated code, so the mechanism is rejected with the loop or point that holds it.
+
+use crate::diagnostic::Diagnostic;
+use crate::ir::dag::{Dag, Node, NodeId};
+use crate::ir::lower::System;
+use crate::sema::model::Model;
+
+/// A constant of the DAG that is not finite (`1e200*1e200`, `1/0` folded, or such a constant
+/// differentiated): the generated code cannot spell it. Points at the first loop or point that
+/// holds one, or at the mechanism when only derivatives do.
+pub fn overflow(model: &Model, system: &System) -> Option<Diagnostic> {
+    let dag = &system.dag;
+    let whole: Vec<NodeId> = (0..dag.len() as u32).map(NodeId).collect();
+    if !non_finite_constant(dag, &whole) {
+        return None;
+    }
+    let message = "a constant of this expression is not finite (it overflows f64)";
+    for (i, l) in model.loops.iter().enumerate() {
+        if non_finite_constant(dag, &system.residuals[2 * i..2 * i + 2]) {
+            return Some(Diagnostic::error(l.span, message).with_label("overflows"));
+        }
+    }
+    for ((_, e), xy) in model.points.iter().zip(&system.points) {
+        if non_finite_constant(dag, xy) {
+            return Some(Diagnostic::error(e.span, message).with_label("overflows"));
+        }
+    }
+    Some(Diagnostic::error(
+        model.name.span,
+        format!(
+            "mechanism `{}`: a constant of its derivatives is not finite (it overflows f64)",
+            model.name.text
+        ),
+    ))
+}
+
+/// Whether a node reachable from `roots` is a non-finite constant.
+fn non_finite_constant(dag: &Dag, roots: &[NodeId]) -> bool {
+    let mut seen = vec![false; dag.len()];
+    let mut stack = roots.to_vec();
+    while let Some(n) = stack.pop() {
+        if std::mem::replace(&mut seen[n.index()], true) {
+            continue;
+        }
+        match dag.node(n) {
+            Node::Const(bits) if !f64::from_bits(bits).is_finite() => return true,
+            node => stack.extend(node.children()),
+        }
+    }
+    false
+}

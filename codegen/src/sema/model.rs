@@ -1,0 +1,69 @@
+//! Part of stage 2 (semantics): what checking produces. A [`Model`] is one mechanism with every
+//! name resolved to a [`Symbol`], every coordinate and param classified as angle or length, and
+//! its params and start values evaluated.
+
+use std::collections::HashMap;
+
+use crate::diagnostic::Span;
+use crate::front::ast::{Expr, Name};
+
+/// Angle (radians) or length (file units), inferred from use.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Kind {
+    Angle,
+    Length,
+}
+
+/// What a name refers to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Symbol {
+    Input(usize),
+    Unknown(usize),
+    Param(usize),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coord {
+    pub name: Name,
+    pub kind: Kind,
+    /// Value in the `start` configuration.
+    pub start: f64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Param {
+    pub name: Name,
+    pub kind: Kind,
+    /// Default value (the file's expression evaluated in f64).
+    pub value: f64,
+    /// The expression as written when it was not a plain number.
+    pub source: Option<String>,
+    /// The params its expression uses (indices of earlier params). A param that uses others is
+    /// derived: its value follows from theirs.
+    pub uses: Vec<usize>,
+}
+
+/// A checked scene: which unknowns and points it reads, and up to which derivative order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    pub name: Name,
+    pub unknowns: Vec<usize>,
+    pub points: Vec<usize>,
+    pub order: u8,
+}
+
+/// A checked mechanism: every name resolved, every expression well typed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Model {
+    pub name: Name,
+    pub description: String,
+    pub inputs: Vec<Coord>,
+    pub unknowns: Vec<Coord>,
+    pub params: Vec<Param>,
+    pub loops: Vec<Expr>,
+    pub points: Vec<(Name, Expr)>,
+    pub scenes: Vec<Scene>,
+    pub symbols: HashMap<String, Symbol>,
+    /// Where the `start` values are written (the mechanism name when there are none).
+    pub start_span: Span,
+}

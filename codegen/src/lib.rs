@@ -41,4 +41,5 @@ pub use diagnostic::{Diagnostic, Severity, SourceFile, Span};
 pub use ir::dag::{Dag, Node, NodeId, Var};
 pub use ir::differentiate::Derivatives;
 pub use ir::lower::{Chain, System, chains};
+pub use sema::eval::derive_params;
 pub use sema::model::{Coord, Kind, Model, Param, Scene, Symbol};

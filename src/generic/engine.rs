@@ -47,6 +47,8 @@ pub struct Generic {
     pub(super) info: MechanismInfo,
     pub(super) params: Vec<f64>,
     pub(super) length_param: Vec<bool>,
+    /// The checked model, for recomputing derived params when a base param changes.
+    pub(super) model: mechgen_codegen::Model,
     pub(super) blocks: Vec<BlockTapes>,
     pub(super) residual: Tape,
     pub(super) jacobian: Tape,
@@ -172,6 +174,7 @@ impl Generic {
                 .map(|ch| (ch.vertices.len(), ch.ground_segments))
                 .collect(),
             info,
+            model: m.clone(),
         }
     }
 
@@ -184,7 +187,9 @@ impl Generic {
         &self.params
     }
 
-    /// Sets a param by name. Params derived by expressions in the file keep their file values.
+    /// Sets a base param by name and recomputes the params derived from it (params defined by
+    /// expressions of other params, as the file writes them). A derived param cannot be set: it
+    /// follows from its bases. On error nothing changes.
     pub fn set_param(&mut self, name: &str, value: f64) -> Result<(), String> {
         let i = self
             .info
@@ -192,8 +197,25 @@ impl Generic {
             .iter()
             .position(|p| p.0 == name)
             .ok_or_else(|| format!("no param `{name}` in `{}`", self.info.name))?;
-        self.params[i] = value;
-        self.info.params[i].2 = value;
+        let param = &self.model.params[i];
+        if param.is_derived() {
+            let bases: Vec<String> = param
+                .uses
+                .iter()
+                .map(|&k| format!("`{}`", self.model.params[k].name.text))
+                .collect();
+            return Err(format!(
+                "param `{name}` is derived from {}: set those instead",
+                bases.join(", ")
+            ));
+        }
+        let mut values = self.params.clone();
+        values[i] = value;
+        mechgen_codegen::derive_params(&self.model, &mut values)?;
+        for (info, v) in self.info.params.iter_mut().zip(&values) {
+            info.2 = *v;
+        }
+        self.params = values;
         Ok(())
     }
 

@@ -131,6 +131,7 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
             value,
             source,
             uses,
+            expr: expr.clone(),
         });
     }
 

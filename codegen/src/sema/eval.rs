@@ -4,6 +4,7 @@
 use std::collections::HashMap;
 
 use super::builtin::{Builtin, undefined_function};
+use super::model::Model;
 use crate::diagnostic::Diagnostic;
 use crate::front::ast::{BinOp, Expr, ExprKind};
 
@@ -81,6 +82,37 @@ fn eval_inner(
             builtin.and_then(|b| b.eval(&values[..sig.arity]))?
         }
     })
+}
+
+/// Recomputes every derived param of `model` (in file order, each from the values before it) into
+/// `values` (one per param, the base params already set). The error names the first derived param
+/// whose value is not finite (e.g. `acos` of a number past 1 after a base param changed); `values`
+/// is then unchanged.
+pub fn derive_params(model: &Model, values: &mut [f64]) -> Result<(), String> {
+    if values.len() != model.params.len() {
+        return Err(format!(
+            "{} param values for {} params",
+            values.len(),
+            model.params.len()
+        ));
+    }
+    let mut out = values.to_vec();
+    let mut known: HashMap<String, f64> = HashMap::new();
+    for (p, v) in model.params.iter().zip(out.iter_mut()) {
+        if p.is_derived() {
+            let mut diags = Vec::new();
+            let what = format!("param `{}`", p.name.text);
+            *v = eval(&p.expr, &known, &what, &mut diags).ok_or_else(|| {
+                diags.first().map_or_else(
+                    || format!("{what} cannot be evaluated"),
+                    |d| d.message.clone(),
+                )
+            })?;
+        }
+        known.insert(p.name.text.clone(), *v);
+    }
+    values.copy_from_slice(&out);
+    Ok(())
 }
 
 /// The error for a call with the wrong number of arguments.

@@ -39,8 +39,18 @@ pub struct Param {
     /// The expression as written when it was not a plain number.
     pub source: Option<String>,
     /// The params its expression uses (indices of earlier params). A param that uses others is
-    /// derived: its value follows from theirs.
+    /// derived: its value follows from theirs, and run-time engines recompute it when they change
+    /// ([`crate::sema::eval::derive_params`]).
     pub uses: Vec<usize>,
+    /// Its expression (a number for a plain param).
+    pub expr: Expr,
+}
+
+impl Param {
+    /// Whether its value follows from other params.
+    pub fn is_derived(&self) -> bool {
+        !self.uses.is_empty()
+    }
 }
 
 /// A checked scene: which unknowns and points it reads, and up to which derivative order.

@@ -65,6 +65,7 @@ fixtures! {
     mechanism_name: Error(Some("FourBar")),
     unsupported_expression: Error(None),
     scene_errors: Error(Some("D")),
+    scene_name_clash: Error(Some("four_bar")),
     toml_cascade: Error(None),
     params_only_function: Error(Some("atan2")),
     many_errors: Error(Some("q3")),

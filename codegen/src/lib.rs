@@ -35,6 +35,7 @@ use sema::model as check;
 pub use analysis::Compiled;
 pub use analysis::dyad::Dyad;
 pub use analysis::plan::BlockForms;
+pub use analysis::scene::{Order, ScenePlan, plan_scene, plan_scenes};
 pub use analysis::structure::Block;
 pub use compile::{analyze, compile};
 pub use diagnostic::{Diagnostic, Severity, SourceFile, Span};

@@ -6,6 +6,7 @@
 
 pub mod dyad;
 pub mod plan;
+pub mod scene;
 pub mod structure;
 
 use crate::ir::dag::Dag;

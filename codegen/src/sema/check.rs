@@ -58,6 +58,27 @@ pub fn check(file: &ast::File, diags: &mut Vec<Diagnostic>) -> Vec<Model> {
         if let Some(prev) = scene_names.insert(&s.name.text, s.name.span) {
             diags.push(duplicate(&s.name, prev, "scene"));
         }
+        if let Some(m) = file.mechanisms.iter().find(|m| m.name.text == s.name.text) {
+            diags.push(
+                Diagnostic::error(
+                    s.name.span,
+                    format!("scene `{}` has the name of a mechanism", s.name.text),
+                )
+                .with_label("scene name")
+                .with_related(m.name.span, "mechanism declared here")
+                .with_note("scenes and mechanisms become modules of one namespace: rename one"),
+            );
+        }
+        if !is_snake_case(&s.name.text) {
+            diags.push(
+                Diagnostic::error(
+                    s.name.span,
+                    format!("scene name `{}` is not snake_case", s.name.text),
+                )
+                .with_note("it names the generated module; use lowercase letters, digits and `_`"),
+            );
+        }
+        diags.extend(keyword(&s.name, "scene name"));
         check_scene(s, file, &mut models, diags);
     }
     models

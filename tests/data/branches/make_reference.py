@@ -965,6 +965,9 @@ def run(name, spec, cls, out_dir, summary):
         nres += 1
     checks.append('%d traced configurations substituted into the loops of mechanism.toml: all '
                   'residuals < 1e-30' % nres)
+    if name in ('sixbar', 'shaper'):
+        checks.append(seed_reference_check(m, tr))
+    start_line = start_branch(m, tr)
     # ---- files
     ang = lambda k, x: wrap(x) if k == 'angle' else x
     rows = []
@@ -1044,6 +1047,7 @@ def run(name, spec, cls, out_dir, summary):
             lines.append('  branch %d (circuit %d): %s from %s deg (dead point %s) up to %s deg (dead point %s)' % (
                 br['id'], br['circuit'], m.input, mp.nstr(br['t_from'] * 180 / PI, 12), dead_number(br['t_from']),
                 mp.nstr(br['t_to'] * 180 / PI, 12), dead_number(br['t_to'])))
+    lines.append(start_line)
     cnt = {}
     for t in at:
         cnt.setdefault(len(m.solve(t)[0]), []).append(t)
@@ -1085,6 +1089,52 @@ def sixbar_g_extrema(m):
                     q5 = mp.arg(m.E(q1, q2) - m.F(q6))
                     out.append((q6, (wrap(q1), q2, q3, q5)))
     return sorted(out, key=lambda r: r[0])
+
+
+def start_branch(m, tr):
+    """the branch of the file's [start] configuration: the nearest traced sample"""
+    st = m.spec['start']
+    val = lambda v: param_value(v) if isinstance(v, str) else mp.mpf(repr(v))
+    t = wrap(val(st[m.input]))
+    u = [val(st[k]) for k in m.unknowns]
+    best = None
+    for tt, uu, b, c, _ in tr.samples():
+        d = max(abs(wrap(tt - t)), m.dist(uu, u))
+        if best is None or d < best[0]:
+            best = (d, b, c)
+    return ('the [start] configuration of mechanism.toml (%s = %s deg) is on circuit %d, branch %d '
+            '(nearest traced sample at distance %s)' % (m.input, mp.nstr(t * 180 / PI, 8), best[2], best[1],
+                                                        mp.nstr(best[0], 2)))
+
+
+def seed_reference_check(m, tr):
+    """the seed mechanisms' reference table (tests/data/NAME.csv, 20 digits, the start's branch)"""
+    path = os.path.join(ROOT, 'tests', 'data', '%s.csv' % m.name)
+    with open(path) as f:
+        lines = [l.strip().split(',') for l in f if l.strip()]
+    head = lines[0]
+    worst, labels, n = 0, set(), 0
+    for row in lines[1:]:
+        rec = dict(zip(head, row))
+        t = mp.mpf(rec[m.input])
+        u_ref = [mp.mpf(rec[k]) for k in m.unknowns]
+        cfg = m.solve(t)[0]
+        d = min(m.dist(u_ref, u) for u in cfg)
+        worst = max(worst, d)
+        # its branch: the traced sample at the same input (1-degree grid) closest to it
+        best = None
+        for tt, uu, b, c, _ in tr.samples():
+            if abs(wrap(tt - t)) < mp.mpf('1e-15'):
+                dd = m.dist(uu, u_ref)
+                if best is None or dd < best[0]:
+                    best = (dd, b, c)
+        if best is not None and best[0] < mp.mpf('1e-15'):
+            labels.add((best[2], best[1]))
+        n += 1
+    assert worst < mp.mpf('1e-17'), worst
+    return ('seed reference tests/data/%s.csv (%d rows, the start branch, 20 digits): every row is one '
+            'of the configurations found here (max difference %s); (circuit, branch) of its rows: %s' %
+            (m.name, n, mp.nstr(worst, 2), sorted(labels)))
 
 
 def exact_resultant_check(m):

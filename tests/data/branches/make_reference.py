@@ -900,6 +900,8 @@ def run(name, spec, cls, out_dir, summary):
                       'count %d / %d at -/+ 1e-6 deg' % (mp.nstr(t * 180 / PI, 20), mp.nstr(res, 2),
                                                         mp.nstr(drel, 2), cl, cr))
     # analytic / independent dead points
+    if isinstance(m, (FourBar, SixBar)):
+        checks.append(grashof(m))
     if isinstance(m, FourBar):
         an = m.analytic_dead_points()
         dn = [d[0] for d in dead]
@@ -1089,6 +1091,22 @@ def sixbar_g_extrema(m):
                     q5 = mp.arg(m.E(q1, q2) - m.F(q6))
                     out.append((q6, (wrap(q1), q2, q3, q5)))
     return sorted(out, key=lambda r: r[0])
+
+
+def grashof(m):
+    """Grashof's condition for the four-bar ABCD (l1 input/crank, l2 coupler, l3 rocker, l4 ground)"""
+    L = {k: m.p[k] for k in ('l1', 'l2', 'l3', 'l4')}
+    s_, l_ = min(L.values()), max(L.values())
+    pq = sum(L.values()) - s_ - l_
+    shortest = min(L, key=L.get)
+    if s_ + l_ < pq:
+        kind = 'Grashof; shortest link %s%s' % (shortest, ': crank-rocker, l1 (angle q1) turns fully'
+                                               if shortest == 'l1' else '')
+    elif s_ + l_ > pq:
+        kind = 'non-Grashof (triple rocker): the input link only rocks, two dead points'
+    else:
+        kind = 'change point (s + l = p + q)'
+    return 'Grashof: four-bar ABCD s + l = %s, p + q = %s: %s' % (mp.nstr(s_ + l_, 8), mp.nstr(pq, 8), kind)
 
 
 def start_branch(m, tr):

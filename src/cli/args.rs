@@ -34,7 +34,7 @@ pub struct MainArgs {
 pub enum Command {
     /// Sweep one input of a mechanism along its start configuration's branch and print a table
     /// (angles in degrees).
-    Sweep(SweepArgs),
+    Sweep(Box<SweepArgs>),
     /// Validate a mechanism file and print its mechanisms, sizes and block structure, or every
     /// error as FILE:LINE:COLUMN.
     Check(CheckArgs),

@@ -275,31 +275,43 @@ pub fn main_job(args: &MainArgs) -> Result<(), String> {
     let file = args.file.as_deref();
     let loaded = Loaded::read(file)?;
     let names: Vec<String> = loaded.mechs.iter().map(|m| m.name().to_string()).collect();
+    let mut failed = Vec::new();
     for name in &names {
-        let sel = select(&loaded, name, file, None)?;
-        if let Some(w) = loaded.start_warning(name) {
-            eprint!("{w}");
+        if let Err(e) = main_job_one(&loaded, name, file, dir, args.animate.as_deref()) {
+            eprintln!("mechgen: {name}: {e}");
+            failed.push(name.as_str());
         }
-        let info = sel.solver.info();
-        let plan = plan(&info, None, &[], main_job_range(&info))?;
-        let swept = run_plan(sel.solver.as_ref(), &info, plan, 1.0)?;
-        say!("{} — {}", info.name, info.description);
-        say!("{}", swept.table(&info));
-        let path = dir.join(format!("{name}.csv"));
-        std::fs::write(&path, report::csv(&info, swept.plan.index, &swept.rows))
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        write_plots(
-            &sel,
-            &info,
-            &swept,
-            Some(dir),
-            args.animate.as_deref(),
-            false,
-        )?;
     }
     say!(
         "CSV files and plots written to {}/ (one CSV, a motion plot and a drawing per mechanism)",
         dir.display()
     );
-    Ok(())
+    if failed.is_empty() {
+        Ok(())
+    } else {
+        Err(format!("no sweep of {}", failed.join(", ")))
+    }
+}
+
+/// One mechanism of the main job: table, CSV, plots (and the animation if asked).
+fn main_job_one(
+    loaded: &Loaded,
+    name: &str,
+    file: Option<&Path>,
+    dir: &Path,
+    animate: Option<&Path>,
+) -> Result<(), String> {
+    let sel = select(loaded, name, file, None)?;
+    if let Some(w) = loaded.start_warning(name) {
+        eprint!("{w}");
+    }
+    let info = sel.solver.info();
+    let plan = plan(&info, None, &[], main_job_range(&info))?;
+    let swept = run_plan(sel.solver.as_ref(), &info, plan, 1.0)?;
+    say!("{} — {}", info.name, info.description);
+    say!("{}", swept.table(&info));
+    let path = dir.join(format!("{name}.csv"));
+    std::fs::write(&path, report::csv(&info, swept.plan.index, &swept.rows))
+        .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    write_plots(&sel, &info, &swept, Some(dir), animate, false)
 }

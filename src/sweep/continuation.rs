@@ -166,7 +166,10 @@ pub fn continue_branch(
         let predicted = trial.clone();
         // Leaving a dead point the tangent is huge: a substep it would carry far is shortened
         // before Newton sees it (else angles land many turns away and lose their precision).
-        let too_far = (0..n).any(|i| !((predicted[i] - q[i]).abs() <= limit[i]));
+        let too_far = (0..n).any(|i| {
+            let change = (predicted[i] - q[i]).abs();
+            change.is_nan() || change > limit[i]
+        });
         let corrected = if too_far {
             None
         } else {

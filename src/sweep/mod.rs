@@ -147,7 +147,7 @@ pub fn check_start(info: &MechanismInfo) -> Result<(), StartError> {
             Kind::Angle => MAX_START_ANGLE,
             Kind::Length => MAX_START_LENGTH * scale,
         };
-        if !(value.abs() <= limit) {
+        if value.is_nan() || value.abs() > limit {
             return Err(StartError {
                 input: name.clone(),
                 value: *value,

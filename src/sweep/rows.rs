@@ -91,10 +91,8 @@ pub fn sweep_holding(
             );
         }
     }
-    if info.inputs[index].1 == Kind::Angle {
-        if let Some(first) = values.first() {
-            x[index] = nearest_turn(x[index], *first);
-        }
+    if let (Kind::Angle, Some(first)) = (info.inputs[index].1, values.first()) {
+        x[index] = nearest_turn(x[index], *first);
     }
     values
         .iter()

@@ -9,7 +9,7 @@
 mod support;
 
 use mechgen::generic::Generic;
-use mechgen::sweep::{Continuation, DEAD_POINT_CONDITION, MAX_SUBSTEPS, Row, sweep};
+use mechgen::sweep::{Continuation, DEAD_POINT_CONDITION, Row, sweep, sweep_budget};
 use mechgen::{Kind, Kinematics};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
@@ -230,7 +230,7 @@ fn sweeps_end_within_bounded_work() {
         }
         let start_x = start * if m.trammel { m.scale } else { 1.0 };
         let (rows, calls, g) = run(&m, start_x, &values, to - from);
-        let bound = (values.len() + 1) * (3 * MAX_SUBSTEPS + 5);
+        let bound = 3 * sweep_budget(values.len()) + 4 * values.len() + 1;
         prop_assert!(calls <= bound, "{calls} calls for {} rows", values.len());
         prop_assert_eq!(rows.len(), values.len());
         let usable = start_x.abs()

@@ -7,7 +7,7 @@
 #[path = "common/sweep.rs"]
 mod support;
 
-use mechgen::sweep::{Continuation, MAX_SUBSTEPS, Row, StopReason, check_start, sweep};
+use mechgen::sweep::{Continuation, Row, StopReason, check_start, sweep, sweep_budget};
 use mechgen::{Kind, Kinematics, report};
 use support::{Counting, Exact, angle_diff, load};
 
@@ -190,7 +190,7 @@ fn an_angle_start_is_taken_modulo_a_turn() {
 fn counted(k: &Counting<'_>, values: &[f64], c: &Continuation) -> (Vec<Row>, usize) {
     let rows = sweep(k, 0, values, 1.0, c);
     let calls = k.calls.get();
-    let bound = (values.len() + 1) * (3 * MAX_SUBSTEPS + 5);
+    let bound = 3 * sweep_budget(values.len()) + 4 * values.len() + 1;
     assert_eq!(rows.len(), values.len());
     assert!(calls <= bound, "{calls} calls, bound {bound}");
     (rows, calls)
@@ -276,4 +276,17 @@ fn rows_many_turns_apart_get_a_substep_limit() {
     );
     assert!(!table.contains("dead point"), "{table}");
     assert!(report::csv(&info, 0, &rows).contains(",substep-limit\n"));
+}
+
+#[test]
+fn a_sweep_of_many_far_apart_rows_stops_trying() {
+    // 40 rows each 139 turns from the one before: past the sweep's budget the remaining rows get
+    // `substep-limit` without any work.
+    let g = load("slider_inline.toml");
+    let k = Counting::new(&g);
+    let values: Vec<f64> = (0..40).map(|i| (f64::from(i) * 5e4).to_radians()).collect();
+    let (rows, calls) = counted(&k, &values, &Continuation::for_input(Kind::Angle, 0.0));
+    eprintln!("40 rows 139 turns apart: {calls} calls");
+    assert_eq!(rows[0].status(), "ok");
+    assert!(rows[1..].iter().all(|r| r.status() == "substep-limit"));
 }

@@ -97,6 +97,39 @@ pub fn continue_branch(
     target: f64,
     c: &Continuation,
 ) -> Result<f64, Stop> {
+    let mut unlimited = usize::MAX;
+    continue_within(k, x, q, index, target, c, &mut unlimited)
+}
+
+/// [`continue_branch`] with at most `allowance` substeps (a sweep's remaining budget), which it
+/// decreases by the substeps it used.
+pub fn continue_within(
+    k: &dyn Kinematics<f64>,
+    x: &mut [f64],
+    q: &mut [f64],
+    index: usize,
+    target: f64,
+    c: &Continuation,
+    allowance: &mut usize,
+) -> Result<f64, Stop> {
+    let mut used = 0;
+    let result = follow(k, x, q, index, target, c, *allowance, &mut used);
+    *allowance = allowance.saturating_sub(used);
+    result
+}
+
+/// The continuation itself, at most `allowance` substeps, counted in `used`.
+#[allow(clippy::too_many_arguments)]
+fn follow(
+    k: &dyn Kinematics<f64>,
+    x: &mut [f64],
+    q: &mut [f64],
+    index: usize,
+    target: f64,
+    c: &Continuation,
+    allowance: usize,
+    used: &mut usize,
+) -> Result<f64, Stop> {
     let solver = |error| Stop {
         error,
         reason: StopReason::Solver,
@@ -124,7 +157,7 @@ pub fn continue_branch(
     } else {
         1e-9
     };
-    let budget = substep_budget((target - x[index]).abs(), h_max);
+    let budget = substep_budget((target - x[index]).abs(), h_max).min(allowance);
     let limit = predictor_limits(&info, q, scale);
     let n = q.len();
     let mut h = h_max;
@@ -146,6 +179,7 @@ pub fn continue_branch(
         },
     };
     for _ in 0..budget {
+        *used += 1;
         let remaining = target - x[index];
         // dq/dx along the branch, from J q' = −Φx e_index.
         let have_tangent = k.solve_velocity(x, q, &unit, &mut tangent).is_ok();

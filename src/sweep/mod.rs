@@ -5,7 +5,8 @@
 pub mod continuation;
 
 pub use continuation::{
-    MAX_ROUTE, MAX_SUBSTEPS, Stop, StopReason, continue_branch, length_scale, substep_budget,
+    MAX_ROUTE, MAX_SUBSTEPS, Stop, StopReason, continue_branch, continue_within, length_scale,
+    substep_budget,
 };
 
 use crate::error::SolveError;
@@ -167,6 +168,20 @@ pub fn nearest_turn(x0: f64, toward: f64) -> f64 {
     } else {
         x0
     }
+}
+
+/// Substeps a sweep may use per row, on top of [`SWEEP_RESERVE`]: a whole sweep stops trying
+/// (its remaining rows get `substep-limit`) past [`sweep_budget`] substeps in all.
+pub const SUBSTEPS_PER_ROW: usize = 64;
+
+/// Substeps every sweep may use whatever its number of rows: four full continuations.
+pub const SWEEP_RESERVE: usize = 4 * MAX_SUBSTEPS;
+
+/// The most substeps a sweep of `rows` rows uses in all (held inputs and every row together).
+/// Each substep makes at most three solves, each row four more (rates, points, condition).
+pub fn sweep_budget(rows: usize) -> usize {
+    rows.saturating_mul(SUBSTEPS_PER_ROW)
+        .saturating_add(SWEEP_RESERVE)
 }
 
 mod rows;

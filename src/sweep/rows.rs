@@ -3,8 +3,8 @@
 //! [`crate::sweep`].
 
 use super::{
-    Continuation, Row, Solved, Stop, StopReason, Stopped, check_start, continue_branch,
-    nearest_turn,
+    Continuation, Row, Solved, Stop, StopReason, Stopped, check_start, continue_within,
+    nearest_turn, sweep_budget,
 };
 use crate::error::SolveError;
 use crate::mechanism::{Kind, Kinematics, MechanismInfo, PointMotion};
@@ -27,8 +27,9 @@ pub fn sweep(
 /// input's start (swept or held) is first moved by whole turns to the representative nearest its
 /// first value. Failed rows keep the sweep going from the last state reached and record it in
 /// [`Row::stopped`]: a branch that ends at a dead point stays there (the rows past it fail)
-/// instead of jumping to another branch. Every continuation is bounded, so the whole sweep takes
-/// at most about `values.len() + held.len() + 1` × 3 × [`super::MAX_SUBSTEPS`] solves.
+/// instead of jumping to another branch. Every continuation is bounded, and the whole sweep uses
+/// at most [`sweep_budget`]`(values.len())` substeps (three solves each) and four more solves per
+/// row: once they are used up, the remaining rows get `substep-limit` without any work.
 pub fn sweep_holding(
     k: &dyn Kinematics<f64>,
     index: usize,
@@ -72,6 +73,7 @@ pub fn sweep_holding(
     xd[index] = rate;
     let xdd = vec![0.0; ni];
     settle_start(k, &info, &x, &mut q, c);
+    let mut allowance = sweep_budget(values.len());
     // Held inputs first, each along the branch from its start value to its value.
     for &(i, value) in held.iter().filter(|h| h.0 < ni && h.0 != index) {
         let kind = info.inputs[i].1;
@@ -83,7 +85,7 @@ pub fn sweep_holding(
             min_fraction: c.min_fraction,
             ..Continuation::for_input(kind, value - x[i])
         };
-        if let Err(stop) = continue_branch(k, &mut x, &mut q, i, value, &held_c) {
+        if let Err(stop) = continue_within(k, &mut x, &mut q, i, value, &held_c, &mut allowance) {
             let condition = condition_at(k, &x, &q, c);
             return fail_all(
                 stop.error,
@@ -98,7 +100,7 @@ pub fn sweep_holding(
         .iter()
         .map(|&target| {
             let mut reason = StopReason::Solver;
-            let result = continue_branch(k, &mut x, &mut q, index, target, c)
+            let result = continue_within(k, &mut x, &mut q, index, target, c, &mut allowance)
                 .map_err(|Stop { error, reason: r }| {
                     reason = r;
                     error

@@ -1,10 +1,11 @@
-//! Sweep output: the seed-style text table (angles in degrees) and the CSV of the interface spec
-//! (radians, no NaN or inf in any cell, kebab-case status on failed rows).
+//! Sweep output: the seed-style text table (angles in degrees, significant digits, units in the
+//! header) and the CSV of the interface spec (radians, full round-trip precision, no NaN or inf in
+//! any cell, kebab-case status on failed rows). Sits on [`crate::sweep`]; the CLI prints these.
 
 use std::fmt::Write as _;
 
 use crate::mechanism::{Kind, MechanismInfo};
-use crate::sweep::{Row, Solved};
+use crate::sweep::{Row, Solved, StopReason};
 
 /// Column headers of the CSV, in order.
 pub fn csv_header(info: &MechanismInfo, index: usize) -> Vec<String> {
@@ -39,17 +40,17 @@ pub fn csv(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
     out.push('\n');
     let blanks = header.len() - 2;
     for r in rows {
-        let _ = write!(out, "{}", r.input);
+        let _ = write!(out, "{:?}", r.input);
         match &r.result {
             Ok(s) => {
                 let nums = numbers(s);
                 if nums.iter().all(|v| v.is_finite()) {
                     for v in nums {
-                        let _ = write!(out, ",{v}");
+                        let _ = write!(out, ",{v:?}");
                     }
                     // A condition number can be infinite exactly at a dead point: leave it empty then.
                     if s.condition.is_finite() {
-                        let _ = write!(out, ",{}", s.condition);
+                        let _ = write!(out, ",{:?}", s.condition);
                     } else {
                         out.push(',');
                     }
@@ -59,10 +60,10 @@ pub fn csv(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
                     out.push_str(",non-finite\n");
                 }
             }
-            Err(e) => {
+            Err(_) => {
                 out.push_str(&",".repeat(blanks));
                 out.push(',');
-                out.push_str(e.status());
+                out.push_str(r.status());
                 out.push('\n');
             }
         }
@@ -70,86 +71,149 @@ pub fn csv(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
     out
 }
 
-/// The seed-style table: angles in degrees (and degrees per second, per second squared).
-pub fn table(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
-    let deg = |k: Kind| {
-        if k == Kind::Angle {
-            180.0 / std::f64::consts::PI
-        } else {
-            1.0
-        }
-    };
-    let input_kind = info.inputs[index].1;
-    let mut head = vec![format!("{}{}", info.inputs[index].0, unit(input_kind))];
-    for (suffix, per) in [("", ""), ("_vel", "/s"), ("_acc", "/s2")] {
-        head.extend(info.unknowns.iter().map(|u| match u.1 {
-            Kind::Angle => format!("{}{suffix}[deg{per}]", u.0),
-            Kind::Length => u.0.to_string() + suffix,
-        }));
+/// Significant digits of the table's numbers.
+pub const DIGITS: usize = 7;
+
+/// `v` with [`DIGITS`] significant digits: fixed notation from 1e-4 to 1e7, else scientific
+/// (`1.234568e303`); zeros as `0`. Never NaN or inf text for finite `v`.
+pub fn significant(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
     }
-    for p in &info.points {
+    if !v.is_finite() {
+        return "-".into();
+    }
+    // The exponent after rounding to DIGITS digits (9.9999999 rounds up to 10.00000).
+    let rounded: f64 = format!("{v:.*e}", DIGITS - 1).parse().unwrap_or(v);
+    let exp = rounded.abs().log10().floor() as i32;
+    if (-4..7).contains(&exp) {
+        let decimals = (DIGITS as i32 - 1 - exp).max(0) as usize;
+        format!("{v:.decimals$}")
+    } else {
+        format!("{v:.*e}", DIGITS - 1)
+    }
+}
+
+/// The lines above a table: units (angles in degrees, the rate's units) and the values of the
+/// inputs that were held (`x` holds every input's value, radians or file units).
+pub fn preamble(info: &MechanismInfo, index: usize, rate: f64, x: &[f64]) -> String {
+    let mut out = String::from(
+        "units: angles [deg], angular rates [deg/s] and [deg/s2]; lengths in the file's unit [u], [u/s], [u/s2]\n",
+    );
+    let (name, kind, _) = &info.inputs[index];
+    let _ = match kind {
+        Kind::Angle => writeln!(
+            out,
+            "input {name} swept at --rate {} rad/s = {} deg/s, zero input acceleration",
+            significant(rate),
+            significant(rate.to_degrees())
+        ),
+        Kind::Length => writeln!(
+            out,
+            "input {name} swept at --rate {} u/s, zero input acceleration",
+            significant(rate)
+        ),
+    };
+    let held: Vec<String> = info
+        .inputs
+        .iter()
+        .zip(x)
+        .enumerate()
+        .filter(|(i, _)| *i != index)
+        .map(|(_, ((n, k, _), v))| match k {
+            Kind::Angle => format!("{n} = {} deg", significant(v.to_degrees())),
+            Kind::Length => format!("{n} = {} u", significant(*v)),
+        })
+        .collect();
+    if !held.is_empty() {
+        let _ = writeln!(out, "held: {}", held.join(", "));
+    }
+    out
+}
+
+/// The seed-style table: angles in degrees (and degrees per second, per second squared), lengths
+/// in file units `[u]`, numbers to [`DIGITS`] significant digits.
+pub fn table(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
+    let input_kind = info.inputs[index].1;
+    let mut head = vec![format!("{}{}", info.inputs[index].0, unit(input_kind, ""))];
+    for (suffix, per) in [("", ""), ("_vel", "/s"), ("_acc", "/s2")] {
         head.extend(
-            ["x", "y", "vx", "vy", "ax", "ay"]
+            info.unknowns
                 .iter()
-                .map(|s| format!("{p}_{s}")),
+                .map(|u| format!("{}{suffix}{}", u.0, unit(u.1, per))),
         );
     }
-    let width = head.iter().map(String::len).max().unwrap_or(0).max(12) + 1;
+    for p in &info.points {
+        for (c, per) in [
+            ("x", ""),
+            ("y", ""),
+            ("vx", "/s"),
+            ("vy", "/s"),
+            ("ax", "/s2"),
+            ("ay", "/s2"),
+        ] {
+            head.push(format!("{p}_{c}{}", unit(Kind::Length, per)));
+        }
+    }
+    let width = head.iter().map(String::len).max().unwrap_or(0).max(13) + 1;
     let mut out = String::new();
     for h in &head {
         let _ = write!(out, "{h:>width$}");
     }
     out.push('\n');
     for r in rows {
-        let _ = write!(out, "{:>width$.4}", r.input * deg(input_kind));
+        let _ = write!(out, "{:>width$}", significant(r.input * deg(input_kind)));
         match &r.result {
             Ok(s) => {
-                let kinds = info.unknowns.iter().map(|u| u.1);
-                let scaled = s.q.iter().zip(kinds.clone()).map(|(v, k)| {
-                    if k == Kind::Angle {
-                        wrap_deg(v * deg(k))
-                    } else {
-                        *v
-                    }
-                });
-                let scaled: Vec<f64> = scaled
-                    .chain(s.qd.iter().zip(kinds.clone()).map(|(v, k)| v * deg(k)))
-                    .chain(s.qdd.iter().zip(kinds).map(|(v, k)| v * deg(k)))
-                    .collect();
-                for v in scaled {
-                    let _ = write!(out, "{v:>width$.6}");
-                }
-                for p in &s.points {
-                    for v in p.position.iter().chain(&p.velocity).chain(&p.acceleration) {
-                        let _ = write!(out, "{v:>width$.6}");
-                    }
+                for v in scaled(info, s) {
+                    let _ = write!(out, "{:>width$}", significant(v));
                 }
             }
             Err(e) => {
                 let name = &info.inputs[index].0;
                 let at = |input: f64| {
                     format!(
-                        "{name} = {:.4}{}",
-                        input * deg(input_kind),
+                        "{name} = {}{}",
+                        significant(input * deg(input_kind)),
                         unit_word(input_kind)
                     )
                 };
+                let status = r.status();
                 let _ = match r.stopped {
                     Some(s) if s.at_dead_point() => write!(
                         out,
-                        "  {}: dead point near {} (cond {:.1e}), the branch cannot be continued past it",
-                        e.status(),
+                        "  {status}: dead point near {} (cond {:.1e}), the branch cannot be continued past it",
                         at(s.input),
                         s.condition
                     ),
-                    Some(s) => write!(
-                        out,
-                        "  {}: {e}; branch stopped at {} (cond {:.1e})",
-                        e.status(),
-                        at(s.input),
-                        s.condition
-                    ),
-                    None => write!(out, "  {}: {e}", e.status()),
+                    Some(s) => match s.reason {
+                        StopReason::SubstepLimit => write!(
+                            out,
+                            "  {status}: the continuation used up its substeps; branch stopped at {} (cond {:.1e})",
+                            at(s.input),
+                            s.condition
+                        ),
+                        StopReason::UnusableStart => {
+                            write!(out, "  {status}: the start configuration is not usable")
+                        }
+                        StopReason::HeldInput => write!(
+                            out,
+                            "  {status}: a held input could not be moved to its value: {e}"
+                        ),
+                        StopReason::Refused => write!(
+                            out,
+                            "  {status}: the branch could not be followed past {} (cond {:.1e})",
+                            at(s.input),
+                            s.condition
+                        ),
+                        StopReason::Solver => write!(
+                            out,
+                            "  {status}: {e}; branch stopped at {} (cond {:.1e})",
+                            at(s.input),
+                            s.condition
+                        ),
+                    },
+                    None => write!(out, "  {status}: {e}"),
                 };
             }
         }
@@ -158,16 +222,68 @@ pub fn table(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
     out
 }
 
-fn unit_word(k: Kind) -> &'static str {
-    if k == Kind::Angle { " deg" } else { "" }
+/// A solved row's numbers in table units: angles in [0, 360) degrees, angular rates in degrees.
+fn scaled(info: &MechanismInfo, s: &Solved) -> Vec<f64> {
+    let kinds = info.unknowns.iter().map(|u| u.1);
+    let mut v: Vec<f64> =
+        s.q.iter()
+            .zip(kinds.clone())
+            .map(|(v, k)| {
+                if k == Kind::Angle {
+                    wrap_deg(v * deg(k))
+                } else {
+                    *v
+                }
+            })
+            .chain(s.qd.iter().zip(kinds.clone()).map(|(v, k)| v * deg(k)))
+            .chain(s.qdd.iter().zip(kinds).map(|(v, k)| v * deg(k)))
+            .collect();
+    for p in &s.points {
+        v.extend(p.position.iter().chain(&p.velocity).chain(&p.acceleration));
+    }
+    v
 }
 
-fn unit(k: Kind) -> &'static str {
-    if k == Kind::Angle { "[deg]" } else { "" }
+fn deg(k: Kind) -> f64 {
+    if k == Kind::Angle {
+        180.0 / std::f64::consts::PI
+    } else {
+        1.0
+    }
+}
+
+fn unit_word(k: Kind) -> &'static str {
+    if k == Kind::Angle { " deg" } else { " u" }
+}
+
+/// A column's unit tag: `[deg]`, `[deg/s]`, `[u/s2]`, …
+fn unit(k: Kind, per: &str) -> String {
+    match k {
+        Kind::Angle => format!("[deg{per}]"),
+        Kind::Length => format!("[u{per}]"),
+    }
 }
 
 /// Degrees folded into [0, 360).
 fn wrap_deg(d: f64) -> f64 {
     let w = d.rem_euclid(360.0);
     if w >= 360.0 { 0.0 } else { w }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::significant;
+
+    #[test]
+    fn significant_digits() {
+        assert_eq!(significant(0.0), "0");
+        assert_eq!(significant(1.0), "1.000000");
+        assert_eq!(significant(123.456789), "123.4568");
+        assert_eq!(significant(-0.000001234567), "-1.234567e-6");
+        assert_eq!(significant(0.0001234567), "0.0001234567");
+        assert_eq!(significant(1e303), "1.000000e303");
+        assert_eq!(significant(9.99999999), "10.00000");
+        assert_eq!(significant(12345678.0), "1.234568e7");
+        assert_eq!(significant(f64::NAN), "-");
+    }
 }

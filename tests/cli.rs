@@ -177,7 +177,8 @@ fn length_input_and_options() {
         "sweep", "sixbar", "--from", "10", "--to", "20", "--step", "5", "--rate", "2",
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
-    assert_eq!(text(&out.stdout).lines().count(), 2 + 3);
+    // Title, units, rate, column header, then the three rows.
+    assert_eq!(text(&out.stdout).lines().count(), 4 + 3);
     let actuator = "tests/fixtures/actuator.toml";
     let out = mechgen(&["sweep", "actuator", "--file", actuator]);
     assert!(

@@ -73,7 +73,14 @@ fn generic_and_generated_agree_over_full_sweeps() {
     for (k, g) in engines() {
         let info = k.info();
         assert_eq!(info, Kinematics::<f64>::info(&g), "same description");
-        let values: Vec<f64> = (0..=72).map(|i| f64::from(i) * 5f64.to_radians()).collect();
+        // A full turn around the start input, from 170° below it (rounded down to 10°): an angle
+        // input's start is moved by whole turns to the representative nearest the first value,
+        // so this keeps the start where it is and the sweep covers its whole branch (`sixbar_g`,
+        // start 280.67°, dead points 244.53° and 344.13°: from 110° to 470°).
+        let first = ((info.inputs[0].2.to_degrees() - 170.0) / 10.0).floor() * 10.0;
+        let values: Vec<f64> = (0..=72)
+            .map(|i| (first + f64::from(i) * 5.0).to_radians())
+            .collect();
         let c = Continuation::for_input(info.inputs[0].1, 1.0);
         let (values, c) = if info.inputs[0].1 == Kind::Length {
             let s = info.inputs[0].2;

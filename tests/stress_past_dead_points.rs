@@ -310,10 +310,10 @@ fn a_sweep_stops_at_the_dead_point_and_says_so() {
         check_branch(&rows, near, &near_q);
     }
 
-    // sixbar_g over a full turn, as `cargo run` sweeps it: from the start (280.7 deg) down to
-    // 0 deg it stops at the lower dead point, comes back from it for 250 to 340 deg (the same
-    // values as a sweep that never left the range) and stops at the upper one.
-    let full: Vec<f64> = (0..=36).map(|d| f64::from(d * 10).to_radians()).collect();
+    // sixbar_g over a full turn around its start (110 to 470 deg): from the start (280.7 deg)
+    // down to 110 deg it stops at the lower dead point, comes back from it for 250 to 340 deg (the
+    // same values as a sweep that never left the range) and stops at the upper one.
+    let full: Vec<f64> = (11..=47).map(|d| f64::from(d * 10).to_radians()).collect();
     let rows = sweep_rows(name, &full);
     let (upper, lower) = (deads[0].1, deads[1].1);
     check_stops(name, &rows, |x| {
@@ -323,6 +323,19 @@ fn a_sweep_stops_at_the_dead_point_and_says_so() {
             (x > upper).then_some(upper)
         }
     });
-    let direct = sweep_rows(name, &full[25..35]);
-    check_same(&rows[25..35], &direct);
+    let direct = sweep_rows(name, &full[14..24]);
+    check_same(&rows[14..24], &direct);
+
+    // From 0 deg: the start is first moved by a whole turn to -79.3 deg, the representative
+    // nearest 0 deg, and its branch (-115.5 to -15.9 deg) ends at the upper dead point before 0.
+    let from_zero: Vec<f64> = (0..=36).map(|d| f64::from(d * 10).to_radians()).collect();
+    for r in sweep_rows(name, &from_zero) {
+        let stop = r.stopped.expect("every row stops");
+        assert!(r.result.is_err(), "{r:?}");
+        let dead = upper - std::f64::consts::TAU;
+        assert!(
+            (stop.input - dead).abs() < 1e-9 && stop.at_dead_point(),
+            "{stop:?}"
+        );
+    }
 }

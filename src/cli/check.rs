@@ -1,7 +1,21 @@
 //! CLI, `mechgen check`: validates a mechanism file through the generator's front end and prints
 //! its structure, or every diagnostic as FILE:LINE:COLUMN.
 
+use std::path::Path;
+
 use mechgen::{Kind, MechanismInfo, generic};
+
+/// `mechgen check [--file PATH]`: the file given, or the compiled-in one.
+pub fn run(file: Option<&Path>) -> Result<(), String> {
+    match file {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+            check(&path.display().to_string(), &text)
+        }
+        None => check(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE),
+    }
+}
 
 /// Checks `name`/`text`; prints structure to stdout and diagnostics to stderr.
 pub fn check(name: &str, text: &str) -> Result<(), String> {

@@ -1,4 +1,5 @@
-//! The command's pieces: option parsing, `check`, and the plots a sweep writes.
+//! The command's pieces: argument parsing (clap), what a sweep's options mean, running sweeps and
+//! the main job, `check`, and the plots a sweep writes.
 
 /// `println!` that ignores a closed stdout (`mechgen | head` must not panic).
 macro_rules! say {
@@ -16,6 +17,8 @@ macro_rules! say_raw {
     }};
 }
 
+pub mod args;
 pub mod check;
 pub mod options;
 pub mod plots;
+pub mod run;

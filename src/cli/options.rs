@@ -1,61 +1,113 @@
-//! CLI, argument handling: `--name value` options and the sweep's input values.
+//! CLI, what a sweep's options mean for one mechanism: which input, its values (both ends
+//! included, the last row exactly `--to`), the held inputs' values, in sweep units (radians or
+//! file units). Sits between [`super::args`] and [`mechgen::sweep`].
 
-use crate::USAGE;
+use mechgen::{Kind, MechanismInfo};
 
-/// `--name value` options and positional arguments.
-pub struct Options {
-    pairs: Vec<(String, String)>,
-    pub positional: Vec<String>,
+/// A sweep resolved against a mechanism.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    /// The swept input.
+    pub index: usize,
+    /// Its values: radians for an angle, file units for a length.
+    pub values: Vec<f64>,
+    /// Held inputs given by `--set`, (index, radians or file units).
+    pub held: Vec<(usize, f64)>,
+    /// The range's span in sweep units (for the continuation's substeps).
+    pub span: f64,
+    /// Said when `--step` does not divide the range: what the last row is.
+    pub note: Option<String>,
 }
 
-impl Options {
-    /// No options at all.
-    pub fn none() -> Options {
-        Options {
-            pairs: Vec::new(),
-            positional: Vec::new(),
-        }
-    }
+/// The range options: `--from`, `--to`, `--step` as given (degrees or file units).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Range {
+    pub from: Option<f64>,
+    pub to: Option<f64>,
+    pub step: Option<f64>,
+}
 
-    /// Parses `args`; an option not in `known` or without a value is an error.
-    pub fn parse(args: &[String], known: &[&str]) -> Result<Options, String> {
-        let (mut pairs, mut positional) = (Vec::new(), Vec::new());
-        let mut it = args.iter();
-        while let Some(a) = it.next() {
-            if let Some(name) = a.strip_prefix("--") {
-                if !known.contains(&name) {
-                    return Err(format!("unknown option `{a}`\n{USAGE}"));
-                }
-                let v = it
-                    .next()
-                    .ok_or_else(|| format!("option `{a}` needs a value"))?;
-                pairs.push((name.to_string(), v.clone()));
-            } else {
-                positional.push(a.clone());
-            }
-        }
-        Ok(Options { pairs, positional })
-    }
-
-    /// The last value given for `--name`.
-    pub fn get(&self, name: &str) -> Option<&str> {
-        self.pairs
+/// Resolves `--input`, `--set` and the range (defaults per interfaces.md).
+pub fn plan(
+    info: &MechanismInfo,
+    input: Option<&str>,
+    set: &[(String, f64)],
+    range: Range,
+) -> Result<Plan, String> {
+    let names = || {
+        info.inputs
             .iter()
-            .rev()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.as_str())
+            .map(|i| i.0.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let find = |name: &str| {
+        info.inputs.iter().position(|i| i.0 == name).ok_or_else(|| {
+            format!(
+                "`{}` has no input `{name}` (its inputs: {})",
+                info.name,
+                names()
+            )
+        })
+    };
+    if info.inputs.is_empty() {
+        return Err(format!("`{}` has no input", info.name));
     }
-
-    /// A finite number, if given.
-    pub fn number(&self, name: &str) -> Result<Option<f64>, String> {
-        match self.get(name) {
-            None => Ok(None),
-            Some(v) => match v.trim().parse::<f64>() {
-                Ok(x) if x.is_finite() => Ok(Some(x)),
-                _ => Err(format!("--{name} needs a finite number, got `{v}`")),
-            },
+    let index = input.map_or(Ok(0), find)?;
+    let mut held = Vec::new();
+    for (name, value) in set {
+        let i = find(name)?;
+        if i == index {
+            return Err(format!(
+                "--set {name}=…: `{name}` is the swept input (use --from/--to, or --input to sweep another)"
+            ));
         }
+        let value = if info.inputs[i].1 == Kind::Angle {
+            value.to_radians()
+        } else {
+            *value
+        };
+        held.retain(|h: &(usize, f64)| h.0 != i);
+        held.push((i, value));
     }
+    let (name, kind, _) = &info.inputs[index];
+    let (from, to, step) = match kind {
+        Kind::Angle => (
+            range.from.unwrap_or(0.0),
+            range.to.unwrap_or(360.0),
+            range.step.unwrap_or(10.0),
+        ),
+        Kind::Length => match (range.from, range.to) {
+            (Some(f), Some(t)) => (f, t, range.step.unwrap_or((t - f) / 36.0)),
+            _ => {
+                return Err(format!(
+                    "--from and --to are required for the length input `{name}`"
+                ));
+            }
+        },
+    };
+    let step = if step == 0.0 && from == to { 1.0 } else { step };
+    let mut values = sweep_values(from, to, step)?;
+    let note = match values.as_slice() {
+        [.., before, last] if (last - before).abs() < step.abs() * (1.0 - 1e-9) => Some(format!(
+            "--step {step} does not divide the range: the last row is --to = {to}, {} after the row before",
+            (last - before).abs()
+        )),
+        _ => None,
+    };
+    let span = if *kind == Kind::Angle {
+        values.iter_mut().for_each(|v| *v = v.to_radians());
+        (to - from).to_radians()
+    } else {
+        to - from
+    };
+    Ok(Plan {
+        index,
+        values,
+        held,
+        span,
+        note,
+    })
 }
 
 /// The input values of a sweep, both ends included, in sweep units. The step's sign is ignored:

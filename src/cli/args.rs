@@ -1,0 +1,144 @@
+//! CLI, the command line as clap (derive) parses it: the main job's options, `sweep` and `check`
+//! (a `branches` command slots in as one more [`Command`] variant). Help text for every option.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+/// Planar linkage kinematics from loop equations: sweeps, tables, CSVs and plots.
+///
+/// With no command, runs the main job: every mechanism of the compiled-in mechanism.toml (or of
+/// --file) swept over a full turn, tables printed, CSVs and SVG plots written to ./mechgen-out/.
+#[derive(Debug, Parser)]
+#[command(name = "mechgen", version, args_conflicts_with_subcommands = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    #[command(flatten)]
+    pub main: MainArgs,
+}
+
+/// The main job's options (no command given).
+#[derive(Debug, Args)]
+pub struct MainArgs {
+    /// Run the main job on this mechanism file, loaded at run time into the generic engine,
+    /// instead of the compiled-in mechanism.toml.
+    #[arg(long, value_name = "PATH")]
+    pub file: Option<PathBuf>,
+    /// Also write an animated SVG of each mechanism over its sweep into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub animate: Option<PathBuf>,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Sweep one input of a mechanism along its start configuration's branch and print a table
+    /// (angles in degrees).
+    Sweep(Box<SweepArgs>),
+    /// Validate a mechanism file and print its mechanisms, sizes and block structure, or every
+    /// error as FILE:LINE:COLUMN.
+    Check(CheckArgs),
+}
+
+/// Which solvers a sweep uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Engine {
+    /// The solvers generated at build time (compiled-in mechanisms only).
+    Generated,
+    /// The run-time engine that interprets the mechanism file.
+    Generic,
+}
+
+/// `mechgen sweep NAME [options]`.
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    /// The mechanism to sweep, as named in the file ([mechanism.NAME]).
+    pub name: String,
+    /// Load the mechanism from this file at run time (generic engine) instead of the
+    /// compiled-in mechanism.toml.
+    #[arg(long, value_name = "PATH")]
+    pub file: Option<PathBuf>,
+    /// Which solvers to use [default: generated when compiled in, else generic].
+    #[arg(long, value_enum)]
+    pub engine: Option<Engine>,
+    /// First input value: degrees for an angle input, file units for a length input
+    /// [default: 0 for an angle; required for a length].
+    #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
+    pub from: Option<f64>,
+    /// Last input value, always the last row (both ends included): degrees for an angle input,
+    /// file units for a length input [default: 360 for an angle; required for a length].
+    #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
+    pub to: Option<f64>,
+    /// Distance between rows (its sign is ignored: rows go from --from to --to); when it does not
+    /// divide the range the last step is shorter [default: 10 for an angle, a 36th of the range
+    /// for a length].
+    #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
+    pub step: Option<f64>,
+    /// Input velocity: rad/s for an angle input (the table prints deg/s), file units per second
+    /// for a length input; the input acceleration is zero.
+    #[arg(long, value_name = "V", default_value_t = 1.0, allow_negative_numbers = true, value_parser = finite)]
+    pub rate: f64,
+    /// Also write the rows as CSV (radians, full precision) to PATH.
+    #[arg(long, value_name = "PATH")]
+    pub csv: Option<PathBuf>,
+    /// Also write DIR/NAME-motion.svg and DIR/NAME-drawing.svg.
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
+    /// Also write an animated SVG of the mechanism over the sweep into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub animate: Option<PathBuf>,
+    /// Which input to sweep, for a mechanism with several [default: the first].
+    #[arg(long, value_name = "NAME")]
+    pub input: Option<String>,
+    /// The value of an input that is not swept (degrees for an angle, file units for a length);
+    /// repeatable; inputs not set stay at their start values.
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = assignment)]
+    pub set: Vec<(String, f64)>,
+}
+
+/// `mechgen check [--file PATH]`.
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// The mechanism file to check [default: the compiled-in mechanism.toml].
+    #[arg(long, value_name = "PATH")]
+    pub file: Option<PathBuf>,
+}
+
+/// A finite number.
+fn finite(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err("needs a finite number".into()),
+    }
+}
+
+/// `NAME=VALUE` with a finite VALUE.
+fn assignment(s: &str) -> Result<(String, f64), String> {
+    let (name, value) = s
+        .split_once('=')
+        .ok_or_else(|| "needs NAME=VALUE".to_string())?;
+    let name = name.trim();
+    if name.is_empty() {
+        return Err("needs NAME=VALUE".into());
+    }
+    Ok((name.to_string(), finite(value)?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn the_command_line_is_consistent() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn assignments() {
+        assert_eq!(assignment("q4=-30").unwrap(), ("q4".into(), -30.0));
+        assert!(assignment("q4").is_err());
+        assert!(assignment("=1").is_err());
+        assert!(assignment("q4=inf").is_err());
+    }
+}

@@ -1,0 +1,189 @@
+//! Sweeps of one input: continuation along the `start` configuration's branch ([`continuation`]),
+//! other inputs held at set values, then velocities, accelerations and points at every row.
+//! Works on any [`Kinematics`] (generated or generic), written once; the CLI and reports sit on it.
+
+pub mod continuation;
+
+pub use continuation::{
+    MAX_ROUTE, MAX_SUBSTEPS, Stop, StopReason, continue_branch, continue_within, length_scale,
+    substep_budget,
+};
+
+use crate::error::SolveError;
+use crate::mechanism::{Kind, Kinematics, MechanismInfo, PointMotion};
+use crate::solve::NewtonOptions;
+
+/// How the branch is followed between rows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Continuation {
+    /// Largest substep: radians for an angle input, file units for a length input (there at
+    /// least 1/180 of the mechanism's length scale, see [`continuation::largest_substep`]).
+    pub max_step: f64,
+    /// Give up on a row when the substep falls below this fraction of `max_step`.
+    pub min_fraction: f64,
+    pub newton: NewtonOptions<f64>,
+}
+
+impl Continuation {
+    /// Defaults for an input of this kind: 2° substeps for an angle, 1/180 of `span` for a length.
+    pub fn for_input(kind: Kind, span: f64) -> Self {
+        let max_step = match kind {
+            Kind::Angle => 2f64.to_radians(),
+            Kind::Length => (span.abs() / 180.0).max(f64::MIN_POSITIVE),
+        };
+        Continuation {
+            max_step,
+            min_fraction: 1e-9,
+            newton: NewtonOptions::default(),
+        }
+    }
+}
+
+/// One solved row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solved {
+    pub q: Vec<f64>,
+    pub qd: Vec<f64>,
+    pub qdd: Vec<f64>,
+    pub points: Vec<PointMotion<f64>>,
+    /// Condition estimate of the Jacobian at this row (1 / pivot ratio).
+    pub condition: f64,
+}
+
+/// One row of a sweep: the input value (radians or file units) and its result.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    pub input: f64,
+    pub result: Result<Solved, SolveError>,
+    /// On a failed row, where the branch stopped; `None` on a solved row.
+    pub stopped: Option<Stopped>,
+}
+
+impl Row {
+    /// The CSV status: `ok`, the solver error's status, or `substep-limit` (the continuation used
+    /// up its substeps before reaching the row) or `unusable-start`.
+    pub fn status(&self) -> &'static str {
+        match (&self.result, self.stopped.map(|s| s.reason)) {
+            (Ok(_), _) => "ok",
+            (Err(_), Some(StopReason::SubstepLimit)) => "substep-limit",
+            (Err(_), Some(StopReason::UnusableStart)) => "unusable-start",
+            (Err(e), _) => e.status(),
+        }
+    }
+}
+
+/// Condition estimate above which a branch that cannot be continued is reported as ending at a
+/// dead point. Regular configurations of the compiled-in mechanisms are below 1e2; continuation
+/// stops within about 1e-10 of a dead point, where the estimate is above 1e4.
+pub const DEAD_POINT_CONDITION: f64 = 1e3;
+
+/// Where a continuation that could not reach a row stopped: the last state on the branch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stopped {
+    /// The last input value reached (radians or file units).
+    pub input: f64,
+    /// Condition estimate of the Jacobian there (infinite when it could not be evaluated).
+    pub condition: f64,
+    /// Why it stopped there.
+    pub reason: StopReason,
+}
+
+impl Stopped {
+    /// The branch ends at a dead point: its Jacobian is (nearly) singular where it stopped, and
+    /// the continuation did not merely run out of substeps.
+    pub fn at_dead_point(&self) -> bool {
+        self.condition >= DEAD_POINT_CONDITION
+            && matches!(self.reason, StopReason::Solver | StopReason::Refused)
+    }
+}
+
+/// Follows the branch of the state `(x, q)` as the input `index` moves to `target`. On success
+/// `x` and `q` hold the new state; on failure they keep the last state reached. Always ends
+/// ([`continue_branch`] says why it stopped).
+pub fn continue_to(
+    k: &dyn Kinematics<f64>,
+    x: &mut [f64],
+    q: &mut [f64],
+    index: usize,
+    target: f64,
+    c: &Continuation,
+) -> Result<f64, SolveError> {
+    continue_branch(k, x, q, index, target, c).map_err(|s| s.error)
+}
+
+/// Largest |start value| of an angle input: a thousand turns (f64 still resolves 1e-12 rad there).
+pub const MAX_START_ANGLE: f64 = 1000.0 * std::f64::consts::TAU;
+
+/// Largest |start value| of a length input, relative to the mechanism's length scale.
+pub const MAX_START_LENGTH: f64 = 1e6;
+
+/// A start configuration that cannot start a sweep.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StartError {
+    /// The input's name and its start value (radians or file units).
+    pub input: String,
+    pub value: f64,
+    /// The largest usable magnitude.
+    pub limit: f64,
+}
+
+impl std::fmt::Display for StartError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the start value of input `{}` ({:e}) is not usable to start a sweep: its magnitude must be at most {:e} (a thousand turns for an angle, a million times the largest length param for a length)",
+            self.input, self.value, self.limit
+        )
+    }
+}
+
+impl std::error::Error for StartError {}
+
+/// Whether the file's start inputs can start a continuation: finite and within
+/// [`MAX_START_ANGLE`] (angles) or [`MAX_START_LENGTH`] × the length scale (lengths).
+pub fn check_start(info: &MechanismInfo) -> Result<(), StartError> {
+    let scale = length_scale(info);
+    for (name, kind, value) in &info.inputs {
+        let limit = match kind {
+            Kind::Angle => MAX_START_ANGLE,
+            Kind::Length => MAX_START_LENGTH * scale,
+        };
+        if value.is_nan() || value.abs() > limit {
+            return Err(StartError {
+                input: name.clone(),
+                value: *value,
+                limit,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// `x0` moved by whole turns to the representative nearest `toward` (the same configuration).
+pub fn nearest_turn(x0: f64, toward: f64) -> f64 {
+    let tau = std::f64::consts::TAU;
+    let turns = ((toward - x0) / tau).round();
+    if turns.is_finite() && turns != 0.0 {
+        x0 + turns * tau
+    } else {
+        x0
+    }
+}
+
+/// Substeps a sweep may use per row, on top of [`SWEEP_RESERVE`]: a whole sweep stops trying
+/// (its remaining rows get `substep-limit`) past [`sweep_budget`] substeps in all.
+pub const SUBSTEPS_PER_ROW: usize = 64;
+
+/// Substeps every sweep may use whatever its number of rows: four full continuations.
+pub const SWEEP_RESERVE: usize = 4 * MAX_SUBSTEPS;
+
+/// The most substeps a sweep of `rows` rows uses in all (held inputs and every row together).
+/// Each substep makes at most three solves, each row four more (rates, points, condition).
+pub fn sweep_budget(rows: usize) -> usize {
+    rows.saturating_mul(SUBSTEPS_PER_ROW)
+        .saturating_add(SWEEP_RESERVE)
+}
+
+mod rows;
+
+pub use rows::{sweep, sweep_holding};

@@ -1,0 +1,170 @@
+//! Sweeps, the rows (`mechgen::sweep::sweep`): settle the start, move it by whole turns, move
+//! held inputs to their values, then one continuation and one rate solve per row. Part of
+//! [`crate::sweep`].
+
+use super::{
+    Continuation, Row, Solved, Stop, StopReason, Stopped, check_start, continue_within,
+    nearest_turn, sweep_budget,
+};
+use crate::error::SolveError;
+use crate::mechanism::{Kind, Kinematics, MechanismInfo, PointMotion};
+
+/// Sweeps input `index` over `values` (radians or file units) from the file's start configuration,
+/// with input rate `rate` and zero input acceleration; the other inputs stay at their start
+/// values. See [`sweep_holding`].
+pub fn sweep(
+    k: &dyn Kinematics<f64>,
+    index: usize,
+    values: &[f64],
+    rate: f64,
+    c: &Continuation,
+) -> Vec<Row> {
+    sweep_holding(k, index, values, rate, &[], c)
+}
+
+/// Sweeps input `index` over `values` from the file's start configuration, first moving each
+/// input of `held` (index, value) from its start value to that value along the branch. An angle
+/// input's start (swept or held) is first moved by whole turns to the representative nearest its
+/// first value. Failed rows keep the sweep going from the last state reached and record it in
+/// [`Row::stopped`]: a branch that ends at a dead point stays there (the rows past it fail)
+/// instead of jumping to another branch. Every continuation is bounded, and the whole sweep uses
+/// at most [`sweep_budget`]`(values.len())` substeps (three solves each) and four more solves per
+/// row: once they are used up, the remaining rows get `substep-limit` without any work.
+pub fn sweep_holding(
+    k: &dyn Kinematics<f64>,
+    index: usize,
+    values: &[f64],
+    rate: f64,
+    held: &[(usize, f64)],
+    c: &Continuation,
+) -> Vec<Row> {
+    let info: MechanismInfo = k.info();
+    let mut x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
+    let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
+    let (ni, nu, np) = (x.len(), q.len(), info.points.len());
+    let fail_all = |error: SolveError, stopped: Stopped| -> Vec<Row> {
+        values
+            .iter()
+            .map(|&input| Row {
+                input,
+                result: Err(error),
+                stopped: Some(stopped),
+            })
+            .collect()
+    };
+    if index >= ni {
+        let error = SolveError::BadLength {
+            expected: ni,
+            got: index,
+        };
+        return fail_all(error, stopped(0.0, f64::INFINITY, StopReason::Solver));
+    }
+    if check_start(&info).is_err() {
+        let error = SolveError::NonFinite {
+            quantity: crate::error::Quantity::Input,
+            index,
+        };
+        return fail_all(
+            error,
+            stopped(x[index], f64::INFINITY, StopReason::UnusableStart),
+        );
+    }
+    let mut xd = vec![0.0; ni];
+    xd[index] = rate;
+    let xdd = vec![0.0; ni];
+    settle_start(k, &info, &x, &mut q, c);
+    let mut allowance = sweep_budget(values.len());
+    // Held inputs first, each along the branch from its start value to its value.
+    for &(i, value) in held.iter().filter(|h| h.0 < ni && h.0 != index) {
+        let kind = info.inputs[i].1;
+        if kind == Kind::Angle {
+            x[i] = nearest_turn(x[i], value);
+        }
+        let held_c = Continuation {
+            newton: c.newton,
+            min_fraction: c.min_fraction,
+            ..Continuation::for_input(kind, value - x[i])
+        };
+        if let Err(stop) = continue_within(k, &mut x, &mut q, i, value, &held_c, &mut allowance) {
+            let condition = condition_at(k, &x, &q, c);
+            return fail_all(
+                stop.error,
+                stopped(x[index], condition, StopReason::HeldInput),
+            );
+        }
+    }
+    if let (Kind::Angle, Some(first)) = (info.inputs[index].1, values.first()) {
+        x[index] = nearest_turn(x[index], *first);
+    }
+    values
+        .iter()
+        .map(|&target| {
+            let mut reason = StopReason::Solver;
+            let result = continue_within(k, &mut x, &mut q, index, target, c, &mut allowance)
+                .map_err(|Stop { error, reason: r }| {
+                    reason = r;
+                    error
+                })
+                .and_then(|condition| {
+                    let mut qd = vec![0.0; nu];
+                    let mut qdd = vec![0.0; nu];
+                    let mut points = vec![PointMotion::default(); np];
+                    k.solve_velocity(&x, &q, &xd, &mut qd)?;
+                    k.solve_acceleration(&x, &q, &xd, &qd, &xdd, &mut qdd)?;
+                    k.points(&x, &q, &xd, &qd, &xdd, &qdd, &mut points)?;
+                    Ok(Solved {
+                        q: q.clone(),
+                        qd,
+                        qdd,
+                        points,
+                        condition,
+                    })
+                });
+            // The state is a converged solution: one more solve gives its condition estimate.
+            let stopped = result
+                .is_err()
+                .then(|| stopped(x[index], condition_at(k, &x, &q, c), reason));
+            Row {
+                input: target,
+                result,
+                stopped,
+            }
+        })
+        .collect()
+}
+
+fn stopped(input: f64, condition: f64, reason: StopReason) -> Stopped {
+    Stopped {
+        input,
+        condition,
+        reason,
+    }
+}
+
+/// Condition estimate at a converged state (infinite when the solve fails there).
+fn condition_at(k: &dyn Kinematics<f64>, x: &[f64], q: &[f64], c: &Continuation) -> f64 {
+    let mut settled = q.to_vec();
+    k.solve_position(x, &mut settled, &c.newton)
+        .map_or(f64::INFINITY, |r| r.condition())
+}
+
+/// Settles the start configuration itself (the file's values may be rounded), with angles as
+/// near the file's values as whole turns allow (a far-off start may have converged turns away,
+/// where angles lose precision). Leaves `q` as it is when the solve fails.
+fn settle_start(
+    k: &dyn Kinematics<f64>,
+    info: &MechanismInfo,
+    x: &[f64],
+    q: &mut [f64],
+    c: &Continuation,
+) {
+    let mut start_q = q.to_vec();
+    if k.solve_position(x, &mut start_q, &c.newton).is_ok() {
+        for ((settled, file), u) in start_q.iter_mut().zip(q.iter()).zip(&info.unknowns) {
+            if u.1 == Kind::Angle {
+                *settled = nearest_turn(*settled, *file);
+            }
+        }
+        q.copy_from_slice(&start_q);
+    }
+}

@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use crate::mechanism::{Kind, MechanismInfo};
+use mechgen_runtime::mechanism::{Kind, MechanismInfo};
 use crate::sweep::{Row, Solved};
 
 /// Column headers of the CSV, in order.

@@ -2,9 +2,9 @@
 //! predictor and adaptive substeps, then velocities, accelerations and points at every row. Works
 //! on any [`Kinematics`] (generated or generic), written once.
 
-use crate::error::SolveError;
-use crate::mechanism::{Kind, Kinematics, MechanismInfo, PointMotion};
-use crate::solve::NewtonOptions;
+use mechgen_runtime::error::SolveError;
+use mechgen_runtime::mechanism::{Kind, Kinematics, MechanismInfo, PointMotion};
+use mechgen_runtime::solve::NewtonOptions;
 
 /// How the branch is followed between rows.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -9,36 +9,51 @@ use crate::check::{Kind, Model};
 use crate::compile::Compiled;
 use crate::dag::Var;
 use crate::emit_body::VarSource;
+use crate::names::ModuleItems;
 
-/// The whole generated file for these mechanisms, formatted.
+/// The runtime path generated code uses unless told otherwise: users depend on `mechgen`.
+pub const DEFAULT_RUNTIME: &str = "::mechgen";
+
+/// The whole generated file for these mechanisms, formatted, for the runtime at `::mechgen`.
 pub fn emit(mechs: &[Compiled], source_name: &str) -> Result<String, String> {
-    let modules: Vec<TokenStream> = mechs.iter().map(module).collect();
+    emit_with(mechs, source_name, DEFAULT_RUNTIME)
+}
+
+/// The whole generated file, reaching the runtime through `runtime` (a path such as `::mechgen`
+/// or `::mechgen_runtime`): every runtime item is named `{runtime}::__private::…`.
+pub fn emit_with(mechs: &[Compiled], source_name: &str, runtime: &str) -> Result<String, String> {
+    let path: syn::Path = syn::parse_str(runtime)
+        .map_err(|e| format!("the runtime path `{runtime}` is not a Rust path: {e}"))?;
+    let rt = quote!(#path::__private);
+    let gt = format_ident!("T");
+    let modules: Vec<TokenStream> = mechs.iter().map(|c| module(c, &rt)).collect();
     let names: Vec<&str> = mechs.iter().map(|m| m.model.name.text.as_str()).collect();
     let count = names.len();
     let arms = mechs.iter().map(|m| {
         let name = &m.model.name.text;
         let (module, ty) = (format_ident!("{}", name), type_ident(&m.model));
-        quote!(#name => Some(Box::new(#module::#ty::<T>::default())),)
+        quote!(#name => ::core::option::Option::Some(::std::boxed::Box::new(
+            <#module::#ty::<#gt> as ::core::default::Default>::default())),)
     });
     let visits = mechs.iter().map(|m| {
         let (module, ty) = (format_ident!("{}", m.model.name.text), type_ident(&m.model));
-        quote!(v.visit(&#module::#ty::<T>::default());)
+        quote!(v.visit(&<#module::#ty::<#gt> as ::core::default::Default>::default());)
     });
     let file = quote! {
         /// Names of the compiled-in mechanisms, in file order.
         pub const MECHANISMS: [&str; #count] = [#(#names),*];
 
         /// A compiled-in mechanism by name, with its default params, behind the object-safe trait.
-        pub fn lookup<T: ::mechgen::Real>(name: &str) -> Option<Box<dyn ::mechgen::Kinematics<T>>> {
+        pub fn lookup<#gt: #rt::Real>(name: &str) -> ::core::option::Option<::std::boxed::Box<dyn #rt::Kinematics<#gt>>> {
             match name {
                 #(#arms)*
-                _ => None,
+                _ => ::core::option::Option::None,
             }
         }
 
         /// Calls `v.visit` with every compiled-in mechanism (default params), statically typed, in
         /// file order: generic code over whatever the build compiled in, without dynamic dispatch.
-        pub fn visit_all<T: ::mechgen::Real, V: ::mechgen::Visitor<T>>(v: &mut V) {
+        pub fn visit_all<#gt: #rt::Real, V: #rt::Visitor<#gt>>(v: &mut V) {
             #(#visits)*
         }
 
@@ -80,47 +95,53 @@ pub(crate) fn comment(text: &str) -> TokenStream {
     quote!(__comment!(#text);)
 }
 
+/// The mechanism's type: `four_bar` → `FourBar` (see [`ModuleItems`] for the rare exception).
 pub fn type_ident(model: &Model) -> Ident {
-    let camel: String = model
-        .name
-        .text
-        .split('_')
-        .filter(|s| !s.is_empty())
-        .map(|s| {
-            let mut c = s.chars();
-            c.next()
-                .map(|f| f.to_ascii_uppercase().to_string() + c.as_str())
-                .unwrap_or_default()
-        })
-        .collect();
-    format_ident!("{}", camel)
+    ModuleItems::new(&model.name.text).ty
 }
 
-/// Reads variables from the generated functions' arguments `x, q, xd, qd, xdd, qdd` and `self.params`.
-pub(crate) struct Args<'a>(pub &'a Model);
+/// Reads variables from the generated functions' arguments `x, q, xd, qd, xdd, qdd` and
+/// `self.params`; carries what every emitter of the module needs: the runtime path (`rt`,
+/// ending in `__private`) and the module's item names.
+pub(crate) struct Args<'a> {
+    pub model: &'a Model,
+    pub rt: TokenStream,
+    pub items: ModuleItems,
+}
 
 impl VarSource for Args<'_> {
-    fn bind(&self, v: Var) -> (Ident, TokenStream) {
-        let m = self.0;
-        let (name, suffix, arr) = match v {
-            Var::X(i) => (&m.inputs[i as usize].name.text, "", quote!(x)),
-            Var::Q(i) => (&m.unknowns[i as usize].name.text, "", quote!(q)),
-            Var::Xd(i) => (&m.inputs[i as usize].name.text, "_d", quote!(xd)),
-            Var::Qd(i) => (&m.unknowns[i as usize].name.text, "_d", quote!(qd)),
-            Var::Xdd(i) => (&m.inputs[i as usize].name.text, "_dd", quote!(xdd)),
-            Var::Qdd(i) => (&m.unknowns[i as usize].name.text, "_dd", quote!(qdd)),
+    fn read(&self, v: Var) -> TokenStream {
+        let (arr, i) = match v {
+            Var::X(i) => (quote!(x), i),
+            Var::Q(i) => (quote!(q), i),
+            Var::Xd(i) => (quote!(xd), i),
+            Var::Qd(i) => (quote!(qd), i),
+            Var::Xdd(i) => (quote!(xdd), i),
+            Var::Qdd(i) => (quote!(qdd), i),
             Var::P(i) => {
-                let f = format_ident!("{}", m.params[i as usize].name.text);
-                return (format_ident!("p_{}", f), quote!(self.params.#f));
+                let f = format_ident!("{}", self.model.params[i as usize].name.text);
+                return quote!(self.params.#f);
             }
         };
-        let idx = match v {
-            Var::X(i) | Var::Q(i) | Var::Xd(i) | Var::Qd(i) | Var::Xdd(i) | Var::Qdd(i) => {
-                i as usize
-            }
-            Var::P(_) => 0,
+        let i = i as usize;
+        quote!(#arr[#i])
+    }
+    fn hint(&self, v: Var) -> String {
+        let m = self.model;
+        let (name, what) = match v {
+            Var::X(i) => (&m.inputs[i as usize].name.text, ""),
+            Var::Q(i) => (&m.unknowns[i as usize].name.text, ""),
+            Var::Xd(i) => (&m.inputs[i as usize].name.text, "_d"),
+            Var::Qd(i) => (&m.unknowns[i as usize].name.text, "_d"),
+            Var::Xdd(i) => (&m.inputs[i as usize].name.text, "_dd"),
+            Var::Qdd(i) => (&m.unknowns[i as usize].name.text, "_dd"),
+            Var::P(i) => return format!("p_{}", m.params[i as usize].name.text),
         };
-        (format_ident!("v_{}{}", name, suffix), quote!(#arr[#idx]))
+        // A readable proposal only: the names table keeps `a_d` and the rate of `a` apart.
+        format!("v_{name}{what}")
+    }
+    fn scalar(&self) -> &Ident {
+        &self.items.scalar
     }
 }
 
@@ -128,10 +149,10 @@ fn f64_lit(x: f64) -> proc_macro2::Literal {
     proc_macro2::Literal::f64_unsuffixed(x)
 }
 
-fn kind(k: Kind) -> TokenStream {
+fn kind(k: Kind, rt: &TokenStream) -> TokenStream {
     match k {
-        Kind::Angle => quote!(::mechgen::Kind::Angle),
-        Kind::Length => quote!(::mechgen::Kind::Length),
+        Kind::Angle => quote!(#rt::Kind::Angle),
+        Kind::Length => quote!(#rt::Kind::Length),
     }
 }
 
@@ -145,12 +166,19 @@ pub(crate) fn sizes(m: &Model) -> (usize, usize, usize, usize) {
     )
 }
 
-fn module(c: &Compiled) -> TokenStream {
+fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     let m = &c.model;
-    let args = Args(m);
+    let args = Args {
+        model: m,
+        rt: rt.clone(),
+        items: ModuleItems::new(&m.name.text),
+    };
+    let it = &args.items;
+    let (ty, gt) = (&it.ty, &it.scalar);
+    let (params_ty, inputs_ty, unknowns_ty) = (&it.params, &it.inputs, &it.unknowns);
+    let (points_ty, tick_ty, motion_ty) = (&it.points, &it.tick, &it.motion);
     let (ni, nu, np, npar) = crate::emit::sizes(m);
     let mod_name = format_ident!("{}", m.name.text);
-    let ty = type_ident(m);
     let name = &m.name.text;
     let doc = if m.description.is_empty() {
         format!("Mechanism `{name}`.")
@@ -162,16 +190,16 @@ fn module(c: &Compiled) -> TokenStream {
     let coord_info = |cs: &[crate::check::Coord]| -> Vec<TokenStream> {
         cs.iter()
             .map(|c| {
-                let (n, k, s) = (&c.name.text, kind(c.kind), f64_lit(c.start));
-                quote!(::mechgen::CoordInfo { name: #n, kind: #k, start: #s })
+                let (n, k, s) = (&c.name.text, kind(c.kind, rt), f64_lit(c.start));
+                quote!(#rt::CoordInfo { name: #n, kind: #k, start: #s })
             })
             .collect()
     };
     let inputs_info = coord_info(&m.inputs);
     let unknowns_info = coord_info(&m.unknowns);
     let params_info = m.params.iter().map(|p| {
-        let (n, k, v) = (&p.name.text, kind(p.kind), f64_lit(p.value));
-        quote!(::mechgen::ParamInfo { name: #n, kind: #k, default: #v })
+        let (n, k, v) = (&p.name.text, kind(p.kind, rt), f64_lit(p.value));
+        quote!(#rt::ParamInfo { name: #n, kind: #k, default: #v })
     });
     let point_names: Vec<&str> = m.points.iter().map(|(n, _)| n.text.as_str()).collect();
     let blocks_info = c.blocks.iter().map(|b| {
@@ -197,10 +225,14 @@ fn module(c: &Compiled) -> TokenStream {
             None => format!("`{}` = {:?} ({k})", p.name.text, p.value),
         }
     });
-    let param_defaults = m.params.iter().map(|p| super::emit_body::literal(p.value));
-    let marker =
-        (npar == 0).then(|| quote!(#[doc(hidden)] pub _scalar: ::core::marker::PhantomData<T>,));
-    let marker_init = (npar == 0).then(|| quote!(_scalar: ::core::marker::PhantomData,));
+    let param_defaults = m.params.iter().map(|p| super::emit_body::literal(p.value, gt));
+    // A struct with no field of its own (no params, no points, …) still uses its type parameter.
+    let marker = |n: usize| {
+        (n == 0).then(|| quote!(#[doc(hidden)] pub _scalar: ::core::marker::PhantomData<#gt>,))
+    };
+    let marker_init = |n: usize| (n == 0).then(|| quote!(_scalar: ::core::marker::PhantomData,));
+    let (params_marker, params_marker_init) = (marker(npar), marker_init(npar));
+    let (points_marker, points_marker_init) = (marker(np), marker_init(np));
     let param_idx = 0..npar;
     let length_params = m
         .params
@@ -208,7 +240,7 @@ fn module(c: &Compiled) -> TokenStream {
         .filter(|p| p.kind == Kind::Length)
         .map(|p| format_ident!("{}", p.name.text));
 
-    let coords = |cs: &[crate::check::Coord], ty: Ident, what: &str| {
+    let coords = |cs: &[crate::check::Coord], ty: &Ident, what: &str| {
         let fields: Vec<Ident> = cs
             .iter()
             .map(|c| format_ident!("{}", c.name.text))
@@ -227,20 +259,21 @@ fn module(c: &Compiled) -> TokenStream {
         let n = fields.len();
         let idx = 0..n;
         let doc = format!("The {what} of `{name}`, by name.");
+        let (mk, mk_init) = (marker(n), marker_init(n));
         quote! {
             #[doc = #doc]
             #[derive(Clone, Copy, Debug, Default, PartialEq)]
-            pub struct #ty<T> { #( #[doc = #docs] pub #fields: T, )* }
-            impl<T: Copy> #ty<T> {
-                pub fn from_array(a: [T; #n]) -> Self { #ty { #( #fields: a[#idx], )* } }
-                pub fn to_array(&self) -> [T; #n] { [#(self.#fields),*] }
+            pub struct #ty<#gt> { #( #[doc = #docs] pub #fields: #gt, )* #mk }
+            impl<#gt: ::core::marker::Copy> #ty<#gt> {
+                pub fn from_array(a: [#gt; #n]) -> Self { #ty { #( #fields: a[#idx], )* #mk_init } }
+                pub fn to_array(&self) -> [#gt; #n] { [#(self.#fields),*] }
             }
-            impl<T: Copy> From<[T; #n]> for #ty<T> { fn from(a: [T; #n]) -> Self { Self::from_array(a) } }
-            impl<T: Copy> From<#ty<T>> for [T; #n] { fn from(v: #ty<T>) -> Self { v.to_array() } }
+            impl<#gt: ::core::marker::Copy> ::core::convert::From<[#gt; #n]> for #ty<#gt> { fn from(a: [#gt; #n]) -> Self { Self::from_array(a) } }
+            impl<#gt: ::core::marker::Copy> ::core::convert::From<#ty<#gt>> for [#gt; #n] { fn from(v: #ty<#gt>) -> Self { v.to_array() } }
         }
     };
-    let inputs_struct = coords(&m.inputs, format_ident!("Inputs"), "inputs");
-    let unknowns_struct = coords(&m.unknowns, format_ident!("Unknowns"), "unknowns");
+    let inputs_struct = coords(&m.inputs, inputs_ty, "inputs");
+    let unknowns_struct = coords(&m.unknowns, unknowns_ty, "unknowns");
     let point_fields: Vec<Ident> = point_names.iter().map(|n| format_ident!("{}", n)).collect();
     let point_idx = 0..np;
 
@@ -254,7 +287,7 @@ fn module(c: &Compiled) -> TokenStream {
             #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
 
             /// Static description: names, kinds, start configuration, blocks.
-            pub const INFO: ::mechgen::StaticInfo = ::mechgen::StaticInfo {
+            pub const INFO: #rt::StaticInfo = #rt::StaticInfo {
                 name: #name,
                 description: #description,
                 inputs: &[#(#inputs_info),*],
@@ -268,20 +301,20 @@ fn module(c: &Compiled) -> TokenStream {
 
             /// Params of the mechanism; `Default` holds the file's values. Change them at run time freely.
             #[derive(Clone, Copy, Debug, PartialEq)]
-            pub struct Params<T> { #( #[doc = #param_docs] pub #param_fields: T, )* #marker }
-            impl<T: ::mechgen::Real> Default for Params<T> {
-                fn default() -> Self { Params { #( #param_fields: #param_defaults, )* #marker_init } }
+            pub struct #params_ty<#gt> { #( #[doc = #param_docs] pub #param_fields: #gt, )* #params_marker }
+            impl<#gt: #rt::Real> ::core::default::Default for #params_ty<#gt> {
+                fn default() -> Self { #params_ty { #( #param_fields: #param_defaults, )* #params_marker_init } }
             }
-            impl<T: ::mechgen::Real> Params<T> {
+            impl<#gt: #rt::Real> #params_ty<#gt> {
                 /// All params in file order.
-                pub fn to_array(&self) -> [T; #npar] { [#(self.#param_fields),*] }
+                pub fn to_array(&self) -> [#gt; #npar] { [#(self.#param_fields),*] }
                 /// Params from an array in file order (see `INFO.params` for names and kinds).
-                pub fn from_array(a: [T; #npar]) -> Self { Params { #( #param_fields: a[#param_idx], )* #marker_init } }
+                pub fn from_array(a: [#gt; #npar]) -> Self { #params_ty { #( #param_fields: a[#param_idx], )* #params_marker_init } }
                 /// The largest length param (1 when there is none): tolerances on lengths are relative to it.
-                pub fn length_scale(&self) -> T {
-                    let mut s = T::zero();
+                pub fn length_scale(&self) -> #gt {
+                    let mut s = #gt::zero();
                     #( s = s.max(self.#length_params.abs()); )*
-                    if s > T::zero() { s } else { T::one() }
+                    if s > #gt::zero() { s } else { #gt::one() }
                 }
             }
 
@@ -290,93 +323,93 @@ fn module(c: &Compiled) -> TokenStream {
 
             /// Every point's motion, by name.
             #[derive(Clone, Copy, Debug, Default, PartialEq)]
-            pub struct Points<T> { #( pub #point_fields: ::mechgen::PointMotion<T>, )* #marker }
-            impl<T: Copy> Points<T> {
-                pub fn from_array(a: [::mechgen::PointMotion<T>; #np]) -> Self { Points { #( #point_fields: a[#point_idx], )* #marker_init } }
+            pub struct #points_ty<#gt> { #( pub #point_fields: #rt::PointMotion<#gt>, )* #points_marker }
+            impl<#gt: ::core::marker::Copy> #points_ty<#gt> {
+                pub fn from_array(a: [#rt::PointMotion<#gt>; #np]) -> Self { #points_ty { #( #point_fields: a[#point_idx], )* #points_marker_init } }
             }
 
             /// The state between simulator ticks (see `tick_start` and `tick`).
-            pub type Tick<T> = ::mechgen::Tick<T, #ni, #nu, #np, #npar>;
+            pub type #tick_ty<#gt> = #rt::Tick<#gt, #ni, #nu, #np, #npar>;
 
             /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
             #[derive(Clone, Copy, Debug, PartialEq)]
-            pub struct Motion<T> {
-                pub x: Inputs<T>, pub xd: Inputs<T>, pub xdd: Inputs<T>,
-                pub q: Unknowns<T>, pub qd: Unknowns<T>, pub qdd: Unknowns<T>,
-                pub points: Points<T>,
-                pub report: ::mechgen::NewtonReport<T>,
+            pub struct #motion_ty<#gt> {
+                pub x: #inputs_ty<#gt>, pub xd: #inputs_ty<#gt>, pub xdd: #inputs_ty<#gt>,
+                pub q: #unknowns_ty<#gt>, pub qd: #unknowns_ty<#gt>, pub qdd: #unknowns_ty<#gt>,
+                pub points: #points_ty<#gt>,
+                pub report: #rt::NewtonReport<#gt>,
             }
 
             #[doc = #doc]
             #[derive(Clone, Copy, Debug, PartialEq)]
-            pub struct #ty<T = f64> { pub params: Params<T> }
-            impl<T: ::mechgen::Real> Default for #ty<T> {
-                fn default() -> Self { #ty { params: Params::default() } }
+            pub struct #ty<#gt = f64> { pub params: #params_ty<#gt> }
+            impl<#gt: #rt::Real> ::core::default::Default for #ty<#gt> {
+                fn default() -> Self { #ty { params: <#params_ty<#gt> as ::core::default::Default>::default() } }
             }
 
-            impl<T: ::mechgen::Real> #ty<T> {
+            impl<#gt: #rt::Real> #ty<#gt> {
                 pub const INPUTS: usize = #ni;
                 pub const UNKNOWNS: usize = #nu;
                 pub const POINTS: usize = #np;
                 pub const BLOCKS: usize = #nblocks;
 
-                pub fn new(params: Params<T>) -> Self { #ty { params } }
+                pub fn new(params: #params_ty<#gt>) -> Self { #ty { params } }
 
                 /// The file's `start` configuration (on the wanted assembly branch).
-                pub fn start() -> (Inputs<T>, Unknowns<T>) {
-                    let x: [T; #ni] = ::core::array::from_fn(|i| T::lit(INFO.inputs[i].start));
-                    let q: [T; #nu] = ::core::array::from_fn(|i| T::lit(INFO.unknowns[i].start));
-                    (Inputs::from_array(x), Unknowns::from_array(q))
+                pub fn start() -> (#inputs_ty<#gt>, #unknowns_ty<#gt>) {
+                    let x: [#gt; #ni] = ::core::array::from_fn(|i| #gt::lit(INFO.inputs[i].start));
+                    let q: [#gt; #nu] = ::core::array::from_fn(|i| #gt::lit(INFO.unknowns[i].start));
+                    (#inputs_ty::from_array(x), #unknowns_ty::from_array(q))
                 }
 
                 #system_fns
                 #solvers
 
                 /// Everything at once: positions from `guess`, velocities, accelerations and points.
-                pub fn solve(&self, x: Inputs<T>, xd: Inputs<T>, xdd: Inputs<T>, guess: Unknowns<T>, options: &::mechgen::NewtonOptions<T>)
-                    -> Result<Motion<T>, ::mechgen::SolveError> {
+                pub fn solve(&self, x: #inputs_ty<#gt>, xd: #inputs_ty<#gt>, xdd: #inputs_ty<#gt>, guess: #unknowns_ty<#gt>, options: &#rt::NewtonOptions<#gt>)
+                    -> ::core::result::Result<#motion_ty<#gt>, #rt::SolveError> {
                     let mut q = guess.to_array();
                     let (qd, qdd, points, report) = self.solve_arrays(&x.to_array(), &xd.to_array(), &xdd.to_array(), &mut q, options)?;
-                    Ok(Motion { x, xd, xdd, q: Unknowns::from_array(q), qd: Unknowns::from_array(qd),
-                        qdd: Unknowns::from_array(qdd), points: Points::from_array(points), report })
+                    Ok(#motion_ty { x, xd, xdd, q: #unknowns_ty::from_array(q), qd: #unknowns_ty::from_array(qd),
+                        qdd: #unknowns_ty::from_array(qdd), points: #points_ty::from_array(points), report })
                 }
             }
 
-            impl<T: ::mechgen::Real> ::mechgen::Mechanism<T> for #ty<T> {
+            impl<#gt: #rt::Real> #rt::Mechanism<#gt> for #ty<#gt> {
                 const NAME: &'static str = #name;
                 const INPUTS: usize = #ni;
                 const UNKNOWNS: usize = #nu;
                 const POINTS: usize = #np;
-                type X = [T; #ni];
-                type Q = [T; #nu];
-                type Tick = Tick<T>;
-                fn info(&self) -> &'static ::mechgen::StaticInfo { &INFO }
+                type X = [#gt; #ni];
+                type Q = [#gt; #nu];
+                type Tick = #tick_ty<#gt>;
+                fn info(&self) -> &'static #rt::StaticInfo { &INFO }
                 fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q { #ty::residual(self, x, q) }
-                fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) { ::mechgen::copy_row_major(&#ty::jacobian(self, x, q), out) }
-                fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) { ::mechgen::copy_row_major(&#ty::input_jacobian(self, x, q), out) }
-                fn jacobian_dot(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, out: &mut [T]) {
-                    ::mechgen::copy_row_major(&#ty::jacobian_dot(self, x, q, xd, qd), out)
+                fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [#gt]) { #rt::copy_row_major(&#ty::jacobian(self, x, q), out) }
+                fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [#gt]) { #rt::copy_row_major(&#ty::input_jacobian(self, x, q), out) }
+                fn jacobian_dot(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, out: &mut [#gt]) {
+                    #rt::copy_row_major(&#ty::jacobian_dot(self, x, q, xd, qd), out)
                 }
                 fn acceleration_rhs(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X) -> Self::Q {
                     #ty::acceleration_rhs(self, x, q, xd, qd, xdd).into()
                 }
-                fn solve_position(&self, x: &Self::X, q: &mut Self::Q, options: &::mechgen::NewtonOptions<T>)
-                    -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> { #ty::solve_position(self, x, q, options) }
-                fn solve_velocity(&self, x: &Self::X, q: &Self::Q, xd: &Self::X) -> Result<Self::Q, ::mechgen::SolveError> {
+                fn solve_position(&self, x: &Self::X, q: &mut Self::Q, options: &#rt::NewtonOptions<#gt>)
+                    -> ::core::result::Result<#rt::NewtonReport<#gt>, #rt::SolveError> { #ty::solve_position(self, x, q, options) }
+                fn solve_velocity(&self, x: &Self::X, q: &Self::Q, xd: &Self::X) -> ::core::result::Result<Self::Q, #rt::SolveError> {
                     #ty::solve_velocity(self, x, q, xd)
                 }
                 fn solve_acceleration(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X)
-                    -> Result<Self::Q, ::mechgen::SolveError> { #ty::solve_acceleration(self, x, q, xd, qd, xdd) }
-                fn points(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X, qdd: &Self::Q, out: &mut [::mechgen::PointMotion<T>]) {
+                    -> ::core::result::Result<Self::Q, #rt::SolveError> { #ty::solve_acceleration(self, x, q, xd, qd, xdd) }
+                fn points(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X, qdd: &Self::Q, out: &mut [#rt::PointMotion<#gt>]) {
                     for (o, p) in out.iter_mut().zip(#ty::point_motion(self, x, q, xd, qd, xdd, qdd)) { *o = p; }
                 }
-                fn tick_start(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, guess: &Self::Q, options: &::mechgen::NewtonOptions<T>)
-                    -> Result<Self::Tick, ::mechgen::SolveError> { #ty::tick_start(self, x, xd, xdd, guess, options) }
-                fn tick(&self, t: &mut Self::Tick, x: &Self::X, xd: &Self::X, xdd: &Self::X, options: &::mechgen::NewtonOptions<T>)
-                    -> Result<(), ::mechgen::SolveError> { #ty::tick(self, t, x, xd, xdd, options) }
+                fn tick_start(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, guess: &Self::Q, options: &#rt::NewtonOptions<#gt>)
+                    -> ::core::result::Result<Self::Tick, #rt::SolveError> { #ty::tick_start(self, x, xd, xdd, guess, options) }
+                fn tick(&self, t: &mut Self::Tick, x: &Self::X, xd: &Self::X, xdd: &Self::X, options: &#rt::NewtonOptions<#gt>)
+                    -> ::core::result::Result<(), #rt::SolveError> { #ty::tick(self, t, x, xd, xdd, options) }
                 fn solve_motion(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, q: &mut Self::Q, qd: &mut Self::Q, qdd: &mut Self::Q,
-                    points: &mut [::mechgen::PointMotion<T>], options: &::mechgen::NewtonOptions<T>)
-                    -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+                    points: &mut [#rt::PointMotion<#gt>], options: &#rt::NewtonOptions<#gt>)
+                    -> ::core::result::Result<#rt::NewtonReport<#gt>, #rt::SolveError> {
                     let (v, a, p, report) = #ty::solve_arrays(self, x, xd, xdd, q, options)?;
                     *qd = v;
                     *qdd = a;

@@ -6,7 +6,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use crate::mechanism::MechanismInfo;
+use mechgen_runtime::mechanism::MechanismInfo;
 use crate::sweep::Row;
 
 use super::{

@@ -26,7 +26,9 @@
 
 #![forbid(unsafe_code)]
 
-// Generated code names this crate `::mechgen`, also inside it.
+// Generated code names this crate `::mechgen`, also inside it. (A mechanism named `mechgen` is
+// shadowed at the root by this name, like one named after a root module: `generated::mechgen`.)
+#[allow(hidden_glob_reexports)]
 extern crate self as mechgen;
 
 /// The runtime crate (`mechgen-runtime`): its modules (`mechgen::runtime::tick::RESYNC_TICKS`, …).

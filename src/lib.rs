@@ -25,10 +25,11 @@
 //! as `mechgen::generated::NAME` (and by name through [`lookup`] and [`visit_all`] as always).
 
 #![forbid(unsafe_code)]
+// A mechanism named `mechgen` is shadowed at the root by the private `extern crate self as mechgen`
+// below, on purpose (like one named after a root module): it is `mechgen::generated::mechgen`.
+#![allow(hidden_glob_reexports)]
 
-// Generated code names this crate `::mechgen`, also inside it. (A mechanism named `mechgen` is
-// shadowed at the root by this name, like one named after a root module: `generated::mechgen`.)
-#[allow(hidden_glob_reexports)]
+// Generated code names this crate `::mechgen`, also inside it.
 extern crate self as mechgen;
 
 /// The runtime crate (`mechgen-runtime`): its modules (`mechgen::runtime::tick::RESYNC_TICKS`, …).

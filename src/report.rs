@@ -3,8 +3,8 @@
 
 use std::fmt::Write as _;
 
-use mechgen_runtime::mechanism::{Kind, MechanismInfo};
 use crate::sweep::{Row, Solved};
+use mechgen_runtime::mechanism::{Kind, MechanismInfo};
 
 /// Column headers of the CSV, in order.
 pub fn csv_header(info: &MechanismInfo, index: usize) -> Vec<String> {

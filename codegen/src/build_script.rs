@@ -4,8 +4,8 @@
 
 use std::path::Path;
 
-pub use crate::config::Generated;
 use crate::config::Config;
+pub use crate::config::Generated;
 
 /// Name of the generated file in `OUT_DIR`.
 pub const GENERATED_FILE: &str = "mechanisms.rs";

@@ -18,6 +18,8 @@ use crate::emit::{DEFAULT_RUNTIME, emit_with};
 ///
 /// An edit to the file regenerates; a bad file prints every diagnostic as a cargo error
 /// (`FILE:LINE:COLUMN: error: …`) and fails the build; warnings become cargo warnings.
+// The doctest shows the whole `build.rs`, `fn main` included.
+#[allow(clippy::needless_doctest_main)]
 pub fn compile(path: impl AsRef<Path>) {
     Config::new().compile(path);
 }

@@ -225,7 +225,10 @@ fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
             None => format!("`{}` = {:?} ({k})", p.name.text, p.value),
         }
     });
-    let param_defaults = m.params.iter().map(|p| super::emit_body::literal(p.value, gt));
+    let param_defaults = m
+        .params
+        .iter()
+        .map(|p| super::emit_body::literal(p.value, gt));
     // A struct with no field of its own (no params, no points, …) still uses its type parameter.
     let marker = |n: usize| {
         (n == 0).then(|| quote!(#[doc(hidden)] pub _scalar: ::core::marker::PhantomData<#gt>,))

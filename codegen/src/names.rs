@@ -219,7 +219,10 @@ mod tests {
         assert_eq!(plain.params, "Params");
         assert_eq!(plain.scalar, "T");
         let tick = ModuleItems::new("tick");
-        assert_eq!((tick.ty.to_string(), tick.tick.to_string()), ("Tick".into(), "TickState".into()));
+        assert_eq!(
+            (tick.ty.to_string(), tick.tick.to_string()),
+            ("Tick".into(), "TickState".into())
+        );
         for (name, field) in [
             ("params", "ParamValues"),
             ("inputs", "InputValues"),
@@ -230,7 +233,14 @@ mod tests {
         ] {
             let m = ModuleItems::new(name);
             let all = [
-                &m.ty, &m.scalar, &m.params, &m.inputs, &m.unknowns, &m.points, &m.tick, &m.motion,
+                &m.ty,
+                &m.scalar,
+                &m.params,
+                &m.inputs,
+                &m.unknowns,
+                &m.points,
+                &m.tick,
+                &m.motion,
             ];
             assert!(all.iter().any(|i| *i == field), "{name}: {m:?}");
             let set: BTreeSet<String> = all.iter().map(|i| i.to_string()).collect();

@@ -16,7 +16,8 @@ start = { q1 = 0.0, q2 = 0.0, s = 4.0 }
 
 #[test]
 fn small_mechanism_snapshot() {
-    let (code, warnings) = generate_source(&SourceFile::new("slider.toml", SLIDER)).expect("valid file");
+    let (code, warnings) =
+        generate_source(&SourceFile::new("slider.toml", SLIDER)).expect("valid file");
     assert!(warnings.is_empty(), "{warnings:?}");
     expect_file!["snapshots/slider.rs"].assert_eq(&code);
 }
@@ -27,7 +28,8 @@ fn small_mechanism_snapshot() {
 fn golden_copy_of_default_mechanisms_is_fresh() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../mechanism.toml");
     let text = std::fs::read_to_string(path).expect("mechanism.toml");
-    let (code, _) = generate_source(&SourceFile::new("mechanism.toml", text)).expect("valid default file");
+    let (code, _) =
+        generate_source(&SourceFile::new("mechanism.toml", text)).expect("valid default file");
     expect_file!["../../generated/mechanisms.rs"].assert_eq(&code);
 }
 

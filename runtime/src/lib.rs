@@ -15,6 +15,10 @@ extern crate alloc;
 // The float functions of f64 and f32 (`sin_cos`, `sqrt`, …) live in std.
 #[cfg(feature = "std")]
 extern crate std;
+// Without std, `Real`'s float functions would resolve to themselves: refuse to build until a
+// `libm` backend exists.
+#[cfg(not(feature = "std"))]
+compile_error!("mechgen-runtime needs its `std` feature (the float functions come from std)");
 
 pub mod dyad;
 pub mod elimination;

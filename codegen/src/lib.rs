@@ -29,6 +29,7 @@ pub mod differentiate;
 pub mod dyad;
 pub mod emit;
 pub mod emit_body;
+mod emit_module;
 pub mod emit_motion;
 pub mod emit_solve;
 pub mod emit_system;

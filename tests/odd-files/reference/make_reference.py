@@ -79,6 +79,8 @@ MECHS = {
     "t": (mech_slider("0.2", "0.6"), None),
     "mechgen": (mech_slider("0.1", "0.3"), None),
     "core": (mech_slider("0.3", "0.8"), None),
+    "v": (mech_slider("0.25", "0.6", [crank_tip("0.25")]), None),
+    "x": (mech_slider("0.1", "0.45"), None),
     "points": (mech_slider("0.35", "1.2", [crank_tip("0.35"), lambda x, b, s: (s, mpf(0))]), None),
     "motion": (mech_slider("0.05", "0.2"), None),
     "std": (mech_slider("0.4", "1.1"), None),

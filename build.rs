@@ -1,4 +1,10 @@
-//! Reads the mechanism file (`mechanism.toml` or `$MECHGEN_MECHANISM`) and generates the solvers.
+//! mechgen's build: an ordinary user of the build library. It generates the solvers of
+//! `mechanism.toml`, or of the file named by `MECHGEN_MECHANISM` (an absolute path) when that is
+//! set, into `OUT_DIR/mechanisms.rs`, and the file's text into `OUT_DIR/mechanism_source.rs`
+//! (`mechgen::source`, for the generic engine and `mechgen check`).
 fn main() {
-    mechgen_codegen::build_script::run();
+    mechgen_codegen::Config::new()
+        .env_override("MECHGEN_MECHANISM")
+        .source_file("mechanism_source.rs")
+        .compile("mechanism.toml");
 }

@@ -10,116 +10,154 @@ pub const MECHANISMS: [&str; 6] = [
     "sixbar_g",
 ];
 /// A compiled-in mechanism by name, with its default params, behind the object-safe trait.
-pub fn lookup<T: ::mechgen::Real>(
+pub fn lookup<T: ::mechgen::__private::Real>(
     name: &str,
-) -> Option<Box<dyn ::mechgen::Kinematics<T>>> {
+) -> ::core::option::Option<::std::boxed::Box<dyn ::mechgen::__private::Kinematics<T>>> {
     match name {
-        "sixbar" => Some(Box::new(sixbar::Sixbar::<T>::default())),
-        "shaper" => Some(Box::new(shaper::Shaper::<T>::default())),
-        "four_bar" => Some(Box::new(four_bar::FourBar::<T>::default())),
-        "slider_crank" => Some(Box::new(slider_crank::SliderCrank::<T>::default())),
-        "rocker_four_bar" => {
-            Some(Box::new(rocker_four_bar::RockerFourBar::<T>::default()))
+        "sixbar" => {
+            ::core::option::Option::Some(
+                ::std::boxed::Box::new(
+                    <sixbar::Sixbar<T> as ::core::default::Default>::default(),
+                ),
+            )
         }
-        "sixbar_g" => Some(Box::new(sixbar_g::SixbarG::<T>::default())),
-        _ => None,
+        "shaper" => {
+            ::core::option::Option::Some(
+                ::std::boxed::Box::new(
+                    <shaper::Shaper<T> as ::core::default::Default>::default(),
+                ),
+            )
+        }
+        "four_bar" => {
+            ::core::option::Option::Some(
+                ::std::boxed::Box::new(
+                    <four_bar::FourBar<T> as ::core::default::Default>::default(),
+                ),
+            )
+        }
+        "slider_crank" => {
+            ::core::option::Option::Some(
+                ::std::boxed::Box::new(
+                    <slider_crank::SliderCrank<T> as ::core::default::Default>::default(),
+                ),
+            )
+        }
+        "rocker_four_bar" => {
+            ::core::option::Option::Some(
+                ::std::boxed::Box::new(
+                    <rocker_four_bar::RockerFourBar<
+                        T,
+                    > as ::core::default::Default>::default(),
+                ),
+            )
+        }
+        "sixbar_g" => {
+            ::core::option::Option::Some(
+                ::std::boxed::Box::new(
+                    <sixbar_g::SixbarG<T> as ::core::default::Default>::default(),
+                ),
+            )
+        }
+        _ => ::core::option::Option::None,
     }
 }
 /// Calls `v.visit` with every compiled-in mechanism (default params), statically typed, in
 /// file order: generic code over whatever the build compiled in, without dynamic dispatch.
-pub fn visit_all<T: ::mechgen::Real, V: ::mechgen::Visitor<T>>(v: &mut V) {
-    v.visit(&sixbar::Sixbar::<T>::default());
-    v.visit(&shaper::Shaper::<T>::default());
-    v.visit(&four_bar::FourBar::<T>::default());
-    v.visit(&slider_crank::SliderCrank::<T>::default());
-    v.visit(&rocker_four_bar::RockerFourBar::<T>::default());
-    v.visit(&sixbar_g::SixbarG::<T>::default());
+pub fn visit_all<T: ::mechgen::__private::Real, V: ::mechgen::__private::Visitor<T>>(
+    v: &mut V,
+) {
+    v.visit(&<sixbar::Sixbar<T> as ::core::default::Default>::default());
+    v.visit(&<shaper::Shaper<T> as ::core::default::Default>::default());
+    v.visit(&<four_bar::FourBar<T> as ::core::default::Default>::default());
+    v.visit(&<slider_crank::SliderCrank<T> as ::core::default::Default>::default());
+    v.visit(&<rocker_four_bar::RockerFourBar<T> as ::core::default::Default>::default());
+    v.visit(&<sixbar_g::SixbarG<T> as ::core::default::Default>::default());
 }
 /// Six-bar linkage: crank-rocker four-bar ABCD plus the RRR dyad E-F-G on the coupler point E
 pub mod sixbar {
     #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
     /// Static description: names, kinds, start configuration, blocks.
-    pub const INFO: ::mechgen::StaticInfo = ::mechgen::StaticInfo {
+    pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "sixbar",
         description: "Six-bar linkage: crank-rocker four-bar ABCD plus the RRR dyad E-F-G on the coupler point E",
         inputs: &[
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q1",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 0.0,
             },
         ],
         unknowns: &[
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q2",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 0.8744099552491591,
             },
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q3",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 1.7924531417981764,
             },
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q5",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 2.0455258833373544,
             },
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q6",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 4.899139210348083,
             },
         ],
         params: &[
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l1",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 26.5,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l2",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 75.0,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l3",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 59.0,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l4",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 87.5,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l5",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 48.4,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l6",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 39.0,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l2e",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 65.0,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "xg",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 153.5,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "yg",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 41.7,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "alpha",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 default: 1.0471975511965976,
             },
         ],
@@ -152,7 +190,7 @@ pub mod sixbar {
         /// `alpha` = deg(60.0) = 1.0471975511965976 (angle, radians)
         pub alpha: T,
     }
-    impl<T: ::mechgen::Real> Default for Params<T> {
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for Params<T> {
         fn default() -> Self {
             Params {
                 l1: T::lit(26.5),
@@ -168,7 +206,7 @@ pub mod sixbar {
             }
         }
     }
-    impl<T: ::mechgen::Real> Params<T> {
+    impl<T: ::mechgen::__private::Real> Params<T> {
         /// All params in file order.
         pub fn to_array(&self) -> [T; 10] {
             [
@@ -220,7 +258,7 @@ pub mod sixbar {
         /// `q1` (angle, radians)
         pub q1: T,
     }
-    impl<T: Copy> Inputs<T> {
+    impl<T: ::core::marker::Copy> Inputs<T> {
         pub fn from_array(a: [T; 1]) -> Self {
             Inputs { q1: a[0] }
         }
@@ -228,12 +266,12 @@ pub mod sixbar {
             [self.q1]
         }
     }
-    impl<T: Copy> From<[T; 1]> for Inputs<T> {
+    impl<T: ::core::marker::Copy> ::core::convert::From<[T; 1]> for Inputs<T> {
         fn from(a: [T; 1]) -> Self {
             Self::from_array(a)
         }
     }
-    impl<T: Copy> From<Inputs<T>> for [T; 1] {
+    impl<T: ::core::marker::Copy> ::core::convert::From<Inputs<T>> for [T; 1] {
         fn from(v: Inputs<T>) -> Self {
             v.to_array()
         }
@@ -250,7 +288,7 @@ pub mod sixbar {
         /// `q6` (angle, radians)
         pub q6: T,
     }
-    impl<T: Copy> Unknowns<T> {
+    impl<T: ::core::marker::Copy> Unknowns<T> {
         pub fn from_array(a: [T; 4]) -> Self {
             Unknowns {
                 q2: a[0],
@@ -263,12 +301,12 @@ pub mod sixbar {
             [self.q2, self.q3, self.q5, self.q6]
         }
     }
-    impl<T: Copy> From<[T; 4]> for Unknowns<T> {
+    impl<T: ::core::marker::Copy> ::core::convert::From<[T; 4]> for Unknowns<T> {
         fn from(a: [T; 4]) -> Self {
             Self::from_array(a)
         }
     }
-    impl<T: Copy> From<Unknowns<T>> for [T; 4] {
+    impl<T: ::core::marker::Copy> ::core::convert::From<Unknowns<T>> for [T; 4] {
         fn from(v: Unknowns<T>) -> Self {
             v.to_array()
         }
@@ -276,15 +314,15 @@ pub mod sixbar {
     /// Every point's motion, by name.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
     pub struct Points<T> {
-        pub E: ::mechgen::PointMotion<T>,
+        pub E: ::mechgen::__private::PointMotion<T>,
     }
-    impl<T: Copy> Points<T> {
-        pub fn from_array(a: [::mechgen::PointMotion<T>; 1]) -> Self {
+    impl<T: ::core::marker::Copy> Points<T> {
+        pub fn from_array(a: [::mechgen::__private::PointMotion<T>; 1]) -> Self {
             Points { E: a[0] }
         }
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
-    pub type Tick<T> = ::mechgen::Tick<T, 1, 4, 1, 10>;
+    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 4, 1, 10>;
     /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Motion<T> {
@@ -295,21 +333,21 @@ pub mod sixbar {
         pub qd: Unknowns<T>,
         pub qdd: Unknowns<T>,
         pub points: Points<T>,
-        pub report: ::mechgen::NewtonReport<T>,
+        pub report: ::mechgen::__private::NewtonReport<T>,
     }
     /// Six-bar linkage: crank-rocker four-bar ABCD plus the RRR dyad E-F-G on the coupler point E
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Sixbar<T = f64> {
         pub params: Params<T>,
     }
-    impl<T: ::mechgen::Real> Default for Sixbar<T> {
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for Sixbar<T> {
         fn default() -> Self {
             Sixbar {
-                params: Params::default(),
+                params: <Params<T> as ::core::default::Default>::default(),
             }
         }
     }
-    impl<T: ::mechgen::Real> Sixbar<T> {
+    impl<T: ::mechgen::__private::Real> Sixbar<T> {
         pub const INPUTS: usize = 1;
         pub const UNKNOWNS: usize = 4;
         pub const POINTS: usize = 1;
@@ -388,7 +426,7 @@ pub mod sixbar {
             &self,
             x: &[T; 1],
             q: &[T; 4],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 4, 4> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
             let v_q2 = q[0];
             let v_q3 = q[1];
             let v_q5 = q[2];
@@ -426,7 +464,11 @@ pub mod sixbar {
             let t24 = t1 + t12;
             let t25 = -t14;
             let t26 = -t17;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                4,
+                4,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t19;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -454,14 +496,18 @@ pub mod sixbar {
             &self,
             x: &[T; 1],
             q: &[T; 4],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 4, 1> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 1> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let (s_v_q1, c_v_q1) = v_q1.sin_cos();
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
             let t3 = -t2;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 4, 1>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                4,
+                1,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t3;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -479,7 +525,7 @@ pub mod sixbar {
             q: &[T; 4],
             xd: &[T; 1],
             qd: &[T; 4],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 4, 4> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
             let v_q2 = q[0];
             let v_q3 = q[1];
             let v_q5 = q[2];
@@ -530,7 +576,11 @@ pub mod sixbar {
             let t33 = t19 * v_q2_d;
             let t34 = t13 * v_q5_d;
             let t35 = t16 * v_q6_d;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                4,
+                4,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t22;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -559,7 +609,7 @@ pub mod sixbar {
             x: &[T; 1],
             q: &[T; 4],
             xd: &[T; 1],
-        ) -> ::mechgen::nalgebra::SVector<T, 4> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
@@ -569,7 +619,7 @@ pub mod sixbar {
             let t3 = t2 * v_q1_d;
             let t4 = t1 * v_q1_d;
             let t5 = -t4;
-            ::mechgen::nalgebra::SVector::from([t3, t5, t3, t5])
+            ::mechgen::__private::nalgebra::SVector::from([t3, t5, t3, t5])
         }
         /// γ = −(J̇ q̇ + Φ̇x ẋ) − Φx ẍ: the right-hand side of J q̈ = γ.
         pub fn acceleration_rhs(
@@ -579,7 +629,7 @@ pub mod sixbar {
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
-        ) -> ::mechgen::nalgebra::SVector<T, 4> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -669,7 +719,7 @@ pub mod sixbar {
             let t68 = t66 + t67;
             let t69 = t53 + t68;
             let t70 = -t69;
-            ::mechgen::nalgebra::SVector::from([t46, t55, t62, t70])
+            ::mechgen::__private::nalgebra::SVector::from([t46, t55, t62, t70])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(
@@ -713,7 +763,7 @@ pub mod sixbar {
             qd: &[T; 4],
             xdd: &[T; 1],
             qdd: &[T; 4],
-        ) -> [::mechgen::PointMotion<T>; 1] {
+        ) -> [::mechgen::__private::PointMotion<T>; 1] {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_l1 = self.params.l1;
@@ -773,7 +823,7 @@ pub mod sixbar {
             let t46 = t23 * v_q2_dd;
             let t47 = t45 + t46;
             [
-                ::mechgen::PointMotion {
+                ::mechgen::__private::PointMotion {
                     position: [t17, t18],
                     velocity: [t35, t39],
                     acceleration: [t44, t47],
@@ -790,8 +840,8 @@ pub mod sixbar {
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
         ) -> (
-            ::mechgen::nalgebra::SVector<T, 2>,
-            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
+            ::mechgen::__private::nalgebra::SVector<T, 2>,
+            ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
         ) {
             let v_q1 = x[0];
             let v_q2 = q[0];
@@ -816,7 +866,11 @@ pub mod sixbar {
             let t10 = t5 - t8;
             let t11 = -t3;
             let t12 = -t7;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t11;
             // J[0][1] = ∂Φ0/∂q3
@@ -825,7 +879,7 @@ pub mod sixbar {
             jac[(1, 0)] = t2;
             // J[1][1] = ∂Φ1/∂q3
             jac[(1, 1)] = t12;
-            (::mechgen::nalgebra::SVector::from([t9, t10]), jac)
+            (::mechgen::__private::nalgebra::SVector::from([t9, t10]), jac)
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its Jacobian block.
         #[inline]
@@ -836,7 +890,7 @@ pub mod sixbar {
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
             let v_q3 = q[1];
             let p_l2 = self.params.l2;
@@ -849,7 +903,11 @@ pub mod sixbar {
             let t3 = p_l3 * s_v_q3;
             let t4 = -t1;
             let t5 = -t2;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t4;
             // J[0][1] = ∂Φ0/∂q3
@@ -871,7 +929,7 @@ pub mod sixbar {
             tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
@@ -881,7 +939,7 @@ pub mod sixbar {
             let t2 = t1 * v_q1_d;
             let t3 = t0 * v_q1_d;
             let t4 = -t3;
-            ::mechgen::nalgebra::SVector::from([t2, t4])
+            ::mechgen::__private::nalgebra::SVector::from([t2, t4])
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side (acceleration).
         #[inline]
@@ -896,7 +954,7 @@ pub mod sixbar {
             qd: &[T; 4],
             xdd: &[T; 1],
             qdd: &[T; 4],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -939,7 +997,7 @@ pub mod sixbar {
             let t26 = t0 * v_q1_dd;
             let t27 = t25 + t26;
             let t28 = -t27;
-            ::mechgen::nalgebra::SVector::from([t19, t28])
+            ::mechgen::__private::nalgebra::SVector::from([t19, t28])
         }
         /// Block 0: q2, q3 from loop 1 (x, y). A dyad: K + M_a e(q2) + M_b e(q3) = 0; returns K, then (p, r) of M_a and of M_b.
         #[inline]
@@ -973,8 +1031,8 @@ pub mod sixbar {
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
         ) -> (
-            ::mechgen::nalgebra::SVector<T, 2>,
-            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
+            ::mechgen::__private::nalgebra::SVector<T, 2>,
+            ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
         ) {
             let v_q1 = x[0];
             let v_q2 = q[0];
@@ -1021,7 +1079,11 @@ pub mod sixbar {
             let t25 = t23 - p_yg;
             let t26 = -t16;
             let t27 = -t20;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // J[2][2] = ∂Φ2/∂q5
             jac[(0, 0)] = t17;
             // J[2][3] = ∂Φ2/∂q6
@@ -1030,7 +1092,7 @@ pub mod sixbar {
             jac[(1, 0)] = t26;
             // J[3][3] = ∂Φ3/∂q6
             jac[(1, 1)] = t27;
-            (::mechgen::nalgebra::SVector::from([t24, t25]), jac)
+            (::mechgen::__private::nalgebra::SVector::from([t24, t25]), jac)
         }
         /// Block 1: q5, q6 from loop 2 (x, y). Its Jacobian block.
         #[inline]
@@ -1041,7 +1103,7 @@ pub mod sixbar {
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q5 = q[2];
             let v_q6 = q[3];
             let p_l5 = self.params.l5;
@@ -1054,7 +1116,11 @@ pub mod sixbar {
             let t3 = p_l6 * s_v_q6;
             let t4 = -t0;
             let t5 = -t2;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // J[2][2] = ∂Φ2/∂q5
             jac[(0, 0)] = t1;
             // J[2][3] = ∂Φ2/∂q6
@@ -1076,7 +1142,7 @@ pub mod sixbar {
             tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_l1 = self.params.l1;
@@ -1109,7 +1175,7 @@ pub mod sixbar {
             let t18 = t13 * v_q2_d;
             let t19 = t15 - t14;
             let t20 = t17 - t18;
-            ::mechgen::nalgebra::SVector::from([t19, t20])
+            ::mechgen::__private::nalgebra::SVector::from([t19, t20])
         }
         /// Block 1: q5, q6 from loop 2 (x, y). Its right-hand side (acceleration).
         #[inline]
@@ -1124,7 +1190,7 @@ pub mod sixbar {
             qd: &[T; 4],
             xdd: &[T; 1],
             qdd: &[T; 4],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q5 = q[2];
@@ -1199,7 +1265,7 @@ pub mod sixbar {
             let t50 = t18 * v_q2_dd;
             let t51 = t40 - t49;
             let t52 = t48 - t50;
-            ::mechgen::nalgebra::SVector::from([t51, t52])
+            ::mechgen::__private::nalgebra::SVector::from([t51, t52])
         }
         /// Block 1: q5, q6 from loop 2 (x, y). A dyad: K + M_a e(q5) + M_b e(q6) = 0; returns K, then (p, r) of M_a and of M_b.
         #[inline]
@@ -1258,24 +1324,24 @@ pub mod sixbar {
         }
         /// The unknowns with the sines and cosines the solvers read.
         #[inline]
-        fn trig_state(q: [T; 4]) -> ::mechgen::TrigState<T, 4> {
-            ::mechgen::TrigState::new(q, [true, true, true, true])
+        fn trig_state(q: [T; 4]) -> ::mechgen::__private::TrigState<T, 4> {
+            ::mechgen::__private::TrigState::new(q, [true, true, true, true])
         }
         #[inline]
         fn position_cached(
             &self,
             x: &[T; 1],
-            st: &mut ::mechgen::TrigState<T, 4>,
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
-            options: &::mechgen::NewtonOptions<T>,
-            report: &mut ::mechgen::NewtonReport<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
             if options.closed_forms {
                 let [kx, ky, pa, ra, pb, rb] = self
                     .block0_dyad(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::solve_dyad(
+                ::mechgen::__private::solve_dyad(
                     0,
                     st,
                     0,
@@ -1288,7 +1354,7 @@ pub mod sixbar {
                     report,
                 )?;
             } else {
-                ::mechgen::newton_block(
+                ::mechgen::__private::newton_block(
                     0,
                     st,
                     [0, 1],
@@ -1303,7 +1369,7 @@ pub mod sixbar {
             if options.closed_forms {
                 let [kx, ky, pa, ra, pb, rb] = self
                     .block1_dyad(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::solve_dyad(
+                ::mechgen::__private::solve_dyad(
                     1,
                     st,
                     2,
@@ -1316,7 +1382,7 @@ pub mod sixbar {
                     report,
                 )?;
             } else {
-                ::mechgen::newton_block(
+                ::mechgen::__private::newton_block(
                     1,
                     st,
                     [2, 3],
@@ -1338,32 +1404,32 @@ pub mod sixbar {
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
             xd: &[T; 1],
-        ) -> Result<[T; 4], ::mechgen::SolveError> {
+        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 4];
             // Block 0: q2, q3 from loop 1 (x, y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 0,
-                ::mechgen::Stage::Velocity,
+                ::mechgen::__private::Stage::Velocity,
                 self.block0_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Velocity,
+                    ::mechgen::__private::Stage::Velocity,
                     self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
                 )?;
             qd[0] = z[0];
             qd[1] = z[1];
             // Block 1: q5, q6 from loop 2 (x, y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 1,
-                ::mechgen::Stage::Velocity,
+                ::mechgen::__private::Stage::Velocity,
                 self.block1_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Velocity,
+                    ::mechgen::__private::Stage::Velocity,
                     self.block1_velocity(x, q, tx, tp, tq, xd, &qd),
                 )?;
             qd[2] = z[0];
@@ -1381,32 +1447,32 @@ pub mod sixbar {
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
-        ) -> Result<[T; 4], ::mechgen::SolveError> {
+        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 4];
             // Block 0: q2, q3 from loop 1 (x, y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 0,
-                ::mechgen::Stage::Acceleration,
+                ::mechgen::__private::Stage::Acceleration,
                 self.block0_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::__private::Stage::Acceleration,
                     self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
             // Block 1: q5, q6 from loop 2 (x, y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 1,
-                ::mechgen::Stage::Acceleration,
+                ::mechgen::__private::Stage::Acceleration,
                 self.block1_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::__private::Stage::Acceleration,
                     self.block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
                 )?;
             qdd[2] = z[0];
@@ -1420,16 +1486,16 @@ pub mod sixbar {
         fn motion_cached(
             &self,
             x: &[T; 1],
-            st: &mut ::mechgen::TrigState<T, 4>,
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::NewtonOptions<T>,
-            report: &mut ::mechgen::NewtonReport<T>,
-        ) -> Result<
-            ([T; 4], [T; 4], [::mechgen::PointMotion<T>; 1]),
-            ::mechgen::SolveError,
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<
+            ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 1]),
+            ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
@@ -1445,7 +1511,7 @@ pub mod sixbar {
             let t2 = -p_l3;
             let t3 = t0 - p_l4;
             if options.closed_forms {
-                ::mechgen::solve_dyad(
+                ::mechgen::__private::solve_dyad(
                     0,
                     st,
                     0,
@@ -1458,7 +1524,7 @@ pub mod sixbar {
                     report,
                 )?;
             } else {
-                ::mechgen::newton_block(
+                ::mechgen::__private::newton_block(
                     0,
                     st,
                     [0, 1],
@@ -1498,7 +1564,7 @@ pub mod sixbar {
             let t20 = t16 - p_xg;
             let t21 = t17 - p_yg;
             if options.closed_forms {
-                ::mechgen::solve_dyad(
+                ::mechgen::__private::solve_dyad(
                     1,
                     st,
                     2,
@@ -1511,7 +1577,7 @@ pub mod sixbar {
                     report,
                 )?;
             } else {
-                ::mechgen::newton_block(
+                ::mechgen::__private::newton_block(
                     1,
                     st,
                     [2, 3],
@@ -1533,7 +1599,11 @@ pub mod sixbar {
             let t26 = t1 * v_q1_d;
             let t27 = t0 * v_q1_d;
             let t28 = -t27;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t24;
             // J[0][1] = ∂Φ0/∂q3
@@ -1542,12 +1612,16 @@ pub mod sixbar {
             jac[(1, 0)] = t4;
             // J[1][1] = ∂Φ1/∂q3
             jac[(1, 1)] = t25;
-            let lu = ::mechgen::factor_block(0, ::mechgen::Stage::Velocity, jac)?;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Velocity,
-                    ::mechgen::nalgebra::SVector::from([t26, t28]),
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t26, t28]),
                 )?;
             qd[0] = z[0];
             qd[1] = z[1];
@@ -1578,8 +1652,8 @@ pub mod sixbar {
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Acceleration,
-                    ::mechgen::nalgebra::SVector::from([t40, t49]),
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t40, t49]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -1602,7 +1676,11 @@ pub mod sixbar {
             let t61 = t57 * v_q2_d;
             let t62 = t26 - t60;
             let t63 = t28 - t61;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // J[2][2] = ∂Φ2/∂q5
             jac[(0, 0)] = t51;
             // J[2][3] = ∂Φ2/∂q6
@@ -1611,12 +1689,16 @@ pub mod sixbar {
             jac[(1, 0)] = t58;
             // J[3][3] = ∂Φ3/∂q6
             jac[(1, 1)] = t59;
-            let lu = ::mechgen::factor_block(1, ::mechgen::Stage::Velocity, jac)?;
+            let lu = ::mechgen::__private::factor_block(
+                1,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Velocity,
-                    ::mechgen::nalgebra::SVector::from([t62, t63]),
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t62, t63]),
                 )?;
             qd[2] = z[0];
             qd[3] = z[1];
@@ -1654,8 +1736,8 @@ pub mod sixbar {
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Acceleration,
-                    ::mechgen::nalgebra::SVector::from([t90, t91]),
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t90, t91]),
                 )?;
             qdd[2] = z[0];
             qdd[3] = z[1];
@@ -1670,7 +1752,7 @@ pub mod sixbar {
                 qd,
                 qdd,
                 [
-                    ::mechgen::PointMotion {
+                    ::mechgen::__private::PointMotion {
                         position: [t16, t17],
                         velocity: [t92, t93],
                         acceleration: [t95, t97],
@@ -1684,17 +1766,26 @@ pub mod sixbar {
             &self,
             x: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
             *q = st.q;
             Ok(report)
@@ -1706,14 +1797,23 @@ pub mod sixbar {
             x: &[T; 1],
             q: &[T; 4],
             xd: &[T; 1],
-        ) -> Result<[T; 4], ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
@@ -1727,16 +1827,31 @@ pub mod sixbar {
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
-        ) -> Result<[T; 4], ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Rate, qd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Rate,
+                qd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
@@ -1750,27 +1865,39 @@ pub mod sixbar {
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
             (
                 [T; 4],
                 [T; 4],
-                [::mechgen::PointMotion<T>; 1],
-                ::mechgen::NewtonReport<T>,
+                [::mechgen::__private::PointMotion<T>; 1],
+                ::mechgen::__private::NewtonReport<T>,
             ),
-            ::mechgen::SolveError,
+            ::mechgen::__private::SolveError,
         > {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
@@ -1784,15 +1911,15 @@ pub mod sixbar {
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 4],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Tick<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .solve_arrays(x, xd, xdd, &mut q, options)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(q);
             Ok(
-                ::mechgen::Tick::new(::mechgen::Solution {
+                ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                     x: *x,
                     xd: *xd,
                     q,
@@ -1809,7 +1936,7 @@ pub mod sixbar {
         }
         /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
         /// blocks predicted by a second-order step from the last tick, their sines and cosines
-        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
         pub fn tick(
@@ -1818,16 +1945,28 @@ pub mod sixbar {
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {
-                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+                ::mechgen::__private::check_finite(
+                    ::mechgen::__private::Quantity::Param,
+                    &params,
+                )?;
             }
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
@@ -1841,7 +1980,7 @@ pub mod sixbar {
                 [false; 4]
             };
             let mut st = t.predicted(x, [true, true, true, true], keep, same);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
             t.update(
@@ -1864,8 +2003,8 @@ pub mod sixbar {
             xd: Inputs<T>,
             xdd: Inputs<T>,
             guess: Unknowns<T>,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Motion<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
@@ -1887,7 +2026,8 @@ pub mod sixbar {
             })
         }
     }
-    impl<T: ::mechgen::Real> ::mechgen::Mechanism<T> for Sixbar<T> {
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    for Sixbar<T> {
         const NAME: &'static str = "sixbar";
         const INPUTS: usize = 1;
         const UNKNOWNS: usize = 4;
@@ -1895,17 +2035,20 @@ pub mod sixbar {
         type X = [T; 1];
         type Q = [T; 4];
         type Tick = Tick<T>;
-        fn info(&self) -> &'static ::mechgen::StaticInfo {
+        fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
         }
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             Sixbar::residual(self, x, q)
         }
         fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::copy_row_major(&Sixbar::jacobian(self, x, q), out)
+            ::mechgen::__private::copy_row_major(&Sixbar::jacobian(self, x, q), out)
         }
         fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::copy_row_major(&Sixbar::input_jacobian(self, x, q), out)
+            ::mechgen::__private::copy_row_major(
+                &Sixbar::input_jacobian(self, x, q),
+                out,
+            )
         }
         fn jacobian_dot(
             &self,
@@ -1915,7 +2058,10 @@ pub mod sixbar {
             qd: &Self::Q,
             out: &mut [T],
         ) {
-            ::mechgen::copy_row_major(&Sixbar::jacobian_dot(self, x, q, xd, qd), out)
+            ::mechgen::__private::copy_row_major(
+                &Sixbar::jacobian_dot(self, x, q, xd, qd),
+                out,
+            )
         }
         fn acceleration_rhs(
             &self,
@@ -1931,8 +2077,11 @@ pub mod sixbar {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
             Sixbar::solve_position(self, x, q, options)
         }
         fn solve_velocity(
@@ -1940,7 +2089,7 @@ pub mod sixbar {
             x: &Self::X,
             q: &Self::Q,
             xd: &Self::X,
-        ) -> Result<Self::Q, ::mechgen::SolveError> {
+        ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             Sixbar::solve_velocity(self, x, q, xd)
         }
         fn solve_acceleration(
@@ -1950,7 +2099,7 @@ pub mod sixbar {
             xd: &Self::X,
             qd: &Self::Q,
             xdd: &Self::X,
-        ) -> Result<Self::Q, ::mechgen::SolveError> {
+        ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             Sixbar::solve_acceleration(self, x, q, xd, qd, xdd)
         }
         fn points(
@@ -1961,7 +2110,7 @@ pub mod sixbar {
             qd: &Self::Q,
             xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::PointMotion<T>],
+            out: &mut [::mechgen::__private::PointMotion<T>],
         ) {
             for (o, p) in out
                 .iter_mut()
@@ -1976,8 +2125,8 @@ pub mod sixbar {
             xd: &Self::X,
             xdd: &Self::X,
             guess: &Self::Q,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Self::Tick, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
             Sixbar::tick_start(self, x, xd, xdd, guess, options)
         }
         fn tick(
@@ -1986,8 +2135,8 @@ pub mod sixbar {
             x: &Self::X,
             xd: &Self::X,
             xdd: &Self::X,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             Sixbar::tick(self, t, x, xd, xdd, options)
         }
         fn solve_motion(
@@ -1998,9 +2147,12 @@ pub mod sixbar {
             q: &mut Self::Q,
             qd: &mut Self::Q,
             qdd: &mut Self::Q,
-            points: &mut [::mechgen::PointMotion<T>],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            points: &mut [::mechgen::__private::PointMotion<T>],
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
             let (v, a, p, report) = Sixbar::solve_arrays(self, x, xd, xdd, q, options)?;
             *qd = v;
             *qdd = a;
@@ -2015,62 +2167,62 @@ pub mod sixbar {
 pub mod shaper {
     #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
     /// Static description: names, kinds, start configuration, blocks.
-    pub const INFO: ::mechgen::StaticInfo = ::mechgen::StaticInfo {
+    pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "shaper",
         description: "Shaper (crank and slotted guide bar): crank AB drives slider B on guide bar CD, link DE drives the ram E",
         inputs: &[
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q1",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 0.0,
             },
         ],
         unknowns: &[
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "s3",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 start: 0.302,
             },
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q3",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 1.1344640137963142,
             },
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q4",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 2.949606435870417,
             },
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "sE",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 start: 0.1,
             },
         ],
         params: &[
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l1",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.125,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l3",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.6,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l4",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.15,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "lAC",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.275,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "yE",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.575,
             },
         ],
@@ -2093,7 +2245,7 @@ pub mod shaper {
         /// `yE` = 0.575 (length)
         pub yE: T,
     }
-    impl<T: ::mechgen::Real> Default for Params<T> {
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for Params<T> {
         fn default() -> Self {
             Params {
                 l1: T::lit(0.125),
@@ -2104,7 +2256,7 @@ pub mod shaper {
             }
         }
     }
-    impl<T: ::mechgen::Real> Params<T> {
+    impl<T: ::mechgen::__private::Real> Params<T> {
         /// All params in file order.
         pub fn to_array(&self) -> [T; 5] {
             [self.l1, self.l3, self.l4, self.lAC, self.yE]
@@ -2136,7 +2288,7 @@ pub mod shaper {
         /// `q1` (angle, radians)
         pub q1: T,
     }
-    impl<T: Copy> Inputs<T> {
+    impl<T: ::core::marker::Copy> Inputs<T> {
         pub fn from_array(a: [T; 1]) -> Self {
             Inputs { q1: a[0] }
         }
@@ -2144,12 +2296,12 @@ pub mod shaper {
             [self.q1]
         }
     }
-    impl<T: Copy> From<[T; 1]> for Inputs<T> {
+    impl<T: ::core::marker::Copy> ::core::convert::From<[T; 1]> for Inputs<T> {
         fn from(a: [T; 1]) -> Self {
             Self::from_array(a)
         }
     }
-    impl<T: Copy> From<Inputs<T>> for [T; 1] {
+    impl<T: ::core::marker::Copy> ::core::convert::From<Inputs<T>> for [T; 1] {
         fn from(v: Inputs<T>) -> Self {
             v.to_array()
         }
@@ -2166,7 +2318,7 @@ pub mod shaper {
         /// `sE` (length)
         pub sE: T,
     }
-    impl<T: Copy> Unknowns<T> {
+    impl<T: ::core::marker::Copy> Unknowns<T> {
         pub fn from_array(a: [T; 4]) -> Self {
             Unknowns {
                 s3: a[0],
@@ -2179,12 +2331,12 @@ pub mod shaper {
             [self.s3, self.q3, self.q4, self.sE]
         }
     }
-    impl<T: Copy> From<[T; 4]> for Unknowns<T> {
+    impl<T: ::core::marker::Copy> ::core::convert::From<[T; 4]> for Unknowns<T> {
         fn from(a: [T; 4]) -> Self {
             Self::from_array(a)
         }
     }
-    impl<T: Copy> From<Unknowns<T>> for [T; 4] {
+    impl<T: ::core::marker::Copy> ::core::convert::From<Unknowns<T>> for [T; 4] {
         fn from(v: Unknowns<T>) -> Self {
             v.to_array()
         }
@@ -2192,11 +2344,11 @@ pub mod shaper {
     /// Every point's motion, by name.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
     pub struct Points<T> {
-        pub E: ::mechgen::PointMotion<T>,
-        pub D: ::mechgen::PointMotion<T>,
+        pub E: ::mechgen::__private::PointMotion<T>,
+        pub D: ::mechgen::__private::PointMotion<T>,
     }
-    impl<T: Copy> Points<T> {
-        pub fn from_array(a: [::mechgen::PointMotion<T>; 2]) -> Self {
+    impl<T: ::core::marker::Copy> Points<T> {
+        pub fn from_array(a: [::mechgen::__private::PointMotion<T>; 2]) -> Self {
             Points {
                 E: a[0],
                 D: a[1],
@@ -2204,7 +2356,7 @@ pub mod shaper {
         }
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
-    pub type Tick<T> = ::mechgen::Tick<T, 1, 4, 2, 5>;
+    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 4, 2, 5>;
     /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Motion<T> {
@@ -2215,21 +2367,21 @@ pub mod shaper {
         pub qd: Unknowns<T>,
         pub qdd: Unknowns<T>,
         pub points: Points<T>,
-        pub report: ::mechgen::NewtonReport<T>,
+        pub report: ::mechgen::__private::NewtonReport<T>,
     }
     /// Shaper (crank and slotted guide bar): crank AB drives slider B on guide bar CD, link DE drives the ram E
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Shaper<T = f64> {
         pub params: Params<T>,
     }
-    impl<T: ::mechgen::Real> Default for Shaper<T> {
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for Shaper<T> {
         fn default() -> Self {
             Shaper {
-                params: Params::default(),
+                params: <Params<T> as ::core::default::Default>::default(),
             }
         }
     }
-    impl<T: ::mechgen::Real> Shaper<T> {
+    impl<T: ::mechgen::__private::Real> Shaper<T> {
         pub const INPUTS: usize = 1;
         pub const UNKNOWNS: usize = 4;
         pub const POINTS: usize = 2;
@@ -2284,7 +2436,7 @@ pub mod shaper {
             &self,
             x: &[T; 1],
             q: &[T; 4],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 4, 4> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
             let v_s3 = q[0];
             let v_q3 = q[1];
             let v_q4 = q[2];
@@ -2301,7 +2453,11 @@ pub mod shaper {
             let t8 = -t2;
             let t9 = -t4;
             let t10 = -t7;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                4,
+                4,
+            >::zeros();
             // [0][0] = ∂Φ0/∂s3 (loop 1, x)
             m[(0, 0)] = c_v_q3;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -2327,14 +2483,18 @@ pub mod shaper {
             &self,
             x: &[T; 1],
             q: &[T; 4],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 4, 1> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 1> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let (s_v_q1, c_v_q1) = v_q1.sin_cos();
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
             let t3 = -t1;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 4, 1>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                4,
+                1,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t2;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -2348,7 +2508,7 @@ pub mod shaper {
             q: &[T; 4],
             xd: &[T; 1],
             qd: &[T; 4],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 4, 4> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
             let v_s3 = q[0];
             let v_q3 = q[1];
             let v_q4 = q[2];
@@ -2383,7 +2543,11 @@ pub mod shaper {
             let t23 = -t22;
             let t24 = t7 * v_q4_d;
             let t25 = -t24;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                4,
+                4,
+            >::zeros();
             // [0][0] = ∂Φ0/∂s3 (loop 1, x)
             m[(0, 0)] = t9;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -2408,7 +2572,7 @@ pub mod shaper {
             x: &[T; 1],
             q: &[T; 4],
             xd: &[T; 1],
-        ) -> ::mechgen::nalgebra::SVector<T, 4> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
@@ -2418,7 +2582,7 @@ pub mod shaper {
             let t3 = t2 * v_q1_d;
             let t4 = -t3;
             let t5 = t1 * v_q1_d;
-            ::mechgen::nalgebra::SVector::from([t4, t5, T::zero(), T::zero()])
+            ::mechgen::__private::nalgebra::SVector::from([t4, t5, T::zero(), T::zero()])
         }
         /// γ = −(J̇ q̇ + Φ̇x ẋ) − Φx ẍ: the right-hand side of J q̈ = γ.
         pub fn acceleration_rhs(
@@ -2428,7 +2592,7 @@ pub mod shaper {
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
-        ) -> ::mechgen::nalgebra::SVector<T, 4> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
             let v_q1 = x[0];
             let v_s3 = q[0];
             let v_q3 = q[1];
@@ -2490,7 +2654,7 @@ pub mod shaper {
             let t46 = -t45;
             let t47 = v_q4_d * t23;
             let t48 = t47 - t46;
-            ::mechgen::nalgebra::SVector::from([t33, t40, t44, t48])
+            ::mechgen::__private::nalgebra::SVector::from([t33, t40, t44, t48])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(
@@ -2516,7 +2680,7 @@ pub mod shaper {
             qd: &[T; 4],
             xdd: &[T; 1],
             qdd: &[T; 4],
-        ) -> [::mechgen::PointMotion<T>; 2] {
+        ) -> [::mechgen::__private::PointMotion<T>; 2] {
             let v_q3 = q[1];
             let v_sE = q[3];
             let p_l3 = self.params.l3;
@@ -2539,12 +2703,12 @@ pub mod shaper {
             let t11 = t1 * v_q3_dd;
             let t12 = t11 - t8;
             [
-                ::mechgen::PointMotion {
+                ::mechgen::__private::PointMotion {
                     position: [v_sE, p_yE],
                     velocity: [v_sE_d, T::zero()],
                     acceleration: [v_sE_dd, T::zero()],
                 },
-                ::mechgen::PointMotion {
+                ::mechgen::__private::PointMotion {
                     position: [t1, t2],
                     velocity: [t5, t3],
                     acceleration: [t10, t12],
@@ -2561,8 +2725,8 @@ pub mod shaper {
             tp: &[(T, T); 5],
             tq: &[(T, T); 4],
         ) -> (
-            ::mechgen::nalgebra::SVector<T, 2>,
-            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
+            ::mechgen::__private::nalgebra::SVector<T, 2>,
+            ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
         ) {
             let v_q1 = x[0];
             let v_s3 = q[0];
@@ -2579,7 +2743,11 @@ pub mod shaper {
             let t5 = t1 - t3;
             let t6 = t5 - p_lAC;
             let t7 = -t1;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
@@ -2588,7 +2756,7 @@ pub mod shaper {
             jac[(1, 0)] = s_v_q3;
             // J[1][1] = ∂Φ1/∂q3
             jac[(1, 1)] = t0;
-            (::mechgen::nalgebra::SVector::from([t4, t6]), jac)
+            (::mechgen::__private::nalgebra::SVector::from([t4, t6]), jac)
         }
         /// Block 0: s3, q3 from loop 1 (x, y). Its Jacobian block.
         #[inline]
@@ -2599,14 +2767,18 @@ pub mod shaper {
             tx: &[(T, T); 1],
             tp: &[(T, T); 5],
             tq: &[(T, T); 4],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_s3 = q[0];
             let v_q3 = q[1];
             let (s_v_q3, c_v_q3) = tq[1];
             let t0 = v_s3 * c_v_q3;
             let t1 = v_s3 * s_v_q3;
             let t2 = -t1;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
@@ -2628,7 +2800,7 @@ pub mod shaper {
             tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
@@ -2638,7 +2810,7 @@ pub mod shaper {
             let t2 = t1 * v_q1_d;
             let t3 = -t2;
             let t4 = t0 * v_q1_d;
-            ::mechgen::nalgebra::SVector::from([t3, t4])
+            ::mechgen::__private::nalgebra::SVector::from([t3, t4])
         }
         /// Block 0: s3, q3 from loop 1 (x, y). Its right-hand side (acceleration).
         #[inline]
@@ -2653,7 +2825,7 @@ pub mod shaper {
             qd: &[T; 4],
             xdd: &[T; 1],
             qdd: &[T; 4],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_s3 = q[0];
             let v_q3 = q[1];
@@ -2694,7 +2866,7 @@ pub mod shaper {
             let t27 = t25 + t26;
             let t28 = t2 * v_q1_dd;
             let t29 = t28 - t27;
-            ::mechgen::nalgebra::SVector::from([t22, t29])
+            ::mechgen::__private::nalgebra::SVector::from([t22, t29])
         }
         /// Block 1: q4 from loop 2 (y). Its residual and Jacobian block.
         #[inline]
@@ -2706,8 +2878,8 @@ pub mod shaper {
             tp: &[(T, T); 5],
             tq: &[(T, T); 4],
         ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
+            ::mechgen::__private::nalgebra::SVector<T, 1>,
+            ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
             let v_q3 = q[1];
             let v_q4 = q[2];
@@ -2721,10 +2893,14 @@ pub mod shaper {
             let t2 = p_l4 * s_v_q4;
             let t3 = t0 + t2;
             let t4 = t3 - p_yE;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[3][2] = ∂Φ3/∂q4
             jac[(0, 0)] = t1;
-            (::mechgen::nalgebra::SVector::from([t4]), jac)
+            (::mechgen::__private::nalgebra::SVector::from([t4]), jac)
         }
         /// Block 1: q4 from loop 2 (y). Its Jacobian block.
         #[inline]
@@ -2735,12 +2911,16 @@ pub mod shaper {
             tx: &[(T, T); 1],
             tp: &[(T, T); 5],
             tq: &[(T, T); 4],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 1, 1> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
             let v_q4 = q[2];
             let p_l4 = self.params.l4;
             let (s_v_q4, c_v_q4) = tq[2];
             let t0 = p_l4 * c_v_q4;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[3][2] = ∂Φ3/∂q4
             jac[(0, 0)] = t0;
             jac
@@ -2756,7 +2936,7 @@ pub mod shaper {
             tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
-        ) -> ::mechgen::nalgebra::SVector<T, 1> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
             let v_q3 = q[1];
             let p_l3 = self.params.l3;
             let v_q3_d = qd[1];
@@ -2764,7 +2944,7 @@ pub mod shaper {
             let t0 = c_v_q3 * p_l3;
             let t1 = t0 * v_q3_d;
             let t2 = -t1;
-            ::mechgen::nalgebra::SVector::from([t2])
+            ::mechgen::__private::nalgebra::SVector::from([t2])
         }
         /// Block 1: q4 from loop 2 (y). Its right-hand side (acceleration).
         #[inline]
@@ -2779,7 +2959,7 @@ pub mod shaper {
             qd: &[T; 4],
             xdd: &[T; 1],
             qdd: &[T; 4],
-        ) -> ::mechgen::nalgebra::SVector<T, 1> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
             let v_q3 = q[1];
             let v_q4 = q[2];
             let p_l3 = self.params.l3;
@@ -2800,7 +2980,7 @@ pub mod shaper {
             let t8 = t7 - t6;
             let t9 = t0 * v_q3_dd;
             let t10 = t8 - t9;
-            ::mechgen::nalgebra::SVector::from([t10])
+            ::mechgen::__private::nalgebra::SVector::from([t10])
         }
         /// Block 2: sE from loop 2 (x). Its residual and Jacobian block.
         #[inline]
@@ -2812,8 +2992,8 @@ pub mod shaper {
             tp: &[(T, T); 5],
             tq: &[(T, T); 4],
         ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
+            ::mechgen::__private::nalgebra::SVector<T, 1>,
+            ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
             let v_q3 = q[1];
             let v_q4 = q[2];
@@ -2826,10 +3006,14 @@ pub mod shaper {
             let t1 = p_l4 * c_v_q4;
             let t2 = t0 + t1;
             let t3 = t2 - v_sE;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t3]), jac)
+            (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
         }
         /// Block 2: sE from loop 2 (x). Its Jacobian block.
         #[inline]
@@ -2840,8 +3024,12 @@ pub mod shaper {
             tx: &[(T, T); 1],
             tp: &[(T, T); 5],
             tq: &[(T, T); 4],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 1, 1> {
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
             jac
@@ -2857,7 +3045,7 @@ pub mod shaper {
             tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
-        ) -> ::mechgen::nalgebra::SVector<T, 1> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
             let v_q3 = q[1];
             let v_q4 = q[2];
             let p_l3 = self.params.l3;
@@ -2872,7 +3060,7 @@ pub mod shaper {
             let t3 = -t2;
             let t4 = t1 * v_q4_d;
             let t5 = t4 - t3;
-            ::mechgen::nalgebra::SVector::from([t5])
+            ::mechgen::__private::nalgebra::SVector::from([t5])
         }
         /// Block 2: sE from loop 2 (x). Its right-hand side (acceleration).
         #[inline]
@@ -2887,7 +3075,7 @@ pub mod shaper {
             qd: &[T; 4],
             xdd: &[T; 1],
             qdd: &[T; 4],
-        ) -> ::mechgen::nalgebra::SVector<T, 1> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
             let v_q3 = q[1];
             let v_q4 = q[2];
             let p_l3 = self.params.l3;
@@ -2913,7 +3101,7 @@ pub mod shaper {
             let t12 = t3 * v_q4_dd;
             let t13 = t11 - t12;
             let t14 = t9 - t13;
-            ::mechgen::nalgebra::SVector::from([t14])
+            ::mechgen::__private::nalgebra::SVector::from([t14])
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
@@ -2926,21 +3114,21 @@ pub mod shaper {
         }
         /// The unknowns with the sines and cosines the solvers read.
         #[inline]
-        fn trig_state(q: [T; 4]) -> ::mechgen::TrigState<T, 4> {
-            ::mechgen::TrigState::new(q, [false, true, true, false])
+        fn trig_state(q: [T; 4]) -> ::mechgen::__private::TrigState<T, 4> {
+            ::mechgen::__private::TrigState::new(q, [false, true, true, false])
         }
         #[inline]
         fn position_cached(
             &self,
             x: &[T; 1],
-            st: &mut ::mechgen::TrigState<T, 4>,
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 5],
-            options: &::mechgen::NewtonOptions<T>,
-            report: &mut ::mechgen::NewtonReport<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: s3, q3 from loop 1 (x, y).
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 0,
                 st,
                 [0, 1],
@@ -2951,7 +3139,7 @@ pub mod shaper {
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
             // Block 1: q4 from loop 2 (y).
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 1,
                 st,
                 [2],
@@ -2962,7 +3150,7 @@ pub mod shaper {
                 |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
             )?;
             // Block 2: sE from loop 2 (x).
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 2,
                 st,
                 [3],
@@ -2983,45 +3171,45 @@ pub mod shaper {
             tp: &[(T, T); 5],
             tq: &[(T, T); 4],
             xd: &[T; 1],
-        ) -> Result<[T; 4], ::mechgen::SolveError> {
+        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 4];
             // Block 0: s3, q3 from loop 1 (x, y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 0,
-                ::mechgen::Stage::Velocity,
+                ::mechgen::__private::Stage::Velocity,
                 self.block0_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Velocity,
+                    ::mechgen::__private::Stage::Velocity,
                     self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
                 )?;
             qd[0] = z[0];
             qd[1] = z[1];
             // Block 1: q4 from loop 2 (y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 1,
-                ::mechgen::Stage::Velocity,
+                ::mechgen::__private::Stage::Velocity,
                 self.block1_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Velocity,
+                    ::mechgen::__private::Stage::Velocity,
                     self.block1_velocity(x, q, tx, tp, tq, xd, &qd),
                 )?;
             qd[2] = z[0];
             // Block 2: sE from loop 2 (x).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 2,
-                ::mechgen::Stage::Velocity,
+                ::mechgen::__private::Stage::Velocity,
                 self.block2_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     2,
-                    ::mechgen::Stage::Velocity,
+                    ::mechgen::__private::Stage::Velocity,
                     self.block2_velocity(x, q, tx, tp, tq, xd, &qd),
                 )?;
             qd[3] = z[0];
@@ -3038,45 +3226,45 @@ pub mod shaper {
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
-        ) -> Result<[T; 4], ::mechgen::SolveError> {
+        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 4];
             // Block 0: s3, q3 from loop 1 (x, y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 0,
-                ::mechgen::Stage::Acceleration,
+                ::mechgen::__private::Stage::Acceleration,
                 self.block0_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::__private::Stage::Acceleration,
                     self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
             // Block 1: q4 from loop 2 (y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 1,
-                ::mechgen::Stage::Acceleration,
+                ::mechgen::__private::Stage::Acceleration,
                 self.block1_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::__private::Stage::Acceleration,
                     self.block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
                 )?;
             qdd[2] = z[0];
             // Block 2: sE from loop 2 (x).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 2,
-                ::mechgen::Stage::Acceleration,
+                ::mechgen::__private::Stage::Acceleration,
                 self.block2_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     2,
-                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::__private::Stage::Acceleration,
                     self.block2_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
                 )?;
             qdd[3] = z[0];
@@ -3089,21 +3277,21 @@ pub mod shaper {
         fn motion_cached(
             &self,
             x: &[T; 1],
-            st: &mut ::mechgen::TrigState<T, 4>,
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 5],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::NewtonOptions<T>,
-            report: &mut ::mechgen::NewtonReport<T>,
-        ) -> Result<
-            ([T; 4], [T; 4], [::mechgen::PointMotion<T>; 2]),
-            ::mechgen::SolveError,
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<
+            ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 2]),
+            ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
             // Block 0: Newton.
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 0,
                 st,
                 [0, 1],
@@ -3114,7 +3302,7 @@ pub mod shaper {
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
             // Block 1: Newton.
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 1,
                 st,
                 [2],
@@ -3125,7 +3313,7 @@ pub mod shaper {
                 |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
             )?;
             // Block 2: Newton.
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 2,
                 st,
                 [3],
@@ -3151,7 +3339,11 @@ pub mod shaper {
             let t5 = t3 * v_q1_d;
             let t6 = -t5;
             let t7 = t2 * v_q1_d;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
@@ -3160,12 +3352,16 @@ pub mod shaper {
             jac[(1, 0)] = s_v_q3;
             // J[1][1] = ∂Φ1/∂q3
             jac[(1, 1)] = t0;
-            let lu = ::mechgen::factor_block(0, ::mechgen::Stage::Velocity, jac)?;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Velocity,
-                    ::mechgen::nalgebra::SVector::from([t6, t7]),
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t6, t7]),
                 )?;
             qd[0] = z[0];
             qd[1] = z[1];
@@ -3199,8 +3395,8 @@ pub mod shaper {
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Acceleration,
-                    ::mechgen::nalgebra::SVector::from([t24, t31]),
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t24, t31]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -3213,15 +3409,23 @@ pub mod shaper {
             let t33 = p_l4 * c_v_q4;
             let t34 = t32 * v_q3_d;
             let t35 = -t34;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[3][2] = ∂Φ3/∂q4
             jac[(0, 0)] = t33;
-            let lu = ::mechgen::factor_block(1, ::mechgen::Stage::Velocity, jac)?;
+            let lu = ::mechgen::__private::factor_block(
+                1,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Velocity,
-                    ::mechgen::nalgebra::SVector::from([t35]),
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t35]),
                 )?;
             qd[2] = z[0];
             let v_q4_d = qd[2];
@@ -3239,22 +3443,30 @@ pub mod shaper {
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Acceleration,
-                    ::mechgen::nalgebra::SVector::from([t45]),
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t45]),
                 )?;
             qdd[2] = z[0];
             // Block 2: velocities and accelerations.
             let t46 = -t38;
             let t47 = t39 - t46;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
-            let lu = ::mechgen::factor_block(2, ::mechgen::Stage::Velocity, jac)?;
+            let lu = ::mechgen::__private::factor_block(
+                2,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
             let z = lu
                 .solve(
                     2,
-                    ::mechgen::Stage::Velocity,
-                    ::mechgen::nalgebra::SVector::from([t47]),
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t47]),
                 )?;
             qd[3] = z[0];
             let v_q4_dd = qdd[2];
@@ -3271,8 +3483,8 @@ pub mod shaper {
             let z = lu
                 .solve(
                     2,
-                    ::mechgen::Stage::Acceleration,
-                    ::mechgen::nalgebra::SVector::from([t57]),
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t57]),
                 )?;
             qdd[3] = z[0];
             // Points.
@@ -3286,12 +3498,12 @@ pub mod shaper {
                 qd,
                 qdd,
                 [
-                    ::mechgen::PointMotion {
+                    ::mechgen::__private::PointMotion {
                         position: [v_sE, p_yE],
                         velocity: [v_sE_d, T::zero()],
                         acceleration: [v_sE_dd, T::zero()],
                     },
-                    ::mechgen::PointMotion {
+                    ::mechgen::__private::PointMotion {
                         position: [t32, t36],
                         velocity: [t46, t34],
                         acceleration: [t58, t59],
@@ -3305,17 +3517,26 @@ pub mod shaper {
             &self,
             x: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
             *q = st.q;
             Ok(report)
@@ -3327,14 +3548,23 @@ pub mod shaper {
             x: &[T; 1],
             q: &[T; 4],
             xd: &[T; 1],
-        ) -> Result<[T; 4], ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
@@ -3348,16 +3578,31 @@ pub mod shaper {
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
-        ) -> Result<[T; 4], ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Rate, qd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Rate,
+                qd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
@@ -3371,27 +3616,39 @@ pub mod shaper {
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
             (
                 [T; 4],
                 [T; 4],
-                [::mechgen::PointMotion<T>; 2],
-                ::mechgen::NewtonReport<T>,
+                [::mechgen::__private::PointMotion<T>; 2],
+                ::mechgen::__private::NewtonReport<T>,
             ),
-            ::mechgen::SolveError,
+            ::mechgen::__private::SolveError,
         > {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
@@ -3405,15 +3662,15 @@ pub mod shaper {
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 4],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Tick<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .solve_arrays(x, xd, xdd, &mut q, options)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(q);
             Ok(
-                ::mechgen::Tick::new(::mechgen::Solution {
+                ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                     x: *x,
                     xd: *xd,
                     q,
@@ -3430,7 +3687,7 @@ pub mod shaper {
         }
         /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
         /// blocks predicted by a second-order step from the last tick, their sines and cosines
-        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
         pub fn tick(
@@ -3439,16 +3696,28 @@ pub mod shaper {
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {
-                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+                ::mechgen::__private::check_finite(
+                    ::mechgen::__private::Quantity::Param,
+                    &params,
+                )?;
             }
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
@@ -3462,7 +3731,7 @@ pub mod shaper {
                 [false; 4]
             };
             let mut st = t.predicted(x, [false, true, true, false], keep, same);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
             t.update(
@@ -3485,8 +3754,8 @@ pub mod shaper {
             xd: Inputs<T>,
             xdd: Inputs<T>,
             guess: Unknowns<T>,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Motion<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
@@ -3508,7 +3777,8 @@ pub mod shaper {
             })
         }
     }
-    impl<T: ::mechgen::Real> ::mechgen::Mechanism<T> for Shaper<T> {
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    for Shaper<T> {
         const NAME: &'static str = "shaper";
         const INPUTS: usize = 1;
         const UNKNOWNS: usize = 4;
@@ -3516,17 +3786,20 @@ pub mod shaper {
         type X = [T; 1];
         type Q = [T; 4];
         type Tick = Tick<T>;
-        fn info(&self) -> &'static ::mechgen::StaticInfo {
+        fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
         }
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             Shaper::residual(self, x, q)
         }
         fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::copy_row_major(&Shaper::jacobian(self, x, q), out)
+            ::mechgen::__private::copy_row_major(&Shaper::jacobian(self, x, q), out)
         }
         fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::copy_row_major(&Shaper::input_jacobian(self, x, q), out)
+            ::mechgen::__private::copy_row_major(
+                &Shaper::input_jacobian(self, x, q),
+                out,
+            )
         }
         fn jacobian_dot(
             &self,
@@ -3536,7 +3809,10 @@ pub mod shaper {
             qd: &Self::Q,
             out: &mut [T],
         ) {
-            ::mechgen::copy_row_major(&Shaper::jacobian_dot(self, x, q, xd, qd), out)
+            ::mechgen::__private::copy_row_major(
+                &Shaper::jacobian_dot(self, x, q, xd, qd),
+                out,
+            )
         }
         fn acceleration_rhs(
             &self,
@@ -3552,8 +3828,11 @@ pub mod shaper {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
             Shaper::solve_position(self, x, q, options)
         }
         fn solve_velocity(
@@ -3561,7 +3840,7 @@ pub mod shaper {
             x: &Self::X,
             q: &Self::Q,
             xd: &Self::X,
-        ) -> Result<Self::Q, ::mechgen::SolveError> {
+        ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             Shaper::solve_velocity(self, x, q, xd)
         }
         fn solve_acceleration(
@@ -3571,7 +3850,7 @@ pub mod shaper {
             xd: &Self::X,
             qd: &Self::Q,
             xdd: &Self::X,
-        ) -> Result<Self::Q, ::mechgen::SolveError> {
+        ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             Shaper::solve_acceleration(self, x, q, xd, qd, xdd)
         }
         fn points(
@@ -3582,7 +3861,7 @@ pub mod shaper {
             qd: &Self::Q,
             xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::PointMotion<T>],
+            out: &mut [::mechgen::__private::PointMotion<T>],
         ) {
             for (o, p) in out
                 .iter_mut()
@@ -3597,8 +3876,8 @@ pub mod shaper {
             xd: &Self::X,
             xdd: &Self::X,
             guess: &Self::Q,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Self::Tick, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
             Shaper::tick_start(self, x, xd, xdd, guess, options)
         }
         fn tick(
@@ -3607,8 +3886,8 @@ pub mod shaper {
             x: &Self::X,
             xd: &Self::X,
             xdd: &Self::X,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             Shaper::tick(self, t, x, xd, xdd, options)
         }
         fn solve_motion(
@@ -3619,9 +3898,12 @@ pub mod shaper {
             q: &mut Self::Q,
             qd: &mut Self::Q,
             qdd: &mut Self::Q,
-            points: &mut [::mechgen::PointMotion<T>],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            points: &mut [::mechgen::__private::PointMotion<T>],
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
             let (v, a, p, report) = Shaper::solve_arrays(self, x, xd, xdd, q, options)?;
             *qd = v;
             *qdd = a;
@@ -3636,57 +3918,57 @@ pub mod shaper {
 pub mod four_bar {
     #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
     /// Static description: names, kinds, start configuration, blocks.
-    pub const INFO: ::mechgen::StaticInfo = ::mechgen::StaticInfo {
+    pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "four_bar",
         description: "Crank-rocker four-bar (Grashof): crank AB, coupler BC with coupler point P, rocker DC",
         inputs: &[
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q1",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 0.0,
             },
         ],
         unknowns: &[
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q2",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 0.9479697413828936,
             },
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q3",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 1.8959394827657874,
             },
         ],
         params: &[
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l1",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.1,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l2",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.35,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l3",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.3,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l4",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.4,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "lp",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.2,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "beta",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 default: 0.5235987755982988,
             },
         ],
@@ -3711,7 +3993,7 @@ pub mod four_bar {
         /// `beta` = deg(30.0) = 0.5235987755982988 (angle, radians)
         pub beta: T,
     }
-    impl<T: ::mechgen::Real> Default for Params<T> {
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for Params<T> {
         fn default() -> Self {
             Params {
                 l1: T::lit(0.1),
@@ -3723,7 +4005,7 @@ pub mod four_bar {
             }
         }
     }
-    impl<T: ::mechgen::Real> Params<T> {
+    impl<T: ::mechgen::__private::Real> Params<T> {
         /// All params in file order.
         pub fn to_array(&self) -> [T; 6] {
             [self.l1, self.l2, self.l3, self.l4, self.lp, self.beta]
@@ -3756,7 +4038,7 @@ pub mod four_bar {
         /// `q1` (angle, radians)
         pub q1: T,
     }
-    impl<T: Copy> Inputs<T> {
+    impl<T: ::core::marker::Copy> Inputs<T> {
         pub fn from_array(a: [T; 1]) -> Self {
             Inputs { q1: a[0] }
         }
@@ -3764,12 +4046,12 @@ pub mod four_bar {
             [self.q1]
         }
     }
-    impl<T: Copy> From<[T; 1]> for Inputs<T> {
+    impl<T: ::core::marker::Copy> ::core::convert::From<[T; 1]> for Inputs<T> {
         fn from(a: [T; 1]) -> Self {
             Self::from_array(a)
         }
     }
-    impl<T: Copy> From<Inputs<T>> for [T; 1] {
+    impl<T: ::core::marker::Copy> ::core::convert::From<Inputs<T>> for [T; 1] {
         fn from(v: Inputs<T>) -> Self {
             v.to_array()
         }
@@ -3782,7 +4064,7 @@ pub mod four_bar {
         /// `q3` (angle, radians)
         pub q3: T,
     }
-    impl<T: Copy> Unknowns<T> {
+    impl<T: ::core::marker::Copy> Unknowns<T> {
         pub fn from_array(a: [T; 2]) -> Self {
             Unknowns {
                 q2: a[0],
@@ -3793,12 +4075,12 @@ pub mod four_bar {
             [self.q2, self.q3]
         }
     }
-    impl<T: Copy> From<[T; 2]> for Unknowns<T> {
+    impl<T: ::core::marker::Copy> ::core::convert::From<[T; 2]> for Unknowns<T> {
         fn from(a: [T; 2]) -> Self {
             Self::from_array(a)
         }
     }
-    impl<T: Copy> From<Unknowns<T>> for [T; 2] {
+    impl<T: ::core::marker::Copy> ::core::convert::From<Unknowns<T>> for [T; 2] {
         fn from(v: Unknowns<T>) -> Self {
             v.to_array()
         }
@@ -3806,12 +4088,12 @@ pub mod four_bar {
     /// Every point's motion, by name.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
     pub struct Points<T> {
-        pub B: ::mechgen::PointMotion<T>,
-        pub C: ::mechgen::PointMotion<T>,
-        pub P: ::mechgen::PointMotion<T>,
+        pub B: ::mechgen::__private::PointMotion<T>,
+        pub C: ::mechgen::__private::PointMotion<T>,
+        pub P: ::mechgen::__private::PointMotion<T>,
     }
-    impl<T: Copy> Points<T> {
-        pub fn from_array(a: [::mechgen::PointMotion<T>; 3]) -> Self {
+    impl<T: ::core::marker::Copy> Points<T> {
+        pub fn from_array(a: [::mechgen::__private::PointMotion<T>; 3]) -> Self {
             Points {
                 B: a[0],
                 C: a[1],
@@ -3820,7 +4102,7 @@ pub mod four_bar {
         }
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
-    pub type Tick<T> = ::mechgen::Tick<T, 1, 2, 3, 6>;
+    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 2, 3, 6>;
     /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Motion<T> {
@@ -3831,21 +4113,21 @@ pub mod four_bar {
         pub qd: Unknowns<T>,
         pub qdd: Unknowns<T>,
         pub points: Points<T>,
-        pub report: ::mechgen::NewtonReport<T>,
+        pub report: ::mechgen::__private::NewtonReport<T>,
     }
     /// Crank-rocker four-bar (Grashof): crank AB, coupler BC with coupler point P, rocker DC
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct FourBar<T = f64> {
         pub params: Params<T>,
     }
-    impl<T: ::mechgen::Real> Default for FourBar<T> {
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for FourBar<T> {
         fn default() -> Self {
             FourBar {
-                params: Params::default(),
+                params: <Params<T> as ::core::default::Default>::default(),
             }
         }
     }
-    impl<T: ::mechgen::Real> FourBar<T> {
+    impl<T: ::mechgen::__private::Real> FourBar<T> {
         pub const INPUTS: usize = 1;
         pub const UNKNOWNS: usize = 2;
         pub const POINTS: usize = 3;
@@ -3893,7 +4175,7 @@ pub mod four_bar {
             &self,
             x: &[T; 1],
             q: &[T; 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
             let v_q3 = q[1];
             let p_l2 = self.params.l2;
@@ -3906,7 +4188,11 @@ pub mod four_bar {
             let t5 = p_l3 * s_v_q3;
             let t6 = -t2;
             let t7 = -t4;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t6;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -3922,14 +4208,18 @@ pub mod four_bar {
             &self,
             x: &[T; 1],
             q: &[T; 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 1> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 1> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let (s_v_q1, c_v_q1) = v_q1.sin_cos();
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
             let t3 = -t2;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 2, 1>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                1,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t3;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -3943,7 +4233,7 @@ pub mod four_bar {
             q: &[T; 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
             let v_q3 = q[1];
             let p_l2 = self.params.l2;
@@ -3962,7 +4252,11 @@ pub mod four_bar {
             let t9 = t2 * v_q2_d;
             let t10 = -t9;
             let t11 = t5 * v_q3_d;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t7;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -3979,7 +4273,7 @@ pub mod four_bar {
             x: &[T; 1],
             q: &[T; 2],
             xd: &[T; 1],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
@@ -3989,7 +4283,7 @@ pub mod four_bar {
             let t3 = t2 * v_q1_d;
             let t4 = t1 * v_q1_d;
             let t5 = -t4;
-            ::mechgen::nalgebra::SVector::from([t3, t5])
+            ::mechgen::__private::nalgebra::SVector::from([t3, t5])
         }
         /// γ = −(J̇ q̇ + Φ̇x ẋ) − Φx ẍ: the right-hand side of J q̈ = γ.
         pub fn acceleration_rhs(
@@ -3999,7 +4293,7 @@ pub mod four_bar {
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -4042,7 +4336,7 @@ pub mod four_bar {
             let t29 = t1 * v_q1_dd;
             let t30 = t28 + t29;
             let t31 = -t30;
-            ::mechgen::nalgebra::SVector::from([t22, t31])
+            ::mechgen::__private::nalgebra::SVector::from([t22, t31])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(
@@ -4088,7 +4382,7 @@ pub mod four_bar {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> [::mechgen::PointMotion<T>; 3] {
+        ) -> [::mechgen::__private::PointMotion<T>; 3] {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -4163,17 +4457,17 @@ pub mod four_bar {
             let t57 = t15 * v_q2_dd;
             let t58 = t56 + t57;
             [
-                ::mechgen::PointMotion {
+                ::mechgen::__private::PointMotion {
                     position: [t1, t2],
                     velocity: [t22, t23],
                     acceleration: [t39, t40],
                 },
-                ::mechgen::PointMotion {
+                ::mechgen::__private::PointMotion {
                     position: [t7, t6],
                     velocity: [t29, t19],
                     acceleration: [t43, t45],
                 },
-                ::mechgen::PointMotion {
+                ::mechgen::__private::PointMotion {
                     position: [t17, t18],
                     velocity: [t36, t38],
                     acceleration: [t53, t58],
@@ -4190,8 +4484,8 @@ pub mod four_bar {
             tp: &[(T, T); 6],
             tq: &[(T, T); 2],
         ) -> (
-            ::mechgen::nalgebra::SVector<T, 2>,
-            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
+            ::mechgen::__private::nalgebra::SVector<T, 2>,
+            ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
         ) {
             let v_q1 = x[0];
             let v_q2 = q[0];
@@ -4216,7 +4510,11 @@ pub mod four_bar {
             let t10 = t5 - t8;
             let t11 = -t3;
             let t12 = -t7;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t11;
             // J[0][1] = ∂Φ0/∂q3
@@ -4225,7 +4523,7 @@ pub mod four_bar {
             jac[(1, 0)] = t2;
             // J[1][1] = ∂Φ1/∂q3
             jac[(1, 1)] = t12;
-            (::mechgen::nalgebra::SVector::from([t9, t10]), jac)
+            (::mechgen::__private::nalgebra::SVector::from([t9, t10]), jac)
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its Jacobian block.
         #[inline]
@@ -4236,7 +4534,7 @@ pub mod four_bar {
             tx: &[(T, T); 1],
             tp: &[(T, T); 6],
             tq: &[(T, T); 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
             let v_q3 = q[1];
             let p_l2 = self.params.l2;
@@ -4249,7 +4547,11 @@ pub mod four_bar {
             let t3 = p_l3 * s_v_q3;
             let t4 = -t1;
             let t5 = -t2;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t4;
             // J[0][1] = ∂Φ0/∂q3
@@ -4271,7 +4573,7 @@ pub mod four_bar {
             tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
@@ -4281,7 +4583,7 @@ pub mod four_bar {
             let t2 = t1 * v_q1_d;
             let t3 = t0 * v_q1_d;
             let t4 = -t3;
-            ::mechgen::nalgebra::SVector::from([t2, t4])
+            ::mechgen::__private::nalgebra::SVector::from([t2, t4])
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side (acceleration).
         #[inline]
@@ -4296,7 +4598,7 @@ pub mod four_bar {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -4339,7 +4641,7 @@ pub mod four_bar {
             let t26 = t0 * v_q1_dd;
             let t27 = t25 + t26;
             let t28 = -t27;
-            ::mechgen::nalgebra::SVector::from([t19, t28])
+            ::mechgen::__private::nalgebra::SVector::from([t19, t28])
         }
         /// Block 0: q2, q3 from loop 1 (x, y). A dyad: K + M_a e(q2) + M_b e(q3) = 0; returns K, then (p, r) of M_a and of M_b.
         #[inline]
@@ -4375,24 +4677,24 @@ pub mod four_bar {
         }
         /// The unknowns with the sines and cosines the solvers read.
         #[inline]
-        fn trig_state(q: [T; 2]) -> ::mechgen::TrigState<T, 2> {
-            ::mechgen::TrigState::new(q, [true, true])
+        fn trig_state(q: [T; 2]) -> ::mechgen::__private::TrigState<T, 2> {
+            ::mechgen::__private::TrigState::new(q, [true, true])
         }
         #[inline]
         fn position_cached(
             &self,
             x: &[T; 1],
-            st: &mut ::mechgen::TrigState<T, 2>,
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 6],
-            options: &::mechgen::NewtonOptions<T>,
-            report: &mut ::mechgen::NewtonReport<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
             if options.closed_forms {
                 let [kx, ky, pa, ra, pb, rb] = self
                     .block0_dyad(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::solve_dyad(
+                ::mechgen::__private::solve_dyad(
                     0,
                     st,
                     0,
@@ -4405,7 +4707,7 @@ pub mod four_bar {
                     report,
                 )?;
             } else {
-                ::mechgen::newton_block(
+                ::mechgen::__private::newton_block(
                     0,
                     st,
                     [0, 1],
@@ -4427,18 +4729,18 @@ pub mod four_bar {
             tp: &[(T, T); 6],
             tq: &[(T, T); 2],
             xd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
             // Block 0: q2, q3 from loop 1 (x, y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 0,
-                ::mechgen::Stage::Velocity,
+                ::mechgen::__private::Stage::Velocity,
                 self.block0_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Velocity,
+                    ::mechgen::__private::Stage::Velocity,
                     self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
                 )?;
             qd[0] = z[0];
@@ -4456,18 +4758,18 @@ pub mod four_bar {
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 2];
             // Block 0: q2, q3 from loop 1 (x, y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 0,
-                ::mechgen::Stage::Acceleration,
+                ::mechgen::__private::Stage::Acceleration,
                 self.block0_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::__private::Stage::Acceleration,
                     self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
                 )?;
             qdd[0] = z[0];
@@ -4481,16 +4783,16 @@ pub mod four_bar {
         fn motion_cached(
             &self,
             x: &[T; 1],
-            st: &mut ::mechgen::TrigState<T, 2>,
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 6],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::NewtonOptions<T>,
-            report: &mut ::mechgen::NewtonReport<T>,
-        ) -> Result<
-            ([T; 2], [T; 2], [::mechgen::PointMotion<T>; 3]),
-            ::mechgen::SolveError,
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<
+            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 3]),
+            ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
@@ -4506,7 +4808,7 @@ pub mod four_bar {
             let t2 = -p_l3;
             let t3 = t0 - p_l4;
             if options.closed_forms {
-                ::mechgen::solve_dyad(
+                ::mechgen::__private::solve_dyad(
                     0,
                     st,
                     0,
@@ -4519,7 +4821,7 @@ pub mod four_bar {
                     report,
                 )?;
             } else {
-                ::mechgen::newton_block(
+                ::mechgen::__private::newton_block(
                     0,
                     st,
                     [0, 1],
@@ -4545,7 +4847,11 @@ pub mod four_bar {
             let t10 = t1 * v_q1_d;
             let t11 = t0 * v_q1_d;
             let t12 = -t11;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t8;
             // J[0][1] = ∂Φ0/∂q3
@@ -4554,12 +4860,16 @@ pub mod four_bar {
             jac[(1, 0)] = t4;
             // J[1][1] = ∂Φ1/∂q3
             jac[(1, 1)] = t9;
-            let lu = ::mechgen::factor_block(0, ::mechgen::Stage::Velocity, jac)?;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Velocity,
-                    ::mechgen::nalgebra::SVector::from([t10, t12]),
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t10, t12]),
                 )?;
             qd[0] = z[0];
             qd[1] = z[1];
@@ -4590,8 +4900,8 @@ pub mod four_bar {
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Acceleration,
-                    ::mechgen::nalgebra::SVector::from([t24, t33]),
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t24, t33]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -4645,17 +4955,17 @@ pub mod four_bar {
                 qd,
                 qdd,
                 [
-                    ::mechgen::PointMotion {
+                    ::mechgen::__private::PointMotion {
                         position: [t0, t1],
                         velocity: [t45, t11],
                         acceleration: [t54, t55],
                     },
-                    ::mechgen::PointMotion {
+                    ::mechgen::__private::PointMotion {
                         position: [t34, t7],
                         velocity: [t46, t14],
                         acceleration: [t58, t60],
                     },
-                    ::mechgen::PointMotion {
+                    ::mechgen::__private::PointMotion {
                         position: [t43, t44],
                         velocity: [t51, t53],
                         acceleration: [t68, t73],
@@ -4669,17 +4979,26 @@ pub mod four_bar {
             &self,
             x: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
             *q = st.q;
             Ok(report)
@@ -4691,14 +5010,23 @@ pub mod four_bar {
             x: &[T; 1],
             q: &[T; 2],
             xd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
@@ -4712,16 +5040,31 @@ pub mod four_bar {
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Rate, qd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Rate,
+                qd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
@@ -4735,27 +5078,39 @@ pub mod four_bar {
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
             (
                 [T; 2],
                 [T; 2],
-                [::mechgen::PointMotion<T>; 3],
-                ::mechgen::NewtonReport<T>,
+                [::mechgen::__private::PointMotion<T>; 3],
+                ::mechgen::__private::NewtonReport<T>,
             ),
-            ::mechgen::SolveError,
+            ::mechgen::__private::SolveError,
         > {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
@@ -4769,15 +5124,15 @@ pub mod four_bar {
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 2],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Tick<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .solve_arrays(x, xd, xdd, &mut q, options)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(q);
             Ok(
-                ::mechgen::Tick::new(::mechgen::Solution {
+                ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                     x: *x,
                     xd: *xd,
                     q,
@@ -4794,7 +5149,7 @@ pub mod four_bar {
         }
         /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
         /// blocks predicted by a second-order step from the last tick, their sines and cosines
-        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
         pub fn tick(
@@ -4803,16 +5158,28 @@ pub mod four_bar {
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {
-                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+                ::mechgen::__private::check_finite(
+                    ::mechgen::__private::Quantity::Param,
+                    &params,
+                )?;
             }
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
@@ -4822,7 +5189,7 @@ pub mod four_bar {
             };
             let keep = if options.closed_forms { [true, true] } else { [false; 2] };
             let mut st = t.predicted(x, [true, true], keep, same);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
             t.update(
@@ -4845,8 +5212,8 @@ pub mod four_bar {
             xd: Inputs<T>,
             xdd: Inputs<T>,
             guess: Unknowns<T>,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Motion<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
@@ -4868,7 +5235,8 @@ pub mod four_bar {
             })
         }
     }
-    impl<T: ::mechgen::Real> ::mechgen::Mechanism<T> for FourBar<T> {
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    for FourBar<T> {
         const NAME: &'static str = "four_bar";
         const INPUTS: usize = 1;
         const UNKNOWNS: usize = 2;
@@ -4876,17 +5244,20 @@ pub mod four_bar {
         type X = [T; 1];
         type Q = [T; 2];
         type Tick = Tick<T>;
-        fn info(&self) -> &'static ::mechgen::StaticInfo {
+        fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
         }
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             FourBar::residual(self, x, q)
         }
         fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::copy_row_major(&FourBar::jacobian(self, x, q), out)
+            ::mechgen::__private::copy_row_major(&FourBar::jacobian(self, x, q), out)
         }
         fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::copy_row_major(&FourBar::input_jacobian(self, x, q), out)
+            ::mechgen::__private::copy_row_major(
+                &FourBar::input_jacobian(self, x, q),
+                out,
+            )
         }
         fn jacobian_dot(
             &self,
@@ -4896,7 +5267,10 @@ pub mod four_bar {
             qd: &Self::Q,
             out: &mut [T],
         ) {
-            ::mechgen::copy_row_major(&FourBar::jacobian_dot(self, x, q, xd, qd), out)
+            ::mechgen::__private::copy_row_major(
+                &FourBar::jacobian_dot(self, x, q, xd, qd),
+                out,
+            )
         }
         fn acceleration_rhs(
             &self,
@@ -4912,8 +5286,11 @@ pub mod four_bar {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
             FourBar::solve_position(self, x, q, options)
         }
         fn solve_velocity(
@@ -4921,7 +5298,7 @@ pub mod four_bar {
             x: &Self::X,
             q: &Self::Q,
             xd: &Self::X,
-        ) -> Result<Self::Q, ::mechgen::SolveError> {
+        ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             FourBar::solve_velocity(self, x, q, xd)
         }
         fn solve_acceleration(
@@ -4931,7 +5308,7 @@ pub mod four_bar {
             xd: &Self::X,
             qd: &Self::Q,
             xdd: &Self::X,
-        ) -> Result<Self::Q, ::mechgen::SolveError> {
+        ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             FourBar::solve_acceleration(self, x, q, xd, qd, xdd)
         }
         fn points(
@@ -4942,7 +5319,7 @@ pub mod four_bar {
             qd: &Self::Q,
             xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::PointMotion<T>],
+            out: &mut [::mechgen::__private::PointMotion<T>],
         ) {
             for (o, p) in out
                 .iter_mut()
@@ -4957,8 +5334,8 @@ pub mod four_bar {
             xd: &Self::X,
             xdd: &Self::X,
             guess: &Self::Q,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Self::Tick, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
             FourBar::tick_start(self, x, xd, xdd, guess, options)
         }
         fn tick(
@@ -4967,8 +5344,8 @@ pub mod four_bar {
             x: &Self::X,
             xd: &Self::X,
             xdd: &Self::X,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             FourBar::tick(self, t, x, xd, xdd, options)
         }
         fn solve_motion(
@@ -4979,9 +5356,12 @@ pub mod four_bar {
             q: &mut Self::Q,
             qd: &mut Self::Q,
             qdd: &mut Self::Q,
-            points: &mut [::mechgen::PointMotion<T>],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            points: &mut [::mechgen::__private::PointMotion<T>],
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
             let (v, a, p, report) = FourBar::solve_arrays(self, x, xd, xdd, q, options)?;
             *qd = v;
             *qdd = a;
@@ -4996,42 +5376,42 @@ pub mod four_bar {
 pub mod slider_crank {
     #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
     /// Static description: names, kinds, start configuration, blocks.
-    pub const INFO: ::mechgen::StaticInfo = ::mechgen::StaticInfo {
+    pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "slider_crank",
         description: "Offset slider-crank: crank AB, connecting rod BC, slider C on the line y = off",
         inputs: &[
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q1",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 0.0,
             },
         ],
         unknowns: &[
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q2",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 0.10016742116155979,
             },
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "sC",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 start: 0.248997487421324,
             },
         ],
         params: &[
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "r",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.05,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.2,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "off",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.02,
             },
         ],
@@ -5050,7 +5430,7 @@ pub mod slider_crank {
         /// `off` = 0.02 (length)
         pub off: T,
     }
-    impl<T: ::mechgen::Real> Default for Params<T> {
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for Params<T> {
         fn default() -> Self {
             Params {
                 r: T::lit(0.05),
@@ -5059,7 +5439,7 @@ pub mod slider_crank {
             }
         }
     }
-    impl<T: ::mechgen::Real> Params<T> {
+    impl<T: ::mechgen::__private::Real> Params<T> {
         /// All params in file order.
         pub fn to_array(&self) -> [T; 3] {
             [self.r, self.l, self.off]
@@ -5087,7 +5467,7 @@ pub mod slider_crank {
         /// `q1` (angle, radians)
         pub q1: T,
     }
-    impl<T: Copy> Inputs<T> {
+    impl<T: ::core::marker::Copy> Inputs<T> {
         pub fn from_array(a: [T; 1]) -> Self {
             Inputs { q1: a[0] }
         }
@@ -5095,12 +5475,12 @@ pub mod slider_crank {
             [self.q1]
         }
     }
-    impl<T: Copy> From<[T; 1]> for Inputs<T> {
+    impl<T: ::core::marker::Copy> ::core::convert::From<[T; 1]> for Inputs<T> {
         fn from(a: [T; 1]) -> Self {
             Self::from_array(a)
         }
     }
-    impl<T: Copy> From<Inputs<T>> for [T; 1] {
+    impl<T: ::core::marker::Copy> ::core::convert::From<Inputs<T>> for [T; 1] {
         fn from(v: Inputs<T>) -> Self {
             v.to_array()
         }
@@ -5113,7 +5493,7 @@ pub mod slider_crank {
         /// `sC` (length)
         pub sC: T,
     }
-    impl<T: Copy> Unknowns<T> {
+    impl<T: ::core::marker::Copy> Unknowns<T> {
         pub fn from_array(a: [T; 2]) -> Self {
             Unknowns {
                 q2: a[0],
@@ -5124,12 +5504,12 @@ pub mod slider_crank {
             [self.q2, self.sC]
         }
     }
-    impl<T: Copy> From<[T; 2]> for Unknowns<T> {
+    impl<T: ::core::marker::Copy> ::core::convert::From<[T; 2]> for Unknowns<T> {
         fn from(a: [T; 2]) -> Self {
             Self::from_array(a)
         }
     }
-    impl<T: Copy> From<Unknowns<T>> for [T; 2] {
+    impl<T: ::core::marker::Copy> ::core::convert::From<Unknowns<T>> for [T; 2] {
         fn from(v: Unknowns<T>) -> Self {
             v.to_array()
         }
@@ -5137,12 +5517,12 @@ pub mod slider_crank {
     /// Every point's motion, by name.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
     pub struct Points<T> {
-        pub B: ::mechgen::PointMotion<T>,
-        pub C: ::mechgen::PointMotion<T>,
-        pub M: ::mechgen::PointMotion<T>,
+        pub B: ::mechgen::__private::PointMotion<T>,
+        pub C: ::mechgen::__private::PointMotion<T>,
+        pub M: ::mechgen::__private::PointMotion<T>,
     }
-    impl<T: Copy> Points<T> {
-        pub fn from_array(a: [::mechgen::PointMotion<T>; 3]) -> Self {
+    impl<T: ::core::marker::Copy> Points<T> {
+        pub fn from_array(a: [::mechgen::__private::PointMotion<T>; 3]) -> Self {
             Points {
                 B: a[0],
                 C: a[1],
@@ -5151,7 +5531,7 @@ pub mod slider_crank {
         }
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
-    pub type Tick<T> = ::mechgen::Tick<T, 1, 2, 3, 3>;
+    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 2, 3, 3>;
     /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Motion<T> {
@@ -5162,21 +5542,21 @@ pub mod slider_crank {
         pub qd: Unknowns<T>,
         pub qdd: Unknowns<T>,
         pub points: Points<T>,
-        pub report: ::mechgen::NewtonReport<T>,
+        pub report: ::mechgen::__private::NewtonReport<T>,
     }
     /// Offset slider-crank: crank AB, connecting rod BC, slider C on the line y = off
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct SliderCrank<T = f64> {
         pub params: Params<T>,
     }
-    impl<T: ::mechgen::Real> Default for SliderCrank<T> {
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for SliderCrank<T> {
         fn default() -> Self {
             SliderCrank {
-                params: Params::default(),
+                params: <Params<T> as ::core::default::Default>::default(),
             }
         }
     }
-    impl<T: ::mechgen::Real> SliderCrank<T> {
+    impl<T: ::mechgen::__private::Real> SliderCrank<T> {
         pub const INPUTS: usize = 1;
         pub const UNKNOWNS: usize = 2;
         pub const POINTS: usize = 3;
@@ -5219,14 +5599,18 @@ pub mod slider_crank {
             &self,
             x: &[T; 1],
             q: &[T; 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
             let p_l = self.params.l;
             let (s_v_q2, c_v_q2) = v_q2.sin_cos();
             let t1 = p_l * c_v_q2;
             let t2 = p_l * s_v_q2;
             let t3 = -t2;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t3;
             // [0][1] = ∂Φ0/∂sC (loop 1, x)
@@ -5240,14 +5624,18 @@ pub mod slider_crank {
             &self,
             x: &[T; 1],
             q: &[T; 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 1> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 1> {
             let v_q1 = x[0];
             let p_r = self.params.r;
             let (s_v_q1, c_v_q1) = v_q1.sin_cos();
             let t1 = p_r * c_v_q1;
             let t2 = p_r * s_v_q1;
             let t3 = -t2;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 2, 1>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                1,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t3;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -5261,7 +5649,7 @@ pub mod slider_crank {
             q: &[T; 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
             let p_l = self.params.l;
             let v_q2_d = qd[0];
@@ -5272,7 +5660,11 @@ pub mod slider_crank {
             let t4 = -t3;
             let t5 = t2 * v_q2_d;
             let t6 = -t5;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t4;
             // [1][0] = ∂Φ1/∂q2 (loop 1, y)
@@ -5285,7 +5677,7 @@ pub mod slider_crank {
             x: &[T; 1],
             q: &[T; 2],
             xd: &[T; 1],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let p_r = self.params.r;
             let v_q1_d = xd[0];
@@ -5295,7 +5687,7 @@ pub mod slider_crank {
             let t3 = t2 * v_q1_d;
             let t4 = t1 * v_q1_d;
             let t5 = -t4;
-            ::mechgen::nalgebra::SVector::from([t3, t5])
+            ::mechgen::__private::nalgebra::SVector::from([t3, t5])
         }
         /// γ = −(J̇ q̇ + Φ̇x ẋ) − Φx ẍ: the right-hand side of J q̈ = γ.
         pub fn acceleration_rhs(
@@ -5305,7 +5697,7 @@ pub mod slider_crank {
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_r = self.params.r;
@@ -5336,7 +5728,7 @@ pub mod slider_crank {
             let t20 = t1 * v_q1_dd;
             let t21 = t19 + t20;
             let t22 = -t21;
-            ::mechgen::nalgebra::SVector::from([t15, t22])
+            ::mechgen::__private::nalgebra::SVector::from([t15, t22])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(
@@ -5370,7 +5762,7 @@ pub mod slider_crank {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> [::mechgen::PointMotion<T>; 3] {
+        ) -> [::mechgen::__private::PointMotion<T>; 3] {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_sC = q[1];
@@ -5418,17 +5810,17 @@ pub mod slider_crank {
             let t32 = t5 * v_q2_dd;
             let t33 = t31 + t32;
             [
-                ::mechgen::PointMotion {
+                ::mechgen::__private::PointMotion {
                     position: [t1, t2],
                     velocity: [t10, t11],
                     acceleration: [t22, t23],
                 },
-                ::mechgen::PointMotion {
+                ::mechgen::__private::PointMotion {
                     position: [v_sC, p_off],
                     velocity: [v_sC_d, T::zero()],
                     acceleration: [v_sC_dd, T::zero()],
                 },
-                ::mechgen::PointMotion {
+                ::mechgen::__private::PointMotion {
                     position: [t7, t8],
                     velocity: [t19, t21],
                     acceleration: [t28, t33],
@@ -5445,8 +5837,8 @@ pub mod slider_crank {
             tp: &[(T, T); 3],
             tq: &[(T, T); 2],
         ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
+            ::mechgen::__private::nalgebra::SVector<T, 1>,
+            ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
             let v_q1 = x[0];
             let v_q2 = q[0];
@@ -5460,10 +5852,14 @@ pub mod slider_crank {
             let t2 = p_l * s_v_q2;
             let t3 = t0 + t2;
             let t4 = t3 - p_off;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t1;
-            (::mechgen::nalgebra::SVector::from([t4]), jac)
+            (::mechgen::__private::nalgebra::SVector::from([t4]), jac)
         }
         /// Block 0: q2 from loop 1 (y). Its Jacobian block.
         #[inline]
@@ -5474,12 +5870,16 @@ pub mod slider_crank {
             tx: &[(T, T); 1],
             tp: &[(T, T); 3],
             tq: &[(T, T); 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 1, 1> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
             let v_q2 = q[0];
             let p_l = self.params.l;
             let (s_v_q2, c_v_q2) = tq[0];
             let t0 = p_l * c_v_q2;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t0;
             jac
@@ -5495,7 +5895,7 @@ pub mod slider_crank {
             tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SVector<T, 1> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
             let p_r = self.params.r;
             let v_q1_d = xd[0];
@@ -5503,7 +5903,7 @@ pub mod slider_crank {
             let t0 = p_r * c_v_q1;
             let t1 = t0 * v_q1_d;
             let t2 = -t1;
-            ::mechgen::nalgebra::SVector::from([t2])
+            ::mechgen::__private::nalgebra::SVector::from([t2])
         }
         /// Block 0: q2 from loop 1 (y). Its right-hand side (acceleration).
         #[inline]
@@ -5518,7 +5918,7 @@ pub mod slider_crank {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SVector<T, 1> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_r = self.params.r;
@@ -5540,7 +5940,7 @@ pub mod slider_crank {
             let t9 = t0 * v_q1_dd;
             let t10 = t8 + t9;
             let t11 = -t10;
-            ::mechgen::nalgebra::SVector::from([t11])
+            ::mechgen::__private::nalgebra::SVector::from([t11])
         }
         /// Block 1: sC from loop 1 (x). Its residual and Jacobian block.
         #[inline]
@@ -5552,8 +5952,8 @@ pub mod slider_crank {
             tp: &[(T, T); 3],
             tq: &[(T, T); 2],
         ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
+            ::mechgen::__private::nalgebra::SVector<T, 1>,
+            ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
             let v_q1 = x[0];
             let v_q2 = q[0];
@@ -5566,10 +5966,14 @@ pub mod slider_crank {
             let t1 = p_l * c_v_q2;
             let t2 = t0 + t1;
             let t3 = t2 - v_sC;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[0][1] = ∂Φ0/∂sC
             jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t3]), jac)
+            (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
         }
         /// Block 1: sC from loop 1 (x). Its Jacobian block.
         #[inline]
@@ -5580,8 +5984,12 @@ pub mod slider_crank {
             tx: &[(T, T); 1],
             tp: &[(T, T); 3],
             tq: &[(T, T); 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 1, 1> {
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[0][1] = ∂Φ0/∂sC
             jac[(0, 0)] = T::lit(-1.0);
             jac
@@ -5597,7 +6005,7 @@ pub mod slider_crank {
             tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SVector<T, 1> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_r = self.params.r;
@@ -5611,7 +6019,7 @@ pub mod slider_crank {
             let t2 = t1 * v_q2_d;
             let t3 = t0 * v_q1_d;
             let t4 = t2 + t3;
-            ::mechgen::nalgebra::SVector::from([t4])
+            ::mechgen::__private::nalgebra::SVector::from([t4])
         }
         /// Block 1: sC from loop 1 (x). Its right-hand side (acceleration).
         #[inline]
@@ -5626,7 +6034,7 @@ pub mod slider_crank {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SVector<T, 1> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_r = self.params.r;
@@ -5651,7 +6059,7 @@ pub mod slider_crank {
             let t11 = t10 - t9;
             let t12 = t3 * v_q2_dd;
             let t13 = t11 + t12;
-            ::mechgen::nalgebra::SVector::from([t13])
+            ::mechgen::__private::nalgebra::SVector::from([t13])
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
@@ -5664,21 +6072,21 @@ pub mod slider_crank {
         }
         /// The unknowns with the sines and cosines the solvers read.
         #[inline]
-        fn trig_state(q: [T; 2]) -> ::mechgen::TrigState<T, 2> {
-            ::mechgen::TrigState::new(q, [true, false])
+        fn trig_state(q: [T; 2]) -> ::mechgen::__private::TrigState<T, 2> {
+            ::mechgen::__private::TrigState::new(q, [true, false])
         }
         #[inline]
         fn position_cached(
             &self,
             x: &[T; 1],
-            st: &mut ::mechgen::TrigState<T, 2>,
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 3],
-            options: &::mechgen::NewtonOptions<T>,
-            report: &mut ::mechgen::NewtonReport<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: q2 from loop 1 (y).
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 0,
                 st,
                 [0],
@@ -5689,7 +6097,7 @@ pub mod slider_crank {
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
             // Block 1: sC from loop 1 (x).
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 1,
                 st,
                 [1],
@@ -5710,31 +6118,31 @@ pub mod slider_crank {
             tp: &[(T, T); 3],
             tq: &[(T, T); 2],
             xd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
             // Block 0: q2 from loop 1 (y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 0,
-                ::mechgen::Stage::Velocity,
+                ::mechgen::__private::Stage::Velocity,
                 self.block0_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Velocity,
+                    ::mechgen::__private::Stage::Velocity,
                     self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
                 )?;
             qd[0] = z[0];
             // Block 1: sC from loop 1 (x).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 1,
-                ::mechgen::Stage::Velocity,
+                ::mechgen::__private::Stage::Velocity,
                 self.block1_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Velocity,
+                    ::mechgen::__private::Stage::Velocity,
                     self.block1_velocity(x, q, tx, tp, tq, xd, &qd),
                 )?;
             qd[1] = z[0];
@@ -5751,31 +6159,31 @@ pub mod slider_crank {
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 2];
             // Block 0: q2 from loop 1 (y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 0,
-                ::mechgen::Stage::Acceleration,
+                ::mechgen::__private::Stage::Acceleration,
                 self.block0_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::__private::Stage::Acceleration,
                     self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
                 )?;
             qdd[0] = z[0];
             // Block 1: sC from loop 1 (x).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 1,
-                ::mechgen::Stage::Acceleration,
+                ::mechgen::__private::Stage::Acceleration,
                 self.block1_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::__private::Stage::Acceleration,
                     self.block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
                 )?;
             qdd[1] = z[0];
@@ -5788,21 +6196,21 @@ pub mod slider_crank {
         fn motion_cached(
             &self,
             x: &[T; 1],
-            st: &mut ::mechgen::TrigState<T, 2>,
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 3],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::NewtonOptions<T>,
-            report: &mut ::mechgen::NewtonReport<T>,
-        ) -> Result<
-            ([T; 2], [T; 2], [::mechgen::PointMotion<T>; 3]),
-            ::mechgen::SolveError,
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<
+            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 3]),
+            ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: Newton.
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 0,
                 st,
                 [0],
@@ -5813,7 +6221,7 @@ pub mod slider_crank {
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
             // Block 1: Newton.
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 1,
                 st,
                 [1],
@@ -5835,15 +6243,23 @@ pub mod slider_crank {
             let t1 = p_l * c_v_q2;
             let t2 = t0 * v_q1_d;
             let t3 = -t2;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t1;
-            let lu = ::mechgen::factor_block(0, ::mechgen::Stage::Velocity, jac)?;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Velocity,
-                    ::mechgen::nalgebra::SVector::from([t3]),
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t3]),
                 )?;
             qd[0] = z[0];
             let v_q2_d = qd[0];
@@ -5862,21 +6278,29 @@ pub mod slider_crank {
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Acceleration,
-                    ::mechgen::nalgebra::SVector::from([t14]),
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t14]),
                 )?;
             qdd[0] = z[0];
             // Block 1: velocities and accelerations.
             let t15 = t6 + t7;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[0][1] = ∂Φ0/∂sC
             jac[(0, 0)] = T::lit(-1.0);
-            let lu = ::mechgen::factor_block(1, ::mechgen::Stage::Velocity, jac)?;
+            let lu = ::mechgen::__private::factor_block(
+                1,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Velocity,
-                    ::mechgen::nalgebra::SVector::from([t15]),
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t15]),
                 )?;
             qd[1] = z[0];
             let v_q2_dd = qdd[0];
@@ -5892,8 +6316,8 @@ pub mod slider_crank {
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Acceleration,
-                    ::mechgen::nalgebra::SVector::from([t24]),
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t24]),
                 )?;
             qdd[1] = z[0];
             // Points.
@@ -5927,17 +6351,17 @@ pub mod slider_crank {
                 qd,
                 qdd,
                 [
-                    ::mechgen::PointMotion {
+                    ::mechgen::__private::PointMotion {
                         position: [t0, t4],
                         velocity: [t30, t2],
                         acceleration: [t35, t36],
                     },
-                    ::mechgen::PointMotion {
+                    ::mechgen::__private::PointMotion {
                         position: [v_sC, p_off],
                         velocity: [v_sC_d, T::zero()],
                         acceleration: [v_sC_dd, T::zero()],
                     },
-                    ::mechgen::PointMotion {
+                    ::mechgen::__private::PointMotion {
                         position: [t28, t29],
                         velocity: [t32, t34],
                         acceleration: [t41, t46],
@@ -5951,17 +6375,26 @@ pub mod slider_crank {
             &self,
             x: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
             *q = st.q;
             Ok(report)
@@ -5973,14 +6406,23 @@ pub mod slider_crank {
             x: &[T; 1],
             q: &[T; 2],
             xd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
@@ -5994,16 +6436,31 @@ pub mod slider_crank {
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Rate, qd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Rate,
+                qd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
@@ -6017,27 +6474,39 @@ pub mod slider_crank {
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
             (
                 [T; 2],
                 [T; 2],
-                [::mechgen::PointMotion<T>; 3],
-                ::mechgen::NewtonReport<T>,
+                [::mechgen::__private::PointMotion<T>; 3],
+                ::mechgen::__private::NewtonReport<T>,
             ),
-            ::mechgen::SolveError,
+            ::mechgen::__private::SolveError,
         > {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
@@ -6051,15 +6520,15 @@ pub mod slider_crank {
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 2],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Tick<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .solve_arrays(x, xd, xdd, &mut q, options)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(q);
             Ok(
-                ::mechgen::Tick::new(::mechgen::Solution {
+                ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                     x: *x,
                     xd: *xd,
                     q,
@@ -6076,7 +6545,7 @@ pub mod slider_crank {
         }
         /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
         /// blocks predicted by a second-order step from the last tick, their sines and cosines
-        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
         pub fn tick(
@@ -6085,16 +6554,28 @@ pub mod slider_crank {
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {
-                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+                ::mechgen::__private::check_finite(
+                    ::mechgen::__private::Quantity::Param,
+                    &params,
+                )?;
             }
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
@@ -6108,7 +6589,7 @@ pub mod slider_crank {
                 [false; 2]
             };
             let mut st = t.predicted(x, [true, false], keep, same);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
             t.update(
@@ -6131,8 +6612,8 @@ pub mod slider_crank {
             xd: Inputs<T>,
             xdd: Inputs<T>,
             guess: Unknowns<T>,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Motion<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
@@ -6154,7 +6635,8 @@ pub mod slider_crank {
             })
         }
     }
-    impl<T: ::mechgen::Real> ::mechgen::Mechanism<T> for SliderCrank<T> {
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    for SliderCrank<T> {
         const NAME: &'static str = "slider_crank";
         const INPUTS: usize = 1;
         const UNKNOWNS: usize = 2;
@@ -6162,17 +6644,20 @@ pub mod slider_crank {
         type X = [T; 1];
         type Q = [T; 2];
         type Tick = Tick<T>;
-        fn info(&self) -> &'static ::mechgen::StaticInfo {
+        fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
         }
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             SliderCrank::residual(self, x, q)
         }
         fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::copy_row_major(&SliderCrank::jacobian(self, x, q), out)
+            ::mechgen::__private::copy_row_major(&SliderCrank::jacobian(self, x, q), out)
         }
         fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::copy_row_major(&SliderCrank::input_jacobian(self, x, q), out)
+            ::mechgen::__private::copy_row_major(
+                &SliderCrank::input_jacobian(self, x, q),
+                out,
+            )
         }
         fn jacobian_dot(
             &self,
@@ -6182,7 +6667,7 @@ pub mod slider_crank {
             qd: &Self::Q,
             out: &mut [T],
         ) {
-            ::mechgen::copy_row_major(
+            ::mechgen::__private::copy_row_major(
                 &SliderCrank::jacobian_dot(self, x, q, xd, qd),
                 out,
             )
@@ -6201,8 +6686,11 @@ pub mod slider_crank {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
             SliderCrank::solve_position(self, x, q, options)
         }
         fn solve_velocity(
@@ -6210,7 +6698,7 @@ pub mod slider_crank {
             x: &Self::X,
             q: &Self::Q,
             xd: &Self::X,
-        ) -> Result<Self::Q, ::mechgen::SolveError> {
+        ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             SliderCrank::solve_velocity(self, x, q, xd)
         }
         fn solve_acceleration(
@@ -6220,7 +6708,7 @@ pub mod slider_crank {
             xd: &Self::X,
             qd: &Self::Q,
             xdd: &Self::X,
-        ) -> Result<Self::Q, ::mechgen::SolveError> {
+        ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             SliderCrank::solve_acceleration(self, x, q, xd, qd, xdd)
         }
         fn points(
@@ -6231,7 +6719,7 @@ pub mod slider_crank {
             qd: &Self::Q,
             xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::PointMotion<T>],
+            out: &mut [::mechgen::__private::PointMotion<T>],
         ) {
             for (o, p) in out
                 .iter_mut()
@@ -6246,8 +6734,8 @@ pub mod slider_crank {
             xd: &Self::X,
             xdd: &Self::X,
             guess: &Self::Q,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Self::Tick, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
             SliderCrank::tick_start(self, x, xd, xdd, guess, options)
         }
         fn tick(
@@ -6256,8 +6744,8 @@ pub mod slider_crank {
             x: &Self::X,
             xd: &Self::X,
             xdd: &Self::X,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             SliderCrank::tick(self, t, x, xd, xdd, options)
         }
         fn solve_motion(
@@ -6268,9 +6756,12 @@ pub mod slider_crank {
             q: &mut Self::Q,
             qd: &mut Self::Q,
             qdd: &mut Self::Q,
-            points: &mut [::mechgen::PointMotion<T>],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            points: &mut [::mechgen::__private::PointMotion<T>],
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
             let (v, a, p, report) = SliderCrank::solve_arrays(
                 self,
                 x,
@@ -6292,47 +6783,47 @@ pub mod slider_crank {
 pub mod rocker_four_bar {
     #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
     /// Static description: names, kinds, start configuration, blocks.
-    pub const INFO: ::mechgen::StaticInfo = ::mechgen::StaticInfo {
+    pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "rocker_four_bar",
         description: "Non-Grashof (triple-rocker) four-bar: input rocker AB, coupler BC, rocker DC; dead points at q1 = ±135.95 deg",
         inputs: &[
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q1",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 0.0,
             },
         ],
         unknowns: &[
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q2",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 0.9183364294768195,
             },
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q3",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 1.1863995522992576,
             },
         ],
         params: &[
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l1",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.3,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l2",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.35,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l3",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.3,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l4",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 0.4,
             },
         ],
@@ -6353,7 +6844,7 @@ pub mod rocker_four_bar {
         /// `l4` = 0.4 (length)
         pub l4: T,
     }
-    impl<T: ::mechgen::Real> Default for Params<T> {
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for Params<T> {
         fn default() -> Self {
             Params {
                 l1: T::lit(0.3),
@@ -6363,7 +6854,7 @@ pub mod rocker_four_bar {
             }
         }
     }
-    impl<T: ::mechgen::Real> Params<T> {
+    impl<T: ::mechgen::__private::Real> Params<T> {
         /// All params in file order.
         pub fn to_array(&self) -> [T; 4] {
             [self.l1, self.l2, self.l3, self.l4]
@@ -6393,7 +6884,7 @@ pub mod rocker_four_bar {
         /// `q1` (angle, radians)
         pub q1: T,
     }
-    impl<T: Copy> Inputs<T> {
+    impl<T: ::core::marker::Copy> Inputs<T> {
         pub fn from_array(a: [T; 1]) -> Self {
             Inputs { q1: a[0] }
         }
@@ -6401,12 +6892,12 @@ pub mod rocker_four_bar {
             [self.q1]
         }
     }
-    impl<T: Copy> From<[T; 1]> for Inputs<T> {
+    impl<T: ::core::marker::Copy> ::core::convert::From<[T; 1]> for Inputs<T> {
         fn from(a: [T; 1]) -> Self {
             Self::from_array(a)
         }
     }
-    impl<T: Copy> From<Inputs<T>> for [T; 1] {
+    impl<T: ::core::marker::Copy> ::core::convert::From<Inputs<T>> for [T; 1] {
         fn from(v: Inputs<T>) -> Self {
             v.to_array()
         }
@@ -6419,7 +6910,7 @@ pub mod rocker_four_bar {
         /// `q3` (angle, radians)
         pub q3: T,
     }
-    impl<T: Copy> Unknowns<T> {
+    impl<T: ::core::marker::Copy> Unknowns<T> {
         pub fn from_array(a: [T; 2]) -> Self {
             Unknowns {
                 q2: a[0],
@@ -6430,12 +6921,12 @@ pub mod rocker_four_bar {
             [self.q2, self.q3]
         }
     }
-    impl<T: Copy> From<[T; 2]> for Unknowns<T> {
+    impl<T: ::core::marker::Copy> ::core::convert::From<[T; 2]> for Unknowns<T> {
         fn from(a: [T; 2]) -> Self {
             Self::from_array(a)
         }
     }
-    impl<T: Copy> From<Unknowns<T>> for [T; 2] {
+    impl<T: ::core::marker::Copy> ::core::convert::From<Unknowns<T>> for [T; 2] {
         fn from(v: Unknowns<T>) -> Self {
             v.to_array()
         }
@@ -6443,11 +6934,11 @@ pub mod rocker_four_bar {
     /// Every point's motion, by name.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
     pub struct Points<T> {
-        pub B: ::mechgen::PointMotion<T>,
-        pub C: ::mechgen::PointMotion<T>,
+        pub B: ::mechgen::__private::PointMotion<T>,
+        pub C: ::mechgen::__private::PointMotion<T>,
     }
-    impl<T: Copy> Points<T> {
-        pub fn from_array(a: [::mechgen::PointMotion<T>; 2]) -> Self {
+    impl<T: ::core::marker::Copy> Points<T> {
+        pub fn from_array(a: [::mechgen::__private::PointMotion<T>; 2]) -> Self {
             Points {
                 B: a[0],
                 C: a[1],
@@ -6455,7 +6946,7 @@ pub mod rocker_four_bar {
         }
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
-    pub type Tick<T> = ::mechgen::Tick<T, 1, 2, 2, 4>;
+    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 2, 2, 4>;
     /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Motion<T> {
@@ -6466,21 +6957,21 @@ pub mod rocker_four_bar {
         pub qd: Unknowns<T>,
         pub qdd: Unknowns<T>,
         pub points: Points<T>,
-        pub report: ::mechgen::NewtonReport<T>,
+        pub report: ::mechgen::__private::NewtonReport<T>,
     }
     /// Non-Grashof (triple-rocker) four-bar: input rocker AB, coupler BC, rocker DC; dead points at q1 = ±135.95 deg
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct RockerFourBar<T = f64> {
         pub params: Params<T>,
     }
-    impl<T: ::mechgen::Real> Default for RockerFourBar<T> {
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for RockerFourBar<T> {
         fn default() -> Self {
             RockerFourBar {
-                params: Params::default(),
+                params: <Params<T> as ::core::default::Default>::default(),
             }
         }
     }
-    impl<T: ::mechgen::Real> RockerFourBar<T> {
+    impl<T: ::mechgen::__private::Real> RockerFourBar<T> {
         pub const INPUTS: usize = 1;
         pub const UNKNOWNS: usize = 2;
         pub const POINTS: usize = 2;
@@ -6528,7 +7019,7 @@ pub mod rocker_four_bar {
             &self,
             x: &[T; 1],
             q: &[T; 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
             let v_q3 = q[1];
             let p_l2 = self.params.l2;
@@ -6541,7 +7032,11 @@ pub mod rocker_four_bar {
             let t5 = p_l3 * s_v_q3;
             let t6 = -t2;
             let t7 = -t4;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t6;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -6557,14 +7052,18 @@ pub mod rocker_four_bar {
             &self,
             x: &[T; 1],
             q: &[T; 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 1> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 1> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let (s_v_q1, c_v_q1) = v_q1.sin_cos();
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
             let t3 = -t2;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 2, 1>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                1,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t3;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -6578,7 +7077,7 @@ pub mod rocker_four_bar {
             q: &[T; 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
             let v_q3 = q[1];
             let p_l2 = self.params.l2;
@@ -6597,7 +7096,11 @@ pub mod rocker_four_bar {
             let t9 = t2 * v_q2_d;
             let t10 = -t9;
             let t11 = t5 * v_q3_d;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t7;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -6614,7 +7117,7 @@ pub mod rocker_four_bar {
             x: &[T; 1],
             q: &[T; 2],
             xd: &[T; 1],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
@@ -6624,7 +7127,7 @@ pub mod rocker_four_bar {
             let t3 = t2 * v_q1_d;
             let t4 = t1 * v_q1_d;
             let t5 = -t4;
-            ::mechgen::nalgebra::SVector::from([t3, t5])
+            ::mechgen::__private::nalgebra::SVector::from([t3, t5])
         }
         /// γ = −(J̇ q̇ + Φ̇x ẋ) − Φx ẍ: the right-hand side of J q̈ = γ.
         pub fn acceleration_rhs(
@@ -6634,7 +7137,7 @@ pub mod rocker_four_bar {
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -6677,7 +7180,7 @@ pub mod rocker_four_bar {
             let t29 = t1 * v_q1_dd;
             let t30 = t28 + t29;
             let t31 = -t30;
-            ::mechgen::nalgebra::SVector::from([t22, t31])
+            ::mechgen::__private::nalgebra::SVector::from([t22, t31])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(
@@ -6708,7 +7211,7 @@ pub mod rocker_four_bar {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> [::mechgen::PointMotion<T>; 2] {
+        ) -> [::mechgen::__private::PointMotion<T>; 2] {
             let v_q1 = x[0];
             let v_q3 = q[1];
             let p_l1 = self.params.l1;
@@ -6746,12 +7249,12 @@ pub mod rocker_four_bar {
             let t25 = t4 * v_q3_dd;
             let t26 = t25 - t18;
             [
-                ::mechgen::PointMotion {
+                ::mechgen::__private::PointMotion {
                     position: [t1, t2],
                     velocity: [t10, t11],
                     acceleration: [t20, t21],
                 },
-                ::mechgen::PointMotion {
+                ::mechgen::__private::PointMotion {
                     position: [t6, t5],
                     velocity: [t17, t7],
                     acceleration: [t24, t26],
@@ -6768,8 +7271,8 @@ pub mod rocker_four_bar {
             tp: &[(T, T); 4],
             tq: &[(T, T); 2],
         ) -> (
-            ::mechgen::nalgebra::SVector<T, 2>,
-            ::mechgen::nalgebra::SMatrix<T, 2, 2>,
+            ::mechgen::__private::nalgebra::SVector<T, 2>,
+            ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
         ) {
             let v_q1 = x[0];
             let v_q2 = q[0];
@@ -6794,7 +7297,11 @@ pub mod rocker_four_bar {
             let t10 = t5 - t8;
             let t11 = -t3;
             let t12 = -t7;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t11;
             // J[0][1] = ∂Φ0/∂q3
@@ -6803,7 +7310,7 @@ pub mod rocker_four_bar {
             jac[(1, 0)] = t2;
             // J[1][1] = ∂Φ1/∂q3
             jac[(1, 1)] = t12;
-            (::mechgen::nalgebra::SVector::from([t9, t10]), jac)
+            (::mechgen::__private::nalgebra::SVector::from([t9, t10]), jac)
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its Jacobian block.
         #[inline]
@@ -6814,7 +7321,7 @@ pub mod rocker_four_bar {
             tx: &[(T, T); 1],
             tp: &[(T, T); 4],
             tq: &[(T, T); 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
             let v_q3 = q[1];
             let p_l2 = self.params.l2;
@@ -6827,7 +7334,11 @@ pub mod rocker_four_bar {
             let t3 = p_l3 * s_v_q3;
             let t4 = -t1;
             let t5 = -t2;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t4;
             // J[0][1] = ∂Φ0/∂q3
@@ -6849,7 +7360,7 @@ pub mod rocker_four_bar {
             tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
@@ -6859,7 +7370,7 @@ pub mod rocker_four_bar {
             let t2 = t1 * v_q1_d;
             let t3 = t0 * v_q1_d;
             let t4 = -t3;
-            ::mechgen::nalgebra::SVector::from([t2, t4])
+            ::mechgen::__private::nalgebra::SVector::from([t2, t4])
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side (acceleration).
         #[inline]
@@ -6874,7 +7385,7 @@ pub mod rocker_four_bar {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -6917,7 +7428,7 @@ pub mod rocker_four_bar {
             let t26 = t0 * v_q1_dd;
             let t27 = t25 + t26;
             let t28 = -t27;
-            ::mechgen::nalgebra::SVector::from([t19, t28])
+            ::mechgen::__private::nalgebra::SVector::from([t19, t28])
         }
         /// Block 0: q2, q3 from loop 1 (x, y). A dyad: K + M_a e(q2) + M_b e(q3) = 0; returns K, then (p, r) of M_a and of M_b.
         #[inline]
@@ -6952,24 +7463,24 @@ pub mod rocker_four_bar {
         }
         /// The unknowns with the sines and cosines the solvers read.
         #[inline]
-        fn trig_state(q: [T; 2]) -> ::mechgen::TrigState<T, 2> {
-            ::mechgen::TrigState::new(q, [true, true])
+        fn trig_state(q: [T; 2]) -> ::mechgen::__private::TrigState<T, 2> {
+            ::mechgen::__private::TrigState::new(q, [true, true])
         }
         #[inline]
         fn position_cached(
             &self,
             x: &[T; 1],
-            st: &mut ::mechgen::TrigState<T, 2>,
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 4],
-            options: &::mechgen::NewtonOptions<T>,
-            report: &mut ::mechgen::NewtonReport<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
             if options.closed_forms {
                 let [kx, ky, pa, ra, pb, rb] = self
                     .block0_dyad(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::solve_dyad(
+                ::mechgen::__private::solve_dyad(
                     0,
                     st,
                     0,
@@ -6982,7 +7493,7 @@ pub mod rocker_four_bar {
                     report,
                 )?;
             } else {
-                ::mechgen::newton_block(
+                ::mechgen::__private::newton_block(
                     0,
                     st,
                     [0, 1],
@@ -7004,18 +7515,18 @@ pub mod rocker_four_bar {
             tp: &[(T, T); 4],
             tq: &[(T, T); 2],
             xd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
             // Block 0: q2, q3 from loop 1 (x, y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 0,
-                ::mechgen::Stage::Velocity,
+                ::mechgen::__private::Stage::Velocity,
                 self.block0_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Velocity,
+                    ::mechgen::__private::Stage::Velocity,
                     self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
                 )?;
             qd[0] = z[0];
@@ -7033,18 +7544,18 @@ pub mod rocker_four_bar {
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 2];
             // Block 0: q2, q3 from loop 1 (x, y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 0,
-                ::mechgen::Stage::Acceleration,
+                ::mechgen::__private::Stage::Acceleration,
                 self.block0_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::__private::Stage::Acceleration,
                     self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
                 )?;
             qdd[0] = z[0];
@@ -7058,16 +7569,16 @@ pub mod rocker_four_bar {
         fn motion_cached(
             &self,
             x: &[T; 1],
-            st: &mut ::mechgen::TrigState<T, 2>,
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 4],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::NewtonOptions<T>,
-            report: &mut ::mechgen::NewtonReport<T>,
-        ) -> Result<
-            ([T; 2], [T; 2], [::mechgen::PointMotion<T>; 2]),
-            ::mechgen::SolveError,
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<
+            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 2]),
+            ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
@@ -7083,7 +7594,7 @@ pub mod rocker_four_bar {
             let t2 = -p_l3;
             let t3 = t0 - p_l4;
             if options.closed_forms {
-                ::mechgen::solve_dyad(
+                ::mechgen::__private::solve_dyad(
                     0,
                     st,
                     0,
@@ -7096,7 +7607,7 @@ pub mod rocker_four_bar {
                     report,
                 )?;
             } else {
-                ::mechgen::newton_block(
+                ::mechgen::__private::newton_block(
                     0,
                     st,
                     [0, 1],
@@ -7122,7 +7633,11 @@ pub mod rocker_four_bar {
             let t10 = t1 * v_q1_d;
             let t11 = t0 * v_q1_d;
             let t12 = -t11;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t8;
             // J[0][1] = ∂Φ0/∂q3
@@ -7131,12 +7646,16 @@ pub mod rocker_four_bar {
             jac[(1, 0)] = t4;
             // J[1][1] = ∂Φ1/∂q3
             jac[(1, 1)] = t9;
-            let lu = ::mechgen::factor_block(0, ::mechgen::Stage::Velocity, jac)?;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Velocity,
-                    ::mechgen::nalgebra::SVector::from([t10, t12]),
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t10, t12]),
                 )?;
             qd[0] = z[0];
             qd[1] = z[1];
@@ -7167,8 +7686,8 @@ pub mod rocker_four_bar {
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Acceleration,
-                    ::mechgen::nalgebra::SVector::from([t24, t33]),
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t24, t33]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -7188,12 +7707,12 @@ pub mod rocker_four_bar {
                 qd,
                 qdd,
                 [
-                    ::mechgen::PointMotion {
+                    ::mechgen::__private::PointMotion {
                         position: [t0, t1],
                         velocity: [t35, t11],
                         acceleration: [t37, t38],
                     },
-                    ::mechgen::PointMotion {
+                    ::mechgen::__private::PointMotion {
                         position: [t34, t7],
                         velocity: [t36, t14],
                         acceleration: [t41, t43],
@@ -7207,17 +7726,26 @@ pub mod rocker_four_bar {
             &self,
             x: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
             *q = st.q;
             Ok(report)
@@ -7229,14 +7757,23 @@ pub mod rocker_four_bar {
             x: &[T; 1],
             q: &[T; 2],
             xd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
@@ -7250,16 +7787,31 @@ pub mod rocker_four_bar {
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Rate, qd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Rate,
+                qd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
@@ -7273,27 +7825,39 @@ pub mod rocker_four_bar {
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
             (
                 [T; 2],
                 [T; 2],
-                [::mechgen::PointMotion<T>; 2],
-                ::mechgen::NewtonReport<T>,
+                [::mechgen::__private::PointMotion<T>; 2],
+                ::mechgen::__private::NewtonReport<T>,
             ),
-            ::mechgen::SolveError,
+            ::mechgen::__private::SolveError,
         > {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
@@ -7307,15 +7871,15 @@ pub mod rocker_four_bar {
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 2],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Tick<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .solve_arrays(x, xd, xdd, &mut q, options)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(q);
             Ok(
-                ::mechgen::Tick::new(::mechgen::Solution {
+                ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                     x: *x,
                     xd: *xd,
                     q,
@@ -7332,7 +7896,7 @@ pub mod rocker_four_bar {
         }
         /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
         /// blocks predicted by a second-order step from the last tick, their sines and cosines
-        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
         pub fn tick(
@@ -7341,16 +7905,28 @@ pub mod rocker_four_bar {
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {
-                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+                ::mechgen::__private::check_finite(
+                    ::mechgen::__private::Quantity::Param,
+                    &params,
+                )?;
             }
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
@@ -7360,7 +7936,7 @@ pub mod rocker_four_bar {
             };
             let keep = if options.closed_forms { [true, true] } else { [false; 2] };
             let mut st = t.predicted(x, [true, true], keep, same);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
             t.update(
@@ -7383,8 +7959,8 @@ pub mod rocker_four_bar {
             xd: Inputs<T>,
             xdd: Inputs<T>,
             guess: Unknowns<T>,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Motion<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
@@ -7406,7 +7982,8 @@ pub mod rocker_four_bar {
             })
         }
     }
-    impl<T: ::mechgen::Real> ::mechgen::Mechanism<T> for RockerFourBar<T> {
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    for RockerFourBar<T> {
         const NAME: &'static str = "rocker_four_bar";
         const INPUTS: usize = 1;
         const UNKNOWNS: usize = 2;
@@ -7414,17 +7991,23 @@ pub mod rocker_four_bar {
         type X = [T; 1];
         type Q = [T; 2];
         type Tick = Tick<T>;
-        fn info(&self) -> &'static ::mechgen::StaticInfo {
+        fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
         }
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             RockerFourBar::residual(self, x, q)
         }
         fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::copy_row_major(&RockerFourBar::jacobian(self, x, q), out)
+            ::mechgen::__private::copy_row_major(
+                &RockerFourBar::jacobian(self, x, q),
+                out,
+            )
         }
         fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::copy_row_major(&RockerFourBar::input_jacobian(self, x, q), out)
+            ::mechgen::__private::copy_row_major(
+                &RockerFourBar::input_jacobian(self, x, q),
+                out,
+            )
         }
         fn jacobian_dot(
             &self,
@@ -7434,7 +8017,7 @@ pub mod rocker_four_bar {
             qd: &Self::Q,
             out: &mut [T],
         ) {
-            ::mechgen::copy_row_major(
+            ::mechgen::__private::copy_row_major(
                 &RockerFourBar::jacobian_dot(self, x, q, xd, qd),
                 out,
             )
@@ -7453,8 +8036,11 @@ pub mod rocker_four_bar {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
             RockerFourBar::solve_position(self, x, q, options)
         }
         fn solve_velocity(
@@ -7462,7 +8048,7 @@ pub mod rocker_four_bar {
             x: &Self::X,
             q: &Self::Q,
             xd: &Self::X,
-        ) -> Result<Self::Q, ::mechgen::SolveError> {
+        ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             RockerFourBar::solve_velocity(self, x, q, xd)
         }
         fn solve_acceleration(
@@ -7472,7 +8058,7 @@ pub mod rocker_four_bar {
             xd: &Self::X,
             qd: &Self::Q,
             xdd: &Self::X,
-        ) -> Result<Self::Q, ::mechgen::SolveError> {
+        ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             RockerFourBar::solve_acceleration(self, x, q, xd, qd, xdd)
         }
         fn points(
@@ -7483,7 +8069,7 @@ pub mod rocker_four_bar {
             qd: &Self::Q,
             xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::PointMotion<T>],
+            out: &mut [::mechgen::__private::PointMotion<T>],
         ) {
             for (o, p) in out
                 .iter_mut()
@@ -7498,8 +8084,8 @@ pub mod rocker_four_bar {
             xd: &Self::X,
             xdd: &Self::X,
             guess: &Self::Q,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Self::Tick, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
             RockerFourBar::tick_start(self, x, xd, xdd, guess, options)
         }
         fn tick(
@@ -7508,8 +8094,8 @@ pub mod rocker_four_bar {
             x: &Self::X,
             xd: &Self::X,
             xdd: &Self::X,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             RockerFourBar::tick(self, t, x, xd, xdd, options)
         }
         fn solve_motion(
@@ -7520,9 +8106,12 @@ pub mod rocker_four_bar {
             q: &mut Self::Q,
             qd: &mut Self::Q,
             qdd: &mut Self::Q,
-            points: &mut [::mechgen::PointMotion<T>],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            points: &mut [::mechgen::__private::PointMotion<T>],
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
             let (v, a, p, report) = RockerFourBar::solve_arrays(
                 self,
                 x,
@@ -7544,87 +8133,87 @@ pub mod rocker_four_bar {
 pub mod sixbar_g {
     #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
     /// Static description: names, kinds, start configuration, blocks.
-    pub const INFO: ::mechgen::StaticInfo = ::mechgen::StaticInfo {
+    pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "sixbar_g",
         description: "Seed six-bar driven from the dyad angle q6 at G (one 4x4 block; dead points at q6 = 244.53 and 344.13 deg)",
         inputs: &[
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q6",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 4.898600826609701,
             },
         ],
         unknowns: &[
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q1",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 0.0,
             },
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q2",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 0.8750172648330391,
             },
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q3",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 1.7916766419569743,
             },
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q5",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 2.0451582702708415,
             },
         ],
         params: &[
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l1",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 26.5,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l2",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 75.0,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l3",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 59.0,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l4",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 87.5,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l5",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 48.4,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l6",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 39.0,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l2e",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 65.0,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "xg",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 153.5,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "yg",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 41.7,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "alpha",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 default: 1.0471975511965976,
             },
         ],
@@ -7657,7 +8246,7 @@ pub mod sixbar_g {
         /// `alpha` = deg(60.0) = 1.0471975511965976 (angle, radians)
         pub alpha: T,
     }
-    impl<T: ::mechgen::Real> Default for Params<T> {
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for Params<T> {
         fn default() -> Self {
             Params {
                 l1: T::lit(26.5),
@@ -7673,7 +8262,7 @@ pub mod sixbar_g {
             }
         }
     }
-    impl<T: ::mechgen::Real> Params<T> {
+    impl<T: ::mechgen::__private::Real> Params<T> {
         /// All params in file order.
         pub fn to_array(&self) -> [T; 10] {
             [
@@ -7725,7 +8314,7 @@ pub mod sixbar_g {
         /// `q6` (angle, radians)
         pub q6: T,
     }
-    impl<T: Copy> Inputs<T> {
+    impl<T: ::core::marker::Copy> Inputs<T> {
         pub fn from_array(a: [T; 1]) -> Self {
             Inputs { q6: a[0] }
         }
@@ -7733,12 +8322,12 @@ pub mod sixbar_g {
             [self.q6]
         }
     }
-    impl<T: Copy> From<[T; 1]> for Inputs<T> {
+    impl<T: ::core::marker::Copy> ::core::convert::From<[T; 1]> for Inputs<T> {
         fn from(a: [T; 1]) -> Self {
             Self::from_array(a)
         }
     }
-    impl<T: Copy> From<Inputs<T>> for [T; 1] {
+    impl<T: ::core::marker::Copy> ::core::convert::From<Inputs<T>> for [T; 1] {
         fn from(v: Inputs<T>) -> Self {
             v.to_array()
         }
@@ -7755,7 +8344,7 @@ pub mod sixbar_g {
         /// `q5` (angle, radians)
         pub q5: T,
     }
-    impl<T: Copy> Unknowns<T> {
+    impl<T: ::core::marker::Copy> Unknowns<T> {
         pub fn from_array(a: [T; 4]) -> Self {
             Unknowns {
                 q1: a[0],
@@ -7768,12 +8357,12 @@ pub mod sixbar_g {
             [self.q1, self.q2, self.q3, self.q5]
         }
     }
-    impl<T: Copy> From<[T; 4]> for Unknowns<T> {
+    impl<T: ::core::marker::Copy> ::core::convert::From<[T; 4]> for Unknowns<T> {
         fn from(a: [T; 4]) -> Self {
             Self::from_array(a)
         }
     }
-    impl<T: Copy> From<Unknowns<T>> for [T; 4] {
+    impl<T: ::core::marker::Copy> ::core::convert::From<Unknowns<T>> for [T; 4] {
         fn from(v: Unknowns<T>) -> Self {
             v.to_array()
         }
@@ -7781,15 +8370,15 @@ pub mod sixbar_g {
     /// Every point's motion, by name.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
     pub struct Points<T> {
-        pub E: ::mechgen::PointMotion<T>,
+        pub E: ::mechgen::__private::PointMotion<T>,
     }
-    impl<T: Copy> Points<T> {
-        pub fn from_array(a: [::mechgen::PointMotion<T>; 1]) -> Self {
+    impl<T: ::core::marker::Copy> Points<T> {
+        pub fn from_array(a: [::mechgen::__private::PointMotion<T>; 1]) -> Self {
             Points { E: a[0] }
         }
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
-    pub type Tick<T> = ::mechgen::Tick<T, 1, 4, 1, 10>;
+    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 4, 1, 10>;
     /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Motion<T> {
@@ -7800,21 +8389,21 @@ pub mod sixbar_g {
         pub qd: Unknowns<T>,
         pub qdd: Unknowns<T>,
         pub points: Points<T>,
-        pub report: ::mechgen::NewtonReport<T>,
+        pub report: ::mechgen::__private::NewtonReport<T>,
     }
     /// Seed six-bar driven from the dyad angle q6 at G (one 4x4 block; dead points at q6 = 244.53 and 344.13 deg)
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct SixbarG<T = f64> {
         pub params: Params<T>,
     }
-    impl<T: ::mechgen::Real> Default for SixbarG<T> {
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for SixbarG<T> {
         fn default() -> Self {
             SixbarG {
-                params: Params::default(),
+                params: <Params<T> as ::core::default::Default>::default(),
             }
         }
     }
-    impl<T: ::mechgen::Real> SixbarG<T> {
+    impl<T: ::mechgen::__private::Real> SixbarG<T> {
         pub const INPUTS: usize = 1;
         pub const UNKNOWNS: usize = 4;
         pub const POINTS: usize = 1;
@@ -7893,7 +8482,7 @@ pub mod sixbar_g {
             &self,
             x: &[T; 1],
             q: &[T; 4],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 4, 4> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
             let v_q1 = q[0];
             let v_q2 = q[1];
             let v_q3 = q[2];
@@ -7931,7 +8520,11 @@ pub mod sixbar_g {
             let t24 = t23 - t5;
             let t25 = t4 + t15;
             let t26 = -t17;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                4,
+                4,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t19;
             // [0][1] = ∂Φ0/∂q2 (loop 1, x)
@@ -7963,14 +8556,18 @@ pub mod sixbar_g {
             &self,
             x: &[T; 1],
             q: &[T; 4],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 4, 1> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 1> {
             let v_q6 = x[0];
             let p_l6 = self.params.l6;
             let (s_v_q6, c_v_q6) = v_q6.sin_cos();
             let t1 = p_l6 * c_v_q6;
             let t2 = p_l6 * s_v_q6;
             let t3 = -t1;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 4, 1>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                4,
+                1,
+            >::zeros();
             // [2][0] = ∂Φ2/∂q6 (loop 2, x)
             m[(2, 0)] = t2;
             // [3][0] = ∂Φ3/∂q6 (loop 2, y)
@@ -7984,7 +8581,7 @@ pub mod sixbar_g {
             q: &[T; 4],
             xd: &[T; 1],
             qd: &[T; 4],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 4, 4> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
             let v_q1 = q[0];
             let v_q2 = q[1];
             let v_q3 = q[2];
@@ -8037,7 +8634,11 @@ pub mod sixbar_g {
             let t35 = t15 * v_q5_d;
             let t36 = t19 * v_q2_d;
             let t37 = t16 * v_q5_d;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                4,
+                4,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t22;
             // [0][1] = ∂Φ0/∂q2 (loop 1, x)
@@ -8070,7 +8671,7 @@ pub mod sixbar_g {
             x: &[T; 1],
             q: &[T; 4],
             xd: &[T; 1],
-        ) -> ::mechgen::nalgebra::SVector<T, 4> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
             let v_q6 = x[0];
             let p_l6 = self.params.l6;
             let v_q6_d = xd[0];
@@ -8080,7 +8681,7 @@ pub mod sixbar_g {
             let t3 = t2 * v_q6_d;
             let t4 = -t3;
             let t5 = t1 * v_q6_d;
-            ::mechgen::nalgebra::SVector::from([T::zero(), T::zero(), t4, t5])
+            ::mechgen::__private::nalgebra::SVector::from([T::zero(), T::zero(), t4, t5])
         }
         /// γ = −(J̇ q̇ + Φ̇x ẋ) − Φx ẍ: the right-hand side of J q̈ = γ.
         pub fn acceleration_rhs(
@@ -8090,7 +8691,7 @@ pub mod sixbar_g {
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
-        ) -> ::mechgen::nalgebra::SVector<T, 4> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
             let v_q6 = x[0];
             let v_q1 = q[0];
             let v_q2 = q[1];
@@ -8179,7 +8780,7 @@ pub mod sixbar_g {
             let t67 = t65 + t66;
             let t68 = t18 * v_q6_dd;
             let t69 = t68 - t67;
-            ::mechgen::nalgebra::SVector::from([t45, t52, t61, t69])
+            ::mechgen::__private::nalgebra::SVector::from([t45, t52, t61, t69])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(
@@ -8223,7 +8824,7 @@ pub mod sixbar_g {
             qd: &[T; 4],
             xdd: &[T; 1],
             qdd: &[T; 4],
-        ) -> [::mechgen::PointMotion<T>; 1] {
+        ) -> [::mechgen::__private::PointMotion<T>; 1] {
             let v_q1 = q[0];
             let v_q2 = q[1];
             let p_l1 = self.params.l1;
@@ -8283,7 +8884,7 @@ pub mod sixbar_g {
             let t46 = t23 * v_q2_dd;
             let t47 = t45 + t46;
             [
-                ::mechgen::PointMotion {
+                ::mechgen::__private::PointMotion {
                     position: [t17, t18],
                     velocity: [t36, t37],
                     acceleration: [t42, t47],
@@ -8300,8 +8901,8 @@ pub mod sixbar_g {
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
         ) -> (
-            ::mechgen::nalgebra::SVector<T, 4>,
-            ::mechgen::nalgebra::SMatrix<T, 4, 4>,
+            ::mechgen::__private::nalgebra::SVector<T, 4>,
+            ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>,
         ) {
             let v_q6 = x[0];
             let v_q1 = q[0];
@@ -8363,7 +8964,11 @@ pub mod sixbar_g {
             let t36 = t35 - t3;
             let t37 = t2 + t17;
             let t38 = -t21;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                4,
+                4,
+            >::zeros();
             // J[0][0] = ∂Φ0/∂q1
             jac[(0, 0)] = t31;
             // J[0][1] = ∂Φ0/∂q2
@@ -8388,7 +8993,7 @@ pub mod sixbar_g {
             jac[(3, 1)] = t37;
             // J[3][3] = ∂Φ3/∂q5
             jac[(3, 3)] = t38;
-            (::mechgen::nalgebra::SVector::from([t9, t10, t29, t30]), jac)
+            (::mechgen::__private::nalgebra::SVector::from([t9, t10, t29, t30]), jac)
         }
         /// Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y). Its Jacobian block.
         #[inline]
@@ -8399,7 +9004,7 @@ pub mod sixbar_g {
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 4, 4> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
             let v_q1 = q[0];
             let v_q2 = q[1];
             let v_q3 = q[2];
@@ -8437,7 +9042,11 @@ pub mod sixbar_g {
             let t19 = t18 - t3;
             let t20 = t2 + t11;
             let t21 = -t12;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                4,
+                4,
+            >::zeros();
             // J[0][0] = ∂Φ0/∂q1
             jac[(0, 0)] = t14;
             // J[0][1] = ∂Φ0/∂q2
@@ -8475,7 +9084,7 @@ pub mod sixbar_g {
             tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
-        ) -> ::mechgen::nalgebra::SVector<T, 4> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
             let v_q6 = x[0];
             let p_l6 = self.params.l6;
             let v_q6_d = xd[0];
@@ -8485,7 +9094,7 @@ pub mod sixbar_g {
             let t2 = t1 * v_q6_d;
             let t3 = -t2;
             let t4 = t0 * v_q6_d;
-            ::mechgen::nalgebra::SVector::from([T::zero(), T::zero(), t3, t4])
+            ::mechgen::__private::nalgebra::SVector::from([T::zero(), T::zero(), t3, t4])
         }
         /// Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y). Its right-hand side (acceleration).
         #[inline]
@@ -8500,7 +9109,7 @@ pub mod sixbar_g {
             qd: &[T; 4],
             xdd: &[T; 1],
             qdd: &[T; 4],
-        ) -> ::mechgen::nalgebra::SVector<T, 4> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
             let v_q6 = x[0];
             let v_q1 = q[0];
             let v_q2 = q[1];
@@ -8589,7 +9198,7 @@ pub mod sixbar_g {
             let t61 = t59 + t60;
             let t62 = t12 * v_q6_dd;
             let t63 = t62 - t61;
-            ::mechgen::nalgebra::SVector::from([t39, t46, t55, t63])
+            ::mechgen::__private::nalgebra::SVector::from([t39, t46, t55, t63])
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
@@ -8603,21 +9212,21 @@ pub mod sixbar_g {
         }
         /// The unknowns with the sines and cosines the solvers read.
         #[inline]
-        fn trig_state(q: [T; 4]) -> ::mechgen::TrigState<T, 4> {
-            ::mechgen::TrigState::new(q, [true, true, true, true])
+        fn trig_state(q: [T; 4]) -> ::mechgen::__private::TrigState<T, 4> {
+            ::mechgen::__private::TrigState::new(q, [true, true, true, true])
         }
         #[inline]
         fn position_cached(
             &self,
             x: &[T; 1],
-            st: &mut ::mechgen::TrigState<T, 4>,
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
-            options: &::mechgen::NewtonOptions<T>,
-            report: &mut ::mechgen::NewtonReport<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 0,
                 st,
                 [0, 1, 2, 3],
@@ -8638,18 +9247,18 @@ pub mod sixbar_g {
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
             xd: &[T; 1],
-        ) -> Result<[T; 4], ::mechgen::SolveError> {
+        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 4];
             // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 0,
-                ::mechgen::Stage::Velocity,
+                ::mechgen::__private::Stage::Velocity,
                 self.block0_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Velocity,
+                    ::mechgen::__private::Stage::Velocity,
                     self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
                 )?;
             qd[0] = z[0];
@@ -8669,18 +9278,18 @@ pub mod sixbar_g {
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
-        ) -> Result<[T; 4], ::mechgen::SolveError> {
+        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 4];
             // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 0,
-                ::mechgen::Stage::Acceleration,
+                ::mechgen::__private::Stage::Acceleration,
                 self.block0_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::__private::Stage::Acceleration,
                     self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
                 )?;
             qdd[0] = z[0];
@@ -8696,21 +9305,21 @@ pub mod sixbar_g {
         fn motion_cached(
             &self,
             x: &[T; 1],
-            st: &mut ::mechgen::TrigState<T, 4>,
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::NewtonOptions<T>,
-            report: &mut ::mechgen::NewtonReport<T>,
-        ) -> Result<
-            ([T; 4], [T; 4], [::mechgen::PointMotion<T>; 1]),
-            ::mechgen::SolveError,
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<
+            ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 1]),
+            ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
             // Block 0: Newton.
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 0,
                 st,
                 [0, 1, 2, 3],
@@ -8767,7 +9376,11 @@ pub mod sixbar_g {
             let t24 = t15 * v_q6_d;
             let t25 = -t24;
             let t26 = t14 * v_q6_d;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                4,
+                4,
+            >::zeros();
             // J[0][0] = ∂Φ0/∂q1
             jac[(0, 0)] = t16;
             // J[0][1] = ∂Φ0/∂q2
@@ -8792,12 +9405,21 @@ pub mod sixbar_g {
             jac[(3, 1)] = t22;
             // J[3][3] = ∂Φ3/∂q5
             jac[(3, 3)] = t23;
-            let lu = ::mechgen::factor_block(0, ::mechgen::Stage::Velocity, jac)?;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Velocity,
-                    ::mechgen::nalgebra::SVector::from([T::zero(), T::zero(), t25, t26]),
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([
+                        T::zero(),
+                        T::zero(),
+                        t25,
+                        t26,
+                    ]),
                 )?;
             qd[0] = z[0];
             qd[1] = z[1];
@@ -8856,8 +9478,8 @@ pub mod sixbar_g {
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Acceleration,
-                    ::mechgen::nalgebra::SVector::from([t47, t54, t63, t71]),
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t47, t54, t63, t71]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -8889,7 +9511,7 @@ pub mod sixbar_g {
                 qd,
                 qdd,
                 [
-                    ::mechgen::PointMotion {
+                    ::mechgen::__private::PointMotion {
                         position: [t76, t77],
                         velocity: [t79, t80],
                         acceleration: [t85, t90],
@@ -8903,17 +9525,26 @@ pub mod sixbar_g {
             &self,
             x: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
             *q = st.q;
             Ok(report)
@@ -8925,14 +9556,23 @@ pub mod sixbar_g {
             x: &[T; 1],
             q: &[T; 4],
             xd: &[T; 1],
-        ) -> Result<[T; 4], ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
@@ -8946,16 +9586,31 @@ pub mod sixbar_g {
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
-        ) -> Result<[T; 4], ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Rate, qd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Rate,
+                qd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
@@ -8969,27 +9624,39 @@ pub mod sixbar_g {
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
             (
                 [T; 4],
                 [T; 4],
-                [::mechgen::PointMotion<T>; 1],
-                ::mechgen::NewtonReport<T>,
+                [::mechgen::__private::PointMotion<T>; 1],
+                ::mechgen::__private::NewtonReport<T>,
             ),
-            ::mechgen::SolveError,
+            ::mechgen::__private::SolveError,
         > {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
@@ -9003,15 +9670,15 @@ pub mod sixbar_g {
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 4],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Tick<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .solve_arrays(x, xd, xdd, &mut q, options)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(q);
             Ok(
-                ::mechgen::Tick::new(::mechgen::Solution {
+                ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                     x: *x,
                     xd: *xd,
                     q,
@@ -9028,7 +9695,7 @@ pub mod sixbar_g {
         }
         /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
         /// blocks predicted by a second-order step from the last tick, their sines and cosines
-        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
         pub fn tick(
@@ -9037,16 +9704,28 @@ pub mod sixbar_g {
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {
-                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+                ::mechgen::__private::check_finite(
+                    ::mechgen::__private::Quantity::Param,
+                    &params,
+                )?;
             }
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
@@ -9060,7 +9739,7 @@ pub mod sixbar_g {
                 [false; 4]
             };
             let mut st = t.predicted(x, [true, true, true, true], keep, same);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
             t.update(
@@ -9083,8 +9762,8 @@ pub mod sixbar_g {
             xd: Inputs<T>,
             xdd: Inputs<T>,
             guess: Unknowns<T>,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Motion<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
@@ -9106,7 +9785,8 @@ pub mod sixbar_g {
             })
         }
     }
-    impl<T: ::mechgen::Real> ::mechgen::Mechanism<T> for SixbarG<T> {
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    for SixbarG<T> {
         const NAME: &'static str = "sixbar_g";
         const INPUTS: usize = 1;
         const UNKNOWNS: usize = 4;
@@ -9114,17 +9794,20 @@ pub mod sixbar_g {
         type X = [T; 1];
         type Q = [T; 4];
         type Tick = Tick<T>;
-        fn info(&self) -> &'static ::mechgen::StaticInfo {
+        fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
         }
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             SixbarG::residual(self, x, q)
         }
         fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::copy_row_major(&SixbarG::jacobian(self, x, q), out)
+            ::mechgen::__private::copy_row_major(&SixbarG::jacobian(self, x, q), out)
         }
         fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::copy_row_major(&SixbarG::input_jacobian(self, x, q), out)
+            ::mechgen::__private::copy_row_major(
+                &SixbarG::input_jacobian(self, x, q),
+                out,
+            )
         }
         fn jacobian_dot(
             &self,
@@ -9134,7 +9817,10 @@ pub mod sixbar_g {
             qd: &Self::Q,
             out: &mut [T],
         ) {
-            ::mechgen::copy_row_major(&SixbarG::jacobian_dot(self, x, q, xd, qd), out)
+            ::mechgen::__private::copy_row_major(
+                &SixbarG::jacobian_dot(self, x, q, xd, qd),
+                out,
+            )
         }
         fn acceleration_rhs(
             &self,
@@ -9150,8 +9836,11 @@ pub mod sixbar_g {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
             SixbarG::solve_position(self, x, q, options)
         }
         fn solve_velocity(
@@ -9159,7 +9848,7 @@ pub mod sixbar_g {
             x: &Self::X,
             q: &Self::Q,
             xd: &Self::X,
-        ) -> Result<Self::Q, ::mechgen::SolveError> {
+        ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             SixbarG::solve_velocity(self, x, q, xd)
         }
         fn solve_acceleration(
@@ -9169,7 +9858,7 @@ pub mod sixbar_g {
             xd: &Self::X,
             qd: &Self::Q,
             xdd: &Self::X,
-        ) -> Result<Self::Q, ::mechgen::SolveError> {
+        ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             SixbarG::solve_acceleration(self, x, q, xd, qd, xdd)
         }
         fn points(
@@ -9180,7 +9869,7 @@ pub mod sixbar_g {
             qd: &Self::Q,
             xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::PointMotion<T>],
+            out: &mut [::mechgen::__private::PointMotion<T>],
         ) {
             for (o, p) in out
                 .iter_mut()
@@ -9195,8 +9884,8 @@ pub mod sixbar_g {
             xd: &Self::X,
             xdd: &Self::X,
             guess: &Self::Q,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Self::Tick, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
             SixbarG::tick_start(self, x, xd, xdd, guess, options)
         }
         fn tick(
@@ -9205,8 +9894,8 @@ pub mod sixbar_g {
             x: &Self::X,
             xd: &Self::X,
             xdd: &Self::X,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             SixbarG::tick(self, t, x, xd, xdd, options)
         }
         fn solve_motion(
@@ -9217,9 +9906,12 @@ pub mod sixbar_g {
             q: &mut Self::Q,
             qd: &mut Self::Q,
             qdd: &mut Self::Q,
-            points: &mut [::mechgen::PointMotion<T>],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            points: &mut [::mechgen::__private::PointMotion<T>],
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
             let (v, a, p, report) = SixbarG::solve_arrays(self, x, xd, xdd, q, options)?;
             *qd = v;
             *qdd = a;

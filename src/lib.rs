@@ -1,6 +1,12 @@
 //! mechgen: planar linkage kinematics. Loop-closure equations in `mechanism.toml` become, at build
 //! time, allocation-free position, velocity and acceleration solvers (see `ARCHITECTURE.md`).
 //!
+//! The crate is the application around the runtime: it re-exports `mechgen-runtime` (the scalar
+//! trait, errors, traits, the kernels generated code calls) and holds the solvers generated from
+//! the build's mechanism file ([`generated`], its modules also at the root), plus, behind
+//! features, sweeps and reports (`sweep`), the generic engine (`runtime`), plots (`plot`) and the
+//! command (`cli`).
+//!
 //! ```
 //! use mechgen::sixbar::{Inputs, Sixbar};
 //! use mechgen::NewtonOptions;
@@ -12,45 +18,68 @@
 //!     .unwrap();
 //! assert!((m.q.q2 - 0.875_017_264_833_039).abs() < 1e-12);
 //! ```
+//!
+//! Root modules are few on purpose: [`runtime`], [`generated`], [`source`], `nalgebra`, and with
+//! features `sweep`, `report`, `generic`, `plot`. A compiled-in mechanism is also re-exported at
+//! the root (`mechgen::four_bar`) unless its name is one of these (or `mechgen`): then it is reached
+//! as `mechgen::generated::NAME` (and by name through [`lookup`] and [`visit_all`] as always).
+
+#![forbid(unsafe_code)]
+// A mechanism named `mechgen` is shadowed at the root by the private `extern crate self as mechgen`
+// below, on purpose (like one named after a root module): it is `mechgen::generated::mechgen`.
+#![allow(hidden_glob_reexports)]
 
 // Generated code names this crate `::mechgen`, also inside it.
 extern crate self as mechgen;
 
-pub mod dyad;
-pub mod elimination;
-pub mod error;
-#[cfg(feature = "runtime")]
-pub mod generic;
-pub mod mechanism;
-#[cfg(feature = "plot")]
-pub mod plot;
-pub mod report;
-pub mod scalar;
-pub mod solve;
-pub mod sweep;
-pub mod tick;
-pub mod trig;
+/// The runtime crate (`mechgen-runtime`): its modules (`mechgen::runtime::tick::RESYNC_TICKS`, …).
+pub use mechgen_runtime as runtime;
 
-pub use dyad::solve_dyad;
-pub use elimination::{
+#[doc(hidden)]
+pub use mechgen_runtime::__private;
+pub use mechgen_runtime::dyad::solve_dyad;
+pub use mechgen_runtime::elimination::{
     Factored, copy_row_major, factor_block, gauss, gauss_in_place, lu_in_place, lu_solve,
     solve_block,
 };
-pub use error::{Quantity, SolveError, Stage};
-pub use mechanism::{
-    Array, CoordInfo, Kind, Kinematics, Mechanism, MechanismInfo, ParamInfo, PointMotion,
-    StaticInfo, Visitor,
+pub use mechgen_runtime::nalgebra;
+pub use mechgen_runtime::solve::{check_finite, newton_block, newton_in_place};
+pub use mechgen_runtime::trig::{NewtonState, TrigState};
+pub use mechgen_runtime::{
+    Array, CoordInfo, Kind, Kinematics, Mechanism, MechanismInfo, NewtonOptions, NewtonReport,
+    ParamInfo, PointMotion, Quantity, Real, Solution, SolveError, Stage, StaticInfo, Tick, Visitor,
 };
-pub use nalgebra;
-pub use scalar::Real;
-pub use solve::{NewtonOptions, NewtonReport, check_finite, newton_block, newton_in_place};
-pub use tick::{Solution, Tick};
-pub use trig::{NewtonState, TrigState};
+
+#[cfg(feature = "runtime")]
+pub mod generic;
+#[cfg(feature = "plot")]
+pub mod plot;
+#[cfg(feature = "sweep")]
+pub mod report;
+#[cfg(feature = "sweep")]
+pub mod sweep;
+
+/// The generated solvers of a mechanism file, as a crate's own items: one module per mechanism
+/// (`NAME::TypeName`, `NAME::Params`, …) and `MECHANISMS`, `lookup`, `visit_all`, from the file
+/// that the crate's `build.rs` compiled with `mechgen_codegen::compile` (`OUT_DIR/mechanisms.rs`).
+/// `include_mechanisms!("other.rs")` includes another output file of the build library
+/// (`mechgen_codegen::Config::out_file`).
+#[macro_export]
+macro_rules! include_mechanisms {
+    () => {
+        include!(concat!(env!("OUT_DIR"), "/mechanisms.rs"));
+    };
+    ($file:literal) => {
+        include!(concat!(env!("OUT_DIR"), "/", $file));
+    };
+}
 
 /// The solvers generated from the build's mechanism file (`mechanism.toml`, or `MECHGEN_MECHANISM`).
 pub mod generated {
-    include!(concat!(env!("OUT_DIR"), "/mechanisms.rs"));
+    crate::include_mechanisms!();
 }
+// Explicit root items (the modules above, the re-exports) shadow a mechanism of the same name:
+// that one stays reachable as `mechgen::generated::NAME`.
 pub use generated::*;
 
 /// The mechanism file the solvers were generated from: `SOURCE_NAME` and `SOURCE` (its text), for

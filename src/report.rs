@@ -4,8 +4,8 @@
 
 use std::fmt::Write as _;
 
-use crate::mechanism::{Kind, MechanismInfo};
 use crate::sweep::{Row, Solved, StopReason};
+use mechgen_runtime::mechanism::{Kind, MechanismInfo};
 
 /// Column headers of the CSV, in order.
 pub fn csv_header(info: &MechanismInfo, index: usize) -> Vec<String> {

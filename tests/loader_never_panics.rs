@@ -1,5 +1,5 @@
 //! Arbitrary text never panics the loader (`mechgen_codegen::analyze`, `mechgen::generic::load`)
-//! nor the generator (`mechgen_codegen::compile`), and every diagnostic is rendered with a
+//! nor the generator (`mechgen_codegen::generate_source`), and every diagnostic is rendered with a
 //! `FILE:LINE:COL` header inside the file. Inputs: random strings, and (finding far more)
 //! structure-aware mutations of the repository's mechanism files: characters and lines deleted,
 //! duplicated, swapped or replaced, tokens inserted (`nan`, `1e308`, `*e(`, deep nesting, huge
@@ -15,7 +15,7 @@ use std::sync::OnceLock;
 
 use mechgen::{Kinematics, NewtonOptions, PointMotion, generic};
 use mechgen_codegen::diagnostic::render_one;
-use mechgen_codegen::{SourceFile, analyze, compile};
+use mechgen_codegen::{SourceFile, analyze, generate_source};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
 
@@ -366,7 +366,7 @@ fn check_text(text: &str) -> Result<Outcome, TestCaseError> {
         "the loader and analyze disagree"
     );
     if has_errors {
-        // `compile` is `analyze` and an early return here.
+        // `generate_source` is `analyze` and an early return here.
         let syntax = diagnostics
             .iter()
             .any(|d| d.message.starts_with("TOML syntax error"));
@@ -376,7 +376,7 @@ fn check_text(text: &str) -> Result<Outcome, TestCaseError> {
             Outcome::Errors
         });
     }
-    let generated = compile(&file);
+    let generated = generate_source(&file);
     prop_assert!(
         generated
             .as_ref()

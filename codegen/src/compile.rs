@@ -8,7 +8,7 @@ use crate::diagnostic::{Diagnostic, SourceFile};
 use crate::ir::{differentiate, lower};
 use crate::lints::{self, start};
 use crate::sema::model::Model;
-use crate::{emit, front, sema};
+use crate::{front, sema};
 
 /// Runs every stage up to code generation. Mechanisms with errors are left out; all diagnostics of
 /// the file (errors and warnings) are returned, in file order.
@@ -63,16 +63,4 @@ fn analyze_mechanism(model: Model, diags: &mut Vec<Diagnostic>) -> Option<Compil
         derivatives,
         blocks,
     })
-}
-
-/// Generates the Rust source for a file, or returns its diagnostics when any is an error.
-pub fn compile(file: &SourceFile) -> Result<(String, Vec<Diagnostic>), Vec<Diagnostic>> {
-    let (mechs, diags) = analyze(file);
-    if diags.iter().any(Diagnostic::is_error) {
-        return Err(diags);
-    }
-    match emit::emit(&mechs, &file.name) {
-        Ok(code) => Ok((code, diags)),
-        Err(msg) => Err(vec![Diagnostic::error(Default::default(), msg)]),
-    }
 }

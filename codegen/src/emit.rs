@@ -1,44 +1,58 @@
-//! Stage 6: compiled mechanisms → one Rust source file. Items are built with `quote`, parsed into a
-//! `syn::File` and printed by `prettyplease`; `__comment!("…");` marker statements then become
-//! `// …` lines. Output is deterministic.
+//! Stage 6: compiled mechanisms → one Rust source file: the file-level items (`MECHANISMS`,
+//! `lookup`, `visit_all`) and one module per mechanism ([`crate::emit_module`]), built with `quote`,
+//! parsed into a `syn::File` and printed by `prettyplease`; `__comment!("…");` marker statements
+//! then become `// …` lines. Output is deterministic.
 
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
-use crate::check::{Kind, Model};
+use crate::check::Model;
 use crate::compile::Compiled;
 use crate::dag::Var;
 use crate::emit_body::VarSource;
+use crate::names::ModuleItems;
 
-/// The whole generated file for these mechanisms, formatted.
-pub fn emit(mechs: &[Compiled], source_name: &str) -> Result<String, String> {
-    let modules: Vec<TokenStream> = mechs.iter().map(module).collect();
+/// The runtime path generated code uses unless told otherwise: users depend on `mechgen`.
+pub const DEFAULT_RUNTIME: &str = "::mechgen";
+
+/// The whole generated file, reaching the runtime through `runtime` (a path such as `::mechgen`
+/// or `::mechgen_runtime`): every runtime item is named `{runtime}::__private::…`.
+pub fn emit_with(mechs: &[Compiled], source_name: &str, runtime: &str) -> Result<String, String> {
+    let path: syn::Path = syn::parse_str(runtime)
+        .map_err(|e| format!("the runtime path `{runtime}` is not a Rust path: {e}"))?;
+    let rt = quote!(#path::__private);
+    let gt = format_ident!("T");
+    let modules: Vec<TokenStream> = mechs
+        .iter()
+        .map(|c| crate::emit_module::module(c, &rt))
+        .collect();
     let names: Vec<&str> = mechs.iter().map(|m| m.model.name.text.as_str()).collect();
     let count = names.len();
     let arms = mechs.iter().map(|m| {
         let name = &m.model.name.text;
         let (module, ty) = (format_ident!("{}", name), type_ident(&m.model));
-        quote!(#name => Some(Box::new(#module::#ty::<T>::default())),)
+        quote!(#name => ::core::option::Option::Some(::std::boxed::Box::new(
+            <#module::#ty::<#gt> as ::core::default::Default>::default())),)
     });
     let visits = mechs.iter().map(|m| {
         let (module, ty) = (format_ident!("{}", m.model.name.text), type_ident(&m.model));
-        quote!(v.visit(&#module::#ty::<T>::default());)
+        quote!(v.visit(&<#module::#ty::<#gt> as ::core::default::Default>::default());)
     });
     let file = quote! {
         /// Names of the compiled-in mechanisms, in file order.
         pub const MECHANISMS: [&str; #count] = [#(#names),*];
 
         /// A compiled-in mechanism by name, with its default params, behind the object-safe trait.
-        pub fn lookup<T: ::mechgen::Real>(name: &str) -> Option<Box<dyn ::mechgen::Kinematics<T>>> {
+        pub fn lookup<#gt: #rt::Real>(name: &str) -> ::core::option::Option<::std::boxed::Box<dyn #rt::Kinematics<#gt>>> {
             match name {
                 #(#arms)*
-                _ => None,
+                _ => ::core::option::Option::None,
             }
         }
 
         /// Calls `v.visit` with every compiled-in mechanism (default params), statically typed, in
         /// file order: generic code over whatever the build compiled in, without dynamic dispatch.
-        pub fn visit_all<T: ::mechgen::Real, V: ::mechgen::Visitor<T>>(v: &mut V) {
+        pub fn visit_all<#gt: #rt::Real, V: #rt::Visitor<#gt>>(v: &mut V) {
             #(#visits)*
         }
 
@@ -80,58 +94,53 @@ pub(crate) fn comment(text: &str) -> TokenStream {
     quote!(__comment!(#text);)
 }
 
+/// The mechanism's type: `four_bar` → `FourBar` (see [`ModuleItems`] for the rare exception).
 pub fn type_ident(model: &Model) -> Ident {
-    let camel: String = model
-        .name
-        .text
-        .split('_')
-        .filter(|s| !s.is_empty())
-        .map(|s| {
-            let mut c = s.chars();
-            c.next()
-                .map(|f| f.to_ascii_uppercase().to_string() + c.as_str())
-                .unwrap_or_default()
-        })
-        .collect();
-    format_ident!("{}", camel)
+    ModuleItems::new(&model.name.text).ty
 }
 
-/// Reads variables from the generated functions' arguments `x, q, xd, qd, xdd, qdd` and `self.params`.
-pub(crate) struct Args<'a>(pub &'a Model);
+/// Reads variables from the generated functions' arguments `x, q, xd, qd, xdd, qdd` and
+/// `self.params`; carries what every emitter of the module needs: the runtime path (`rt`,
+/// ending in `__private`) and the module's item names.
+pub(crate) struct Args<'a> {
+    pub model: &'a Model,
+    pub rt: TokenStream,
+    pub items: ModuleItems,
+}
 
 impl VarSource for Args<'_> {
-    fn bind(&self, v: Var) -> (Ident, TokenStream) {
-        let m = self.0;
-        let (name, suffix, arr) = match v {
-            Var::X(i) => (&m.inputs[i as usize].name.text, "", quote!(x)),
-            Var::Q(i) => (&m.unknowns[i as usize].name.text, "", quote!(q)),
-            Var::Xd(i) => (&m.inputs[i as usize].name.text, "_d", quote!(xd)),
-            Var::Qd(i) => (&m.unknowns[i as usize].name.text, "_d", quote!(qd)),
-            Var::Xdd(i) => (&m.inputs[i as usize].name.text, "_dd", quote!(xdd)),
-            Var::Qdd(i) => (&m.unknowns[i as usize].name.text, "_dd", quote!(qdd)),
+    fn read(&self, v: Var) -> TokenStream {
+        let (arr, i) = match v {
+            Var::X(i) => (quote!(x), i),
+            Var::Q(i) => (quote!(q), i),
+            Var::Xd(i) => (quote!(xd), i),
+            Var::Qd(i) => (quote!(qd), i),
+            Var::Xdd(i) => (quote!(xdd), i),
+            Var::Qdd(i) => (quote!(qdd), i),
             Var::P(i) => {
-                let f = format_ident!("{}", m.params[i as usize].name.text);
-                return (format_ident!("p_{}", f), quote!(self.params.#f));
+                let f = format_ident!("{}", self.model.params[i as usize].name.text);
+                return quote!(self.params.#f);
             }
         };
-        let idx = match v {
-            Var::X(i) | Var::Q(i) | Var::Xd(i) | Var::Qd(i) | Var::Xdd(i) | Var::Qdd(i) => {
-                i as usize
-            }
-            Var::P(_) => 0,
-        };
-        (format_ident!("v_{}{}", name, suffix), quote!(#arr[#idx]))
+        let i = i as usize;
+        quote!(#arr[#i])
     }
-}
-
-fn f64_lit(x: f64) -> proc_macro2::Literal {
-    proc_macro2::Literal::f64_unsuffixed(x)
-}
-
-fn kind(k: Kind) -> TokenStream {
-    match k {
-        Kind::Angle => quote!(::mechgen::Kind::Angle),
-        Kind::Length => quote!(::mechgen::Kind::Length),
+    fn hint(&self, v: Var) -> String {
+        let m = self.model;
+        let (name, what) = match v {
+            Var::X(i) => (&m.inputs[i as usize].name.text, ""),
+            Var::Q(i) => (&m.unknowns[i as usize].name.text, ""),
+            Var::Xd(i) => (&m.inputs[i as usize].name.text, "_d"),
+            Var::Qd(i) => (&m.unknowns[i as usize].name.text, "_d"),
+            Var::Xdd(i) => (&m.inputs[i as usize].name.text, "_dd"),
+            Var::Qdd(i) => (&m.unknowns[i as usize].name.text, "_dd"),
+            Var::P(i) => return format!("p_{}", m.params[i as usize].name.text),
+        };
+        // A readable proposal only: the names table keeps `a_d` and the rate of `a` apart.
+        format!("v_{name}{what}")
+    }
+    fn scalar(&self) -> &Ident {
+        &self.items.scalar
     }
 }
 
@@ -143,249 +152,6 @@ pub(crate) fn sizes(m: &Model) -> (usize, usize, usize, usize) {
         m.points.len(),
         m.params.len(),
     )
-}
-
-fn module(c: &Compiled) -> TokenStream {
-    let m = &c.model;
-    let args = Args(m);
-    let (ni, nu, np, npar) = crate::emit::sizes(m);
-    let mod_name = format_ident!("{}", m.name.text);
-    let ty = type_ident(m);
-    let name = &m.name.text;
-    let doc = if m.description.is_empty() {
-        format!("Mechanism `{name}`.")
-    } else {
-        m.description.clone()
-    };
-
-    // Static description.
-    let coord_info = |cs: &[crate::check::Coord]| -> Vec<TokenStream> {
-        cs.iter()
-            .map(|c| {
-                let (n, k, s) = (&c.name.text, kind(c.kind), f64_lit(c.start));
-                quote!(::mechgen::CoordInfo { name: #n, kind: #k, start: #s })
-            })
-            .collect()
-    };
-    let inputs_info = coord_info(&m.inputs);
-    let unknowns_info = coord_info(&m.unknowns);
-    let params_info = m.params.iter().map(|p| {
-        let (n, k, v) = (&p.name.text, kind(p.kind), f64_lit(p.value));
-        quote!(::mechgen::ParamInfo { name: #n, kind: #k, default: #v })
-    });
-    let point_names: Vec<&str> = m.points.iter().map(|(n, _)| n.text.as_str()).collect();
-    let blocks_info = c.blocks.iter().map(|b| {
-        let u = &b.block.unknowns;
-        quote!(&[#(#u),*])
-    });
-    let description = &m.description;
-
-    // Params struct.
-    let param_fields: Vec<Ident> = m
-        .params
-        .iter()
-        .map(|p| format_ident!("{}", p.name.text))
-        .collect();
-    let param_docs = m.params.iter().map(|p| {
-        let k = if p.kind == Kind::Angle {
-            "angle, radians"
-        } else {
-            "length"
-        };
-        match &p.source {
-            Some(src) => format!("`{}` = {src} = {:?} ({k})", p.name.text, p.value),
-            None => format!("`{}` = {:?} ({k})", p.name.text, p.value),
-        }
-    });
-    let param_defaults = m.params.iter().map(|p| super::emit_body::literal(p.value));
-    let marker =
-        (npar == 0).then(|| quote!(#[doc(hidden)] pub _scalar: ::core::marker::PhantomData<T>,));
-    let marker_init = (npar == 0).then(|| quote!(_scalar: ::core::marker::PhantomData,));
-    let param_idx = 0..npar;
-    let length_params = m
-        .params
-        .iter()
-        .filter(|p| p.kind == Kind::Length)
-        .map(|p| format_ident!("{}", p.name.text));
-
-    let coords = |cs: &[crate::check::Coord], ty: Ident, what: &str| {
-        let fields: Vec<Ident> = cs
-            .iter()
-            .map(|c| format_ident!("{}", c.name.text))
-            .collect();
-        let docs = cs.iter().map(|c| {
-            format!(
-                "`{}` ({})",
-                c.name.text,
-                if c.kind == Kind::Angle {
-                    "angle, radians"
-                } else {
-                    "length"
-                }
-            )
-        });
-        let n = fields.len();
-        let idx = 0..n;
-        let doc = format!("The {what} of `{name}`, by name.");
-        quote! {
-            #[doc = #doc]
-            #[derive(Clone, Copy, Debug, Default, PartialEq)]
-            pub struct #ty<T> { #( #[doc = #docs] pub #fields: T, )* }
-            impl<T: Copy> #ty<T> {
-                pub fn from_array(a: [T; #n]) -> Self { #ty { #( #fields: a[#idx], )* } }
-                pub fn to_array(&self) -> [T; #n] { [#(self.#fields),*] }
-            }
-            impl<T: Copy> From<[T; #n]> for #ty<T> { fn from(a: [T; #n]) -> Self { Self::from_array(a) } }
-            impl<T: Copy> From<#ty<T>> for [T; #n] { fn from(v: #ty<T>) -> Self { v.to_array() } }
-        }
-    };
-    let inputs_struct = coords(&m.inputs, format_ident!("Inputs"), "inputs");
-    let unknowns_struct = coords(&m.unknowns, format_ident!("Unknowns"), "unknowns");
-    let point_fields: Vec<Ident> = point_names.iter().map(|n| format_ident!("{}", n)).collect();
-    let point_idx = 0..np;
-
-    let system_fns = crate::emit_system::system_fns(c, &args);
-    let solvers = crate::emit_solve::solvers(c, &args);
-    let nblocks = c.blocks.len();
-
-    quote! {
-        #[doc = #doc]
-        pub mod #mod_name {
-            #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
-
-            /// Static description: names, kinds, start configuration, blocks.
-            pub const INFO: ::mechgen::StaticInfo = ::mechgen::StaticInfo {
-                name: #name,
-                description: #description,
-                inputs: &[#(#inputs_info),*],
-                unknowns: &[#(#unknowns_info),*],
-                params: &[#(#params_info),*],
-                points: &[#(#point_names),*],
-                blocks: &[#(#blocks_info),*],
-            };
-            /// Point names, in the order of point outputs.
-            pub const POINT_NAMES: [&str; #np] = [#(#point_names),*];
-
-            /// Params of the mechanism; `Default` holds the file's values. Change them at run time freely.
-            #[derive(Clone, Copy, Debug, PartialEq)]
-            pub struct Params<T> { #( #[doc = #param_docs] pub #param_fields: T, )* #marker }
-            impl<T: ::mechgen::Real> Default for Params<T> {
-                fn default() -> Self { Params { #( #param_fields: #param_defaults, )* #marker_init } }
-            }
-            impl<T: ::mechgen::Real> Params<T> {
-                /// All params in file order.
-                pub fn to_array(&self) -> [T; #npar] { [#(self.#param_fields),*] }
-                /// Params from an array in file order (see `INFO.params` for names and kinds).
-                pub fn from_array(a: [T; #npar]) -> Self { Params { #( #param_fields: a[#param_idx], )* #marker_init } }
-                /// The largest length param (1 when there is none): tolerances on lengths are relative to it.
-                pub fn length_scale(&self) -> T {
-                    let mut s = T::zero();
-                    #( s = s.max(self.#length_params.abs()); )*
-                    if s > T::zero() { s } else { T::one() }
-                }
-            }
-
-            #inputs_struct
-            #unknowns_struct
-
-            /// Every point's motion, by name.
-            #[derive(Clone, Copy, Debug, Default, PartialEq)]
-            pub struct Points<T> { #( pub #point_fields: ::mechgen::PointMotion<T>, )* #marker }
-            impl<T: Copy> Points<T> {
-                pub fn from_array(a: [::mechgen::PointMotion<T>; #np]) -> Self { Points { #( #point_fields: a[#point_idx], )* #marker_init } }
-            }
-
-            /// The state between simulator ticks (see `tick_start` and `tick`).
-            pub type Tick<T> = ::mechgen::Tick<T, #ni, #nu, #np, #npar>;
-
-            /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
-            #[derive(Clone, Copy, Debug, PartialEq)]
-            pub struct Motion<T> {
-                pub x: Inputs<T>, pub xd: Inputs<T>, pub xdd: Inputs<T>,
-                pub q: Unknowns<T>, pub qd: Unknowns<T>, pub qdd: Unknowns<T>,
-                pub points: Points<T>,
-                pub report: ::mechgen::NewtonReport<T>,
-            }
-
-            #[doc = #doc]
-            #[derive(Clone, Copy, Debug, PartialEq)]
-            pub struct #ty<T = f64> { pub params: Params<T> }
-            impl<T: ::mechgen::Real> Default for #ty<T> {
-                fn default() -> Self { #ty { params: Params::default() } }
-            }
-
-            impl<T: ::mechgen::Real> #ty<T> {
-                pub const INPUTS: usize = #ni;
-                pub const UNKNOWNS: usize = #nu;
-                pub const POINTS: usize = #np;
-                pub const BLOCKS: usize = #nblocks;
-
-                pub fn new(params: Params<T>) -> Self { #ty { params } }
-
-                /// The file's `start` configuration (on the wanted assembly branch).
-                pub fn start() -> (Inputs<T>, Unknowns<T>) {
-                    let x: [T; #ni] = ::core::array::from_fn(|i| T::lit(INFO.inputs[i].start));
-                    let q: [T; #nu] = ::core::array::from_fn(|i| T::lit(INFO.unknowns[i].start));
-                    (Inputs::from_array(x), Unknowns::from_array(q))
-                }
-
-                #system_fns
-                #solvers
-
-                /// Everything at once: positions from `guess`, velocities, accelerations and points.
-                pub fn solve(&self, x: Inputs<T>, xd: Inputs<T>, xdd: Inputs<T>, guess: Unknowns<T>, options: &::mechgen::NewtonOptions<T>)
-                    -> Result<Motion<T>, ::mechgen::SolveError> {
-                    let mut q = guess.to_array();
-                    let (qd, qdd, points, report) = self.solve_arrays(&x.to_array(), &xd.to_array(), &xdd.to_array(), &mut q, options)?;
-                    Ok(Motion { x, xd, xdd, q: Unknowns::from_array(q), qd: Unknowns::from_array(qd),
-                        qdd: Unknowns::from_array(qdd), points: Points::from_array(points), report })
-                }
-            }
-
-            impl<T: ::mechgen::Real> ::mechgen::Mechanism<T> for #ty<T> {
-                const NAME: &'static str = #name;
-                const INPUTS: usize = #ni;
-                const UNKNOWNS: usize = #nu;
-                const POINTS: usize = #np;
-                type X = [T; #ni];
-                type Q = [T; #nu];
-                type Tick = Tick<T>;
-                fn info(&self) -> &'static ::mechgen::StaticInfo { &INFO }
-                fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q { #ty::residual(self, x, q) }
-                fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) { ::mechgen::copy_row_major(&#ty::jacobian(self, x, q), out) }
-                fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) { ::mechgen::copy_row_major(&#ty::input_jacobian(self, x, q), out) }
-                fn jacobian_dot(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, out: &mut [T]) {
-                    ::mechgen::copy_row_major(&#ty::jacobian_dot(self, x, q, xd, qd), out)
-                }
-                fn acceleration_rhs(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X) -> Self::Q {
-                    #ty::acceleration_rhs(self, x, q, xd, qd, xdd).into()
-                }
-                fn solve_position(&self, x: &Self::X, q: &mut Self::Q, options: &::mechgen::NewtonOptions<T>)
-                    -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> { #ty::solve_position(self, x, q, options) }
-                fn solve_velocity(&self, x: &Self::X, q: &Self::Q, xd: &Self::X) -> Result<Self::Q, ::mechgen::SolveError> {
-                    #ty::solve_velocity(self, x, q, xd)
-                }
-                fn solve_acceleration(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X)
-                    -> Result<Self::Q, ::mechgen::SolveError> { #ty::solve_acceleration(self, x, q, xd, qd, xdd) }
-                fn points(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X, qdd: &Self::Q, out: &mut [::mechgen::PointMotion<T>]) {
-                    for (o, p) in out.iter_mut().zip(#ty::point_motion(self, x, q, xd, qd, xdd, qdd)) { *o = p; }
-                }
-                fn tick_start(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, guess: &Self::Q, options: &::mechgen::NewtonOptions<T>)
-                    -> Result<Self::Tick, ::mechgen::SolveError> { #ty::tick_start(self, x, xd, xdd, guess, options) }
-                fn tick(&self, t: &mut Self::Tick, x: &Self::X, xd: &Self::X, xdd: &Self::X, options: &::mechgen::NewtonOptions<T>)
-                    -> Result<(), ::mechgen::SolveError> { #ty::tick(self, t, x, xd, xdd, options) }
-                fn solve_motion(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, q: &mut Self::Q, qd: &mut Self::Q, qdd: &mut Self::Q,
-                    points: &mut [::mechgen::PointMotion<T>], options: &::mechgen::NewtonOptions<T>)
-                    -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
-                    let (v, a, p, report) = #ty::solve_arrays(self, x, xd, xdd, q, options)?;
-                    *qd = v;
-                    *qdd = a;
-                    for (o, m) in points.iter_mut().zip(p) { *o = m; }
-                    Ok(report)
-                }
-            }
-        }
-    }
 }
 
 /// `loop 2, y` for equation 3.

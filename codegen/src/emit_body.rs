@@ -5,21 +5,33 @@
 use std::collections::HashMap;
 
 use proc_macro2::{Ident, Literal, TokenStream};
-use quote::{format_ident, quote};
+use quote::quote;
 
 use crate::dag::{Dag, Node, NodeId, Var};
+use crate::names::{Local, Names};
 
 /// How variables are read inside an emitted function.
 pub trait VarSource {
-    /// The local name a variable is bound to, and the expression that reads it from the arguments.
-    fn bind(&self, v: Var) -> (Ident, TokenStream);
+    /// The expression that reads a variable from the arguments.
+    fn read(&self, v: Var) -> TokenStream;
+    /// A readable name for the local a variable is bound to (the names table makes it unique).
+    fn hint(&self, v: Var) -> String;
     /// An expression giving `(sin v, cos v)` without computing them (a cache), if there is one.
     fn trig(&self, v: Var) -> Option<TokenStream> {
         let _ = v;
         None
     }
+    /// The scalar type parameter of the generated code (`T`).
+    fn scalar(&self) -> &Ident;
 }
 
+/// Locals the emitters write themselves (arguments and fixed bindings of the generated
+/// functions): the names table never gives them to a node.
+pub const FIXED_LOCALS: &[&str] = &[
+    "a", "guess", "jac", "keep", "kx", "ky", "lu", "m", "o", "options", "p", "pa", "params", "pb",
+    "points", "q", "qd", "qdd", "ra", "rb", "report", "s", "same", "fresh_tp", "st", "t", "tp",
+    "tq", "tx", "v", "x", "xd", "xdd", "z",
+];
 /// Statements computing `roots`, and the expression (an identifier or a literal) of each root.
 pub struct Body {
     pub stmts: TokenStream,
@@ -39,6 +51,7 @@ pub struct Builder<'a> {
     dag: &'a Dag,
     vars: &'a dyn VarSource,
     names: Vec<Option<TokenStream>>,
+    locals: Names<Local>,
     temp: usize,
 }
 
@@ -48,6 +61,7 @@ impl<'a> Builder<'a> {
             dag,
             vars,
             names: vec![None; dag.nodes().len()],
+            locals: Names::new(FIXED_LOCALS.iter().copied()),
             temp: 0,
         }
     }
@@ -82,11 +96,10 @@ impl<'a> Builder<'a> {
             }
         }
 
-        let names = &mut self.names;
         let mut stmts = TokenStream::new();
         let mut var_binds: Vec<(Var, TokenStream)> = Vec::new();
         for (i, node) in dag.nodes()[..n].iter().enumerate() {
-            if !live[i] || names[i].is_some() {
+            if !live[i] || self.names[i].is_some() {
                 continue;
             }
             let name = |id: NodeId, names: &[Option<TokenStream>]| {
@@ -94,27 +107,27 @@ impl<'a> Builder<'a> {
             };
             let expr = match *node {
                 Node::Const(b) => {
-                    names[i] = Some(literal(f64::from_bits(b)));
+                    self.names[i] = Some(literal(f64::from_bits(b), vars.scalar()));
                     continue;
                 }
                 Node::Var(v) => {
-                    let (ident, read) = vars.bind(v);
+                    let ident = self.locals.get(Local::Value(v), &[&vars.hint(v)]);
+                    let read = vars.read(v);
                     var_binds.push((v, quote!(let #ident = #read;)));
-                    names[i] = Some(quote!(#ident));
+                    self.names[i] = Some(quote!(#ident));
                     continue;
                 }
                 Node::Sin(a) | Node::Cos(a) if matches!(dag.node(a), Node::Var(v) if vars.trig(v).is_some()) =>
                 {
                     let Node::Var(v) = dag.node(a) else { continue };
-                    let (ident, _) = vars.bind(v);
-                    let (sn, cn) = (format_ident!("s_{}", ident), format_ident!("c_{}", ident));
+                    let (sn, cn) = self.trig_names(v);
                     let src = vars.trig(v).unwrap_or_default();
                     stmts.extend(quote!(let (#sn, #cn) = #src;));
                     // Both names are bound, whichever a later segment asks for.
                     let (s, c) = (dag.find(&Node::Sin(a)), dag.find(&Node::Cos(a)));
                     for (id, nm) in [(s, &sn), (c, &cn)] {
                         if let Some(id) = id {
-                            names[id.index()] = Some(quote!(#nm));
+                            self.names[id.index()] = Some(quote!(#nm));
                         }
                     }
                     continue;
@@ -124,87 +137,97 @@ impl<'a> Builder<'a> {
                 {
                     let (s, c) = (sin_of[&a], cos_of[&a]);
                     let (sn, cn) = match dag.node(a) {
-                        Node::Var(v) => {
-                            let (ident, _) = vars.bind(v);
-                            (format_ident!("s_{}", ident), format_ident!("c_{}", ident))
+                        Node::Var(v) => self.trig_names(v),
+                        _ => {
+                            let n = self.temp;
+                            (
+                                self.locals.get(Local::TempSin(n), &[&format!("s{n}")]),
+                                self.locals.get(Local::TempCos(n), &[&format!("c{n}")]),
+                            )
                         }
-                        _ => (
-                            format_ident!("s{}", self.temp),
-                            format_ident!("c{}", self.temp),
-                        ),
                     };
                     self.temp += 1;
-                    let arg = name(a, names);
+                    let arg = name(a, &self.names);
                     stmts.extend(quote!(let (#sn, #cn) = #arg.sin_cos();));
-                    names[s.index()] = Some(quote!(#sn));
-                    names[c.index()] = Some(quote!(#cn));
+                    self.names[s.index()] = Some(quote!(#sn));
+                    self.names[c.index()] = Some(quote!(#cn));
                     continue;
                 }
                 Node::Add(a, b) => {
-                    let (a, b) = (name(a, names), name(b, names));
+                    let (a, b) = (name(a, &self.names), name(b, &self.names));
                     quote!(#a + #b)
                 }
                 Node::Sub(a, b) => {
-                    let (a, b) = (name(a, names), name(b, names));
+                    let (a, b) = (name(a, &self.names), name(b, &self.names));
                     quote!(#a - #b)
                 }
                 Node::Mul(a, b) => {
-                    let (a, b) = (name(a, names), name(b, names));
+                    let (a, b) = (name(a, &self.names), name(b, &self.names));
                     quote!(#a * #b)
                 }
                 Node::Div(a, b) => {
-                    let (a, b) = (name(a, names), name(b, names));
+                    let (a, b) = (name(a, &self.names), name(b, &self.names));
                     quote!(#a / #b)
                 }
                 Node::Neg(a) => {
-                    let a = name(a, names);
+                    let a = name(a, &self.names);
                     quote!(-#a)
                 }
                 Node::Sin(a) => {
-                    let a = name(a, names);
+                    let a = name(a, &self.names);
                     quote!(#a.sin())
                 }
                 Node::Cos(a) => {
-                    let a = name(a, names);
+                    let a = name(a, &self.names);
                     quote!(#a.cos())
                 }
                 Node::Tan(a) => {
-                    let a = name(a, names);
+                    let a = name(a, &self.names);
                     quote!(#a.tan())
                 }
                 Node::Sqrt(a) => {
-                    let a = name(a, names);
+                    let a = name(a, &self.names);
                     quote!(#a.sqrt())
                 }
             };
-            let t = format_ident!("t{}", self.temp);
+            let n = self.temp;
+            let t = self.locals.get(Local::Temp(n), &[&format!("t{n}")]);
             self.temp += 1;
             stmts.extend(quote!(let #t = #expr;));
-            names[i] = Some(quote!(#t));
+            self.names[i] = Some(quote!(#t));
         }
         var_binds.sort_by_key(|(v, _)| *v);
         let mut all: TokenStream = var_binds.into_iter().map(|(_, s)| s).collect();
         all.extend(stmts);
         let roots = roots
             .iter()
-            .map(|r| names[r.index()].clone().unwrap_or_default())
+            .map(|r| self.names[r.index()].clone().unwrap_or_default())
             .collect();
         Body { stmts: all, roots }
     }
+
+    /// The locals of a variable's sine and cosine: `s_`/`c_` and the variable's own local.
+    fn trig_names(&mut self, v: Var) -> (Ident, Ident) {
+        let ident = self.locals.get(Local::Value(v), &[&self.vars.hint(v)]);
+        (
+            self.locals.get(Local::Sin(v), &[&format!("s_{ident}")]),
+            self.locals.get(Local::Cos(v), &[&format!("c_{ident}")]),
+        )
+    }
 }
 
-/// A constant in generic scalar code.
-pub fn literal(x: f64) -> TokenStream {
+/// A constant in generic scalar code (`gt`: the scalar type parameter).
+pub fn literal(x: f64, gt: &Ident) -> TokenStream {
     if x == 0.0 {
-        return quote!(T::zero());
+        return quote!(#gt::zero());
     }
     if x == 1.0 {
-        return quote!(T::one());
+        return quote!(#gt::one());
     }
     let lit = Literal::f64_unsuffixed(x.abs());
     if x < 0.0 {
-        quote!(T::lit(-#lit))
+        quote!(#gt::lit(-#lit))
     } else {
-        quote!(T::lit(#lit))
+        quote!(#gt::lit(#lit))
     }
 }

@@ -18,15 +18,20 @@ use crate::emit_body::{Builder, VarSource};
 pub(crate) struct Fused<'a>(pub &'a dyn VarSource);
 
 impl VarSource for Fused<'_> {
-    fn bind(&self, v: Var) -> (Ident, TokenStream) {
-        let (ident, read) = self.0.bind(v);
+    fn read(&self, v: Var) -> TokenStream {
         match v {
             Var::Q(i) => {
                 let i = i as usize;
-                (ident, quote!(st.q[#i]))
+                quote!(st.q[#i])
             }
-            _ => (ident, read),
+            _ => self.0.read(v),
         }
+    }
+    fn hint(&self, v: Var) -> String {
+        self.0.hint(v)
+    }
+    fn scalar(&self) -> &Ident {
+        self.0.scalar()
     }
     fn trig(&self, v: Var) -> Option<TokenStream> {
         let src = self.0.trig(v)?;
@@ -40,8 +45,9 @@ impl VarSource for Fused<'_> {
     }
 }
 
-/// `fn motion_cached(…) -> Result<(q̇, q̈, points), SolveError>`, inside the mechanism's impl.
-pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource) -> TokenStream {
+/// `fn motion_cached(…) -> ::core::result::Result<(q̇, q̈, points), SolveError>`, inside the mechanism's impl.
+pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> TokenStream {
+    let gt = cached.scalar();
     let m = &c.model;
     let dag = &c.system.dag;
     let (ni, nu, np, npar) = crate::emit::sizes(m);
@@ -56,7 +62,7 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource) -> TokenStream {
             .collect();
         let pos_fn = format_ident!("block{}_position", bi);
         let newton = quote! {
-            ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
+            #rt::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
                 |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
         };
         match &bf.dyad {
@@ -69,7 +75,7 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource) -> TokenStream {
                 steps.extend(quote! {
                     #stmts
                     if options.closed_forms {
-                        ::mechgen::solve_dyad(#bi, st, #a, #bu, [#kx, #ky], (#pa, #ra), (#pb, #rb),
+                        #rt::solve_dyad(#bi, st, #a, #bu, [#kx, #ky], (#pa, #ra), (#pb, #rb),
                             || self.params.length_scale(), options.tolerance, report)?;
                     } else {
                         #newton
@@ -96,17 +102,17 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource) -> TokenStream {
         )));
         steps.extend(quote! {
             #stmts
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, #k, #k>::zeros();
+            let mut jac = #rt::nalgebra::SMatrix::<#gt, #k, #k>::zeros();
             #sets
-            let lu = ::mechgen::factor_block(#bi, ::mechgen::Stage::Velocity, jac)?;
-            let z = lu.solve(#bi, ::mechgen::Stage::Velocity, ::mechgen::nalgebra::SVector::from([#(#vel),*]))?;
+            let lu = #rt::factor_block(#bi, #rt::Stage::Velocity, jac)?;
+            let z = lu.solve(#bi, #rt::Stage::Velocity, #rt::nalgebra::SVector::from([#(#vel),*]))?;
             #( qd[#idx] = z[#zi]; )*
         });
         let seg = b.segment(&bf.acceleration_rhs);
         let (stmts, acc) = (&seg.stmts, &seg.roots);
         steps.extend(quote! {
             #stmts
-            let z = lu.solve(#bi, ::mechgen::Stage::Acceleration, ::mechgen::nalgebra::SVector::from([#(#acc),*]))?;
+            let z = lu.solve(#bi, #rt::Stage::Acceleration, #rt::nalgebra::SVector::from([#(#acc),*]))?;
             #( qdd[#idx] = z[#zi]; )*
         });
     }
@@ -120,7 +126,7 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource) -> TokenStream {
     let stmts = &seg.stmts;
     let items = seg.roots.chunks(6).map(|p| {
         let (px, py, vx, vy, ax, ay) = (&p[0], &p[1], &p[2], &p[3], &p[4], &p[5]);
-        quote!(::mechgen::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] })
+        quote!(#rt::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] })
     });
     steps.extend(comment("Points."));
     quote! {
@@ -128,12 +134,12 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource) -> TokenStream {
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
         #[inline(always)]
-        fn motion_cached(&self, x: &[T; #ni], st: &mut ::mechgen::TrigState<T, #nu>, tx: &[(T, T); #ni],
-            tp: &[(T, T); #npar], xd: &[T; #ni], xdd: &[T; #ni], options: &::mechgen::NewtonOptions<T>,
-            report: &mut ::mechgen::NewtonReport<T>)
-            -> Result<([T; #nu], [T; #nu], [::mechgen::PointMotion<T>; #np]), ::mechgen::SolveError> {
-            let mut qd = [T::zero(); #nu];
-            let mut qdd = [T::zero(); #nu];
+        fn motion_cached(&self, x: &[#gt; #ni], st: &mut #rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
+            tp: &[(#gt, #gt); #npar], xd: &[#gt; #ni], xdd: &[#gt; #ni], options: &#rt::NewtonOptions<#gt>,
+            report: &mut #rt::NewtonReport<#gt>)
+            -> ::core::result::Result<([#gt; #nu], [#gt; #nu], [#rt::PointMotion<#gt>; #np]), #rt::SolveError> {
+            let mut qd = [#gt::zero(); #nu];
+            let mut qdd = [#gt::zero(); #nu];
             #steps
             #stmts
             Ok((qd, qdd, [#(#items),*]))

@@ -22,8 +22,14 @@ struct Cached<'a> {
 }
 
 impl VarSource for Cached<'_> {
-    fn bind(&self, v: Var) -> (Ident, TokenStream) {
-        self.args.bind(v)
+    fn read(&self, v: Var) -> TokenStream {
+        self.args.read(v)
+    }
+    fn hint(&self, v: Var) -> String {
+        self.args.hint(v)
+    }
+    fn scalar(&self) -> &Ident {
+        self.args.scalar()
     }
     fn trig(&self, v: Var) -> Option<TokenStream> {
         let (mask, arr, i) = match v {
@@ -82,6 +88,7 @@ pub(crate) fn jacobian_sets(c: &Compiled, bi: usize, roots: &[TokenStream]) -> T
 
 /// The solver methods of a mechanism's type (inside its `impl<T: Real>` block).
 pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
+    let (rt, gt, tick_ty) = (&args.rt, &args.items.scalar, &args.items.tick);
     let m = &c.model;
     let dag = &c.system.dag;
     let (ni, nu, np, npar) = crate::emit::sizes(m);
@@ -98,7 +105,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
     };
     let tx_sets = trig_sets(&xm, quote!(tx), quote!(x));
     let tp_sets = trig_sets(&pm, quote!(tp), quote!(params));
-    let ctx = quote!(tx: &[(T, T); #ni], tp: &[(T, T); #npar], tq: &[(T, T); #nu]);
+    let ctx = quote!(tx: &[(#gt, #gt); #ni], tp: &[(#gt, #gt); #npar], tq: &[(#gt, #gt); #nu]);
 
     let mut block_fns = TokenStream::new();
     let (mut pos_steps, mut vel_steps, mut acc_steps) =
@@ -123,9 +130,9 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             format_ident!("block{}_acceleration", bi),
         ];
         let params = [
-            quote!(x: &[T; #ni], q: &[T; #nu], #ctx),
-            quote!(x: &[T; #ni], q: &[T; #nu], #ctx, xd: &[T; #ni], qd: &[T; #nu]),
-            quote!(x: &[T; #ni], q: &[T; #nu], #ctx, xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni], qdd: &[T; #nu]),
+            quote!(x: &[#gt; #ni], q: &[#gt; #nu], #ctx),
+            quote!(x: &[#gt; #ni], q: &[#gt; #nu], #ctx, xd: &[#gt; #ni], qd: &[#gt; #nu]),
+            quote!(x: &[#gt; #ni], q: &[#gt; #nu], #ctx, xd: &[#gt; #ni], qd: &[#gt; #nu], xdd: &[#gt; #ni], qdd: &[#gt; #nu]),
         ];
         // Newton reads the residual with the Jacobian; the linear passes read the Jacobian once
         // per block (factored for both right-hand sides) and each right-hand side alone.
@@ -143,11 +150,11 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         block_fns.extend(quote! {
             #[doc = #doc]
             #[inline]
-            fn #fname(&self, #p) -> (::mechgen::nalgebra::SVector<T, #k>, ::mechgen::nalgebra::SMatrix<T, #k, #k>) {
+            fn #fname(&self, #p) -> (#rt::nalgebra::SVector<#gt, #k>, #rt::nalgebra::SMatrix<#gt, #k, #k>) {
                 #stmts
-                let mut jac = ::mechgen::nalgebra::SMatrix::<T, #k, #k>::zeros();
+                let mut jac = #rt::nalgebra::SMatrix::<#gt, #k, #k>::zeros();
                 #sets
-                (::mechgen::nalgebra::SVector::from([#(#v),*]), jac)
+                (#rt::nalgebra::SVector::from([#(#v),*]), jac)
             }
         });
         let jac_fn = format_ident!("block{}_jacobian", bi);
@@ -157,9 +164,9 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         block_fns.extend(quote! {
             #[doc = #doc]
             #[inline]
-            fn #jac_fn(&self, #p) -> ::mechgen::nalgebra::SMatrix<T, #k, #k> {
+            fn #jac_fn(&self, #p) -> #rt::nalgebra::SMatrix<#gt, #k, #k> {
                 #stmts
-                let mut jac = ::mechgen::nalgebra::SMatrix::<T, #k, #k>::zeros();
+                let mut jac = #rt::nalgebra::SMatrix::<#gt, #k, #k>::zeros();
                 #sets
                 jac
             }
@@ -175,9 +182,9 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             block_fns.extend(quote! {
                 #[doc = #doc]
                 #[inline]
-                fn #fname(&self, #p) -> ::mechgen::nalgebra::SVector<T, #k> {
+                fn #fname(&self, #p) -> #rt::nalgebra::SVector<#gt, #k> {
                     #stmts
-                    ::mechgen::nalgebra::SVector::from([#(#v),*])
+                    #rt::nalgebra::SVector::from([#(#v),*])
                 }
             });
         }
@@ -199,7 +206,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
                 block_fns.extend(quote! {
                     #[doc = #doc]
                     #[inline]
-                    fn #dyad_fn(&self, x: &[T; #ni], q: &[T; #nu], #ctx) -> [T; 6] {
+                    fn #dyad_fn(&self, x: &[#gt; #ni], q: &[#gt; #nu], #ctx) -> [#gt; 6] {
                         #stmts
                         [#(#r),*]
                     }
@@ -210,16 +217,16 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
                     #c_text
                     if options.closed_forms {
                         let [kx, ky, pa, ra, pb, rb] = self.#dyad_fn(x, &st.q, tx, tp, &st.sc);
-                        ::mechgen::solve_dyad(#bi, st, #a, #bu, [kx, ky], (pa, ra), (pb, rb), || self.params.length_scale(), options.tolerance, report)?;
+                        #rt::solve_dyad(#bi, st, #a, #bu, [kx, ky], (pa, ra), (pb, rb), || self.params.length_scale(), options.tolerance, report)?;
                     } else {
-                        ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
+                        #rt::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
                             |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
                     }
                 }
             }
             None => quote! {
                 #c_text
-                ::mechgen::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
+                #rt::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
                     |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
             },
         };
@@ -228,19 +235,19 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         let jac_fn = format_ident!("block{}_jacobian", bi);
         vel_steps.extend(quote! {
             #c_text
-            let lu = ::mechgen::factor_block(#bi, ::mechgen::Stage::Velocity, self.#jac_fn(x, q, tx, tp, tq))?;
-            let z = lu.solve(#bi, ::mechgen::Stage::Velocity, self.#vel_fn(x, q, tx, tp, tq, xd, &qd))?;
+            let lu = #rt::factor_block(#bi, #rt::Stage::Velocity, self.#jac_fn(x, q, tx, tp, tq))?;
+            let z = lu.solve(#bi, #rt::Stage::Velocity, self.#vel_fn(x, q, tx, tp, tq, xd, &qd))?;
             #( qd[#idx] = z[#zi]; )*
         });
         acc_steps.extend(quote! {
             #c_text
-            let lu = ::mechgen::factor_block(#bi, ::mechgen::Stage::Acceleration, self.#jac_fn(x, q, tx, tp, tq))?;
-            let z = lu.solve(#bi, ::mechgen::Stage::Acceleration, self.#acc_fn(x, q, tx, tp, tq, xd, qd, xdd, &qdd))?;
+            let lu = #rt::factor_block(#bi, #rt::Stage::Acceleration, self.#jac_fn(x, q, tx, tp, tq))?;
+            let z = lu.solve(#bi, #rt::Stage::Acceleration, self.#acc_fn(x, q, tx, tp, tq, xd, qd, xdd, &qdd))?;
             #( qdd[#idx] = z[#zi]; )*
         });
     }
 
-    let motion = crate::emit_motion::motion(c, &cached);
+    let motion = crate::emit_motion::motion(c, &cached, rt);
     let angle_mask = &qm;
     let mut closed_mask = vec![false; nu];
     for bf in &c.blocks {
@@ -256,10 +263,10 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
 
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
-        fn trig_fixed(&self, x: &[T; #ni]) -> ([(T, T); #ni], [(T, T); #npar]) {
+        fn trig_fixed(&self, x: &[#gt; #ni]) -> ([(#gt, #gt); #ni], [(#gt, #gt); #npar]) {
             let params = self.params.to_array();
-            let mut tx = [(T::zero(), T::one()); #ni];
-            let mut tp = [(T::zero(), T::one()); #npar];
+            let mut tx = [(#gt::zero(), #gt::one()); #ni];
+            let mut tp = [(#gt::zero(), #gt::one()); #npar];
             #tx_sets
             #tp_sets
             (tx, tp)
@@ -267,28 +274,28 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
 
         /// The unknowns with the sines and cosines the solvers read.
         #[inline]
-        fn trig_state(q: [T; #nu]) -> ::mechgen::TrigState<T, #nu> {
-            ::mechgen::TrigState::new(q, [#(#angle_mask),*])
+        fn trig_state(q: [#gt; #nu]) -> #rt::TrigState<#gt, #nu> {
+            #rt::TrigState::new(q, [#(#angle_mask),*])
         }
 
         #[inline]
-        fn position_cached(&self, x: &[T; #ni], st: &mut ::mechgen::TrigState<T, #nu>, tx: &[(T, T); #ni], tp: &[(T, T); #npar],
-            options: &::mechgen::NewtonOptions<T>, report: &mut ::mechgen::NewtonReport<T>) -> Result<(), ::mechgen::SolveError> {
+        fn position_cached(&self, x: &[#gt; #ni], st: &mut #rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni], tp: &[(#gt, #gt); #npar],
+            options: &#rt::NewtonOptions<#gt>, report: &mut #rt::NewtonReport<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
             #pos_steps
             Ok(())
         }
 
         #[inline]
-        fn velocity_cached(&self, x: &[T; #ni], q: &[T; #nu], #ctx, xd: &[T; #ni]) -> Result<[T; #nu], ::mechgen::SolveError> {
-            let mut qd = [T::zero(); #nu];
+        fn velocity_cached(&self, x: &[#gt; #ni], q: &[#gt; #nu], #ctx, xd: &[#gt; #ni]) -> ::core::result::Result<[#gt; #nu], #rt::SolveError> {
+            let mut qd = [#gt::zero(); #nu];
             #vel_steps
             Ok(qd)
         }
 
         #[inline]
-        fn acceleration_cached(&self, x: &[T; #ni], q: &[T; #nu], #ctx, xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni])
-            -> Result<[T; #nu], ::mechgen::SolveError> {
-            let mut qdd = [T::zero(); #nu];
+        fn acceleration_cached(&self, x: &[#gt; #ni], q: &[#gt; #nu], #ctx, xd: &[#gt; #ni], qd: &[#gt; #nu], xdd: &[#gt; #ni])
+            -> ::core::result::Result<[#gt; #nu], #rt::SolveError> {
+            let mut qdd = [#gt::zero(); #nu];
             #acc_steps
             Ok(qdd)
         }
@@ -297,14 +304,14 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
 
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
-        pub fn solve_position(&self, x: &[T; #ni], q: &mut [T; #nu], options: &::mechgen::NewtonOptions<T>)
-            -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
-            ::mechgen::check_finite(::mechgen::Quantity::Param, &self.params.to_array())?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+        pub fn solve_position(&self, x: &[#gt; #ni], q: &mut [#gt; #nu], options: &#rt::NewtonOptions<#gt>)
+            -> ::core::result::Result<#rt::NewtonReport<#gt>, #rt::SolveError> {
+            #rt::check_finite(#rt::Quantity::Param, &self.params.to_array())?;
+            #rt::check_finite(#rt::Quantity::Input, x)?;
+            #rt::check_finite(#rt::Quantity::Guess, q)?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = #rt::NewtonReport::new();
             self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
             *q = st.q;
             Ok(report)
@@ -312,11 +319,11 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
 
         /// q̇ from J q̇ = −Φx ẋ at a solved position. Non-finite arguments: `NonFinite` (params,
         /// inputs, positions, input rates, in that order).
-        pub fn solve_velocity(&self, x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni]) -> Result<[T; #nu], ::mechgen::SolveError> {
-            ::mechgen::check_finite(::mechgen::Quantity::Param, &self.params.to_array())?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+        pub fn solve_velocity(&self, x: &[#gt; #ni], q: &[#gt; #nu], xd: &[#gt; #ni]) -> ::core::result::Result<[#gt; #nu], #rt::SolveError> {
+            #rt::check_finite(#rt::Quantity::Param, &self.params.to_array())?;
+            #rt::check_finite(#rt::Quantity::Input, x)?;
+            #rt::check_finite(#rt::Quantity::Position, q)?;
+            #rt::check_finite(#rt::Quantity::InputRate, xd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
@@ -324,14 +331,14 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
 
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
         /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
-        pub fn solve_acceleration(&self, x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni])
-            -> Result<[T; #nu], ::mechgen::SolveError> {
-            ::mechgen::check_finite(::mechgen::Quantity::Param, &self.params.to_array())?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Rate, qd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+        pub fn solve_acceleration(&self, x: &[#gt; #ni], q: &[#gt; #nu], xd: &[#gt; #ni], qd: &[#gt; #nu], xdd: &[#gt; #ni])
+            -> ::core::result::Result<[#gt; #nu], #rt::SolveError> {
+            #rt::check_finite(#rt::Quantity::Param, &self.params.to_array())?;
+            #rt::check_finite(#rt::Quantity::Input, x)?;
+            #rt::check_finite(#rt::Quantity::Position, q)?;
+            #rt::check_finite(#rt::Quantity::InputRate, xd)?;
+            #rt::check_finite(#rt::Quantity::Rate, qd)?;
+            #rt::check_finite(#rt::Quantity::InputAcceleration, xdd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
@@ -340,17 +347,17 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
         #[inline]
-        pub fn solve_arrays(&self, x: &[T; #ni], xd: &[T; #ni], xdd: &[T; #ni], q: &mut [T; #nu],
-            options: &::mechgen::NewtonOptions<T>)
-            -> Result<([T; #nu], [T; #nu], [::mechgen::PointMotion<T>; #np], ::mechgen::NewtonReport<T>), ::mechgen::SolveError> {
-            ::mechgen::check_finite(::mechgen::Quantity::Param, &self.params.to_array())?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+        pub fn solve_arrays(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], q: &mut [#gt; #nu],
+            options: &#rt::NewtonOptions<#gt>)
+            -> ::core::result::Result<([#gt; #nu], [#gt; #nu], [#rt::PointMotion<#gt>; #np], #rt::NewtonReport<#gt>), #rt::SolveError> {
+            #rt::check_finite(#rt::Quantity::Param, &self.params.to_array())?;
+            #rt::check_finite(#rt::Quantity::Input, x)?;
+            #rt::check_finite(#rt::Quantity::Guess, q)?;
+            #rt::check_finite(#rt::Quantity::InputRate, xd)?;
+            #rt::check_finite(#rt::Quantity::InputAcceleration, xdd)?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = #rt::NewtonReport::new();
             let (qd, qdd, points) = self.motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
             Ok((qd, qdd, points, report))
@@ -358,31 +365,31 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
 
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
         /// cosines for [`Self::tick`].
-        pub fn tick_start(&self, x: &[T; #ni], xd: &[T; #ni], xdd: &[T; #ni], guess: &[T; #nu],
-            options: &::mechgen::NewtonOptions<T>) -> Result<Tick<T>, ::mechgen::SolveError> {
+        pub fn tick_start(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], guess: &[#gt; #nu],
+            options: &#rt::NewtonOptions<#gt>) -> ::core::result::Result<#tick_ty<#gt>, #rt::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self.solve_arrays(x, xd, xdd, &mut q, options)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(q);
-            Ok(::mechgen::Tick::new(::mechgen::Solution { x: *x, xd: *xd, q, qd, qdd, points, report,
+            Ok(#rt::Tick::new(#rt::Solution { x: *x, xd: *xd, q, qd, qdd, points, report,
                 tx, tq: st.sc, tp, params: self.params.to_array() }))
         }
 
         /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
         /// blocks predicted by a second-order step from the last tick, their sines and cosines
-        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
-        pub fn tick(&self, t: &mut Tick<T>, x: &[T; #ni], xd: &[T; #ni], xdd: &[T; #ni],
-            options: &::mechgen::NewtonOptions<T>) -> Result<(), ::mechgen::SolveError> {
+        pub fn tick(&self, t: &mut #tick_ty<#gt>, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni],
+            options: &#rt::NewtonOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {
-                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+                #rt::check_finite(#rt::Quantity::Param, &params)?;
             }
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            #rt::check_finite(#rt::Quantity::Input, x)?;
+            #rt::check_finite(#rt::Quantity::InputRate, xd)?;
+            #rt::check_finite(#rt::Quantity::InputAcceleration, xdd)?;
             let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [#(#input_mask),*]), t.params_trig())
@@ -392,7 +399,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             };
             let keep = if options.closed_forms { [#(#closed_mask),*] } else { [false; #nu] };
             let mut st = t.predicted(x, [#(#angle_mask),*], keep, same);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = #rt::NewtonReport::new();
             let (qd, qdd, points) = self.motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
             t.update(x, xd, &st, qd, qdd, points, report, tx, fresh_tp.as_ref().map(|tp| (&params, tp)));
             Ok(())

@@ -12,6 +12,7 @@ use crate::emit_body::body;
 
 /// The whole-system methods (inside the mechanism type's `impl<T: Real>` block).
 pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
+    let (rt, gt) = (&args.rt, &args.items.scalar);
     let m = &c.model;
     let dag = &c.system.dag;
     let (ni, nu, np) = (m.inputs.len(), m.unknowns.len(), m.points.len());
@@ -43,9 +44,9 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
         let stmts = b.stmts;
         quote! {
             #[doc = #doc]
-            pub fn #f(&self, x: &[T; #ni], q: &[T; #nu] #extra) -> ::mechgen::nalgebra::SMatrix<T, #rows, #cols> {
+            pub fn #f(&self, x: &[#gt; #ni], q: &[#gt; #nu] #extra) -> #rt::nalgebra::SMatrix<#gt, #rows, #cols> {
                 #stmts
-                let mut m = ::mechgen::nalgebra::SMatrix::<T, #rows, #cols>::zeros();
+                let mut m = #rt::nalgebra::SMatrix::<#gt, #rows, #cols>::zeros();
                 #sets
                 m
             }
@@ -53,7 +54,7 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
     };
     let unknown_names: Vec<String> = m.unknowns.iter().map(|u| u.name.text.clone()).collect();
     let input_names: Vec<String> = m.inputs.iter().map(|u| u.name.text.clone()).collect();
-    let rates = quote!(, xd: &[T; #ni], qd: &[T; #nu]);
+    let rates = quote!(, xd: &[#gt; #ni], qd: &[#gt; #nu]);
     let jacobian = matrix_fn(
         "jacobian",
         "J = ∂Φ/∂q at (x, q).",
@@ -84,7 +85,7 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
                      roots: &[NodeId],
                      params: TokenStream,
                      ret: TokenStream,
-                     wrap: fn(&[TokenStream]) -> TokenStream| {
+                     wrap: &dyn Fn(&[TokenStream]) -> TokenStream| {
         let f = format_ident!("{}", fname);
         let b = body(dag, roots, args);
         let stmts = b.stmts;
@@ -95,39 +96,39 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
         }
     };
     let array = |r: &[TokenStream]| quote!([#(#r),*]);
-    let svector = |r: &[TokenStream]| quote!(::mechgen::nalgebra::SVector::from([#(#r),*]));
+    let svector = |r: &[TokenStream]| quote!(#rt::nalgebra::SVector::from([#(#r),*]));
     let residual = vector_fn(
         "residual",
         "Φ(x, q): the loop-closure residuals, two per loop (x then y).",
         &c.system.residuals,
-        quote!(x: &[T; #ni], q: &[T; #nu]),
-        quote!([T; #nu]),
-        array,
+        quote!(x: &[#gt; #ni], q: &[#gt; #nu]),
+        quote!([#gt; #nu]),
+        &array,
     );
     let velocity_rhs = vector_fn(
         "velocity_rhs",
         "−Φx ẋ: the right-hand side of J q̇ = −Φx ẋ.",
         &c.derivatives.velocity_rhs,
-        quote!(x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni]),
-        quote!(::mechgen::nalgebra::SVector<T, #nu>),
-        svector,
+        quote!(x: &[#gt; #ni], q: &[#gt; #nu], xd: &[#gt; #ni]),
+        quote!(#rt::nalgebra::SVector<#gt, #nu>),
+        &svector,
     );
     let acceleration_rhs = vector_fn(
         "acceleration_rhs",
         "γ = −(J̇ q̇ + Φ̇x ẋ) − Φx ẍ: the right-hand side of J q̈ = γ.",
         &c.derivatives.acceleration_rhs,
-        quote!(x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni]),
-        quote!(::mechgen::nalgebra::SVector<T, #nu>),
-        svector,
+        quote!(x: &[#gt; #ni], q: &[#gt; #nu], xd: &[#gt; #ni], qd: &[#gt; #nu], xdd: &[#gt; #ni]),
+        quote!(#rt::nalgebra::SVector<#gt, #nu>),
+        &svector,
     );
     let pos_roots: Vec<NodeId> = c.system.points.iter().flatten().copied().collect();
     let point_positions = vector_fn(
         "point_positions",
         "Positions of the points, in `POINT_NAMES` order.",
         &pos_roots,
-        quote!(x: &[T; #ni], q: &[T; #nu]),
-        quote!([[T; 2]; #np]),
-        |r| {
+        quote!(x: &[#gt; #ni], q: &[#gt; #nu]),
+        quote!([[#gt; 2]; #np]),
+        &|r: &[TokenStream]| {
             let pairs = r.chunks(2).map(|p| {
                 let (a, b) = (&p[0], &p[1]);
                 quote!([#a, #b])
@@ -145,12 +146,12 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
         "point_motion",
         "Position, velocity and acceleration of every point, in `POINT_NAMES` order.",
         &motion_roots,
-        quote!(x: &[T; #ni], q: &[T; #nu], xd: &[T; #ni], qd: &[T; #nu], xdd: &[T; #ni], qdd: &[T; #nu]),
-        quote!([::mechgen::PointMotion<T>; #np]),
-        |r| {
+        quote!(x: &[#gt; #ni], q: &[#gt; #nu], xd: &[#gt; #ni], qd: &[#gt; #nu], xdd: &[#gt; #ni], qdd: &[#gt; #nu]),
+        quote!([#rt::PointMotion<#gt>; #np]),
+        &|r: &[TokenStream]| {
             let items = r.chunks(6).map(|p| {
                 let (px, py, vx, vy, ax, ay) = (&p[0], &p[1], &p[2], &p[3], &p[4], &p[5]);
-                quote!(::mechgen::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] })
+                quote!(#rt::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] })
             });
             quote!([#(#items),*])
         },

@@ -6,6 +6,10 @@
 //! `Model`) → `ir` (the hash-consed DAG, lowering, derivatives) → `lints` (start check, overflow,
 //! unused, structural errors) → `analysis` (block structure and the per-block plan → [`Compiled`])
 //! → emit (tokens → `prettyplease`). [`diagnostic`] renders errors as FILE:LINE:COLUMN.
+//!
+//! The build library: [`compile`]`("mechanism.toml")` in any crate's `build.rs` (or [`Config`] for
+//! options) writes the solvers to `OUT_DIR`, for `mechgen::include_mechanisms!()`;
+//! [`generate_source`] gives the code as a string. [`build_script`] is mechgen's own build.
 
 // Float guards read better than float patterns; `% 2` is the loop component parity.
 #![allow(
@@ -17,15 +21,18 @@
 mod analysis;
 pub mod build_script;
 mod compile;
+mod config;
 pub mod diagnostic;
 mod emit;
 mod emit_body;
+mod emit_module;
 mod emit_motion;
 mod emit_solve;
 mod emit_system;
 mod front;
 mod ir;
 mod lints;
+mod names;
 mod sema;
 
 // Transitional paths for the emitters until they move into their own stage folder.
@@ -37,7 +44,8 @@ pub use analysis::dyad::Dyad;
 pub use analysis::plan::BlockForms;
 pub use analysis::scene::{Order, ScenePlan, plan_scene, plan_scenes};
 pub use analysis::structure::Block;
-pub use compile::{analyze, compile};
+pub use compile::analyze;
+pub use config::{Config, Generated, compile, generate_source};
 pub use diagnostic::{Diagnostic, Severity, SourceFile, Span};
 pub use ir::dag::{Dag, Node, NodeId, Var};
 pub use ir::differentiate::Derivatives;

@@ -1,11 +1,11 @@
 //! Bad files: every error reported, each with FILE:LINE:COLUMN and the offending name.
 
 use mechgen_codegen::diagnostic::render;
-use mechgen_codegen::{SourceFile, compile};
+use mechgen_codegen::{SourceFile, generate_source};
 
 fn errors(text: &str) -> String {
     let file = SourceFile::new("bad.toml", text);
-    match compile(&file) {
+    match generate_source(&file) {
         Ok(_) => panic!("file should be rejected"),
         Err(diags) => render(&file, &diags),
     }
@@ -21,7 +21,7 @@ start = { q1 = 0.0, q2 = 1.0, q3 = 2.0 }
 
 #[test]
 fn the_good_file_compiles() {
-    assert!(compile(&SourceFile::new("good.toml", GOOD)).is_ok());
+    assert!(generate_source(&SourceFile::new("good.toml", GOOD)).is_ok());
 }
 
 #[test]
@@ -138,11 +138,11 @@ fn long_operator_chains_are_an_error_not_a_stack_overflow() {
 fn nesting_and_length_within_the_limits_compile() {
     // 30 levels of brackets and a 150-operator chain: far below what overflows a 2 MiB stack.
     let tail = format!("{}0{}", "(".repeat(30), ")".repeat(30));
-    assert!(compile(&SourceFile::new("ok.toml", with_loop_tail(&tail))).is_ok());
+    assert!(generate_source(&SourceFile::new("ok.toml", with_loop_tail(&tail))).is_ok());
     let tail = format!("0{}", "-0".repeat(100));
-    assert!(compile(&SourceFile::new("ok.toml", with_loop_tail(&tail))).is_ok());
+    assert!(generate_source(&SourceFile::new("ok.toml", with_loop_tail(&tail))).is_ok());
     let tail = format!("{}0", "-".repeat(200));
-    assert!(compile(&SourceFile::new("ok.toml", with_loop_tail(&tail))).is_ok());
+    assert!(generate_source(&SourceFile::new("ok.toml", with_loop_tail(&tail))).is_ok());
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! Snapshots of generated code. Update with `UPDATE_EXPECT=1 cargo test -p mechgen-codegen`.
 
 use expect_test::expect_file;
-use mechgen_codegen::{SourceFile, compile};
+use mechgen_codegen::{SourceFile, generate_source};
 
 const SLIDER: &str = r#"
 [mechanism.slider]
@@ -16,7 +16,8 @@ start = { q1 = 0.0, q2 = 0.0, s = 4.0 }
 
 #[test]
 fn small_mechanism_snapshot() {
-    let (code, warnings) = compile(&SourceFile::new("slider.toml", SLIDER)).expect("valid file");
+    let (code, warnings) =
+        generate_source(&SourceFile::new("slider.toml", SLIDER)).expect("valid file");
     assert!(warnings.is_empty(), "{warnings:?}");
     expect_file!["snapshots/slider.rs"].assert_eq(&code);
 }
@@ -27,16 +28,17 @@ fn small_mechanism_snapshot() {
 fn golden_copy_of_default_mechanisms_is_fresh() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../mechanism.toml");
     let text = std::fs::read_to_string(path).expect("mechanism.toml");
-    let (code, _) = compile(&SourceFile::new("mechanism.toml", text)).expect("valid default file");
+    let (code, _) =
+        generate_source(&SourceFile::new("mechanism.toml", text)).expect("valid default file");
     expect_file!["../../generated/mechanisms.rs"].assert_eq(&code);
 }
 
 #[test]
 fn generation_is_deterministic() {
-    let a = compile(&SourceFile::new("slider.toml", SLIDER))
+    let a = generate_source(&SourceFile::new("slider.toml", SLIDER))
         .expect("valid")
         .0;
-    let b = compile(&SourceFile::new("slider.toml", SLIDER))
+    let b = generate_source(&SourceFile::new("slider.toml", SLIDER))
         .expect("valid")
         .0;
     assert_eq!(a, b);

@@ -1,12 +1,12 @@
 //! Arbitrary UTF-8 through the loader (`analyze`, with every diagnostic rendered) and the
-//! generator (`compile`): neither may panic, and every rendered diagnostic starts with a
+//! generator (`generate_source`): neither may panic, and every rendered diagnostic starts with a
 //! `fuzz.toml:LINE:COL:` header inside the file. Run from the repository root:
 //! `cargo +nightly fuzz run loader fuzz/seeds` (see the README).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 use mechgen_codegen::diagnostic::render_one;
-use mechgen_codegen::{SourceFile, analyze, compile};
+use mechgen_codegen::{SourceFile, analyze, generate_source};
 
 fuzz_target!(|text: &str| {
     let file = SourceFile::new("fuzz.toml", text);
@@ -26,7 +26,7 @@ fuzz_target!(|text: &str| {
         );
     }
     let errors = diagnostics.iter().any(|d| d.is_error());
-    match compile(&file) {
+    match generate_source(&file) {
         Ok((code, _)) => assert!(!errors && code.contains("@generated")),
         // Emission never fails on a file that analyses without errors.
         Err(diags) => assert!(errors && !diags.is_empty(), "{diags:?}"),

@@ -5,14 +5,14 @@
 
 use mechgen_codegen::Kind as CodegenKind;
 use mechgen_codegen::{Compiled, Diagnostic, SourceFile};
-use nalgebra::{DMatrix, DVector, Dyn};
+use mechgen_runtime::nalgebra::{DMatrix, DVector, Dyn};
 
 use super::tape::{Env, Tape};
-use crate::elimination::gauss_in_place;
-use crate::error::{Quantity, SolveError, Stage};
-use crate::mechanism::{Kind, MechanismInfo};
-use crate::scalar::Real;
-use crate::solve::{NewtonWork, check_finite};
+use mechgen_runtime::elimination::gauss_in_place;
+use mechgen_runtime::error::{Quantity, SolveError, Stage};
+use mechgen_runtime::mechanism::{Kind, MechanismInfo};
+use mechgen_runtime::scalar::Real;
+use mechgen_runtime::solve::{NewtonWork, check_finite};
 
 /// A mechanism file that could not be loaded: every diagnostic, rendered as FILE:LINE:COLUMN.
 #[derive(Clone, Debug)]
@@ -254,7 +254,7 @@ impl Generic {
                 scale: DVector::zeros(k),
             };
             out.resize(k + k * k, T::zero());
-            crate::solve::newton_in_place(
+            mechgen_runtime::solve::newton_in_place(
                 bi,
                 trial.as_mut_slice(),
                 &b.unknowns,

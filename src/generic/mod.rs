@@ -8,10 +8,10 @@ pub mod tape;
 
 pub use engine::{Generic, LoadError, load, load_file, load_with_warnings};
 
-use crate::error::{Quantity, SolveError, Stage};
-use crate::mechanism::{Kinematics, MechanismInfo, PointMotion, len};
-use crate::scalar::Real;
-use crate::solve::{NewtonOptions, NewtonReport, check_finite};
+use mechgen_runtime::error::{Quantity, SolveError, Stage};
+use mechgen_runtime::mechanism::{Kinematics, MechanismInfo, PointMotion, len};
+use mechgen_runtime::scalar::Real;
+use mechgen_runtime::solve::{NewtonOptions, NewtonReport, check_finite};
 use tape::Env;
 
 /// One chain of the mechanism drawing at a configuration.
@@ -215,7 +215,7 @@ macro_rules! kinematics {
                     xdd,
                     qdd,
                 };
-                let mut v = vec![<$t as num_traits::Zero>::zero(); 6 * self.info.points.len()];
+                let mut v = vec![<$t as Default>::default(); 6 * self.info.points.len()];
                 self.points.eval(&env, &mut Vec::new(), &mut v);
                 for (o, c) in out.iter_mut().zip(v.chunks_exact(6)) {
                     *o = PointMotion {

@@ -4,7 +4,7 @@
 
 use mechgen_codegen::{Dag, Node, NodeId, Var};
 
-use crate::scalar::Real;
+use mechgen_runtime::scalar::Real;
 
 /// One instruction; operands are register numbers (every instruction writes the next register).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -6,8 +6,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use crate::mechanism::MechanismInfo;
 use crate::sweep::Row;
+use mechgen_runtime::mechanism::MechanismInfo;
 
 use super::{
     FAMILY, PlotError, Ticked, color, drawing_error, ensure_font, finite_runs, padded_range,

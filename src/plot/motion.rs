@@ -9,8 +9,8 @@ use super::{
     FAMILY, PlotError, Runs, Ticked, clip_runs, color, drawing_error, ensure_font, finite_runs,
     padded_range, robust_range, tick_text,
 };
-use crate::mechanism::{Kind, MechanismInfo};
 use crate::sweep::{Row, Solved};
+use mechgen_runtime::mechanism::{Kind, MechanismInfo};
 
 type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 

@@ -3,8 +3,8 @@
 //! bounded number of substeps. Part of [`crate::sweep`].
 
 use super::Continuation;
-use crate::error::SolveError;
-use crate::mechanism::{Kind, Kinematics, MechanismInfo};
+use mechgen_runtime::error::SolveError;
+use mechgen_runtime::mechanism::{Kind, Kinematics, MechanismInfo};
 
 /// Substeps one continuation may always try (halvings near a dead point included).
 pub const BASE_SUBSTEPS: usize = 1000;
@@ -146,7 +146,7 @@ fn follow(
     };
     if !target.is_finite() || !x[index].is_finite() {
         return Err(solver(SolveError::NonFinite {
-            quantity: crate::error::Quantity::Input,
+            quantity: mechgen_runtime::error::Quantity::Input,
             index,
         }));
     }

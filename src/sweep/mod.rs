@@ -9,9 +9,9 @@ pub use continuation::{
     substep_budget,
 };
 
-use crate::error::SolveError;
-use crate::mechanism::{Kind, Kinematics, MechanismInfo, PointMotion};
-use crate::solve::NewtonOptions;
+use mechgen_runtime::error::SolveError;
+use mechgen_runtime::mechanism::{Kind, Kinematics, MechanismInfo, PointMotion};
+use mechgen_runtime::solve::NewtonOptions;
 
 /// How the branch is followed between rows.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -6,8 +6,8 @@ use super::{
     Continuation, Row, Solved, Stop, StopReason, Stopped, check_start, continue_within,
     nearest_turn, sweep_budget,
 };
-use crate::error::SolveError;
-use crate::mechanism::{Kind, Kinematics, MechanismInfo, PointMotion};
+use mechgen_runtime::error::SolveError;
+use mechgen_runtime::mechanism::{Kind, Kinematics, MechanismInfo, PointMotion};
 
 /// Sweeps input `index` over `values` (radians or file units) from the file's start configuration,
 /// with input rate `rate` and zero input acceleration; the other inputs stay at their start
@@ -61,7 +61,7 @@ pub fn sweep_holding(
     }
     if check_start(&info).is_err() {
         let error = SolveError::NonFinite {
-            quantity: crate::error::Quantity::Input,
+            quantity: mechgen_runtime::error::Quantity::Input,
             index,
         };
         return fail_all(

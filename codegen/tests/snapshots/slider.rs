@@ -3,54 +3,62 @@
 /// Names of the compiled-in mechanisms, in file order.
 pub const MECHANISMS: [&str; 1] = ["slider"];
 /// A compiled-in mechanism by name, with its default params, behind the object-safe trait.
-pub fn lookup<T: ::mechgen::Real>(
+pub fn lookup<T: ::mechgen::__private::Real>(
     name: &str,
-) -> Option<Box<dyn ::mechgen::Kinematics<T>>> {
+) -> ::core::option::Option<::std::boxed::Box<dyn ::mechgen::__private::Kinematics<T>>> {
     match name {
-        "slider" => Some(Box::new(slider::Slider::<T>::default())),
-        _ => None,
+        "slider" => {
+            ::core::option::Option::Some(
+                ::std::boxed::Box::new(
+                    <slider::Slider<T> as ::core::default::Default>::default(),
+                ),
+            )
+        }
+        _ => ::core::option::Option::None,
     }
 }
 /// Calls `v.visit` with every compiled-in mechanism (default params), statically typed, in
 /// file order: generic code over whatever the build compiled in, without dynamic dispatch.
-pub fn visit_all<T: ::mechgen::Real, V: ::mechgen::Visitor<T>>(v: &mut V) {
-    v.visit(&slider::Slider::<T>::default());
+pub fn visit_all<T: ::mechgen::__private::Real, V: ::mechgen::__private::Visitor<T>>(
+    v: &mut V,
+) {
+    v.visit(&<slider::Slider<T> as ::core::default::Default>::default());
 }
 /// Centred slider-crank: crank l1, rod l2, slider s on the x axis
 pub mod slider {
     #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
     /// Static description: names, kinds, start configuration, blocks.
-    pub const INFO: ::mechgen::StaticInfo = ::mechgen::StaticInfo {
+    pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "slider",
         description: "Centred slider-crank: crank l1, rod l2, slider s on the x axis",
         inputs: &[
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q1",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 0.0,
             },
         ],
         unknowns: &[
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "q2",
-                kind: ::mechgen::Kind::Angle,
+                kind: ::mechgen::__private::Kind::Angle,
                 start: 0.0,
             },
-            ::mechgen::CoordInfo {
+            ::mechgen::__private::CoordInfo {
                 name: "s",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 start: 4.0,
             },
         ],
         params: &[
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l1",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 1.0,
             },
-            ::mechgen::ParamInfo {
+            ::mechgen::__private::ParamInfo {
                 name: "l2",
-                kind: ::mechgen::Kind::Length,
+                kind: ::mechgen::__private::Kind::Length,
                 default: 3.0,
             },
         ],
@@ -67,7 +75,7 @@ pub mod slider {
         /// `l2` = 3.0 (length)
         pub l2: T,
     }
-    impl<T: ::mechgen::Real> Default for Params<T> {
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for Params<T> {
         fn default() -> Self {
             Params {
                 l1: T::one(),
@@ -75,7 +83,7 @@ pub mod slider {
             }
         }
     }
-    impl<T: ::mechgen::Real> Params<T> {
+    impl<T: ::mechgen::__private::Real> Params<T> {
         /// All params in file order.
         pub fn to_array(&self) -> [T; 2] {
             [self.l1, self.l2]
@@ -101,7 +109,7 @@ pub mod slider {
         /// `q1` (angle, radians)
         pub q1: T,
     }
-    impl<T: Copy> Inputs<T> {
+    impl<T: ::core::marker::Copy> Inputs<T> {
         pub fn from_array(a: [T; 1]) -> Self {
             Inputs { q1: a[0] }
         }
@@ -109,12 +117,12 @@ pub mod slider {
             [self.q1]
         }
     }
-    impl<T: Copy> From<[T; 1]> for Inputs<T> {
+    impl<T: ::core::marker::Copy> ::core::convert::From<[T; 1]> for Inputs<T> {
         fn from(a: [T; 1]) -> Self {
             Self::from_array(a)
         }
     }
-    impl<T: Copy> From<Inputs<T>> for [T; 1] {
+    impl<T: ::core::marker::Copy> ::core::convert::From<Inputs<T>> for [T; 1] {
         fn from(v: Inputs<T>) -> Self {
             v.to_array()
         }
@@ -127,7 +135,7 @@ pub mod slider {
         /// `s` (length)
         pub s: T,
     }
-    impl<T: Copy> Unknowns<T> {
+    impl<T: ::core::marker::Copy> Unknowns<T> {
         pub fn from_array(a: [T; 2]) -> Self {
             Unknowns {
                 q2: a[0],
@@ -138,12 +146,12 @@ pub mod slider {
             [self.q2, self.s]
         }
     }
-    impl<T: Copy> From<[T; 2]> for Unknowns<T> {
+    impl<T: ::core::marker::Copy> ::core::convert::From<[T; 2]> for Unknowns<T> {
         fn from(a: [T; 2]) -> Self {
             Self::from_array(a)
         }
     }
-    impl<T: Copy> From<Unknowns<T>> for [T; 2] {
+    impl<T: ::core::marker::Copy> ::core::convert::From<Unknowns<T>> for [T; 2] {
         fn from(v: Unknowns<T>) -> Self {
             v.to_array()
         }
@@ -151,15 +159,15 @@ pub mod slider {
     /// Every point's motion, by name.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
     pub struct Points<T> {
-        pub B: ::mechgen::PointMotion<T>,
+        pub B: ::mechgen::__private::PointMotion<T>,
     }
-    impl<T: Copy> Points<T> {
-        pub fn from_array(a: [::mechgen::PointMotion<T>; 1]) -> Self {
+    impl<T: ::core::marker::Copy> Points<T> {
+        pub fn from_array(a: [::mechgen::__private::PointMotion<T>; 1]) -> Self {
             Points { B: a[0] }
         }
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
-    pub type Tick<T> = ::mechgen::Tick<T, 1, 2, 1, 2>;
+    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 2, 1, 2>;
     /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Motion<T> {
@@ -170,21 +178,21 @@ pub mod slider {
         pub qd: Unknowns<T>,
         pub qdd: Unknowns<T>,
         pub points: Points<T>,
-        pub report: ::mechgen::NewtonReport<T>,
+        pub report: ::mechgen::__private::NewtonReport<T>,
     }
     /// Centred slider-crank: crank l1, rod l2, slider s on the x axis
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Slider<T = f64> {
         pub params: Params<T>,
     }
-    impl<T: ::mechgen::Real> Default for Slider<T> {
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for Slider<T> {
         fn default() -> Self {
             Slider {
-                params: Params::default(),
+                params: <Params<T> as ::core::default::Default>::default(),
             }
         }
     }
-    impl<T: ::mechgen::Real> Slider<T> {
+    impl<T: ::mechgen::__private::Real> Slider<T> {
         pub const INPUTS: usize = 1;
         pub const UNKNOWNS: usize = 2;
         pub const POINTS: usize = 1;
@@ -225,14 +233,18 @@ pub mod slider {
             &self,
             x: &[T; 1],
             q: &[T; 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
             let p_l2 = self.params.l2;
             let (s_v_q2, c_v_q2) = v_q2.sin_cos();
             let t1 = p_l2 * c_v_q2;
             let t2 = p_l2 * s_v_q2;
             let t3 = -t2;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t3;
             // [0][1] = ∂Φ0/∂s (loop 1, x)
@@ -246,14 +258,18 @@ pub mod slider {
             &self,
             x: &[T; 1],
             q: &[T; 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 1> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 1> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let (s_v_q1, c_v_q1) = v_q1.sin_cos();
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
             let t3 = -t2;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 2, 1>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                1,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t3;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -267,7 +283,7 @@ pub mod slider {
             q: &[T; 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 2, 2> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
             let p_l2 = self.params.l2;
             let v_q2_d = qd[0];
@@ -278,7 +294,11 @@ pub mod slider {
             let t4 = -t3;
             let t5 = t2 * v_q2_d;
             let t6 = -t5;
-            let mut m = ::mechgen::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t4;
             // [1][0] = ∂Φ1/∂q2 (loop 1, y)
@@ -291,7 +311,7 @@ pub mod slider {
             x: &[T; 1],
             q: &[T; 2],
             xd: &[T; 1],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
@@ -301,7 +321,7 @@ pub mod slider {
             let t3 = t2 * v_q1_d;
             let t4 = t1 * v_q1_d;
             let t5 = -t4;
-            ::mechgen::nalgebra::SVector::from([t3, t5])
+            ::mechgen::__private::nalgebra::SVector::from([t3, t5])
         }
         /// γ = −(J̇ q̇ + Φ̇x ẋ) − Φx ẍ: the right-hand side of J q̈ = γ.
         pub fn acceleration_rhs(
@@ -311,7 +331,7 @@ pub mod slider {
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
-        ) -> ::mechgen::nalgebra::SVector<T, 2> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_l1 = self.params.l1;
@@ -342,7 +362,7 @@ pub mod slider {
             let t20 = t1 * v_q1_dd;
             let t21 = t19 + t20;
             let t22 = -t21;
-            ::mechgen::nalgebra::SVector::from([t15, t22])
+            ::mechgen::__private::nalgebra::SVector::from([t15, t22])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(
@@ -366,7 +386,7 @@ pub mod slider {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> [::mechgen::PointMotion<T>; 1] {
+        ) -> [::mechgen::__private::PointMotion<T>; 1] {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
@@ -385,7 +405,7 @@ pub mod slider {
             let t11 = t7 - t8;
             let t12 = t10 - t9;
             [
-                ::mechgen::PointMotion {
+                ::mechgen::__private::PointMotion {
                     position: [t1, t2],
                     velocity: [t4, t5],
                     acceleration: [t11, t12],
@@ -402,8 +422,8 @@ pub mod slider {
             tp: &[(T, T); 2],
             tq: &[(T, T); 2],
         ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
+            ::mechgen::__private::nalgebra::SVector<T, 1>,
+            ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
             let v_q1 = x[0];
             let v_q2 = q[0];
@@ -415,10 +435,14 @@ pub mod slider {
             let t1 = p_l2 * c_v_q2;
             let t2 = p_l2 * s_v_q2;
             let t3 = t0 + t2;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t1;
-            (::mechgen::nalgebra::SVector::from([t3]), jac)
+            (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
         }
         /// Block 0: q2 from loop 1 (y). Its Jacobian block.
         #[inline]
@@ -429,12 +453,16 @@ pub mod slider {
             tx: &[(T, T); 1],
             tp: &[(T, T); 2],
             tq: &[(T, T); 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 1, 1> {
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
             let v_q2 = q[0];
             let p_l2 = self.params.l2;
             let (s_v_q2, c_v_q2) = tq[0];
             let t0 = p_l2 * c_v_q2;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t0;
             jac
@@ -450,7 +478,7 @@ pub mod slider {
             tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SVector<T, 1> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
@@ -458,7 +486,7 @@ pub mod slider {
             let t0 = p_l1 * c_v_q1;
             let t1 = t0 * v_q1_d;
             let t2 = -t1;
-            ::mechgen::nalgebra::SVector::from([t2])
+            ::mechgen::__private::nalgebra::SVector::from([t2])
         }
         /// Block 0: q2 from loop 1 (y). Its right-hand side (acceleration).
         #[inline]
@@ -473,7 +501,7 @@ pub mod slider {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SVector<T, 1> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_l1 = self.params.l1;
@@ -495,7 +523,7 @@ pub mod slider {
             let t9 = t0 * v_q1_dd;
             let t10 = t8 + t9;
             let t11 = -t10;
-            ::mechgen::nalgebra::SVector::from([t11])
+            ::mechgen::__private::nalgebra::SVector::from([t11])
         }
         /// Block 1: s from loop 1 (x). Its residual and Jacobian block.
         #[inline]
@@ -507,8 +535,8 @@ pub mod slider {
             tp: &[(T, T); 2],
             tq: &[(T, T); 2],
         ) -> (
-            ::mechgen::nalgebra::SVector<T, 1>,
-            ::mechgen::nalgebra::SMatrix<T, 1, 1>,
+            ::mechgen::__private::nalgebra::SVector<T, 1>,
+            ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
             let v_q1 = x[0];
             let v_q2 = q[0];
@@ -521,10 +549,14 @@ pub mod slider {
             let t1 = p_l2 * c_v_q2;
             let t2 = t0 + t1;
             let t3 = t2 - v_s;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[0][1] = ∂Φ0/∂s
             jac[(0, 0)] = T::lit(-1.0);
-            (::mechgen::nalgebra::SVector::from([t3]), jac)
+            (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
         }
         /// Block 1: s from loop 1 (x). Its Jacobian block.
         #[inline]
@@ -535,8 +567,12 @@ pub mod slider {
             tx: &[(T, T); 1],
             tp: &[(T, T); 2],
             tq: &[(T, T); 2],
-        ) -> ::mechgen::nalgebra::SMatrix<T, 1, 1> {
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[0][1] = ∂Φ0/∂s
             jac[(0, 0)] = T::lit(-1.0);
             jac
@@ -552,7 +588,7 @@ pub mod slider {
             tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SVector<T, 1> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_l1 = self.params.l1;
@@ -566,7 +602,7 @@ pub mod slider {
             let t2 = t1 * v_q2_d;
             let t3 = t0 * v_q1_d;
             let t4 = t2 + t3;
-            ::mechgen::nalgebra::SVector::from([t4])
+            ::mechgen::__private::nalgebra::SVector::from([t4])
         }
         /// Block 1: s from loop 1 (x). Its right-hand side (acceleration).
         #[inline]
@@ -581,7 +617,7 @@ pub mod slider {
             qd: &[T; 2],
             xdd: &[T; 1],
             qdd: &[T; 2],
-        ) -> ::mechgen::nalgebra::SVector<T, 1> {
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_l1 = self.params.l1;
@@ -606,7 +642,7 @@ pub mod slider {
             let t11 = t10 - t9;
             let t12 = t3 * v_q2_dd;
             let t13 = t11 + t12;
-            ::mechgen::nalgebra::SVector::from([t13])
+            ::mechgen::__private::nalgebra::SVector::from([t13])
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
@@ -619,21 +655,21 @@ pub mod slider {
         }
         /// The unknowns with the sines and cosines the solvers read.
         #[inline]
-        fn trig_state(q: [T; 2]) -> ::mechgen::TrigState<T, 2> {
-            ::mechgen::TrigState::new(q, [true, false])
+        fn trig_state(q: [T; 2]) -> ::mechgen::__private::TrigState<T, 2> {
+            ::mechgen::__private::TrigState::new(q, [true, false])
         }
         #[inline]
         fn position_cached(
             &self,
             x: &[T; 1],
-            st: &mut ::mechgen::TrigState<T, 2>,
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 2],
-            options: &::mechgen::NewtonOptions<T>,
-            report: &mut ::mechgen::NewtonReport<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: q2 from loop 1 (y).
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 0,
                 st,
                 [0],
@@ -644,7 +680,7 @@ pub mod slider {
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
             // Block 1: s from loop 1 (x).
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 1,
                 st,
                 [1],
@@ -665,31 +701,31 @@ pub mod slider {
             tp: &[(T, T); 2],
             tq: &[(T, T); 2],
             xd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
             // Block 0: q2 from loop 1 (y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 0,
-                ::mechgen::Stage::Velocity,
+                ::mechgen::__private::Stage::Velocity,
                 self.block0_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Velocity,
+                    ::mechgen::__private::Stage::Velocity,
                     self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
                 )?;
             qd[0] = z[0];
             // Block 1: s from loop 1 (x).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 1,
-                ::mechgen::Stage::Velocity,
+                ::mechgen::__private::Stage::Velocity,
                 self.block1_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Velocity,
+                    ::mechgen::__private::Stage::Velocity,
                     self.block1_velocity(x, q, tx, tp, tq, xd, &qd),
                 )?;
             qd[1] = z[0];
@@ -706,31 +742,31 @@ pub mod slider {
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 2];
             // Block 0: q2 from loop 1 (y).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 0,
-                ::mechgen::Stage::Acceleration,
+                ::mechgen::__private::Stage::Acceleration,
                 self.block0_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::__private::Stage::Acceleration,
                     self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
                 )?;
             qdd[0] = z[0];
             // Block 1: s from loop 1 (x).
-            let lu = ::mechgen::factor_block(
+            let lu = ::mechgen::__private::factor_block(
                 1,
-                ::mechgen::Stage::Acceleration,
+                ::mechgen::__private::Stage::Acceleration,
                 self.block1_jacobian(x, q, tx, tp, tq),
             )?;
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Acceleration,
+                    ::mechgen::__private::Stage::Acceleration,
                     self.block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
                 )?;
             qdd[1] = z[0];
@@ -743,21 +779,21 @@ pub mod slider {
         fn motion_cached(
             &self,
             x: &[T; 1],
-            st: &mut ::mechgen::TrigState<T, 2>,
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 2],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::NewtonOptions<T>,
-            report: &mut ::mechgen::NewtonReport<T>,
-        ) -> Result<
-            ([T; 2], [T; 2], [::mechgen::PointMotion<T>; 1]),
-            ::mechgen::SolveError,
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<
+            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 1]),
+            ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: Newton.
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 0,
                 st,
                 [0],
@@ -768,7 +804,7 @@ pub mod slider {
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
             // Block 1: Newton.
-            ::mechgen::newton_block(
+            ::mechgen::__private::newton_block(
                 1,
                 st,
                 [1],
@@ -790,15 +826,23 @@ pub mod slider {
             let t1 = p_l2 * c_v_q2;
             let t2 = t0 * v_q1_d;
             let t3 = -t2;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t1;
-            let lu = ::mechgen::factor_block(0, ::mechgen::Stage::Velocity, jac)?;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Velocity,
-                    ::mechgen::nalgebra::SVector::from([t3]),
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t3]),
                 )?;
             qd[0] = z[0];
             let v_q2_d = qd[0];
@@ -817,21 +861,29 @@ pub mod slider {
             let z = lu
                 .solve(
                     0,
-                    ::mechgen::Stage::Acceleration,
-                    ::mechgen::nalgebra::SVector::from([t14]),
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t14]),
                 )?;
             qdd[0] = z[0];
             // Block 1: velocities and accelerations.
             let t15 = t6 + t7;
-            let mut jac = ::mechgen::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
             // J[0][1] = ∂Φ0/∂s
             jac[(0, 0)] = T::lit(-1.0);
-            let lu = ::mechgen::factor_block(1, ::mechgen::Stage::Velocity, jac)?;
+            let lu = ::mechgen::__private::factor_block(
+                1,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Velocity,
-                    ::mechgen::nalgebra::SVector::from([t15]),
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t15]),
                 )?;
             qd[1] = z[0];
             let v_q2_dd = qdd[0];
@@ -847,8 +899,8 @@ pub mod slider {
             let z = lu
                 .solve(
                     1,
-                    ::mechgen::Stage::Acceleration,
-                    ::mechgen::nalgebra::SVector::from([t24]),
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t24]),
                 )?;
             qdd[1] = z[0];
             // Points.
@@ -859,7 +911,7 @@ pub mod slider {
                 qd,
                 qdd,
                 [
-                    ::mechgen::PointMotion {
+                    ::mechgen::__private::PointMotion {
                         position: [t0, t4],
                         velocity: [t25, t2],
                         acceleration: [t26, t27],
@@ -873,17 +925,26 @@ pub mod slider {
             &self,
             x: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
             *q = st.q;
             Ok(report)
@@ -895,14 +956,23 @@ pub mod slider {
             x: &[T; 1],
             q: &[T; 2],
             xd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
@@ -916,16 +986,31 @@ pub mod slider {
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
-        ) -> Result<[T; 2], ::mechgen::SolveError> {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Position, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Rate, qd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Rate,
+                qd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
             self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
@@ -939,27 +1024,39 @@ pub mod slider {
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
             (
                 [T; 2],
                 [T; 2],
-                [::mechgen::PointMotion<T>; 1],
-                ::mechgen::NewtonReport<T>,
+                [::mechgen::__private::PointMotion<T>; 1],
+                ::mechgen::__private::NewtonReport<T>,
             ),
-            ::mechgen::SolveError,
+            ::mechgen::__private::SolveError,
         > {
-            ::mechgen::check_finite(
-                ::mechgen::Quantity::Param,
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
             )?;
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::Guess, q)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
             *q = st.q;
@@ -973,15 +1070,15 @@ pub mod slider {
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 2],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Tick<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .solve_arrays(x, xd, xdd, &mut q, options)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(q);
             Ok(
-                ::mechgen::Tick::new(::mechgen::Solution {
+                ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                     x: *x,
                     xd: *xd,
                     q,
@@ -998,7 +1095,7 @@ pub mod slider {
         }
         /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
         /// blocks predicted by a second-order step from the last tick, their sines and cosines
-        /// rotated from the cached ones (recomputed every `mechgen::tick::RESYNC_TICKS` ticks or
+        /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
         pub fn tick(
@@ -1007,16 +1104,28 @@ pub mod slider {
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {
-                ::mechgen::check_finite(::mechgen::Quantity::Param, &params)?;
+                ::mechgen::__private::check_finite(
+                    ::mechgen::__private::Quantity::Param,
+                    &params,
+                )?;
             }
-            ::mechgen::check_finite(::mechgen::Quantity::Input, x)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputRate, xd)?;
-            ::mechgen::check_finite(::mechgen::Quantity::InputAcceleration, xdd)?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
             let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
@@ -1030,7 +1139,7 @@ pub mod slider {
                 [false; 2]
             };
             let mut st = t.predicted(x, [true, false], keep, same);
-            let mut report = ::mechgen::NewtonReport::new();
+            let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
             t.update(
@@ -1053,8 +1162,8 @@ pub mod slider {
             xd: Inputs<T>,
             xdd: Inputs<T>,
             guess: Unknowns<T>,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Motion<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
@@ -1076,7 +1185,8 @@ pub mod slider {
             })
         }
     }
-    impl<T: ::mechgen::Real> ::mechgen::Mechanism<T> for Slider<T> {
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    for Slider<T> {
         const NAME: &'static str = "slider";
         const INPUTS: usize = 1;
         const UNKNOWNS: usize = 2;
@@ -1084,17 +1194,20 @@ pub mod slider {
         type X = [T; 1];
         type Q = [T; 2];
         type Tick = Tick<T>;
-        fn info(&self) -> &'static ::mechgen::StaticInfo {
+        fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
         }
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             Slider::residual(self, x, q)
         }
         fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::copy_row_major(&Slider::jacobian(self, x, q), out)
+            ::mechgen::__private::copy_row_major(&Slider::jacobian(self, x, q), out)
         }
         fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::copy_row_major(&Slider::input_jacobian(self, x, q), out)
+            ::mechgen::__private::copy_row_major(
+                &Slider::input_jacobian(self, x, q),
+                out,
+            )
         }
         fn jacobian_dot(
             &self,
@@ -1104,7 +1217,10 @@ pub mod slider {
             qd: &Self::Q,
             out: &mut [T],
         ) {
-            ::mechgen::copy_row_major(&Slider::jacobian_dot(self, x, q, xd, qd), out)
+            ::mechgen::__private::copy_row_major(
+                &Slider::jacobian_dot(self, x, q, xd, qd),
+                out,
+            )
         }
         fn acceleration_rhs(
             &self,
@@ -1120,8 +1236,11 @@ pub mod slider {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
             Slider::solve_position(self, x, q, options)
         }
         fn solve_velocity(
@@ -1129,7 +1248,7 @@ pub mod slider {
             x: &Self::X,
             q: &Self::Q,
             xd: &Self::X,
-        ) -> Result<Self::Q, ::mechgen::SolveError> {
+        ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             Slider::solve_velocity(self, x, q, xd)
         }
         fn solve_acceleration(
@@ -1139,7 +1258,7 @@ pub mod slider {
             xd: &Self::X,
             qd: &Self::Q,
             xdd: &Self::X,
-        ) -> Result<Self::Q, ::mechgen::SolveError> {
+        ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             Slider::solve_acceleration(self, x, q, xd, qd, xdd)
         }
         fn points(
@@ -1150,7 +1269,7 @@ pub mod slider {
             qd: &Self::Q,
             xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::PointMotion<T>],
+            out: &mut [::mechgen::__private::PointMotion<T>],
         ) {
             for (o, p) in out
                 .iter_mut()
@@ -1165,8 +1284,8 @@ pub mod slider {
             xd: &Self::X,
             xdd: &Self::X,
             guess: &Self::Q,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<Self::Tick, ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
             Slider::tick_start(self, x, xd, xdd, guess, options)
         }
         fn tick(
@@ -1175,8 +1294,8 @@ pub mod slider {
             x: &Self::X,
             xd: &Self::X,
             xdd: &Self::X,
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<(), ::mechgen::SolveError> {
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             Slider::tick(self, t, x, xd, xdd, options)
         }
         fn solve_motion(
@@ -1187,9 +1306,12 @@ pub mod slider {
             q: &mut Self::Q,
             qd: &mut Self::Q,
             qdd: &mut Self::Q,
-            points: &mut [::mechgen::PointMotion<T>],
-            options: &::mechgen::NewtonOptions<T>,
-        ) -> Result<::mechgen::NewtonReport<T>, ::mechgen::SolveError> {
+            points: &mut [::mechgen::__private::PointMotion<T>],
+            options: &::mechgen::__private::NewtonOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::NewtonReport<T>,
+            ::mechgen::__private::SolveError,
+        > {
             let (v, a, p, report) = Slider::solve_arrays(self, x, xd, xdd, q, options)?;
             *qd = v;
             *qdd = a;

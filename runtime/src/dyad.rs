@@ -240,15 +240,15 @@ mod tests {
     #[test]
     fn the_branch_on_the_guess_side() {
         let q = reach((1.0, 1.0), 0.1, 1.4).unwrap();
-        assert!(q[0].abs() < 1e-15 && (q[1] - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        assert!(q[0].abs() < 1e-15 && (q[1] - core::f64::consts::FRAC_PI_2).abs() < 1e-15);
         let q = reach((1.0, 1.0), 1.4, 0.1).unwrap();
-        assert!((q[0] - std::f64::consts::FRAC_PI_2).abs() < 1e-15 && q[1].abs() < 1e-15);
+        assert!((q[0] - core::f64::consts::FRAC_PI_2).abs() < 1e-15 && q[1].abs() < 1e-15);
         // Angles stay near the guess, whole turns included.
-        let tau = std::f64::consts::TAU;
+        let tau = core::f64::consts::TAU;
         let q = reach((1.0, 1.0), 0.1 + 3.0 * tau, 1.4 - tau).unwrap();
         assert!(
             (q[0] - 3.0 * tau).abs() < 1e-13
-                && (q[1] - std::f64::consts::FRAC_PI_2 + tau).abs() < 1e-13
+                && (q[1] - core::f64::consts::FRAC_PI_2 + tau).abs() < 1e-13
         );
     }
 

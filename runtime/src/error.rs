@@ -117,4 +117,4 @@ impl fmt::Display for SolveError {
     }
 }
 
-impl std::error::Error for SolveError {}
+impl core::error::Error for SolveError {}

@@ -2,6 +2,9 @@
 //! code) and [`Kinematics`] (object-safe, slices; every `Mechanism` and the generic engine), plus
 //! the descriptive types they share.
 
+use alloc::string::{String, ToString};
+use alloc::vec::Vec;
+
 use crate::error::SolveError;
 use crate::scalar::Real;
 use crate::solve::{NewtonOptions, NewtonReport};
@@ -298,7 +301,9 @@ fn put<T: Real>(dst: &mut [T], src: &[T]) -> Result<(), SolveError> {
     Ok(())
 }
 
-pub(crate) fn len<T>(s: &[T], expected: usize) -> Result<(), SolveError> {
+/// `Ok` when the slice has `expected` elements, else `SolveError::BadLength` (the object-safe
+/// trait's length check, shared with run-time engines).
+pub fn len<T>(s: &[T], expected: usize) -> Result<(), SolveError> {
     if s.len() == expected {
         Ok(())
     } else {

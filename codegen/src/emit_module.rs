@@ -1,0 +1,281 @@
+//! Stage 6 (emit), one mechanism's module: its static description, the `Params`, `Inputs`,
+//! `Unknowns`, `Points`, `Motion` structs and `Tick` alias (named by the names table around the
+//! mechanism's type), the mechanism type with its whole-system functions ([`crate::emit_system`])
+//! and solvers ([`crate::emit_solve`]), and its `Mechanism` impl.
+
+use proc_macro2::{Ident, TokenStream};
+use quote::{format_ident, quote};
+
+use crate::check::Kind;
+use crate::compile::Compiled;
+use crate::emit::Args;
+use crate::names::ModuleItems;
+
+fn f64_lit(x: f64) -> proc_macro2::Literal {
+    proc_macro2::Literal::f64_unsuffixed(x)
+}
+
+fn kind(k: Kind, rt: &TokenStream) -> TokenStream {
+    match k {
+        Kind::Angle => quote!(#rt::Kind::Angle),
+        Kind::Length => quote!(#rt::Kind::Length),
+    }
+}
+
+pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
+    let m = &c.model;
+    let args = Args {
+        model: m,
+        rt: rt.clone(),
+        items: ModuleItems::new(&m.name.text),
+    };
+    let it = &args.items;
+    let (ty, gt) = (&it.ty, &it.scalar);
+    let (params_ty, inputs_ty, unknowns_ty) = (&it.params, &it.inputs, &it.unknowns);
+    let (points_ty, tick_ty, motion_ty) = (&it.points, &it.tick, &it.motion);
+    let (ni, nu, np, npar) = crate::emit::sizes(m);
+    let mod_name = format_ident!("{}", m.name.text);
+    let name = &m.name.text;
+    let doc = if m.description.is_empty() {
+        format!("Mechanism `{name}`.")
+    } else {
+        m.description.clone()
+    };
+
+    // Static description.
+    let coord_info = |cs: &[crate::check::Coord]| -> Vec<TokenStream> {
+        cs.iter()
+            .map(|c| {
+                let (n, k, s) = (&c.name.text, kind(c.kind, rt), f64_lit(c.start));
+                quote!(#rt::CoordInfo { name: #n, kind: #k, start: #s })
+            })
+            .collect()
+    };
+    let inputs_info = coord_info(&m.inputs);
+    let unknowns_info = coord_info(&m.unknowns);
+    let params_info = m.params.iter().map(|p| {
+        let (n, k, v) = (&p.name.text, kind(p.kind, rt), f64_lit(p.value));
+        quote!(#rt::ParamInfo { name: #n, kind: #k, default: #v })
+    });
+    let point_names: Vec<&str> = m.points.iter().map(|(n, _)| n.text.as_str()).collect();
+    let blocks_info = c.blocks.iter().map(|b| {
+        let u = &b.block.unknowns;
+        quote!(&[#(#u),*])
+    });
+    let description = &m.description;
+
+    // Params struct.
+    let param_fields: Vec<Ident> = m
+        .params
+        .iter()
+        .map(|p| format_ident!("{}", p.name.text))
+        .collect();
+    let param_docs = m.params.iter().map(|p| {
+        let k = if p.kind == Kind::Angle {
+            "angle, radians"
+        } else {
+            "length"
+        };
+        match &p.source {
+            Some(src) => format!("`{}` = {src} = {:?} ({k})", p.name.text, p.value),
+            None => format!("`{}` = {:?} ({k})", p.name.text, p.value),
+        }
+    });
+    let param_defaults = m
+        .params
+        .iter()
+        .map(|p| super::emit_body::literal(p.value, gt));
+    // A struct with no field of its own (no params, no points, …) still uses its type parameter.
+    let marker = |n: usize| {
+        (n == 0).then(|| quote!(#[doc(hidden)] pub _scalar: ::core::marker::PhantomData<#gt>,))
+    };
+    let marker_init = |n: usize| (n == 0).then(|| quote!(_scalar: ::core::marker::PhantomData,));
+    let (params_marker, params_marker_init) = (marker(npar), marker_init(npar));
+    let (points_marker, points_marker_init) = (marker(np), marker_init(np));
+    let param_idx = 0..npar;
+    let length_params = m
+        .params
+        .iter()
+        .filter(|p| p.kind == Kind::Length)
+        .map(|p| format_ident!("{}", p.name.text));
+
+    let coords = |cs: &[crate::check::Coord], ty: &Ident, what: &str| {
+        let fields: Vec<Ident> = cs
+            .iter()
+            .map(|c| format_ident!("{}", c.name.text))
+            .collect();
+        let docs = cs.iter().map(|c| {
+            format!(
+                "`{}` ({})",
+                c.name.text,
+                if c.kind == Kind::Angle {
+                    "angle, radians"
+                } else {
+                    "length"
+                }
+            )
+        });
+        let n = fields.len();
+        let idx = 0..n;
+        let doc = format!("The {what} of `{name}`, by name.");
+        let (mk, mk_init) = (marker(n), marker_init(n));
+        quote! {
+            #[doc = #doc]
+            #[derive(Clone, Copy, Debug, Default, PartialEq)]
+            pub struct #ty<#gt> { #( #[doc = #docs] pub #fields: #gt, )* #mk }
+            impl<#gt: ::core::marker::Copy> #ty<#gt> {
+                pub fn from_array(a: [#gt; #n]) -> Self { #ty { #( #fields: a[#idx], )* #mk_init } }
+                pub fn to_array(&self) -> [#gt; #n] { [#(self.#fields),*] }
+            }
+            impl<#gt: ::core::marker::Copy> ::core::convert::From<[#gt; #n]> for #ty<#gt> { fn from(a: [#gt; #n]) -> Self { Self::from_array(a) } }
+            impl<#gt: ::core::marker::Copy> ::core::convert::From<#ty<#gt>> for [#gt; #n] { fn from(v: #ty<#gt>) -> Self { v.to_array() } }
+        }
+    };
+    let inputs_struct = coords(&m.inputs, inputs_ty, "inputs");
+    let unknowns_struct = coords(&m.unknowns, unknowns_ty, "unknowns");
+    let point_fields: Vec<Ident> = point_names.iter().map(|n| format_ident!("{}", n)).collect();
+    let point_idx = 0..np;
+
+    let system_fns = crate::emit_system::system_fns(c, &args);
+    let solvers = crate::emit_solve::solvers(c, &args);
+    let nblocks = c.blocks.len();
+
+    quote! {
+        #[doc = #doc]
+        pub mod #mod_name {
+            #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+
+            /// Static description: names, kinds, start configuration, blocks.
+            pub const INFO: #rt::StaticInfo = #rt::StaticInfo {
+                name: #name,
+                description: #description,
+                inputs: &[#(#inputs_info),*],
+                unknowns: &[#(#unknowns_info),*],
+                params: &[#(#params_info),*],
+                points: &[#(#point_names),*],
+                blocks: &[#(#blocks_info),*],
+            };
+            /// Point names, in the order of point outputs.
+            pub const POINT_NAMES: [&str; #np] = [#(#point_names),*];
+
+            /// Params of the mechanism; `Default` holds the file's values. Change them at run time freely.
+            #[derive(Clone, Copy, Debug, PartialEq)]
+            pub struct #params_ty<#gt> { #( #[doc = #param_docs] pub #param_fields: #gt, )* #params_marker }
+            impl<#gt: #rt::Real> ::core::default::Default for #params_ty<#gt> {
+                fn default() -> Self { #params_ty { #( #param_fields: #param_defaults, )* #params_marker_init } }
+            }
+            impl<#gt: #rt::Real> #params_ty<#gt> {
+                /// All params in file order.
+                pub fn to_array(&self) -> [#gt; #npar] { [#(self.#param_fields),*] }
+                /// Params from an array in file order (see `INFO.params` for names and kinds).
+                pub fn from_array(a: [#gt; #npar]) -> Self { #params_ty { #( #param_fields: a[#param_idx], )* #params_marker_init } }
+                /// The largest length param (1 when there is none): tolerances on lengths are relative to it.
+                pub fn length_scale(&self) -> #gt {
+                    let mut s = #gt::zero();
+                    #( s = s.max(self.#length_params.abs()); )*
+                    if s > #gt::zero() { s } else { #gt::one() }
+                }
+            }
+
+            #inputs_struct
+            #unknowns_struct
+
+            /// Every point's motion, by name.
+            #[derive(Clone, Copy, Debug, Default, PartialEq)]
+            pub struct #points_ty<#gt> { #( pub #point_fields: #rt::PointMotion<#gt>, )* #points_marker }
+            impl<#gt: ::core::marker::Copy> #points_ty<#gt> {
+                pub fn from_array(a: [#rt::PointMotion<#gt>; #np]) -> Self { #points_ty { #( #point_fields: a[#point_idx], )* #points_marker_init } }
+            }
+
+            /// The state between simulator ticks (see `tick_start` and `tick`).
+            pub type #tick_ty<#gt> = #rt::Tick<#gt, #ni, #nu, #np, #npar>;
+
+            /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
+            #[derive(Clone, Copy, Debug, PartialEq)]
+            pub struct #motion_ty<#gt> {
+                pub x: #inputs_ty<#gt>, pub xd: #inputs_ty<#gt>, pub xdd: #inputs_ty<#gt>,
+                pub q: #unknowns_ty<#gt>, pub qd: #unknowns_ty<#gt>, pub qdd: #unknowns_ty<#gt>,
+                pub points: #points_ty<#gt>,
+                pub report: #rt::NewtonReport<#gt>,
+            }
+
+            #[doc = #doc]
+            #[derive(Clone, Copy, Debug, PartialEq)]
+            pub struct #ty<#gt = f64> { pub params: #params_ty<#gt> }
+            impl<#gt: #rt::Real> ::core::default::Default for #ty<#gt> {
+                fn default() -> Self { #ty { params: <#params_ty<#gt> as ::core::default::Default>::default() } }
+            }
+
+            impl<#gt: #rt::Real> #ty<#gt> {
+                pub const INPUTS: usize = #ni;
+                pub const UNKNOWNS: usize = #nu;
+                pub const POINTS: usize = #np;
+                pub const BLOCKS: usize = #nblocks;
+
+                pub fn new(params: #params_ty<#gt>) -> Self { #ty { params } }
+
+                /// The file's `start` configuration (on the wanted assembly branch).
+                pub fn start() -> (#inputs_ty<#gt>, #unknowns_ty<#gt>) {
+                    let x: [#gt; #ni] = ::core::array::from_fn(|i| #gt::lit(INFO.inputs[i].start));
+                    let q: [#gt; #nu] = ::core::array::from_fn(|i| #gt::lit(INFO.unknowns[i].start));
+                    (#inputs_ty::from_array(x), #unknowns_ty::from_array(q))
+                }
+
+                #system_fns
+                #solvers
+
+                /// Everything at once: positions from `guess`, velocities, accelerations and points.
+                pub fn solve(&self, x: #inputs_ty<#gt>, xd: #inputs_ty<#gt>, xdd: #inputs_ty<#gt>, guess: #unknowns_ty<#gt>, options: &#rt::NewtonOptions<#gt>)
+                    -> ::core::result::Result<#motion_ty<#gt>, #rt::SolveError> {
+                    let mut q = guess.to_array();
+                    let (qd, qdd, points, report) = self.solve_arrays(&x.to_array(), &xd.to_array(), &xdd.to_array(), &mut q, options)?;
+                    Ok(#motion_ty { x, xd, xdd, q: #unknowns_ty::from_array(q), qd: #unknowns_ty::from_array(qd),
+                        qdd: #unknowns_ty::from_array(qdd), points: #points_ty::from_array(points), report })
+                }
+            }
+
+            impl<#gt: #rt::Real> #rt::Mechanism<#gt> for #ty<#gt> {
+                const NAME: &'static str = #name;
+                const INPUTS: usize = #ni;
+                const UNKNOWNS: usize = #nu;
+                const POINTS: usize = #np;
+                type X = [#gt; #ni];
+                type Q = [#gt; #nu];
+                type Tick = #tick_ty<#gt>;
+                fn info(&self) -> &'static #rt::StaticInfo { &INFO }
+                fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q { #ty::residual(self, x, q) }
+                fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [#gt]) { #rt::copy_row_major(&#ty::jacobian(self, x, q), out) }
+                fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [#gt]) { #rt::copy_row_major(&#ty::input_jacobian(self, x, q), out) }
+                fn jacobian_dot(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, out: &mut [#gt]) {
+                    #rt::copy_row_major(&#ty::jacobian_dot(self, x, q, xd, qd), out)
+                }
+                fn acceleration_rhs(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X) -> Self::Q {
+                    #ty::acceleration_rhs(self, x, q, xd, qd, xdd).into()
+                }
+                fn solve_position(&self, x: &Self::X, q: &mut Self::Q, options: &#rt::NewtonOptions<#gt>)
+                    -> ::core::result::Result<#rt::NewtonReport<#gt>, #rt::SolveError> { #ty::solve_position(self, x, q, options) }
+                fn solve_velocity(&self, x: &Self::X, q: &Self::Q, xd: &Self::X) -> ::core::result::Result<Self::Q, #rt::SolveError> {
+                    #ty::solve_velocity(self, x, q, xd)
+                }
+                fn solve_acceleration(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X)
+                    -> ::core::result::Result<Self::Q, #rt::SolveError> { #ty::solve_acceleration(self, x, q, xd, qd, xdd) }
+                fn points(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X, qdd: &Self::Q, out: &mut [#rt::PointMotion<#gt>]) {
+                    for (o, p) in out.iter_mut().zip(#ty::point_motion(self, x, q, xd, qd, xdd, qdd)) { *o = p; }
+                }
+                fn tick_start(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, guess: &Self::Q, options: &#rt::NewtonOptions<#gt>)
+                    -> ::core::result::Result<Self::Tick, #rt::SolveError> { #ty::tick_start(self, x, xd, xdd, guess, options) }
+                fn tick(&self, t: &mut Self::Tick, x: &Self::X, xd: &Self::X, xdd: &Self::X, options: &#rt::NewtonOptions<#gt>)
+                    -> ::core::result::Result<(), #rt::SolveError> { #ty::tick(self, t, x, xd, xdd, options) }
+                fn solve_motion(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, q: &mut Self::Q, qd: &mut Self::Q, qdd: &mut Self::Q,
+                    points: &mut [#rt::PointMotion<#gt>], options: &#rt::NewtonOptions<#gt>)
+                    -> ::core::result::Result<#rt::NewtonReport<#gt>, #rt::SolveError> {
+                    let (v, a, p, report) = #ty::solve_arrays(self, x, xd, xdd, q, options)?;
+                    *qd = v;
+                    *qdd = a;
+                    for (o, m) in points.iter_mut().zip(p) { *o = m; }
+                    Ok(report)
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,58 @@
+//! mechgen-runtime: what the generated solvers of `mechgen-codegen` run on. The user-facing types
+//! sit at the root (the scalar trait [`Real`], [`SolveError`], [`NewtonOptions`], the traits
+//! [`Mechanism`] and [`Kinematics`], [`Tick`]); the functions generated code calls are its ABI,
+//! re-exported under the hidden [`__private`] module, which is the only path generated code uses.
+//!
+//! Applications depend on `mechgen` (which re-exports this crate); this crate depends on nalgebra
+//! and num-traits only and is `no_std` (with `alloc` for the owned `MechanismInfo`): the one use of std is the
+//! float functions (`sin`, `cos`, `sqrt`, …), which num-traits takes from std.
+
+#![no_std]
+#![forbid(unsafe_code)]
+
+// `MechanismInfo` (the owned description run-time engines share) holds strings and vectors.
+extern crate alloc;
+// The float functions of f64 and f32 (`sin_cos`, `sqrt`, …) live in std.
+#[cfg(feature = "std")]
+extern crate std;
+// Without std, `Real`'s float functions would resolve to themselves: refuse to build until a
+// `libm` backend exists.
+#[cfg(not(feature = "std"))]
+compile_error!("mechgen-runtime needs its `std` feature (the float functions come from std)");
+
+pub mod dyad;
+pub mod elimination;
+pub mod error;
+pub mod mechanism;
+pub mod scalar;
+pub mod solve;
+pub mod tick;
+pub mod trig;
+
+pub use error::{Quantity, SolveError, Stage};
+pub use mechanism::{
+    Array, CoordInfo, Kind, Kinematics, Mechanism, MechanismInfo, ParamInfo, PointMotion,
+    StaticInfo, Visitor,
+};
+pub use nalgebra;
+pub use scalar::Real;
+pub use solve::{NewtonOptions, NewtonReport};
+pub use tick::{Solution, Tick};
+
+/// The ABI of generated code: every item the generated solvers name, reached by them as
+/// `<runtime path>::__private::…` (`::mechgen::__private::…` by default). Not a public API: it
+/// changes with the generator, which always emits code for the runtime it ships with.
+#[doc(hidden)]
+pub mod __private {
+    pub use crate::dyad::solve_dyad;
+    pub use crate::elimination::{copy_row_major, factor_block};
+    pub use crate::error::{Quantity, SolveError, Stage};
+    pub use crate::mechanism::{
+        CoordInfo, Kind, Kinematics, Mechanism, ParamInfo, PointMotion, StaticInfo, Visitor,
+    };
+    pub use crate::scalar::Real;
+    pub use crate::solve::{NewtonOptions, NewtonReport, check_finite, newton_block};
+    pub use crate::tick::{Solution, Tick};
+    pub use crate::trig::TrigState;
+    pub use nalgebra;
+}

@@ -1,0 +1,9 @@
+//! Generates both files of this crate with the build library: the one-call form, and the builder
+//! with another output file and the runtime crate's own path.
+fn main() {
+    mechgen_codegen::compile("mechanism.toml");
+    mechgen_codegen::Config::new()
+        .runtime_path("::mechgen_runtime")
+        .out_file("other.rs")
+        .compile("other.toml");
+}

@@ -1,0 +1,13 @@
+//! Fixture crate: odd but valid mechanism files (no points, no params, two inputs, 1×1 blocks,
+//! unknowns named like a naive emitter's locals, mechanisms named like generated items, runtime
+//! functions, mechgen's modules and std crates), generated in this crate's own build and included
+//! at its root; `tests/solve.rs` solves every one against an independent reference.
+
+// `::mechgen`: this file has a mechanism named `mechgen`, whose module at this crate's root would
+// make the plain `mechgen::` path ambiguous.
+::mechgen::include_mechanisms!();
+
+/// `other.toml`, generated for the runtime path `::mechgen_runtime` into `OUT_DIR/other.rs`.
+pub mod other {
+    ::mechgen::include_mechanisms!("other.rs");
+}

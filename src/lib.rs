@@ -16,6 +16,7 @@
 // Generated code names this crate `::mechgen`, also inside it.
 extern crate self as mechgen;
 
+pub mod closed_form;
 pub mod dyad;
 pub mod elimination;
 pub mod error;

@@ -17,6 +17,7 @@
 pub mod ast;
 pub mod build_script;
 pub mod check;
+pub mod closed_form;
 pub mod compile;
 pub mod dag;
 pub mod diagnostic;

@@ -5,6 +5,7 @@
 //!
 //! | kind | equation | unknowns | kernel | modes |
 //! | --- | --- | --- | --- | --- |
+//! | RRR | `K + M_a e(q_a) + M_b e(q_b) = 0` | angles q_a, q_b | `crate::dyad::solve_dyad`, [`rrr_modes`] | 2, 1, 0 |
 //! | RRP / PRR | `K + M e(q) + s u = 0` | angle q, length s | [`solve_rrp`], [`rrp_modes`] | 2, 1, 0 |
 //! | RPR | `K + (M + s N) e(q) = 0` | angle q, length s | [`solve_rpr`], [`rpr_modes`] | 2, 1, 0 |
 //! | linear 2×2 | `K + s1 u1 + s2 u2 = 0` | lengths s1, s2 | [`solve_linear2`], [`linear2_modes`] | 1 |
@@ -17,11 +18,13 @@ mod angle1;
 mod linear;
 mod rpr;
 mod rrp;
+mod rrr;
 
 pub use angle1::{angle1_modes, solve_angle1};
 pub use linear::{length1_modes, linear2_modes, solve_length1, solve_linear2};
 pub use rpr::{rpr_modes, solve_rpr};
 pub use rrp::{rrp_modes, solve_rrp};
+pub use rrr::rrr_modes;
 
 use crate::error::SolveError;
 use crate::scalar::Real;

@@ -9,6 +9,8 @@ use crate::scalar::Real;
 use crate::solve::{NewtonReport, TrigState};
 
 /// `(c, w, |w|², t)` with `t = √(|w|² − c²) ≥ 0`, or `Err(gap)` past the dead point.
+// `!(a > b)` is deliberate: a NaN must fail the test.
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 #[allow(clippy::type_complexity)]
 fn reduce<T: Real>(
     block: usize,

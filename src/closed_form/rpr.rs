@@ -26,6 +26,8 @@ struct Guide<T> {
 
 /// The guide frame, or `Err(gap)` (in length) past the dead point; `Singular` for `N = 0` or
 /// `g = 0 = b`; the overflow error for non-finite coefficients.
+// `!(a > b)` is deliberate: a NaN must fail the test.
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 #[allow(clippy::type_complexity)]
 fn guide<T: Real>(
     block: usize,

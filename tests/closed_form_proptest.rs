@@ -18,7 +18,7 @@ use std::cell::{Cell, RefCell};
 use std::f64::consts::PI;
 
 use common::angle_diff;
-use mechgen::generic::Generic;
+use mechgen::generic::{self, Generic};
 use mechgen::{Kinematics, NewtonOptions};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
@@ -129,8 +129,6 @@ impl Group {
         generic::load("m.toml", &text).expect("loads").remove(0)
     }
 }
-
-use mechgen::generic;
 
 fn length() -> impl Strategy<Value = f64> {
     (-1.0f64..1.0).prop_map(|e| 10f64.powf(e))

@@ -13,6 +13,9 @@ use mechgen::{Kinematics, NewtonOptions, SolveError};
 /// Errors in units of ε/√δ (positions) and ε/δ (rates) at most this.
 const BOUND: f64 = 16.0;
 
+/// Unknowns in file order, their rates per unit input rate (where given), and δ.
+type Closed = (Vec<f64>, Option<Vec<f64>>, f64);
+
 struct Case {
     name: &'static str,
     text: &'static str,
@@ -21,10 +24,10 @@ struct Case {
     side: f64,
     /// Independent closed form at x: unknowns in file order, their rates per unit input rate
     /// (where given), and δ.
-    closed: fn(f64) -> (Vec<f64>, Option<Vec<f64>>, f64),
+    closed: fn(f64) -> Closed,
 }
 
-fn slider_crank(x: f64) -> (Vec<f64>, Option<Vec<f64>>, f64) {
+fn slider_crank(x: f64) -> Closed {
     let (r, l, off) = (0.3, 0.2, 0.05);
     // The y equation: l sin q2 = off − r sin x; the rod points right (cos q2 > 0).
     let sin2 = (off - r * x.sin()) / l;
@@ -35,7 +38,7 @@ fn slider_crank(x: f64) -> (Vec<f64>, Option<Vec<f64>>, f64) {
     (vec![q2, s], Some(vec![q2d, sd]), 1.0 - sin2.abs())
 }
 
-fn slot(x: f64) -> (Vec<f64>, Option<Vec<f64>>, f64) {
+fn slot(x: f64) -> Closed {
     let (r, h, dx) = (0.8, 0.5, 1.0);
     // B = (dx, 0) + r e(x) = |(s, h)| e(q2 + atan2(h, s)), s > 0.
     let (bx, by) = (dx + r * x.cos(), r * x.sin());
@@ -44,7 +47,7 @@ fn slot(x: f64) -> (Vec<f64>, Option<Vec<f64>>, f64) {
     (vec![s, by.atan2(bx) - h.atan2(s)], None, 1.0 - h / rho)
 }
 
-fn inclined(x: f64) -> (Vec<f64>, Option<Vec<f64>>, f64) {
+fn inclined(x: f64) -> Closed {
     let (r, l, al, dy) = (0.5, 0.3, 0.3f64, 0.6);
     // C = (0, dy) + s e(al), |C − r e(x)| = l: s² + 2 (w·u) s + |w|² − l² = 0, larger root.
     let (ux, uy) = (al.cos(), al.sin());

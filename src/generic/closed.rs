@@ -93,7 +93,15 @@ pub(super) fn solve<T: Real>(
             solve_angle1(block, &mut st, 0, v[0], (v[1], v[2]), sc, tolerance, report)
         }
         ClosedForm::Length1 { .. } => solve_length1(block, &mut st, 0, v[0], v[1]),
-    }?;
+    }
+    .map_err(|e| match e {
+        // The kernel's index is into the local state: report the mechanism's unknown.
+        SolveError::NonFinite { quantity, index } => SolveError::NonFinite {
+            quantity,
+            index: idx[index.min(1)],
+        },
+        e => e,
+    })?;
     for (slot, &k) in idx.iter().enumerate().take(n) {
         q[k] = st.q[slot];
     }

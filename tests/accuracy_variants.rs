@@ -94,9 +94,18 @@ fn generated_f32_and_the_generic_engine() {
     let (_, e) = turn(Generated::<f32>::new(options(1e-5, 64)));
     assert!(e.max() < 1e-4 && e.max() > 1e-8, "{e:?}");
     let g = generic();
-    let (pass, e) = turn(Engine::new(&g, NewtonOptions::default()));
+    // Block Newton (two iterations per dyad block per step from the last step's answer) …
+    let newton = NewtonOptions {
+        closed_forms: false,
+        ..NewtonOptions::default()
+    };
+    let (pass, e) = turn(Engine::new(&g, newton));
     assert!(e.max() < 1e-13, "{e:?}");
     assert_eq!(pass.iterations, 4 * STEPS as u64);
+    // … and, by default, the dyads' closed forms: no iterations, as exact.
+    let (pass, e) = turn(Engine::new(&g, NewtonOptions::default()));
+    assert!(e.max() < 1e-13, "{e:?}");
+    assert_eq!(pass.iterations, 0);
 }
 
 #[test]

@@ -257,3 +257,38 @@ start = { a = 1.5, b = 1.5, q2 = 0.0, q3 = 3.14159 }
         assert!(phi.iter().all(|v| v.abs() < 1e-13), "{phi:?}");
     }
 }
+
+/// Blocks the generator classifies as closed forms (every block of these mechanisms but those of
+/// `sixbar_g`, one 4×4) take no Newton iterations in the generic engine, and all iterate with
+/// `closed_forms: false`; both answers agree.
+#[test]
+fn closed_form_blocks_take_no_iterations() {
+    for (k, g) in engines() {
+        let info = k.info();
+        let closed = match info.name.as_str() {
+            "sixbar" | "shaper" | "four_bar" | "slider_crank" | "rocker_four_bar" | "actuator"
+            | "derived_slider" | "wide_four_bar" => true,
+            "sixbar_g" => false,
+            _ => continue,
+        };
+        let x: Vec<f64> = info.inputs.iter().map(|i| i.2 * 1.01 + 0.01).collect();
+        let start: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
+        let newton = mechgen::NewtonOptions {
+            closed_forms: false,
+            ..mechgen::NewtonOptions::default()
+        };
+        let (mut a, mut b) = (start.clone(), start);
+        let ra = g.solve_position(&x, &mut a, &mechgen::NewtonOptions::default());
+        let rb = g.solve_position(&x, &mut b, &newton);
+        let (ra, rb) = (ra.expect("solves"), rb.expect("solves"));
+        assert_eq!(ra.iterations == 0, closed, "{}: {ra:?}", info.name);
+        assert!(rb.iterations > 0, "{}: {rb:?}", info.name);
+        for (u, v) in a.iter().zip(&b) {
+            assert!(
+                (u - v).abs() <= 1e-12 * u.abs().max(1.0),
+                "{}: {a:?} vs {b:?}",
+                info.name
+            );
+        }
+    }
+}

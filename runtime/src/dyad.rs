@@ -68,7 +68,7 @@ fn near_pair<T: Real>(
 /// so large that the precision cannot hold the answer to `tolerance` there, then the principal
 /// value in (−π, π].
 #[inline(always)]
-fn near<T: Real>(q: T, e: (T, T), (c, s): (T, T), tolerance: T) -> T {
+pub(crate) fn near<T: Real>(q: T, e: (T, T), (c, s): (T, T), tolerance: T) -> T {
     let q_new = q + turn(e, (c, s));
     if T::EPSILON * q_new.abs() <= tolerance {
         q_new

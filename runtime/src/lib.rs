@@ -20,6 +20,7 @@ extern crate std;
 #[cfg(not(feature = "std"))]
 compile_error!("mechgen-runtime needs its `std` feature (the float functions come from std)");
 
+pub mod closed_form;
 pub mod dyad;
 pub mod elimination;
 pub mod error;

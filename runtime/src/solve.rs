@@ -19,8 +19,9 @@ pub struct NewtonOptions<T> {
     pub tolerance: T,
     /// Iteration cap per block.
     pub max_iterations: u32,
-    /// Generated solvers: solve dyad blocks in closed form (exact, no iterations; the default).
-    /// `false` runs Newton on them like on every other block. The generic engine always iterates.
+    /// Solve closed-form blocks in closed form (exact, no iterations; the default): dyad blocks
+    /// in generated solvers, every closed-form kind in the generic engine. `false` runs Newton on
+    /// them like on every other block.
     pub closed_forms: bool,
 }
 

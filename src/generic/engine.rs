@@ -7,6 +7,7 @@ use mechgen_codegen::Kind as CodegenKind;
 use mechgen_codegen::{Compiled, Diagnostic, SourceFile};
 use mechgen_runtime::nalgebra::{DMatrix, DVector, Dyn};
 
+use super::closed::{self, ClosedTape};
 use super::tape::{Env, Tape};
 use mechgen_runtime::elimination::gauss_in_place;
 use mechgen_runtime::error::{Quantity, SolveError, Stage};
@@ -39,6 +40,8 @@ pub(super) struct BlockTapes {
     /// k right-hand sides, then the Jacobian.
     pub velocity: Tape,
     pub acceleration: Tape,
+    /// The kind and roots of a closed-form block (solved by its kernel); `None`: Newton.
+    pub closed: Option<ClosedTape>,
 }
 
 /// A mechanism solved by interpreting its expression DAG.
@@ -144,6 +147,10 @@ impl Generic {
                     position: with_jac(&b.residual),
                     velocity: with_jac(&b.velocity_rhs),
                     acceleration: with_jac(&b.acceleration_rhs),
+                    closed: b.closed_form.as_ref().map(|f| ClosedTape {
+                        form: f.clone(),
+                        roots: Tape::new(&dag, f.roots()),
+                    }),
                 }
             })
             .collect();
@@ -230,8 +237,9 @@ impl Generic {
         if s > 0.0 { s } else { 1.0 }
     }
 
-    /// Newton on every block in order, from the guess in `q`; `q` is written only on success
-    /// (as the generated solvers do).
+    /// Every block in order, from the guess in `q`: closed-form blocks by their kernels (unless
+    /// `options.closed_forms` is off), the others by Newton; `q` is written only on success (as
+    /// the generated solvers do).
     pub(super) fn newton<T: Real>(
         &self,
         x: &[T],
@@ -248,6 +256,21 @@ impl Generic {
         let mut out = Vec::new();
         for (bi, b) in self.blocks.iter().enumerate() {
             let k = b.unknowns.len();
+            if let Some(c) = b.closed.as_ref().filter(|_| options.closed_forms) {
+                out.resize(c.form.roots().len(), T::zero());
+                c.roots
+                    .eval(&Env::position(x, &trial, &self.params), &mut regs, &mut out);
+                closed::solve(
+                    bi,
+                    &c.form,
+                    &out,
+                    &mut trial,
+                    scale,
+                    options.tolerance,
+                    &mut report,
+                )?;
+                continue;
+            }
             let mut work: NewtonWork<T, Dyn> = NewtonWork {
                 residual: DVector::zeros(k),
                 jacobian: DMatrix::zeros(k, k),

@@ -3,6 +3,7 @@
 //! Newton and error values (`engine.rs`). It is the `--file` path of the CLI and the honest
 //! comparison for the generated solvers. [`Kinematics`] is implemented here.
 
+mod closed;
 mod engine;
 pub mod tape;
 

@@ -106,7 +106,7 @@ fn degree(dag: &Dag, f: NodeId, t: &Trig, memo: &mut HashMap<NodeId, u8>) -> Opt
 }
 
 /// ∂f/∂t treating the node `t` as a variable (exact for `f` affine in the trig nodes).
-fn coefficient(
+pub(crate) fn coefficient(
     dag: &mut Dag,
     f: NodeId,
     t: NodeId,

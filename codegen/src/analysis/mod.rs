@@ -4,6 +4,7 @@
 //! closed-form blocks). The result, [`Compiled`], is what the emitters and the generic engine
 //! read.
 
+pub mod closed_form;
 pub mod dyad;
 pub mod plan;
 pub mod scene;

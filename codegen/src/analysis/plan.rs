@@ -2,6 +2,7 @@
 //! diagonal block its residual and Jacobian, and its velocity and acceleration right-hand sides
 //! with the unknowns of earlier blocks already substituted as known rates.
 
+use crate::analysis::closed_form::ClosedForm;
 use crate::analysis::dyad::Dyad;
 use crate::analysis::structure::Block;
 use crate::ir::dag::{NodeId, Var};
@@ -21,8 +22,12 @@ pub struct BlockForms {
     pub velocity_rhs: Vec<NodeId>,
     /// J_bb q̈_b = acceleration_rhs: γ − Σ J_bk q̈_k over the other blocks' unknowns.
     pub acceleration_rhs: Vec<NodeId>,
-    /// The closed form of the positions when the block is a dyad; Newton otherwise.
+    /// The closed form of the positions when the block is a dyad; Newton otherwise. (What the
+    /// emitters solve in closed form today; the same dyad as `closed_form`'s `Rrr`.)
     pub dyad: Option<Dyad>,
+    /// The closed form of the positions when the block is of a kind the runtime solves exactly
+    /// (`closed_form` stage); Newton otherwise. The generic engine solves every kind from it.
+    pub closed_form: Option<ClosedForm>,
 }
 
 pub fn block_forms(
@@ -38,7 +43,7 @@ pub fn block_forms(
         .collect();
     let mut d = Differentiator::new(&mut sys.dag);
     let n = der.jacobian.first().map_or(0, Vec::len);
-    blocks
+    let mut forms: Vec<BlockForms> = blocks
         .iter()
         .enumerate()
         .map(|(bi, b)| {
@@ -75,7 +80,14 @@ pub fn block_forms(
                 velocity_rhs,
                 acceleration_rhs,
                 dyad: dyads[bi].clone(),
+                closed_form: None,
             }
         })
-        .collect()
+        .collect();
+    // Last, so that the nodes the classification adds come after every node the emitters read.
+    for f in &mut forms {
+        f.closed_form =
+            crate::analysis::closed_form::closed_form(&mut sys.dag, model, &residuals, &f.block);
+    }
+    forms
 }

@@ -1,11 +1,16 @@
-//! SVG plots of sweeps (`motion_svg`), drawings of the mechanism (`drawing_svg`) and labelled
+//! SVG plots of sweeps (`motion_svg`), drawings of the mechanism (`drawing_svg`, frames from its
+//! structure by `sweep_frames`), its animation (`animation_svg`, `write_animation`) and labelled
 //! log-log scatter plots (`log_log_scatter_svg`), drawn with `plotters` into a `String`. Text is
 //! laid out with the bundled DejaVu Sans (no system fonts); non-finite values are never drawn, and
 //! failed rows are gaps, never joined across.
 
+mod animation;
 mod drawing;
+#[cfg(feature = "runtime")]
+mod frames;
 mod motion;
 mod scatter;
+mod symbols;
 
 use std::fmt;
 use std::sync::OnceLock;
@@ -14,7 +19,10 @@ use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
 use plotters::coord::types::RangedCoordf64;
 use plotters::style::{FontStyle, RGBColor};
 
-pub use drawing::{Frame, drawing_svg, point_paths};
+pub use animation::animation_svg;
+pub use drawing::{Frame, Slider, drawing_svg, point_paths};
+#[cfg(feature = "runtime")]
+pub use frames::{sweep_frames, write_animation};
 pub use motion::motion_svg;
 pub use scatter::{Marker, ScatterLayout, log_log_scatter_svg};
 
@@ -39,6 +47,8 @@ pub enum PlotError {
     NoData,
     /// plotters failed while drawing.
     Drawing(String),
+    /// A plot file could not be written (the path and the reason).
+    Write(String, String),
 }
 
 impl fmt::Display for PlotError {
@@ -51,6 +61,7 @@ impl fmt::Display for PlotError {
             ),
             PlotError::NoData => write!(f, "nothing finite to plot"),
             PlotError::Drawing(e) => write!(f, "plot drawing failed: {e}"),
+            PlotError::Write(path, e) => write!(f, "cannot write {path}: {e}"),
         }
     }
 }

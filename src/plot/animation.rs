@@ -7,7 +7,8 @@
 use std::fmt::Write as _;
 
 use super::drawing::{Frame, Slider};
-use super::{PlotError, color, finite_runs, padded_range, tick_text};
+use super::symbols::axes;
+use super::{PlotError, color, finite_runs, padded_range};
 
 const WIDTH: f64 = 800.0;
 const MARGIN: f64 = 40.0;
@@ -24,6 +25,16 @@ fn num(v: f64) -> String {
     let s = format!("{:.1}", v);
     let s = s.strip_suffix(".0").unwrap_or(&s).to_string();
     if s == "-0" { "0".into() } else { s }
+}
+
+/// A number with up to three decimals, trailing zeros dropped.
+fn short(v: f64) -> String {
+    if !v.is_finite() {
+        return "?".into();
+    }
+    let s = format!("{v:.3}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.into() }
 }
 
 /// Escapes text for XML.
@@ -107,6 +118,7 @@ pub fn animation_svg(
     let _ = write!(
         svg,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif">
+<style>.f polyline{{fill:none;stroke:{INK};stroke-width:3;stroke-linejoin:round;stroke-linecap:round}}.f polygon{{fill:#D6E2F0;fill-opacity:.7}}.f .k{{fill:#E1E1E1;fill-opacity:1;stroke:{INK};stroke-width:2}}.f circle{{fill:#fff;stroke:{INK};stroke-width:2}}.f text{{font-size:16px;fill:{INK}}}</style>
 <rect width="100%" height="100%" fill="white"/>
 <text x="{cx}" y="28" font-size="20" text-anchor="middle" fill="{INK}">{t}</text>
 "#,
@@ -164,7 +176,7 @@ pub fn animation_svg(
     let (name, unit) = input;
     for (i, f) in frames.iter().enumerate() {
         let visible = if i == 0 { "visible" } else { "hidden" };
-        let _ = write!(svg, r#"<g class="frame" visibility="{visible}">"#);
+        let _ = write!(svg, r#"<g class="f" visibility="{visible}">"#);
         if n > 1 {
             let (values, times) = if i == 0 {
                 ("visible;hidden".to_string(), format!("0;{}", key(1)))
@@ -184,11 +196,11 @@ pub fn animation_svg(
         frame(&mut svg, &page, f, paths.len());
         let _ = writeln!(
             svg,
-            r#"<text x="{}" y="{}" font-size="16" fill="{INK}">{} = {}{}</text></g>"#,
+            r#"<text x="{}" y="{}">{} = {}{}</text></g>"#,
             num(MARGIN),
             num(TOP + 4.0),
             escape(name),
-            tick_text(f.input, 0.01),
+            short(f.input),
             escape(unit)
         );
     }
@@ -198,22 +210,20 @@ pub fn animation_svg(
 
 /// The moving parts of one frame: bodies, guides that move, blocks, joints, named points.
 fn frame(svg: &mut String, page: &Page, f: &Frame, paths: usize) {
-    for link in &f.links {
-        let closed = link.len() > 3 && link.first() == link.last();
-        let Some(pts) = page.points(link) else {
-            continue;
-        };
-        if closed {
+    // Bodies' shading first, so that no shading hides a link.
+    for link in f.links.iter().filter(|l| l.len() > 3 && l.first() == l.last()) {
+        if let Some(pts) = page.points(link) {
             let _ = write!(
                 svg,
-                r##"<polygon points="{pts}" fill="#D6E2F0" fill-opacity="0.7" stroke="{INK}" stroke-width="3" stroke-linejoin="round"/>"##
-            );
-        } else {
-            let _ = write!(
-                svg,
-                r#"<polyline points="{pts}" fill="none" stroke="{INK}" stroke-width="3" stroke-linecap="round"/>"#
+                r#"<polygon points="{pts}"/>"#
             );
         }
+    }
+    for pts in f.links.iter().filter_map(|l| page.points(l)) {
+        let _ = write!(
+            svg,
+            r#"<polyline points="{pts}"/>"#
+        );
     }
     for s in &f.sliders {
         let (Some(a), Some(b), Some(k)) = (page.at(&s.guide[0]), page.at(&s.guide[1]), page.at(&s.block))
@@ -240,28 +250,29 @@ fn frame(svg: &mut String, page: &Page, f: &Frame, paths: usize) {
         };
         let _ = write!(
             svg,
-            r##"<polygon points="{} {} {} {}" fill="#E1E1E1" stroke="{INK}" stroke-width="2"/>"##,
+            r#"<polygon class="k" points="{} {} {} {}"/>"#,
             corner(-1.0, -1.0),
             corner(1.0, -1.0),
             corner(1.0, 1.0),
             corner(-1.0, 1.0)
         );
     }
-    let _ = write!(svg, r#"<g fill="white" stroke="{INK}" stroke-width="2">"#);
     let joints = f.links.iter().flatten().chain(&f.ground);
-    let mut seen: Vec<(f64, f64)> = Vec::new();
+    let mut seen: Vec<(String, String)> = Vec::new();
     for p in joints.chain(f.sliders.iter().map(|s| &s.block)) {
-        if let Some(q) = page.at(p).filter(|q| !seen.contains(q)) {
+        let Some(q) = page.at(p).map(|q| (num(q.0), num(q.1))) else {
+            continue;
+        };
+        if !seen.contains(&q) {
+            let _ = write!(svg, r#"<circle cx="{}" cy="{}" r="5"/>"#, q.0, q.1);
             seen.push(q);
-            let _ = write!(svg, r#"<circle cx="{}" cy="{}" r="5"/>"#, num(q.0), num(q.1));
         }
     }
-    svg.push_str("</g>");
     for (i, (_, p)) in f.points.iter().enumerate().take(paths) {
         if let Some(q) = page.at(p) {
             let _ = write!(
                 svg,
-                r#"<circle cx="{}" cy="{}" r="4" fill="{}"/>"#,
+                r#"<circle cx="{}" cy="{}" r="4" style="fill:{};stroke:none"/>"#,
                 num(q.0),
                 num(q.1),
                 hex(color(i))
@@ -270,20 +281,12 @@ fn frame(svg: &mut String, page: &Page, f: &Frame, paths: usize) {
     }
 }
 
-/// The unit vector from `a` to `b` on the page (x when they coincide) and its normal pointing
-/// down the page (right for a vertical guide).
+/// The unit vector from `a` to `b` on the page and its right normal (see [`axes`]).
 fn frame_axes(a: (f64, f64), b: (f64, f64)) -> ((f64, f64), (f64, f64)) {
-    let d = (b.0 - a.0, b.1 - a.1);
-    let len = d.0.hypot(d.1);
-    let u = if len >= 1e-9 { (d.0 / len, d.1 / len) } else { (1.0, 0.0) };
-    let mut v = (-u.1, u.0);
-    if v.1 < 0.0 || (v.1 == 0.0 && v.0 < 0.0) {
-        v = (-v.0, -v.1);
-    }
-    (u, v)
+    axes((b.0 - a.0, b.1 - a.1))
 }
 
-/// A guide fixed to the ground: a rail under the block, hatched below.
+/// A guide fixed to the ground: a rail on its right under the block, hatched further right.
 fn rail(svg: &mut String, page: &Page, s: &Slider) {
     let (Some(a), Some(b)) = (page.at(&s.guide[0]), page.at(&s.guide[1])) else {
         return;

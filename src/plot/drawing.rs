@@ -9,7 +9,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use crate::mechanism::MechanismInfo;
 use crate::sweep::Row;
 
-use super::symbols::{draw_legend, draw_shape, pivot, slider};
+use super::symbols::{axes, block, draw_legend, draw_shape, guide, pivot};
 use super::{
     FAMILY, PlotError, Ticked, color, drawing_error, ensure_font, finite_runs, padded_range,
     tick_text, ticks,
@@ -44,7 +44,8 @@ pub struct Frame {
 /// A slider block on its guide, in file units.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Slider {
-    /// The stretch of guide drawn, from end to end (the block is oriented along it).
+    /// The stretch of guide drawn, from end to end (the block is oriented along it). A guide fixed
+    /// to the ground is drawn as a rail on its right, looking from the first end to the second.
     pub guide: [[f64; 2]; 2],
     /// The centre of the block (a joint).
     pub block: [f64; 2],
@@ -130,6 +131,9 @@ pub fn drawing_svg(
             .draw()
             .map_err(drawing_error)?;
 
+        if let Some(first) = frames.first() {
+            draw_rails(&chart, first)?;
+        }
         for frame in frames.iter().skip(1) {
             draw_frame(&mut chart, frame, false)?;
         }
@@ -168,17 +172,30 @@ fn builder<'a, 'b>(
         .map_err(drawing_error)
 }
 
+/// The guides fixed to the ground (the same in every frame), under everything else.
+fn draw_rails(chart: &Chart, frame: &Frame) -> Result<(), PlotError> {
+    for s in frame.sliders.iter().filter(|s| s.ground && s.guide.iter().all(finite)) {
+        let (a, b) = (chart.backend_coord(&pair(&s.guide[0])), chart.backend_coord(&pair(&s.guide[1])));
+        let d = (f64::from(b.0 - a.0), f64::from(b.1 - a.1));
+        let shape = guide(d, true, (INK, 1.0, 2));
+        draw_shape(chart.plotting_area(), pair(&s.guide[0]), &shape)?;
+    }
+    Ok(())
+}
+
 /// Links, sliders, joints, ground pivots and (first frame only) point labels.
 fn draw_frame(chart: &mut Chart, frame: &Frame, bold: bool) -> Result<(), PlotError> {
     let (ink, width, radius) = if bold { (INK, 3, 5) } else { (FADED, 1, 3) };
     let alpha = if bold { 1.0 } else { FADED_ALPHA };
-    for link in &frame.links {
-        let closed = link.len() > 3 && link.first() == link.last() && link.iter().all(finite);
-        if closed && bold {
+    // Bodies' shading first, so that no shading hides a link.
+    for link in frame.links.iter().filter(|_| bold) {
+        if link.len() > 3 && link.first() == link.last() && link.iter().all(finite) {
             let outline = link.iter().map(pair).collect::<Vec<_>>();
             let body = Polygon::new(outline, BODY.mix(0.7).filled());
             chart.draw_series([body]).map_err(drawing_error)?;
         }
+    }
+    for link in &frame.links {
         for run in finite_runs(link.iter().map(|p| Some(pair(p)))) {
             let line = LineSeries::new(run, ink.mix(alpha).stroke_width(width));
             chart.draw_series(line).map_err(drawing_error)?;
@@ -187,10 +204,14 @@ fn draw_frame(chart: &mut Chart, frame: &Frame, bold: bool) -> Result<(), PlotEr
     let ends = |s: &&Slider| s.guide.iter().chain([&s.block]).all(finite);
     for s in frame.sliders.iter().filter(ends) {
         let px = |p: &[f64; 2]| chart.backend_coord(&pair(p));
-        let (a, b, k) = (px(&s.guide[0]), px(&s.guide[1]), px(&s.block));
-        let d = |p: (i32, i32)| (f64::from(p.0 - a.0), f64::from(p.1 - a.1));
-        let shape = slider(d(b), d(k), (1.0, 0.0), s.ground, (ink, alpha, width));
-        draw_shape(chart.plotting_area(), pair(&s.guide[0]), &shape)?;
+        let (a, b) = (px(&s.guide[0]), px(&s.guide[1]));
+        let d = (f64::from(b.0 - a.0), f64::from(b.1 - a.1));
+        if !s.ground {
+            let shape = guide(d, false, (ink, alpha, width));
+            draw_shape(chart.plotting_area(), pair(&s.guide[0]), &shape)?;
+        }
+        let shape = block(axes(d).0, (ink, alpha, width));
+        draw_shape(chart.plotting_area(), pair(&s.block), &shape)?;
     }
     if bold {
         for p in frame.ground.iter().filter(|p| finite(p)) {
@@ -258,8 +279,14 @@ fn draw_labels(chart: &mut Chart, frame: &Frame, joints: &[(f64, f64)]) -> Resul
         } else {
             VPos::Center
         };
-        // Pixel offset: y grows downwards.
-        let (ox, oy) = ((dx * 11.0).round() as i32, (-dy * 11.0).round() as i32);
+        // Pixel offset (y grows downwards): clear of a slider block at the point.
+        let at = chart.backend_coord(&pair(p));
+        let on_block = frame.sliders.iter().any(|s| {
+            let b = chart.backend_coord(&pair(&s.block));
+            (b.0 - at.0).abs() <= 2 && (b.1 - at.1).abs() <= 2
+        });
+        let reach = if on_block { 22.0 } else { 11.0 };
+        let (ox, oy) = ((dx * reach).round() as i32, (-dy * reach).round() as i32);
         let style = font.color(&INK).pos(Pos::new(h, v));
         let (w, th) = chart
             .plotting_area()

@@ -49,6 +49,14 @@ pub fn sweep_frames(model: &Generic, x: &[f64], input: usize, rows: &[Row]) -> V
             }
         }
     }
+    // A rail lies on the guide's right: run each ground guide so the links at its block lie
+    // mostly on its left, and the rail on the side they do not cross.
+    let mut left = vec![0.0; slider_count];
+    for (_, sk) in sketches.iter().filter(|s| s.1.sliders.len() == slider_count) {
+        for (side, s) in left.iter_mut().zip(&sk.sliders) {
+            *side += side_of_links(&sk.links, s.block, s.direction, 1e-9 * size);
+        }
+    }
     sketches
         .into_iter()
         .map(|(row, sk)| {
@@ -73,8 +81,9 @@ pub fn sweep_frames(model: &Generic, x: &[f64], input: usize, rows: &[Row]) -> V
                         _ if t >= 0.0 => (0.0, t + margin),
                         _ => (t - margin, 0.0),
                     };
+                    let flip = s.ground && left.get(i).is_some_and(|l| *l < 0.0);
                     Slider {
-                        guide: [at(lo), at(hi)],
+                        guide: if flip { [at(hi), at(lo)] } else { [at(lo), at(hi)] },
                         block: s.block,
                         ground: s.ground,
                     }
@@ -102,6 +111,27 @@ pub fn sweep_frames(model: &Generic, x: &[f64], input: usize, rows: &[Row]) -> V
             }
         })
         .collect()
+}
+
+/// How many of the links' joints next to `block` lie left of `direction` through it, less how
+/// many lie right.
+fn side_of_links(links: &[Vec<[f64; 2]>], block: [f64; 2], direction: [f64; 2], tol: f64) -> f64 {
+    let mut side = 0.0;
+    for link in links {
+        for (i, p) in link.iter().enumerate() {
+            if (p[0] - block[0]).hypot(p[1] - block[1]) > tol {
+                continue;
+            }
+            let next = [i.checked_sub(1).map(|k| link[k]), link.get(i + 1).copied()];
+            for q in next.into_iter().flatten() {
+                let cross = direction[0] * (q[1] - block[1]) - direction[1] * (q[0] - block[0]);
+                if cross.is_finite() && cross != 0.0 {
+                    side += cross.signum();
+                }
+            }
+        }
+    }
+    side
 }
 
 /// The distance from `base` to `block` along `direction`.

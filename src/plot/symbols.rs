@@ -61,53 +61,57 @@ fn round(p: (f64, f64)) -> (i32, i32) {
     (p.0.round() as i32, p.1.round() as i32)
 }
 
-/// A slider whose guide runs `guide` pixels (x right, y down) from the anchor at the guide's
-/// first end, with its block `block` pixels from it. The unit vector along the guide (from the
-/// guide, or `fallback` when it has no length) orients the block. A ground guide is a rail under
-/// the block, hatched on the far side; a moving guide is a line through the block.
-pub(super) fn slider(
-    guide: (f64, f64),
-    block: (f64, f64),
-    fallback: (f64, f64),
-    ground: bool,
-    style: (RGBColor, f64, u32),
-) -> Shape {
-    let (ink, alpha, width) = style;
-    let len = guide.0.hypot(guide.1);
+/// The unit vector along `d` (pixels, y down; x when `d` is shorter than a pixel) and its right
+/// normal (down the page for a guide running right).
+pub(super) fn axes(d: (f64, f64)) -> ((f64, f64), (f64, f64)) {
+    let len = d.0.hypot(d.1);
     let u = if len >= 1.0 {
-        (guide.0 / len, guide.1 / len)
+        (d.0 / len, d.1 / len)
     } else {
-        fallback
+        (1.0, 0.0)
     };
-    // The side the rail lies on: below the block on the page when the guide is not vertical.
-    let mut n = (-u.1, u.0);
-    if n.1 < 0.0 || (n.1 == 0.0 && n.0 < 0.0) {
-        n = (-n.0, -n.1);
-    }
-    let at = |t: f64, h: f64, from: (f64, f64)| round((from.0 + t * u.0 + h * n.0, from.1 + t * u.1 + h * n.1));
-    let line = ink.mix(alpha).stroke_width(width);
-    let thin = ink.mix(alpha).stroke_width(1);
+    (u, (-u.1, u.0))
+}
+
+/// A slider's guide running `d` pixels from the anchor (its first end). A guide fixed to the ground
+/// is a rail on its right (looking from the first end), a block's half height away from its axis
+/// so the block rests on it, hatched further right; a moving guide is a line along its axis.
+pub(super) fn guide(d: (f64, f64), ground: bool, style: (RGBColor, f64, u32)) -> Shape {
+    let (ink, alpha, width) = style;
+    let (len, (u, n)) = (d.0.hypot(d.1), axes(d));
+    let at = |t: f64, h: f64| round((t * u.0 + h * n.0, t * u.1 + h * n.1));
     let mut shape = Shape::default();
-    if len >= 1.0 {
-        let offset = if ground { BLOCK.1 } else { 0.0 };
-        shape.lines.push((vec![at(0.0, offset, (0.0, 0.0)), at(len, offset, (0.0, 0.0))], line));
-        if ground {
-            let mut t = 4.0;
-            while t <= len {
-                let hatch = vec![at(t, offset, (0.0, 0.0)), at(t - 6.0, offset + 7.0, (0.0, 0.0))];
-                shape.lines.push((hatch, thin));
-                t += 10.0;
-            }
-        }
+    if len < 1.0 {
+        return shape;
     }
+    let offset = if ground { BLOCK.1 } else { 0.0 };
+    let line = ink.mix(alpha).stroke_width(width);
+    shape.lines.push((vec![at(0.0, offset), at(len, offset)], line));
+    let mut t = 4.0;
+    while ground && t <= len {
+        let hatch = vec![at(t, offset), at(t - 6.0, offset + 7.0)];
+        shape.lines.push((hatch, ink.mix(alpha).stroke_width(1)));
+        t += 10.0;
+    }
+    shape
+}
+
+/// A slider block centred on the anchor, its long side along the unit vector `u` (pixels).
+pub(super) fn block(u: (f64, f64), style: (RGBColor, f64, u32)) -> Shape {
+    let (ink, alpha, width) = style;
+    let n = (-u.1, u.0);
     let corners: Vec<(i32, i32)> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0)]
         .iter()
-        .map(|(a, b)| at(a * BLOCK.0, b * BLOCK.1, block))
+        .map(|(a, b)| {
+            let (t, h) = (a * BLOCK.0, b * BLOCK.1);
+            round((t * u.0 + h * n.0, t * u.1 + h * n.1))
+        })
         .collect();
     let fill = RGBColor(225, 225, 225).mix(alpha).filled();
-    shape.fills.push((corners[..4].to_vec(), fill));
-    shape.lines.push((corners, line));
-    shape
+    Shape {
+        fills: vec![(corners[..4].to_vec(), fill)],
+        lines: vec![(corners, ink.mix(alpha).stroke_width(width))],
+    }
 }
 
 /// The legend beside the plot: one entry per path, the frames and the symbols.
@@ -155,14 +159,14 @@ pub(super) fn draw_legend(
     label("ground pivot", y)?;
     y += 28;
     if frames.iter().any(|f| f.sliders.iter().any(|s| s.ground)) {
-        let rail = slider((30.0, 0.0), (15.0, -8.0), (1.0, 0.0), true, (INK, 1.0, 2));
-        draw_shape(area, (x, y + 4), &rail)?;
+        draw_shape(area, (x - 4, y), &guide((38.0, 0.0), true, (INK, 1.0, 2)))?;
+        draw_shape(area, (x + 15, y), &block((1.0, 0.0), (INK, 1.0, 2)))?;
         label("slider on a fixed guide", y)?;
         y += 32;
     }
     if frames.iter().any(|f| f.sliders.iter().any(|s| !s.ground)) {
-        let slot = slider((30.0, 0.0), (15.0, 0.0), (1.0, 0.0), false, (INK, 1.0, 2));
-        draw_shape(area, (x, y), &slot)?;
+        draw_shape(area, (x - 4, y), &guide((38.0, 0.0), false, (INK, 1.0, 2)))?;
+        draw_shape(area, (x + 15, y), &block((1.0, 0.0), (INK, 1.0, 2)))?;
         label("slider on a moving guide", y)?;
         y += 30;
     }

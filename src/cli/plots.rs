@@ -1,10 +1,11 @@
 //! CLI, plots: the motion curves and the mechanism drawing of a sweep, as SVG files. Drawings come
-//! from the loop chains of the generic engine, so they work for any mechanism file.
+//! from the structure of the mechanism as the generic engine loaded it (`plot::sweep_frames`), so
+//! they work for any mechanism file.
 
 use std::path::{Path, PathBuf};
 
 use mechgen::generic::Generic;
-use mechgen::plot::{Frame, drawing_svg, motion_svg, point_paths};
+use mechgen::plot::{Frame, drawing_svg, motion_svg, point_paths, sweep_frames};
 use mechgen::sweep::Row;
 use mechgen::{Kind, MechanismInfo};
 
@@ -57,49 +58,18 @@ pub fn write(
 }
 
 /// Up to [`FRAMES`] solved rows, spread evenly over the sweep (the last row left out: over a full
-/// turn it repeats the first), drawn from the loop chains.
+/// turn it repeats the first), drawn from the mechanism's structure.
 fn frames(model: &Generic, info: &MechanismInfo, rows: &[Row]) -> Vec<Frame> {
-    let solved: Vec<&Row> = rows.iter().filter(|r| r.result.is_ok()).collect();
-    let picks: Vec<&Row> = if solved.len() <= FRAMES {
-        solved
-    } else {
-        (0..FRAMES)
-            .map(|i| solved[i * solved.len() / FRAMES])
-            .collect()
-    };
-    let angle = info.inputs[0].1 == Kind::Angle;
-    picks
-        .into_iter()
-        .filter_map(|row| {
-            let s = row.result.as_ref().ok()?;
-            let mut x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
-            x[0] = row.input;
-            let chains = model.chains(&x, &s.q).ok()?;
-            let mut frame = Frame {
-                input: if angle {
-                    row.input.to_degrees()
-                } else {
-                    row.input
-                },
-                ..Frame::default()
-            };
-            for ch in chains {
-                let g = ch.ground_segments.min(ch.vertices.len() - 1);
-                let pivot = ch.vertices[g];
-                if !frame.ground.contains(&pivot) {
-                    frame.ground.push(pivot);
-                }
-                if ch.vertices.len() > g + 1 {
-                    frame.links.push(ch.vertices[g..].to_vec());
-                }
-            }
-            frame.points = info
-                .points
-                .iter()
-                .zip(&s.points)
-                .map(|(n, p)| (n.clone(), p.position))
-                .collect();
-            Some(frame)
-        })
+    let x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
+    let all = sweep_frames(model, &x, 0, rows);
+    let n = all.len();
+    if n <= FRAMES {
+        return all;
+    }
+    let picks: Vec<usize> = (0..FRAMES).map(|i| i * n / FRAMES).collect();
+    all.into_iter()
+        .enumerate()
+        .filter(|(i, _)| picks.contains(i))
+        .map(|(_, f)| f)
         .collect()
 }

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::generic::{Generic, Sketch};
+use crate::generic::{Generic, Sketch, SliderAt};
 use crate::mechanism::{Kind, Kinematics};
 use crate::sweep::Row;
 
@@ -37,13 +37,17 @@ pub fn sweep_frames(model: &Generic, x: &[f64], input: usize, rows: &[Row]) -> V
     let margin = GUIDE_MARGIN * size;
     // Ground guides: the travel of their block along the guide, over every frame.
     let slider_count = sketches.first().map_or(0, |s| s.1.sliders.len());
+    // A ground guide's base is a point of the ground: the first frame's, in every frame.
+    let bases: Vec<[f64; 2]> = sketches
+        .first()
+        .map_or(Vec::new(), |s| s.1.sliders.iter().map(|s| s.base).collect());
     let mut travel = vec![(f64::INFINITY, f64::NEG_INFINITY); slider_count];
     for (_, sk) in &sketches {
         if sk.sliders.len() != slider_count {
             continue;
         }
-        for (t, s) in travel.iter_mut().zip(&sk.sliders) {
-            let along = along(s.base, s.block, s.direction);
+        for ((t, s), base) in travel.iter_mut().zip(&sk.sliders).zip(&bases) {
+            let along = along(*base, s.block, s.direction);
             if along.is_finite() {
                 *t = (t.0.min(along), t.1.max(along));
             }
@@ -66,6 +70,11 @@ pub fn sweep_frames(model: &Generic, x: &[f64], input: usize, rows: &[Row]) -> V
                 .iter()
                 .enumerate()
                 .map(|(i, s)| {
+                    let base = match bases.get(i) {
+                        Some(b) if s.ground && same_shape => *b,
+                        _ => s.base,
+                    };
+                    let s = SliderAt { base, ..*s };
                     let at = |t: f64| {
                         [
                             s.base[0] + t * s.direction[0],

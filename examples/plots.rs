@@ -34,7 +34,9 @@ fn plot(out: &Path, model: &Generic) -> Result<(), Box<dyn Error>> {
         mechgen::Kind::Angle => (x[0], 2.0 * PI),
         mechgen::Kind::Length => (x[0] * 0.5, x[0].abs().max(1e-9)),
     };
-    let values: Vec<f64> = (0..=360).map(|i| from + span * f64::from(i) / 360.0).collect();
+    let values: Vec<f64> = (0..=360)
+        .map(|i| from + span * f64::from(i) / 360.0)
+        .collect();
     let c = Continuation::for_input(*kind, span);
     let rows: Vec<Row> = sweep(model, 0, &values, 1.0, &c);
     std::fs::write(
@@ -47,7 +49,11 @@ fn plot(out: &Path, model: &Generic) -> Result<(), Box<dyn Error>> {
     std::fs::write(out.join(format!("{name}-drawing.svg")), svg)?;
     let animation = write_animation(out, model, &x, 0, &rows)?;
     let solved = rows.iter().filter(|r| r.result.is_ok()).count();
-    println!("{name}: {solved}/{} rows, {}", rows.len(), animation.display());
+    println!(
+        "{name}: {solved}/{} rows, {}",
+        rows.len(),
+        animation.display()
+    );
     Ok(())
 }
 

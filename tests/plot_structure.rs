@@ -44,7 +44,11 @@ fn param(info: &MechanismInfo, name: &str) -> f64 {
 }
 
 fn unknown(info: &MechanismInfo, q: &[f64], name: &str) -> f64 {
-    q[info.unknowns.iter().position(|u| u.0 == name).expect("unknown")]
+    q[info
+        .unknowns
+        .iter()
+        .position(|u| u.0 == name)
+        .expect("unknown")]
 }
 
 fn at(o: P, l: f64, a: f64) -> P {
@@ -69,7 +73,8 @@ fn joints(link: &[P]) -> Vec<P> {
 /// Every link of the sketch is one of `expected` (as sets of joints) and each expected one is
 /// drawn exactly once.
 fn assert_links(sketch: &Sketch, expected: &[Vec<P>], what: &str) {
-    let same = |a: &[P], b: &[P]| a.len() == b.len() && a.iter().all(|p| b.iter().any(|q| near(*p, *q)));
+    let same =
+        |a: &[P], b: &[P]| a.len() == b.len() && a.iter().all(|p| b.iter().any(|q| near(*p, *q)));
     for link in &sketch.links {
         let j = joints(link);
         assert!(
@@ -77,7 +82,10 @@ fn assert_links(sketch: &Sketch, expected: &[Vec<P>], what: &str) {
             "{what}: unexpected link {link:?}"
         );
         if j.len() > 2 {
-            assert!(near(link[0], link[link.len() - 1]), "{what}: body outline not closed");
+            assert!(
+                near(link[0], link[link.len() - 1]),
+                "{what}: body outline not closed"
+            );
         }
     }
     for e in expected {
@@ -87,9 +95,17 @@ fn assert_links(sketch: &Sketch, expected: &[Vec<P>], what: &str) {
 }
 
 fn assert_pivots(sketch: &Sketch, expected: &[P], what: &str) {
-    assert_eq!(sketch.pivots.len(), expected.len(), "{what}: {:?}", sketch.pivots);
+    assert_eq!(
+        sketch.pivots.len(),
+        expected.len(),
+        "{what}: {:?}",
+        sketch.pivots
+    );
     for p in expected {
-        assert!(sketch.pivots.iter().any(|q| near(*q, *p)), "{what}: no pivot at {p:?}");
+        assert!(
+            sketch.pivots.iter().any(|q| near(*q, *p)),
+            "{what}: no pivot at {p:?}"
+        );
     }
 }
 
@@ -128,7 +144,10 @@ fn jansen_leg_is_drawn_from_its_structure_at_every_row() {
             &what,
         );
         // Only the crank starts at the origin: the third loop is not drawn from there.
-        let at_origin = sketch.links.iter().filter(|l| l.iter().any(|q| near(*q, o)));
+        let at_origin = sketch
+            .links
+            .iter()
+            .filter(|l| l.iter().any(|q| near(*q, o)));
         assert_eq!(at_origin.count(), 1, "{what}");
         assert_pivots(&sketch, &[o, b], &what);
         assert!(sketch.sliders.is_empty());
@@ -153,7 +172,10 @@ fn slider_crank_has_a_block_on_a_fixed_guide_and_its_rod_midpoint_on_the_rod() {
         assert_eq!(sketch.sliders.len(), 1, "{what}");
         let slider = sketch.sliders[0];
         assert!(slider.ground && near(slider.block, c) && near(slider.base, [0.0, off]));
-        assert!(near([slider.direction[0].abs(), slider.direction[1]], [1.0, 0.0]));
+        assert!(near(
+            [slider.direction[0].abs(), slider.direction[1]],
+            [1.0, 0.0]
+        ));
         // M (the rod's midpoint, in no loop) lies on the rod.
         let mid = s.points[2].position;
         assert!(near(mid, [(b[0] + c[0]) / 2.0, (b[1] + c[1]) / 2.0]));
@@ -177,10 +199,21 @@ fn shaper_has_a_block_on_its_turning_guide_bar_and_a_ram_on_a_fixed_guide() {
         assert_links(&sketch, &[vec![c, d], vec![a, b], vec![d, e]], &what);
         assert_pivots(&sketch, &[a, c], &what);
         assert_eq!(sketch.sliders.len(), 2, "{what}");
-        let moving = sketch.sliders.iter().find(|s| !s.ground).expect("moving guide");
-        assert!(near(moving.base, c) && near(moving.block, b), "{what}: {moving:?}");
+        let moving = sketch
+            .sliders
+            .iter()
+            .find(|s| !s.ground)
+            .expect("moving guide");
+        assert!(
+            near(moving.base, c) && near(moving.block, b),
+            "{what}: {moving:?}"
+        );
         assert!(near(moving.direction, [q3.cos(), q3.sin()]));
-        let fixed = sketch.sliders.iter().find(|s| s.ground).expect("fixed guide");
+        let fixed = sketch
+            .sliders
+            .iter()
+            .find(|s| s.ground)
+            .expect("fixed guide");
         assert!(near(fixed.block, e) && near(fixed.block, s.points[0].position));
     }
 }
@@ -259,7 +292,10 @@ fn sweep_frames_hold_fixed_guides_still_and_draw_blocks_and_rails() {
     let frames = sweep_frames(&shaper, &[0.0], 0, &rows);
     let svg = drawing_svg("shaper", &frames, &point_paths(&info, &rows)).expect("drawing");
     assert!(svg.contains("slider on a fixed guide") && svg.contains("slider on a moving guide"));
-    assert_eq!(svg.matches("fill=\"#E1E1E1\"").count(), 2 * frames.len() + 2);
+    assert_eq!(
+        svg.matches("fill=\"#E1E1E1\"").count(),
+        2 * frames.len() + 2
+    );
 }
 
 #[test]
@@ -267,7 +303,9 @@ fn sketches_of_bad_arguments_are_errors_or_gaps_never_panics() {
     let model = jansen();
     assert!(model.sketch(&[0.0, 1.0], &[0.0; 6]).is_err());
     assert!(model.sketch(&[0.0], &[0.0; 5]).is_err());
-    let sketch = model.sketch(&[f64::NAN], &[f64::INFINITY; 6]).expect("sketch");
+    let sketch = model
+        .sketch(&[f64::NAN], &[f64::INFINITY; 6])
+        .expect("sketch");
     let frame = mechgen::plot::Frame {
         links: sketch.links,
         ground: sketch.pivots,

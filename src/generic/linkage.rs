@@ -81,10 +81,7 @@ impl Linkage {
                         .cloned()
                 };
                 let moving = terms.iter().filter(|t| t.motion != Motion::Ground).cloned();
-                ground(true)
-                    .chain(moving)
-                    .chain(ground(false))
-                    .collect()
+                ground(true).chain(moving).chain(ground(false)).collect()
             })
             .collect();
         let points = model

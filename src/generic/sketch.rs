@@ -102,7 +102,9 @@ impl Values<'_> {
             ExprKind::Number(x) => S(*x),
             ExprKind::Name(n) if n == "pi" => S(std::f64::consts::PI),
             ExprKind::Name(n) => S(match self.symbols.get(n) {
-                Some(Symbol::Input(i)) if set.is_some_and(|s| s.0 == *i) => set.map_or(0.0, |s| s.1),
+                Some(Symbol::Input(i)) if set.is_some_and(|s| s.0 == *i) => {
+                    set.map_or(0.0, |s| s.1)
+                }
                 Some(Symbol::Unknown(i)) if set.is_some_and(|s| s.0 == self.inputs + i) => {
                     set.map_or(0.0, |s| s.1)
                 }
@@ -128,7 +130,11 @@ impl Values<'_> {
                         V(v) => v,
                     };
                     let (a, b) = (as_v(a), as_v(b));
-                    V(if *op == BinOp::Add { add(a, b) } else { sub(a, b) })
+                    V(if *op == BinOp::Add {
+                        add(a, b)
+                    } else {
+                        sub(a, b)
+                    })
                 }
                 // Rejected by the checker (vector × vector, division by a vector).
                 _ => S(f64::NAN),
@@ -161,7 +167,10 @@ impl Values<'_> {
 
 /// The bodies: rigid edges turning with the same angles, joined where they share a joint; each
 /// body as its joints.
-pub(super) fn bodies(edges: &[Edge], near: &dyn Fn([f64; 2], [f64; 2]) -> bool) -> Vec<Vec<[f64; 2]>> {
+pub(super) fn bodies(
+    edges: &[Edge],
+    near: &dyn Fn([f64; 2], [f64; 2]) -> bool,
+) -> Vec<Vec<[f64; 2]>> {
     let mut groups: Vec<(Vec<usize>, Vec<[f64; 2]>)> = Vec::new();
     for e in edges {
         let Motion::Rigid(key) = &e.motion else {
@@ -241,7 +250,10 @@ mod tests {
 
     #[test]
     fn hulls_of_bars_triangles_and_collinear_joints() {
-        assert_eq!(hull(vec![[1.0, 0.0], [0.0, 0.0]]), vec![[0.0, 0.0], [1.0, 0.0]]);
+        assert_eq!(
+            hull(vec![[1.0, 0.0], [0.0, 0.0]]),
+            vec![[0.0, 0.0], [1.0, 0.0]]
+        );
         let bar = hull(vec![[0.0, 0.0], [2.0, 0.0], [1.0, 0.0]]);
         assert_eq!(bar, vec![[0.0, 0.0], [2.0, 0.0]]);
         let tri = hull(vec![[0.0, 0.0], [1.0, 1.0], [2.0, 0.0], [1.0, 0.2]]);

@@ -28,7 +28,7 @@ fn num(v: f64) -> String {
 }
 
 /// A number with up to three decimals, trailing zeros dropped.
-fn short(v: f64) -> String {
+pub(super) fn short(v: f64) -> String {
     if !v.is_finite() {
         return "?".into();
     }
@@ -70,7 +70,13 @@ impl Page {
         let mut out = String::new();
         for p in ps {
             let (x, y) = self.at(p)?;
-            let _ = write!(out, "{}{},{}", if out.is_empty() { "" } else { " " }, num(x), num(y));
+            let _ = write!(
+                out,
+                "{}{},{}",
+                if out.is_empty() { "" } else { " " },
+                num(x),
+                num(y)
+            );
         }
         Some(out)
     }
@@ -89,7 +95,10 @@ pub fn animation_svg(
     let all = frames
         .iter()
         .flat_map(|f| {
-            let sliders = f.sliders.iter().flat_map(|s| s.guide.iter().chain([&s.block]));
+            let sliders = f
+                .sliders
+                .iter()
+                .flat_map(|s| s.guide.iter().chain([&s.block]));
             f.links.iter().flatten().chain(&f.ground).chain(sliders)
         })
         .chain(paths.iter().flat_map(|p| &p.1));
@@ -211,23 +220,24 @@ pub fn animation_svg(
 /// The moving parts of one frame: bodies, guides that move, blocks, joints, named points.
 fn frame(svg: &mut String, page: &Page, f: &Frame, paths: usize) {
     // Bodies' shading first, so that no shading hides a link.
-    for link in f.links.iter().filter(|l| l.len() > 3 && l.first() == l.last()) {
+    for link in f
+        .links
+        .iter()
+        .filter(|l| l.len() > 3 && l.first() == l.last())
+    {
         if let Some(pts) = page.points(link) {
-            let _ = write!(
-                svg,
-                r#"<polygon points="{pts}"/>"#
-            );
+            let _ = write!(svg, r#"<polygon points="{pts}"/>"#);
         }
     }
     for pts in f.links.iter().filter_map(|l| page.points(l)) {
-        let _ = write!(
-            svg,
-            r#"<polyline points="{pts}"/>"#
-        );
+        let _ = write!(svg, r#"<polyline points="{pts}"/>"#);
     }
     for s in &f.sliders {
-        let (Some(a), Some(b), Some(k)) = (page.at(&s.guide[0]), page.at(&s.guide[1]), page.at(&s.block))
-        else {
+        let (Some(a), Some(b), Some(k)) = (
+            page.at(&s.guide[0]),
+            page.at(&s.guide[1]),
+            page.at(&s.block),
+        ) else {
             continue;
         };
         if !s.ground {
@@ -306,5 +316,8 @@ fn rail(svg: &mut String, page: &Page, s: &Slider) {
         let _ = write!(d, "M{}L{}", p(t, BLOCK.1), p(t - 6.0, BLOCK.1 + 7.0));
         t += 10.0;
     }
-    let _ = writeln!(svg, r#"<path d="{d}" fill="none" stroke="{INK}" stroke-width="1.5"/>"#);
+    let _ = writeln!(
+        svg,
+        r#"<path d="{d}" fill="none" stroke="{INK}" stroke-width="1.5"/>"#
+    );
 }

@@ -76,7 +76,10 @@ pub fn drawing_svg(
         .iter()
         .flat_map(|f| {
             let links = f.links.iter().flatten();
-            let sliders = f.sliders.iter().flat_map(|s| s.guide.iter().chain([&s.block]));
+            let sliders = f
+                .sliders
+                .iter()
+                .flat_map(|s| s.guide.iter().chain([&s.block]));
             links
                 .chain(&f.ground)
                 .chain(f.points.iter().map(|p| &p.1))
@@ -174,8 +177,15 @@ fn builder<'a, 'b>(
 
 /// The guides fixed to the ground (the same in every frame), under everything else.
 fn draw_rails(chart: &Chart, frame: &Frame) -> Result<(), PlotError> {
-    for s in frame.sliders.iter().filter(|s| s.ground && s.guide.iter().all(finite)) {
-        let (a, b) = (chart.backend_coord(&pair(&s.guide[0])), chart.backend_coord(&pair(&s.guide[1])));
+    for s in frame
+        .sliders
+        .iter()
+        .filter(|s| s.ground && s.guide.iter().all(finite))
+    {
+        let (a, b) = (
+            chart.backend_coord(&pair(&s.guide[0])),
+            chart.backend_coord(&pair(&s.guide[1])),
+        );
         let d = (f64::from(b.0 - a.0), f64::from(b.1 - a.1));
         let shape = guide(d, true, (INK, 1.0, 2));
         draw_shape(chart.plotting_area(), pair(&s.guide[0]), &shape)?;

@@ -9,8 +9,9 @@ use crate::generic::{Generic, Sketch, SliderAt};
 use crate::mechanism::{Kind, Kinematics};
 use crate::sweep::Row;
 
+use super::animation::short;
 use super::drawing::{Frame, Slider, point_paths};
-use super::{PlotError, animation_svg, tick_text};
+use super::{PlotError, animation_svg};
 
 /// How far a guide runs past its block's travel, as a share of the mechanism's size.
 const GUIDE_MARGIN: f64 = 0.08;
@@ -56,7 +57,10 @@ pub fn sweep_frames(model: &Generic, x: &[f64], input: usize, rows: &[Row]) -> V
     // A rail lies on the guide's right: run each ground guide so the links at its block lie
     // mostly on its left, and the rail on the side they do not cross.
     let mut left = vec![0.0; slider_count];
-    for (_, sk) in sketches.iter().filter(|s| s.1.sliders.len() == slider_count) {
+    for (_, sk) in sketches
+        .iter()
+        .filter(|s| s.1.sliders.len() == slider_count)
+    {
         for (side, s) in left.iter_mut().zip(&sk.sliders) {
             *side += side_of_links(&sk.links, s.block, s.direction, 1e-9 * size);
         }
@@ -92,7 +96,11 @@ pub fn sweep_frames(model: &Generic, x: &[f64], input: usize, rows: &[Row]) -> V
                     };
                     let flip = s.ground && left.get(i).is_some_and(|l| *l < 0.0);
                     Slider {
-                        guide: if flip { [at(hi), at(lo)] } else { [at(lo), at(hi)] },
+                        guide: if flip {
+                            [at(hi), at(lo)]
+                        } else {
+                            [at(lo), at(hi)]
+                        },
                         block: s.block,
                         ground: s.ground,
                     }
@@ -189,12 +197,11 @@ pub fn write_animation(
         return Err(PlotError::NoData);
     };
     let unit = if *kind == Kind::Angle { " deg" } else { "" };
-    let shown = |v: f64| tick_text(v, 1e-3);
     let title = format!(
         "{}: {name} from {} to {}{unit}, {} frames",
         info.name,
-        shown(first.input),
-        shown(last.input),
+        short(first.input),
+        short(last.input),
         frames.len()
     );
     let svg = animation_svg(&title, (name, unit), &frames, &point_paths(&info, rows))?;

@@ -86,7 +86,9 @@ pub(super) fn guide(d: (f64, f64), ground: bool, style: (RGBColor, f64, u32)) ->
     }
     let offset = if ground { BLOCK.1 } else { 0.0 };
     let line = ink.mix(alpha).stroke_width(width);
-    shape.lines.push((vec![at(0.0, offset), at(len, offset)], line));
+    shape
+        .lines
+        .push((vec![at(0.0, offset), at(len, offset)], line));
     let mut t = 4.0;
     while ground && t <= len {
         let hatch = vec![at(t, offset), at(t - 6.0, offset + 7.0)];
@@ -100,13 +102,19 @@ pub(super) fn guide(d: (f64, f64), ground: bool, style: (RGBColor, f64, u32)) ->
 pub(super) fn block(u: (f64, f64), style: (RGBColor, f64, u32)) -> Shape {
     let (ink, alpha, width) = style;
     let n = (-u.1, u.0);
-    let corners: Vec<(i32, i32)> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0)]
-        .iter()
-        .map(|(a, b)| {
-            let (t, h) = (a * BLOCK.0, b * BLOCK.1);
-            round((t * u.0 + h * n.0, t * u.1 + h * n.1))
-        })
-        .collect();
+    let corners: Vec<(i32, i32)> = [
+        (-1.0, -1.0),
+        (1.0, -1.0),
+        (1.0, 1.0),
+        (-1.0, 1.0),
+        (-1.0, -1.0),
+    ]
+    .iter()
+    .map(|(a, b)| {
+        let (t, h) = (a * BLOCK.0, b * BLOCK.1);
+        round((t * u.0 + h * n.0, t * u.1 + h * n.1))
+    })
+    .collect();
     let fill = RGBColor(225, 225, 225).mix(alpha).filled();
     Shape {
         fills: vec![(corners[..4].to_vec(), fill)],

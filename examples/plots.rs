@@ -1,6 +1,6 @@
 //! Writes the motion plot, the drawing and the animation of every compiled-in mechanism (and of
-//! any mechanism files given), swept over a full turn, into a folder:
-//! `cargo run --example plots -- OUT_DIR [FILE.toml ...]`. Drawings come from each mechanism's
+//! any mechanism files given), swept over a full turn in 1° steps (or `--step DEG`), into a folder:
+//! `cargo run --example plots -- OUT_DIR [--step DEG] [FILE.toml ...]`. Drawings come from each mechanism's
 //! structure (`mechgen::plot::sweep_frames`), through the generic engine.
 
 use std::error::Error;
@@ -24,18 +24,18 @@ fn four(frames: Vec<Frame>) -> Vec<Frame> {
         .collect()
 }
 
-fn plot(out: &Path, model: &Generic) -> Result<(), Box<dyn Error>> {
+fn plot(out: &Path, model: &Generic, steps: u32) -> Result<(), Box<dyn Error>> {
     let info = Kinematics::<f64>::info(model);
     let name = &info.name;
     let (input, kind, _) = info.inputs.first().ok_or("no input")?;
     let x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
-    // A full turn from the start value (or ±50% of a length input's start value).
+    // A full turn from the start value (a length input: from half its start value to 1.5 times).
     let (from, span) = match kind {
         mechgen::Kind::Angle => (x[0], 2.0 * PI),
         mechgen::Kind::Length => (x[0] * 0.5, x[0].abs().max(1e-9)),
     };
-    let values: Vec<f64> = (0..=360)
-        .map(|i| from + span * f64::from(i) / 360.0)
+    let values: Vec<f64> = (0..=steps)
+        .map(|i| from + span * f64::from(i) / f64::from(steps))
         .collect();
     let c = Continuation::for_input(*kind, span);
     let rows: Vec<Row> = sweep(model, 0, &values, 1.0, &c);
@@ -44,7 +44,7 @@ fn plot(out: &Path, model: &Generic) -> Result<(), Box<dyn Error>> {
         motion_svg(&info, 0, &rows)?,
     )?;
     let frames = four(sweep_frames(model, &x, 0, &rows));
-    let title = format!("{name}: {input}, four inputs of a turn, point paths");
+    let title = format!("{name}: {input}, four inputs of the sweep, point paths");
     let svg = drawing_svg(&title, &frames, &point_paths(&info, &rows))?;
     std::fs::write(out.join(format!("{name}-drawing.svg")), svg)?;
     let animation = write_animation(out, model, &x, 0, &rows)?;
@@ -63,11 +63,20 @@ fn main() -> Result<(), Box<dyn Error>> {
     let out = Path::new(&out);
     std::fs::create_dir_all(out)?;
     let mut models = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)?;
-    for file in args {
-        models.extend(generic::load_file(Path::new(&file))?);
+    let mut steps = 360;
+    while let Some(arg) = args.next() {
+        if arg == "--step" {
+            let step: f64 = args.next().ok_or("--step DEG")?.parse()?;
+            if !(step > 0.0 && step <= 360.0) {
+                return Err("--step must be in (0, 360] degrees".into());
+            }
+            steps = (360.0 / step).round().max(1.0) as u32;
+        } else {
+            models.extend(generic::load_file(Path::new(&arg))?);
+        }
     }
     for model in &models {
-        plot(out, model)?;
+        plot(out, model, steps)?;
     }
     Ok(())
 }

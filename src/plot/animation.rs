@@ -14,7 +14,7 @@ const WIDTH: f64 = 800.0;
 const MARGIN: f64 = 40.0;
 const TOP: f64 = 44.0;
 const LEGEND: f64 = 26.0;
-/// Seconds per frame.
+/// Seconds per frame (a whole animation lasts 4 s to 60 s).
 const FRAME_TIME: f64 = 1.0 / 36.0;
 /// Half length and half height of a slider block, in pixels.
 const BLOCK: (f64, f64) = (15.0, 8.0);
@@ -180,7 +180,7 @@ pub fn animation_svg(
     }
     // The frames.
     let n = frames.len();
-    let dur = format!("{}s", num((n as f64 * FRAME_TIME).max(1.0)));
+    let dur = format!("{}s", num((n as f64 * FRAME_TIME).clamp(4.0, 60.0)));
     let key = |i: usize| format!("{:.6}", i as f64 / n as f64);
     let (name, unit) = input;
     for (i, f) in frames.iter().enumerate() {

@@ -317,3 +317,69 @@ fn sketches_of_bad_arguments_are_errors_or_gaps_never_panics() {
         assert!(!svg.contains(bad));
     }
 }
+
+#[test]
+fn a_trammel_has_two_fixed_guides_and_no_pivot_and_a_cylinder_turns_about_its_pivot() {
+    let text = r#"
+[mechanism.trammel]
+inputs = ["sx"]
+unknowns = ["q", "sy"]
+loops = ["sx + l*e(q) - sy*e(th)"]
+params = { l = 0.3, th = "deg(60)" }
+start = { sx = 0.1, q = 1.9586, sy = 0.3 }
+
+[mechanism.cylinder]
+inputs = ["q1"]
+unknowns = ["s", "qc"]
+loops = ["r*e(q1) - s*e(qc) - off*e(qc + pi/2) - c(d, 0)"]
+params = { r = 0.1, d = 0.4, off = 0.03 }
+start = { q1 = 0.0, s = 0.3, qc = 3.1 }
+"#;
+    let mut models = generic::load("two.toml", text).expect("loads");
+    let (trammel, cylinder) = (models.remove(0), models.remove(0));
+
+    let info = Kinematics::<f64>::info(&trammel);
+    let values: Vec<f64> = (0..=10).map(|i| 0.02 + 0.02 * f64::from(i)).collect();
+    let c = Continuation::for_input(Kind::Length, 0.2);
+    let rows = sweep(&trammel, 0, &values, 1.0, &c);
+    assert!(rows.iter().all(|r| r.result.is_ok()));
+    let th = 60f64.to_radians();
+    for row in &rows {
+        let s = row.result.as_ref().expect("solved");
+        let (a, b) = (
+            [row.input, 0.0],
+            at([0.0, 0.0], unknown(&info, &s.q, "sy"), th),
+        );
+        let sketch = trammel.sketch(&[row.input], &s.q).expect("sketch");
+        assert_links(&sketch, &[vec![a, b]], "trammel");
+        assert!(sketch.pivots.is_empty(), "{:?}", sketch.pivots);
+        assert_eq!(sketch.sliders.len(), 2);
+        assert!(
+            sketch
+                .sliders
+                .iter()
+                .all(|s| s.ground && near(s.base, [0.0, 0.0]))
+        );
+        assert!(near(sketch.sliders[0].block, a) && near(sketch.sliders[1].block, b));
+        assert!(near(sketch.sliders[1].direction, [th.cos(), th.sin()]));
+    }
+    let frames = sweep_frames(&trammel, &[0.1], 0, &rows);
+    let svg = drawing_svg("trammel", &frames[..2], &[]).expect("drawing");
+    assert!(svg.contains("slider on a fixed guide") && !svg.contains("ground pivot"));
+
+    let info = Kinematics::<f64>::info(&cylinder);
+    let (_, rows) = sweep_degrees(&cylinder, 0, 360, 30);
+    for row in &rows {
+        let s = row.result.as_ref().expect("solved");
+        let qc = unknown(&info, &s.q, "qc");
+        let (o, p) = ([0.0, 0.0], [0.4, 0.0]);
+        let b = at(o, 0.1, row.input);
+        let x = at(p, 0.03, qc + std::f64::consts::FRAC_PI_2);
+        let sketch = cylinder.sketch(&[row.input], &s.q).expect("sketch");
+        assert_links(&sketch, &[vec![o, b], vec![p, x]], "cylinder");
+        assert_pivots(&sketch, &[o, p], "cylinder");
+        let slider = sketch.sliders[0];
+        assert!(!slider.ground && near(slider.base, x) && near(slider.block, b));
+        assert!(near(slider.direction, [qc.cos(), qc.sin()]));
+    }
+}

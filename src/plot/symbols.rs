@@ -161,11 +161,13 @@ pub(super) fn draw_legend(
         y += 28;
     }
     y += 8;
-    let mut small = pivot();
-    small.lines.truncate(1);
-    draw_shape(area, (x + 15, y - 8), &small)?;
-    label("ground pivot", y)?;
-    y += 28;
+    if frames.iter().any(|f| !f.ground.is_empty()) {
+        let mut small = pivot();
+        small.lines.truncate(1);
+        draw_shape(area, (x + 15, y - 8), &small)?;
+        label("ground pivot", y)?;
+        y += 28;
+    }
     if frames.iter().any(|f| f.sliders.iter().any(|s| s.ground)) {
         draw_shape(area, (x - 4, y), &guide((38.0, 0.0), true, (INK, 1.0, 2)))?;
         draw_shape(area, (x + 15, y), &block((1.0, 0.0), (INK, 1.0, 2)))?;

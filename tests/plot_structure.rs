@@ -383,3 +383,80 @@ start = { q1 = 0.0, s = 0.3, qc = 3.1 }
         assert!(near(slider.direction, [qc.cos(), qc.sin()]));
     }
 }
+
+#[test]
+fn a_four_bar_is_drawn_the_same_however_its_loop_is_written() {
+    let loops = [
+        "l1*e(q1) + l2*e(q2) - l4 - l3*e(q3)",
+        "l1*e(q1) + l2*e(q2) - l3*e(q3) - l4",
+        "-l4 - l3*e(q3) + l1*e(q1) + l2*e(q2)",
+        "l4 + l3*e(q3) - l2*e(q2) - l1*e(q1)",
+        // Negated: which way the walk goes is settled by the named joints B and C.
+        "-l1*e(q1) - l2*e(q2) + l4 + l3*e(q3)",
+    ];
+    for (i, l) in loops.iter().enumerate() {
+        let text = format!(
+            r#"
+[mechanism.fb{i}]
+inputs = ["q1"]
+unknowns = ["q2", "q3"]
+loops = ["{l}"]
+params = {{ l1 = 0.1, l2 = 0.35, l3 = 0.3, l4 = 0.4 }}
+points = {{ B = "l1*e(q1)", C = "l4 + l3*e(q3)" }}
+start = {{ q1 = 0.0, q2 = 0.9479697413828936, q3 = 1.8959394827657874 }}
+"#
+        );
+        let model = generic::load("fb.toml", &text).expect("loads").remove(0);
+        let (info, rows) = sweep_degrees(&model, 0, 360, 45);
+        for row in &rows {
+            let s = row.result.as_ref().expect("solved");
+            let (a, d) = ([0.0, 0.0], [0.4, 0.0]);
+            let b = at(a, 0.1, row.input);
+            let c = at(d, 0.3, unknown(&info, &s.q, "q3"));
+            let sketch = model.sketch(&[row.input], &s.q).expect("sketch");
+            let what = format!("`{l}` at {:.0} deg", row.input.to_degrees());
+            assert_links(&sketch, &[vec![a, b], vec![b, c], vec![d, c]], &what);
+            assert_pivots(&sketch, &[a, d], &what);
+        }
+    }
+}
+
+#[test]
+fn a_named_joint_settles_which_way_a_side_of_a_loop_runs() {
+    // The six-bar's second loop with its right side written out from G (G + GF + FE), not as a
+    // walk back from E: the point F says which link is at G.
+    let text = r#"
+[mechanism.sixbar_sides]
+inputs = ["q1"]
+unknowns = ["q2", "q3", "q5", "q6"]
+loops = [
+    "l1*e(q1) + l2*e(q2) - l4 - l3*e(q3)",
+    "l1*e(q1) + l2*e(q2) + l2e*e(q2 - alpha) - c(xg, yg) - l6*e(q6) - l5*e(q5)",
+]
+params = { l1 = 26.5, l2 = 75.0, l3 = 59.0, l4 = 87.5, l5 = 48.4, l6 = 39.0, l2e = 65.0, xg = 153.5, yg = 41.7, alpha = "deg(60)" }
+points = { F = "c(xg, yg) + l6*e(q6)" }
+start = { q1 = 0.0, q2 = "deg(50.1)", q3 = "deg(102.7)", q5 = "deg(117.2)", q6 = "deg(280.7)" }
+"#;
+    let model = generic::load("sides.toml", text).expect("loads").remove(0);
+    let (info, rows) = sweep_degrees(&model, 0, 360, 60);
+    for row in &rows {
+        let s = row.result.as_ref().expect("solved");
+        let u = |n| unknown(&info, &s.q, n);
+        let (a, d, g) = ([0.0, 0.0], [87.5, 0.0], [153.5, 41.7]);
+        let b = at(a, 26.5, row.input);
+        let c = at(b, 75.0, u("q2"));
+        let e = at(c, 65.0, u("q2") - 60f64.to_radians());
+        let f = at(g, 39.0, u("q6"));
+        let sketch = model.sketch(&[row.input], &s.q).expect("sketch");
+        let what = format!("sixbar_sides at {:.0} deg", row.input.to_degrees());
+        let links = [
+            vec![a, b],
+            vec![b, c, e],
+            vec![d, c],
+            vec![f, e],
+            vec![g, f],
+        ];
+        assert_links(&sketch, &links, &what);
+        assert_pivots(&sketch, &[a, d, g], &what);
+    }
+}

@@ -1,75 +1,38 @@
 //! Generic engine, drawing structure (feature `runtime`): what a mechanism looks like, from the
-//! checked model's loop terms rather than from their written order. Each term is ground (params
-//! only), a rigid vector on a body (the angles it turns with) or a slider (one length coordinate
-//! along a fixed or turning direction). A loop is a closed walk through its moving terms as
-//! written (signed), its ground terms gathered where it leaves and rejoins the origin; a loop without ground terms is placed where it shares an edge (same motion, same
-//! vector) with a loop already placed. Points off every loop hang on the bodies their last terms
-//! move with. [`Linkage::sketch`] evaluates it all at one configuration (geometry in `sketch.rs`).
+//! checked model's loop terms rather than from their written order. Each term (`terms.rs`) is
+//! ground (params only), a rigid vector on a body (the angles it turns with) or a slider (one
+//! length coordinate along a fixed or turning direction). A loop with ground terms is a closed
+//! walk out of the origin through its moving terms and back: read as written, as two sides, or
+//! backwards, whichever leaves and rejoins the ground at the tails of its end links (and, among
+//! those, passes through the most named points). A loop without ground terms is walked as written
+//! and placed where it shares an edge (same motion, same vector) with a loop already placed.
+//! Points off every loop hang on the bodies their last terms move with. [`Linkage::sketch`]
+//! evaluates it all at one configuration (geometry in `sketch.rs`).
 
 use std::collections::HashMap;
 
-use mechgen_codegen::ast::{BinOp, Expr, ExprKind};
-use mechgen_codegen::check::{Kind, Model, Symbol};
+use mechgen_codegen::ast::Expr;
+use mechgen_codegen::check::{Model, Symbol};
 
-use super::sketch::{Edge, Motion, Sketch, SliderAt, Values, add, bodies, hull, sub};
-
-/// One term of a loop or point with its sign.
-#[derive(Clone, Debug)]
-struct Term {
-    expr: Expr,
-    sign: f64,
-    motion: Motion,
-}
+use super::sketch::{Edge, Sketch, SliderAt, Values, add, bodies, hull, sub};
+use super::terms::{Motion, Term, tails, terms_of};
 
 /// The drawing structure of one mechanism.
 #[derive(Clone, Debug)]
 pub struct Linkage {
     symbols: HashMap<String, Symbol>,
     inputs: usize,
-    /// Each loop as a closed walk: its added ground terms (out from the origin), its moving terms
-    /// as written, its subtracted ground terms (back to the origin).
-    loops: Vec<Vec<Term>>,
+    /// Each loop's readings as a closed walk (see `new`), the preferred first: its added ground
+    /// terms (out from the origin), its moving terms, its subtracted ground terms (back to it).
+    readings: Vec<Vec<Vec<Term>>>,
     /// Each point's terms, ground terms first.
     points: Vec<Vec<Term>>,
 }
 
 impl Linkage {
     pub fn new(model: &Model) -> Linkage {
-        let inputs = model.inputs.len();
-        let kind_of = |id: usize| match id.checked_sub(inputs) {
-            None => model.inputs[id].kind,
-            Some(k) => model.unknowns.get(k).map_or(Kind::Angle, |c| c.kind),
-        };
-        let terms_of = |e: &Expr| {
-            let mut terms = Vec::new();
-            flatten(e, 1.0, &mut terms);
-            terms
-                .into_iter()
-                .map(|(expr, sign)| {
-                    let mut ids = Vec::new();
-                    coordinates(expr, &model.symbols, inputs, &mut ids);
-                    ids.sort_unstable();
-                    ids.dedup();
-                    let (lengths, angles): (Vec<usize>, Vec<usize>) =
-                        ids.into_iter().partition(|&id| kind_of(id) == Kind::Length);
-                    let motion = match lengths.as_slice() {
-                        [] if angles.is_empty() => Motion::Ground,
-                        [] => Motion::Rigid(angles),
-                        [length] => Motion::Slider {
-                            length: *length,
-                            guide: angles,
-                        },
-                        _ => Motion::Other,
-                    };
-                    Term {
-                        expr: expr.clone(),
-                        sign,
-                        motion,
-                    }
-                })
-                .collect::<Vec<Term>>()
-        };
-        let loops = model
+        let terms_of = |e: &Expr| terms_of(e, model);
+        let readings = model
             .loops
             .iter()
             .map(|l| {
@@ -80,8 +43,45 @@ impl Linkage {
                         .filter(move |t| t.motion == Motion::Ground && (t.sign > 0.0) == plus)
                         .cloned()
                 };
-                let moving = terms.iter().filter(|t| t.motion != Motion::Ground).cloned();
-                ground(true).chain(moving).chain(ground(false)).collect()
+                let moving: Vec<Term> = terms
+                    .iter()
+                    .filter(|t| t.motion != Motion::Ground)
+                    .cloned()
+                    .collect();
+                let wrap = |m: Vec<Term>| -> Vec<Term> {
+                    ground(true).chain(m).chain(ground(false)).collect()
+                };
+                if moving.len() == terms.len() {
+                    // No ground terms: a closed walk as written.
+                    return vec![wrap(moving)];
+                }
+                // As written; as two sides (added terms out, subtracted ones back in either
+                // order); each backwards. Kept: those that leave and rejoin the ground at the
+                // tails of their end links, in this order of preference.
+                let (plus, minus): (Vec<Term>, Vec<Term>) =
+                    moving.iter().cloned().partition(|t| t.sign > 0.0);
+                let sides = |reverse: bool| {
+                    let mut m = minus.clone();
+                    if reverse {
+                        m.reverse();
+                    }
+                    plus.iter().cloned().chain(m).collect::<Vec<Term>>()
+                };
+                let mut readings = vec![moving.clone(), sides(false), sides(true)];
+                let backwards: Vec<Vec<Term>> = readings
+                    .iter()
+                    .map(|r| r.iter().rev().cloned().collect())
+                    .collect();
+                readings.extend(backwards);
+                let best = readings.iter().map(|r| tails(r)).max().unwrap_or(0);
+                let mut kept: Vec<Vec<Term>> = Vec::new();
+                for r in readings.into_iter().filter(|r| tails(r) == best) {
+                    let w = wrap(r);
+                    if !kept.contains(&w) {
+                        kept.push(w);
+                    }
+                }
+                kept
             })
             .collect();
         let points = model
@@ -95,8 +95,8 @@ impl Linkage {
             .collect();
         Linkage {
             symbols: model.symbols.clone(),
-            inputs,
-            loops,
+            inputs: model.inputs.len(),
+            readings,
             points,
         }
     }
@@ -148,31 +148,54 @@ impl Linkage {
             }
             out
         };
-        // Each loop's walk from the origin, to find its size and the edges it could share.
-        let relative: Vec<Vec<Edge>> = self.loops.iter().map(|l| walk(l, [0.0; 2])).collect();
-        let scale = relative
+        // The loops' size, from their first readings.
+        let scale = self
+            .readings
             .iter()
-            .flatten()
+            .flat_map(|r| walk(&r[0], [0.0; 2]))
             .map(|e| (e.to[0] - e.from[0]).hypot(e.to[1] - e.from[1]))
             .filter(|v| v.is_finite())
             .fold(0.0, f64::max);
         let tol = 1e-6 * scale;
         let near = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]) <= tol;
+        // Each loop read the way whose joints are the most named points (the first on a tie).
+        let end = |terms: &[Term]| terms.iter().fold([0.0; 2], |at, t| edge(t, at).1);
+        let named: Vec<[f64; 2]> = self.points.iter().map(|p| end(p)).collect();
+        let loops: Vec<&Vec<Term>> = self
+            .readings
+            .iter()
+            .map(|readings| {
+                let mut best = (0, &readings[0]);
+                for r in readings {
+                    let mut at = [0.0; 2];
+                    let mut on = 0;
+                    for t in r {
+                        at = edge(t, at).1;
+                        on += usize::from(named.iter().any(|p| near(*p, at)));
+                    }
+                    if on > best.0 {
+                        best = (on, r);
+                    }
+                }
+                best.1
+            })
+            .collect();
+        // Each loop's walk from the origin, for the edges it could share.
+        let relative: Vec<Vec<Edge>> = loops.iter().map(|l| walk(l, [0.0; 2])).collect();
 
         // Place the loops: through their ground terms at the origin, else on a shared edge, else
         // (nothing shared) at the origin as written.
         let has_ground = |l: &[Term]| l.iter().any(|t| t.motion == Motion::Ground);
-        let mut start: Vec<Option<[f64; 2]>> = self
-            .loops
+        let mut start: Vec<Option<[f64; 2]>> = loops
             .iter()
             .map(|l| has_ground(l).then_some([0.0; 2]))
             .collect();
         let mut at_origin: Vec<bool> = start.iter().map(Option::is_some).collect();
-        let mut placed: Vec<Option<Vec<Edge>>> = vec![None; self.loops.len()];
+        let mut placed: Vec<Option<Vec<Edge>>> = vec![None; loops.len()];
         loop {
-            for l in 0..self.loops.len() {
+            for l in 0..loops.len() {
                 if let (Some(s), None) = (start[l], &placed[l]) {
-                    placed[l] = Some(walk(&self.loops[l], s));
+                    placed[l] = Some(walk(loops[l], s));
                 }
             }
             let shared = |l: usize| {
@@ -185,7 +208,7 @@ impl Linkage {
                     Some(sub(known.from, r.from))
                 })
             };
-            let open = (0..self.loops.len()).filter(|&l| start[l].is_none());
+            let open = (0..loops.len()).filter(|&l| start[l].is_none());
             let found = open.clone().find_map(|l| Some((l, shared(l)?)));
             match (found, open.min()) {
                 (Some((l, s)), _) => start[l] = Some(s),
@@ -200,7 +223,7 @@ impl Linkage {
         // Ground pivots: where a walk placed at the origin leaves its ground run at the origin
         // on a body, or on a guide that turns.
         let mut pivots: Vec<[f64; 2]> = Vec::new();
-        for (l, terms) in self.loops.iter().enumerate() {
+        for (l, terms) in loops.iter().enumerate() {
             let (Some(placed_edges), true) = (&placed[l], at_origin[l]) else {
                 continue;
             };
@@ -270,44 +293,6 @@ impl Linkage {
             links: bodies(&edges, &near).into_iter().map(hull).collect(),
             pivots,
             sliders,
-        }
-    }
-}
-
-/// The terms of a sum with their signs (+1 added, −1 subtracted).
-fn flatten<'e>(e: &'e Expr, sign: f64, out: &mut Vec<(&'e Expr, f64)>) {
-    match &e.kind {
-        ExprKind::Binary(BinOp::Add, a, b) => {
-            flatten(a, sign, out);
-            flatten(b, sign, out);
-        }
-        ExprKind::Binary(BinOp::Sub, a, b) => {
-            flatten(a, sign, out);
-            flatten(b, -sign, out);
-        }
-        ExprKind::Neg(a) => flatten(a, -sign, out),
-        _ => out.push((e, sign)),
-    }
-}
-
-/// The coordinates (inputs, then unknowns, as one id range) a term depends on.
-fn coordinates(e: &Expr, symbols: &HashMap<String, Symbol>, inputs: usize, out: &mut Vec<usize>) {
-    match &e.kind {
-        ExprKind::Number(_) => {}
-        ExprKind::Name(n) => match symbols.get(n) {
-            Some(Symbol::Input(i)) => out.push(*i),
-            Some(Symbol::Unknown(i)) => out.push(inputs + i),
-            _ => {}
-        },
-        ExprKind::Neg(a) => coordinates(a, symbols, inputs, out),
-        ExprKind::Binary(_, a, b) => {
-            coordinates(a, symbols, inputs, out);
-            coordinates(b, symbols, inputs, out);
-        }
-        ExprKind::Call(_, args) => {
-            for a in args {
-                coordinates(a, symbols, inputs, out);
-            }
         }
     }
 }

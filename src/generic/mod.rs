@@ -8,6 +8,7 @@ mod engine;
 mod linkage;
 mod sketch;
 pub mod tape;
+mod terms;
 
 pub use engine::{Generic, LoadError, load, load_file, load_with_warnings};
 pub use linkage::Linkage;

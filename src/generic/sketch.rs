@@ -7,6 +7,8 @@ use std::collections::HashMap;
 use mechgen_codegen::ast::{BinOp, Expr, ExprKind};
 use mechgen_codegen::check::Symbol;
 
+use super::terms::Motion;
+
 /// The mechanism at one configuration, in file units.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Sketch {
@@ -29,20 +31,6 @@ pub struct SliderAt {
     pub direction: [f64; 2],
     /// The guide is fixed to the ground (its direction turns with no coordinate).
     pub ground: bool,
-}
-
-/// How a term moves.
-#[derive(Clone, Debug, PartialEq)]
-pub(super) enum Motion {
-    /// Params only: a fixed vector of the ground.
-    Ground,
-    /// A fixed length turning with these angle coordinates (sorted ids): a body.
-    Rigid(Vec<usize>),
-    /// A length coordinate along a direction turning with these angle coordinates (none: a guide
-    /// fixed to the ground).
-    Slider { length: usize, guide: Vec<usize> },
-    /// Anything else (several length coordinates): not drawn.
-    Other,
 }
 
 /// A term at one configuration, oriented as written with a plus sign: `to - from` is its value.

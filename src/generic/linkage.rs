@@ -152,7 +152,8 @@ impl Linkage {
         let scale = self
             .readings
             .iter()
-            .flat_map(|r| walk(&r[0], [0.0; 2]))
+            .filter_map(|r| r.first())
+            .flat_map(|r| walk(r, [0.0; 2]))
             .map(|e| (e.to[0] - e.from[0]).hypot(e.to[1] - e.from[1]))
             .filter(|v| v.is_finite())
             .fold(0.0, f64::max);
@@ -161,11 +162,11 @@ impl Linkage {
         // Each loop read the way whose joints are the most named points (the first on a tie).
         let end = |terms: &[Term]| terms.iter().fold([0.0; 2], |at, t| edge(t, at).1);
         let named: Vec<[f64; 2]> = self.points.iter().map(|p| end(p)).collect();
-        let loops: Vec<&Vec<Term>> = self
+        let loops: Vec<&[Term]> = self
             .readings
             .iter()
             .map(|readings| {
-                let mut best = (0, &readings[0]);
+                let mut best: (usize, &[Term]) = (0, readings.first().map_or(&[], |r| r));
                 for r in readings {
                     let mut at = [0.0; 2];
                     let mut on = 0;

@@ -1,7 +1,8 @@
 //! Frames of a sweep drawn from the mechanism's structure (features `plot` and `runtime`): every
 //! solved row of a [`Generic`] mechanism as a [`Frame`] (bodies, ground pivots, sliders), for
-//! `drawing_svg` and `animation_svg`; `write_animation` writes the animation file of a sweep. A guide fixed to the ground spans its block's whole travel
-//! over the sweep, so it stands still from frame to frame.
+//! `drawing_svg` and `animation_svg`; `write_animation` writes the animation file of a sweep. A
+//! guide fixed to the ground spans its block's whole travel over the sweep, so it stands still
+//! from frame to frame.
 
 use std::path::{Path, PathBuf};
 

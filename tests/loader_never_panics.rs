@@ -419,6 +419,8 @@ fn run_engine(g: &generic::Generic) -> Result<(), TestCaseError> {
         .map_err(|e| TestCaseError::fail(e.to_string()))?;
     g.chains(&x, &q)
         .map_err(|e| TestCaseError::fail(e.to_string()))?;
+    g.sketch(&x, &q)
+        .map_err(|e| TestCaseError::fail(e.to_string()))?;
     Ok(())
 }
 

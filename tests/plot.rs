@@ -181,6 +181,7 @@ fn four_bar_frame(info: &MechanismInfo, input: f64, s: &Solved) -> Frame {
         links: vec![vec![a, b, c, d], vec![b, p, c]],
         ground: vec![a, d],
         points: named.iter().map(|(n, p)| (n.to_string(), *p)).collect(),
+        ..Frame::default()
     }
 }
 
@@ -259,6 +260,7 @@ fn sixbar_drawing_from_the_coupler_point() {
                 links: vec![vec![a, b, c, d], vec![b, e, c], vec![e, f, g]],
                 ground: vec![a, d, g],
                 points: vec![("E".into(), e), ("F".into(), f), ("G".into(), g)],
+                ..Frame::default()
             })
         })
         .collect();
@@ -281,6 +283,7 @@ fn drawing_of_nothing_finite_is_an_error() {
         links: vec![vec![[f64::NAN, 0.0]]],
         ground: vec![],
         points: vec![],
+        ..Frame::default()
     };
     assert_eq!(drawing_svg("x", &[frame], &[]), Err(PlotError::NoData));
     assert_eq!(drawing_svg("x", &[], &[]), Err(PlotError::NoData));
@@ -290,6 +293,7 @@ fn drawing_of_nothing_finite_is_an_error() {
         links: vec![],
         ground: vec![[1.0, 2.0]],
         points: vec![("O".into(), [1.0, 2.0])],
+        ..Frame::default()
     };
     well_formed(&drawing_svg("one pivot", &[single], &[]).expect("drawing"));
 }

@@ -48,6 +48,7 @@ pub use analysis::structure::Block;
 pub use compile::analyze;
 pub use config::{Config, Generated, compile, generate_source};
 pub use diagnostic::{Diagnostic, Severity, SourceFile, Span};
+pub use front::ast::{BinOp, Expr, ExprKind, Name};
 pub use ir::dag::{Dag, Node, NodeId, Var};
 pub use ir::differentiate::Derivatives;
 pub use ir::lower::{Chain, System, chains};

@@ -216,7 +216,6 @@ fn write_plots(
         written.extend(super::plots::write_animation(
             dir,
             &sel.model,
-            info,
             swept.plan.index,
             &x,
             &swept.rows,

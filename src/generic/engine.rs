@@ -63,6 +63,8 @@ pub struct Generic {
     /// Joint positions of the drawing chains, and each chain's (vertex count, ground segments).
     pub(super) chains: Tape,
     pub(super) chain_shape: Vec<(usize, usize)>,
+    /// The drawing structure (terms classified by how they move).
+    pub(super) linkage: super::Linkage,
 }
 
 fn kind(k: CodegenKind) -> Kind {
@@ -180,6 +182,7 @@ impl Generic {
                 .iter()
                 .map(|ch| (ch.vertices.len(), ch.ground_segments))
                 .collect(),
+            linkage: super::Linkage::new(m),
             info,
             model: m.clone(),
         }

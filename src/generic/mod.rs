@@ -1,13 +1,19 @@
 //! The generic runtime engine (feature `runtime`): loads a mechanism file at run time and solves
 //! it by interpreting the same derivatives the generator emits ([`tape`]), with the same block
 //! Newton and error values (`engine.rs`). It is the `--file` path of the CLI and the honest
-//! comparison for the generated solvers. [`Kinematics`] is implemented here.
+//! comparison for the generated solvers. [`Kinematics`] is implemented here, and the drawings'
+//! structure ([`Linkage`], [`Sketch`]) is read from the loaded model.
 
 mod closed;
 mod engine;
+mod linkage;
+mod sketch;
 pub mod tape;
+mod terms;
 
 pub use engine::{Generic, LoadError, load, load_file, load_with_warnings};
+pub use linkage::Linkage;
+pub use sketch::{Sketch, SliderAt};
 
 use mechgen_runtime::error::{Quantity, SolveError, Stage};
 use mechgen_runtime::mechanism::{Kinematics, MechanismInfo, PointMotion, len};
@@ -75,6 +81,18 @@ impl Generic {
                 }
             })
             .collect())
+    }
+
+    /// The mechanism drawn at `(x, q)` from its structure: bodies, ground pivots and sliders
+    /// (see [`Linkage`]).
+    pub fn sketch(&self, x: &[f64], q: &[f64]) -> Result<Sketch, SolveError> {
+        self.lengths(&[x, q])?;
+        Ok(self.linkage.sketch(x, q, &self.params))
+    }
+
+    /// The drawing structure.
+    pub fn linkage(&self) -> &Linkage {
+        &self.linkage
     }
 
     fn eval_into<T: Real>(

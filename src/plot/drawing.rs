@@ -1,6 +1,6 @@
 //! `drawing_svg`: the mechanism drawn at several inputs (first frame bold, the others faded), the
-//! paths of its named points (`point_paths` takes them from a sweep), ground pivots marked, at equal
-//! scale on both axes.
+//! paths of its named points (`point_paths` takes them from a sweep), ground pivots and sliders on
+//! their guides marked (symbols and legend in `symbols.rs`), at equal scale on both axes.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -9,6 +9,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use crate::sweep::Row;
 use mechgen_runtime::mechanism::MechanismInfo;
 
+use super::symbols::{axes, block, draw_legend, draw_shape, guide, pivot};
 use super::{
     FAMILY, PlotError, Ticked, color, drawing_error, ensure_font, finite_runs, padded_range,
     tick_text, ticks,
@@ -18,9 +19,11 @@ type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 
 const WIDTH: u32 = 1000;
 const LEGEND: u32 = 230;
-const INK: RGBColor = RGBColor(35, 35, 35);
-const FADED: RGBColor = RGBColor(140, 140, 140);
-const FADED_ALPHA: f64 = 0.6;
+pub(super) const INK: RGBColor = RGBColor(35, 35, 35);
+pub(super) const FADED: RGBColor = RGBColor(140, 140, 140);
+pub(super) const FADED_ALPHA: f64 = 0.6;
+/// The fill of a body with three or more joints (first frame).
+const BODY: RGBColor = RGBColor(214, 226, 240);
 
 /// One frame of the mechanism drawing, in file units.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -34,6 +37,20 @@ pub struct Frame {
     pub ground: Vec<[f64; 2]>,
     /// Named points, labelled in the first frame.
     pub points: Vec<(String, [f64; 2])>,
+    /// Sliders: blocks on their guides.
+    pub sliders: Vec<Slider>,
+}
+
+/// A slider block on its guide, in file units.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Slider {
+    /// The stretch of guide drawn, from end to end (the block is oriented along it). A guide fixed
+    /// to the ground is drawn as a rail on its right, looking from the first end to the second.
+    pub guide: [[f64; 2]; 2],
+    /// The centre of the block (a joint).
+    pub block: [f64; 2],
+    /// The guide is fixed to the ground (a hatched rail), not part of a moving body.
+    pub ground: bool,
 }
 
 fn finite(p: &[f64; 2]) -> bool {
@@ -44,8 +61,9 @@ fn pair(p: &[f64; 2]) -> (f64, f64) {
     (p[0], p[1])
 }
 
-/// The mechanism: links as polylines, joints as circles, ground pivots as hatched triangles, the
-/// first frame bold and the others faded, the `paths` of named points over the sweep as thin
+/// The mechanism: links as polylines (a closed one is a body, shaded), joints as circles, ground
+/// pivots as hatched triangles, sliders as blocks on their guides (a hatched rail for a guide fixed
+/// to the ground), the first frame bold and the others faded, the `paths` of named points over the sweep as thin
 /// curves (a non-finite entry is a gap), equal scale on both axes and a legend beside the plot.
 /// Non-finite coordinates are skipped.
 pub fn drawing_svg(
@@ -58,7 +76,14 @@ pub fn drawing_svg(
         .iter()
         .flat_map(|f| {
             let links = f.links.iter().flatten();
-            links.chain(&f.ground).chain(f.points.iter().map(|p| &p.1))
+            let sliders = f
+                .sliders
+                .iter()
+                .flat_map(|s| s.guide.iter().chain([&s.block]));
+            links
+                .chain(&f.ground)
+                .chain(f.points.iter().map(|p| &p.1))
+                .chain(sliders)
         })
         .chain(paths.iter().flat_map(|p| &p.1))
         .copied()
@@ -109,6 +134,9 @@ pub fn drawing_svg(
             .draw()
             .map_err(drawing_error)?;
 
+        if let Some(first) = frames.first() {
+            draw_rails(&chart, first)?;
+        }
         for frame in frames.iter().skip(1) {
             draw_frame(&mut chart, frame, false)?;
         }
@@ -147,39 +175,65 @@ fn builder<'a, 'b>(
         .map_err(drawing_error)
 }
 
-/// Links, joints, ground pivots and (first frame only) point labels.
+/// The guides fixed to the ground (the same in every frame), under everything else.
+fn draw_rails(chart: &Chart, frame: &Frame) -> Result<(), PlotError> {
+    for s in frame
+        .sliders
+        .iter()
+        .filter(|s| s.ground && s.guide.iter().all(finite))
+    {
+        let (a, b) = (
+            chart.backend_coord(&pair(&s.guide[0])),
+            chart.backend_coord(&pair(&s.guide[1])),
+        );
+        let d = (f64::from(b.0 - a.0), f64::from(b.1 - a.1));
+        let shape = guide(d, true, (INK, 1.0, 2));
+        draw_shape(chart.plotting_area(), pair(&s.guide[0]), &shape)?;
+    }
+    Ok(())
+}
+
+/// Links, sliders, joints, ground pivots and (first frame only) point labels.
 fn draw_frame(chart: &mut Chart, frame: &Frame, bold: bool) -> Result<(), PlotError> {
     let (ink, width, radius) = if bold { (INK, 3, 5) } else { (FADED, 1, 3) };
     let alpha = if bold { 1.0 } else { FADED_ALPHA };
+    // Bodies' shading first, so that no shading hides a link.
+    for link in frame.links.iter().filter(|_| bold) {
+        if link.len() > 3 && link.first() == link.last() && link.iter().all(finite) {
+            let outline = link.iter().map(pair).collect::<Vec<_>>();
+            let body = Polygon::new(outline, BODY.mix(0.7).filled());
+            chart.draw_series([body]).map_err(drawing_error)?;
+        }
+    }
     for link in &frame.links {
         for run in finite_runs(link.iter().map(|p| Some(pair(p)))) {
             let line = LineSeries::new(run, ink.mix(alpha).stroke_width(width));
             chart.draw_series(line).map_err(drawing_error)?;
         }
     }
-    let ground = frame.ground.iter().filter(|p| finite(p)).map(pair);
+    let ends = |s: &&Slider| s.guide.iter().chain([&s.block]).all(finite);
+    for s in frame.sliders.iter().filter(ends) {
+        let px = |p: &[f64; 2]| chart.backend_coord(&pair(p));
+        let (a, b) = (px(&s.guide[0]), px(&s.guide[1]));
+        let d = (f64::from(b.0 - a.0), f64::from(b.1 - a.1));
+        if !s.ground {
+            let shape = guide(d, false, (ink, alpha, width));
+            draw_shape(chart.plotting_area(), pair(&s.guide[0]), &shape)?;
+        }
+        let shape = block(axes(d).0, (ink, alpha, width));
+        draw_shape(chart.plotting_area(), pair(&s.block), &shape)?;
+    }
     if bold {
-        let hatch = INK.stroke_width(2);
-        let pivots = ground.map(|p| {
-            let triangle = vec![(0, 0), (-10, 16), (10, 16)];
-            EmptyElement::at(p)
-                + Polygon::new(triangle, RGBColor(200, 200, 200).filled())
-                + PathElement::new(
-                    vec![(0, 0), (-10, 16), (10, 16), (0, 0)],
-                    INK.stroke_width(1),
-                )
-                + PathElement::new(vec![(-15, 16), (15, 16)], hatch)
-                + PathElement::new(vec![(-12, 22), (-6, 16)], INK.stroke_width(1))
-                + PathElement::new(vec![(-3, 22), (3, 16)], INK.stroke_width(1))
-                + PathElement::new(vec![(6, 22), (12, 16)], INK.stroke_width(1))
-        });
-        chart.draw_series(pivots).map_err(drawing_error)?;
+        for p in frame.ground.iter().filter(|p| finite(p)) {
+            draw_shape(chart.plotting_area(), pair(p), &pivot())?;
+        }
     }
     let joints: Vec<(f64, f64)> = frame
         .links
         .iter()
         .flatten()
         .chain(&frame.ground)
+        .chain(frame.sliders.iter().map(|s| &s.block))
         .filter(|p| finite(p))
         .map(pair)
         .collect();
@@ -235,8 +289,14 @@ fn draw_labels(chart: &mut Chart, frame: &Frame, joints: &[(f64, f64)]) -> Resul
         } else {
             VPos::Center
         };
-        // Pixel offset: y grows downwards.
-        let (ox, oy) = ((dx * 11.0).round() as i32, (-dy * 11.0).round() as i32);
+        // Pixel offset (y grows downwards): clear of a slider block at the point.
+        let at = chart.backend_coord(&pair(p));
+        let on_block = frame.sliders.iter().any(|s| {
+            let b = chart.backend_coord(&pair(&s.block));
+            (b.0 - at.0).abs() <= 2 && (b.1 - at.1).abs() <= 2
+        });
+        let reach = if on_block { 22.0 } else { 11.0 };
+        let (ox, oy) = ((dx * reach).round() as i32, (-dy * reach).round() as i32);
         let style = font.color(&INK).pos(Pos::new(h, v));
         let (w, th) = chart
             .plotting_area()
@@ -259,63 +319,6 @@ fn draw_labels(chart: &mut Chart, frame: &Frame, joints: &[(f64, f64)]) -> Resul
         );
         let label = EmptyElement::at(pair(p)) + backdrop + Text::new(name.clone(), (ox, oy), style);
         chart.draw_series([label]).map_err(drawing_error)?;
-    }
-    Ok(())
-}
-
-/// The legend beside the plot: one entry per path, the frames and the symbols.
-fn draw_legend(
-    area: &Area,
-    frames: &[Frame],
-    paths: &[(String, Vec<[f64; 2]>)],
-) -> Result<(), PlotError> {
-    let text = (FAMILY, 16)
-        .into_font()
-        .color(&INK)
-        .pos(Pos::new(HPos::Left, VPos::Center));
-    let mut y = 80;
-    let x = 8;
-    let line = |label: String, style: ShapeStyle, y: i32| -> Result<(), PlotError> {
-        area.draw(&PathElement::new(vec![(x, y), (x + 30, y)], style))
-            .map_err(drawing_error)?;
-        area.draw(&Text::new(label, (x + 40, y), text.clone()))
-            .map_err(drawing_error)
-    };
-    for (i, (name, _)) in paths.iter().enumerate() {
-        line(format!("path of {name}"), color(i).stroke_width(2), y)?;
-        y += 28;
-    }
-    if let Some(first) = frames.first() {
-        y += 8;
-        let input = tick_text(first.input, 1e-3);
-        line(format!("input = {input}"), INK.stroke_width(3), y)?;
-        y += 28;
-        if frames.len() > 1 {
-            let n = frames.len() - 1;
-            let label = format!("{n} other input{}", if n == 1 { "" } else { "s" });
-            line(label, FADED.mix(FADED_ALPHA).stroke_width(1), y)?;
-            y += 28;
-        }
-        y += 8;
-        let pivot = EmptyElement::at((x + 15, y - 8))
-            + Polygon::new(
-                vec![(0, 0), (-10, 16), (10, 16)],
-                RGBColor(200, 200, 200).filled(),
-            )
-            + PathElement::new(
-                vec![(0, 0), (-10, 16), (10, 16), (0, 0)],
-                INK.stroke_width(1),
-            );
-        area.draw(&pivot).map_err(drawing_error)?;
-        area.draw(&Text::new("ground pivot", (x + 40, y), text.clone()))
-            .map_err(drawing_error)?;
-        y += 28;
-        let joint = EmptyElement::at((x + 15, y))
-            + Circle::new((0, 0), 5, WHITE.filled())
-            + Circle::new((0, 0), 5, INK.stroke_width(2));
-        area.draw(&joint).map_err(drawing_error)?;
-        area.draw(&Text::new("joint", (x + 40, y), text))
-            .map_err(drawing_error)?;
     }
     Ok(())
 }

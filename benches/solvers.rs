@@ -8,9 +8,9 @@
 //! - `step` (one simulator tick, interfaces.md): from the full state (x, q, q̇, q̈), advance the input
 //!   by one step, predict q + q'·Δx + q''·Δx²/2 (input rate 1, so q' = q̇ and q'' = q̈), solve
 //!   positions, velocities, accelerations and all points. Both engines tick in place along the
-//!   states, 1° at a time, there and back: the generated engine with `Mechanism::tick` (its state,
+//!   states, 1° at a time, there and back: the generated engine with `StaticMechanism::tick` (its state,
 //!   a `Tick`, also holds the sines and cosines, and it predicts itself), the generic engine with
-//!   the same prediction as its guess for `Kinematics::solve_motion`.
+//!   the same prediction as its guess for `DynMechanism::solve_motion`.
 //!
 //! The generated engine runs with static dispatch (`visit_all`, fixed arrays); the generic engine
 //! is loaded at run time from the same file.
@@ -20,7 +20,7 @@ use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mechgen::sweep::{Continuation, sweep};
-use mechgen::{Array, Kind, Kinematics, Mechanism, NewtonOptions, PointMotion, Visitor};
+use mechgen::{Array, Kind, DynMechanism, StaticMechanism, NewtonOptions, PointMotion, StaticVisitor};
 
 /// A solved state and the input one step further (which is solvable too).
 struct State {
@@ -32,7 +32,7 @@ struct State {
 }
 
 /// States along the start branch with a solvable next step, input rate 1.
-fn states(k: &dyn Kinematics<f64>) -> (Vec<State>, f64) {
+fn states(k: &dyn DynMechanism<f64>) -> (Vec<State>, f64) {
     let info = k.info();
     let (_, kind, start) = info.inputs[0].clone();
     let dx = match kind {
@@ -140,15 +140,15 @@ fn arr<A: Array<f64>>(v: &[f64]) -> A {
     a
 }
 
-impl Visitor<f64> for Generated<'_> {
-    fn visit<M: Mechanism<f64> + 'static>(&mut self, m: &M) {
+impl StaticVisitor<f64> for Generated<'_> {
+    fn visit<M: StaticMechanism<f64> + 'static>(&mut self, m: &M) {
         let (states, _) = states(m);
         type Typed<M> = (
-            <M as Mechanism<f64>>::X,
-            <M as Mechanism<f64>>::Q,
-            <M as Mechanism<f64>>::Q,
-            <M as Mechanism<f64>>::Q,
-            <M as Mechanism<f64>>::X,
+            <M as StaticMechanism<f64>>::X,
+            <M as StaticMechanism<f64>>::Q,
+            <M as StaticMechanism<f64>>::Q,
+            <M as StaticMechanism<f64>>::Q,
+            <M as StaticMechanism<f64>>::X,
         );
         let typed: Vec<Typed<M>> = states
             .iter()
@@ -219,7 +219,7 @@ impl Visitor<f64> for Generated<'_> {
 
 /// The generic engine: interpreted tapes, slices, `DMatrix`.
 fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
-    let k: &dyn Kinematics<f64> = k;
+    let k: &dyn DynMechanism<f64> = k;
     let info = k.info();
     let (states, _) = states(k);
     let (xd, xdd) = unit_rate(info.inputs.len());

@@ -19,7 +19,7 @@ use std::f64::consts::PI;
 
 use common::angle_diff;
 use mechgen::generic::{self, Generic};
-use mechgen::{Kinematics, NewtonOptions};
+use mechgen::{DynMechanism, NewtonOptions};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
 

@@ -8,7 +8,7 @@
 #![cfg(feature = "runtime")]
 
 use mechgen::generic::{self, Generic};
-use mechgen::{Kinematics, NewtonOptions, SolveError};
+use mechgen::{DynMechanism, NewtonOptions, SolveError};
 
 /// Errors in units of ε/√δ (positions) and ε/δ (rates) at most this.
 const BOUND: f64 = 16.0;

@@ -16,7 +16,7 @@
 use std::collections::BTreeMap;
 
 use mechgen::sweep::{Continuation, continue_to};
-use mechgen::{Kind, Kinematics, MechanismInfo, NewtonOptions, PointMotion};
+use mechgen::{Kind, DynMechanism, MechanismInfo, NewtonOptions, PointMotion};
 
 /// Configurations per mechanism.
 const CONFIGURATIONS: usize = 20;
@@ -111,7 +111,7 @@ fn positions(p: &[PointMotion<f64>]) -> Vec<f64> {
 
 /// A compiled-in mechanism behind the object-safe API, with vector-returning helpers.
 struct Case {
-    k: Box<dyn Kinematics<f64>>,
+    k: Box<dyn DynMechanism<f64>>,
     info: MechanismInfo,
     n: usize,
     m: usize,

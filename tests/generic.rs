@@ -6,9 +6,9 @@ mod common;
 
 use common::angle_diff;
 use mechgen::sweep::{Continuation, sweep};
-use mechgen::{Kind, Kinematics, MechanismInfo, generic};
+use mechgen::{Kind, DynMechanism, MechanismInfo, generic};
 
-fn engines() -> Vec<(Box<dyn Kinematics<f64>>, generic::Generic)> {
+fn engines() -> Vec<(Box<dyn DynMechanism<f64>>, generic::Generic)> {
     let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
         .expect("the compiled-in file loads at run time");
     assert_eq!(loaded.len(), mechgen::MECHANISMS.len());
@@ -72,7 +72,7 @@ fn sweep_difference(
 fn generic_and_generated_agree_over_full_sweeps() {
     for (k, g) in engines() {
         let info = k.info();
-        assert_eq!(info, Kinematics::<f64>::info(&g), "same description");
+        assert_eq!(info, DynMechanism::<f64>::info(&g), "same description");
         // A full turn around the start input, from 170° below it (rounded down to 10°): an angle
         // input's start is moved by whole turns to the representative nearest the first value,
         // so this keeps the start where it is and the sweep covers its whole branch (`sixbar_g`,
@@ -187,7 +187,7 @@ fn same_error_values() {
 #[test]
 fn generic_f32_runs() {
     for (_, g) in engines() {
-        let info = Kinematics::<f32>::info(&g);
+        let info = DynMechanism::<f32>::info(&g);
         let x: Vec<f32> = info.inputs.iter().map(|i| i.2 as f32).collect();
         let mut q: Vec<f32> = info.unknowns.iter().map(|u| u.2 as f32).collect();
         let r = g.solve_position(&x, &mut q, &mechgen::NewtonOptions::default());
@@ -206,7 +206,7 @@ fn a_failed_position_solve_leaves_the_guess_alone_in_both_engines() {
         // 170°: past the dead point at 135.95°, no configuration exists.
         let x = [170f64.to_radians()];
         let guess: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
-        for engine in [k.as_ref(), &g as &dyn Kinematics<f64>] {
+        for engine in [k.as_ref(), &g as &dyn DynMechanism<f64>] {
             let mut q = guess.clone();
             let r = engine.solve_position(&x, &mut q, &mechgen::NewtonOptions::default());
             assert!(
@@ -253,7 +253,7 @@ start = { a = 1.5, b = 1.5, q2 = 0.0, q3 = 3.14159 }
         assert!(s.q.iter().all(|v| v.abs() < 10.0), "{:?}", s.q);
         let mut phi = [0.0; 2];
         let x = [r.input, 1.5];
-        Kinematics::<f64>::residual(&mechs[0], &x, &s.q, &mut phi).expect("sizes");
+        DynMechanism::<f64>::residual(&mechs[0], &x, &s.q, &mut phi).expect("sizes");
         assert!(phi.iter().all(|v| v.abs() < 1e-13), "{phi:?}");
     }
 }

@@ -13,7 +13,7 @@
 use std::cell::Cell;
 use std::sync::OnceLock;
 
-use mechgen::{Kinematics, NewtonOptions, PointMotion, generic};
+use mechgen::{DynMechanism, NewtonOptions, PointMotion, generic};
 use mechgen_codegen::diagnostic::render_one;
 use mechgen_codegen::{SourceFile, analyze, generate_source};
 use proptest::prelude::*;
@@ -394,7 +394,7 @@ fn check_text(text: &str) -> Result<Outcome, TestCaseError> {
 /// One solve of a mechanism loaded from arbitrary text, from its `start`: no panic, no NaN in an
 /// Ok answer.
 fn run_engine(g: &generic::Generic) -> Result<(), TestCaseError> {
-    let info = Kinematics::<f64>::info(g);
+    let info = DynMechanism::<f64>::info(g);
     let x: Vec<f64> = info.inputs.iter().map(|c| c.2).collect();
     let mut q: Vec<f64> = info.unknowns.iter().map(|c| c.2).collect();
     let finite = |v: &[f64]| v.iter().all(|v| v.is_finite());

@@ -10,7 +10,7 @@ mod common;
 
 use common::angle_diff;
 use common::stress::{DEAD_POINT_MECHANISMS, cell, length_scale, reference, within};
-use mechgen::{Kind, Kinematics, NewtonOptions, PointMotion, SolveError};
+use mechgen::{Kind, DynMechanism, NewtonOptions, PointMotion, SolveError};
 
 /// Largest continuation substep: 1 degree.
 const SUBSTEP: f64 = std::f64::consts::PI / 180.0;
@@ -18,7 +18,7 @@ const SUBSTEP: f64 = std::f64::consts::PI / 180.0;
 /// Follows the branch of (x, q) to `target` in substeps of at most 1 degree with a tangent
 /// predictor, halving a substep whose corrector fails (f32 or f64 alike).
 fn follow<T: mechgen::Real>(
-    k: &dyn Kinematics<T>,
+    k: &dyn DynMechanism<T>,
     x: &mut [T; 1],
     q: &mut [T],
     target: T,
@@ -64,7 +64,7 @@ fn follow<T: mechgen::Real>(
 /// Positions (unknowns, then point coordinates), velocities and accelerations of one state, as
 /// f64, for input rate 1 and input acceleration 0.
 fn state<T: mechgen::Real>(
-    k: &dyn Kinematics<T>,
+    k: &dyn DynMechanism<T>,
     x: &[T; 1],
     q: &[T],
 ) -> Result<[Vec<f64>; 3], SolveError> {
@@ -86,7 +86,7 @@ fn state<T: mechgen::Real>(
 }
 
 /// The start configuration of `name` in precision T, settled.
-fn start<T: mechgen::Real>(name: &str) -> (Box<dyn Kinematics<T>>, [T; 1], Vec<T>) {
+fn start<T: mechgen::Real>(name: &str) -> (Box<dyn DynMechanism<T>>, [T; 1], Vec<T>) {
     let k = mechgen::lookup::<T>(name).expect("compiled in");
     let info = k.info();
     let x = [T::lit(info.inputs[0].2)];

@@ -29,7 +29,7 @@ use std::sync::OnceLock;
 use common::angle_diff;
 use mechgen::generic::Generic;
 use mechgen::{
-    Kind, Kinematics, NewtonOptions, PointMotion, Quantity, SolveError, four_bar, generic, sixbar,
+    Kind, DynMechanism, NewtonOptions, PointMotion, Quantity, SolveError, four_bar, generic, sixbar,
     slider_crank,
 };
 use proptest::prelude::*;
@@ -118,11 +118,11 @@ impl Mech {
 
     /// Generated solver and generic engine with this case's params, and the generated solver's
     /// params in file order.
-    fn engines(&self) -> (Box<dyn Kinematics<f64>>, Generic, Vec<f64>) {
-        fn boxed<M: Kinematics<f64> + 'static>(
+    fn engines(&self) -> (Box<dyn DynMechanism<f64>>, Generic, Vec<f64>) {
+        fn boxed<M: DynMechanism<f64> + 'static>(
             m: M,
             p: &[f64],
-        ) -> (Box<dyn Kinematics<f64>>, Vec<f64>) {
+        ) -> (Box<dyn DynMechanism<f64>>, Vec<f64>) {
             (Box::new(m), p.to_vec())
         }
         let (generated, params) = match *self {
@@ -496,7 +496,7 @@ struct Answer {
 }
 
 fn solve(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     what: &str,
     s: &Spec,
     guess: &[f64],
@@ -777,7 +777,7 @@ fn check_garbage(c: &Garbage) -> Result<u32, TestCaseError> {
     let mut oks = 0;
     for (what, k) in [
         ("generated", generated.as_ref()),
-        ("generic", &generic as &dyn Kinematics<f64>),
+        ("generic", &generic as &dyn DynMechanism<f64>),
     ] {
         let options = NewtonOptions::default();
         let mut q = guess.clone();
@@ -863,7 +863,7 @@ fn huge_param_is_an_error_not_a_nan_answer() {
     .expect("assembles with a small offset")
     .0;
     let (generated, generic, _) = Mech::SliderCrank { r, l, off }.engines();
-    for k in [generated.as_ref(), &generic as &dyn Kinematics<f64>] {
+    for k in [generated.as_ref(), &generic as &dyn DynMechanism<f64>] {
         let mut q = guess.clone();
         let result = k.solve_position(&[x], &mut q, &NewtonOptions::default());
         assert!(

@@ -12,7 +12,7 @@ mod common;
 use common::angle_diff;
 use common::stress::{continuation, length_scale};
 use mechgen::sweep::continue_to;
-use mechgen::{Kind, Kinematics, NewtonOptions, PointMotion};
+use mechgen::{Kind, DynMechanism, NewtonOptions, PointMotion};
 
 const FACTORS: [f64; 2] = [1e-3, 1e4];
 /// Angles (radians) and everything else relative to the length scale or the column's largest value.
@@ -22,7 +22,7 @@ const TOLERANCE: f64 = 1e-12;
 /// `Params::from_array` and the kinds in `INFO`.
 macro_rules! scaled {
     ($module:ident :: $ty:ident) => {
-        |s: f64| -> Box<dyn Kinematics<f64>> {
+        |s: f64| -> Box<dyn DynMechanism<f64>> {
             use mechgen::$module::{INFO, Params};
             let p = Params::<f64>::default().to_array();
             let v = std::array::from_fn(|i| match INFO.params[i].kind {
@@ -36,15 +36,15 @@ macro_rules! scaled {
     };
 }
 
-fn sixbar(s: f64) -> Box<dyn Kinematics<f64>> {
+fn sixbar(s: f64) -> Box<dyn DynMechanism<f64>> {
     scaled!(sixbar::Sixbar)(s)
 }
 
-fn sixbar_g(s: f64) -> Box<dyn Kinematics<f64>> {
+fn sixbar_g(s: f64) -> Box<dyn DynMechanism<f64>> {
     scaled!(sixbar_g::SixbarG)(s)
 }
 
-fn shaper(s: f64) -> Box<dyn Kinematics<f64>> {
+fn shaper(s: f64) -> Box<dyn DynMechanism<f64>> {
     scaled!(shaper::Shaper)(s)
 }
 
@@ -57,7 +57,7 @@ struct Sweep {
 
 /// Sweeps the (one, angle) input of `make(s)` over `inputs` by continuation from the file's start
 /// configuration scaled by `s`, at input rate 1 and input acceleration 0.
-fn run(make: fn(f64) -> Box<dyn Kinematics<f64>>, s: f64, inputs: &[f64]) -> Sweep {
+fn run(make: fn(f64) -> Box<dyn DynMechanism<f64>>, s: f64, inputs: &[f64]) -> Sweep {
     let k = make(s);
     let info = k.info();
     assert_eq!(info.inputs[0].1, Kind::Angle, "an angle input");
@@ -142,7 +142,7 @@ fn column_max(v: &[f64]) -> f64 {
     v.iter().fold(f64::MIN_POSITIVE, |m, x| m.max(x.abs()))
 }
 
-fn check(make: fn(f64) -> Box<dyn Kinematics<f64>>, degrees: &[f64]) {
+fn check(make: fn(f64) -> Box<dyn DynMechanism<f64>>, degrees: &[f64]) {
     let inputs: Vec<f64> = degrees.iter().map(|d| d.to_radians()).collect();
     let info = make(1.0).info();
     let length = length_scale(&info);

@@ -10,7 +10,7 @@ mod support;
 
 use mechgen::generic::Generic;
 use mechgen::sweep::{Continuation, DEAD_POINT_CONDITION, Row, sweep, sweep_budget};
-use mechgen::{Kind, Kinematics};
+use mechgen::{Kind, DynMechanism};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
 use support::{Counting, Exact, angle_diff, load};
@@ -126,7 +126,7 @@ fn check_row(m: &Mech, g: &Generic, r: &Row) -> Result<(), TestCaseError> {
         .as_ref()
         .map_err(|e| TestCaseError::fail(format!("row {} lost: {e} ({:?})", r.input, r.stopped)))?;
     let (q, qd) = m.exact(r.input).expect("in reach");
-    let info = Kinematics::<f64>::info(g);
+    let info = DynMechanism::<f64>::info(g);
     for (i, u) in info.unknowns.iter().enumerate() {
         let (d, unit) = if u.1 == Kind::Angle {
             (angle_diff(s.q[i], q[i]), 1.0)

@@ -8,13 +8,13 @@
 mod support;
 
 use mechgen::sweep::{Continuation, Row, StopReason, check_start, sweep, sweep_budget};
-use mechgen::{Kind, Kinematics, report};
+use mechgen::{Kind, DynMechanism, report};
 use support::{Counting, Exact, angle_diff, load};
 
 /// Every row solved and equal to `exact` (angles modulo 2π and lengths to `tol`, rates to
 /// `tol_rate` relative to `scale`); the unknowns' kinds say which are angles.
 fn assert_rows(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     rows: &[Row],
     exact: impl Fn(f64) -> Exact,
     tol: f64,
@@ -268,7 +268,7 @@ fn rows_many_turns_apart_get_a_substep_limit() {
         assert_eq!(r.stopped.map(|s| s.reason), Some(StopReason::SubstepLimit));
         assert!(!r.stopped.expect("stopped").at_dead_point());
     }
-    let info = Kinematics::<f64>::info(&g);
+    let info = DynMechanism::<f64>::info(&g);
     let table = report::table(&info, 0, &rows);
     assert!(
         table.contains("substep-limit: the continuation used up its substeps"),

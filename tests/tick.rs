@@ -6,7 +6,7 @@
 mod common;
 
 use common::angle_diff;
-use mechgen::{Kind, Mechanism, NewtonOptions, SolveError, Visitor};
+use mechgen::{Kind, StaticMechanism, NewtonOptions, SolveError, StaticVisitor};
 
 /// Largest difference between two states (angles folded, rates relative to max(1, |v|)).
 fn difference(kinds: &[Kind], a: [&[f64]; 3], b: [&[f64]; 3]) -> f64 {
@@ -26,7 +26,7 @@ fn difference(kinds: &[Kind], a: [&[f64]; 3], b: [&[f64]; 3]) -> f64 {
 
 /// Ticks `turns` full turns of input 0 in steps of `step_deg` and compares every tick with
 /// `solve_arrays` from the previous state's positions. Returns the largest difference.
-fn run<M: Mechanism<f64>>(m: &M, turns: u32, step_deg: f64) -> f64
+fn run<M: StaticMechanism<f64>>(m: &M, turns: u32, step_deg: f64) -> f64
 where
     M::Tick: AsTick,
 {
@@ -34,7 +34,7 @@ where
 }
 
 /// [`run`] with given solver options.
-fn run_with<M: Mechanism<f64>>(m: &M, turns: u32, step_deg: f64, opts: NewtonOptions<f64>) -> f64
+fn run_with<M: StaticMechanism<f64>>(m: &M, turns: u32, step_deg: f64, opts: NewtonOptions<f64>) -> f64
 where
     M::Tick: AsTick,
 {
@@ -76,7 +76,7 @@ where
     worst
 }
 
-/// Read access to a tick's arrays through the `Mechanism` trait's associated type.
+/// Read access to a tick's arrays through the `StaticMechanism` trait's associated type.
 trait AsTick {
     type Q: Copy + AsRef<[f64]> + AsMut<[f64]>;
     fn q_of(&self) -> Self::Q;
@@ -217,8 +217,8 @@ fn params_changes_and_failures() {
 #[test]
 fn every_mechanism_ticks_from_its_start() {
     struct Check;
-    impl Visitor<f64> for Check {
-        fn visit<M: Mechanism<f64> + 'static>(&mut self, m: &M) {
+    impl StaticVisitor<f64> for Check {
+        fn visit<M: StaticMechanism<f64> + 'static>(&mut self, m: &M) {
             let info = m.info();
             let (mut x, mut q) = (M::X::zeros(), M::Q::zeros());
             for (v, c) in x.as_mut().iter_mut().zip(info.inputs) {

@@ -1,7 +1,8 @@
 //! Stage 6 (emit), one mechanism's module: its static description, the `Params`, `Inputs`,
 //! `Unknowns`, `Points`, `Motion` structs and `Tick` alias (named by the names table around the
 //! mechanism's type), the mechanism type with its whole-system functions ([`crate::emit_system`])
-//! and solvers ([`crate::emit_solve`]), and its `Mechanism` impl.
+//! and solvers ([`crate::emit_solve`]), its typed `solve`, `tick_start` and `tick`, and its
+//! `StaticMechanism` impl.
 
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
@@ -143,7 +144,17 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     quote! {
         #[doc = #doc]
         pub mod #mod_name {
-            #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+            #![allow(
+                // Fields and locals keep the file's names as written (`E`, `sE`, `xA`).
+                non_snake_case,
+                // Block functions share one signature (inputs, unknowns, their sines and cosines);
+                // a block's expressions read only some of them.
+                unused_variables,
+                // Those signatures pass the state and each trig cache as separate arguments.
+                clippy::too_many_arguments,
+                // Whole-tick results are tuples of fixed arrays.
+                clippy::type_complexity,
+            )]
 
             /// Static description: names, kinds, start configuration, blocks.
             pub const INFO: #rt::StaticInfo = #rt::StaticInfo {
@@ -224,57 +235,78 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                 #system_fns
                 #solvers
 
-                /// Everything at once: positions from `guess`, velocities, accelerations and points.
-                pub fn solve(&self, x: #inputs_ty<#gt>, xd: #inputs_ty<#gt>, xdd: #inputs_ty<#gt>, guess: #unknowns_ty<#gt>, options: &#rt::NewtonOptions<#gt>)
+                /// One whole tick from `guess`: positions, velocities, accelerations and points,
+                /// sharing one set of sines and cosines between the stages.
+                pub fn solve(&self, input: &#rt::InputMotion<#inputs_ty<#gt>>, guess: &#unknowns_ty<#gt>, options: &#rt::SolveOptions<#gt>)
                     -> ::core::result::Result<#motion_ty<#gt>, #rt::SolveError> {
                     let mut q = guess.to_array();
-                    let (qd, qdd, points, report) = self.solve_arrays(&x.to_array(), &xd.to_array(), &xdd.to_array(), &mut q, options)?;
-                    Ok(#motion_ty { x, xd, xdd, q: #unknowns_ty::from_array(q), qd: #unknowns_ty::from_array(qd),
+                    let (qd, qdd, points, report) = self.solve_arrays(&input.x.to_array(), &input.xd.to_array(), &input.xdd.to_array(), &mut q, options)?;
+                    Ok(#motion_ty { x: input.x, xd: input.xd, xdd: input.xdd, q: #unknowns_ty::from_array(q), qd: #unknowns_ty::from_array(qd),
                         qdd: #unknowns_ty::from_array(qdd), points: #points_ty::from_array(points), report })
+                }
+
+                /// The first tick of a simulation, solved from `guess` and kept with its sines and
+                /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
+                pub fn tick_start(&self, input: &#rt::InputMotion<#inputs_ty<#gt>>, guess: &#unknowns_ty<#gt>, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<#tick_ty<#gt>, #rt::SolveError> {
+                    self.tick_start_arrays(&input.x.to_array(), &input.xd.to_array(), &input.xdd.to_array(), &guess.to_array(), options)
+                }
+
+                /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
+                /// second-order step from the last tick, their sines and cosines rotated from the
+                /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when
+                /// the params changed); closed-form blocks solved on the last tick's branch; then
+                /// velocities, accelerations and points. On error `t` is unchanged.
+                #[inline]
+                pub fn tick(&self, t: &mut #tick_ty<#gt>, input: &#rt::InputMotion<#inputs_ty<#gt>>, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<(), #rt::SolveError> {
+                    self.tick_arrays(t, &input.x.to_array(), &input.xd.to_array(), &input.xdd.to_array(), options)
                 }
             }
 
-            impl<#gt: #rt::Real> #rt::Mechanism<#gt> for #ty<#gt> {
+            impl<#gt: #rt::Real> #rt::StaticMechanism<#gt> for #ty<#gt> {
                 const NAME: &'static str = #name;
                 const INPUTS: usize = #ni;
                 const UNKNOWNS: usize = #nu;
                 const POINTS: usize = #np;
                 type X = [#gt; #ni];
                 type Q = [#gt; #nu];
+                type Points = [#rt::PointMotion<#gt>; #np];
+                type Jacobian = #rt::nalgebra::SMatrix<#gt, #nu, #nu>;
+                type InputJacobian = #rt::nalgebra::SMatrix<#gt, #nu, #ni>;
                 type Tick = #tick_ty<#gt>;
                 fn info(&self) -> &'static #rt::StaticInfo { &INFO }
                 fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q { #ty::residual(self, x, q) }
-                fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [#gt]) { #rt::copy_row_major(&#ty::jacobian(self, x, q), out) }
-                fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [#gt]) { #rt::copy_row_major(&#ty::input_jacobian(self, x, q), out) }
-                fn jacobian_dot(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, out: &mut [#gt]) {
-                    #rt::copy_row_major(&#ty::jacobian_dot(self, x, q, xd, qd), out)
+                fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian { #ty::jacobian(self, x, q) }
+                fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian { #ty::input_jacobian(self, x, q) }
+                fn jacobian_dot(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q) -> Self::Jacobian {
+                    #ty::jacobian_dot(self, x, q, xd, qd)
                 }
                 fn acceleration_rhs(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X) -> Self::Q {
                     #ty::acceleration_rhs(self, x, q, xd, qd, xdd).into()
                 }
-                fn solve_position(&self, x: &Self::X, q: &mut Self::Q, options: &#rt::NewtonOptions<#gt>)
+                fn solve_position(&self, x: &Self::X, q: &mut Self::Q, options: &#rt::SolveOptions<#gt>)
                     -> ::core::result::Result<#rt::NewtonReport<#gt>, #rt::SolveError> { #ty::solve_position(self, x, q, options) }
                 fn solve_velocity(&self, x: &Self::X, q: &Self::Q, xd: &Self::X) -> ::core::result::Result<Self::Q, #rt::SolveError> {
                     #ty::solve_velocity(self, x, q, xd)
                 }
                 fn solve_acceleration(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X)
                     -> ::core::result::Result<Self::Q, #rt::SolveError> { #ty::solve_acceleration(self, x, q, xd, qd, xdd) }
-                fn points(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X, qdd: &Self::Q, out: &mut [#rt::PointMotion<#gt>]) {
-                    for (o, p) in out.iter_mut().zip(#ty::point_motion(self, x, q, xd, qd, xdd, qdd)) { *o = p; }
+                fn points(&self, input: &#rt::InputMotion<Self::X>, q: &Self::Q, qd: &Self::Q, qdd: &Self::Q) -> Self::Points {
+                    #ty::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
                 }
-                fn tick_start(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, guess: &Self::Q, options: &#rt::NewtonOptions<#gt>)
-                    -> ::core::result::Result<Self::Tick, #rt::SolveError> { #ty::tick_start(self, x, xd, xdd, guess, options) }
-                fn tick(&self, t: &mut Self::Tick, x: &Self::X, xd: &Self::X, xdd: &Self::X, options: &#rt::NewtonOptions<#gt>)
-                    -> ::core::result::Result<(), #rt::SolveError> { #ty::tick(self, t, x, xd, xdd, options) }
-                fn solve_motion(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, q: &mut Self::Q, qd: &mut Self::Q, qdd: &mut Self::Q,
-                    points: &mut [#rt::PointMotion<#gt>], options: &#rt::NewtonOptions<#gt>)
-                    -> ::core::result::Result<#rt::NewtonReport<#gt>, #rt::SolveError> {
-                    let (v, a, p, report) = #ty::solve_arrays(self, x, xd, xdd, q, options)?;
-                    *qd = v;
-                    *qdd = a;
-                    for (o, m) in points.iter_mut().zip(p) { *o = m; }
-                    Ok(report)
+                #[inline]
+                fn solve(&self, input: &#rt::InputMotion<Self::X>, guess: &Self::Q, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<#rt::Solved<Self::Q, Self::Points, #gt>, #rt::SolveError> {
+                    let mut q = *guess;
+                    let (qd, qdd, points, report) = #ty::solve_arrays(self, &input.x, &input.xd, &input.xdd, &mut q, options)?;
+                    Ok(#rt::Solved { q, qd, qdd, points, report })
                 }
+                fn tick_start(&self, input: &#rt::InputMotion<Self::X>, guess: &Self::Q, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<Self::Tick, #rt::SolveError> { #ty::tick_start_arrays(self, &input.x, &input.xd, &input.xdd, guess, options) }
+                #[inline]
+                fn tick(&self, t: &mut Self::Tick, input: &#rt::InputMotion<Self::X>, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<(), #rt::SolveError> { #ty::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options) }
             }
         }
     }

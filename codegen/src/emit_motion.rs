@@ -62,7 +62,7 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
             .collect();
         let pos_fn = format_ident!("block{}_position", bi);
         let newton = quote! {
-            #rt::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
+            #rt::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), &options.newton, report,
                 |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
         };
         match &bf.dyad {
@@ -76,7 +76,7 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
                     #stmts
                     if options.closed_forms {
                         #rt::solve_dyad(#bi, st, #a, #bu, [#kx, #ky], (#pa, #ra), (#pb, #rb),
-                            || self.params.length_scale(), options.tolerance, report)?;
+                            || self.params.length_scale(), options.newton.tolerance, report)?;
                     } else {
                         #newton
                     }
@@ -135,7 +135,7 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
         /// subexpressions computed once.
         #[inline(always)]
         fn motion_cached(&self, x: &[#gt; #ni], st: &mut #rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
-            tp: &[(#gt, #gt); #npar], xd: &[#gt; #ni], xdd: &[#gt; #ni], options: &#rt::NewtonOptions<#gt>,
+            tp: &[(#gt, #gt); #npar], xd: &[#gt; #ni], xdd: &[#gt; #ni], options: &#rt::SolveOptions<#gt>,
             report: &mut #rt::NewtonReport<#gt>)
             -> ::core::result::Result<([#gt; #nu], [#gt; #nu], [#rt::PointMotion<#gt>; #np]), #rt::SolveError> {
             let mut qd = [#gt::zero(); #nu];

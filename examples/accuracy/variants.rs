@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 
 use mechgen::nalgebra::{DMatrix, DVector};
 use mechgen::sixbar::Sixbar;
-use mechgen::{Kinematics, Mechanism, NewtonOptions, PointMotion, Real, SolveError};
+use mechgen::{DynMechanism, StaticMechanism, NewtonOptions, PointMotion, Real, SolveError};
 
 /// Unknowns of the six-bar (q2, q3, q5, q6), all angles.
 pub const N: usize = 4;
@@ -263,7 +263,7 @@ impl<T: Real> Generated<T> {
         let m = &self.mechanism;
         self.qd = m.solve_velocity(x, &self.q, xd)?;
         self.qdd = m.solve_acceleration(x, &self.q, xd, &self.qd, xdd)?;
-        Mechanism::points(
+        StaticMechanism::points(
             m,
             x,
             &self.q,
@@ -304,7 +304,7 @@ impl<T: Real> Stepper for Generated<T> {
             self.tick = Some(t);
             return Ok(());
         }
-        Mechanism::solve_motion(
+        StaticMechanism::solve_motion(
             m,
             &x,
             &xd,
@@ -349,7 +349,7 @@ impl<T: Real> Stepper for Generated<T> {
                 }
             }
         }
-        let result = Mechanism::solve_motion(
+        let result = StaticMechanism::solve_motion(
             m,
             &x,
             &xd,
@@ -383,7 +383,7 @@ impl<T: Real> Stepper for Generated<T> {
     }
 }
 
-/// Any [`Kinematics`] through its object-safe `solve_motion` (the generic engine: interpreted
+/// Any [`DynMechanism`] through its object-safe `solve_motion` (the generic engine: interpreted
 /// tapes, slices, `DMatrix`).
 pub struct Engine<'k, K: ?Sized> {
     k: &'k K,
@@ -394,7 +394,7 @@ pub struct Engine<'k, K: ?Sized> {
     points: Vec<PointMotion<f64>>,
 }
 
-impl<'k, K: Kinematics<f64> + ?Sized> Engine<'k, K> {
+impl<'k, K: DynMechanism<f64> + ?Sized> Engine<'k, K> {
     pub fn new(k: &'k K, options: NewtonOptions<f64>) -> Self {
         let points = vec![PointMotion::default(); k.info().points.len()];
         Engine {
@@ -408,7 +408,7 @@ impl<'k, K: Kinematics<f64> + ?Sized> Engine<'k, K> {
     }
 }
 
-impl<K: Kinematics<f64> + ?Sized> Stepper for Engine<'_, K> {
+impl<K: DynMechanism<f64> + ?Sized> Stepper for Engine<'_, K> {
     fn reset(&mut self, x: f64) -> Result<(), String> {
         let start = Sixbar::<f64>::start().1.to_array();
         self.q.copy_from_slice(&start);
@@ -470,7 +470,7 @@ pub enum Scheme {
 }
 
 /// What many users write by hand: only the residual function Φ(x, q) (here
-/// [`Kinematics::residual`], e.g. the generic engine's residual tape), Jacobians by finite
+/// [`DynMechanism::residual`], e.g. the generic engine's residual tape), Jacobians by finite
 /// differences, dense full-system Newton with nalgebra's `DMatrix` LU (no block structure), and:
 /// - velocities from J q̇ = −Φx ẋ, both Jacobians by finite differences at the solution;
 /// - accelerations from J q̈ = −Φx ẍ − D²Φ[v, v] with v = (ẋ, q̇), the second directional
@@ -490,7 +490,7 @@ pub struct FiniteDifferences<'k, K: ?Sized> {
     points: Vec<PointMotion<f64>>,
 }
 
-impl<'k, K: Kinematics<f64> + ?Sized> FiniteDifferences<'k, K> {
+impl<'k, K: DynMechanism<f64> + ?Sized> FiniteDifferences<'k, K> {
     pub fn new(k: &'k K, scheme: Scheme) -> Self {
         let points = vec![PointMotion::default(); k.info().points.len()];
         FiniteDifferences {
@@ -617,7 +617,7 @@ impl<'k, K: Kinematics<f64> + ?Sized> FiniteDifferences<'k, K> {
     }
 }
 
-impl<K: Kinematics<f64> + ?Sized> Stepper for FiniteDifferences<'_, K> {
+impl<K: DynMechanism<f64> + ?Sized> Stepper for FiniteDifferences<'_, K> {
     fn reset(&mut self, x: f64) -> Result<(), String> {
         self.q = DVector::from_column_slice(&Sixbar::<f64>::start().1.to_array());
         self.x = x;

@@ -23,7 +23,7 @@ pub fn check(name: &str, text: &str) -> Result<(), String> {
         Ok((mechs, warnings)) => {
             eprint!("{warnings}");
             for m in &mechs {
-                print_structure(&mechgen::Kinematics::<f64>::info(m));
+                print_structure(&mechgen::DynMechanism::<f64>::info(m));
             }
             Ok(())
         }

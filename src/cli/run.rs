@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use mechgen::generic::Generic;
 use mechgen::sweep::{Continuation, Row, check_start, sweep_holding};
-use mechgen::{Kind, Kinematics, MechanismInfo, report};
+use mechgen::{Kind, DynMechanism, MechanismInfo, report};
 use mechgen_codegen::diagnostic::{Diagnostic, Severity, SourceFile, render};
 
 use super::args::{Engine, MainArgs, SweepArgs};
@@ -69,7 +69,7 @@ impl Loaded {
 
 /// The mechanism to sweep: its solvers, and the generic engine of the same file (for drawings).
 pub struct Selected {
-    pub solver: Box<dyn Kinematics<f64>>,
+    pub solver: Box<dyn DynMechanism<f64>>,
     pub model: Generic,
 }
 
@@ -104,7 +104,7 @@ fn select(
                 names.join(", ")
             )
         })?;
-    let solver: Box<dyn Kinematics<f64>> = match engine {
+    let solver: Box<dyn DynMechanism<f64>> = match engine {
         Engine::Generic => Box::new(model.clone()),
         Engine::Generated => mechgen::lookup::<f64>(name)
             .ok_or_else(|| format!("no compiled-in mechanism `{name}`"))?,
@@ -142,7 +142,7 @@ impl Swept {
 
 /// Runs the sweep that `plan` describes on `k`, after the start checks.
 fn run_plan(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     info: &MechanismInfo,
     plan: Plan,
     rate: f64,

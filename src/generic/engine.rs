@@ -1,7 +1,7 @@
 //! Generic engine, solvers: a mechanism loaded at run time (through mechgen-codegen's parser,
 //! checker, lowering and derivatives), its DAG compiled to tapes per diagonal block, solved with
 //! the same block Newton and elimination as the generated code on nalgebra `DMatrix`/`DVector`.
-//! Implements [`Kinematics`] with the generated solvers' semantics and error values.
+//! Implements [`DynMechanism`] with the generated solvers' semantics and error values.
 
 use mechgen_codegen::Kind as CodegenKind;
 use mechgen_codegen::{Compiled, Diagnostic, SourceFile};

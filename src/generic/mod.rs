@@ -1,7 +1,7 @@
 //! The generic runtime engine (feature `runtime`): loads a mechanism file at run time and solves
 //! it by interpreting the same derivatives the generator emits ([`tape`]), with the same block
 //! Newton and error values (`engine.rs`). It is the `--file` path of the CLI and the honest
-//! comparison for the generated solvers. [`Kinematics`] is implemented here, and the drawings'
+//! comparison for the generated solvers. [`DynMechanism`] is implemented here, and the drawings'
 //! structure ([`Linkage`], [`Sketch`]) is read from the loaded model.
 
 mod closed;
@@ -16,7 +16,7 @@ pub use linkage::Linkage;
 pub use sketch::{Sketch, SliderAt};
 
 use mechgen_runtime::error::{Quantity, SolveError, Stage};
-use mechgen_runtime::mechanism::{Kinematics, MechanismInfo, PointMotion, len};
+use mechgen_runtime::mechanism::{DynMechanism, MechanismInfo, PointMotion, len};
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::solve::{NewtonOptions, NewtonReport, check_finite};
 use tape::Env;
@@ -111,7 +111,7 @@ impl Generic {
 /// mechanisms).
 macro_rules! kinematics {
     ($t:ty) => {
-        impl Kinematics<$t> for Generic {
+        impl DynMechanism<$t> for Generic {
             fn info(&self) -> MechanismInfo {
                 self.info.clone()
             }

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use crate::generic::{Generic, Sketch, SliderAt};
 use crate::sweep::Row;
-use mechgen_runtime::mechanism::{Kind, Kinematics};
+use mechgen_runtime::mechanism::{Kind, DynMechanism};
 
 use super::animation::short;
 use super::drawing::{Frame, Slider, point_paths};
@@ -21,7 +21,7 @@ const GUIDE_MARGIN: f64 = 0.08;
 /// entry `input` is replaced by each row's value); failed rows give none. A frame's input is in
 /// degrees for an angle input. Empty when `x` or `input` do not fit the mechanism.
 pub fn sweep_frames(model: &Generic, x: &[f64], input: usize, rows: &[Row]) -> Vec<Frame> {
-    let info = Kinematics::<f64>::info(model);
+    let info = DynMechanism::<f64>::info(model);
     let Some((_, kind, _)) = info.inputs.get(input) else {
         return Vec::new();
     };
@@ -190,7 +190,7 @@ pub fn write_animation(
     input: usize,
     rows: &[Row],
 ) -> Result<PathBuf, PlotError> {
-    let info = Kinematics::<f64>::info(model);
+    let info = DynMechanism::<f64>::info(model);
     let frames = sweep_frames(model, x, input, rows);
     let (Some(first), Some(last), Some((name, kind, _))) =
         (frames.first(), frames.last(), info.inputs.get(input))

@@ -4,7 +4,7 @@
 
 use super::Continuation;
 use mechgen_runtime::error::SolveError;
-use mechgen_runtime::mechanism::{Kind, Kinematics, MechanismInfo};
+use mechgen_runtime::mechanism::{Kind, DynMechanism, MechanismInfo};
 
 /// Substeps one continuation may always try (halvings near a dead point included).
 pub const BASE_SUBSTEPS: usize = 1000;
@@ -90,7 +90,7 @@ pub fn substep_budget(distance: f64, h_max: f64) -> usize {
 /// `x` and `q` hold the new state and the condition estimate there is returned; on failure they
 /// keep the last state reached. At most [`substep_budget`] substeps, so it always ends.
 pub fn continue_branch(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     x: &mut [f64],
     q: &mut [f64],
     index: usize,
@@ -104,7 +104,7 @@ pub fn continue_branch(
 /// [`continue_branch`] with at most `allowance` substeps (a sweep's remaining budget), which it
 /// decreases by the substeps it used.
 pub fn continue_within(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     x: &mut [f64],
     q: &mut [f64],
     index: usize,
@@ -121,7 +121,7 @@ pub fn continue_within(
 /// The continuation itself, at most `allowance` substeps, counted in `used`.
 #[allow(clippy::too_many_arguments)]
 fn follow(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     x: &mut [f64],
     q: &mut [f64],
     index: usize,

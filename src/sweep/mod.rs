@@ -1,6 +1,6 @@
 //! Sweeps of one input: continuation along the `start` configuration's branch ([`continuation`]),
 //! other inputs held at set values, then velocities, accelerations and points at every row.
-//! Works on any [`Kinematics`] (generated or generic), written once; the CLI and reports sit on it.
+//! Works on any [`DynMechanism`] (generated or generic), written once; the CLI and reports sit on it.
 
 pub mod continuation;
 
@@ -10,7 +10,7 @@ pub use continuation::{
 };
 
 use mechgen_runtime::error::SolveError;
-use mechgen_runtime::mechanism::{Kind, Kinematics, MechanismInfo, PointMotion};
+use mechgen_runtime::mechanism::{Kind, DynMechanism, MechanismInfo, PointMotion};
 use mechgen_runtime::solve::NewtonOptions;
 
 /// How the branch is followed between rows.
@@ -101,7 +101,7 @@ impl Stopped {
 /// `x` and `q` hold the new state; on failure they keep the last state reached. Always ends
 /// ([`continue_branch`] says why it stopped).
 pub fn continue_to(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     x: &mut [f64],
     q: &mut [f64],
     index: usize,

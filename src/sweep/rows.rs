@@ -7,13 +7,13 @@ use super::{
     nearest_turn, sweep_budget,
 };
 use mechgen_runtime::error::SolveError;
-use mechgen_runtime::mechanism::{Kind, Kinematics, MechanismInfo, PointMotion};
+use mechgen_runtime::mechanism::{Kind, DynMechanism, MechanismInfo, PointMotion};
 
 /// Sweeps input `index` over `values` (radians or file units) from the file's start configuration,
 /// with input rate `rate` and zero input acceleration; the other inputs stay at their start
 /// values. See [`sweep_holding`].
 pub fn sweep(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     index: usize,
     values: &[f64],
     rate: f64,
@@ -31,7 +31,7 @@ pub fn sweep(
 /// at most [`sweep_budget`]`(values.len())` substeps (three solves each) and four more solves per
 /// row: once they are used up, the remaining rows get `substep-limit` without any work.
 pub fn sweep_holding(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     index: usize,
     values: &[f64],
     rate: f64,
@@ -142,7 +142,7 @@ fn stopped(input: f64, condition: f64, reason: StopReason) -> Stopped {
 }
 
 /// Condition estimate at a converged state (infinite when the solve fails there).
-fn condition_at(k: &dyn Kinematics<f64>, x: &[f64], q: &[f64], c: &Continuation) -> f64 {
+fn condition_at(k: &dyn DynMechanism<f64>, x: &[f64], q: &[f64], c: &Continuation) -> f64 {
     let mut settled = q.to_vec();
     k.solve_position(x, &mut settled, &c.newton)
         .map_or(f64::INFINITY, |r| r.condition())
@@ -152,7 +152,7 @@ fn condition_at(k: &dyn Kinematics<f64>, x: &[f64], q: &[f64], c: &Continuation)
 /// near the file's values as whole turns allow (a far-off start may have converged turns away,
 /// where angles lose precision). Leaves `q` as it is when the solve fails.
 fn settle_start(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     info: &MechanismInfo,
     x: &[f64],
     q: &mut [f64],

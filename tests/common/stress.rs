@@ -1,10 +1,10 @@
 //! Helpers of the stress suite (`tests/stress_*.rs`): the dead-point references of
-//! `tests/data/stress/`, settled start configurations and full motions through `Kinematics`.
+//! `tests/data/stress/`, settled start configurations and full motions through `DynMechanism`.
 #![allow(dead_code)]
 
 use super::Table;
 use mechgen::sweep::Continuation;
-use mechgen::{Kind, Kinematics, MechanismInfo, NewtonOptions, PointMotion};
+use mechgen::{Kind, DynMechanism, MechanismInfo, NewtonOptions, PointMotion};
 
 /// The dead-point mechanisms of `mechanism.toml` with references in `tests/data/stress/`.
 pub const DEAD_POINT_MECHANISMS: [&str; 2] = ["rocker_four_bar", "sixbar_g"];
@@ -56,7 +56,7 @@ pub fn start(name: &str) -> Started {
 
 /// The generic engine's copy of a compiled-in mechanism (always block Newton, no closed forms).
 #[cfg(feature = "runtime")]
-pub fn generic(name: &str) -> Box<dyn Kinematics<f64>> {
+pub fn generic(name: &str) -> Box<dyn DynMechanism<f64>> {
     let all = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
         .expect("compiled-in file loads");
     Box::new(
@@ -67,10 +67,10 @@ pub fn generic(name: &str) -> Box<dyn Kinematics<f64>> {
 }
 
 /// An engine with its start state (x, q).
-pub type Started = (Box<dyn Kinematics<f64>>, Vec<f64>, Vec<f64>);
+pub type Started = (Box<dyn DynMechanism<f64>>, Vec<f64>, Vec<f64>);
 
 /// [`start`] for a given engine.
-pub fn start_with(k: Box<dyn Kinematics<f64>>) -> Started {
+pub fn start_with(k: Box<dyn DynMechanism<f64>>) -> Started {
     let info = k.info();
     let x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
     let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
@@ -87,7 +87,7 @@ pub fn continuation() -> Continuation {
 /// q̇, q̈ and the points at a solved state of a one-input mechanism, for input rate 1 and input
 /// acceleration 0.
 pub fn motion(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     x: &[f64],
     q: &[f64],
 ) -> (Vec<f64>, Vec<f64>, Vec<PointMotion<f64>>) {

@@ -1,22 +1,22 @@
-//! Shared by the sweep tests: a [`Kinematics`] wrapper that counts solves (and can report another
+//! Shared by the sweep tests: a [`DynMechanism`] wrapper that counts solves (and can report another
 //! start), and the closed forms of the test mechanisms in `tests/data/sweep/`, computed here
 //! independently of the solvers.
 #![allow(dead_code)]
 
 use std::cell::Cell;
 
-use mechgen::{Kinematics, MechanismInfo, NewtonOptions, NewtonReport, PointMotion, SolveError};
+use mechgen::{DynMechanism, MechanismInfo, NewtonOptions, NewtonReport, PointMotion, SolveError};
 
 /// Counts every call that solves or evaluates something; `info` may differ from the inner one's
 /// (another start configuration).
 pub struct Counting<'a> {
-    pub inner: &'a dyn Kinematics<f64>,
+    pub inner: &'a dyn DynMechanism<f64>,
     pub info: MechanismInfo,
     pub calls: Cell<usize>,
 }
 
 impl<'a> Counting<'a> {
-    pub fn new(inner: &'a dyn Kinematics<f64>) -> Self {
+    pub fn new(inner: &'a dyn DynMechanism<f64>) -> Self {
         Counting {
             inner,
             info: inner.info(),
@@ -29,7 +29,7 @@ impl<'a> Counting<'a> {
     }
 }
 
-impl Kinematics<f64> for Counting<'_> {
+impl DynMechanism<f64> for Counting<'_> {
     fn info(&self) -> MechanismInfo {
         self.info.clone()
     }

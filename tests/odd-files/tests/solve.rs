@@ -4,7 +4,7 @@
 
 use std::f64::consts::TAU;
 
-use mechgen::{Kind, Kinematics, MechanismInfo, NewtonOptions, PointMotion};
+use mechgen::{Kind, DynMechanism, MechanismInfo, NewtonOptions, PointMotion};
 use mechgen_odd_files as odd;
 
 const XD: f64 = 1.3;
@@ -32,7 +32,7 @@ fn close(got: f64, want: f64, angle: bool) -> bool {
 }
 
 /// Solves `m` at every reference row and compares every column; returns the rows checked.
-fn check(m: &dyn Kinematics<f64>) -> usize {
+fn check(m: &dyn DynMechanism<f64>) -> usize {
     let info: MechanismInfo = m.info();
     let rows = reference(&info.name);
     let (ni, nu, np) = (info.inputs.len(), info.unknowns.len(), info.points.len());
@@ -121,7 +121,7 @@ fn every_mechanism_of_the_builder_file_solves_to_its_reference() {
 /// colliding item takes its alternative.
 #[test]
 fn typed_api_with_colliding_names() {
-    use mechgen::Mechanism;
+    use mechgen::StaticMechanism;
     let options = NewtonOptions::default();
 
     // `tick::Tick` is the mechanism; its tick state is `tick::TickState`.
@@ -132,7 +132,7 @@ fn typed_api_with_colliding_names() {
         .expect("start");
     let want = reference("tick");
     for (r, row) in want.iter().enumerate().skip(1).take(3) {
-        Mechanism::tick(&m, &mut state, &[row[0]], &[XD], &[XDD], &options).expect("tick");
+        StaticMechanism::tick(&m, &mut state, &[row[0]], &[XD], &[XDD], &options).expect("tick");
         assert!(
             close(state.q[0], row[1], true) && close(state.qd[0], row[2], false),
             "tick row {r}"

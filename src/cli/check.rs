@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use mechgen::{Kind, MechanismInfo, generic};
+use mechgen::{CoordDesc, Kind, MechanismInfo, generic};
 
 /// `mechgen check [--file PATH]`: the file given, or the compiled-in one.
 pub fn run(file: Option<&Path>) -> Result<(), String> {
@@ -36,9 +36,9 @@ pub fn check(name: &str, text: &str) -> Result<(), String> {
 }
 
 fn print_structure(info: &MechanismInfo) {
-    let names = |v: &[(String, Kind, f64)]| {
+    let names = |v: &[CoordDesc]| {
         v.iter()
-            .map(|(n, k, _)| {
+            .map(|CoordDesc { name: n, kind: k, .. }| {
                 format!(
                     "{n} ({})",
                     if *k == Kind::Angle { "angle" } else { "length" }
@@ -55,7 +55,7 @@ fn print_structure(info: &MechanismInfo) {
         .blocks
         .iter()
         .map(|b| {
-            let us: Vec<&str> = b.iter().map(|&u| info.unknowns[u].0.as_str()).collect();
+            let us: Vec<&str> = b.iter().map(|&u| info.unknowns[u].name.as_str()).collect();
             format!("{}x{} [{}]", b.len(), b.len(), us.join(", "))
         })
         .collect();

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use mechgen::generic::Generic;
 use mechgen::sweep::{Continuation, Row, check_start, sweep_holding};
-use mechgen::{Kind, DynMechanism, MechanismInfo, report};
+use mechgen::{CoordDesc, DynMechanism, Kind, MechanismInfo, report};
 use mechgen_codegen::diagnostic::{Diagnostic, Severity, SourceFile, render};
 
 use super::args::{Engine, MainArgs, SweepArgs};
@@ -122,7 +122,7 @@ struct Swept {
 impl Swept {
     /// Every input's value during the sweep (the swept one at its start value).
     fn inputs(&self, info: &MechanismInfo) -> Vec<f64> {
-        let mut x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
+        let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
         for &(i, v) in &self.plan.held {
             x[i] = v;
         }
@@ -148,7 +148,7 @@ fn run_plan(
     rate: f64,
 ) -> Result<Swept, String> {
     check_start(info).map_err(|e| format!("{}: {e}", info.name))?;
-    let kind = info.inputs[plan.index].1;
+    let kind = info.inputs[plan.index].kind;
     let continuation = Continuation::for_input(kind, plan.span);
     let rows = sweep_holding(k, plan.index, &plan.values, rate, &plan.held, &continuation);
     Ok(Swept { plan, rate, rows })
@@ -236,7 +236,11 @@ fn write_plots(
 /// value, if larger), in 36 steps.
 fn main_job_range(info: &MechanismInfo) -> Range {
     match info.inputs.first() {
-        Some((_, Kind::Angle, start)) => {
+        Some(CoordDesc {
+            kind: Kind::Angle,
+            start,
+            ..
+        }) => {
             let from = (start.to_degrees() / 10.0).floor() * 10.0;
             let from = if from.is_finite() { from } else { 0.0 };
             Range {
@@ -245,12 +249,13 @@ fn main_job_range(info: &MechanismInfo) -> Range {
                 step: Some(10.0),
             }
         }
-        Some((_, Kind::Length, start)) => {
+        // A length input.
+        Some(CoordDesc { start, .. }) => {
             let scale = info
                 .params
                 .iter()
-                .filter(|p| p.1 == Kind::Length)
-                .fold(start.abs(), |m, p| m.max(p.2.abs()));
+                .filter(|p| p.kind == Kind::Length)
+                .fold(start.abs(), |m, p| m.max(p.value.abs()));
             let half = if scale > 0.0 && scale.is_finite() {
                 scale / 4.0
             } else {

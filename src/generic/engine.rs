@@ -11,7 +11,7 @@ use super::closed::{self, ClosedTape};
 use super::tape::{Env, Tape};
 use mechgen_runtime::elimination::gauss_in_place;
 use mechgen_runtime::error::{Quantity, SolveError, Stage};
-use mechgen_runtime::mechanism::{Kind, MechanismInfo};
+use mechgen_runtime::{CoordDesc, Kind, MechanismInfo, ParamDesc};
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::solve::{NewtonWork, check_finite};
 
@@ -113,7 +113,11 @@ impl Generic {
         let flat = |rows: &[Vec<_>]| rows.iter().flatten().copied().collect::<Vec<_>>();
         let coords = |cs: &[mechgen_codegen::Coord]| {
             cs.iter()
-                .map(|c| (c.name.text.clone(), kind(c.kind), c.start))
+                .map(|c| CoordDesc {
+                    name: c.name.text.clone(),
+                    kind: kind(c.kind),
+                    start: c.start,
+                })
                 .collect::<Vec<_>>()
         };
         let info = MechanismInfo {
@@ -124,7 +128,11 @@ impl Generic {
             params: m
                 .params
                 .iter()
-                .map(|p| (p.name.text.clone(), kind(p.kind), p.value))
+                .map(|p| ParamDesc {
+                    name: p.name.text.clone(),
+                    kind: kind(p.kind),
+                    value: p.value,
+                })
                 .collect(),
             points: m.points.iter().map(|p| p.0.text.clone()).collect(),
             blocks: c.blocks.iter().map(|b| b.block.unknowns.clone()).collect(),
@@ -205,7 +213,7 @@ impl Generic {
             .info
             .params
             .iter()
-            .position(|p| p.0 == name)
+            .position(|p| p.name == name)
             .ok_or_else(|| format!("no param `{name}` in `{}`", self.info.name))?;
         let param = &self.model.params[i];
         if param.is_derived() {
@@ -223,7 +231,7 @@ impl Generic {
         values[i] = value;
         mechgen_codegen::derive_params(&self.model, &mut values)?;
         for (info, v) in self.info.params.iter_mut().zip(&values) {
-            info.2 = *v;
+            info.value = *v;
         }
         self.params = values;
         Ok(())
@@ -247,7 +255,7 @@ impl Generic {
         &self,
         x: &[T],
         q: &mut [T],
-        options: &crate::NewtonOptions<T>,
+        options: &crate::SolveOptions<T>,
     ) -> Result<crate::NewtonReport<T>, SolveError> {
         check_finite(Quantity::Param, &self.params)?;
         check_finite(Quantity::Input, x)?;
@@ -269,7 +277,7 @@ impl Generic {
                     &out,
                     &mut trial,
                     scale,
-                    options.tolerance,
+                    options.newton.tolerance,
                     &mut report,
                 )?;
                 continue;
@@ -286,7 +294,7 @@ impl Generic {
                 &b.unknowns,
                 &b.length,
                 scale,
-                options,
+                &options.newton,
                 &mut report,
                 &mut work,
                 |q, r, j| {

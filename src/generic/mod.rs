@@ -16,9 +16,10 @@ pub use linkage::Linkage;
 pub use sketch::{Sketch, SliderAt};
 
 use mechgen_runtime::error::{Quantity, SolveError, Stage};
-use mechgen_runtime::mechanism::{DynMechanism, MechanismInfo, PointMotion, len};
+use mechgen_runtime::{DynMechanism, MechanismInfo, PointMotion, dynamic::len};
 use mechgen_runtime::scalar::Real;
-use mechgen_runtime::solve::{NewtonOptions, NewtonReport, check_finite};
+use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
+use mechgen_runtime::InputMotion;
 use tape::Env;
 
 /// One chain of the mechanism drawing at a configuration.
@@ -171,7 +172,7 @@ macro_rules! kinematics {
                 &self,
                 x: &[$t],
                 q: &mut [$t],
-                options: &NewtonOptions<$t>,
+                options: &SolveOptions<$t>,
             ) -> Result<NewtonReport<$t>, SolveError> {
                 self.lengths(&[x, q])?;
                 self.newton(x, q, options)
@@ -195,13 +196,12 @@ macro_rules! kinematics {
 
             fn solve_acceleration(
                 &self,
-                x: &[$t],
+                input: InputMotion<&[$t]>,
                 q: &[$t],
-                xd: &[$t],
                 qd: &[$t],
-                xdd: &[$t],
                 qdd: &mut [$t],
             ) -> Result<(), SolveError> {
+                let InputMotion { x, xd, xdd } = input;
                 self.lengths(&[x, q, xd, qd, xdd, qdd])?;
                 self.finite(&[x, q, xd, qd, xdd])?;
                 let env = Env {
@@ -215,14 +215,13 @@ macro_rules! kinematics {
 
             fn points(
                 &self,
-                x: &[$t],
+                input: InputMotion<&[$t]>,
                 q: &[$t],
-                xd: &[$t],
                 qd: &[$t],
-                xdd: &[$t],
                 qdd: &[$t],
                 out: &mut [PointMotion<$t>],
             ) -> Result<(), SolveError> {
+                let InputMotion { x, xd, xdd } = input;
                 self.lengths(&[x, q, xd, qd, xdd, qdd])?;
                 len(out, self.info.points.len())?;
                 let env = Env {

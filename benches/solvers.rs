@@ -10,7 +10,7 @@
 //!   positions, velocities, accelerations and all points. Both engines tick in place along the
 //!   states, 1° at a time, there and back: the generated engine with `StaticMechanism::tick` (its state,
 //!   a `Tick`, also holds the sines and cosines, and it predicts itself), the generic engine with
-//!   the same prediction as its guess for `DynMechanism::solve_motion`.
+//!   the same prediction as its guess for `DynMechanism::solve`.
 //!
 //! The generated engine runs with static dispatch (`visit_all`, fixed arrays); the generic engine
 //! is loaded at run time from the same file.
@@ -20,7 +20,10 @@ use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mechgen::sweep::{Continuation, sweep};
-use mechgen::{Array, Kind, DynMechanism, StaticMechanism, NewtonOptions, PointMotion, StaticVisitor};
+use mechgen::{
+    Array, CoordDesc, DynMechanism, InputMotion, Kind, PointMotion, SolveOptions, StaticMechanism,
+    StaticVisitor,
+};
 
 /// A solved state and the input one step further (which is solvable too).
 struct State {
@@ -34,15 +37,15 @@ struct State {
 /// States along the start branch with a solvable next step, input rate 1.
 fn states(k: &dyn DynMechanism<f64>) -> (Vec<State>, f64) {
     let info = k.info();
-    let (_, kind, start) = info.inputs[0].clone();
+    let CoordDesc { kind, start, .. } = info.inputs[0].clone();
     let dx = match kind {
         Kind::Angle => 1f64.to_radians(),
-        Kind::Length => {
+        _ => {
             let scale = info
                 .params
                 .iter()
-                .filter(|p| p.1 == Kind::Length)
-                .fold(0.0f64, |m, p| m.max(p.2.abs()));
+                .filter(|p| p.kind == Kind::Length)
+                .fold(0.0f64, |m, p| m.max(p.value.abs()));
             (if scale > 0.0 { scale } else { 1.0 }) / 360.0
         }
     };
@@ -57,7 +60,7 @@ fn states(k: &dyn DynMechanism<f64>) -> (Vec<State>, f64) {
     let mut out = Vec::new();
     for pair in rows.windows(2) {
         if let (Ok(s), Ok(_)) = (&pair[0].result, &pair[1].result) {
-            let mut x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
+            let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
             x[0] = pair[0].input;
             let mut x_next = x.clone();
             x_next[0] = pair[1].input;
@@ -73,10 +76,10 @@ fn states(k: &dyn DynMechanism<f64>) -> (Vec<State>, f64) {
     if out.is_empty() {
         // No step of the sweep could be taken (a start at a dead point, say): time ticks that stay
         // at the start input, so every mechanism still has its benches.
-        let x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
-        let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
+        let x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+        let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
         let n = q.len();
-        if k.solve_position(&x, &mut q, &NewtonOptions::default())
+        if k.solve_position(&x, &mut q, &SolveOptions::default())
             .is_ok()
         {
             eprintln!(
@@ -164,7 +167,7 @@ impl StaticVisitor<f64> for Generated<'_> {
             .collect();
         let (xd_v, xdd_v) = unit_rate(M::INPUTS);
         let (xd, xdd): (M::X, M::X) = (arr(&xd_v), arr(&xdd_v));
-        let opts = NewtonOptions::default();
+        let opts = SolveOptions::default();
         let n = typed.len();
         let mut g = self.c.benchmark_group(M::NAME);
         let mut i = 0;
@@ -193,21 +196,20 @@ impl StaticVisitor<f64> for Generated<'_> {
         });
         // A simulator ticks in place: the state walks along the precomputed inputs (there and
         // back at the ends of the list), each tick from the previous one.
-        let xs: Vec<M::X> = typed.iter().map(|s| s.0).collect();
-        let mut walk = Walk::new(xs.len());
-        let mut tick = m
-            .tick_start(&typed[0].0, &xd, &xdd, &typed[0].1, &opts)
-            .ok();
+        let inputs: Vec<InputMotion<M::X>> = typed
+            .iter()
+            .map(|s| InputMotion::new(s.0, xd, xdd))
+            .collect();
+        let mut walk = Walk::new(inputs.len());
+        let mut tick = m.tick_start(&inputs[0], &typed[0].1, &opts).ok();
         if tick.is_some() {
             g.bench_function("step/generated", |b| {
                 b.iter(|| {
                     let j = walk.next();
                     let Some(t) = tick.as_mut() else { return };
-                    if m.tick(t, black_box(&xs[j]), &xd, &xdd, &opts).is_err() {
+                    if m.tick(t, black_box(&inputs[j]), &opts).is_err() {
                         // Off the branch (not expected along solved states): start again there.
-                        tick = m
-                            .tick_start(&typed[j].0, &xd, &xdd, &typed[j].1, &opts)
-                            .ok();
+                        tick = m.tick_start(&inputs[j], &typed[j].1, &opts).ok();
                     }
                     black_box(&tick);
                 })
@@ -223,7 +225,7 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
     let info = k.info();
     let (states, _) = states(k);
     let (xd, xdd) = unit_rate(info.inputs.len());
-    let opts = NewtonOptions::default();
+    let opts = SolveOptions::default();
     let n = states.len();
     let nu = info.unknowns.len();
     let mut g = c.benchmark_group(info.name.as_str());
@@ -250,11 +252,17 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
         b.iter(|| {
             i = (i + 1) % n;
             let s = &states[i];
-            black_box(k.solve_acceleration(black_box(&s.x), &s.q, &xd, &s.qd, &xdd, &mut qdd)).ok();
+            black_box(k.solve_acceleration(
+                InputMotion::new(black_box(&s.x), &xd, &xdd),
+                &s.q,
+                &s.qd,
+                &mut qdd,
+            ))
+            .ok();
         })
     });
     // Ticking in place along the same walk: the predicted guess from the previous state, then
-    // `solve_motion`.
+    // `solve`.
     let mut points = vec![PointMotion::default(); info.points.len()];
     let mut walk = Walk::new(n);
     let (mut x, mut qs) = (states[0].x.clone(), states[0].q.clone());
@@ -267,7 +275,14 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
             for (((v, q0), d), a) in q.iter_mut().zip(&qs).zip(&qds).zip(&qdds) {
                 *v = q0 + h * (d + 0.5 * h * a);
             }
-            let tick = k.solve_motion(xn, &xd, &xdd, &mut q, &mut qd, &mut qdd, &mut points, &opts);
+            let tick = k.solve(
+                InputMotion::new(xn, &xd, &xdd),
+                &mut q,
+                &mut qd,
+                &mut qdd,
+                &mut points,
+                &opts,
+            );
             if tick.is_ok() {
                 x.copy_from_slice(xn);
                 qs.copy_from_slice(&q);

@@ -12,7 +12,9 @@ pub const MECHANISMS: [&str; 6] = [
 /// A compiled-in mechanism by name, with its default params, behind the object-safe trait.
 pub fn lookup<T: ::mechgen::__private::Real>(
     name: &str,
-) -> ::core::option::Option<::std::boxed::Box<dyn ::mechgen::__private::Kinematics<T>>> {
+) -> ::core::option::Option<
+    ::std::boxed::Box<dyn ::mechgen::__private::DynMechanism<T>>,
+> {
     match name {
         "sixbar" => {
             ::core::option::Option::Some(
@@ -63,9 +65,10 @@ pub fn lookup<T: ::mechgen::__private::Real>(
 }
 /// Calls `v.visit` with every compiled-in mechanism (default params), statically typed, in
 /// file order: generic code over whatever the build compiled in, without dynamic dispatch.
-pub fn visit_all<T: ::mechgen::__private::Real, V: ::mechgen::__private::Visitor<T>>(
-    v: &mut V,
-) {
+pub fn visit_all<
+    T: ::mechgen::__private::Real,
+    V: ::mechgen::__private::StaticVisitor<T>,
+>(v: &mut V) {
     v.visit(&<sixbar::Sixbar<T> as ::core::default::Default>::default());
     v.visit(&<shaper::Shaper<T> as ::core::default::Default>::default());
     v.visit(&<four_bar::FourBar<T> as ::core::default::Default>::default());
@@ -75,7 +78,12 @@ pub fn visit_all<T: ::mechgen::__private::Real, V: ::mechgen::__private::Visitor
 }
 /// Six-bar linkage: crank-rocker four-bar ABCD plus the RRR dyad E-F-G on the coupler point E
 pub mod sixbar {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(
+        non_snake_case,
+        unused_variables,
+        clippy::too_many_arguments,
+        clippy::type_complexity,
+    )]
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "sixbar",
@@ -357,12 +365,8 @@ pub mod sixbar {
         }
         /// The file's `start` configuration (on the wanted assembly branch).
         pub fn start() -> (Inputs<T>, Unknowns<T>) {
-            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(
-                INFO.inputs[i].start,
-            ));
-            let q: [T; 4] = ::core::array::from_fn(|i| T::lit(
-                INFO.unknowns[i].start,
-            ));
+            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(INFO.inputs[i].start));
+            let q: [T; 4] = ::core::array::from_fn(|i| T::lit(INFO.unknowns[i].start));
             (Inputs::from_array(x), Unknowns::from_array(q))
         }
         /// Φ(x, q): the loop-closure residuals, two per loop (x then y).
@@ -464,11 +468,7 @@ pub mod sixbar {
             let t24 = t1 + t12;
             let t25 = -t14;
             let t26 = -t17;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t19;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -503,11 +503,7 @@ pub mod sixbar {
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
             let t3 = -t2;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                1,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 1>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t3;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -576,11 +572,7 @@ pub mod sixbar {
             let t33 = t19 * v_q2_d;
             let t34 = t13 * v_q5_d;
             let t35 = t16 * v_q6_d;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t22;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -722,11 +714,7 @@ pub mod sixbar {
             ::mechgen::__private::nalgebra::SVector::from([t46, t55, t62, t70])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-        ) -> [[T; 2]; 1] {
+        pub fn point_positions(&self, x: &[T; 1], q: &[T; 4]) -> [[T; 2]; 1] {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_l1 = self.params.l1;
@@ -843,9 +831,6 @@ pub mod sixbar {
             ::mechgen::__private::nalgebra::SVector<T, 2>,
             ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
         ) {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -866,11 +851,7 @@ pub mod sixbar {
             let t10 = t5 - t8;
             let t11 = -t3;
             let t12 = -t7;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t11;
             // J[0][1] = ∂Φ0/∂q3
@@ -891,8 +872,6 @@ pub mod sixbar {
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let (s_v_q2, c_v_q2) = tq[0];
@@ -903,11 +882,7 @@ pub mod sixbar {
             let t3 = p_l3 * s_v_q3;
             let t4 = -t1;
             let t5 = -t2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t4;
             // J[0][1] = ∂Φ0/∂q3
@@ -930,7 +905,6 @@ pub mod sixbar {
             xd: &[T; 1],
             qd: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
             let (s_v_q1, c_v_q1) = tx[0];
@@ -955,9 +929,6 @@ pub mod sixbar {
             xdd: &[T; 1],
             qdd: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -1009,7 +980,6 @@ pub mod sixbar {
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
         ) -> [T; 6] {
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -1034,10 +1004,6 @@ pub mod sixbar {
             ::mechgen::__private::nalgebra::SVector<T, 2>,
             ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
         ) {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q5 = q[2];
-            let v_q6 = q[3];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l5 = self.params.l5;
@@ -1045,7 +1011,6 @@ pub mod sixbar {
             let p_l2e = self.params.l2e;
             let p_xg = self.params.xg;
             let p_yg = self.params.yg;
-            let p_alpha = self.params.alpha;
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
@@ -1079,11 +1044,7 @@ pub mod sixbar {
             let t25 = t23 - p_yg;
             let t26 = -t16;
             let t27 = -t20;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[2][2] = ∂Φ2/∂q5
             jac[(0, 0)] = t17;
             // J[2][3] = ∂Φ2/∂q6
@@ -1104,8 +1065,6 @@ pub mod sixbar {
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
-            let v_q5 = q[2];
-            let v_q6 = q[3];
             let p_l5 = self.params.l5;
             let p_l6 = self.params.l6;
             let (s_v_q5, c_v_q5) = tq[2];
@@ -1116,11 +1075,7 @@ pub mod sixbar {
             let t3 = p_l6 * s_v_q6;
             let t4 = -t0;
             let t5 = -t2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[2][2] = ∂Φ2/∂q5
             jac[(0, 0)] = t1;
             // J[2][3] = ∂Φ2/∂q6
@@ -1143,12 +1098,9 @@ pub mod sixbar {
             xd: &[T; 1],
             qd: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l2e = self.params.l2e;
-            let p_alpha = self.params.alpha;
             let v_q1_d = xd[0];
             let v_q2_d = qd[0];
             let (s_v_q1, c_v_q1) = tx[0];
@@ -1191,16 +1143,11 @@ pub mod sixbar {
             xdd: &[T; 1],
             qdd: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q5 = q[2];
-            let v_q6 = q[3];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l5 = self.params.l5;
             let p_l6 = self.params.l6;
             let p_l2e = self.params.l2e;
-            let p_alpha = self.params.alpha;
             let v_q1_d = xd[0];
             let v_q2_d = qd[0];
             let v_q5_d = qd[2];
@@ -1277,8 +1224,6 @@ pub mod sixbar {
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
         ) -> [T; 6] {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l5 = self.params.l5;
@@ -1286,7 +1231,6 @@ pub mod sixbar {
             let p_l2e = self.params.l2e;
             let p_xg = self.params.xg;
             let p_yg = self.params.yg;
-            let p_alpha = self.params.alpha;
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
@@ -1334,7 +1278,7 @@ pub mod sixbar {
             st: &mut ::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
@@ -1350,7 +1294,7 @@ pub mod sixbar {
                     (pa, ra),
                     (pb, rb),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -1360,7 +1304,7 @@ pub mod sixbar {
                     [0, 1],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
@@ -1378,7 +1322,7 @@ pub mod sixbar {
                     (pa, ra),
                     (pb, rb),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -1388,7 +1332,7 @@ pub mod sixbar {
                     [2, 3],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
@@ -1491,7 +1435,7 @@ pub mod sixbar {
             tp: &[(T, T); 10],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 1]),
@@ -1500,7 +1444,6 @@ pub mod sixbar {
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
             // Block 0: closed form (a dyad).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -1520,7 +1463,7 @@ pub mod sixbar {
                     (p_l2, T::zero()),
                     (t2, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -1530,19 +1473,17 @@ pub mod sixbar {
                     [0, 1],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 1: closed form (a dyad).
-            let v_q2 = st.q[0];
             let p_l5 = self.params.l5;
             let p_l6 = self.params.l6;
             let p_l2e = self.params.l2e;
             let p_xg = self.params.xg;
             let p_yg = self.params.yg;
-            let p_alpha = self.params.alpha;
             let (s_v_q2, c_v_q2) = st.sc[0];
             let t4 = p_l2 * c_v_q2;
             let t5 = p_l2 * s_v_q2;
@@ -1573,7 +1514,7 @@ pub mod sixbar {
                     (t18, T::zero()),
                     (t19, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -1583,13 +1524,12 @@ pub mod sixbar {
                     [2, 3],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 0: velocities and accelerations.
-            let v_q3 = st.q[1];
             let v_q1_d = xd[0];
             let (s_v_q3, c_v_q3) = st.sc[1];
             let t22 = p_l3 * c_v_q3;
@@ -1599,11 +1539,7 @@ pub mod sixbar {
             let t26 = t1 * v_q1_d;
             let t27 = t0 * v_q1_d;
             let t28 = -t27;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t24;
             // J[0][1] = ∂Φ0/∂q3
@@ -1658,8 +1594,6 @@ pub mod sixbar {
             qdd[0] = z[0];
             qdd[1] = z[1];
             // Block 1: velocities and accelerations.
-            let v_q5 = st.q[2];
-            let v_q6 = st.q[3];
             let (s_v_q5, c_v_q5) = st.sc[2];
             let t50 = p_l5 * c_v_q5;
             let t51 = p_l5 * s_v_q5;
@@ -1676,11 +1610,7 @@ pub mod sixbar {
             let t61 = t57 * v_q2_d;
             let t62 = t26 - t60;
             let t63 = t28 - t61;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[2][2] = ∂Φ2/∂q5
             jac[(0, 0)] = t51;
             // J[2][3] = ∂Φ2/∂q6
@@ -1766,7 +1696,7 @@ pub mod sixbar {
             &self,
             x: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -1859,13 +1789,13 @@ pub mod sixbar {
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
         #[inline]
-        pub fn solve_arrays(
+        fn solve_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 4],
@@ -1904,14 +1834,14 @@ pub mod sixbar {
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
-        /// cosines for [`Self::tick`].
-        pub fn tick_start(
+        /// cosines for `tick_arrays` (the typed `tick_start` and `tick` call these).
+        fn tick_start_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
@@ -1939,13 +1869,13 @@ pub mod sixbar {
         /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
-        pub fn tick(
+        fn tick_arrays(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -1996,28 +1926,27 @@ pub mod sixbar {
             );
             Ok(())
         }
-        /// Everything at once: positions from `guess`, velocities, accelerations and points.
+        /// One whole tick from `guess`: positions, velocities, accelerations and points,
+        /// sharing one set of sines and cosines between the stages.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
             Ok(Motion {
-                x,
-                xd,
-                xdd,
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
@@ -2025,8 +1954,44 @@ pub mod sixbar {
                 report,
             })
         }
+        /// The first tick of a simulation, solved from `guess` and kept with its sines and
+        /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.tick_start_arrays(
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                &guess.to_array(),
+                options,
+            )
+        }
+        /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the
+        /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when
+        /// the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.tick_arrays(
+                t,
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                options,
+            )
+        }
     }
-    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::StaticMechanism<T>
     for Sixbar<T> {
         const NAME: &'static str = "sixbar";
         const INPUTS: usize = 1;
@@ -2034,6 +1999,9 @@ pub mod sixbar {
         const POINTS: usize = 1;
         type X = [T; 1];
         type Q = [T; 4];
+        type Points = [::mechgen::__private::PointMotion<T>; 1];
+        type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>;
+        type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 1>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -2041,14 +2009,11 @@ pub mod sixbar {
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             Sixbar::residual(self, x, q)
         }
-        fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(&Sixbar::jacobian(self, x, q), out)
+        fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian {
+            Sixbar::jacobian(self, x, q)
         }
-        fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(
-                &Sixbar::input_jacobian(self, x, q),
-                out,
-            )
+        fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian {
+            Sixbar::input_jacobian(self, x, q)
         }
         fn jacobian_dot(
             &self,
@@ -2056,12 +2021,8 @@ pub mod sixbar {
             q: &Self::Q,
             xd: &Self::X,
             qd: &Self::Q,
-            out: &mut [T],
-        ) {
-            ::mechgen::__private::copy_row_major(
-                &Sixbar::jacobian_dot(self, x, q, xd, qd),
-                out,
-            )
+        ) -> Self::Jacobian {
+            Sixbar::jacobian_dot(self, x, q, xd, qd)
         }
         fn acceleration_rhs(
             &self,
@@ -2077,7 +2038,7 @@ pub mod sixbar {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -2104,68 +2065,74 @@ pub mod sixbar {
         }
         fn points(
             &self,
-            x: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &Self::Q,
-            xd: &Self::X,
             qd: &Self::Q,
-            xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::__private::PointMotion<T>],
-        ) {
-            for (o, p) in out
-                .iter_mut()
-                .zip(Sixbar::point_motion(self, x, q, xd, qd, xdd, qdd))
-            {
-                *o = p;
-            }
+        ) -> Self::Points {
+            Sixbar::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
+        }
+        #[inline]
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = Sixbar::solve_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                &mut q,
+                options,
+            )?;
+            Ok(::mechgen::__private::Solved {
+                q,
+                qd,
+                qdd,
+                points,
+                report,
+            })
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            Sixbar::tick_start(self, x, xd, xdd, guess, options)
+            Sixbar::tick_start_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                guess,
+                options,
+            )
         }
+        #[inline]
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            Sixbar::tick(self, t, x, xd, xdd, options)
-        }
-        fn solve_motion(
-            &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            q: &mut Self::Q,
-            qd: &mut Self::Q,
-            qdd: &mut Self::Q,
-            points: &mut [::mechgen::__private::PointMotion<T>],
-            options: &::mechgen::__private::NewtonOptions<T>,
-        ) -> ::core::result::Result<
-            ::mechgen::__private::NewtonReport<T>,
-            ::mechgen::__private::SolveError,
-        > {
-            let (v, a, p, report) = Sixbar::solve_arrays(self, x, xd, xdd, q, options)?;
-            *qd = v;
-            *qdd = a;
-            for (o, m) in points.iter_mut().zip(p) {
-                *o = m;
-            }
-            Ok(report)
+            Sixbar::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
         }
     }
 }
 /// Shaper (crank and slotted guide bar): crank AB drives slider B on guide bar CD, link DE drives the ram E
 pub mod shaper {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(
+        non_snake_case,
+        unused_variables,
+        clippy::too_many_arguments,
+        clippy::type_complexity,
+    )]
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "shaper",
@@ -2349,10 +2316,7 @@ pub mod shaper {
     }
     impl<T: ::core::marker::Copy> Points<T> {
         pub fn from_array(a: [::mechgen::__private::PointMotion<T>; 2]) -> Self {
-            Points {
-                E: a[0],
-                D: a[1],
-            }
+            Points { E: a[0], D: a[1] }
         }
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
@@ -2391,12 +2355,8 @@ pub mod shaper {
         }
         /// The file's `start` configuration (on the wanted assembly branch).
         pub fn start() -> (Inputs<T>, Unknowns<T>) {
-            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(
-                INFO.inputs[i].start,
-            ));
-            let q: [T; 4] = ::core::array::from_fn(|i| T::lit(
-                INFO.unknowns[i].start,
-            ));
+            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(INFO.inputs[i].start));
+            let q: [T; 4] = ::core::array::from_fn(|i| T::lit(INFO.unknowns[i].start));
             (Inputs::from_array(x), Unknowns::from_array(q))
         }
         /// Φ(x, q): the loop-closure residuals, two per loop (x then y).
@@ -2453,11 +2413,7 @@ pub mod shaper {
             let t8 = -t2;
             let t9 = -t4;
             let t10 = -t7;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂s3 (loop 1, x)
             m[(0, 0)] = c_v_q3;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -2490,11 +2446,7 @@ pub mod shaper {
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
             let t3 = -t1;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                1,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 1>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t2;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -2543,11 +2495,7 @@ pub mod shaper {
             let t23 = -t22;
             let t24 = t7 * v_q4_d;
             let t25 = -t24;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂s3 (loop 1, x)
             m[(0, 0)] = t9;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -2657,11 +2605,7 @@ pub mod shaper {
             ::mechgen::__private::nalgebra::SVector::from([t33, t40, t44, t48])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-        ) -> [[T; 2]; 2] {
+        pub fn point_positions(&self, x: &[T; 1], q: &[T; 4]) -> [[T; 2]; 2] {
             let v_q3 = q[1];
             let v_sE = q[3];
             let p_l3 = self.params.l3;
@@ -2728,9 +2672,7 @@ pub mod shaper {
             ::mechgen::__private::nalgebra::SVector<T, 2>,
             ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
         ) {
-            let v_q1 = x[0];
             let v_s3 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
             let p_lAC = self.params.lAC;
             let (s_v_q3, c_v_q3) = tq[1];
@@ -2743,11 +2685,7 @@ pub mod shaper {
             let t5 = t1 - t3;
             let t6 = t5 - p_lAC;
             let t7 = -t1;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
@@ -2769,16 +2707,11 @@ pub mod shaper {
             tq: &[(T, T); 4],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_s3 = q[0];
-            let v_q3 = q[1];
             let (s_v_q3, c_v_q3) = tq[1];
             let t0 = v_s3 * c_v_q3;
             let t1 = v_s3 * s_v_q3;
             let t2 = -t1;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
@@ -2801,7 +2734,6 @@ pub mod shaper {
             xd: &[T; 1],
             qd: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
             let (s_v_q1, c_v_q1) = tx[0];
@@ -2826,9 +2758,7 @@ pub mod shaper {
             xdd: &[T; 1],
             qdd: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
             let v_s3 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
             let v_s3_d = qd[0];
@@ -2881,23 +2811,17 @@ pub mod shaper {
             ::mechgen::__private::nalgebra::SVector<T, 1>,
             ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
-            let v_q3 = q[1];
-            let v_q4 = q[2];
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
             let p_yE = self.params.yE;
-            let (s_v_q3, c_v_q3) = tq[1];
+            let (s_v_q3, _) = tq[1];
             let t0 = s_v_q3 * p_l3;
             let (s_v_q4, c_v_q4) = tq[2];
             let t1 = p_l4 * c_v_q4;
             let t2 = p_l4 * s_v_q4;
             let t3 = t0 + t2;
             let t4 = t3 - p_yE;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[3][2] = ∂Φ3/∂q4
             jac[(0, 0)] = t1;
             (::mechgen::__private::nalgebra::SVector::from([t4]), jac)
@@ -2912,15 +2836,10 @@ pub mod shaper {
             tp: &[(T, T); 5],
             tq: &[(T, T); 4],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
-            let v_q4 = q[2];
             let p_l4 = self.params.l4;
-            let (s_v_q4, c_v_q4) = tq[2];
+            let (_, c_v_q4) = tq[2];
             let t0 = p_l4 * c_v_q4;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[3][2] = ∂Φ3/∂q4
             jac[(0, 0)] = t0;
             jac
@@ -2937,10 +2856,9 @@ pub mod shaper {
             xd: &[T; 1],
             qd: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q3 = q[1];
             let p_l3 = self.params.l3;
             let v_q3_d = qd[1];
-            let (s_v_q3, c_v_q3) = tq[1];
+            let (_, c_v_q3) = tq[1];
             let t0 = c_v_q3 * p_l3;
             let t1 = t0 * v_q3_d;
             let t2 = -t1;
@@ -2960,8 +2878,6 @@ pub mod shaper {
             xdd: &[T; 1],
             qdd: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q3 = q[1];
-            let v_q4 = q[2];
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
             let v_q3_d = qd[1];
@@ -2970,7 +2886,7 @@ pub mod shaper {
             let (s_v_q3, c_v_q3) = tq[1];
             let t0 = c_v_q3 * p_l3;
             let t1 = s_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = tq[2];
+            let (s_v_q4, _) = tq[2];
             let t2 = p_l4 * s_v_q4;
             let t3 = t1 * v_q3_d;
             let t4 = t2 * v_q4_d;
@@ -2995,22 +2911,16 @@ pub mod shaper {
             ::mechgen::__private::nalgebra::SVector<T, 1>,
             ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
-            let v_q3 = q[1];
-            let v_q4 = q[2];
             let v_sE = q[3];
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
-            let (s_v_q3, c_v_q3) = tq[1];
+            let (_, c_v_q3) = tq[1];
             let t0 = c_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = tq[2];
+            let (_, c_v_q4) = tq[2];
             let t1 = p_l4 * c_v_q4;
             let t2 = t0 + t1;
             let t3 = t2 - v_sE;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
@@ -3025,11 +2935,7 @@ pub mod shaper {
             tp: &[(T, T); 5],
             tq: &[(T, T); 4],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
             jac
@@ -3046,15 +2952,13 @@ pub mod shaper {
             xd: &[T; 1],
             qd: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q3 = q[1];
-            let v_q4 = q[2];
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
             let v_q3_d = qd[1];
             let v_q4_d = qd[2];
-            let (s_v_q3, c_v_q3) = tq[1];
+            let (s_v_q3, _) = tq[1];
             let t0 = s_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = tq[2];
+            let (s_v_q4, _) = tq[2];
             let t1 = p_l4 * s_v_q4;
             let t2 = t0 * v_q3_d;
             let t3 = -t2;
@@ -3076,8 +2980,6 @@ pub mod shaper {
             xdd: &[T; 1],
             qdd: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q3 = q[1];
-            let v_q4 = q[2];
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
             let v_q3_d = qd[1];
@@ -3106,9 +3008,8 @@ pub mod shaper {
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 5]) {
-            let params = self.params.to_array();
             let mut tx = [(T::zero(), T::one()); 1];
-            let mut tp = [(T::zero(), T::one()); 5];
+            let tp = [(T::zero(), T::one()); 5];
             tx[0] = x[0].sin_cos();
             (tx, tp)
         }
@@ -3124,7 +3025,7 @@ pub mod shaper {
             st: &mut ::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 5],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: s3, q3 from loop 1 (x, y).
@@ -3134,7 +3035,7 @@ pub mod shaper {
                 [0, 1],
                 [true, false],
                 self.params.length_scale(),
-                options,
+                &options.newton,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
@@ -3145,7 +3046,7 @@ pub mod shaper {
                 [2],
                 [false],
                 self.params.length_scale(),
-                options,
+                &options.newton,
                 report,
                 |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
             )?;
@@ -3156,7 +3057,7 @@ pub mod shaper {
                 [3],
                 [true],
                 self.params.length_scale(),
-                options,
+                &options.newton,
                 report,
                 |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
             )?;
@@ -3282,7 +3183,7 @@ pub mod shaper {
             tp: &[(T, T); 5],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 2]),
@@ -3297,7 +3198,7 @@ pub mod shaper {
                 [0, 1],
                 [true, false],
                 self.params.length_scale(),
-                options,
+                &options.newton,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
@@ -3308,7 +3209,7 @@ pub mod shaper {
                 [2],
                 [false],
                 self.params.length_scale(),
-                options,
+                &options.newton,
                 report,
                 |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
             )?;
@@ -3319,14 +3220,12 @@ pub mod shaper {
                 [3],
                 [true],
                 self.params.length_scale(),
-                options,
+                &options.newton,
                 report,
                 |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
             )?;
             // Block 0: velocities and accelerations.
-            let v_q1 = x[0];
             let v_s3 = st.q[0];
-            let v_q3 = st.q[1];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
             let (s_v_q3, c_v_q3) = st.sc[1];
@@ -3339,11 +3238,7 @@ pub mod shaper {
             let t5 = t3 * v_q1_d;
             let t6 = -t5;
             let t7 = t2 * v_q1_d;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
@@ -3401,19 +3296,14 @@ pub mod shaper {
             qdd[0] = z[0];
             qdd[1] = z[1];
             // Block 1: velocities and accelerations.
-            let v_q4 = st.q[2];
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
             let t32 = c_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = st.sc[2];
+            let (_, c_v_q4) = st.sc[2];
             let t33 = p_l4 * c_v_q4;
             let t34 = t32 * v_q3_d;
             let t35 = -t34;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[3][2] = ∂Φ3/∂q4
             jac[(0, 0)] = t33;
             let lu = ::mechgen::__private::factor_block(
@@ -3431,6 +3321,7 @@ pub mod shaper {
             let v_q4_d = qd[2];
             let v_q3_dd = qdd[1];
             let t36 = s_v_q3 * p_l3;
+            let (s_v_q4, _) = st.sc[2];
             let t37 = p_l4 * s_v_q4;
             let t38 = t36 * v_q3_d;
             let t39 = t37 * v_q4_d;
@@ -3450,11 +3341,7 @@ pub mod shaper {
             // Block 2: velocities and accelerations.
             let t46 = -t38;
             let t47 = t39 - t46;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
             let lu = ::mechgen::__private::factor_block(
@@ -3517,7 +3404,7 @@ pub mod shaper {
             &self,
             x: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -3610,13 +3497,13 @@ pub mod shaper {
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
         #[inline]
-        pub fn solve_arrays(
+        fn solve_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 4],
@@ -3655,14 +3542,14 @@ pub mod shaper {
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
-        /// cosines for [`Self::tick`].
-        pub fn tick_start(
+        /// cosines for `tick_arrays` (the typed `tick_start` and `tick` call these).
+        fn tick_start_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
@@ -3690,13 +3577,13 @@ pub mod shaper {
         /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
-        pub fn tick(
+        fn tick_arrays(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -3747,28 +3634,27 @@ pub mod shaper {
             );
             Ok(())
         }
-        /// Everything at once: positions from `guess`, velocities, accelerations and points.
+        /// One whole tick from `guess`: positions, velocities, accelerations and points,
+        /// sharing one set of sines and cosines between the stages.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
             Ok(Motion {
-                x,
-                xd,
-                xdd,
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
@@ -3776,8 +3662,44 @@ pub mod shaper {
                 report,
             })
         }
+        /// The first tick of a simulation, solved from `guess` and kept with its sines and
+        /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.tick_start_arrays(
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                &guess.to_array(),
+                options,
+            )
+        }
+        /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the
+        /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when
+        /// the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.tick_arrays(
+                t,
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                options,
+            )
+        }
     }
-    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::StaticMechanism<T>
     for Shaper<T> {
         const NAME: &'static str = "shaper";
         const INPUTS: usize = 1;
@@ -3785,6 +3707,9 @@ pub mod shaper {
         const POINTS: usize = 2;
         type X = [T; 1];
         type Q = [T; 4];
+        type Points = [::mechgen::__private::PointMotion<T>; 2];
+        type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>;
+        type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 1>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -3792,14 +3717,11 @@ pub mod shaper {
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             Shaper::residual(self, x, q)
         }
-        fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(&Shaper::jacobian(self, x, q), out)
+        fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian {
+            Shaper::jacobian(self, x, q)
         }
-        fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(
-                &Shaper::input_jacobian(self, x, q),
-                out,
-            )
+        fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian {
+            Shaper::input_jacobian(self, x, q)
         }
         fn jacobian_dot(
             &self,
@@ -3807,12 +3729,8 @@ pub mod shaper {
             q: &Self::Q,
             xd: &Self::X,
             qd: &Self::Q,
-            out: &mut [T],
-        ) {
-            ::mechgen::__private::copy_row_major(
-                &Shaper::jacobian_dot(self, x, q, xd, qd),
-                out,
-            )
+        ) -> Self::Jacobian {
+            Shaper::jacobian_dot(self, x, q, xd, qd)
         }
         fn acceleration_rhs(
             &self,
@@ -3828,7 +3746,7 @@ pub mod shaper {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -3855,68 +3773,74 @@ pub mod shaper {
         }
         fn points(
             &self,
-            x: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &Self::Q,
-            xd: &Self::X,
             qd: &Self::Q,
-            xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::__private::PointMotion<T>],
-        ) {
-            for (o, p) in out
-                .iter_mut()
-                .zip(Shaper::point_motion(self, x, q, xd, qd, xdd, qdd))
-            {
-                *o = p;
-            }
+        ) -> Self::Points {
+            Shaper::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
+        }
+        #[inline]
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = Shaper::solve_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                &mut q,
+                options,
+            )?;
+            Ok(::mechgen::__private::Solved {
+                q,
+                qd,
+                qdd,
+                points,
+                report,
+            })
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            Shaper::tick_start(self, x, xd, xdd, guess, options)
+            Shaper::tick_start_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                guess,
+                options,
+            )
         }
+        #[inline]
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            Shaper::tick(self, t, x, xd, xdd, options)
-        }
-        fn solve_motion(
-            &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            q: &mut Self::Q,
-            qd: &mut Self::Q,
-            qdd: &mut Self::Q,
-            points: &mut [::mechgen::__private::PointMotion<T>],
-            options: &::mechgen::__private::NewtonOptions<T>,
-        ) -> ::core::result::Result<
-            ::mechgen::__private::NewtonReport<T>,
-            ::mechgen::__private::SolveError,
-        > {
-            let (v, a, p, report) = Shaper::solve_arrays(self, x, xd, xdd, q, options)?;
-            *qd = v;
-            *qdd = a;
-            for (o, m) in points.iter_mut().zip(p) {
-                *o = m;
-            }
-            Ok(report)
+            Shaper::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
         }
     }
 }
 /// Crank-rocker four-bar (Grashof): crank AB, coupler BC with coupler point P, rocker DC
 pub mod four_bar {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(
+        non_snake_case,
+        unused_variables,
+        clippy::too_many_arguments,
+        clippy::type_complexity,
+    )]
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "four_bar",
@@ -4066,10 +3990,7 @@ pub mod four_bar {
     }
     impl<T: ::core::marker::Copy> Unknowns<T> {
         pub fn from_array(a: [T; 2]) -> Self {
-            Unknowns {
-                q2: a[0],
-                q3: a[1],
-            }
+            Unknowns { q2: a[0], q3: a[1] }
         }
         pub fn to_array(&self) -> [T; 2] {
             [self.q2, self.q3]
@@ -4137,12 +4058,8 @@ pub mod four_bar {
         }
         /// The file's `start` configuration (on the wanted assembly branch).
         pub fn start() -> (Inputs<T>, Unknowns<T>) {
-            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(
-                INFO.inputs[i].start,
-            ));
-            let q: [T; 2] = ::core::array::from_fn(|i| T::lit(
-                INFO.unknowns[i].start,
-            ));
+            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(INFO.inputs[i].start));
+            let q: [T; 2] = ::core::array::from_fn(|i| T::lit(INFO.unknowns[i].start));
             (Inputs::from_array(x), Unknowns::from_array(q))
         }
         /// Φ(x, q): the loop-closure residuals, two per loop (x then y).
@@ -4188,11 +4105,7 @@ pub mod four_bar {
             let t5 = p_l3 * s_v_q3;
             let t6 = -t2;
             let t7 = -t4;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t6;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -4215,11 +4128,7 @@ pub mod four_bar {
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
             let t3 = -t2;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                1,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 1>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t3;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -4252,11 +4161,7 @@ pub mod four_bar {
             let t9 = t2 * v_q2_d;
             let t10 = -t9;
             let t11 = t5 * v_q3_d;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t7;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -4339,11 +4244,7 @@ pub mod four_bar {
             ::mechgen::__private::nalgebra::SVector::from([t22, t31])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-        ) -> [[T; 2]; 3] {
+        pub fn point_positions(&self, x: &[T; 1], q: &[T; 2]) -> [[T; 2]; 3] {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -4487,9 +4388,6 @@ pub mod four_bar {
             ::mechgen::__private::nalgebra::SVector<T, 2>,
             ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
         ) {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -4510,11 +4408,7 @@ pub mod four_bar {
             let t10 = t5 - t8;
             let t11 = -t3;
             let t12 = -t7;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t11;
             // J[0][1] = ∂Φ0/∂q3
@@ -4535,8 +4429,6 @@ pub mod four_bar {
             tp: &[(T, T); 6],
             tq: &[(T, T); 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let (s_v_q2, c_v_q2) = tq[0];
@@ -4547,11 +4439,7 @@ pub mod four_bar {
             let t3 = p_l3 * s_v_q3;
             let t4 = -t1;
             let t5 = -t2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t4;
             // J[0][1] = ∂Φ0/∂q3
@@ -4574,7 +4462,6 @@ pub mod four_bar {
             xd: &[T; 1],
             qd: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
             let (s_v_q1, c_v_q1) = tx[0];
@@ -4599,9 +4486,6 @@ pub mod four_bar {
             xdd: &[T; 1],
             qdd: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -4653,7 +4537,6 @@ pub mod four_bar {
             tp: &[(T, T); 6],
             tq: &[(T, T); 2],
         ) -> [T; 6] {
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -4687,7 +4570,7 @@ pub mod four_bar {
             st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 6],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
@@ -4703,7 +4586,7 @@ pub mod four_bar {
                     (pa, ra),
                     (pb, rb),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -4713,7 +4596,7 @@ pub mod four_bar {
                     [0, 1],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
@@ -4788,7 +4671,7 @@ pub mod four_bar {
             tp: &[(T, T); 6],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 3]),
@@ -4797,7 +4680,6 @@ pub mod four_bar {
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: closed form (a dyad).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -4817,7 +4699,7 @@ pub mod four_bar {
                     (p_l2, T::zero()),
                     (t2, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -4827,14 +4709,12 @@ pub mod four_bar {
                     [0, 1],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 0: velocities and accelerations.
-            let v_q2 = st.q[0];
-            let v_q3 = st.q[1];
             let v_q1_d = xd[0];
             let (s_v_q2, c_v_q2) = st.sc[0];
             let t4 = p_l2 * c_v_q2;
@@ -4847,11 +4727,7 @@ pub mod four_bar {
             let t10 = t1 * v_q1_d;
             let t11 = t0 * v_q1_d;
             let t12 = -t11;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t8;
             // J[0][1] = ∂Φ0/∂q3
@@ -4907,7 +4783,6 @@ pub mod four_bar {
             qdd[1] = z[1];
             // Points.
             let p_lp = self.params.lp;
-            let p_beta = self.params.beta;
             let v_q2_dd = qdd[0];
             let v_q3_dd = qdd[1];
             let t34 = p_l4 + t6;
@@ -4979,7 +4854,7 @@ pub mod four_bar {
             &self,
             x: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -5072,13 +4947,13 @@ pub mod four_bar {
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
         #[inline]
-        pub fn solve_arrays(
+        fn solve_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 2],
@@ -5117,14 +4992,14 @@ pub mod four_bar {
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
-        /// cosines for [`Self::tick`].
-        pub fn tick_start(
+        /// cosines for `tick_arrays` (the typed `tick_start` and `tick` call these).
+        fn tick_start_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
@@ -5152,13 +5027,13 @@ pub mod four_bar {
         /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
-        pub fn tick(
+        fn tick_arrays(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -5205,28 +5080,27 @@ pub mod four_bar {
             );
             Ok(())
         }
-        /// Everything at once: positions from `guess`, velocities, accelerations and points.
+        /// One whole tick from `guess`: positions, velocities, accelerations and points,
+        /// sharing one set of sines and cosines between the stages.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
             Ok(Motion {
-                x,
-                xd,
-                xdd,
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
@@ -5234,8 +5108,44 @@ pub mod four_bar {
                 report,
             })
         }
+        /// The first tick of a simulation, solved from `guess` and kept with its sines and
+        /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.tick_start_arrays(
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                &guess.to_array(),
+                options,
+            )
+        }
+        /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the
+        /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when
+        /// the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.tick_arrays(
+                t,
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                options,
+            )
+        }
     }
-    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::StaticMechanism<T>
     for FourBar<T> {
         const NAME: &'static str = "four_bar";
         const INPUTS: usize = 1;
@@ -5243,6 +5153,9 @@ pub mod four_bar {
         const POINTS: usize = 3;
         type X = [T; 1];
         type Q = [T; 2];
+        type Points = [::mechgen::__private::PointMotion<T>; 3];
+        type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>;
+        type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 1>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -5250,14 +5163,11 @@ pub mod four_bar {
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             FourBar::residual(self, x, q)
         }
-        fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(&FourBar::jacobian(self, x, q), out)
+        fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian {
+            FourBar::jacobian(self, x, q)
         }
-        fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(
-                &FourBar::input_jacobian(self, x, q),
-                out,
-            )
+        fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian {
+            FourBar::input_jacobian(self, x, q)
         }
         fn jacobian_dot(
             &self,
@@ -5265,12 +5175,8 @@ pub mod four_bar {
             q: &Self::Q,
             xd: &Self::X,
             qd: &Self::Q,
-            out: &mut [T],
-        ) {
-            ::mechgen::__private::copy_row_major(
-                &FourBar::jacobian_dot(self, x, q, xd, qd),
-                out,
-            )
+        ) -> Self::Jacobian {
+            FourBar::jacobian_dot(self, x, q, xd, qd)
         }
         fn acceleration_rhs(
             &self,
@@ -5286,7 +5192,7 @@ pub mod four_bar {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -5313,68 +5219,74 @@ pub mod four_bar {
         }
         fn points(
             &self,
-            x: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &Self::Q,
-            xd: &Self::X,
             qd: &Self::Q,
-            xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::__private::PointMotion<T>],
-        ) {
-            for (o, p) in out
-                .iter_mut()
-                .zip(FourBar::point_motion(self, x, q, xd, qd, xdd, qdd))
-            {
-                *o = p;
-            }
+        ) -> Self::Points {
+            FourBar::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
+        }
+        #[inline]
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = FourBar::solve_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                &mut q,
+                options,
+            )?;
+            Ok(::mechgen::__private::Solved {
+                q,
+                qd,
+                qdd,
+                points,
+                report,
+            })
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            FourBar::tick_start(self, x, xd, xdd, guess, options)
+            FourBar::tick_start_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                guess,
+                options,
+            )
         }
+        #[inline]
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            FourBar::tick(self, t, x, xd, xdd, options)
-        }
-        fn solve_motion(
-            &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            q: &mut Self::Q,
-            qd: &mut Self::Q,
-            qdd: &mut Self::Q,
-            points: &mut [::mechgen::__private::PointMotion<T>],
-            options: &::mechgen::__private::NewtonOptions<T>,
-        ) -> ::core::result::Result<
-            ::mechgen::__private::NewtonReport<T>,
-            ::mechgen::__private::SolveError,
-        > {
-            let (v, a, p, report) = FourBar::solve_arrays(self, x, xd, xdd, q, options)?;
-            *qd = v;
-            *qdd = a;
-            for (o, m) in points.iter_mut().zip(p) {
-                *o = m;
-            }
-            Ok(report)
+            FourBar::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
         }
     }
 }
 /// Offset slider-crank: crank AB, connecting rod BC, slider C on the line y = off
 pub mod slider_crank {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(
+        non_snake_case,
+        unused_variables,
+        clippy::too_many_arguments,
+        clippy::type_complexity,
+    )]
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "slider_crank",
@@ -5495,10 +5407,7 @@ pub mod slider_crank {
     }
     impl<T: ::core::marker::Copy> Unknowns<T> {
         pub fn from_array(a: [T; 2]) -> Self {
-            Unknowns {
-                q2: a[0],
-                sC: a[1],
-            }
+            Unknowns { q2: a[0], sC: a[1] }
         }
         pub fn to_array(&self) -> [T; 2] {
             [self.q2, self.sC]
@@ -5566,12 +5475,8 @@ pub mod slider_crank {
         }
         /// The file's `start` configuration (on the wanted assembly branch).
         pub fn start() -> (Inputs<T>, Unknowns<T>) {
-            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(
-                INFO.inputs[i].start,
-            ));
-            let q: [T; 2] = ::core::array::from_fn(|i| T::lit(
-                INFO.unknowns[i].start,
-            ));
+            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(INFO.inputs[i].start));
+            let q: [T; 2] = ::core::array::from_fn(|i| T::lit(INFO.unknowns[i].start));
             (Inputs::from_array(x), Unknowns::from_array(q))
         }
         /// Φ(x, q): the loop-closure residuals, two per loop (x then y).
@@ -5606,11 +5511,7 @@ pub mod slider_crank {
             let t1 = p_l * c_v_q2;
             let t2 = p_l * s_v_q2;
             let t3 = -t2;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t3;
             // [0][1] = ∂Φ0/∂sC (loop 1, x)
@@ -5631,11 +5532,7 @@ pub mod slider_crank {
             let t1 = p_r * c_v_q1;
             let t2 = p_r * s_v_q1;
             let t3 = -t2;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                1,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 1>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t3;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -5660,11 +5557,7 @@ pub mod slider_crank {
             let t4 = -t3;
             let t5 = t2 * v_q2_d;
             let t6 = -t5;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t4;
             // [1][0] = ∂Φ1/∂q2 (loop 1, y)
@@ -5731,11 +5624,7 @@ pub mod slider_crank {
             ::mechgen::__private::nalgebra::SVector::from([t15, t22])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-        ) -> [[T; 2]; 3] {
+        pub fn point_positions(&self, x: &[T; 1], q: &[T; 2]) -> [[T; 2]; 3] {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_sC = q[1];
@@ -5840,23 +5729,17 @@ pub mod slider_crank {
             ::mechgen::__private::nalgebra::SVector<T, 1>,
             ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
             let p_r = self.params.r;
             let p_l = self.params.l;
             let p_off = self.params.off;
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (s_v_q1, _) = tx[0];
             let t0 = p_r * s_v_q1;
             let (s_v_q2, c_v_q2) = tq[0];
             let t1 = p_l * c_v_q2;
             let t2 = p_l * s_v_q2;
             let t3 = t0 + t2;
             let t4 = t3 - p_off;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t1;
             (::mechgen::__private::nalgebra::SVector::from([t4]), jac)
@@ -5871,15 +5754,10 @@ pub mod slider_crank {
             tp: &[(T, T); 3],
             tq: &[(T, T); 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
-            let v_q2 = q[0];
             let p_l = self.params.l;
-            let (s_v_q2, c_v_q2) = tq[0];
+            let (_, c_v_q2) = tq[0];
             let t0 = p_l * c_v_q2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t0;
             jac
@@ -5896,10 +5774,9 @@ pub mod slider_crank {
             xd: &[T; 1],
             qd: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q1 = x[0];
             let p_r = self.params.r;
             let v_q1_d = xd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (_, c_v_q1) = tx[0];
             let t0 = p_r * c_v_q1;
             let t1 = t0 * v_q1_d;
             let t2 = -t1;
@@ -5919,8 +5796,6 @@ pub mod slider_crank {
             xdd: &[T; 1],
             qdd: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
             let p_r = self.params.r;
             let p_l = self.params.l;
             let v_q1_d = xd[0];
@@ -5929,7 +5804,7 @@ pub mod slider_crank {
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_r * c_v_q1;
             let t1 = p_r * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
+            let (s_v_q2, _) = tq[0];
             let t2 = p_l * s_v_q2;
             let t3 = t2 * v_q2_d;
             let t4 = t1 * v_q1_d;
@@ -5955,22 +5830,16 @@ pub mod slider_crank {
             ::mechgen::__private::nalgebra::SVector<T, 1>,
             ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
             let v_sC = q[1];
             let p_r = self.params.r;
             let p_l = self.params.l;
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (_, c_v_q1) = tx[0];
             let t0 = p_r * c_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
+            let (_, c_v_q2) = tq[0];
             let t1 = p_l * c_v_q2;
             let t2 = t0 + t1;
             let t3 = t2 - v_sC;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂sC
             jac[(0, 0)] = T::lit(-1.0);
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
@@ -5985,11 +5854,7 @@ pub mod slider_crank {
             tp: &[(T, T); 3],
             tq: &[(T, T); 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂sC
             jac[(0, 0)] = T::lit(-1.0);
             jac
@@ -6006,15 +5871,13 @@ pub mod slider_crank {
             xd: &[T; 1],
             qd: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
             let p_r = self.params.r;
             let p_l = self.params.l;
             let v_q1_d = xd[0];
             let v_q2_d = qd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (s_v_q1, _) = tx[0];
             let t0 = p_r * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
+            let (s_v_q2, _) = tq[0];
             let t1 = p_l * s_v_q2;
             let t2 = t1 * v_q2_d;
             let t3 = t0 * v_q1_d;
@@ -6035,8 +5898,6 @@ pub mod slider_crank {
             xdd: &[T; 1],
             qdd: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
             let p_r = self.params.r;
             let p_l = self.params.l;
             let v_q1_d = xd[0];
@@ -6064,9 +5925,8 @@ pub mod slider_crank {
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 3]) {
-            let params = self.params.to_array();
             let mut tx = [(T::zero(), T::one()); 1];
-            let mut tp = [(T::zero(), T::one()); 3];
+            let tp = [(T::zero(), T::one()); 3];
             tx[0] = x[0].sin_cos();
             (tx, tp)
         }
@@ -6082,7 +5942,7 @@ pub mod slider_crank {
             st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 3],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: q2 from loop 1 (y).
@@ -6092,7 +5952,7 @@ pub mod slider_crank {
                 [0],
                 [false],
                 self.params.length_scale(),
-                options,
+                &options.newton,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
@@ -6103,7 +5963,7 @@ pub mod slider_crank {
                 [1],
                 [true],
                 self.params.length_scale(),
-                options,
+                &options.newton,
                 report,
                 |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
             )?;
@@ -6201,7 +6061,7 @@ pub mod slider_crank {
             tp: &[(T, T); 3],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 3]),
@@ -6216,7 +6076,7 @@ pub mod slider_crank {
                 [0],
                 [false],
                 self.params.length_scale(),
-                options,
+                &options.newton,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
@@ -6227,27 +6087,21 @@ pub mod slider_crank {
                 [1],
                 [true],
                 self.params.length_scale(),
-                options,
+                &options.newton,
                 report,
                 |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
             )?;
             // Block 0: velocities and accelerations.
-            let v_q1 = x[0];
-            let v_q2 = st.q[0];
             let p_r = self.params.r;
             let p_l = self.params.l;
             let v_q1_d = xd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (_, c_v_q1) = tx[0];
             let t0 = p_r * c_v_q1;
-            let (s_v_q2, c_v_q2) = st.sc[0];
+            let (_, c_v_q2) = st.sc[0];
             let t1 = p_l * c_v_q2;
             let t2 = t0 * v_q1_d;
             let t3 = -t2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t1;
             let lu = ::mechgen::__private::factor_block(
@@ -6264,7 +6118,9 @@ pub mod slider_crank {
             qd[0] = z[0];
             let v_q2_d = qd[0];
             let v_q1_dd = xdd[0];
+            let (s_v_q1, _) = tx[0];
             let t4 = p_r * s_v_q1;
+            let (s_v_q2, _) = st.sc[0];
             let t5 = p_l * s_v_q2;
             let t6 = t5 * v_q2_d;
             let t7 = t4 * v_q1_d;
@@ -6284,11 +6140,7 @@ pub mod slider_crank {
             qdd[0] = z[0];
             // Block 1: velocities and accelerations.
             let t15 = t6 + t7;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂sC
             jac[(0, 0)] = T::lit(-1.0);
             let lu = ::mechgen::__private::factor_block(
@@ -6375,7 +6227,7 @@ pub mod slider_crank {
             &self,
             x: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -6468,13 +6320,13 @@ pub mod slider_crank {
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
         #[inline]
-        pub fn solve_arrays(
+        fn solve_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 2],
@@ -6513,14 +6365,14 @@ pub mod slider_crank {
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
-        /// cosines for [`Self::tick`].
-        pub fn tick_start(
+        /// cosines for `tick_arrays` (the typed `tick_start` and `tick` call these).
+        fn tick_start_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
@@ -6548,13 +6400,13 @@ pub mod slider_crank {
         /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
-        pub fn tick(
+        fn tick_arrays(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -6583,11 +6435,7 @@ pub mod slider_crank {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms {
-                [false, false]
-            } else {
-                [false; 2]
-            };
+            let keep = if options.closed_forms { [false, false] } else { [false; 2] };
             let mut st = t.predicted(x, [true, false], keep, same);
             let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
@@ -6605,28 +6453,27 @@ pub mod slider_crank {
             );
             Ok(())
         }
-        /// Everything at once: positions from `guess`, velocities, accelerations and points.
+        /// One whole tick from `guess`: positions, velocities, accelerations and points,
+        /// sharing one set of sines and cosines between the stages.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
             Ok(Motion {
-                x,
-                xd,
-                xdd,
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
@@ -6634,8 +6481,44 @@ pub mod slider_crank {
                 report,
             })
         }
+        /// The first tick of a simulation, solved from `guess` and kept with its sines and
+        /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.tick_start_arrays(
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                &guess.to_array(),
+                options,
+            )
+        }
+        /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the
+        /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when
+        /// the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.tick_arrays(
+                t,
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                options,
+            )
+        }
     }
-    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::StaticMechanism<T>
     for SliderCrank<T> {
         const NAME: &'static str = "slider_crank";
         const INPUTS: usize = 1;
@@ -6643,6 +6526,9 @@ pub mod slider_crank {
         const POINTS: usize = 3;
         type X = [T; 1];
         type Q = [T; 2];
+        type Points = [::mechgen::__private::PointMotion<T>; 3];
+        type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>;
+        type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 1>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -6650,14 +6536,11 @@ pub mod slider_crank {
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             SliderCrank::residual(self, x, q)
         }
-        fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(&SliderCrank::jacobian(self, x, q), out)
+        fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian {
+            SliderCrank::jacobian(self, x, q)
         }
-        fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(
-                &SliderCrank::input_jacobian(self, x, q),
-                out,
-            )
+        fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian {
+            SliderCrank::input_jacobian(self, x, q)
         }
         fn jacobian_dot(
             &self,
@@ -6665,12 +6548,8 @@ pub mod slider_crank {
             q: &Self::Q,
             xd: &Self::X,
             qd: &Self::Q,
-            out: &mut [T],
-        ) {
-            ::mechgen::__private::copy_row_major(
-                &SliderCrank::jacobian_dot(self, x, q, xd, qd),
-                out,
-            )
+        ) -> Self::Jacobian {
+            SliderCrank::jacobian_dot(self, x, q, xd, qd)
         }
         fn acceleration_rhs(
             &self,
@@ -6686,7 +6565,7 @@ pub mod slider_crank {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -6713,75 +6592,74 @@ pub mod slider_crank {
         }
         fn points(
             &self,
-            x: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &Self::Q,
-            xd: &Self::X,
             qd: &Self::Q,
-            xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::__private::PointMotion<T>],
-        ) {
-            for (o, p) in out
-                .iter_mut()
-                .zip(SliderCrank::point_motion(self, x, q, xd, qd, xdd, qdd))
-            {
-                *o = p;
-            }
+        ) -> Self::Points {
+            SliderCrank::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
+        }
+        #[inline]
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = SliderCrank::solve_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                &mut q,
+                options,
+            )?;
+            Ok(::mechgen::__private::Solved {
+                q,
+                qd,
+                qdd,
+                points,
+                report,
+            })
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            SliderCrank::tick_start(self, x, xd, xdd, guess, options)
+            SliderCrank::tick_start_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                guess,
+                options,
+            )
         }
+        #[inline]
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            SliderCrank::tick(self, t, x, xd, xdd, options)
-        }
-        fn solve_motion(
-            &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            q: &mut Self::Q,
-            qd: &mut Self::Q,
-            qdd: &mut Self::Q,
-            points: &mut [::mechgen::__private::PointMotion<T>],
-            options: &::mechgen::__private::NewtonOptions<T>,
-        ) -> ::core::result::Result<
-            ::mechgen::__private::NewtonReport<T>,
-            ::mechgen::__private::SolveError,
-        > {
-            let (v, a, p, report) = SliderCrank::solve_arrays(
-                self,
-                x,
-                xd,
-                xdd,
-                q,
-                options,
-            )?;
-            *qd = v;
-            *qdd = a;
-            for (o, m) in points.iter_mut().zip(p) {
-                *o = m;
-            }
-            Ok(report)
+            SliderCrank::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
         }
     }
 }
 /// Non-Grashof (triple-rocker) four-bar: input rocker AB, coupler BC, rocker DC; dead points at q1 = ±135.95 deg
 pub mod rocker_four_bar {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(
+        non_snake_case,
+        unused_variables,
+        clippy::too_many_arguments,
+        clippy::type_complexity,
+    )]
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "rocker_four_bar",
@@ -6912,10 +6790,7 @@ pub mod rocker_four_bar {
     }
     impl<T: ::core::marker::Copy> Unknowns<T> {
         pub fn from_array(a: [T; 2]) -> Self {
-            Unknowns {
-                q2: a[0],
-                q3: a[1],
-            }
+            Unknowns { q2: a[0], q3: a[1] }
         }
         pub fn to_array(&self) -> [T; 2] {
             [self.q2, self.q3]
@@ -6939,10 +6814,7 @@ pub mod rocker_four_bar {
     }
     impl<T: ::core::marker::Copy> Points<T> {
         pub fn from_array(a: [::mechgen::__private::PointMotion<T>; 2]) -> Self {
-            Points {
-                B: a[0],
-                C: a[1],
-            }
+            Points { B: a[0], C: a[1] }
         }
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
@@ -6981,12 +6853,8 @@ pub mod rocker_four_bar {
         }
         /// The file's `start` configuration (on the wanted assembly branch).
         pub fn start() -> (Inputs<T>, Unknowns<T>) {
-            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(
-                INFO.inputs[i].start,
-            ));
-            let q: [T; 2] = ::core::array::from_fn(|i| T::lit(
-                INFO.unknowns[i].start,
-            ));
+            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(INFO.inputs[i].start));
+            let q: [T; 2] = ::core::array::from_fn(|i| T::lit(INFO.unknowns[i].start));
             (Inputs::from_array(x), Unknowns::from_array(q))
         }
         /// Φ(x, q): the loop-closure residuals, two per loop (x then y).
@@ -7032,11 +6900,7 @@ pub mod rocker_four_bar {
             let t5 = p_l3 * s_v_q3;
             let t6 = -t2;
             let t7 = -t4;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t6;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -7059,11 +6923,7 @@ pub mod rocker_four_bar {
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
             let t3 = -t2;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                1,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 1>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t3;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -7096,11 +6956,7 @@ pub mod rocker_four_bar {
             let t9 = t2 * v_q2_d;
             let t10 = -t9;
             let t11 = t5 * v_q3_d;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t7;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -7183,11 +7039,7 @@ pub mod rocker_four_bar {
             ::mechgen::__private::nalgebra::SVector::from([t22, t31])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-        ) -> [[T; 2]; 2] {
+        pub fn point_positions(&self, x: &[T; 1], q: &[T; 2]) -> [[T; 2]; 2] {
             let v_q1 = x[0];
             let v_q3 = q[1];
             let p_l1 = self.params.l1;
@@ -7274,9 +7126,6 @@ pub mod rocker_four_bar {
             ::mechgen::__private::nalgebra::SVector<T, 2>,
             ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
         ) {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -7297,11 +7146,7 @@ pub mod rocker_four_bar {
             let t10 = t5 - t8;
             let t11 = -t3;
             let t12 = -t7;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t11;
             // J[0][1] = ∂Φ0/∂q3
@@ -7322,8 +7167,6 @@ pub mod rocker_four_bar {
             tp: &[(T, T); 4],
             tq: &[(T, T); 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let (s_v_q2, c_v_q2) = tq[0];
@@ -7334,11 +7177,7 @@ pub mod rocker_four_bar {
             let t3 = p_l3 * s_v_q3;
             let t4 = -t1;
             let t5 = -t2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t4;
             // J[0][1] = ∂Φ0/∂q3
@@ -7361,7 +7200,6 @@ pub mod rocker_four_bar {
             xd: &[T; 1],
             qd: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
             let (s_v_q1, c_v_q1) = tx[0];
@@ -7386,9 +7224,6 @@ pub mod rocker_four_bar {
             xdd: &[T; 1],
             qdd: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -7440,7 +7275,6 @@ pub mod rocker_four_bar {
             tp: &[(T, T); 4],
             tq: &[(T, T); 2],
         ) -> [T; 6] {
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -7455,9 +7289,8 @@ pub mod rocker_four_bar {
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 4]) {
-            let params = self.params.to_array();
             let mut tx = [(T::zero(), T::one()); 1];
-            let mut tp = [(T::zero(), T::one()); 4];
+            let tp = [(T::zero(), T::one()); 4];
             tx[0] = x[0].sin_cos();
             (tx, tp)
         }
@@ -7473,7 +7306,7 @@ pub mod rocker_four_bar {
             st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
@@ -7489,7 +7322,7 @@ pub mod rocker_four_bar {
                     (pa, ra),
                     (pb, rb),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -7499,7 +7332,7 @@ pub mod rocker_four_bar {
                     [0, 1],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
@@ -7574,7 +7407,7 @@ pub mod rocker_four_bar {
             tp: &[(T, T); 4],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 2]),
@@ -7583,7 +7416,6 @@ pub mod rocker_four_bar {
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: closed form (a dyad).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -7603,7 +7435,7 @@ pub mod rocker_four_bar {
                     (p_l2, T::zero()),
                     (t2, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -7613,14 +7445,12 @@ pub mod rocker_four_bar {
                     [0, 1],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 0: velocities and accelerations.
-            let v_q2 = st.q[0];
-            let v_q3 = st.q[1];
             let v_q1_d = xd[0];
             let (s_v_q2, c_v_q2) = st.sc[0];
             let t4 = p_l2 * c_v_q2;
@@ -7633,11 +7463,7 @@ pub mod rocker_four_bar {
             let t10 = t1 * v_q1_d;
             let t11 = t0 * v_q1_d;
             let t12 = -t11;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t8;
             // J[0][1] = ∂Φ0/∂q3
@@ -7726,7 +7552,7 @@ pub mod rocker_four_bar {
             &self,
             x: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -7819,13 +7645,13 @@ pub mod rocker_four_bar {
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
         #[inline]
-        pub fn solve_arrays(
+        fn solve_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 2],
@@ -7864,14 +7690,14 @@ pub mod rocker_four_bar {
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
-        /// cosines for [`Self::tick`].
-        pub fn tick_start(
+        /// cosines for `tick_arrays` (the typed `tick_start` and `tick` call these).
+        fn tick_start_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
@@ -7899,13 +7725,13 @@ pub mod rocker_four_bar {
         /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
-        pub fn tick(
+        fn tick_arrays(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -7952,28 +7778,27 @@ pub mod rocker_four_bar {
             );
             Ok(())
         }
-        /// Everything at once: positions from `guess`, velocities, accelerations and points.
+        /// One whole tick from `guess`: positions, velocities, accelerations and points,
+        /// sharing one set of sines and cosines between the stages.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
             Ok(Motion {
-                x,
-                xd,
-                xdd,
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
@@ -7981,8 +7806,44 @@ pub mod rocker_four_bar {
                 report,
             })
         }
+        /// The first tick of a simulation, solved from `guess` and kept with its sines and
+        /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.tick_start_arrays(
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                &guess.to_array(),
+                options,
+            )
+        }
+        /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the
+        /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when
+        /// the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.tick_arrays(
+                t,
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                options,
+            )
+        }
     }
-    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::StaticMechanism<T>
     for RockerFourBar<T> {
         const NAME: &'static str = "rocker_four_bar";
         const INPUTS: usize = 1;
@@ -7990,6 +7851,9 @@ pub mod rocker_four_bar {
         const POINTS: usize = 2;
         type X = [T; 1];
         type Q = [T; 2];
+        type Points = [::mechgen::__private::PointMotion<T>; 2];
+        type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>;
+        type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 1>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -7997,17 +7861,11 @@ pub mod rocker_four_bar {
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             RockerFourBar::residual(self, x, q)
         }
-        fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(
-                &RockerFourBar::jacobian(self, x, q),
-                out,
-            )
+        fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian {
+            RockerFourBar::jacobian(self, x, q)
         }
-        fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(
-                &RockerFourBar::input_jacobian(self, x, q),
-                out,
-            )
+        fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian {
+            RockerFourBar::input_jacobian(self, x, q)
         }
         fn jacobian_dot(
             &self,
@@ -8015,12 +7873,8 @@ pub mod rocker_four_bar {
             q: &Self::Q,
             xd: &Self::X,
             qd: &Self::Q,
-            out: &mut [T],
-        ) {
-            ::mechgen::__private::copy_row_major(
-                &RockerFourBar::jacobian_dot(self, x, q, xd, qd),
-                out,
-            )
+        ) -> Self::Jacobian {
+            RockerFourBar::jacobian_dot(self, x, q, xd, qd)
         }
         fn acceleration_rhs(
             &self,
@@ -8036,7 +7890,7 @@ pub mod rocker_four_bar {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -8063,75 +7917,82 @@ pub mod rocker_four_bar {
         }
         fn points(
             &self,
-            x: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &Self::Q,
-            xd: &Self::X,
             qd: &Self::Q,
-            xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::__private::PointMotion<T>],
-        ) {
-            for (o, p) in out
-                .iter_mut()
-                .zip(RockerFourBar::point_motion(self, x, q, xd, qd, xdd, qdd))
-            {
-                *o = p;
-            }
+        ) -> Self::Points {
+            RockerFourBar::point_motion(
+                self,
+                &input.x,
+                q,
+                &input.xd,
+                qd,
+                &input.xdd,
+                qdd,
+            )
+        }
+        #[inline]
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = RockerFourBar::solve_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                &mut q,
+                options,
+            )?;
+            Ok(::mechgen::__private::Solved {
+                q,
+                qd,
+                qdd,
+                points,
+                report,
+            })
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            RockerFourBar::tick_start(self, x, xd, xdd, guess, options)
+            RockerFourBar::tick_start_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                guess,
+                options,
+            )
         }
+        #[inline]
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            RockerFourBar::tick(self, t, x, xd, xdd, options)
-        }
-        fn solve_motion(
-            &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            q: &mut Self::Q,
-            qd: &mut Self::Q,
-            qdd: &mut Self::Q,
-            points: &mut [::mechgen::__private::PointMotion<T>],
-            options: &::mechgen::__private::NewtonOptions<T>,
-        ) -> ::core::result::Result<
-            ::mechgen::__private::NewtonReport<T>,
-            ::mechgen::__private::SolveError,
-        > {
-            let (v, a, p, report) = RockerFourBar::solve_arrays(
-                self,
-                x,
-                xd,
-                xdd,
-                q,
-                options,
-            )?;
-            *qd = v;
-            *qdd = a;
-            for (o, m) in points.iter_mut().zip(p) {
-                *o = m;
-            }
-            Ok(report)
+            RockerFourBar::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
         }
     }
 }
 /// Seed six-bar driven from the dyad angle q6 at G (one 4x4 block; dead points at q6 = 244.53 and 344.13 deg)
 pub mod sixbar_g {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(
+        non_snake_case,
+        unused_variables,
+        clippy::too_many_arguments,
+        clippy::type_complexity,
+    )]
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "sixbar_g",
@@ -8413,12 +8274,8 @@ pub mod sixbar_g {
         }
         /// The file's `start` configuration (on the wanted assembly branch).
         pub fn start() -> (Inputs<T>, Unknowns<T>) {
-            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(
-                INFO.inputs[i].start,
-            ));
-            let q: [T; 4] = ::core::array::from_fn(|i| T::lit(
-                INFO.unknowns[i].start,
-            ));
+            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(INFO.inputs[i].start));
+            let q: [T; 4] = ::core::array::from_fn(|i| T::lit(INFO.unknowns[i].start));
             (Inputs::from_array(x), Unknowns::from_array(q))
         }
         /// Φ(x, q): the loop-closure residuals, two per loop (x then y).
@@ -8520,11 +8377,7 @@ pub mod sixbar_g {
             let t24 = t23 - t5;
             let t25 = t4 + t15;
             let t26 = -t17;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t19;
             // [0][1] = ∂Φ0/∂q2 (loop 1, x)
@@ -8563,11 +8416,7 @@ pub mod sixbar_g {
             let t1 = p_l6 * c_v_q6;
             let t2 = p_l6 * s_v_q6;
             let t3 = -t1;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                1,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 1>::zeros();
             // [2][0] = ∂Φ2/∂q6 (loop 2, x)
             m[(2, 0)] = t2;
             // [3][0] = ∂Φ3/∂q6 (loop 2, y)
@@ -8634,11 +8483,7 @@ pub mod sixbar_g {
             let t35 = t15 * v_q5_d;
             let t36 = t19 * v_q2_d;
             let t37 = t16 * v_q5_d;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t22;
             // [0][1] = ∂Φ0/∂q2 (loop 1, x)
@@ -8783,11 +8628,7 @@ pub mod sixbar_g {
             ::mechgen::__private::nalgebra::SVector::from([t45, t52, t61, t69])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-        ) -> [[T; 2]; 1] {
+        pub fn point_positions(&self, x: &[T; 1], q: &[T; 4]) -> [[T; 2]; 1] {
             let v_q1 = q[0];
             let v_q2 = q[1];
             let p_l1 = self.params.l1;
@@ -8904,11 +8745,6 @@ pub mod sixbar_g {
             ::mechgen::__private::nalgebra::SVector<T, 4>,
             ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>,
         ) {
-            let v_q6 = x[0];
-            let v_q1 = q[0];
-            let v_q2 = q[1];
-            let v_q3 = q[2];
-            let v_q5 = q[3];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -8918,7 +8754,6 @@ pub mod sixbar_g {
             let p_l2e = self.params.l2e;
             let p_xg = self.params.xg;
             let p_yg = self.params.yg;
-            let p_alpha = self.params.alpha;
             let (s_v_q1, c_v_q1) = tq[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
@@ -8964,11 +8799,7 @@ pub mod sixbar_g {
             let t36 = t35 - t3;
             let t37 = t2 + t17;
             let t38 = -t21;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // J[0][0] = ∂Φ0/∂q1
             jac[(0, 0)] = t31;
             // J[0][1] = ∂Φ0/∂q2
@@ -9005,16 +8836,11 @@ pub mod sixbar_g {
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
-            let v_q1 = q[0];
-            let v_q2 = q[1];
-            let v_q3 = q[2];
-            let v_q5 = q[3];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let p_l5 = self.params.l5;
             let p_l2e = self.params.l2e;
-            let p_alpha = self.params.alpha;
             let (s_v_q1, c_v_q1) = tq[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
@@ -9042,11 +8868,7 @@ pub mod sixbar_g {
             let t19 = t18 - t3;
             let t20 = t2 + t11;
             let t21 = -t12;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // J[0][0] = ∂Φ0/∂q1
             jac[(0, 0)] = t14;
             // J[0][1] = ∂Φ0/∂q2
@@ -9085,7 +8907,6 @@ pub mod sixbar_g {
             xd: &[T; 1],
             qd: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
-            let v_q6 = x[0];
             let p_l6 = self.params.l6;
             let v_q6_d = xd[0];
             let (s_v_q6, c_v_q6) = tx[0];
@@ -9110,18 +8931,12 @@ pub mod sixbar_g {
             xdd: &[T; 1],
             qdd: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
-            let v_q6 = x[0];
-            let v_q1 = q[0];
-            let v_q2 = q[1];
-            let v_q3 = q[2];
-            let v_q5 = q[3];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let p_l5 = self.params.l5;
             let p_l6 = self.params.l6;
             let p_l2e = self.params.l2e;
-            let p_alpha = self.params.alpha;
             let v_q6_d = xd[0];
             let v_q1_d = qd[0];
             let v_q2_d = qd[1];
@@ -9222,7 +9037,7 @@ pub mod sixbar_g {
             st: &mut ::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
@@ -9232,7 +9047,7 @@ pub mod sixbar_g {
                 [0, 1, 2, 3],
                 [false, false, false, false],
                 self.params.length_scale(),
-                options,
+                &options.newton,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
@@ -9310,7 +9125,7 @@ pub mod sixbar_g {
             tp: &[(T, T); 10],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 1]),
@@ -9325,23 +9140,17 @@ pub mod sixbar_g {
                 [0, 1, 2, 3],
                 [false, false, false, false],
                 self.params.length_scale(),
-                options,
+                &options.newton,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
             // Block 0: velocities and accelerations.
-            let v_q6 = x[0];
-            let v_q1 = st.q[0];
-            let v_q2 = st.q[1];
-            let v_q3 = st.q[2];
-            let v_q5 = st.q[3];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let p_l5 = self.params.l5;
             let p_l6 = self.params.l6;
             let p_l2e = self.params.l2e;
-            let p_alpha = self.params.alpha;
             let v_q6_d = xd[0];
             let (s_v_q1, c_v_q1) = st.sc[0];
             let t0 = p_l1 * c_v_q1;
@@ -9376,11 +9185,7 @@ pub mod sixbar_g {
             let t24 = t15 * v_q6_d;
             let t25 = -t24;
             let t26 = t14 * v_q6_d;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // J[0][0] = ∂Φ0/∂q1
             jac[(0, 0)] = t16;
             // J[0][1] = ∂Φ0/∂q2
@@ -9525,7 +9330,7 @@ pub mod sixbar_g {
             &self,
             x: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -9618,13 +9423,13 @@ pub mod sixbar_g {
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
         #[inline]
-        pub fn solve_arrays(
+        fn solve_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 4],
@@ -9663,14 +9468,14 @@ pub mod sixbar_g {
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
-        /// cosines for [`Self::tick`].
-        pub fn tick_start(
+        /// cosines for `tick_arrays` (the typed `tick_start` and `tick` call these).
+        fn tick_start_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
@@ -9698,13 +9503,13 @@ pub mod sixbar_g {
         /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
-        pub fn tick(
+        fn tick_arrays(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -9755,28 +9560,27 @@ pub mod sixbar_g {
             );
             Ok(())
         }
-        /// Everything at once: positions from `guess`, velocities, accelerations and points.
+        /// One whole tick from `guess`: positions, velocities, accelerations and points,
+        /// sharing one set of sines and cosines between the stages.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
             Ok(Motion {
-                x,
-                xd,
-                xdd,
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
@@ -9784,8 +9588,44 @@ pub mod sixbar_g {
                 report,
             })
         }
+        /// The first tick of a simulation, solved from `guess` and kept with its sines and
+        /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.tick_start_arrays(
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                &guess.to_array(),
+                options,
+            )
+        }
+        /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the
+        /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when
+        /// the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.tick_arrays(
+                t,
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                options,
+            )
+        }
     }
-    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::StaticMechanism<T>
     for SixbarG<T> {
         const NAME: &'static str = "sixbar_g";
         const INPUTS: usize = 1;
@@ -9793,6 +9633,9 @@ pub mod sixbar_g {
         const POINTS: usize = 1;
         type X = [T; 1];
         type Q = [T; 4];
+        type Points = [::mechgen::__private::PointMotion<T>; 1];
+        type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>;
+        type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 1>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -9800,14 +9643,11 @@ pub mod sixbar_g {
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             SixbarG::residual(self, x, q)
         }
-        fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(&SixbarG::jacobian(self, x, q), out)
+        fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian {
+            SixbarG::jacobian(self, x, q)
         }
-        fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(
-                &SixbarG::input_jacobian(self, x, q),
-                out,
-            )
+        fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian {
+            SixbarG::input_jacobian(self, x, q)
         }
         fn jacobian_dot(
             &self,
@@ -9815,12 +9655,8 @@ pub mod sixbar_g {
             q: &Self::Q,
             xd: &Self::X,
             qd: &Self::Q,
-            out: &mut [T],
-        ) {
-            ::mechgen::__private::copy_row_major(
-                &SixbarG::jacobian_dot(self, x, q, xd, qd),
-                out,
-            )
+        ) -> Self::Jacobian {
+            SixbarG::jacobian_dot(self, x, q, xd, qd)
         }
         fn acceleration_rhs(
             &self,
@@ -9836,7 +9672,7 @@ pub mod sixbar_g {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -9863,62 +9699,63 @@ pub mod sixbar_g {
         }
         fn points(
             &self,
-            x: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &Self::Q,
-            xd: &Self::X,
             qd: &Self::Q,
-            xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::__private::PointMotion<T>],
-        ) {
-            for (o, p) in out
-                .iter_mut()
-                .zip(SixbarG::point_motion(self, x, q, xd, qd, xdd, qdd))
-            {
-                *o = p;
-            }
+        ) -> Self::Points {
+            SixbarG::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
+        }
+        #[inline]
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = SixbarG::solve_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                &mut q,
+                options,
+            )?;
+            Ok(::mechgen::__private::Solved {
+                q,
+                qd,
+                qdd,
+                points,
+                report,
+            })
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            SixbarG::tick_start(self, x, xd, xdd, guess, options)
+            SixbarG::tick_start_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                guess,
+                options,
+            )
         }
+        #[inline]
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            SixbarG::tick(self, t, x, xd, xdd, options)
-        }
-        fn solve_motion(
-            &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            q: &mut Self::Q,
-            qd: &mut Self::Q,
-            qdd: &mut Self::Q,
-            points: &mut [::mechgen::__private::PointMotion<T>],
-            options: &::mechgen::__private::NewtonOptions<T>,
-        ) -> ::core::result::Result<
-            ::mechgen::__private::NewtonReport<T>,
-            ::mechgen::__private::SolveError,
-        > {
-            let (v, a, p, report) = SixbarG::solve_arrays(self, x, xd, xdd, q, options)?;
-            *qd = v;
-            *qdd = a;
-            for (o, m) in points.iter_mut().zip(p) {
-                *o = m;
-            }
-            Ok(report)
+            SixbarG::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
         }
     }
 }

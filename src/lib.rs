@@ -38,8 +38,7 @@ pub use mechgen_runtime as runtime;
 pub use mechgen_runtime::__private;
 pub use mechgen_runtime::dyad::solve_dyad;
 pub use mechgen_runtime::elimination::{
-    Factored, factor_block, gauss, gauss_in_place, lu_in_place, lu_solve,
-    solve_block,
+    Factored, factor_block, gauss, gauss_in_place, lu_in_place, lu_solve, solve_block,
 };
 pub use mechgen_runtime::nalgebra;
 pub use mechgen_runtime::solve::{check_finite, newton_block, newton_in_place};

@@ -120,10 +120,20 @@ pub fn preamble(info: &MechanismInfo, index: usize, rate: f64, x: &[f64]) -> Str
         .zip(x)
         .enumerate()
         .filter(|(i, _)| *i != index)
-        .map(|(_, (CoordDesc { name: n, kind: k, .. }, v))| match k {
-            Kind::Angle => format!("{n} = {} deg", significant(v.to_degrees())),
-            _ => format!("{n} = {} u", significant(*v)),
-        })
+        .map(
+            |(
+                _,
+                (
+                    CoordDesc {
+                        name: n, kind: k, ..
+                    },
+                    v,
+                ),
+            )| match k {
+                Kind::Angle => format!("{n} = {} deg", significant(v.to_degrees())),
+                _ => format!("{n} = {} u", significant(*v)),
+            },
+        )
         .collect();
     if !held.is_empty() {
         let _ = writeln!(out, "held: {}", held.join(", "));
@@ -135,7 +145,11 @@ pub fn preamble(info: &MechanismInfo, index: usize, rate: f64, x: &[f64]) -> Str
 /// in file units `[u]`, numbers to [`DIGITS`] significant digits.
 pub fn table(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
     let input_kind = info.inputs[index].kind;
-    let mut head = vec![format!("{}{}", info.inputs[index].name, unit(input_kind, ""))];
+    let mut head = vec![format!(
+        "{}{}",
+        info.inputs[index].name,
+        unit(input_kind, "")
+    )];
     for (suffix, per) in [("", ""), ("_vel", "/s"), ("_acc", "/s2")] {
         head.extend(
             info.unknowns

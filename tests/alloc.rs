@@ -7,7 +7,7 @@ use std::cell::Cell;
 use std::hint::black_box;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use mechgen::{NewtonOptions, SolveError};
+use mechgen::{InputMotion, SolveError, SolveOptions};
 
 /// Allocations (alloc, alloc_zeroed, realloc) made while a thread had counting switched on.
 static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
@@ -84,7 +84,7 @@ macro_rules! solves {
         fn $fn() -> Outcome {
             use mechgen::$module::{Inputs, Unknowns, $ty};
             let m = black_box($ty::<$t>::default());
-            let options = NewtonOptions::<$t>::default();
+            let options = SolveOptions::<$t>::default();
             let (x0, q0) = $ty::<$t>::start();
             let x0 = x0.to_array();
             let step = (1.0f64).to_radians() as $t;
@@ -112,14 +112,12 @@ macro_rules! solves {
                 // All at once.
                 let mut guess: Unknowns<$t> = q0;
                 for i in 0..SOLVES {
-                    let x = Inputs::from_array([x0[0] + step * i as $t]);
-                    match m.solve(
-                        x,
-                        Inputs::from_array(xd),
-                        Inputs::from_array(xdd),
-                        guess,
-                        &options,
-                    ) {
+                    let input = InputMotion {
+                        x: Inputs::from_array([x0[0] + step * i as $t]),
+                        xd: Inputs::from_array(xd),
+                        xdd: Inputs::from_array(xdd),
+                    };
+                    match m.solve(&input, &guess, &options) {
                         Ok(motion) => {
                             guess = motion.q;
                             black_box(motion);
@@ -129,13 +127,14 @@ macro_rules! solves {
                     }
                 }
                 // Predictor stepping.
-                let mut tick = match m.tick_start(&x0, &xd, &xdd, &q0.to_array(), &options) {
+                let at = |x: [$t; 1]| InputMotion::new(x, xd, xdd).map(|a| Inputs::from_array(*a));
+                let mut tick = match m.tick_start(&at(x0), &q0, &options) {
                     Ok(t) => t,
                     Err(e) => return (done, Some(e)),
                 };
                 for i in 1..SOLVES {
                     let x = [x0[0] + step * i as $t];
-                    match m.tick(&mut tick, &x, &xd, &xdd, &options) {
+                    match m.tick(&mut tick, &at(x), &options) {
                         Ok(()) => {
                             black_box(&tick);
                             done += 1;

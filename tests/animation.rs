@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use mechgen::generic::{self, Generic};
 use mechgen::plot::{Frame, PlotError, animation_svg, point_paths, sweep_frames, write_animation};
 use mechgen::sweep::{Continuation, Row, sweep};
-use mechgen::{Kind, DynMechanism, MechanismInfo, SolveError};
+use mechgen::{DynMechanism, Kind, MechanismInfo, SolveError};
 
 fn compiled_in(name: &str) -> Generic {
     let all = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE).expect("source");

@@ -3,7 +3,7 @@
 //! solves with the new values (checked against the four-bar's closed form written here).
 #![cfg(feature = "runtime")]
 
-use mechgen::{DynMechanism, NewtonOptions, generic};
+use mechgen::{DynMechanism, SolveOptions, generic};
 
 const FILE: &str = r#"
 [mechanism.derived_four_bar]
@@ -27,7 +27,7 @@ fn param(g: &generic::Generic, name: &str) -> f64 {
     let i = DynMechanism::<f64>::info(g)
         .params
         .iter()
-        .position(|p| p.0 == name)
+        .position(|p| p.name == name)
         .unwrap();
     g.params()[i]
 }
@@ -57,7 +57,7 @@ fn setting_a_base_param_recomputes_its_derived_params_and_the_solution() {
     // The solver uses the new values.
     let q1 = 0.7;
     let mut q = [0.9, 1.9];
-    DynMechanism::<f64>::solve_position(&g, &[q1], &mut q, &NewtonOptions::default()).unwrap();
+    DynMechanism::<f64>::solve_position(&g, &[q1], &mut q, &SolveOptions::default()).unwrap();
     let want = rocker_angle(0.1, l2, 0.33, 0.44, q1);
     let diff = (q[1] - want + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
         - std::f64::consts::PI;

@@ -9,7 +9,7 @@ use std::path::Path;
 use mechgen::generic::{self, Generic, Sketch};
 use mechgen::plot::{drawing_svg, point_paths, sweep_frames};
 use mechgen::sweep::{Continuation, Row, sweep};
-use mechgen::{Kind, DynMechanism, MechanismInfo};
+use mechgen::{DynMechanism, Kind, MechanismInfo};
 
 type P = [f64; 2];
 
@@ -40,14 +40,18 @@ fn sweep_degrees(model: &Generic, from: i32, to: i32, step: usize) -> (Mechanism
 }
 
 fn param(info: &MechanismInfo, name: &str) -> f64 {
-    info.params.iter().find(|p| p.0 == name).expect("param").2
+    info.params
+        .iter()
+        .find(|p| p.name == name)
+        .expect("param")
+        .value
 }
 
 fn unknown(info: &MechanismInfo, q: &[f64], name: &str) -> f64 {
     q[info
         .unknowns
         .iter()
-        .position(|u| u.0 == name)
+        .position(|u| u.name == name)
         .expect("unknown")]
 }
 

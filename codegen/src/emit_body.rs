@@ -77,8 +77,8 @@ impl<'a> Builder<'a> {
             if self.names[id.index()].is_none() && !std::mem::replace(&mut live[id.index()], true) {
                 // A sine or cosine read from a cache does not need its variable's value.
                 match dag.node(id) {
-                    Node::Sin(a) | Node::Cos(a)
-                        if matches!(dag.node(a), Node::Var(v) if vars.trig(v).is_some()) => {}
+                    Node::Sin(a) | Node::Cos(a) if matches!(dag.node(a), Node::Var(v) if vars.trig(v).is_some()) =>
+                        {}
                     node => stack.extend(node.children()),
                 }
             }
@@ -130,7 +130,8 @@ impl<'a> Builder<'a> {
                     // Only what this segment reads is bound; a later segment that needs the
                     // other one binds it from the same cache.
                     let (s, c) = (dag.find(&Node::Sin(a)), dag.find(&Node::Cos(a)));
-                    let wanted = |id: Option<NodeId>| id.filter(|id| id.index() < n && live[id.index()]);
+                    let wanted =
+                        |id: Option<NodeId>| id.filter(|id| id.index() < n && live[id.index()]);
                     let (s, c) = (wanted(s), wanted(c));
                     let pat_s = if s.is_some() { quote!(#sn) } else { quote!(_) };
                     let pat_c = if c.is_some() { quote!(#cn) } else { quote!(_) };

@@ -94,11 +94,21 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     let (params_marker, params_marker_init) = (marker(npar), marker_init(npar));
     let (points_marker, points_marker_init) = (marker(np), marker_init(np));
     let param_idx = 0..npar;
-    let length_params = m
+    let length_params: Vec<Ident> = m
         .params
         .iter()
         .filter(|p| p.kind == Kind::Length)
-        .map(|p| format_ident!("{}", p.name.text));
+        .map(|p| format_ident!("{}", p.name.text))
+        .collect();
+    let length_scale = if length_params.is_empty() {
+        quote!(#gt::one())
+    } else {
+        quote! {
+            let mut s = #gt::zero();
+            #( s = s.max(self.#length_params.abs()); )*
+            if s > #gt::zero() { s } else { #gt::one() }
+        }
+    };
 
     let coords = |cs: &[crate::check::Coord], ty: &Ident, what: &str| {
         let fields: Vec<Ident> = cs
@@ -182,9 +192,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                 pub fn from_array(a: [#gt; #npar]) -> Self { #params_ty { #( #param_fields: a[#param_idx], )* #params_marker_init } }
                 /// The largest length param (1 when there is none): tolerances on lengths are relative to it.
                 pub fn length_scale(&self) -> #gt {
-                    let mut s = #gt::zero();
-                    #( s = s.max(self.#length_params.abs()); )*
-                    if s > #gt::zero() { s } else { #gt::one() }
+                    #length_scale
                 }
             }
 

@@ -108,7 +108,9 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
     // Bindings only where something is written into them (no unused `mut`, no unused `params`).
     let tx_mut = xm.iter().any(|&a| a).then(|| quote!(mut));
     let tp_mut = pm.iter().any(|&a| a).then(|| quote!(mut));
-    let params_let = tp_mut.as_ref().map(|_| quote!(let params = self.params.to_array();));
+    let params_let = tp_mut
+        .as_ref()
+        .map(|_| quote!(let params = self.params.to_array();));
     let ctx = quote!(tx: &[(#gt, #gt); #ni], tp: &[(#gt, #gt); #npar], tq: &[(#gt, #gt); #nu]);
 
     let mut block_fns = TokenStream::new();

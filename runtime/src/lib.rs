@@ -33,14 +33,12 @@ pub mod solve;
 pub mod tick;
 pub mod trig;
 
-pub use error::{Quantity, SolveError, Stage};
 pub use dynamic::DynMechanism;
+pub use error::{Quantity, SolveError, Stage};
 pub use info::{
     CoordDesc, CoordInfo, Kind, MechanismInfo, ParamDesc, ParamInfo, PointMotion, StaticInfo,
 };
-pub use mechanism::{
-    Array, InputMotion, RowMajor, Solved, StaticMechanism, StaticVisitor,
-};
+pub use mechanism::{Array, InputMotion, RowMajor, Solved, StaticMechanism, StaticVisitor};
 pub use nalgebra;
 pub use scalar::Real;
 pub use solve::{NewtonOptions, NewtonReport, SolveOptions};

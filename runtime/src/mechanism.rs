@@ -109,8 +109,7 @@ pub trait StaticMechanism<T: Real>: Send + Sync {
     /// Φx = ∂Φ/∂x.
     fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian;
     /// J̇.
-    fn jacobian_dot(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q)
-    -> Self::Jacobian;
+    fn jacobian_dot(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q) -> Self::Jacobian;
     /// γ with J q̈ = γ.
     fn acceleration_rhs(
         &self,

@@ -38,12 +38,16 @@ pub fn check(name: &str, text: &str) -> Result<(), String> {
 fn print_structure(info: &MechanismInfo) {
     let names = |v: &[CoordDesc]| {
         v.iter()
-            .map(|CoordDesc { name: n, kind: k, .. }| {
-                format!(
-                    "{n} ({})",
-                    if *k == Kind::Angle { "angle" } else { "length" }
-                )
-            })
+            .map(
+                |CoordDesc {
+                     name: n, kind: k, ..
+                 }| {
+                    format!(
+                        "{n} ({})",
+                        if *k == Kind::Angle { "angle" } else { "length" }
+                    )
+                },
+            )
             .collect::<Vec<_>>()
     };
     say!("mechanism {}: {}", info.name, info.description);

@@ -42,13 +42,16 @@ pub fn plan(
             .join(", ")
     };
     let find = |name: &str| {
-        info.inputs.iter().position(|i| i.name == name).ok_or_else(|| {
-            format!(
-                "`{}` has no input `{name}` (its inputs: {})",
-                info.name,
-                names()
-            )
-        })
+        info.inputs
+            .iter()
+            .position(|i| i.name == name)
+            .ok_or_else(|| {
+                format!(
+                    "`{}` has no input `{name}` (its inputs: {})",
+                    info.name,
+                    names()
+                )
+            })
     };
     if info.inputs.is_empty() {
         return Err(format!("`{}` has no input", info.name));

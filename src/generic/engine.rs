@@ -11,9 +11,9 @@ use super::closed::{self, ClosedTape};
 use super::tape::{Env, Tape};
 use mechgen_runtime::elimination::gauss_in_place;
 use mechgen_runtime::error::{Quantity, SolveError, Stage};
-use mechgen_runtime::{CoordDesc, Kind, MechanismInfo, ParamDesc};
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::solve::{NewtonWork, check_finite};
+use mechgen_runtime::{CoordDesc, Kind, MechanismInfo, ParamDesc};
 
 /// A mechanism file that could not be loaded: every diagnostic, rendered as FILE:LINE:COLUMN.
 #[derive(Clone, Debug)]

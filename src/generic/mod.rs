@@ -15,11 +15,11 @@ pub use engine::{Generic, LoadError, load, load_file, load_with_warnings};
 pub use linkage::Linkage;
 pub use sketch::{Sketch, SliderAt};
 
+use mechgen_runtime::InputMotion;
 use mechgen_runtime::error::{Quantity, SolveError, Stage};
-use mechgen_runtime::{DynMechanism, MechanismInfo, PointMotion, dynamic::len};
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
-use mechgen_runtime::InputMotion;
+use mechgen_runtime::{DynMechanism, MechanismInfo, PointMotion, dynamic::len};
 use tape::Env;
 
 /// One chain of the mechanism drawing at a configuration.

@@ -4,7 +4,7 @@
 
 use super::Continuation;
 use mechgen_runtime::error::SolveError;
-use mechgen_runtime::{Kind, DynMechanism, MechanismInfo};
+use mechgen_runtime::{DynMechanism, Kind, MechanismInfo};
 
 /// Substeps one continuation may always try (halvings near a dead point included).
 pub const BASE_SUBSTEPS: usize = 1000;

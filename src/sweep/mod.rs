@@ -10,8 +10,8 @@ pub use continuation::{
 };
 
 use mechgen_runtime::error::SolveError;
-use mechgen_runtime::{CoordDesc, DynMechanism, Kind, MechanismInfo, PointMotion};
 use mechgen_runtime::solve::SolveOptions;
+use mechgen_runtime::{CoordDesc, DynMechanism, Kind, MechanismInfo, PointMotion};
 
 /// How the branch is followed between rows.
 #[derive(Clone, Copy, Debug, PartialEq)]

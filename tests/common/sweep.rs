@@ -5,7 +5,9 @@
 
 use std::cell::Cell;
 
-use mechgen::{DynMechanism, MechanismInfo, NewtonOptions, NewtonReport, PointMotion, SolveError};
+use mechgen::{
+    DynMechanism, InputMotion, MechanismInfo, NewtonReport, PointMotion, SolveError, SolveOptions,
+};
 
 /// Counts every call that solves or evaluates something; `info` may differ from the inner one's
 /// (another start configuration).
@@ -72,7 +74,7 @@ impl DynMechanism<f64> for Counting<'_> {
         &self,
         x: &[f64],
         q: &mut [f64],
-        options: &NewtonOptions<f64>,
+        options: &SolveOptions<f64>,
     ) -> Result<NewtonReport<f64>, SolveError> {
         self.count();
         self.inner.solve_position(x, q, options)
@@ -89,28 +91,24 @@ impl DynMechanism<f64> for Counting<'_> {
     }
     fn solve_acceleration(
         &self,
-        x: &[f64],
+        input: InputMotion<&[f64]>,
         q: &[f64],
-        xd: &[f64],
         qd: &[f64],
-        xdd: &[f64],
         qdd: &mut [f64],
     ) -> Result<(), SolveError> {
         self.count();
-        self.inner.solve_acceleration(x, q, xd, qd, xdd, qdd)
+        self.inner.solve_acceleration(input, q, qd, qdd)
     }
     fn points(
         &self,
-        x: &[f64],
+        input: InputMotion<&[f64]>,
         q: &[f64],
-        xd: &[f64],
         qd: &[f64],
-        xdd: &[f64],
         qdd: &[f64],
         out: &mut [PointMotion<f64>],
     ) -> Result<(), SolveError> {
         self.count();
-        self.inner.points(x, q, xd, qd, xdd, qdd, out)
+        self.inner.points(input, q, qd, qdd, out)
     }
 }
 

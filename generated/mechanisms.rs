@@ -1260,8 +1260,8 @@ pub mod sixbar {
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 10]) {
             let params = self.params.to_array();
-            let mut tx = [(T::zero(), T::one()); 1];
-            let mut tp = [(T::zero(), T::one()); 10];
+            let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
+            let mut tp: [(T, T); 10] = [(T::zero(), T::one()); 10];
             tx[0] = x[0].sin_cos();
             tp[9] = params[9].sin_cos();
             (tx, tp)
@@ -3008,8 +3008,8 @@ pub mod shaper {
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 5]) {
-            let mut tx = [(T::zero(), T::one()); 1];
-            let tp = [(T::zero(), T::one()); 5];
+            let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
+            let tp: [(T, T); 5] = [(T::zero(), T::one()); 5];
             tx[0] = x[0].sin_cos();
             (tx, tp)
         }
@@ -4552,8 +4552,8 @@ pub mod four_bar {
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 6]) {
             let params = self.params.to_array();
-            let mut tx = [(T::zero(), T::one()); 1];
-            let mut tp = [(T::zero(), T::one()); 6];
+            let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
+            let mut tp: [(T, T); 6] = [(T::zero(), T::one()); 6];
             tx[0] = x[0].sin_cos();
             tp[5] = params[5].sin_cos();
             (tx, tp)
@@ -5925,8 +5925,8 @@ pub mod slider_crank {
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 3]) {
-            let mut tx = [(T::zero(), T::one()); 1];
-            let tp = [(T::zero(), T::one()); 3];
+            let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
+            let tp: [(T, T); 3] = [(T::zero(), T::one()); 3];
             tx[0] = x[0].sin_cos();
             (tx, tp)
         }
@@ -7289,8 +7289,8 @@ pub mod rocker_four_bar {
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 4]) {
-            let mut tx = [(T::zero(), T::one()); 1];
-            let tp = [(T::zero(), T::one()); 4];
+            let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
+            let tp: [(T, T); 4] = [(T::zero(), T::one()); 4];
             tx[0] = x[0].sin_cos();
             (tx, tp)
         }
@@ -9019,8 +9019,8 @@ pub mod sixbar_g {
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 10]) {
             let params = self.params.to_array();
-            let mut tx = [(T::zero(), T::one()); 1];
-            let mut tp = [(T::zero(), T::one()); 10];
+            let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
+            let mut tp: [(T, T); 10] = [(T::zero(), T::one()); 10];
             tx[0] = x[0].sin_cos();
             tp[9] = params[9].sin_cos();
             (tx, tp)

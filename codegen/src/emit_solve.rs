@@ -111,6 +111,12 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
     let params_let = tp_mut
         .as_ref()
         .map(|_| quote!(let params = self.params.to_array();));
+    // `[]` for an empty array (a repeat expression of length 0 would evaluate its operand).
+    let unit_trig = |n: usize| match n {
+        0 => quote!([]),
+        _ => quote!([(#gt::zero(), #gt::one()); #n]),
+    };
+    let (tx_init, tp_init) = (unit_trig(ni), unit_trig(npar));
     let ctx = quote!(tx: &[(#gt, #gt); #ni], tp: &[(#gt, #gt); #npar], tq: &[(#gt, #gt); #nu]);
 
     let mut block_fns = TokenStream::new();
@@ -271,8 +277,8 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         #[inline]
         fn trig_fixed(&self, x: &[#gt; #ni]) -> ([(#gt, #gt); #ni], [(#gt, #gt); #npar]) {
             #params_let
-            let #tx_mut tx = [(#gt::zero(), #gt::one()); #ni];
-            let #tp_mut tp = [(#gt::zero(), #gt::one()); #npar];
+            let #tx_mut tx: [(#gt, #gt); #ni] = #tx_init;
+            let #tp_mut tp: [(#gt, #gt); #npar] = #tp_init;
             #tx_sets
             #tp_sets
             (tx, tp)

@@ -44,15 +44,21 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
             }
         }
         let stmts = b.stmts;
-        // `mut` only when an entry is written (a structurally zero matrix is returned as is).
-        let mutability = written.then(|| quote!(mut));
+        // A structurally zero matrix is returned as is.
+        let matrix = if written {
+            quote! {
+                let mut m = #rt::nalgebra::SMatrix::<#gt, #rows, #cols>::zeros();
+                #sets
+                m
+            }
+        } else {
+            quote!(#rt::nalgebra::SMatrix::<#gt, #rows, #cols>::zeros())
+        };
         quote! {
             #[doc = #doc]
             pub fn #f(&self, x: &[#gt; #ni], q: &[#gt; #nu] #extra) -> #rt::nalgebra::SMatrix<#gt, #rows, #cols> {
                 #stmts
-                let #mutability m = #rt::nalgebra::SMatrix::<#gt, #rows, #cols>::zeros();
-                #sets
-                m
+                #matrix
             }
         }
     };

@@ -601,8 +601,8 @@ pub mod slider {
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 2]) {
-            let mut tx = [(T::zero(), T::one()); 1];
-            let tp = [(T::zero(), T::one()); 2];
+            let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
+            let tp: [(T, T); 2] = [(T::zero(), T::one()); 2];
             tx[0] = x[0].sin_cos();
             (tx, tp)
         }

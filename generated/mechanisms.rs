@@ -82,8 +82,15 @@ pub mod sixbar {
         non_snake_case,
         unused_variables,
         clippy::too_many_arguments,
-        clippy::type_complexity,
+        clippy::type_complexity
     )]
+    // Allowed above, and why:
+    // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
+    // unused_variables: block functions share one signature (inputs,
+    // unknowns, their sines and cosines) and a block reads only some of
+    // them; no local is bound without being read.
+    // too_many_arguments, type_complexity: those private signatures, and
+    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "sixbar",
@@ -2131,8 +2138,15 @@ pub mod shaper {
         non_snake_case,
         unused_variables,
         clippy::too_many_arguments,
-        clippy::type_complexity,
+        clippy::type_complexity
     )]
+    // Allowed above, and why:
+    // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
+    // unused_variables: block functions share one signature (inputs,
+    // unknowns, their sines and cosines) and a block reads only some of
+    // them; no local is bound without being read.
+    // too_many_arguments, type_complexity: those private signatures, and
+    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "shaper",
@@ -3839,8 +3853,15 @@ pub mod four_bar {
         non_snake_case,
         unused_variables,
         clippy::too_many_arguments,
-        clippy::type_complexity,
+        clippy::type_complexity
     )]
+    // Allowed above, and why:
+    // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
+    // unused_variables: block functions share one signature (inputs,
+    // unknowns, their sines and cosines) and a block reads only some of
+    // them; no local is bound without being read.
+    // too_many_arguments, type_complexity: those private signatures, and
+    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "four_bar",
@@ -5285,8 +5306,15 @@ pub mod slider_crank {
         non_snake_case,
         unused_variables,
         clippy::too_many_arguments,
-        clippy::type_complexity,
+        clippy::type_complexity
     )]
+    // Allowed above, and why:
+    // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
+    // unused_variables: block functions share one signature (inputs,
+    // unknowns, their sines and cosines) and a block reads only some of
+    // them; no local is bound without being read.
+    // too_many_arguments, type_complexity: those private signatures, and
+    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "slider_crank",
@@ -6658,8 +6686,15 @@ pub mod rocker_four_bar {
         non_snake_case,
         unused_variables,
         clippy::too_many_arguments,
-        clippy::type_complexity,
+        clippy::type_complexity
     )]
+    // Allowed above, and why:
+    // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
+    // unused_variables: block functions share one signature (inputs,
+    // unknowns, their sines and cosines) and a block reads only some of
+    // them; no local is bound without being read.
+    // too_many_arguments, type_complexity: those private signatures, and
+    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "rocker_four_bar",
@@ -7991,8 +8026,15 @@ pub mod sixbar_g {
         non_snake_case,
         unused_variables,
         clippy::too_many_arguments,
-        clippy::type_complexity,
+        clippy::type_complexity
     )]
+    // Allowed above, and why:
+    // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
+    // unused_variables: block functions share one signature (inputs,
+    // unknowns, their sines and cosines) and a block reads only some of
+    // them; no local is bound without being read.
+    // too_many_arguments, type_complexity: those private signatures, and
+    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "sixbar_g",

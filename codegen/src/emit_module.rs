@@ -147,6 +147,19 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     let point_fields: Vec<Ident> = point_names.iter().map(|n| format_ident!("{}", n)).collect();
     let point_idx = 0..np;
 
+    // Why each allow of the module's `#![allow]` is there, as `//` lines below it.
+    let allow_reasons: TokenStream = [
+        "Allowed above, and why:",
+        "non_snake_case: fields and locals keep the file's names (`E`, `sE`).",
+        "unused_variables: block functions share one signature (inputs,",
+        "unknowns, their sines and cosines) and a block reads only some of",
+        "them; no local is bound without being read.",
+        "too_many_arguments, type_complexity: those private signatures, and",
+        "whole-tick results as tuples of fixed arrays.",
+    ]
+    .iter()
+    .map(|t| crate::emit::comment(t))
+    .collect();
     let system_fns = crate::emit_system::system_fns(c, &args);
     let solvers = crate::emit_solve::solvers(c, &args);
     let nblocks = c.blocks.len();
@@ -154,17 +167,8 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     quote! {
         #[doc = #doc]
         pub mod #mod_name {
-            #![allow(
-                // Fields and locals keep the file's names as written (`E`, `sE`, `xA`).
-                non_snake_case,
-                // Block functions share one signature (inputs, unknowns, their sines and cosines);
-                // a block's expressions read only some of them.
-                unused_variables,
-                // Those signatures pass the state and each trig cache as separate arguments.
-                clippy::too_many_arguments,
-                // Whole-tick results are tuples of fixed arrays.
-                clippy::type_complexity,
-            )]
+            #![allow(non_snake_case, unused_variables, clippy::too_many_arguments, clippy::type_complexity)]
+            #allow_reasons
 
             /// Static description: names, kinds, start configuration, blocks.
             pub const INFO: #rt::StaticInfo = #rt::StaticInfo {

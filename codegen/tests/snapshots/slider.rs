@@ -33,8 +33,15 @@ pub mod slider {
         non_snake_case,
         unused_variables,
         clippy::too_many_arguments,
-        clippy::type_complexity,
+        clippy::type_complexity
     )]
+    // Allowed above, and why:
+    // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
+    // unused_variables: block functions share one signature (inputs,
+    // unknowns, their sines and cosines) and a block reads only some of
+    // them; no local is bound without being read.
+    // too_many_arguments, type_complexity: those private signatures, and
+    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "slider",

@@ -999,9 +999,9 @@ pub mod sixbar {
             let t28 = -t27;
             ::mechgen::__private::nalgebra::SVector::from([t19, t28])
         }
-        /// Block 0: q2, q3 from loop 1 (x, y). A dyad: K + M_a e(q2) + M_b e(q3) = 0; returns K, then (p, r) of M_a and of M_b.
+        /// Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad): the kernel's roots.
         #[inline]
-        fn block0_dyad(
+        fn block0_closed(
             &self,
             x: &[T; 1],
             q: &[T; 4],
@@ -1267,9 +1267,9 @@ pub mod sixbar {
             let t52 = t48 - t50;
             ::mechgen::__private::nalgebra::SVector::from([t51, t52])
         }
-        /// Block 1: q5, q6 from loop 2 (x, y). A dyad: K + M_a e(q5) + M_b e(q6) = 0; returns K, then (p, r) of M_a and of M_b.
+        /// Block 1: q5, q6 from loop 2 (x, y). Closed form (a dyad): the kernel's roots.
         #[inline]
-        fn block1_dyad(
+        fn block1_closed(
             &self,
             x: &[T; 1],
             q: &[T; 4],
@@ -1339,16 +1339,15 @@ pub mod sixbar {
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
             if options.closed_forms {
-                let [kx, ky, pa, ra, pb, rb] = self
-                    .block0_dyad(x, &st.q, tx, tp, &st.sc);
+                let r = self.block0_closed(x, &st.q, tx, tp, &st.sc);
                 ::mechgen::__private::solve_dyad(
                     0,
                     st,
                     0,
                     1,
-                    [kx, ky],
-                    (pa, ra),
-                    (pb, rb),
+                    [r[0], r[1]],
+                    (r[2], r[3]),
+                    (r[4], r[5]),
                     || self.params.length_scale(),
                     options.tolerance,
                     report,
@@ -1367,16 +1366,15 @@ pub mod sixbar {
             }
             // Block 1: q5, q6 from loop 2 (x, y). Closed form (a dyad).
             if options.closed_forms {
-                let [kx, ky, pa, ra, pb, rb] = self
-                    .block1_dyad(x, &st.q, tx, tp, &st.sc);
+                let r = self.block1_closed(x, &st.q, tx, tp, &st.sc);
                 ::mechgen::__private::solve_dyad(
                     1,
                     st,
                     2,
                     3,
-                    [kx, ky],
-                    (pa, ra),
-                    (pb, rb),
+                    [r[0], r[1]],
+                    (r[2], r[3]),
+                    (r[4], r[5]),
                     || self.params.length_scale(),
                     options.tolerance,
                     report,
@@ -2868,6 +2866,27 @@ pub mod shaper {
             let t29 = t28 - t27;
             ::mechgen::__private::nalgebra::SVector::from([t22, t29])
         }
+        /// Block 0: s3, q3 from loop 1 (x, y). Closed form (RPR): the kernel's roots.
+        #[inline]
+        fn block0_closed(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
+        ) -> [T; 6] {
+            let v_q1 = x[0];
+            let p_l1 = self.params.l1;
+            let p_lAC = self.params.lAC;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -t1;
+            let t3 = -t0;
+            let t4 = t2 - p_lAC;
+            [t3, t4, T::zero(), T::zero(), T::one(), T::zero()]
+        }
         /// Block 1: q4 from loop 2 (y). Its residual and Jacobian block.
         #[inline]
         fn block1_position(
@@ -2981,6 +3000,25 @@ pub mod shaper {
             let t9 = t0 * v_q3_dd;
             let t10 = t8 - t9;
             ::mechgen::__private::nalgebra::SVector::from([t10])
+        }
+        /// Block 1: q4 from loop 2 (y). Closed form (one angle): the kernel's roots.
+        #[inline]
+        fn block1_closed(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
+        ) -> [T; 3] {
+            let v_q3 = q[1];
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let p_yE = self.params.yE;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t0 = s_v_q3 * p_l3;
+            let t1 = t0 - p_yE;
+            [t1, T::zero(), p_l4]
         }
         /// Block 2: sE from loop 2 (x). Its residual and Jacobian block.
         #[inline]
@@ -3103,6 +3141,27 @@ pub mod shaper {
             let t14 = t9 - t13;
             ::mechgen::__private::nalgebra::SVector::from([t14])
         }
+        /// Block 2: sE from loop 2 (x). Closed form (one length): the kernel's roots.
+        #[inline]
+        fn block2_closed(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            tq: &[(T, T); 4],
+        ) -> [T; 2] {
+            let v_q3 = q[1];
+            let v_q4 = q[2];
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t0 = c_v_q3 * p_l3;
+            let (s_v_q4, c_v_q4) = tq[2];
+            let t1 = p_l4 * c_v_q4;
+            let t2 = t0 + t1;
+            [t2, T::lit(-1.0)]
+        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 5]) {
@@ -3127,39 +3186,80 @@ pub mod shaper {
             options: &::mechgen::__private::NewtonOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            // Block 0: s3, q3 from loop 1 (x, y).
-            ::mechgen::__private::newton_block(
-                0,
-                st,
-                [0, 1],
-                [true, false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 1: q4 from loop 2 (y).
-            ::mechgen::__private::newton_block(
-                1,
-                st,
-                [2],
-                [false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 2: sE from loop 2 (x).
-            ::mechgen::__private::newton_block(
-                2,
-                st,
-                [3],
-                [true],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
-            )?;
+            // Block 0: s3, q3 from loop 1 (x, y). Closed form (RPR).
+            if options.closed_forms {
+                let r = self.block0_closed(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::closed_form::solve_rpr(
+                    0,
+                    st,
+                    1,
+                    0,
+                    [r[0], r[1]],
+                    (r[2], r[3]),
+                    (r[4], r[5]),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [true, false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: q4 from loop 2 (y). Closed form (one angle).
+            if options.closed_forms {
+                let r = self.block1_closed(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::closed_form::solve_angle1(
+                    1,
+                    st,
+                    2,
+                    r[0],
+                    (r[1], r[2]),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [2],
+                    [false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 2: sE from loop 2 (x). Closed form (one length).
+            if options.closed_forms {
+                let r = self.block2_closed(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::closed_form::solve_length1(
+                    2,
+                    st,
+                    3,
+                    r[0],
+                    r[1],
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    2,
+                    st,
+                    [3],
+                    [true],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
             Ok(())
         }
         #[inline]
@@ -3290,55 +3390,107 @@ pub mod shaper {
         > {
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
-            // Block 0: Newton.
-            ::mechgen::__private::newton_block(
-                0,
-                st,
-                [0, 1],
-                [true, false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 1: Newton.
-            ::mechgen::__private::newton_block(
-                1,
-                st,
-                [2],
-                [false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 2: Newton.
-            ::mechgen::__private::newton_block(
-                2,
-                st,
-                [3],
-                [true],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 0: velocities and accelerations.
+            // Block 0: closed form (RPR).
             let v_q1 = x[0];
-            let v_s3 = st.q[0];
-            let v_q3 = st.q[1];
             let p_l1 = self.params.l1;
-            let v_q1_d = xd[0];
-            let (s_v_q3, c_v_q3) = st.sc[1];
-            let t0 = v_s3 * c_v_q3;
-            let t1 = v_s3 * s_v_q3;
+            let p_lAC = self.params.lAC;
             let (s_v_q1, c_v_q1) = tx[0];
-            let t2 = p_l1 * c_v_q1;
-            let t3 = p_l1 * s_v_q1;
-            let t4 = -t1;
-            let t5 = t3 * v_q1_d;
-            let t6 = -t5;
-            let t7 = t2 * v_q1_d;
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -t1;
+            let t3 = -t0;
+            let t4 = t2 - p_lAC;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_rpr(
+                    0,
+                    st,
+                    1,
+                    0,
+                    [t3, t4],
+                    (T::zero(), T::zero()),
+                    (T::one(), T::zero()),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [true, false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: closed form (one angle).
+            let v_q3 = st.q[1];
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let p_yE = self.params.yE;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t5 = s_v_q3 * p_l3;
+            let t6 = t5 - p_yE;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_angle1(
+                    1,
+                    st,
+                    2,
+                    t6,
+                    (T::zero(), p_l4),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [2],
+                    [false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 2: closed form (one length).
+            let v_q4 = st.q[2];
+            let t7 = c_v_q3 * p_l3;
+            let (s_v_q4, c_v_q4) = st.sc[2];
+            let t8 = p_l4 * c_v_q4;
+            let t9 = t7 + t8;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_length1(
+                    2,
+                    st,
+                    3,
+                    t9,
+                    T::lit(-1.0),
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    2,
+                    st,
+                    [3],
+                    [true],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 0: velocities and accelerations.
+            let v_s3 = st.q[0];
+            let v_q1_d = xd[0];
+            let t10 = v_s3 * c_v_q3;
+            let t11 = v_s3 * s_v_q3;
+            let t12 = -t11;
+            let t13 = t1 * v_q1_d;
+            let t14 = -t13;
+            let t15 = t0 * v_q1_d;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
                 T,
                 2,
@@ -3347,11 +3499,11 @@ pub mod shaper {
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t4;
+            jac[(0, 1)] = t12;
             // J[1][0] = ∂Φ1/∂s3
             jac[(1, 0)] = s_v_q3;
             // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t0;
+            jac[(1, 1)] = t10;
             let lu = ::mechgen::__private::factor_block(
                 0,
                 ::mechgen::__private::Stage::Velocity,
@@ -3361,61 +3513,55 @@ pub mod shaper {
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t6, t7]),
+                    ::mechgen::__private::nalgebra::SVector::from([t14, t15]),
                 )?;
             qd[0] = z[0];
             qd[1] = z[1];
             let v_s3_d = qd[0];
             let v_q3_d = qd[1];
             let v_q1_dd = xdd[0];
-            let t8 = s_v_q3 * v_q3_d;
-            let t9 = s_v_q3 * v_s3_d;
-            let t10 = -t9;
-            let t11 = t0 * v_q3_d;
-            let t12 = t10 - t11;
-            let t13 = c_v_q3 * v_q3_d;
-            let t14 = c_v_q3 * v_s3_d;
-            let t15 = t1 * v_q3_d;
-            let t16 = t14 - t15;
-            let t17 = v_q1_d * t7;
-            let t18 = t8 * v_s3_d;
-            let t19 = t17 - t18;
-            let t20 = v_q3_d * t12;
-            let t21 = t19 + t20;
-            let t22 = t3 * v_q1_dd;
-            let t23 = t21 + t22;
-            let t24 = -t23;
-            let t25 = v_q1_d * t5;
-            let t26 = v_s3_d * t13;
-            let t27 = t25 + t26;
-            let t28 = v_q3_d * t16;
+            let t16 = s_v_q3 * v_q3_d;
+            let t17 = s_v_q3 * v_s3_d;
+            let t18 = -t17;
+            let t19 = t10 * v_q3_d;
+            let t20 = t18 - t19;
+            let t21 = c_v_q3 * v_q3_d;
+            let t22 = c_v_q3 * v_s3_d;
+            let t23 = t11 * v_q3_d;
+            let t24 = t22 - t23;
+            let t25 = v_q1_d * t15;
+            let t26 = t16 * v_s3_d;
+            let t27 = t25 - t26;
+            let t28 = v_q3_d * t20;
             let t29 = t27 + t28;
-            let t30 = t2 * v_q1_dd;
-            let t31 = t30 - t29;
+            let t30 = t1 * v_q1_dd;
+            let t31 = t29 + t30;
+            let t32 = -t31;
+            let t33 = v_q1_d * t13;
+            let t34 = v_s3_d * t21;
+            let t35 = t33 + t34;
+            let t36 = v_q3_d * t24;
+            let t37 = t35 + t36;
+            let t38 = t0 * v_q1_dd;
+            let t39 = t38 - t37;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t24, t31]),
+                    ::mechgen::__private::nalgebra::SVector::from([t32, t39]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
             // Block 1: velocities and accelerations.
-            let v_q4 = st.q[2];
-            let p_l3 = self.params.l3;
-            let p_l4 = self.params.l4;
-            let t32 = c_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = st.sc[2];
-            let t33 = p_l4 * c_v_q4;
-            let t34 = t32 * v_q3_d;
-            let t35 = -t34;
+            let t40 = t7 * v_q3_d;
+            let t41 = -t40;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
                 T,
                 1,
                 1,
             >::zeros();
             // J[3][2] = ∂Φ3/∂q4
-            jac[(0, 0)] = t33;
+            jac[(0, 0)] = t8;
             let lu = ::mechgen::__private::factor_block(
                 1,
                 ::mechgen::__private::Stage::Velocity,
@@ -3425,31 +3571,30 @@ pub mod shaper {
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t35]),
+                    ::mechgen::__private::nalgebra::SVector::from([t41]),
                 )?;
             qd[2] = z[0];
             let v_q4_d = qd[2];
             let v_q3_dd = qdd[1];
-            let t36 = s_v_q3 * p_l3;
-            let t37 = p_l4 * s_v_q4;
-            let t38 = t36 * v_q3_d;
-            let t39 = t37 * v_q4_d;
-            let t40 = v_q3_d * t38;
-            let t41 = -t40;
-            let t42 = v_q4_d * t39;
-            let t43 = t42 - t41;
-            let t44 = t32 * v_q3_dd;
-            let t45 = t43 - t44;
+            let t42 = p_l4 * s_v_q4;
+            let t43 = t5 * v_q3_d;
+            let t44 = t42 * v_q4_d;
+            let t45 = v_q3_d * t43;
+            let t46 = -t45;
+            let t47 = v_q4_d * t44;
+            let t48 = t47 - t46;
+            let t49 = t7 * v_q3_dd;
+            let t50 = t48 - t49;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t45]),
+                    ::mechgen::__private::nalgebra::SVector::from([t50]),
                 )?;
             qdd[2] = z[0];
             // Block 2: velocities and accelerations.
-            let t46 = -t38;
-            let t47 = t39 - t46;
+            let t51 = -t43;
+            let t52 = t44 - t51;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
                 T,
                 1,
@@ -3466,34 +3611,33 @@ pub mod shaper {
                 .solve(
                     2,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t47]),
+                    ::mechgen::__private::nalgebra::SVector::from([t52]),
                 )?;
             qd[3] = z[0];
             let v_q4_dd = qdd[2];
-            let t48 = t33 * v_q4_d;
-            let t49 = v_q3_d * t34;
-            let t50 = -t49;
-            let t51 = v_q4_d * t48;
-            let t52 = t51 - t50;
-            let t53 = t36 * v_q3_dd;
-            let t54 = -t53;
-            let t55 = t37 * v_q4_dd;
-            let t56 = t54 - t55;
-            let t57 = t52 - t56;
+            let t53 = t8 * v_q4_d;
+            let t54 = v_q3_d * t40;
+            let t55 = -t54;
+            let t56 = v_q4_d * t53;
+            let t57 = t56 - t55;
+            let t58 = t5 * v_q3_dd;
+            let t59 = -t58;
+            let t60 = t42 * v_q4_dd;
+            let t61 = t59 - t60;
+            let t62 = t57 - t61;
             let z = lu
                 .solve(
                     2,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t57]),
+                    ::mechgen::__private::nalgebra::SVector::from([t62]),
                 )?;
             qdd[3] = z[0];
             // Points.
             let v_sE = st.q[3];
-            let p_yE = self.params.yE;
             let v_sE_d = qd[3];
             let v_sE_dd = qdd[3];
-            let t58 = t50 - t53;
-            let t59 = t44 - t40;
+            let t63 = t55 - t58;
+            let t64 = t49 - t45;
             Ok((
                 qd,
                 qdd,
@@ -3504,9 +3648,9 @@ pub mod shaper {
                         acceleration: [v_sE_dd, T::zero()],
                     },
                     ::mechgen::__private::PointMotion {
-                        position: [t32, t36],
-                        velocity: [t46, t34],
-                        acceleration: [t58, t59],
+                        position: [t7, t5],
+                        velocity: [t51, t40],
+                        acceleration: [t63, t64],
                     },
                 ],
             ))
@@ -3726,7 +3870,7 @@ pub mod shaper {
                 (tx, &*fresh_tp.insert(tp))
             };
             let keep = if options.closed_forms {
-                [false, false, false, false]
+                [true, true, true, true]
             } else {
                 [false; 4]
             };
@@ -4643,9 +4787,9 @@ pub mod four_bar {
             let t28 = -t27;
             ::mechgen::__private::nalgebra::SVector::from([t19, t28])
         }
-        /// Block 0: q2, q3 from loop 1 (x, y). A dyad: K + M_a e(q2) + M_b e(q3) = 0; returns K, then (p, r) of M_a and of M_b.
+        /// Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad): the kernel's roots.
         #[inline]
-        fn block0_dyad(
+        fn block0_closed(
             &self,
             x: &[T; 1],
             q: &[T; 2],
@@ -4692,16 +4836,15 @@ pub mod four_bar {
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
             if options.closed_forms {
-                let [kx, ky, pa, ra, pb, rb] = self
-                    .block0_dyad(x, &st.q, tx, tp, &st.sc);
+                let r = self.block0_closed(x, &st.q, tx, tp, &st.sc);
                 ::mechgen::__private::solve_dyad(
                     0,
                     st,
                     0,
                     1,
-                    [kx, ky],
-                    (pa, ra),
-                    (pb, rb),
+                    [r[0], r[1]],
+                    (r[2], r[3]),
+                    (r[4], r[5]),
                     || self.params.length_scale(),
                     options.tolerance,
                     report,
@@ -5942,6 +6085,25 @@ pub mod slider_crank {
             let t11 = -t10;
             ::mechgen::__private::nalgebra::SVector::from([t11])
         }
+        /// Block 0: q2 from loop 1 (y). Closed form (one angle): the kernel's roots.
+        #[inline]
+        fn block0_closed(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            tq: &[(T, T); 2],
+        ) -> [T; 3] {
+            let v_q1 = x[0];
+            let p_r = self.params.r;
+            let p_l = self.params.l;
+            let p_off = self.params.off;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_r * s_v_q1;
+            let t1 = t0 - p_off;
+            [t1, T::zero(), p_l]
+        }
         /// Block 1: sC from loop 1 (x). Its residual and Jacobian block.
         #[inline]
         fn block1_position(
@@ -6061,6 +6223,27 @@ pub mod slider_crank {
             let t13 = t11 + t12;
             ::mechgen::__private::nalgebra::SVector::from([t13])
         }
+        /// Block 1: sC from loop 1 (x). Closed form (one length): the kernel's roots.
+        #[inline]
+        fn block1_closed(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            tq: &[(T, T); 2],
+        ) -> [T; 2] {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let p_r = self.params.r;
+            let p_l = self.params.l;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_r * c_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t1 = p_l * c_v_q2;
+            let t2 = t0 + t1;
+            [t2, T::lit(-1.0)]
+        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 3]) {
@@ -6085,28 +6268,53 @@ pub mod slider_crank {
             options: &::mechgen::__private::NewtonOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            // Block 0: q2 from loop 1 (y).
-            ::mechgen::__private::newton_block(
-                0,
-                st,
-                [0],
-                [false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 1: sC from loop 1 (x).
-            ::mechgen::__private::newton_block(
-                1,
-                st,
-                [1],
-                [true],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
-            )?;
+            // Block 0: q2 from loop 1 (y). Closed form (one angle).
+            if options.closed_forms {
+                let r = self.block0_closed(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::closed_form::solve_angle1(
+                    0,
+                    st,
+                    0,
+                    r[0],
+                    (r[1], r[2]),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0],
+                    [false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: sC from loop 1 (x). Closed form (one length).
+            if options.closed_forms {
+                let r = self.block1_closed(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::closed_form::solve_length1(
+                    1,
+                    st,
+                    1,
+                    r[0],
+                    r[1],
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [1],
+                    [true],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
             Ok(())
         }
         #[inline]
@@ -6209,47 +6417,74 @@ pub mod slider_crank {
         > {
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
-            // Block 0: Newton.
-            ::mechgen::__private::newton_block(
-                0,
-                st,
-                [0],
-                [false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 1: Newton.
-            ::mechgen::__private::newton_block(
-                1,
-                st,
-                [1],
-                [true],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 0: velocities and accelerations.
+            // Block 0: closed form (one angle).
             let v_q1 = x[0];
-            let v_q2 = st.q[0];
             let p_r = self.params.r;
             let p_l = self.params.l;
-            let v_q1_d = xd[0];
+            let p_off = self.params.off;
             let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_r * c_v_q1;
+            let t0 = p_r * s_v_q1;
+            let t1 = t0 - p_off;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_angle1(
+                    0,
+                    st,
+                    0,
+                    t1,
+                    (T::zero(), p_l),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0],
+                    [false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: closed form (one length).
+            let v_q2 = st.q[0];
+            let t2 = p_r * c_v_q1;
             let (s_v_q2, c_v_q2) = st.sc[0];
-            let t1 = p_l * c_v_q2;
-            let t2 = t0 * v_q1_d;
-            let t3 = -t2;
+            let t3 = p_l * c_v_q2;
+            let t4 = t2 + t3;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_length1(
+                    1,
+                    st,
+                    1,
+                    t4,
+                    T::lit(-1.0),
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [1],
+                    [true],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 0: velocities and accelerations.
+            let v_q1_d = xd[0];
+            let t5 = t2 * v_q1_d;
+            let t6 = -t5;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
                 T,
                 1,
                 1,
             >::zeros();
             // J[1][0] = ∂Φ1/∂q2
-            jac[(0, 0)] = t1;
+            jac[(0, 0)] = t3;
             let lu = ::mechgen::__private::factor_block(
                 0,
                 ::mechgen::__private::Stage::Velocity,
@@ -6259,31 +6494,30 @@ pub mod slider_crank {
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t3]),
+                    ::mechgen::__private::nalgebra::SVector::from([t6]),
                 )?;
             qd[0] = z[0];
             let v_q2_d = qd[0];
             let v_q1_dd = xdd[0];
-            let t4 = p_r * s_v_q1;
-            let t5 = p_l * s_v_q2;
-            let t6 = t5 * v_q2_d;
-            let t7 = t4 * v_q1_d;
-            let t8 = v_q1_d * t7;
-            let t9 = -t8;
-            let t10 = v_q2_d * t6;
-            let t11 = t9 - t10;
-            let t12 = t0 * v_q1_dd;
-            let t13 = t11 + t12;
-            let t14 = -t13;
+            let t7 = p_l * s_v_q2;
+            let t8 = t7 * v_q2_d;
+            let t9 = t0 * v_q1_d;
+            let t10 = v_q1_d * t9;
+            let t11 = -t10;
+            let t12 = v_q2_d * t8;
+            let t13 = t11 - t12;
+            let t14 = t2 * v_q1_dd;
+            let t15 = t13 + t14;
+            let t16 = -t15;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t14]),
+                    ::mechgen::__private::nalgebra::SVector::from([t16]),
                 )?;
             qdd[0] = z[0];
             // Block 1: velocities and accelerations.
-            let t15 = t6 + t7;
+            let t17 = t8 + t9;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
                 T,
                 1,
@@ -6300,61 +6534,60 @@ pub mod slider_crank {
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t15]),
+                    ::mechgen::__private::nalgebra::SVector::from([t17]),
                 )?;
             qd[1] = z[0];
             let v_q2_dd = qdd[0];
-            let t16 = t1 * v_q2_d;
-            let t17 = v_q1_d * t2;
-            let t18 = -t17;
-            let t19 = v_q2_d * t16;
-            let t20 = t18 - t19;
-            let t21 = t4 * v_q1_dd;
-            let t22 = t21 - t20;
-            let t23 = t5 * v_q2_dd;
-            let t24 = t22 + t23;
+            let t18 = t3 * v_q2_d;
+            let t19 = v_q1_d * t5;
+            let t20 = -t19;
+            let t21 = v_q2_d * t18;
+            let t22 = t20 - t21;
+            let t23 = t0 * v_q1_dd;
+            let t24 = t23 - t22;
+            let t25 = t7 * v_q2_dd;
+            let t26 = t24 + t25;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t24]),
+                    ::mechgen::__private::nalgebra::SVector::from([t26]),
                 )?;
             qdd[1] = z[0];
             // Points.
             let v_sC = st.q[1];
-            let p_off = self.params.off;
             let v_sC_d = qd[1];
             let v_sC_dd = qdd[1];
-            let t25 = p_l / T::lit(2.0);
-            let t26 = c_v_q2 * t25;
-            let t27 = s_v_q2 * t25;
-            let t28 = t0 + t26;
-            let t29 = t4 + t27;
-            let t30 = -t7;
-            let t31 = t27 * v_q2_d;
-            let t32 = t30 - t31;
-            let t33 = t26 * v_q2_d;
-            let t34 = t2 + t33;
-            let t35 = t18 - t21;
-            let t36 = t12 - t8;
-            let t37 = v_q2_d * t33;
-            let t38 = t18 - t37;
-            let t39 = t38 - t21;
-            let t40 = t27 * v_q2_dd;
-            let t41 = t39 - t40;
-            let t42 = v_q2_d * t31;
-            let t43 = t9 - t42;
-            let t44 = t12 + t43;
-            let t45 = t26 * v_q2_dd;
-            let t46 = t44 + t45;
+            let t27 = p_l / T::lit(2.0);
+            let t28 = c_v_q2 * t27;
+            let t29 = s_v_q2 * t27;
+            let t30 = t2 + t28;
+            let t31 = t0 + t29;
+            let t32 = -t9;
+            let t33 = t29 * v_q2_d;
+            let t34 = t32 - t33;
+            let t35 = t28 * v_q2_d;
+            let t36 = t5 + t35;
+            let t37 = t20 - t23;
+            let t38 = t14 - t10;
+            let t39 = v_q2_d * t35;
+            let t40 = t20 - t39;
+            let t41 = t40 - t23;
+            let t42 = t29 * v_q2_dd;
+            let t43 = t41 - t42;
+            let t44 = v_q2_d * t33;
+            let t45 = t11 - t44;
+            let t46 = t14 + t45;
+            let t47 = t28 * v_q2_dd;
+            let t48 = t46 + t47;
             Ok((
                 qd,
                 qdd,
                 [
                     ::mechgen::__private::PointMotion {
-                        position: [t0, t4],
-                        velocity: [t30, t2],
-                        acceleration: [t35, t36],
+                        position: [t2, t0],
+                        velocity: [t32, t5],
+                        acceleration: [t37, t38],
                     },
                     ::mechgen::__private::PointMotion {
                         position: [v_sC, p_off],
@@ -6362,9 +6595,9 @@ pub mod slider_crank {
                         acceleration: [v_sC_dd, T::zero()],
                     },
                     ::mechgen::__private::PointMotion {
-                        position: [t28, t29],
-                        velocity: [t32, t34],
-                        acceleration: [t41, t46],
+                        position: [t30, t31],
+                        velocity: [t34, t36],
+                        acceleration: [t43, t48],
                     },
                 ],
             ))
@@ -6583,11 +6816,7 @@ pub mod slider_crank {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms {
-                [false, false]
-            } else {
-                [false; 2]
-            };
+            let keep = if options.closed_forms { [true, true] } else { [false; 2] };
             let mut st = t.predicted(x, [true, false], keep, same);
             let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
@@ -7430,9 +7659,9 @@ pub mod rocker_four_bar {
             let t28 = -t27;
             ::mechgen::__private::nalgebra::SVector::from([t19, t28])
         }
-        /// Block 0: q2, q3 from loop 1 (x, y). A dyad: K + M_a e(q2) + M_b e(q3) = 0; returns K, then (p, r) of M_a and of M_b.
+        /// Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad): the kernel's roots.
         #[inline]
-        fn block0_dyad(
+        fn block0_closed(
             &self,
             x: &[T; 1],
             q: &[T; 2],
@@ -7478,16 +7707,15 @@ pub mod rocker_four_bar {
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
             if options.closed_forms {
-                let [kx, ky, pa, ra, pb, rb] = self
-                    .block0_dyad(x, &st.q, tx, tp, &st.sc);
+                let r = self.block0_closed(x, &st.q, tx, tp, &st.sc);
                 ::mechgen::__private::solve_dyad(
                     0,
                     st,
                     0,
                     1,
-                    [kx, ky],
-                    (pa, ra),
-                    (pb, rb),
+                    [r[0], r[1]],
+                    (r[2], r[3]),
+                    (r[4], r[5]),
                     || self.params.length_scale(),
                     options.tolerance,
                     report,

@@ -65,18 +65,17 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
             #rt::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
                 |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
         };
-        match &bf.dyad {
-            Some(d) => {
-                let seg = b.segment(&d.roots);
+        match &bf.closed_form {
+            Some(cf) => {
+                let seg = b.segment(cf.roots());
                 let stmts = &seg.stmts;
-                let [kx, ky, pa, ra, pb, rb] = [0, 1, 2, 3, 4, 5].map(|i| &seg.roots[i]);
-                let (a, bu) = (d.a, d.b);
-                steps.extend(comment(&format!("Block {bi}: closed form (a dyad).")));
+                let call = crate::emit_closed::kernel_call(rt, bi, cf, &seg.roots);
+                let kind = crate::emit_closed::kind_text(cf);
+                steps.extend(comment(&format!("Block {bi}: {kind}.")));
                 steps.extend(quote! {
                     #stmts
                     if options.closed_forms {
-                        #rt::solve_dyad(#bi, st, #a, #bu, [#kx, #ky], (#pa, #ra), (#pb, #rb),
-                            || self.params.length_scale(), options.tolerance, report)?;
+                        #call
                     } else {
                         #newton
                     }

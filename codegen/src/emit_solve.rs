@@ -194,30 +194,31 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             .map(|&u| m.unknowns[u].kind == Kind::Length)
             .collect();
         let [pos_fn, vel_fn, acc_fn] = &names;
-        let pos_step = match &bf.dyad {
-            Some(d) => {
-                let dyad_fn = format_ident!("block{}_dyad", bi);
-                let b = body(dag, &d.roots, &cached);
+        let pos_step = match &bf.closed_form {
+            Some(cf) => {
+                let closed_fn = format_ident!("block{}_closed", bi);
+                let b = body(dag, cf.roots(), &cached);
                 let (stmts, r) = (&b.stmts, &b.roots);
-                let doc = format!(
-                    " {header} A dyad: K + M_a e({}) + M_b e({}) = 0; returns K, then (p, r) of M_a and of M_b.",
-                    m.unknowns[d.a].name.text, m.unknowns[d.b].name.text
-                );
+                let n = r.len();
+                let kind = crate::emit_closed::kind_text(cf);
+                let kind = format!("C{}", &kind[1..]);
+                let doc = format!(" {header} {kind}: the kernel's roots.");
                 block_fns.extend(quote! {
                     #[doc = #doc]
                     #[inline]
-                    fn #dyad_fn(&self, x: &[#gt; #ni], q: &[#gt; #nu], #ctx) -> [#gt; 6] {
+                    fn #closed_fn(&self, x: &[#gt; #ni], q: &[#gt; #nu], #ctx) -> [#gt; #n] {
                         #stmts
                         [#(#r),*]
                     }
                 });
-                let (a, bu) = (d.a, d.b);
-                let c_text = comment(&format!("{header} Closed form (a dyad)."));
+                let vals: Vec<TokenStream> = (0..n).map(|i| quote!(r[#i])).collect();
+                let call = crate::emit_closed::kernel_call(rt, bi, cf, &vals);
+                let c_text = comment(&format!("{header} {kind}."));
                 quote! {
                     #c_text
                     if options.closed_forms {
-                        let [kx, ky, pa, ra, pb, rb] = self.#dyad_fn(x, &st.q, tx, tp, &st.sc);
-                        #rt::solve_dyad(#bi, st, #a, #bu, [kx, ky], (pa, ra), (pb, rb), || self.params.length_scale(), options.tolerance, report)?;
+                        let r = self.#closed_fn(x, &st.q, tx, tp, &st.sc);
+                        #call
                     } else {
                         #rt::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
                             |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
@@ -249,13 +250,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
 
     let motion = crate::emit_motion::motion(c, &cached, rt);
     let angle_mask = &qm;
-    let mut closed_mask = vec![false; nu];
-    for bf in &c.blocks {
-        if let Some(d) = &bf.dyad {
-            closed_mask[d.a] = true;
-            closed_mask[d.b] = true;
-        }
-    }
+    let closed_mask = crate::emit_closed::closed_mask(c);
     let input_mask = &xm;
 
     quote! {

@@ -24,7 +24,11 @@ fn reduce<T: Real>(
     // `P = 0` (a slide along x; in generated code the literal zero, so this folds away): `|w| =
     // |Q|` without a square root, as the dyad takes `|p|`.
     let pure = w.0 == T::zero();
-    let ww = if pure { w.1 * w.1 } else { w.0 * w.0 + w.1 * w.1 };
+    let ww = if pure {
+        w.1 * w.1
+    } else {
+        w.0 * w.0 + w.1 * w.1
+    };
     if !(ww > T::zero()) {
         return Err(SolveError::Singular {
             block,

@@ -49,6 +49,7 @@ pub use tick::{Solution, Tick, TickState};
 /// changes with the generator, which always emits code for the runtime it ships with.
 #[doc(hidden)]
 pub mod __private {
+    pub use crate::closed_form;
     pub use crate::dyad::solve_dyad;
     pub use crate::dynamic::DynMechanism;
     pub use crate::elimination::factor_block;

@@ -23,7 +23,7 @@ pub fn check(name: &str, text: &str) -> Result<(), String> {
         Ok((mechs, warnings)) => {
             eprint!("{warnings}");
             for m in &mechs {
-                print_structure(&mechgen::DynMechanism::<f64>::info(m));
+                print_structure(&mechgen::DynMechanism::<f64>::info(m), &m.block_kinds());
             }
             Ok(())
         }
@@ -35,7 +35,7 @@ pub fn check(name: &str, text: &str) -> Result<(), String> {
     }
 }
 
-fn print_structure(info: &MechanismInfo) {
+fn print_structure(info: &MechanismInfo, kinds: &[String]) {
     let names = |v: &[CoordDesc]| {
         v.iter()
             .map(
@@ -58,9 +58,10 @@ fn print_structure(info: &MechanismInfo) {
     let blocks: Vec<String> = info
         .blocks
         .iter()
-        .map(|b| {
+        .zip(kinds)
+        .map(|(b, kind)| {
             let us: Vec<&str> = b.iter().map(|&u| info.unknowns[u].name.as_str()).collect();
-            format!("{}x{} [{}]", b.len(), b.len(), us.join(", "))
+            format!("{}x{} [{}] {kind}", b.len(), b.len(), us.join(", "))
         })
         .collect();
     say!("  blocks:   {}", blocks.join(" -> "));

@@ -152,7 +152,8 @@ pub(crate) fn sizes(m: &Model) -> (usize, usize, usize, usize) {
 /// `loop 2, y` for equation 3.
 pub(crate) fn equation_name(m: &Model, e: usize) -> String {
     let _ = m;
-    format!("loop {}, {}", e / 2 + 1, if e % 2 == 0 { "x" } else { "y" })
+    let e = crate::ir::lower::Equation(e);
+    format!("loop {}, {}", e.loop_index() + 1, e.axis().name())
 }
 
 /// Normalizes the syntax tree before printing: `quote` writes interpolated integers with their
@@ -182,16 +183,19 @@ impl syn::visit_mut::VisitMut for Tidy {
     }
 }
 
+use crate::ir::lower::Equation;
+
 /// `loop 1 (x, y), loop 2 (x)` for a block's equations.
 pub(crate) fn equations_text(eqs: &[usize]) -> String {
     let mut parts: Vec<String> = Vec::new();
     let mut i = 0;
     while i < eqs.len() {
-        let l = eqs[i] / 2;
+        let l = Equation(eqs[i]).loop_index();
         let comps: Vec<&str> = eqs[i..]
             .iter()
-            .take_while(|&&e| e / 2 == l)
-            .map(|&e| if e % 2 == 0 { "x" } else { "y" })
+            .map(|&e| Equation(e))
+            .take_while(|e| e.loop_index() == l)
+            .map(|e| e.axis().name())
             .collect();
         i += comps.len();
         parts.push(format!("loop {} ({})", l + 1, comps.join(", ")));

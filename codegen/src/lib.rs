@@ -11,12 +11,8 @@
 //! options) writes the solvers to `OUT_DIR`, for `mechgen::include_mechanisms!()`;
 //! [`generate_source`] gives the code as a string. [`build_script`] is mechgen's own build.
 
-// Float guards read better than float patterns; `% 2` is the loop component parity.
-#![allow(
-    clippy::redundant_guards,
-    clippy::manual_is_multiple_of,
-    clippy::needless_range_loop
-)]
+// Float guards read better than float patterns.
+#![allow(clippy::redundant_guards, clippy::needless_range_loop)]
 
 mod analysis;
 pub mod build_script;

@@ -18,6 +18,7 @@ use std::collections::HashMap;
 use crate::analysis::dyad::{Dyad, coefficient};
 use crate::analysis::structure::Block;
 use crate::ir::dag::{Dag, Node, NodeId, Var};
+use crate::ir::lower::Equation;
 use crate::sema::model::{Kind, Model};
 
 /// A closed-form block; unknowns are indices into the mechanism's unknowns, roots DAG nodes at
@@ -238,7 +239,7 @@ pub fn closed_form(
         .collect();
     match (block.unknowns.as_slice(), block.equations.as_slice()) {
         (&[k], &[e]) => one(dag, model, residuals[e], k),
-        (&[a, b], &[ex, ey]) if ex % 2 == 0 && ey == ex + 1 => match (kinds[0], kinds[1]) {
+        (&[a, b], &[ex, ey]) if Equation::one_loop(ex, ey) => match (kinds[0], kinds[1]) {
             (Kind::Angle, Kind::Angle) => {
                 crate::analysis::dyad::dyad(dag, model, residuals, block).map(ClosedForm::Rrr)
             }

@@ -8,6 +8,7 @@ use std::collections::HashMap;
 
 use crate::analysis::structure::Block;
 use crate::ir::dag::{Dag, Node, NodeId, Var};
+use crate::ir::lower::Equation;
 use crate::sema::model::{Kind, Model};
 
 /// A dyad block as DAG nodes: `K + M_a e(q_a) + M_b e(q_b) = 0`, `M = [[p, −r], [r, p]]`.
@@ -31,7 +32,7 @@ pub fn dyad(dag: &mut Dag, model: &Model, residuals: &[NodeId], block: &Block) -
     let (&[a, b], &[ex, ey]) = (block.unknowns.as_slice(), block.equations.as_slice()) else {
         return None;
     };
-    if ex % 2 != 0 || ey != ex + 1 {
+    if !Equation::one_loop(ex, ey) {
         return None;
     }
     if model.unknowns[a].kind != Kind::Angle || model.unknowns[b].kind != Kind::Angle {

@@ -10,10 +10,59 @@ use crate::sema::model::{Model, Symbol};
 #[derive(Clone, Debug)]
 pub struct System {
     pub dag: Dag,
-    /// Residual `2*l` is the x component of loop `l`, `2*l + 1` its y component.
+    /// Residual `2*l` is the x component of loop `l`, `2*l + 1` its y component ([`Equation`]
+    /// reads this layout; nothing else does).
     pub residuals: Vec<NodeId>,
     /// Each point's (x, y).
     pub points: Vec<[NodeId; 2]>,
+}
+
+/// Which component of its loop a scalar equation is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Axis {
+    X,
+    Y,
+}
+
+impl Axis {
+    pub fn name(self) -> &'static str {
+        match self {
+            Axis::X => "x",
+            Axis::Y => "y",
+        }
+    }
+}
+
+/// A scalar equation of the system: residual `index` (the layout invariant of [`System`]:
+/// residual `2 l` is loop `l`'s x component and `2 l + 1` its y component; nothing else reads
+/// the layout).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Equation(pub usize);
+
+impl Equation {
+    /// The two equations of loop `l`.
+    pub fn of_loop(l: usize) -> [Equation; 2] {
+        [Equation(2 * l), Equation(2 * l + 1)]
+    }
+
+    /// The loop it belongs to (0-based).
+    pub fn loop_index(self) -> usize {
+        self.0 / 2
+    }
+
+    pub fn axis(self) -> Axis {
+        if self.0.is_multiple_of(2) {
+            Axis::X
+        } else {
+            Axis::Y
+        }
+    }
+
+    /// Whether `[a, b]` are one loop's x and y, in that order.
+    pub fn one_loop(a: usize, b: usize) -> bool {
+        let (a, b) = (Equation(a), Equation(b));
+        a.axis() == Axis::X && b == Equation(a.0 + 1)
+    }
 }
 
 #[derive(Clone, Copy)]

@@ -3,7 +3,7 @@
 
 use crate::diagnostic::Diagnostic;
 use crate::ir::dag::{Dag, Node, NodeId};
-use crate::ir::lower::System;
+use crate::ir::lower::{Equation, System};
 use crate::sema::model::Model;
 
 /// A constant of the DAG that is not finite (`1e200*1e200`, `1/0` folded, or such a constant
@@ -17,7 +17,8 @@ pub fn overflow(model: &Model, system: &System) -> Option<Diagnostic> {
     }
     let message = "a constant of this expression is not finite (it overflows f64)";
     for (i, l) in model.loops.iter().enumerate() {
-        if non_finite_constant(dag, &system.residuals[2 * i..2 * i + 2]) {
+        let [x, y] = Equation::of_loop(i);
+        if non_finite_constant(dag, &[system.residuals[x.0], system.residuals[y.0]]) {
             return Some(Diagnostic::error(l.span, message).with_label("overflows"));
         }
     }

@@ -3,14 +3,15 @@
 
 use crate::analysis::structure::StructureError;
 use crate::diagnostic::Diagnostic;
-use crate::ir::lower::System;
+use crate::ir::lower::{Equation, System};
 use crate::sema::model::Model;
 
 /// The diagnostics of a structurally singular mechanism.
 pub fn structure_diagnostics(model: &Model, system: &System, e: StructureError) -> Vec<Diagnostic> {
     let eq = |i: usize| {
-        let l = &model.loops[i / 2];
-        let comp = if i % 2 == 0 { "x" } else { "y" };
+        let l = &model.loops[Equation(i).loop_index()];
+        let equation = Equation(i);
+        let comp = equation.axis().name();
         let what = if system
             .dag
             .as_const(system.residuals[i])
@@ -27,7 +28,7 @@ pub fn structure_diagnostics(model: &Model, system: &System, e: StructureError) 
             format!(
                 "mechanism `{}` is structurally singular: the {comp} equation of loop {} {what}",
                 model.name.text,
-                i / 2 + 1
+                equation.loop_index() + 1
             ),
         )
         .with_label(format!("{comp} component of this loop"))

@@ -5,6 +5,7 @@
 //! and the configurations at chosen inputs labelled with their circuit and branch.
 
 mod plan;
+mod report;
 mod roots;
 mod solve;
 mod trace;
@@ -79,6 +80,8 @@ pub struct Analysis {
     pub circuits: usize,
     pub branches: Vec<Branch>,
     pub dead_points: Vec<DeadPoint>,
+    /// The `at` inputs, as asked.
+    pub at_inputs: Vec<f64>,
     /// Every configuration at each `at` input, in the order asked, then by circuit and branch.
     pub at: Vec<Labelled>,
 }

@@ -21,10 +21,20 @@ pub struct Solver {
     pub(super) unknowns: usize,
 }
 
+thread_local! {
+    /// Registers of the tapes (reused: the cut's function is evaluated many times per input).
+    static REGS: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// The roots of `tape` at `(x, q)` into `out` (at most 6 are read).
+fn eval_into(tape: &Tape, x: &[f64], q: &[f64], p: &[f64], out: &mut [f64; 6]) {
+    REGS.with_borrow_mut(|regs| tape.eval(&Env::position(x, q, p), regs, out));
+}
+
 fn eval(tape: &Tape, x: &[f64], q: &[f64], p: &[f64]) -> Vec<f64> {
-    let mut out = vec![0.0; tape.outputs()];
-    tape.eval(&Env::position(x, q, p), &mut Vec::new(), &mut out);
-    out
+    let mut out = [0.0; 6];
+    eval_into(tape, x, q, p, &mut out);
+    out[..tape.outputs().min(6)].to_vec()
 }
 
 /// All modes of a closed form whose roots are `v`.
@@ -120,13 +130,18 @@ impl Solver {
         let p = &self.params;
         let mut q = q.to_vec();
         q[t.cut] = c;
+        let mut v = [0.0; 6];
         for (j, sub) in t.subs.iter().enumerate() {
-            let mut ms = expand(b, sub, x, &q, p).ok()?;
-            let bit = (sigma >> j) & 1;
-            if bit >= ms.len() {
+            eval_into(&sub.roots, x, &q, p, &mut v);
+            if v.iter().any(|x| !x.is_finite()) {
                 return None;
             }
-            q = ms.swap_remove(bit);
+            let ms = modes(b, &sub.form, &v).ok()?;
+            let m = ms.as_slice().get((sigma >> j) & 1)?;
+            let (idx, n) = slots(&sub.form);
+            for s in 0..n {
+                q[idx[s]] = m.values[s];
+            }
         }
         let value = match &t.last {
             Last::Scalar { roots } => eval(roots, x, &q, p)[0],

@@ -190,6 +190,7 @@ impl Setup {
             circuits: roots.len(),
             branches: branches.into_iter().map(|(_, b)| b).collect(),
             dead_points,
+            at_inputs: at.to_vec(),
             at: labelled,
         })
     }

@@ -194,11 +194,23 @@ impl Setup {
             }
             ivs.push(iv(lo.0, to, lo.1, None));
         }
+        // An angle's `at` inputs taken into the range's turn (reported as given).
+        let reduced: Vec<f64> = at
+            .iter()
+            .map(|&x| if circular { from + (x - from).rem_euclid(TAU) } else { x })
+            .collect();
         for v in &mut ivs {
-            let xs = trace::samples(v, &xs, at, width, circular);
+            let xs = trace::samples(v, &xs, &reduced, width, circular);
             v.tracks = self.track(&xs)?;
         }
-        self.structure(&ivs, dead, circular, from, to, at)
+        let mut a = self.structure(&ivs, dead, circular, from, to, &reduced)?;
+        a.at_inputs = at.to_vec();
+        for l in &mut a.at {
+            if let Some(k) = reduced.iter().position(|r| r.to_bits() == l.input.to_bits()) {
+                l.input = at[k];
+            }
+        }
+        Ok(a)
     }
 }
 

@@ -42,8 +42,9 @@ impl Setup {
         Ok(qs)
     }
 
-    /// Distance of two configurations: angles modulo 2π, lengths relative to the length scale.
-    pub(super) fn dist(&self, a: &[f64], b: &[f64]) -> f64 {
+    /// Distance of two configurations: angles modulo 2π, lengths relative to the length scale
+    /// (the largest of the unknowns' differences).
+    pub fn dist(&self, a: &[f64], b: &[f64]) -> f64 {
         a.iter()
             .zip(b)
             .zip(&self.angle)

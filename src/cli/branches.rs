@@ -132,3 +132,75 @@ pub fn summary(path: Option<&Path>, name: &str, length_range: (f64, f64)) -> Str
         Err(e) => format!("{name}: no branch analysis: {e}\n"),
     }
 }
+
+/// For a sweep of the first input (others at their start values) that stopped at a dead point:
+/// which branch it was on and which branch of the same circuit continues there, from the branch
+/// analysis. `None` when the sweep did not stop at a dead point or the analysis does not apply.
+pub fn sweep_note(
+    path: Option<&Path>,
+    name: &str,
+    index: usize,
+    held: bool,
+    rows: &[mechgen::sweep::Row],
+) -> Option<String> {
+    if index != 0 || held {
+        return None;
+    }
+    let stop = rows.iter().find_map(|r| r.stopped.filter(|s| s.at_dead_point()))?;
+    let compiled = compile(path).ok()?;
+    let c = compiled.iter().find(|c| c.model.name.text == name)?;
+    // The solved row nearest the stop (or, when none was solved, the start): its configuration
+    // picks the sweep's branch.
+    let start = (
+        c.model.inputs.first()?.start,
+        c.model.unknowns.iter().map(|u| u.start).collect::<Vec<_>>(),
+    );
+    let last = rows
+        .iter()
+        .filter_map(|r| r.result.as_ref().ok().map(|s| (r.input, s.q.clone())))
+        .min_by(|a, b| (a.0 - stop.input).abs().total_cmp(&(b.0 - stop.input).abs()))
+        .unwrap_or(start);
+    let setup = Setup::new(c, 0).ok()?;
+    let (from, to) = if setup.input_is_angle {
+        // The default range of `mechgen branches`, so that the labels are its labels.
+        (0.0, std::f64::consts::TAU)
+    } else {
+        let w = (stop.input - last.0).abs().max(setup.scale);
+        (last.0.min(stop.input) - w, last.0.max(stop.input) + w)
+    };
+    let a = setup.analyze(from, to, &[last.0]).ok()?;
+    let mine = a
+        .at
+        .iter()
+        .min_by(|x, y| setup.dist(&x.q, &last.1).total_cmp(&setup.dist(&y.q, &last.1)))?;
+    let gap = |d: f64| {
+        if setup.input_is_angle {
+            let g = (d - stop.input).rem_euclid(std::f64::consts::TAU);
+            g.min(std::f64::consts::TAU - g)
+        } else {
+            (d - stop.input).abs()
+        }
+    };
+    let (k, _) = a
+        .dead_points
+        .iter()
+        .enumerate()
+        .min_by(|x, y| gap(x.1.input).total_cmp(&gap(y.1.input)))?;
+    let other = a
+        .branches
+        .iter()
+        .enumerate()
+        .find(|(b, br)| *b != mine.branch && br.dead.contains(&Some(k)))?
+        .0;
+    let x = a.dead_points[k].input;
+    let shown = if setup.input_is_angle {
+        format!("{:.6} deg", x.to_degrees())
+    } else {
+        format!("{x:.6}")
+    };
+    Some(format!(
+        "branch analysis: the sweep followed branch {} (circuit {}); at the dead point {} = {shown} \
+         branch {other} of the same circuit continues (mechgen branches {name})",
+        mine.branch, mine.circuit, setup.input_name
+    ))
+}

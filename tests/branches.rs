@@ -20,9 +20,13 @@ fn setup_from(text: &str, name: &str) -> Setup {
 fn csv(name: &str) -> (Vec<String>, Vec<Vec<String>>) {
     let path = format!("{}/tests/data/branches/{name}", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines().filter(|l| !l.starts_with('#') && !l.is_empty());
+    let mut lines = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.is_empty());
     let head = lines.next().unwrap().split(',').map(String::from).collect();
-    let rows = lines.map(|l| l.split(',').map(String::from).collect()).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
     (head, rows)
 }
 
@@ -37,8 +41,16 @@ struct Bijection(HashMap<usize, usize>, HashMap<usize, usize>);
 
 impl Bijection {
     fn add(&mut self, theirs: usize, mine: usize, what: &str) {
-        assert_eq!(*self.0.entry(theirs).or_insert(mine), mine, "{what} {theirs}");
-        assert_eq!(*self.1.entry(mine).or_insert(theirs), theirs, "{what} {theirs}");
+        assert_eq!(
+            *self.0.entry(theirs).or_insert(mine),
+            mine,
+            "{what} {theirs}"
+        );
+        assert_eq!(
+            *self.1.entry(mine).or_insert(theirs),
+            theirs,
+            "{what} {theirs}"
+        );
     }
 }
 
@@ -48,10 +60,13 @@ fn against_oracle(name: &str) -> Analysis {
     let n = s.unknown_names.len();
     let angle = s.angle.clone();
     let close = |a: &[f64], b: &[f64]| {
-        a.iter()
-            .zip(b)
-            .zip(&angle)
-            .all(|((x, y), &ang)| if ang { gap(*x, *y) <= 1e-10 } else { (x - y).abs() <= 1e-10 })
+        a.iter().zip(b).zip(&angle).all(|((x, y), &ang)| {
+            if ang {
+                gap(*x, *y) <= 1e-10
+            } else {
+                (x - y).abs() <= 1e-10
+            }
+        })
     };
     let (_, at_rows) = csv(&format!("{name}-at.csv"));
     let mut inputs: Vec<f64> = at_rows.iter().map(|r| r[0].parse().unwrap()).collect();
@@ -60,8 +75,10 @@ fn against_oracle(name: &str) -> Analysis {
     let (mut circuits, mut branches) = (Bijection::default(), Bijection::default());
     let mut checked = 0;
     for &x in &inputs {
-        let theirs: Vec<&Vec<String>> =
-            at_rows.iter().filter(|r| r[0].parse::<f64>().unwrap() == x).collect();
+        let theirs: Vec<&Vec<String>> = at_rows
+            .iter()
+            .filter(|r| r[0].parse::<f64>().unwrap() == x)
+            .collect();
         let count: usize = theirs[0][n + 3].parse().unwrap();
         let mine: Vec<_> = a.at.iter().filter(|c| c.input == x).collect();
         assert_eq!(mine.len(), count, "{name} at {x}: configurations");
@@ -89,8 +106,15 @@ fn against_oracle(name: &str) -> Analysis {
             .iter()
             .find(|d| gap(d.input, x) <= 1e-10)
             .unwrap_or_else(|| panic!("{name}: dead point {x} not found"));
-        let err = d.q.iter().zip(&q).map(|(a, b)| gap(*a, *b)).fold(0.0, f64::max);
-        assert!(err <= 1e-6, "{name}: dead point {x}: configuration off by {err}");
+        let err =
+            d.q.iter()
+                .zip(&q)
+                .map(|(a, b)| gap(*a, *b))
+                .fold(0.0, f64::max);
+        assert!(
+            err <= 1e-6,
+            "{name}: dead point {x}: configuration off by {err}"
+        );
         circuits.add(r[n + 1].parse().unwrap(), d.circuit, "dead point circuit");
     }
     // Branches: the same ranges under the relabelling found above.
@@ -105,9 +129,15 @@ fn against_oracle(name: &str) -> Analysis {
         assert_eq!(mine.full_turn, r[4] == "true", "{name}: branch {theirs}");
         if !mine.full_turn {
             let (from, to): (f64, f64) = (r[2].parse().unwrap(), r[3].parse().unwrap());
-            assert!(gap(mine.from, from) <= 1e-10, "{name}: branch {theirs} from");
+            assert!(
+                gap(mine.from, from) <= 1e-10,
+                "{name}: branch {theirs} from"
+            );
             assert!(gap(mine.to, to) <= 1e-10, "{name}: branch {theirs} to");
-            assert!((mine.to - mine.from - (to - from)).abs() <= 1e-9, "{name}: arc");
+            assert!(
+                (mine.to - mine.from - (to - from)).abs() <= 1e-9,
+                "{name}: arc"
+            );
         }
     }
     assert_eq!(a.circuits, circuits_seen.len());
@@ -117,7 +147,10 @@ fn against_oracle(name: &str) -> Analysis {
 #[test]
 fn grashof_crank_rocker_two_circuits_no_dead_point() {
     let a = against_oracle("four_bar");
-    assert_eq!((a.circuits, a.dead_points.len(), a.branches.len()), (2, 0, 2));
+    assert_eq!(
+        (a.circuits, a.dead_points.len(), a.branches.len()),
+        (2, 0, 2)
+    );
 }
 
 #[test]
@@ -128,7 +161,11 @@ fn non_grashof_four_bar_one_circuit_and_its_analytic_dead_points() {
     let (l1, l2, l3, l4) = (0.3f64, 0.35, 0.3, 0.4);
     let q = ((l1 * l1 + l4 * l4 - (l2 + l3) * (l2 + l3)) / (2.0 * l1 * l4)).acos();
     for d in &a.dead_points {
-        assert!(gap(d.input.abs(), q) <= 1e-13 || gap(d.input, -q) <= 1e-13, "{}", d.input);
+        assert!(
+            gap(d.input.abs(), q) <= 1e-13 || gap(d.input, -q) <= 1e-13,
+            "{}",
+            d.input
+        );
     }
 }
 
@@ -137,7 +174,10 @@ fn seed_six_bar_and_sixbar_g_agree_with_the_oracle() {
     let a = against_oracle("sixbar");
     assert_eq!((a.circuits, a.dead_points.len()), (2, 0));
     let g = against_oracle("sixbar_g");
-    assert_eq!((g.circuits, g.branches.len(), g.dead_points.len()), (2, 6, 6));
+    assert_eq!(
+        (g.circuits, g.branches.len(), g.dead_points.len()),
+        (2, 6, 6)
+    );
 }
 
 #[test]
@@ -204,27 +244,50 @@ fn fixtures_and_other_files() {
                     }
                 };
                 let x0 = c.model.inputs[0].start;
-                let (from, to) = if s.input_is_angle { (-PI, PI) } else { (x0 - 0.1 * s.scale, x0 + 0.1 * s.scale) };
+                let (from, to) = if s.input_is_angle {
+                    (-PI, PI)
+                } else {
+                    (x0 - 0.1 * s.scale, x0 + 0.1 * s.scale)
+                };
                 let a = s
                     .analyze(from, to, &[x0])
                     .unwrap_or_else(|e| panic!("{} {}: {e}", path.display(), s.name));
                 let mut x = c.model.inputs.iter().map(|i| i.start).collect::<Vec<_>>();
                 // An angle `at` is taken into the analysed turn (as the analysis does).
-                x[0] = if s.input_is_angle { -PI + (x0 + PI).rem_euclid(TAU) } else { x0 };
+                x[0] = if s.input_is_angle {
+                    -PI + (x0 + PI).rem_euclid(TAU)
+                } else {
+                    x0
+                };
                 for l in &a.at {
                     let mut res = vec![0.0; 2 * c.model.loops.len()];
                     mechgen::Kinematics::<f64>::residual(g, &x, &l.q, &mut res).unwrap();
                     let worst = res.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                    assert!(worst <= 1e-9 * s.scale, "{} {}: residual {worst}", path.display(), s.name);
+                    assert!(
+                        worst <= 1e-9 * s.scale,
+                        "{} {}: residual {worst}",
+                        path.display(),
+                        s.name
+                    );
                 }
                 // The start configuration is one of them.
                 let start: Vec<f64> = c.model.unknowns.iter().map(|u| u.start).collect();
                 let near = a.at.iter().any(|l| {
                     l.q.iter().zip(&start).zip(&s.angle).all(|((a, b), &ang)| {
-                        if ang { gap(*a, *b) < 0.05 } else { (a - b).abs() < 0.05 * s.scale }
+                        if ang {
+                            gap(*a, *b) < 0.05
+                        } else {
+                            (a - b).abs() < 0.05 * s.scale
+                        }
                     })
                 });
-                assert!(near || a.at.is_empty(), "{} {}: start not among {:?}", path.display(), s.name, a.at);
+                assert!(
+                    near || a.at.is_empty(),
+                    "{} {}: start not among {:?}",
+                    path.display(),
+                    s.name,
+                    a.at
+                );
             }
         }
     }

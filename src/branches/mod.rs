@@ -165,7 +165,13 @@ impl Setup {
             }
         }
         let xs: Vec<f64> = (0..=CELLS)
-            .map(|i| if i == CELLS { to } else { from + (to - from) * i as f64 / CELLS as f64 })
+            .map(|i| {
+                if i == CELLS {
+                    to
+                } else {
+                    from + (to - from) * i as f64 / CELLS as f64
+                }
+            })
             .collect();
         let grid = xs
             .iter()
@@ -183,7 +189,11 @@ impl Setup {
         let m = dead.len();
         if circular && m > 0 {
             for k in 0..m {
-                let hi = if k + 1 < m { dead[k + 1].input } else { dead[0].input + TAU };
+                let hi = if k + 1 < m {
+                    dead[k + 1].input
+                } else {
+                    dead[0].input + TAU
+                };
                 ivs.push(iv(dead[k].input, hi, Some(k), Some((k + 1) % m)));
             }
         } else {
@@ -197,7 +207,13 @@ impl Setup {
         // An angle's `at` inputs taken into the range's turn (reported as given).
         let reduced: Vec<f64> = at
             .iter()
-            .map(|&x| if circular { from + (x - from).rem_euclid(TAU) } else { x })
+            .map(|&x| {
+                if circular {
+                    from + (x - from).rem_euclid(TAU)
+                } else {
+                    x
+                }
+            })
             .collect();
         for v in &mut ivs {
             let xs = trace::samples(v, &xs, &reduced, width, circular);
@@ -206,7 +222,10 @@ impl Setup {
         let mut a = self.structure(&ivs, dead, circular, from, to, &reduced)?;
         a.at_inputs = at.to_vec();
         for l in &mut a.at {
-            if let Some(k) = reduced.iter().position(|r| r.to_bits() == l.input.to_bits()) {
+            if let Some(k) = reduced
+                .iter()
+                .position(|r| r.to_bits() == l.input.to_bits())
+            {
                 l.input = at[k];
             }
         }

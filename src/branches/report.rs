@@ -53,7 +53,8 @@ impl Setup {
             let what = if b.full_turn {
                 "full turn (no dead point)".to_string()
             } else {
-                let end = |d: Option<usize>| d.map_or("range end".into(), |d| format!("dead point {d}"));
+                let end =
+                    |d: Option<usize>| d.map_or("range end".into(), |d| format!("dead point {d}"));
                 format!(
                     "{} from {} to {} ({} to {})",
                     self.input_name,
@@ -76,7 +77,10 @@ impl Setup {
             );
         }
         for &x in &a.at_inputs {
-            let here: Vec<_> = a.at.iter().filter(|c| c.input.to_bits() == x.to_bits()).collect();
+            let here: Vec<_> =
+                a.at.iter()
+                    .filter(|c| c.input.to_bits() == x.to_bits())
+                    .collect();
             let _ = writeln!(
                 s,
                 "  at {} = {}: {} configuration(s)",

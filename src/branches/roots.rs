@@ -8,7 +8,7 @@
 use std::f64::consts::PI;
 
 /// Samples of the cut's turn: `GRID` cells.
-pub(super) const GRID: usize = 240;
+pub(super) const GRID: usize = 120;
 
 /// Every zero of `f` on (−π, π], sorted, each once.
 pub(super) fn all_roots(f: &mut dyn FnMut(f64) -> Option<f64>) -> Vec<f64> {
@@ -175,7 +175,10 @@ mod tests {
         // Two roots 1e-6 apart inside one grid cell, and two far apart.
         let r = all_roots(&mut |t| Some((t - 0.3) * (t - 0.3 - 1e-6) * (t + 2.0) * (t - 2.5)));
         assert_eq!(r.len(), 4, "{r:?}");
-        assert!((r[2] - 0.3).abs() < 1e-14 && (r[3] - 0.300001).abs() < 1e-14, "{r:?}");
+        assert!(
+            (r[2] - 0.3).abs() < 1e-14 && (r[3] - 0.300001).abs() < 1e-14,
+            "{r:?}"
+        );
         // Defined only on (−1, 1): cos t − 0.9 has its roots ±acos 0.9 there.
         let r = all_roots(&mut |t| (t.abs() < 1.0).then(|| t.cos() - 0.9));
         assert_eq!(r.len(), 2);

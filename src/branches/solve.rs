@@ -43,7 +43,9 @@ fn modes(block: usize, form: &ClosedForm, v: &[f64]) -> Result<Modes<f64>, Solve
         ClosedForm::Rrr(_) => rrr_modes(block, [v[0], v[1]], (v[2], v[3]), (v[4], v[5])),
         ClosedForm::Rrp { .. } => rrp_modes(block, [v[0], v[1]], (v[2], v[3]), [v[4], v[5]]),
         ClosedForm::Rpr { .. } => rpr_modes(block, [v[0], v[1]], (v[2], v[3]), (v[4], v[5])),
-        ClosedForm::Linear2 { .. } => linear2_modes(block, [v[0], v[1]], [v[2], v[3]], [v[4], v[5]]),
+        ClosedForm::Linear2 { .. } => {
+            linear2_modes(block, [v[0], v[1]], [v[2], v[3]], [v[4], v[5]])
+        }
         ClosedForm::Angle1 { .. } => angle1_modes(block, v[0], (v[1], v[2])),
         ClosedForm::Length1 { .. } => length1_modes(block, v[0], v[1]),
     }

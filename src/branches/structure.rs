@@ -45,7 +45,9 @@ impl Setup {
                 Some(o)
             })
             .collect();
-        let nodes = offset.last().map_or(0, |o| o + ivs[ivs.len() - 1].tracks.len());
+        let nodes = offset
+            .last()
+            .map_or(0, |o| o + ivs[ivs.len() - 1].tracks.len());
         let (mut branch, mut circuit) = (Sets((0..nodes).collect()), Sets((0..nodes).collect()));
         let mut next = vec![None; nodes];
         let mut fold = vec![[false; 2]; nodes];
@@ -59,7 +61,11 @@ impl Setup {
             } else {
                 break;
             };
-            let ends: Vec<Vec<f64>> = ivs[i].tracks.iter().map(|t| t[t.len() - 1].1.clone()).collect();
+            let ends: Vec<Vec<f64>> = ivs[i]
+                .tracks
+                .iter()
+                .map(|t| t[t.len() - 1].1.clone())
+                .collect();
             let starts: Vec<Vec<f64>> = ivs[j].tracks.iter().map(|t| t[0].1.clone()).collect();
             let (mut left, mut right): (Vec<usize>, Vec<usize>) =
                 ((0..ends.len()).collect(), (0..starts.len()).collect());
@@ -148,7 +154,13 @@ impl Setup {
             ));
         }
         // Numbering: circuits by their lowest branch, branches by circuit then lower end.
-        let key = |b: &Branch| if circular { (b.from - from).rem_euclid(TAU) } else { b.from };
+        let key = |b: &Branch| {
+            if circular {
+                (b.from - from).rem_euclid(TAU)
+            } else {
+                b.from
+            }
+        };
         raw.sort_by(|a, b| {
             key(&a.2)
                 .total_cmp(&key(&b.2))
@@ -182,7 +194,15 @@ impl Setup {
             .collect();
         let labels: Vec<usize> = branches.iter().map(|(r, _)| *r).collect();
         let circuits_of: Vec<usize> = branches.iter().map(|(_, b)| b.circuit).collect();
-        let labelled = self.label(ivs, &offset, &labels, &circuits_of, &mut branch, circular, at)?;
+        let labelled = self.label(
+            ivs,
+            &offset,
+            &labels,
+            &circuits_of,
+            &mut branch,
+            circular,
+            at,
+        )?;
         Ok(Analysis {
             from,
             to,
@@ -198,7 +218,10 @@ impl Setup {
 
 /// The first unknown at a branch's lower end (a tie-break of the numbering).
 fn first(b: &Branch) -> f64 {
-    b.curve.first().and_then(|c| c.1.first().copied()).unwrap_or(0.0)
+    b.curve
+        .first()
+        .and_then(|c| c.1.first().copied())
+        .unwrap_or(0.0)
 }
 
 impl Setup {
@@ -215,7 +238,11 @@ impl Setup {
         circular: bool,
         at: &[f64],
     ) -> Result<Vec<Labelled>, String> {
-        let shifts: &[f64] = if circular { &[-TAU, 0.0, TAU, 2.0 * TAU] } else { &[0.0] };
+        let shifts: &[f64] = if circular {
+            &[-TAU, 0.0, TAU, 2.0 * TAU]
+        } else {
+            &[0.0]
+        };
         let width = ivs.last().map_or(1.0, |v| v.hi) - ivs.first().map_or(0.0, |v| v.lo);
         let mut out = Vec::new();
         for &x in at {

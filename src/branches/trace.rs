@@ -138,11 +138,8 @@ impl Setup {
         let Some(&x0) = xs.first() else {
             return Ok(Vec::new());
         };
-        let mut tracks: Vec<Vec<(f64, Vec<f64>)>> = self
-            .count(x0)?
-            .into_iter()
-            .map(|q| vec![(x0, q)])
-            .collect();
+        let mut tracks: Vec<Vec<(f64, Vec<f64>)>> =
+            self.count(x0)?.into_iter().map(|q| vec![(x0, q)]).collect();
         let m = tracks.len();
         if m == 0 {
             // Nothing to follow; the count is checked at the grid already.
@@ -183,7 +180,12 @@ impl Setup {
     }
 
     /// The configuration of `qs` each track continues to, when the match is unambiguous.
-    fn assign(&self, tracks: &[Vec<(f64, Vec<f64>)>], x: f64, qs: &[Vec<f64>]) -> Option<Vec<usize>> {
+    fn assign(
+        &self,
+        tracks: &[Vec<(f64, Vec<f64>)>],
+        x: f64,
+        qs: &[Vec<f64>],
+    ) -> Option<Vec<usize>> {
         let mut used = vec![false; qs.len()];
         let mut perm = Vec::with_capacity(tracks.len());
         for t in tracks {

@@ -83,8 +83,15 @@ pub fn run(args: &BranchesArgs) -> Result<(), String> {
         .iter()
         .find(|c| c.model.name.text == args.name)
         .ok_or_else(|| {
-            let names: Vec<&str> = compiled.iter().map(|c| c.model.name.text.as_str()).collect();
-            format!("no mechanism `{}` (the file has: {})", args.name, names.join(", "))
+            let names: Vec<&str> = compiled
+                .iter()
+                .map(|c| c.model.name.text.as_str())
+                .collect();
+            format!(
+                "no mechanism `{}` (the file has: {})",
+                args.name,
+                names.join(", ")
+            )
         })?;
     if args.file.is_none()
         && args.engine == Some(Engine::Generated)
@@ -99,8 +106,16 @@ pub fn run(args: &BranchesArgs) -> Result<(), String> {
     say!("(analysis: {:.1} ms)", elapsed.as_secs_f64() * 1e3);
     if let Some(dir) = &args.csv {
         let n = &setup.name;
-        write(dir, format!("{n}-dead-points.csv"), &setup.dead_points_csv(&analysis))?;
-        write(dir, format!("{n}-branches.csv"), &setup.branches_csv(&analysis))?;
+        write(
+            dir,
+            format!("{n}-dead-points.csv"),
+            &setup.dead_points_csv(&analysis),
+        )?;
+        write(
+            dir,
+            format!("{n}-branches.csv"),
+            &setup.branches_csv(&analysis),
+        )?;
         write(dir, format!("{n}-at.csv"), &setup.at_csv(&analysis))?;
     }
     if let Some(dir) = &args.plot {
@@ -146,7 +161,9 @@ pub fn sweep_note(
     if index != 0 || held {
         return None;
     }
-    let stop = rows.iter().find_map(|r| r.stopped.filter(|s| s.at_dead_point()))?;
+    let stop = rows
+        .iter()
+        .find_map(|r| r.stopped.filter(|s| s.at_dead_point()))?;
     let compiled = compile(path).ok()?;
     let c = compiled.iter().find(|c| c.model.name.text == name)?;
     // The solved row nearest the stop (or, when none was solved, the start): its configuration
@@ -158,7 +175,11 @@ pub fn sweep_note(
     let last = rows
         .iter()
         .filter_map(|r| r.result.as_ref().ok().map(|s| (r.input, s.q.clone())))
-        .min_by(|a, b| (a.0 - stop.input).abs().total_cmp(&(b.0 - stop.input).abs()))
+        .min_by(|a, b| {
+            (a.0 - stop.input)
+                .abs()
+                .total_cmp(&(b.0 - stop.input).abs())
+        })
         .unwrap_or(start);
     let setup = Setup::new(c, 0).ok()?;
     let (from, to) = if setup.input_is_angle {
@@ -169,10 +190,11 @@ pub fn sweep_note(
         (last.0.min(stop.input) - w, last.0.max(stop.input) + w)
     };
     let a = setup.analyze(from, to, &[last.0]).ok()?;
-    let mine = a
-        .at
-        .iter()
-        .min_by(|x, y| setup.dist(&x.q, &last.1).total_cmp(&setup.dist(&y.q, &last.1)))?;
+    let mine = a.at.iter().min_by(|x, y| {
+        setup
+            .dist(&x.q, &last.1)
+            .total_cmp(&setup.dist(&y.q, &last.1))
+    })?;
     let gap = |d: f64| {
         if setup.input_is_angle {
             let g = (d - stop.input).rem_euclid(std::f64::consts::TAU);

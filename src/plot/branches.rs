@@ -41,7 +41,11 @@ pub fn branches_svg(setup: &Setup, a: &Analysis) -> Result<String, PlotError> {
             let x = 20 + (i as i32 % 6) * 160;
             let y = 40 + (i as i32 / 6) * 16;
             header
-                .draw(&Text::new(label, (x, y), (FAMILY, 14).into_font().color(&color(i))))
+                .draw(&Text::new(
+                    label,
+                    (x, y),
+                    (FAMILY, 14).into_font().color(&color(i)),
+                ))
                 .map_err(drawing_error)?;
         }
         for (k, area) in body.split_evenly((n.max(1), 1)).iter().enumerate().take(n) {
@@ -71,7 +75,11 @@ pub fn branches_svg(setup: &Setup, a: &Analysis) -> Result<String, PlotError> {
                 .axis_desc_style((FAMILY, 15))
                 .x_label_formatter(&x_fmt)
                 .y_label_formatter(&y_fmt)
-                .x_desc(format!("{}{}", setup.input_name, if deg_in { " [deg]" } else { "" }))
+                .x_desc(format!(
+                    "{}{}",
+                    setup.input_name,
+                    if deg_in { " [deg]" } else { "" }
+                ))
                 .y_desc(format!("{}{unit}", setup.unknown_names[k]))
                 .draw()
                 .map_err(drawing_error)?;

@@ -13,6 +13,9 @@ use super::Setup;
 /// Grid cells over the range.
 pub(super) const CELLS: usize = 720;
 
+/// One traced configuration: its samples `(input, configuration)` in increasing input.
+pub(super) type Track = Vec<(f64, Vec<f64>)>;
+
 /// An interval between dead points (or range ends), inputs unwrapped.
 #[derive(Clone, Debug)]
 pub(super) struct Interval {
@@ -21,7 +24,7 @@ pub(super) struct Interval {
     /// Index of the dead point at each end, `None` at a range end.
     pub dead: [Option<usize>; 2],
     /// Per track, its samples `(input, configuration)` in increasing input.
-    pub tracks: Vec<Vec<(f64, Vec<f64>)>>,
+    pub tracks: Vec<Track>,
 }
 
 /// A dead point: its input and configuration.
@@ -134,7 +137,7 @@ impl Setup {
     }
 
     /// Follows every configuration across `[lo, hi]` through `xs` (sorted, inside the interval).
-    pub(super) fn track(&self, xs: &[f64]) -> Result<Vec<Vec<(f64, Vec<f64>)>>, String> {
+    pub(super) fn track(&self, xs: &[f64]) -> Result<Vec<Track>, String> {
         let Some(&x0) = xs.first() else {
             return Ok(Vec::new());
         };

@@ -167,6 +167,21 @@ fn non_grashof_four_bar_one_circuit_and_its_analytic_dead_points() {
             d.input
         );
     }
+    // At the dead point itself and 1e-12 rad to either side: one or two configurations there,
+    // two on the inner side, none on the outer, all labelled with the one circuit.
+    let s = setup_from(mechgen::source::SOURCE, "rocker_four_bar");
+    let x = a.dead_points[1].input;
+    let xs = [x, x + 1e-12, x - 1e-12];
+    let b = s.analyze(-PI, PI, &xs).unwrap();
+    let counts: Vec<usize> = xs
+        .iter()
+        .map(|&v| b.at.iter().filter(|c| c.input == v).count())
+        .collect();
+    assert!(
+        (1..=2).contains(&counts[0]) && counts[1] + counts[2] == 2,
+        "{counts:?}"
+    );
+    assert!(b.at.iter().all(|c| c.circuit == 0));
 }
 
 #[test]

@@ -42,13 +42,10 @@ pub(super) fn all_roots(f: &mut dyn FnMut(f64) -> Option<f64>) -> Vec<f64> {
     let mut roots = Vec::new();
     for w in s.windows(2) {
         let ((a, fa), (b, fb)) = (w[0], w[1]);
-        // Past π the cells repeat those after −π (sampled only for the minima below).
+        // The cell past π repeats the one after −π: a root in both is kept once (below).
         let (Some(fa), Some(fb)) = (fa, fb) else {
             continue;
         };
-        if a >= PI {
-            continue;
-        }
         if fa == 0.0 {
             roots.push(a);
         } else if fa * fb < 0.0 {
@@ -72,8 +69,10 @@ pub(super) fn all_roots(f: &mut dyn FnMut(f64) -> Option<f64>) -> Vec<f64> {
         }
     }
     roots.sort_by(f64::total_cmp);
-    roots.dedup_by(|x, y| (*x - *y).abs() <= 1e-13);
-    if roots.len() > 1 && roots[0] + 2.0 * PI - roots[roots.len() - 1] <= 1e-13 {
+    // The same root found twice (the seam's cell, or a near-double root refined from both
+    // sides) differs by rounding; two distinct roots this close are within ~1e-18 of a dead point.
+    roots.dedup_by(|x, y| (*x - *y).abs() <= 1e-9);
+    if roots.len() > 1 && roots[0] + 2.0 * PI - roots[roots.len() - 1] <= 1e-9 {
         roots.pop();
     }
     roots

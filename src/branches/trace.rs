@@ -241,7 +241,15 @@ pub(super) fn samples(
     let (lo, hi) = (iv.lo, iv.hi);
     let span = hi - lo;
     let mut xs: Vec<f64> = Vec::new();
-    let inside = |x: f64| x > lo && x < hi;
+    // Closer to a dead end than the nearest geometric sample, a sample is left out (the count
+    // there may be the dead point's own); an `at` input there is labelled by its nearest sample.
+    let guard = 0.5e-10 * width.abs();
+    let inside = |x: f64| {
+        x > lo
+            && x < hi
+            && (iv.dead[0].is_none() || x > lo + guard)
+            && (iv.dead[1].is_none() || x < hi - guard)
+    };
     for &g in grid.iter().chain(at) {
         for k in [-1.0, 0.0, 1.0, 2.0] {
             let x = g + k * if circular { TAU } else { 0.0 };

@@ -87,3 +87,5 @@ pub use generated::*;
 pub mod source {
     include!(concat!(env!("OUT_DIR"), "/mechanism_source.rs"));
 }
+#[cfg(feature = "runtime")]
+pub mod branches;

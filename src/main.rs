@@ -21,6 +21,7 @@ fn main() -> ExitCode {
         None => cli::run::main_job(&parsed.main),
         Some(Command::Sweep(args)) => cli::run::sweep(&args),
         Some(Command::Check(args)) => cli::check::run(args.file.as_deref()),
+        Some(Command::Branches(args)) => cli::branches::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -37,7 +37,7 @@ use ir::dag;
 use sema::model as check;
 
 pub use analysis::Compiled;
-pub use analysis::closed_form::ClosedForm;
+pub use analysis::closed_form::{ClosedForm, closed_form as classify_closed_form};
 pub use analysis::dyad::Dyad;
 pub use analysis::plan::BlockForms;
 pub use analysis::scene::{Order, ScenePlan, plan_scene, plan_scenes};

@@ -38,6 +38,38 @@ pub enum Command {
     /// Validate a mechanism file and print its mechanisms, sizes and block structure, or every
     /// error as FILE:LINE:COLUMN.
     Check(CheckArgs),
+    /// Every circuit, branch and dead point of a mechanism along its first input, and every
+    /// assembly configuration at chosen inputs.
+    Branches(BranchesArgs),
+}
+
+/// `mechgen branches NAME [options]`.
+#[derive(Debug, Args)]
+pub struct BranchesArgs {
+    /// The mechanism, as named in the file ([mechanism.NAME]).
+    pub name: String,
+    /// Load the mechanism from this file at run time instead of the compiled-in mechanism.toml.
+    #[arg(long, value_name = "PATH")]
+    pub file: Option<PathBuf>,
+    /// As for sweep; both engines give the same analysis (it is made from the file's analysis).
+    #[arg(long, value_enum)]
+    pub engine: Option<Engine>,
+    /// Start of the input range: degrees for an angle input, file units for a length input
+    /// [default: a full turn for an angle; required for a length].
+    #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
+    pub from: Option<f64>,
+    /// End of the input range [default: --from + 360 for an angle; required for a length].
+    #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
+    pub to: Option<f64>,
+    /// An input at which to list every assembly configuration (repeatable).
+    #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
+    pub at: Vec<f64>,
+    /// Write NAME-dead-points.csv, NAME-branches.csv and NAME-at.csv into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub csv: Option<PathBuf>,
+    /// Write DIR/NAME-branches.svg: every unknown against the input, one colour per branch.
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
 }
 
 /// Which solvers a sweep uses.

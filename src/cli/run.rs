@@ -176,6 +176,12 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
         swept.rows.len(),
         swept.table(&info)
     );
+    let held = !swept.plan.held.is_empty();
+    if let Some(note) =
+        super::branches::sweep_note(file, &args.name, swept.plan.index, held, &swept.rows)
+    {
+        say!("{note}");
+    }
     if let Some(path) = &args.csv {
         std::fs::write(path, report::csv(&info, swept.plan.index, &swept.rows))
             .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
@@ -314,6 +320,9 @@ fn main_job_one(
     let swept = run_plan(sel.solver.as_ref(), &info, plan, 1.0)?;
     say!("{} — {}", info.name, info.description);
     say!("{}", swept.table(&info));
+    let range = main_job_range(&info);
+    let lengths = (range.from.unwrap_or(-1.0), range.to.unwrap_or(1.0));
+    say_raw!("{}", super::branches::summary(file, name, lengths));
     let path = dir.join(format!("{name}.csv"));
     std::fs::write(&path, report::csv(&info, swept.plan.index, &swept.rows))
         .map_err(|e| format!("cannot write {}: {e}", path.display()))?;

@@ -6,6 +6,8 @@
 
 mod animation;
 mod axis;
+#[cfg(feature = "runtime")]
+mod branches;
 mod drawing;
 #[cfg(feature = "runtime")]
 mod frames;
@@ -21,6 +23,8 @@ use plotters::style::{FontStyle, RGBColor};
 use axis::{Ticked, tick_text, ticks};
 
 pub use animation::animation_svg;
+#[cfg(feature = "runtime")]
+pub use branches::branches_svg;
 pub use drawing::{Frame, Slider, drawing_svg, point_paths};
 #[cfg(feature = "runtime")]
 pub use frames::{sweep_frames, write_animation};

@@ -1,0 +1,236 @@
+//! Branch identification (feature `runtime`): the whole configuration space of a mechanism along
+//! one input, from the generator's analysis ([`Compiled`]), the same for both engines. Every
+//! assembly configuration at an input (closed-form blocks by their modes, other blocks torn at a
+//! cut angle: `plan`, `solve`, `roots`), the dead points, the circuits and the branches (`trace`),
+//! and the configurations at chosen inputs labelled with their circuit and branch.
+
+mod plan;
+mod report;
+mod roots;
+mod solve;
+mod trace;
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::f64::consts::TAU;
+
+use mechgen_codegen::{Compiled, Kind};
+
+pub use solve::Solver;
+use trace::{CELLS, Interval};
+
+/// A mechanism prepared for branch identification along one input (the others held).
+#[derive(Clone, Debug)]
+pub struct Setup {
+    solver: Solver,
+    inputs: Vec<f64>,
+    /// Index of the analysed input.
+    pub input: usize,
+    pub input_is_angle: bool,
+    /// Per unknown: whether it is an angle.
+    pub angle: Vec<bool>,
+    /// The largest length param (or 1): lengths are compared relative to it.
+    pub scale: f64,
+    pub name: String,
+    pub input_name: String,
+    pub unknown_names: Vec<String>,
+    /// Configurations already computed in this analysis, by the input's bits.
+    cache: RefCell<HashMap<u64, Vec<Vec<f64>>>>,
+}
+
+/// A dead point: the input where the configuration curve turns back, its configuration, circuit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DeadPoint {
+    pub input: f64,
+    pub q: Vec<f64>,
+    pub circuit: usize,
+}
+
+/// A branch: a circuit's piece between dead points (or range ends) along which the input drives
+/// the motion one way. It covers the inputs from `from` going up to `to` (`to` may pass a full
+/// turn), or the whole turn (`full_turn`, no dead point on it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Branch {
+    pub circuit: usize,
+    pub from: f64,
+    pub to: f64,
+    pub full_turn: bool,
+    /// Indices into [`Analysis::dead_points`] of the dead points at its ends.
+    pub dead: [Option<usize>; 2],
+    /// Traced samples `(input, configuration)` in increasing input (for plots).
+    pub curve: Vec<(f64, Vec<f64>)>,
+}
+
+/// One assembly configuration at an `at` input, with its labels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Labelled {
+    pub input: f64,
+    pub q: Vec<f64>,
+    pub circuit: usize,
+    pub branch: usize,
+}
+
+/// The configuration space along the input over a range.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Analysis {
+    pub from: f64,
+    pub to: f64,
+    /// The range is a whole turn of an angle input (a circle).
+    pub full_turn: bool,
+    pub circuits: usize,
+    pub branches: Vec<Branch>,
+    pub dead_points: Vec<DeadPoint>,
+    /// The `at` inputs, as asked.
+    pub at_inputs: Vec<f64>,
+    /// Every configuration at each `at` input, in the order asked, then by circuit and branch.
+    pub at: Vec<Labelled>,
+}
+
+impl Setup {
+    /// Prepares mechanism `c` along input `input`, the other inputs held at their start values.
+    pub fn new(c: &Compiled, input: usize) -> Result<Setup, String> {
+        let m = &c.model;
+        if input >= m.inputs.len() {
+            return Err(format!("`{}` has no input {input}", m.name.text));
+        }
+        let steps = plan::plan(c)?;
+        let scale = m
+            .params
+            .iter()
+            .filter(|p| p.kind == Kind::Length && p.value.is_finite())
+            .map(|p| p.value.abs())
+            .fold(0.0, f64::max);
+        Ok(Setup {
+            solver: Solver {
+                steps,
+                params: m.params.iter().map(|p| p.value).collect(),
+                unknowns: m.unknowns.len(),
+            },
+            inputs: m.inputs.iter().map(|i| i.start).collect(),
+            input,
+            input_is_angle: m.inputs[input].kind == Kind::Angle,
+            angle: m.unknowns.iter().map(|u| u.kind == Kind::Angle).collect(),
+            scale: if scale > 0.0 { scale } else { 1.0 },
+            name: m.name.text.clone(),
+            input_name: m.inputs[input].name.text.clone(),
+            unknown_names: m.unknowns.iter().map(|u| u.name.text.clone()).collect(),
+            cache: RefCell::default(),
+        })
+    }
+
+    /// Every assembly configuration at input value `x` (radians or file units).
+    pub fn configurations(&self, x: f64) -> Result<Vec<Vec<f64>>, String> {
+        if !x.is_finite() {
+            return Err(format!("input {x} is not finite"));
+        }
+        let mut inputs = self.inputs.clone();
+        inputs[self.input] = x;
+        self.solver
+            .configurations(&inputs)
+            .map_err(|e| format!("`{}` at {} = {x}: {e}", self.name, self.input_name))
+    }
+
+    /// Pairs of `a` and `b` matched by increasing distance (each used once).
+    fn greedy(&self, a: &[Vec<f64>], b: &[Vec<f64>]) -> Vec<(usize, usize)> {
+        let mut d: Vec<(f64, usize, usize)> = Vec::new();
+        for (i, x) in a.iter().enumerate() {
+            for (j, y) in b.iter().enumerate() {
+                d.push((self.dist(x, y), i, j));
+            }
+        }
+        d.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let (mut ua, mut ub) = (vec![false; a.len()], vec![false; b.len()]);
+        let mut out = Vec::new();
+        for (_, i, j) in d {
+            if !ua[i] && !ub[j] {
+                (ua[i], ub[j]) = (true, true);
+                out.push((i, j));
+            }
+        }
+        out
+    }
+
+    /// Analyses the range `[from, to]` of the input (a full turn of an angle input is a circle)
+    /// and labels every configuration at each of `at`.
+    pub fn analyze(&self, from: f64, to: f64, at: &[f64]) -> Result<Analysis, String> {
+        if !(from.is_finite() && to.is_finite() && to > from) {
+            return Err(format!("the range {from} to {to} is empty or not finite"));
+        }
+        self.cache.borrow_mut().clear();
+        let circular = self.input_is_angle && to - from >= TAU * (1.0 - 1e-12);
+        let to = if circular { from + TAU } else { to };
+        for &x in at {
+            if !x.is_finite() || (!circular && !(from..=to).contains(&x)) {
+                return Err(format!("--at {x} is outside the range {from} to {to}"));
+            }
+        }
+        let xs: Vec<f64> = (0..=CELLS)
+            .map(|i| {
+                if i == CELLS {
+                    to
+                } else {
+                    from + (to - from) * i as f64 / CELLS as f64
+                }
+            })
+            .collect();
+        let grid = xs
+            .iter()
+            .map(|&x| self.count(x))
+            .collect::<Result<Vec<_>, _>>()?;
+        let dead = self.dead_points(&xs, &grid)?;
+        let width = if self.input_is_angle { 1.0 } else { to - from };
+        let mut ivs: Vec<Interval> = Vec::new();
+        let iv = |lo: f64, hi: f64, a: Option<usize>, b: Option<usize>| Interval {
+            lo,
+            hi,
+            dead: [a, b],
+            tracks: Vec::new(),
+        };
+        let m = dead.len();
+        if circular && m > 0 {
+            for k in 0..m {
+                let hi = if k + 1 < m {
+                    dead[k + 1].input
+                } else {
+                    dead[0].input + TAU
+                };
+                ivs.push(iv(dead[k].input, hi, Some(k), Some((k + 1) % m)));
+            }
+        } else {
+            let mut lo = (from, None);
+            for (k, d) in dead.iter().enumerate() {
+                ivs.push(iv(lo.0, d.input, lo.1, Some(k)));
+                lo = (d.input, Some(k));
+            }
+            ivs.push(iv(lo.0, to, lo.1, None));
+        }
+        // An angle's `at` inputs taken into the range's turn (reported as given).
+        let reduced: Vec<f64> = at
+            .iter()
+            .map(|&x| {
+                if circular {
+                    from + (x - from).rem_euclid(TAU)
+                } else {
+                    x
+                }
+            })
+            .collect();
+        for v in &mut ivs {
+            let xs = trace::samples(v, &xs, &reduced, width, circular);
+            v.tracks = self.track(&xs)?;
+        }
+        let mut a = self.structure(&ivs, dead, circular, from, to, &reduced)?;
+        a.at_inputs = at.to_vec();
+        for l in &mut a.at {
+            if let Some(k) = reduced
+                .iter()
+                .position(|r| r.to_bits() == l.input.to_bits())
+            {
+                l.input = at[k];
+            }
+        }
+        Ok(a)
+    }
+}
+
+mod structure;

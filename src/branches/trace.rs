@@ -1,0 +1,282 @@
+//! Branch identification, tracing: the number of configurations on a grid of the input; each cell
+//! where it changes holds a dead point, bisected on the count to rounding level (its
+//! configuration: the midpoint of the two that merge). The dead points cut the range into
+//! intervals of constant count; on each, every configuration is followed from end to end (grid
+//! samples, geometric samples down to 1e-10 from a dead point, the `--at` inputs; a linear
+//! predictor and an unambiguous nearest match, halving the step otherwise). At a dead point the
+//! two tracks that merge are joined as a fold (one circuit, two branches), the others continue.
+
+use std::f64::consts::TAU;
+
+use super::Setup;
+
+/// Grid cells over the range.
+pub(super) const CELLS: usize = 720;
+
+/// One traced configuration: its samples `(input, configuration)` in increasing input.
+pub(super) type Track = Vec<(f64, Vec<f64>)>;
+
+/// An interval between dead points (or range ends), inputs unwrapped.
+#[derive(Clone, Debug)]
+pub(super) struct Interval {
+    pub lo: f64,
+    pub hi: f64,
+    /// Index of the dead point at each end, `None` at a range end.
+    pub dead: [Option<usize>; 2],
+    /// Per track, its samples `(input, configuration)` in increasing input.
+    pub tracks: Vec<Track>,
+}
+
+/// A dead point: its input and configuration.
+#[derive(Clone, Debug)]
+pub(super) struct Dead {
+    pub input: f64,
+    pub q: Vec<f64>,
+}
+
+impl Setup {
+    /// [`Setup::configurations`], remembered for the analysis.
+    pub(super) fn count(&self, x: f64) -> Result<Vec<Vec<f64>>, String> {
+        if let Some(qs) = self.cache.borrow().get(&x.to_bits()) {
+            return Ok(qs.clone());
+        }
+        let qs = self.configurations(x)?;
+        self.cache.borrow_mut().insert(x.to_bits(), qs.clone());
+        Ok(qs)
+    }
+
+    /// Distance of two configurations: angles modulo 2π, lengths relative to the length scale
+    /// (the largest of the unknowns' differences).
+    pub fn dist(&self, a: &[f64], b: &[f64]) -> f64 {
+        a.iter()
+            .zip(b)
+            .zip(&self.angle)
+            .map(|((x, y), &ang)| {
+                if ang {
+                    let d = (x - y).rem_euclid(TAU);
+                    d.min(TAU - d)
+                } else {
+                    (x - y).abs() / self.scale
+                }
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// The midpoint of two nearby configurations (angles through their short arc).
+    fn midpoint(&self, a: &[f64], b: &[f64]) -> Vec<f64> {
+        a.iter()
+            .zip(b)
+            .zip(&self.angle)
+            .map(|((x, y), &ang)| {
+                if ang {
+                    let d = (y - x + TAU / 2.0).rem_euclid(TAU) - TAU / 2.0;
+                    let m = (x + 0.5 * d).rem_euclid(TAU);
+                    if m > TAU / 2.0 { m - TAU } else { m }
+                } else {
+                    0.5 * (x + y)
+                }
+            })
+            .collect()
+    }
+
+    /// The closest pair among `qs`.
+    pub(super) fn closest_pair(&self, qs: &[Vec<f64>]) -> Option<(usize, usize)> {
+        let mut best: Option<(f64, usize, usize)> = None;
+        for i in 0..qs.len() {
+            for j in i + 1..qs.len() {
+                let d = self.dist(&qs[i], &qs[j]);
+                if best.is_none_or(|b| d < b.0) {
+                    best = Some((d, i, j));
+                }
+            }
+        }
+        best.map(|b| (b.1, b.2))
+    }
+
+    /// Dead points in `[from, to]` (grid `xs` with their configurations), by input.
+    pub(super) fn dead_points(
+        &self,
+        xs: &[f64],
+        grid: &[Vec<Vec<f64>>],
+    ) -> Result<Vec<Dead>, String> {
+        let mut dead: Vec<Dead> = Vec::new();
+        for i in 0..xs.len() - 1 {
+            let (c0, c1) = (grid[i].len(), grid[i + 1].len());
+            if c0 == c1 {
+                continue;
+            }
+            let (mut lo, mut hi) = (xs[i], xs[i + 1]);
+            let (mut qlo, mut qhi) = (grid[i].clone(), grid[i + 1].clone());
+            for _ in 0..200 {
+                let m = 0.5 * (lo + hi);
+                if m <= lo || m >= hi {
+                    break;
+                }
+                // Keep the full count on its side (at the dead point itself the count is odd).
+                let qm = self.count(m)?;
+                if (qm.len() >= c0.max(c1)) == (c0 > c1) {
+                    (lo, qlo) = (m, qm);
+                } else {
+                    (hi, qhi) = (m, qm);
+                }
+            }
+            let more = if c0 > c1 { &qlo } else { &qhi };
+            let Some((a, b)) = self.closest_pair(more) else {
+                continue;
+            };
+            let input = 0.5 * (lo + hi);
+            if dead.last().is_some_and(|d| (d.input - input).abs() <= 1e-9) {
+                continue;
+            }
+            dead.push(Dead {
+                input,
+                q: self.midpoint(&more[a], &more[b]),
+            });
+        }
+        Ok(dead)
+    }
+
+    /// Follows every configuration across `[lo, hi]` through `xs` (sorted, inside the interval).
+    pub(super) fn track(&self, xs: &[f64]) -> Result<Vec<Track>, String> {
+        let Some(&x0) = xs.first() else {
+            return Ok(Vec::new());
+        };
+        let mut tracks: Vec<Vec<(f64, Vec<f64>)>> =
+            self.count(x0)?.into_iter().map(|q| vec![(x0, q)]).collect();
+        let m = tracks.len();
+        if m == 0 {
+            // Nothing to follow; the count is checked at the grid already.
+            return Ok(tracks);
+        }
+        let mut pending: Vec<f64> = xs[1..].iter().rev().copied().collect();
+        let mut depth = 0;
+        while let Some(x) = pending.pop() {
+            let qs = self.count(x)?;
+            if qs.len() != m {
+                return Err(format!(
+                    "the number of configurations changes inside an interval near input {x} \
+                     ({m} then {}): two dead points closer than the grid",
+                    qs.len()
+                ));
+            }
+            let last = tracks[0].last().map_or(x0, |p| p.0);
+            match self.assign(&tracks, x, &qs) {
+                Some(perm) => {
+                    depth = 0;
+                    for (j, k) in perm.into_iter().enumerate() {
+                        tracks[j].push((x, qs[k].clone()));
+                    }
+                }
+                None if depth < 40 && (x - last).abs() > 1e-13 => {
+                    depth += 1;
+                    pending.push(x);
+                    pending.push(0.5 * (last + x));
+                }
+                None => {
+                    return Err(format!(
+                        "configurations cannot be told apart near input {x} (a crossing?)"
+                    ));
+                }
+            }
+        }
+        Ok(tracks)
+    }
+
+    /// The configuration of `qs` each track continues to, when the match is unambiguous.
+    fn assign(
+        &self,
+        tracks: &[Vec<(f64, Vec<f64>)>],
+        x: f64,
+        qs: &[Vec<f64>],
+    ) -> Option<Vec<usize>> {
+        let mut used = vec![false; qs.len()];
+        let mut perm = Vec::with_capacity(tracks.len());
+        for t in tracks {
+            let (x1, q1) = &t[t.len() - 1];
+            let predicted: Vec<f64> = match t.len() {
+                1 => q1.clone(),
+                n => {
+                    let (x0, q0) = &t[n - 2];
+                    let r = (x - x1) / (x1 - x0);
+                    q1.iter()
+                        .zip(q0)
+                        .zip(&self.angle)
+                        .map(|((a, b), &ang)| {
+                            let d = if ang {
+                                (a - b + TAU / 2.0).rem_euclid(TAU) - TAU / 2.0
+                            } else {
+                                a - b
+                            };
+                            a + d * r
+                        })
+                        .collect()
+                }
+            };
+            let mut d: Vec<(f64, usize)> = qs
+                .iter()
+                .enumerate()
+                .map(|(k, q)| (self.dist(&predicted, q), k))
+                .collect();
+            d.sort_by(|a, b| a.0.total_cmp(&b.0));
+            if d.len() > 1 && d[0].0 > 0.5 * d[1].0 {
+                return None;
+            }
+            if std::mem::replace(&mut used[d[0].1], true) {
+                return None;
+            }
+            perm.push(d[0].1);
+        }
+        Some(perm)
+    }
+}
+
+/// Samples of an interval: the grid inside it, geometric ones near dead ends, the `at` inputs.
+pub(super) fn samples(
+    iv: &Interval,
+    grid: &[f64],
+    at: &[f64],
+    width: f64,
+    circular: bool,
+) -> Vec<f64> {
+    let (lo, hi) = (iv.lo, iv.hi);
+    let span = hi - lo;
+    let mut xs: Vec<f64> = Vec::new();
+    // Closer to a dead end than the nearest geometric sample, a sample is left out (the count
+    // there may be the dead point's own); an `at` input there is labelled by its nearest sample.
+    let guard = 0.5e-10 * width.abs();
+    let inside = |x: f64| {
+        x > lo
+            && x < hi
+            && (iv.dead[0].is_none() || x > lo + guard)
+            && (iv.dead[1].is_none() || x < hi - guard)
+    };
+    for &g in grid.iter().chain(at) {
+        for k in [-1.0, 0.0, 1.0, 2.0] {
+            let x = g + k * if circular { TAU } else { 0.0 };
+            if inside(x) || (x == lo && iv.dead[0].is_none()) || (x == hi && iv.dead[1].is_none()) {
+                xs.push(x);
+            }
+        }
+    }
+    let w = width.abs();
+    for k in 2..=10 {
+        let off = w * 10f64.powi(-k);
+        if off < 0.25 * span {
+            if iv.dead[0].is_some() {
+                xs.push(lo + off);
+            }
+            if iv.dead[1].is_some() {
+                xs.push(hi - off);
+            }
+        }
+    }
+    if iv.dead[0].is_none() {
+        xs.push(lo);
+    }
+    if iv.dead[1].is_none() {
+        xs.push(hi);
+    }
+    xs.sort_by(f64::total_cmp);
+    xs.dedup_by(|a, b| (*a - *b).abs() <= 1e-14 * (1.0 + a.abs()));
+    xs
+}

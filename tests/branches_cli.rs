@@ -1,0 +1,121 @@
+//! `mechgen branches NAME` (interfaces.md): the summary, the three CSV files with their exact
+//! columns and consistent labels, the plot, `--file` with a length input, and the errors.
+#![cfg(feature = "cli")]
+
+use std::process::{Command, Output};
+
+fn mechgen(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_mechgen"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("mechgen runs")
+}
+
+fn dir(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("mechgen-branches-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn sixbar_g_summary_csv_and_plot() {
+    let d = dir("g");
+    let ds = d.to_str().unwrap();
+    let out = mechgen(&[
+        "branches", "sixbar_g", "--at", "280.67", "--at", "-100", "--at", "0", "--csv", ds,
+        "--plot", ds,
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("2 circuit(s), 6 branch(es), 6 dead point(s)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("at q6 = 0.0000000000 deg: 0 configuration(s)"),
+        "{text}"
+    );
+    let read = |f: &str| std::fs::read_to_string(d.join(f)).unwrap();
+    let dead = read("sixbar_g-dead-points.csv");
+    assert!(dead.starts_with("input,q1,q2,q3,q5,circuit\n"));
+    assert_eq!(dead.lines().count(), 7);
+    let branches = read("sixbar_g-branches.csv");
+    assert!(branches.starts_with("branch,circuit,input_from,input_to,full_turn\n"));
+    assert_eq!(branches.lines().count(), 7);
+    let at = read("sixbar_g-at.csv");
+    assert!(at.starts_with("input,q1,q2,q3,q5,circuit,branch\n"));
+    // 2 configurations at 280.67°, 4 at −100°, none at 0°.
+    assert_eq!(at.lines().count(), 7);
+    // Each `at` row's circuit is its branch's circuit in branches.csv.
+    let circuit_of: Vec<String> = branches
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().to_string())
+        .collect();
+    for l in at.lines().skip(1) {
+        let f: Vec<&str> = l.split(',').collect();
+        let b: usize = f[6].parse().unwrap();
+        assert_eq!(circuit_of[b], f[5]);
+    }
+    for text in [&dead, &branches, &at] {
+        assert!(!text.contains("NaN") && !text.contains("inf"));
+    }
+    let svg = read("sixbar_g-branches.svg");
+    assert!(svg.starts_with("<svg") && svg.contains("branch 5 (circuit 1)"));
+}
+
+#[test]
+fn length_input_through_file_and_errors() {
+    let d = dir("len");
+    let file = d.join("slid.toml");
+    std::fs::write(
+        &file,
+        "[mechanism.slid]\ninputs = [\"sC\"]\nunknowns = [\"q1\", \"q2\"]\n\
+         loops = [\"r*e(q1) + l*e(q2) - sC - c(0, off)\"]\n\
+         params = { r = 0.05, l = 0.2, off = 0.02 }\nstart = { sC = 0.2, q1 = 1.6, q2 = -0.15 }\n",
+    )
+    .unwrap();
+    let f = file.to_str().unwrap();
+    let out = mechgen(&[
+        "branches", "slid", "--file", f, "--from", "-0.3", "--to", "0.3", "--at", "0.2",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("2 circuit(s), 4 branch(es), 4 dead point(s)"),
+        "{text}"
+    );
+    // A length input needs its range; a name that is not there; generated with --file.
+    assert!(!mechgen(&["branches", "slid", "--file", f]).status.success());
+    assert!(!mechgen(&["branches", "nothing"]).status.success());
+    assert!(
+        !mechgen(&["branches", "slid", "--file", f, "--engine", "generated"])
+            .status
+            .success()
+    );
+    assert!(
+        !mechgen(&["branches", "four_bar", "--from", "10", "--to", "5"])
+            .status
+            .success()
+    );
+    // Both engines give the same analysis for a compiled-in mechanism.
+    let a = mechgen(&["branches", "rocker_four_bar", "--engine", "generated"]);
+    let b = mechgen(&["branches", "rocker_four_bar", "--engine", "generic"]);
+    let strip = |o: &Output| {
+        String::from_utf8_lossy(&o.stdout)
+            .lines()
+            .filter(|l| !l.starts_with("(analysis"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert_eq!(strip(&a), strip(&b));
+}

@@ -276,7 +276,7 @@ fn fixtures_and_other_files() {
                 };
                 for l in &a.at {
                     let mut res = vec![0.0; 2 * c.model.loops.len()];
-                    mechgen::Kinematics::<f64>::residual(g, &x, &l.q, &mut res).unwrap();
+                    mechgen::DynMechanism::<f64>::residual(g, &x, &l.q, &mut res).unwrap();
                     let worst = res.iter().fold(0.0f64, |m, v| m.max(v.abs()));
                     assert!(
                         worst <= 1e-9 * s.scale,

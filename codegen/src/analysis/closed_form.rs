@@ -15,7 +15,7 @@
 
 use std::collections::HashMap;
 
-use crate::analysis::dyad::{Dyad, coefficient};
+use crate::analysis::dyad::{Dyad, coefficient, zeroed};
 use crate::analysis::structure::Block;
 use crate::ir::dag::{Dag, Node, NodeId, Var};
 use crate::ir::lower::Equation;
@@ -155,48 +155,6 @@ fn degree(
     };
     memo.insert(f, d);
     d
-}
-
-/// `f` with the nodes `atoms` set to zero.
-fn zeroed(
-    dag: &mut Dag,
-    f: NodeId,
-    atoms: &[NodeId],
-    memo: &mut HashMap<NodeId, NodeId>,
-) -> NodeId {
-    if atoms.contains(&f) {
-        return dag.constant(0.0);
-    }
-    if let Some(&z) = memo.get(&f) {
-        return z;
-    }
-    let mut sub = |dag: &mut Dag, x: NodeId| zeroed(dag, x, atoms, memo);
-    let z = match dag.node(f) {
-        Node::Add(x, y) => {
-            let (x, y) = (sub(dag, x), sub(dag, y));
-            dag.add(x, y)
-        }
-        Node::Sub(x, y) => {
-            let (x, y) = (sub(dag, x), sub(dag, y));
-            dag.sub(x, y)
-        }
-        Node::Mul(x, y) => {
-            let (x, y) = (sub(dag, x), sub(dag, y));
-            dag.mul(x, y)
-        }
-        Node::Div(x, y) => {
-            let (x, y) = (sub(dag, x), sub(dag, y));
-            dag.div(x, y)
-        }
-        Node::Neg(x) => {
-            let x = sub(dag, x);
-            dag.neg(x)
-        }
-        // Constants, other variables, and functions of degree 0 (checked): unchanged.
-        _ => f,
-    };
-    memo.insert(f, z);
-    z
 }
 
 /// Coefficient extraction for one block: derivatives by atoms, atoms set to zero.

@@ -151,15 +151,24 @@ pub(crate) fn coefficient(
 
 /// `f` with the trig nodes set to zero.
 fn without_trig(dag: &mut Dag, f: NodeId, t: &Trig, memo: &mut HashMap<NodeId, NodeId>) -> NodeId {
-    if t.nodes.contains(&f) {
+    zeroed(dag, f, &t.nodes, memo)
+}
+
+/// `f` with the nodes `atoms` set to zero.
+pub(crate) fn zeroed(
+    dag: &mut Dag,
+    f: NodeId,
+    atoms: &[NodeId],
+    memo: &mut HashMap<NodeId, NodeId>,
+) -> NodeId {
+    if atoms.contains(&f) {
         return dag.constant(0.0);
     }
     if let Some(&z) = memo.get(&f) {
         return z;
     }
-    let mut sub = |dag: &mut Dag, x: NodeId| without_trig(dag, x, t, memo);
+    let mut sub = |dag: &mut Dag, x: NodeId| zeroed(dag, x, atoms, memo);
     let z = match dag.node(f) {
-        Node::Const(_) | Node::Var(_) => f,
         Node::Add(x, y) => {
             let (x, y) = (sub(dag, x), sub(dag, y));
             dag.add(x, y)
@@ -180,8 +189,8 @@ fn without_trig(dag: &mut Dag, f: NodeId, t: &Trig, memo: &mut HashMap<NodeId, N
             let x = sub(dag, x);
             dag.neg(x)
         }
-        // Degree 0 in the trig nodes (checked): unchanged.
-        Node::Sin(_) | Node::Cos(_) | Node::Tan(_) | Node::Sqrt(_) | Node::Func(..) => f,
+        // Constants, other variables, and functions of degree 0 (checked): unchanged.
+        _ => f,
     };
     memo.insert(f, z);
     z

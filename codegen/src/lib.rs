@@ -27,6 +27,7 @@ mod emit;
 mod emit_body;
 mod emit_module;
 mod emit_motion;
+mod emit_scene;
 mod emit_solve;
 mod emit_system;
 mod front;

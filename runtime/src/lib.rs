@@ -26,6 +26,7 @@ pub mod elimination;
 pub mod error;
 pub mod mechanism;
 pub mod scalar;
+pub mod scene;
 pub mod solve;
 pub mod tick;
 pub mod trig;
@@ -37,6 +38,7 @@ pub use mechanism::{
 };
 pub use nalgebra;
 pub use scalar::Real;
+pub use scene::{Scene, SceneInfo, SceneKinematics, SceneVisitor};
 pub use solve::{NewtonOptions, NewtonReport};
 pub use tick::{Solution, Tick};
 
@@ -52,6 +54,7 @@ pub mod __private {
         CoordInfo, Kind, Kinematics, Mechanism, ParamInfo, PointMotion, StaticInfo, Visitor,
     };
     pub use crate::scalar::Real;
+    pub use crate::scene::{Scene, SceneInfo, SceneKinematics, SceneVisitor};
     pub use crate::solve::{NewtonOptions, NewtonReport, check_finite, newton_block};
     pub use crate::tick::{Solution, Tick};
     pub use crate::trig::TrigState;

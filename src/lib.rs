@@ -47,8 +47,8 @@ pub use mechgen_runtime::solve::{check_finite, newton_block, newton_in_place};
 pub use mechgen_runtime::trig::{NewtonState, TrigState};
 pub use mechgen_runtime::{
     Array, CoordInfo, Kind, Kinematics, Mechanism, MechanismInfo, NewtonOptions, NewtonReport,
-    ParamInfo, PointMotion, Quantity, Real, Scene, SceneInfo, SceneKinematics, SceneVisitor,
-    Solution, SolveError, Stage, StaticInfo, Tick, Visitor,
+    ParamInfo, PointMotion, Quantity, Real, Scene, SceneDescription, SceneInfo, SceneKinematics,
+    SceneVisitor, Solution, SolveError, Stage, StaticInfo, Tick, Visitor,
 };
 
 #[cfg(feature = "runtime")]

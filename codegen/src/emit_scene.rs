@@ -8,7 +8,6 @@ use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
 use crate::analysis::scene::{ScenePlan, plan_scene};
-use crate::check::Kind;
 use crate::compile::Compiled;
 use crate::emit::{Args, comment};
 use crate::emit_body::VarSource;
@@ -209,10 +208,6 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
     let solved = plan.solved_unknowns(c);
     let unknown_names = plan.unknowns.iter().map(|&u| &m.unknowns[u].name.text);
     let point_names = plan.points.iter().map(|&p| &m.points[p].0.text);
-    let kinds = plan.unknowns.iter().map(|&u| match m.unknowns[u].kind {
-        Kind::Angle => "angle, radians",
-        Kind::Length => "length",
-    });
     let doc = format!(
         "Scene `{name}` of mechanism `{mech_name}`: {} to order {order}; solves blocks {blocks:?} only.",
         col_names.join(", ")
@@ -225,7 +220,6 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
         method(plan, "tick_start"),
         method(plan, "tick"),
     );
-    let _ = kinds;
     quote! {
         #[doc = #doc]
         pub mod #mod_name {

@@ -38,7 +38,7 @@ pub use mechanism::{
 };
 pub use nalgebra;
 pub use scalar::Real;
-pub use scene::{Scene, SceneInfo, SceneKinematics, SceneVisitor};
+pub use scene::{Scene, SceneDescription, SceneInfo, SceneKinematics, SceneVisitor};
 pub use solve::{NewtonOptions, NewtonReport};
 pub use tick::{Solution, Tick};
 

@@ -3,6 +3,9 @@
 //! [`Scene`] (static sizes, its own tick state); [`SceneKinematics`] is its object-safe face over
 //! slices (blanket impl), which `lookup_scene` returns; [`SceneVisitor`] visits them statically.
 
+use alloc::string::{String, ToString};
+use alloc::vec::Vec;
+
 use crate::error::SolveError;
 use crate::mechanism::{Array, len};
 use crate::scalar::Real;
@@ -26,6 +29,36 @@ pub struct SceneInfo {
     /// The output columns in order (interfaces.md): per unknown `u`, `u_vel`, `u_acc`; per point
     /// `P_x`, `P_y`, `P_vx`, `P_vy`, `P_ax`, `P_ay`, up to the order.
     pub columns: &'static [&'static str],
+}
+
+/// The owned description of a scene, what run-time engines (the generic engine) share with
+/// generated scenes through [`SceneKinematics::info`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SceneDescription {
+    pub name: String,
+    pub mechanism: String,
+    pub order: u8,
+    pub blocks: Vec<usize>,
+    pub solved: Vec<usize>,
+    pub unknowns: Vec<String>,
+    pub points: Vec<String>,
+    pub columns: Vec<String>,
+}
+
+impl From<&SceneInfo> for SceneDescription {
+    fn from(s: &SceneInfo) -> Self {
+        let strings = |v: &[&str]| v.iter().map(|n| n.to_string()).collect();
+        SceneDescription {
+            name: s.name.to_string(),
+            mechanism: s.mechanism.to_string(),
+            order: s.order,
+            blocks: s.blocks.to_vec(),
+            solved: s.solved.to_vec(),
+            unknowns: strings(s.unknowns),
+            points: strings(s.points),
+            columns: strings(s.columns),
+        }
+    }
 }
 
 /// A generated scene: fixed sizes, arrays on the stack, no allocation. `X` and `Q` are its
@@ -78,7 +111,7 @@ pub trait SceneVisitor<T: Real> {
 
 /// The object-safe face of a [`Scene`] over slices (lengths checked: `SolveError::BadLength`).
 pub trait SceneKinematics<T: Real> {
-    fn info(&self) -> &'static SceneInfo;
+    fn info(&self) -> SceneDescription;
     /// As [`Scene::solve`]: `q` has the mechanism's unknowns, `out` one value per column.
     fn solve_outputs(
         &self,
@@ -99,8 +132,8 @@ fn arr<T: Real, A: Array<T>>(s: &[T]) -> Result<A, SolveError> {
 }
 
 impl<T: Real, S: Scene<T>> SceneKinematics<T> for S {
-    fn info(&self) -> &'static SceneInfo {
-        Scene::info(self)
+    fn info(&self) -> SceneDescription {
+        Scene::info(self).into()
     }
     fn solve_outputs(
         &self,

@@ -22,3 +22,4 @@ pub mod check;
 pub mod options;
 pub mod plots;
 pub mod run;
+pub mod scene;

@@ -219,14 +219,16 @@ fn near_misses_stay_newton() {
     let both = mech(
         "\"s\", \"q2\"",
         "\"s*e(q2) + s*e(al) - a*e(q1) - c(0, d)\"",
-        "s = 0.6, q2 = 1.3",
+        // Near the assembled s = 1.0306, q2 = 2.2516 (the start check's Newton is the runtime's).
+        "s = 1.0, q2 = 2.2",
     );
     assert_eq!(kinds(&both), [None]);
     // The angle unknown in a coefficient (its own link length), and a double angle.
     let own = mech(
         "\"q2\", \"s\"",
         "\"a*e(q1) + q2*e(q2) - s*e(al) - d\"",
-        "q2 = 0.5, s = 0.4",
+        // Near the assembled q2 = 3.638, s = -4.445.
+        "q2 = 3.6, s = -4.4",
     );
     assert_eq!(kinds(&own), [None]);
     let double = mech(

@@ -1,5 +1,7 @@
-//! The `start` configuration against the loops: residual at the start values, and Newton (f64,
-//! dense) from them when they do not close, so that a start off its branch is caught at build time.
+//! Lint: the `start` configuration against the loops: residual at the start values, and the
+//! runtime's Newton (`mechgen_runtime::solve::newton_in_place`, the one both engines run, on the
+//! whole system in f64) from them when they do not close, so that a start off its branch is caught
+//! at build time.
 //!
 //! Rule (relative residual = largest |Φi| at `start` / the largest length param, or 1):
 //! - at most [`CLOSED`]: nothing to say;
@@ -8,6 +10,10 @@
 //!   - converges, and the residual was above [`WARN`]: warning with the converged values;
 //!   - converges from a residual at most [`WARN`] (start values rounded to a tenth of a degree or
 //!     so, like the seed documents'): nothing — the solvers correct that on their first step.
+
+use mechgen_runtime::nalgebra::{DMatrix, DVector, Dyn};
+use mechgen_runtime::solve::{NewtonWork, newton_in_place};
+use mechgen_runtime::{NewtonOptions, NewtonReport, SolveError};
 
 use crate::diagnostic::Diagnostic;
 use crate::ir::dag::Var;
@@ -21,7 +27,7 @@ pub const CLOSED: f64 = 1e-6;
 pub const WARN: f64 = 5e-2;
 /// Newton's relative tolerance and iteration cap.
 const TOLERANCE: f64 = 1e-12;
-const MAX_ITERATIONS: usize = 50;
+const MAX_ITERATIONS: u32 = 100;
 
 /// What Newton from the start values did.
 #[derive(Clone, Debug, PartialEq)]
@@ -31,7 +37,7 @@ pub enum Outcome {
     /// Newton converged: the start's relative residual and the converged unknowns.
     Converged(f64, Vec<f64>),
     /// Newton failed: the start's relative residual and why.
-    Failed(f64, &'static str),
+    Failed(f64, String),
 }
 
 /// Evaluates the loops at `start` and, when they do not close, runs Newton from there.
@@ -50,74 +56,84 @@ pub fn newton_from_start(model: &Model, system: &System, derivatives: &Derivativ
         .chain(derivatives.jacobian.iter().flatten())
         .copied()
         .collect();
-    let evaluate = |q: &[f64]| {
+    let values_at = |q: &[f64]| {
         let var = |v: Var| match v {
             Var::X(i) => model.inputs.get(i as usize).map_or(0.0, |c| c.start),
             Var::Q(k) => q.get(k as usize).copied().unwrap_or(0.0),
             Var::P(i) => model.params.get(i as usize).map_or(0.0, |p| p.value),
             _ => 0.0,
         };
-        let values = system.dag.eval(&roots, &var);
-        let residual: Vec<f64> = system.residuals.iter().map(|r| values[r.index()]).collect();
-        let norm = residual.iter().fold(0.0, |m: f64, r| m.max(r.abs())) / scale;
-        let jacobian: Vec<Vec<f64>> = derivatives
-            .jacobian
-            .iter()
-            .map(|row| row.iter().map(|j| values[j.index()]).collect())
-            .collect();
-        (residual, norm, jacobian)
+        system.dag.eval(&roots, &var)
     };
-    let (mut residual, start_norm, mut jacobian) = evaluate(&q);
+    let values = values_at(&q);
+    let start_norm = system
+        .residuals
+        .iter()
+        .fold(0.0, |m: f64, r| m.max(values[r.index()].abs()))
+        / scale;
     if !start_norm.is_finite() {
-        return Outcome::Failed(start_norm, "the loops are not finite at the start values");
+        return Outcome::Failed(
+            start_norm,
+            "the loops are not finite at the start values".into(),
+        );
     }
     if start_norm <= CLOSED {
         return Outcome::Closed(start_norm);
     }
-    for _ in 0..MAX_ITERATIONS {
-        let rhs: Vec<f64> = residual.iter().map(|r| -r).collect();
-        let Some(step) = solve(jacobian, rhs) else {
-            return Outcome::Failed(start_norm, "the Jacobian is singular on the way");
-        };
-        q.iter_mut().zip(&step).for_each(|(x, d)| *x += d);
-        let norm;
-        (residual, norm, jacobian) = evaluate(&q);
-        if !norm.is_finite() {
-            return Outcome::Failed(start_norm, "the iterates left the finite numbers");
-        }
-        let small_step = step.iter().all(|d| d.abs() <= 1e-9 * (1.0 + scale));
-        if norm <= TOLERANCE || (norm <= CLOSED && small_step) {
-            return Outcome::Converged(start_norm, q);
-        }
+    let n = q.len();
+    let all: Vec<usize> = (0..n).collect();
+    let length: Vec<bool> = model
+        .unknowns
+        .iter()
+        .map(|u| u.kind == Kind::Length)
+        .collect();
+    let options = NewtonOptions {
+        tolerance: TOLERANCE,
+        max_iterations: MAX_ITERATIONS,
+        ..NewtonOptions::default()
+    };
+    let mut work: NewtonWork<f64, Dyn> = NewtonWork {
+        residual: DVector::zeros(n),
+        jacobian: DMatrix::zeros(n, n),
+        scale: DVector::zeros(n),
+    };
+    let mut report = NewtonReport::new();
+    let solved = newton_in_place(
+        0,
+        q.as_mut_slice(),
+        &all,
+        &length,
+        scale,
+        &options,
+        &mut report,
+        &mut work,
+        |q: &[f64], r, j| {
+            let values = values_at(q);
+            for (i, res) in system.residuals.iter().enumerate() {
+                r[i] = values[res.index()];
+                for (k, d) in derivatives.jacobian[i].iter().enumerate() {
+                    j[(i, k)] = values[d.index()];
+                }
+            }
+        },
+    );
+    match solved {
+        Ok(()) => Outcome::Converged(start_norm, q),
+        Err(e) => Outcome::Failed(start_norm, why(&e)),
     }
-    Outcome::Failed(start_norm, "the iteration cap was reached")
 }
 
-/// Gaussian elimination with partial pivoting; `None` when a pivot is negligible.
-fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
-    let n = b.len();
-    let size = a.iter().flatten().fold(0.0, |m: f64, x| m.max(x.abs()));
-    for col in 0..n {
-        let pivot = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
-        if a[pivot][col].abs() <= 1e-13 * size || !a[pivot][col].is_finite() {
-            return None;
-        }
-        a.swap(col, pivot);
-        b.swap(col, pivot);
-        for row in col + 1..n {
-            let f = a[row][col] / a[col][col];
-            for k in col..n {
-                a[row][k] -= f * a[col][k];
-            }
-            b[row] -= f * b[col];
-        }
+/// Why Newton stopped, in the words of a diagnostic note.
+fn why(e: &SolveError) -> String {
+    match e {
+        SolveError::Unassemblable { residual, .. } => format!(
+            "it makes no more progress (relative residual {residual:.1e}): no assembled \
+             configuration near the start values"
+        ),
+        SolveError::Singular { .. } => "the Jacobian is singular on the way".into(),
+        SolveError::NoConvergence { .. } => "the iteration cap was reached".into(),
+        other => format!("{other}"),
     }
-    let mut x = vec![0.0; n];
-    for row in (0..n).rev() {
-        let s: f64 = (row + 1..n).map(|k| a[row][k] * x[k]).sum();
-        x[row] = (b[row] - s) / a[row][row];
-    }
-    Some(x)
 }
 
 /// The diagnostic for a start configuration, if any (see the module rule).

@@ -203,7 +203,7 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
         .collect();
     let col_idx = 0..ncols;
     let (name, mech_name) = (&plan.name, &m.name.text);
-    let order = plan.order.as_number();
+    let order = proc_macro2::Literal::u8_unsuffixed(plan.order.as_number());
     let blocks = &plan.blocks;
     let solved = plan.solved_unknowns(c);
     let unknown_names = plan.unknowns.iter().map(|&u| &m.unknowns[u].name.text);

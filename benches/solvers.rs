@@ -12,6 +12,9 @@
 //!   a `Tick`, also holds the sines and cosines, and it predicts itself), the generic engine with
 //!   the same prediction as its guess for `Kinematics::solve_motion`.
 //!
+//! - `<scene>/step/generated`: one tick of each compiled-in scene along its mechanism's walk (the
+//!   same states), so a scene's saving reads off against `<mechanism>/step/generated`.
+//!
 //! The generated engine runs with static dispatch (`visit_all`, fixed arrays); the generic engine
 //! is loaded at run time from the same file.
 
@@ -20,7 +23,9 @@ use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mechgen::sweep::{Continuation, sweep};
-use mechgen::{Array, Kind, Kinematics, Mechanism, NewtonOptions, PointMotion, Visitor};
+use mechgen::{
+    Array, Kind, Kinematics, Mechanism, NewtonOptions, PointMotion, Scene, SceneVisitor, Visitor,
+};
 
 /// A solved state and the input one step further (which is solvable too).
 struct State {
@@ -217,6 +222,40 @@ impl Visitor<f64> for Generated<'_> {
     }
 }
 
+/// The generated scenes: `<scene>/step/generated`, the same walk of states as their mechanism's
+/// `step` (from the mechanism's sweep), each tick from the previous one.
+struct Scenes<'c> {
+    c: &'c mut Criterion,
+}
+
+impl SceneVisitor<f64> for Scenes<'_> {
+    fn visit<S: Scene<f64> + 'static>(&mut self, scene: &S) {
+        let k = mechgen::lookup::<f64>(scene.info().mechanism).expect("its mechanism");
+        let (states, _) = states(k.as_ref());
+        let xs: Vec<S::X> = states.iter().map(|s| arr(&s.x)).collect();
+        let qs: Vec<S::Q> = states.iter().map(|s| arr(&s.q)).collect();
+        let (xd_v, xdd_v) = unit_rate(states[0].x.len());
+        let (xd, xdd): (S::X, S::X) = (arr(&xd_v), arr(&xdd_v));
+        let opts = NewtonOptions::default();
+        let mut walk = Walk::new(xs.len());
+        let mut tick = scene.tick_start(&xs[0], &xd, &xdd, &qs[0], &opts).ok();
+        let mut g = self.c.benchmark_group(S::NAME);
+        if tick.is_some() {
+            g.bench_function("step/generated", |b| {
+                b.iter(|| {
+                    let j = walk.next();
+                    let Some(t) = tick.as_mut() else { return };
+                    if scene.tick(t, black_box(&xs[j]), &xd, &xdd, &opts).is_err() {
+                        tick = scene.tick_start(&xs[j], &xd, &xdd, &qs[j], &opts).ok();
+                    }
+                    black_box(&tick);
+                })
+            });
+        }
+        g.finish();
+    }
+}
+
 /// The generic engine: interpreted tapes, slices, `DMatrix`.
 fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
     let k: &dyn Kinematics<f64> = k;
@@ -285,6 +324,7 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
 
 fn benches(c: &mut Criterion) {
     mechgen::visit_all(&mut Generated { c });
+    mechgen::visit_scenes(&mut Scenes { c });
     let loaded = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
         .expect("the compiled-in file loads");
     for k in &loaded {

@@ -81,17 +81,29 @@ fn pruned_scene_snapshot() {
         generate_source(&SourceFile::new("slider.toml", SLIDER_SCENES)).expect("valid file");
     assert!(warnings.is_empty(), "{warnings:?}");
     let rod = between(&code, "fn scene_rod_motion(", "fn scene_rod_solve(").join("\n");
-    let pin = between(&code, "fn scene_crank_pin_motion(", "fn scene_crank_pin_solve(").join("\n");
+    let pin = between(
+        &code,
+        "fn scene_crank_pin_motion(",
+        "fn scene_crank_pin_solve(",
+    )
+    .join("\n");
     let full = between(&code, "fn motion_cached(", "fn scene_rod_motion(").join("\n");
     // The full body solves both blocks, factors, and computes both points; the full module shows
     // what the scenes leave out.
-    for (body, needle) in [(&full, "newton_block(\n"), (&full, "factor_block"), (&full, "p_l2")] {
+    for (body, needle) in [
+        (&full, "newton_block(\n"),
+        (&full, "factor_block"),
+        (&full, "p_l2"),
+    ] {
         assert!(body.contains(needle), "full body lacks {needle}");
     }
     // `rod`: block 0 only (its Newton), no block 1, no factorization, no points' expressions.
     assert!(rod.contains("Block 0: Newton."), "{rod}");
     assert!(!rod.contains("Block 1"), "{rod}");
-    assert!(!rod.contains("factor_block") && !rod.contains("lu.solve"), "{rod}");
+    assert!(
+        !rod.contains("factor_block") && !rod.contains("lu.solve"),
+        "{rod}"
+    );
     assert!(!rod.contains("v_q1_d") && !rod.contains("xd[0]"), "{rod}");
     assert!(rod.contains("PointMotion<T>; 0]"), "no point: {rod}");
     assert!(!rod.contains("PointMotion {"), "no point: {rod}");

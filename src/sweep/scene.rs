@@ -64,7 +64,7 @@ pub fn scene_rows(
             }
             Err(e) => SceneRow {
                 input: r.input,
-                outputs: Err(e.clone()),
+                outputs: Err(*e),
                 status: r.status(),
                 condition: None,
             },

@@ -56,6 +56,15 @@ pub fn emit_with(mechs: &[Compiled], source_name: &str, runtime: &str) -> Result
         let (module, ty) = scene_ty(p);
         quote!(v.visit(&<#module::#ty::<#gt> as ::core::default::Default>::default());)
     });
+    // A file without scenes: the same functions, with nothing to match or visit.
+    let (scene_match, visitor) = if scene_count == 0 {
+        (quote!(let _ = name; ::core::option::Option::None), quote!(_v))
+    } else {
+        (
+            quote!(match name { #(#scene_arms)* _ => ::core::option::Option::None, }),
+            quote!(v),
+        )
+    };
     let file = quote! {
         /// Names of the compiled-in mechanisms, in file order.
         pub const MECHANISMS: [&str; #count] = [#(#names),*];
@@ -79,14 +88,11 @@ pub fn emit_with(mechs: &[Compiled], source_name: &str, runtime: &str) -> Result
 
         /// A compiled-in scene by name, with its mechanism's default params, behind the object-safe trait.
         pub fn lookup_scene<#gt: #rt::Real>(name: &str) -> ::core::option::Option<::std::boxed::Box<dyn #rt::SceneKinematics<#gt>>> {
-            match name {
-                #(#scene_arms)*
-                _ => ::core::option::Option::None,
-            }
+            #scene_match
         }
 
         /// Calls `v.visit` with every compiled-in scene (default params), statically typed, in file order.
-        pub fn visit_scenes<#gt: #rt::Real, V: #rt::SceneVisitor<#gt>>(v: &mut V) {
+        pub fn visit_scenes<#gt: #rt::Real, V: #rt::SceneVisitor<#gt>>(#visitor: &mut V) {
             #(#scene_visits)*
         }
 

@@ -32,15 +32,14 @@ pub fn lookup_scene<T: ::mechgen::__private::Real>(
 ) -> ::core::option::Option<
     ::std::boxed::Box<dyn ::mechgen::__private::SceneKinematics<T>>,
 > {
-    match name {
-        _ => ::core::option::Option::None,
-    }
+    let _ = name;
+    ::core::option::Option::None
 }
 /// Calls `v.visit` with every compiled-in scene (default params), statically typed, in file order.
 pub fn visit_scenes<
     T: ::mechgen::__private::Real,
     V: ::mechgen::__private::SceneVisitor<T>,
->(v: &mut V) {}
+>(_v: &mut V) {}
 /// Centred slider-crank: crank l1, rod l2, slider s on the x axis
 pub mod slider {
     #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]

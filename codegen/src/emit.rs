@@ -58,7 +58,10 @@ pub fn emit_with(mechs: &[Compiled], source_name: &str, runtime: &str) -> Result
     });
     // A file without scenes: the same functions, with nothing to match or visit.
     let (scene_match, visitor) = if scene_count == 0 {
-        (quote!(let _ = name; ::core::option::Option::None), quote!(_v))
+        (
+            quote!(let _ = name; ::core::option::Option::None),
+            quote!(_v),
+        )
     } else {
         (
             quote!(match name { #(#scene_arms)* _ => ::core::option::Option::None, }),

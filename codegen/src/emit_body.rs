@@ -5,7 +5,7 @@
 use std::collections::HashMap;
 
 use proc_macro2::{Ident, Literal, TokenStream};
-use quote::quote;
+use quote::{format_ident, quote};
 
 use crate::dag::{Dag, Node, NodeId, Var};
 use crate::names::{Local, Names};
@@ -188,6 +188,16 @@ impl<'a> Builder<'a> {
                 Node::Sqrt(a) => {
                     let a = name(a, &self.names);
                     quote!(#a.sqrt())
+                }
+                Node::Func(f, a, b) => {
+                    let method = format_ident!("{}", f.method());
+                    let a = name(a, &self.names);
+                    if f.arity() == 2 {
+                        let b = name(b, &self.names);
+                        quote!(#a.#method(#b))
+                    } else {
+                        quote!(#a.#method())
+                    }
                 }
             };
             let n = self.temp;

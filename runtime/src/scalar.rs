@@ -40,6 +40,12 @@ pub trait Real:
     fn sin_cos(self) -> (Self, Self);
     fn tan(self) -> Self;
     fn sqrt(self) -> Self;
+    /// The params-only functions of mechanism files (derived params): `asin`, `acos`, `atan`,
+    /// `hypot`.
+    fn asin(self) -> Self;
+    fn acos(self) -> Self;
+    fn atan(self) -> Self;
+    fn hypot(self, other: Self) -> Self;
     /// Angle of the point `(other, self)`, in (−π, π].
     fn atan2(self, other: Self) -> Self;
     fn abs(self) -> Self;
@@ -84,6 +90,22 @@ macro_rules! impl_real {
             #[inline(always)]
             fn sqrt(self) -> Self {
                 <$t>::sqrt(self)
+            }
+            #[inline(always)]
+            fn asin(self) -> Self {
+                <$t>::asin(self)
+            }
+            #[inline(always)]
+            fn acos(self) -> Self {
+                <$t>::acos(self)
+            }
+            #[inline(always)]
+            fn atan(self) -> Self {
+                <$t>::atan(self)
+            }
+            #[inline(always)]
+            fn hypot(self, other: Self) -> Self {
+                <$t>::hypot(self, other)
             }
             #[inline(always)]
             fn atan2(self, other: Self) -> Self {

@@ -204,36 +204,47 @@ impl Generic {
         &self.params
     }
 
-    /// Sets a base param by name and recomputes the params derived from it (params defined by
-    /// expressions of other params, as the file writes them). A derived param cannot be set: it
-    /// follows from its bases. On error nothing changes.
+    /// Sets a param by name. Derived params (defined by expressions of other params) are not
+    /// free values: they are computed inside the solvers' expressions from the base params, so
+    /// they follow every change; setting one is an error that names its bases.
     pub fn set_param(&mut self, name: &str, value: f64) -> Result<(), String> {
-        let i = self
-            .info
-            .params
-            .iter()
-            .position(|p| p.0 == name)
-            .ok_or_else(|| format!("no param `{name}` in `{}`", self.info.name))?;
-        let param = &self.model.params[i];
-        if param.is_derived() {
-            let bases: Vec<String> = param
+        if let Some(d) = self.model.derived.iter().find(|d| d.name.text == name) {
+            let bases: Vec<String> = d
                 .uses
                 .iter()
-                .map(|&k| format!("`{}`", self.model.params[k].name.text))
+                .filter_map(|s| match *s {
+                    mechgen_codegen::Symbol::Param(k) => Some(&self.model.params[k].name.text),
+                    mechgen_codegen::Symbol::Derived(k) => Some(&self.model.derived[k].name.text),
+                    _ => None,
+                })
+                .map(|n| format!("`{n}`"))
                 .collect();
             return Err(format!(
                 "param `{name}` is derived from {}: set those instead",
                 bases.join(", ")
             ));
         }
-        let mut values = self.params.clone();
-        values[i] = value;
-        mechgen_codegen::derive_params(&self.model, &mut values)?;
-        for (info, v) in self.info.params.iter_mut().zip(&values) {
-            info.2 = *v;
-        }
-        self.params = values;
+        let i = self
+            .info
+            .params
+            .iter()
+            .position(|p| p.0 == name)
+            .ok_or_else(|| format!("no param `{name}` in `{}`", self.info.name))?;
+        self.params[i] = value;
+        self.info.params[i].2 = value;
         Ok(())
+    }
+
+    /// The values of the derived params at the current base params, in file order.
+    pub fn derived_params(&self) -> Result<Vec<(String, f64)>, String> {
+        let values = mechgen_codegen::derived_values(&self.model, &self.params)?;
+        Ok(self
+            .model
+            .derived
+            .iter()
+            .map(|d| d.name.text.clone())
+            .zip(values)
+            .collect())
     }
 
     /// Largest length param (or 1): what relative length tolerances are relative to.

@@ -21,6 +21,7 @@ use super::terms::{Motion, Term, tails, terms_of};
 #[derive(Clone, Debug)]
 pub struct Linkage {
     symbols: HashMap<String, Symbol>,
+    derived: Vec<Expr>,
     inputs: usize,
     /// Each loop's readings as a closed walk (see `new`), the preferred first: its added ground
     /// terms (out from the origin), its moving terms, its subtracted ground terms (back to it).
@@ -95,6 +96,7 @@ impl Linkage {
             .collect();
         Linkage {
             symbols: model.symbols.clone(),
+            derived: model.derived.iter().map(|d| d.expr.clone()).collect(),
             inputs: model.inputs.len(),
             readings,
             points,
@@ -106,6 +108,7 @@ impl Linkage {
     pub fn sketch(&self, x: &[f64], q: &[f64], p: &[f64]) -> Sketch {
         let env = Values {
             symbols: &self.symbols,
+            derived: &self.derived,
             inputs: self.inputs,
             x,
             q,

@@ -4,8 +4,8 @@
 
 use std::collections::HashMap;
 
-use mechgen_codegen::Symbol;
 use mechgen_codegen::{BinOp, Expr, ExprKind};
+use mechgen_codegen::{Builtin, Symbol};
 
 use super::terms::Motion;
 
@@ -59,6 +59,8 @@ pub(super) struct Values<'a> {
     pub x: &'a [f64],
     pub q: &'a [f64],
     pub p: &'a [f64],
+    /// The derived params' expressions (`Symbol::Derived`), in file order.
+    pub derived: &'a [Expr],
 }
 
 enum Value {
@@ -88,7 +90,9 @@ impl Values<'_> {
         let get = |v: &[f64], i: usize| v.get(i).copied().unwrap_or(f64::NAN);
         match &e.kind {
             ExprKind::Number(x) => S(*x),
-            ExprKind::Name(n) if n == "pi" => S(std::f64::consts::PI),
+            ExprKind::Name(n) if Builtin::from_name(n) == Some(Builtin::Pi) => {
+                S(std::f64::consts::PI)
+            }
             ExprKind::Name(n) => S(match self.symbols.get(n) {
                 Some(Symbol::Input(i)) if set.is_some_and(|s| s.0 == *i) => {
                     set.map_or(0.0, |s| s.1)
@@ -99,6 +103,10 @@ impl Values<'_> {
                 Some(Symbol::Input(i)) => get(self.x, *i),
                 Some(Symbol::Unknown(i)) => get(self.q, *i),
                 Some(Symbol::Param(i)) => get(self.p, *i),
+                Some(Symbol::Derived(j)) => self
+                    .derived
+                    .get(*j)
+                    .map_or(f64::NAN, |d| self.scalar(d, set)),
                 None => f64::NAN,
             }),
             ExprKind::Neg(a) => match self.value(a, set) {
@@ -129,24 +137,14 @@ impl Values<'_> {
             },
             ExprKind::Call(f, args) => {
                 let arg = |i: usize| args.get(i).map_or(f64::NAN, |a| self.scalar(a, set));
-                match f.text.as_str() {
-                    "e" => {
+                match Builtin::from_name(&f.text) {
+                    Some(Builtin::E) => {
                         let (s, c) = arg(0).sin_cos();
                         V([c, s])
                     }
-                    "c" => V([arg(0), arg(1)]),
-                    "deg" => S(arg(0).to_radians()),
-                    "sin" => S(arg(0).sin()),
-                    "cos" => S(arg(0).cos()),
-                    "tan" => S(arg(0).tan()),
-                    "sqrt" => S(arg(0).sqrt()),
-                    "asin" => S(arg(0).asin()),
-                    "acos" => S(arg(0).acos()),
-                    "atan" => S(arg(0).atan()),
-                    "atan2" => S(arg(0).atan2(arg(1))),
-                    "abs" => S(arg(0).abs()),
-                    "hypot" => S(arg(0).hypot(arg(1))),
-                    _ => S(f64::NAN),
+                    Some(Builtin::C) => V([arg(0), arg(1)]),
+                    Some(b) => S(b.eval(&[arg(0), arg(1)]).unwrap_or(f64::NAN)),
+                    None => S(f64::NAN),
                 }
             }
         }

@@ -2,7 +2,7 @@
 //! program (a tape) and interpreted. Only the nodes the roots need are kept, children before
 //! parents, and a `sin` and `cos` of the same argument become one `sin_cos`.
 
-use mechgen_codegen::{Dag, Node, NodeId, Var};
+use mechgen_codegen::{Dag, Func, Node, NodeId, Var};
 
 use mechgen_runtime::scalar::Real;
 
@@ -24,6 +24,8 @@ enum Op {
     Cos(u32),
     Tan(u32),
     Sqrt(u32),
+    /// A params-only function of one or two registers.
+    Func(Func, u32, u32),
 }
 
 /// The values the variables of a tape take. Slices a tape does not read may be empty; a missing
@@ -128,6 +130,7 @@ impl Tape {
                 Node::Cos(a) => Op::Cos(r(a)),
                 Node::Tan(a) => Op::Tan(r(a)),
                 Node::Sqrt(a) => Op::Sqrt(r(a)),
+                Node::Func(f, a, b) => Op::Func(f, r(a), r(b)),
             };
             reg[i] = ops.len() as u32;
             ops.push(op);
@@ -177,6 +180,14 @@ impl Tape {
                 Op::Cos(a) => g(a).cos(),
                 Op::Tan(a) => g(a).tan(),
                 Op::Sqrt(a) => g(a).sqrt(),
+                Op::Func(f, a, b) => match f {
+                    Func::Asin => g(a).asin(),
+                    Func::Acos => g(a).acos(),
+                    Func::Atan => g(a).atan(),
+                    Func::Abs => g(a).abs(),
+                    Func::Atan2 => g(a).atan2(g(b)),
+                    Func::Hypot => g(a).hypot(g(b)),
+                },
             };
             regs[i] = v;
         }

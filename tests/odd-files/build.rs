@@ -1,4 +1,4 @@
-//! Generates both files of this crate with the build library: the one-call form, and the builder
+//! Generates the files of this crate with the build library: the one-call form, and the builder
 //! with another output file and the runtime crate's own path.
 fn main() {
     mechgen_codegen::compile("mechanism.toml");
@@ -6,4 +6,7 @@ fn main() {
         .runtime_path("::mechgen_runtime")
         .out_file("other.rs")
         .compile("other.toml");
+    mechgen_codegen::Config::new()
+        .out_file("derived.rs")
+        .compile("derived.toml");
 }

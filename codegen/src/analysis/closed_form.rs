@@ -148,6 +148,8 @@ fn degree(
             Node::Sin(x) | Node::Cos(x) | Node::Tan(x) | Node::Sqrt(x) => {
                 zero(degree(dag, x, a, memo)?).then_some([0; 3])
             }
+            // Params only: constant.
+            Node::Func(..) => Some([0; 3]),
         }
     };
     memo.insert(f, d);

@@ -99,6 +99,8 @@ fn degree(dag: &Dag, f: NodeId, t: &Trig, memo: &mut HashMap<NodeId, u8>) -> Opt
                     _ => None,
                 }
             }
+            // Params only: constant.
+            Node::Func(..) => Some(0),
         }
     };
     memo.insert(f, d.unwrap_or(u8::MAX));
@@ -178,7 +180,7 @@ fn without_trig(dag: &mut Dag, f: NodeId, t: &Trig, memo: &mut HashMap<NodeId, N
             dag.neg(x)
         }
         // Degree 0 in the trig nodes (checked): unchanged.
-        Node::Sin(_) | Node::Cos(_) | Node::Tan(_) | Node::Sqrt(_) => f,
+        Node::Sin(_) | Node::Cos(_) | Node::Tan(_) | Node::Sqrt(_) | Node::Func(..) => f,
     };
     memo.insert(f, z);
     z

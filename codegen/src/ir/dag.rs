@@ -40,6 +40,52 @@ impl Var {
     }
 }
 
+/// A function that only derived params use (`asin`, …, from the file's params-only built-ins): its
+/// arguments hold params only, never a coordinate, so it is constant during a solve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Func {
+    Asin,
+    Acos,
+    Atan,
+    Abs,
+    /// `atan2(y, x)`: the first argument is y.
+    Atan2,
+    Hypot,
+}
+
+impl Func {
+    pub fn arity(self) -> usize {
+        match self {
+            Func::Atan2 | Func::Hypot => 2,
+            Func::Asin | Func::Acos | Func::Atan | Func::Abs => 1,
+        }
+    }
+
+    /// Its value (`b` is ignored by the one-argument functions).
+    pub fn eval(self, a: f64, b: f64) -> f64 {
+        match self {
+            Func::Asin => a.asin(),
+            Func::Acos => a.acos(),
+            Func::Atan => a.atan(),
+            Func::Abs => a.abs(),
+            Func::Atan2 => a.atan2(b),
+            Func::Hypot => a.hypot(b),
+        }
+    }
+
+    /// The method of `Real` (and of f64) that computes it on the first argument.
+    pub fn method(self) -> &'static str {
+        match self {
+            Func::Asin => "asin",
+            Func::Acos => "acos",
+            Func::Atan => "atan",
+            Func::Abs => "abs",
+            Func::Atan2 => "atan2",
+            Func::Hypot => "hypot",
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Node {
     /// An f64 constant, stored by its bits (so it can be hashed).
@@ -54,6 +100,8 @@ pub enum Node {
     Cos(NodeId),
     Tan(NodeId),
     Sqrt(NodeId),
+    /// A params-only function; a one-argument function stores its argument twice.
+    Func(Func, NodeId, NodeId),
 }
 
 impl Node {
@@ -66,6 +114,7 @@ impl Node {
             Node::Neg(a) | Node::Sin(a) | Node::Cos(a) | Node::Tan(a) | Node::Sqrt(a) => {
                 (Some(a), None)
             }
+            Node::Func(f, a, b) => (Some(a), (f.arity() == 2).then_some(b)),
         };
         a.into_iter().chain(b)
     }
@@ -259,6 +308,19 @@ impl Dag {
         }
     }
 
+    /// `f(a)` or `f(a, b)` (pass `a` twice for a one-argument function); folded when the
+    /// arguments are constants and the value is finite.
+    pub fn func(&mut self, f: Func, a: NodeId, b: NodeId) -> NodeId {
+        let b = if f.arity() == 1 { a } else { b };
+        if let (Some(x), Some(y)) = (self.as_const(a), self.as_const(b)) {
+            let v = f.eval(x, y);
+            if v.is_finite() {
+                return self.constant(v);
+            }
+        }
+        self.insert(Node::Func(f, a, b))
+    }
+
     /// Whether `id` is `1.0` (used by emitters to drop `* 1`).
     pub fn is_one(&self, id: NodeId) -> bool {
         self.is_const(id, 1.0)
@@ -300,6 +362,7 @@ impl Dag {
                 Node::Cos(a) => g(a).cos(),
                 Node::Tan(a) => g(a).tan(),
                 Node::Sqrt(a) => g(a).sqrt(),
+                Node::Func(f, a, b) => f.eval(g(a), g(b)),
             };
             v.push(x);
         }

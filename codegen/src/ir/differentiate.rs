@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use crate::ir::dag::{Dag, Node, NodeId, Var};
+use crate::ir::dag::{Dag, Func, Node, NodeId, Var};
 use crate::ir::lower::System;
 
 /// Every derivative the emitter needs, as nodes of the system's DAG.
@@ -97,9 +97,62 @@ impl<'a> Differentiator<'a> {
                 let d = self.dag.mul(two, f);
                 self.dag.div(da, d)
             }
+            Node::Func(func, a, b) => self.partial_func(func, f, a, b, v),
         };
         self.memo.insert((f, v), d);
         d
+    }
+
+    /// ∂/∂v of `f = func(a, b)`. Params-only functions hold no coordinate, so this is zero for
+    /// every variable the solvers differentiate by; the rules are the general ones all the same.
+    fn partial_func(&mut self, func: Func, f: NodeId, a: NodeId, b: NodeId, v: Var) -> NodeId {
+        let da = self.partial(a, v);
+        let db = if func.arity() == 2 {
+            self.partial(b, v)
+        } else {
+            self.dag.constant(0.0)
+        };
+        if self.dag.is_zero(da) && self.dag.is_zero(db) {
+            return da;
+        }
+        let one = self.dag.constant(1.0);
+        let a2 = self.dag.mul(a, a);
+        match func {
+            Func::Asin | Func::Acos => {
+                // ±a' / √(1 − a²)
+                let r = self.dag.sub(one, a2);
+                let r = self.dag.sqrt(r);
+                let d = self.dag.div(da, r);
+                if func == Func::Asin {
+                    d
+                } else {
+                    self.dag.neg(d)
+                }
+            }
+            Func::Atan => {
+                let r = self.dag.add(one, a2);
+                self.dag.div(da, r)
+            }
+            Func::Abs => {
+                // a' · a / |a|
+                let sign = self.dag.div(a, f);
+                self.dag.mul(da, sign)
+            }
+            Func::Atan2 => {
+                // (x y' − y x') / (x² + y²) with y = a, x = b
+                let (bda, adb) = (self.dag.mul(b, da), self.dag.mul(a, db));
+                let num = self.dag.sub(bda, adb);
+                let b2 = self.dag.mul(b, b);
+                let den = self.dag.add(a2, b2);
+                self.dag.div(num, den)
+            }
+            Func::Hypot => {
+                // (a a' + b b') / hypot(a, b)
+                let (ada, bdb) = (self.dag.mul(a, da), self.dag.mul(b, db));
+                let num = self.dag.add(ada, bdb);
+                self.dag.div(num, f)
+            }
+        }
     }
 
     /// Σ ∂f/∂v · v̇ over the time-varying variables of `f` for which `keep(v)` holds.

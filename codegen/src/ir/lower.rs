@@ -2,7 +2,7 @@
 //! becomes two residuals (x, y); a scalar term of a vector sum is the vector (s, 0).
 
 use crate::front::ast::{BinOp, Expr, ExprKind};
-use crate::ir::dag::{Dag, Node, NodeId, Var};
+use crate::ir::dag::{Dag, Func, Node, NodeId, Var};
 use crate::sema::builtin::Builtin;
 use crate::sema::model::{Model, Symbol};
 
@@ -75,6 +75,15 @@ fn value(dag: &mut Dag, model: &Model, e: &Expr) -> Value {
                 Some(Symbol::Input(i)) => Var::X(*i as u16),
                 Some(Symbol::Unknown(i)) => Var::Q(*i as u16),
                 Some(Symbol::Param(i)) => Var::P(*i as u16),
+                // A derived param is its expression of the base params (hash-consing shares it).
+                Some(Symbol::Derived(j)) => {
+                    return model
+                        .derived
+                        .get(*j)
+                        .map_or(Value::Scalar(dag.constant(0.0)), |p| {
+                            value(dag, model, &p.expr)
+                        });
+                }
                 None => return Value::Scalar(dag.constant(0.0)),
             };
             Value::Scalar(dag.var(var))
@@ -117,16 +126,23 @@ fn value(dag: &mut Dag, model: &Model, e: &Expr) -> Value {
                     let k = dag.constant(std::f64::consts::PI / 180.0);
                     Value::Scalar(dag.mul(k, scalar(arg(0))))
                 }
-                Builtin::Pi
-                | Builtin::Asin
-                | Builtin::Acos
-                | Builtin::Atan
-                | Builtin::Atan2
-                | Builtin::Abs
-                | Builtin::Hypot => Value::Scalar(dag.constant(0.0)),
+                // Params only: in derived params, which lowering substitutes.
+                Builtin::Asin => Value::Scalar(func(dag, Func::Asin, arg(0), arg(0))),
+                Builtin::Acos => Value::Scalar(func(dag, Func::Acos, arg(0), arg(0))),
+                Builtin::Atan => Value::Scalar(func(dag, Func::Atan, arg(0), arg(0))),
+                Builtin::Abs => Value::Scalar(func(dag, Func::Abs, arg(0), arg(0))),
+                Builtin::Atan2 => Value::Scalar(func(dag, Func::Atan2, arg(0), arg(1))),
+                Builtin::Hypot => Value::Scalar(func(dag, Func::Hypot, arg(0), arg(1))),
+                // A constant, not a call (the checker says so).
+                Builtin::Pi => Value::Scalar(dag.constant(0.0)),
             }
         }
     }
+}
+
+fn func(dag: &mut Dag, f: Func, a: Value, b: Value) -> NodeId {
+    let (a, b) = (scalar(a), scalar(b));
+    dag.func(f, a, b)
 }
 
 /// cos and sin of `t`, sums and differences expanded by the addition theorems, so that only sines

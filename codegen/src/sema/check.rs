@@ -133,27 +133,41 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         .enumerate()
         .for_each(|(i, n)| declare(n, Symbol::Unknown(i), diags));
 
-    // Params, in file order, each evaluated with the ones before it.
+    // Params, in file order, each evaluated with the ones before it. A param whose expression
+    // uses other params is derived; the others are the base params.
     let mut params: Vec<Param> = Vec::new();
+    let mut derived: Vec<Param> = Vec::new();
+    let mut declared: Vec<(String, Symbol)> = Vec::new();
     let mut values: HashMap<String, f64> = HashMap::new();
-    for (i, (name, expr)) in m.params.iter().enumerate() {
-        declare(name, Symbol::Param(i), diags);
-        let value = eval(expr, &values, &format!("param `{}`", name.text), diags).unwrap_or(0.0);
+    for (name, expr) in &m.params {
+        let mut uses = Vec::new();
+        params_used(expr, &declared, &mut uses);
+        let sym = if uses.is_empty() {
+            Symbol::Param(params.len())
+        } else {
+            Symbol::Derived(derived.len())
+        };
+        declare(name, sym, diags);
+        declared.push((name.text.clone(), sym));
+        let what = format!("param `{}`", name.text);
+        let value = eval(expr, &values, &what, diags).unwrap_or(0.0);
         values.insert(name.text.clone(), value);
         let source = match expr.kind {
             ExprKind::Number(_) => None,
             _ => Some(format!("{}", Shown(expr))),
         };
-        let mut uses = Vec::new();
-        params_used(expr, &params, &mut uses);
-        params.push(Param {
+        let param = Param {
             name: name.clone(),
             kind: Kind::Length,
             value,
             source,
             uses,
             expr: expr.clone(),
-        });
+        };
+        match sym {
+            Symbol::Derived(_) => derived.push(param),
+            _ => params.push(param),
+        }
     }
 
     // Loops and points: types, names, angle inference.
@@ -188,6 +202,9 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
     };
     for (i, p) in params.iter_mut().enumerate() {
         p.kind = kind_of(Symbol::Param(i));
+    }
+    for (j, p) in derived.iter_mut().enumerate() {
+        p.kind = kind_of(Symbol::Derived(j));
     }
 
     // Equations vs unknowns (a missing `loops` key is reported by the parser).
@@ -226,7 +243,7 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
                     diags.push(duplicate(name, name.span, "start value"));
                 }
             }
-            Some(Symbol::Param(_)) => diags.push(Diagnostic::error(
+            Some(Symbol::Param(_) | Symbol::Derived(_)) => diags.push(Diagnostic::error(
                 name.span,
                 format!(
                     "`{}` is a param; `start` gives inputs and unknowns",
@@ -275,6 +292,7 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         inputs,
         unknowns,
         params,
+        derived,
         loops: m.loops.clone(),
         points: m.points.clone(),
         scenes: Vec::new(),
@@ -355,14 +373,14 @@ fn check_scene(
 }
 
 /// The earlier params `e` names (each once, in order of first use).
-fn params_used(e: &ast::Expr, earlier: &[Param], out: &mut Vec<usize>) {
+fn params_used(e: &ast::Expr, earlier: &[(String, Symbol)], out: &mut Vec<Symbol>) {
     match &e.kind {
         ExprKind::Number(_) => {}
         ExprKind::Name(n) => {
-            if let Some(i) = earlier.iter().position(|p| p.name.text == *n)
-                && !out.contains(&i)
+            if let Some((_, sym)) = earlier.iter().find(|(name, _)| name == n)
+                && !out.contains(sym)
             {
-                out.push(i);
+                out.push(*sym);
             }
         }
         ExprKind::Neg(x) => params_used(x, earlier, out),

@@ -84,35 +84,31 @@ fn eval_inner(
     })
 }
 
-/// Recomputes every derived param of `model` (in file order, each from the values before it) into
-/// `values` (one per param, the base params already set). The error names the first derived param
-/// whose value is not finite (e.g. `acos` of a number past 1 after a base param changed); `values`
-/// is then unchanged.
-pub fn derive_params(model: &Model, values: &mut [f64]) -> Result<(), String> {
-    if values.len() != model.params.len() {
-        return Err(format!(
-            "{} param values for {} params",
-            values.len(),
-            model.params.len()
-        ));
+/// The values of `model`'s derived params for the base param values `base` (one per base param,
+/// in file order), each from the values before it; the error names the first derived param
+/// whose value is not finite (e.g. `acos` of a number past 1). For run-time readers of the
+/// syntax (drawings); the solvers compute derived params inside their own expressions.
+pub fn derived_values(model: &Model, base: &[f64]) -> Result<Vec<f64>, String> {
+    let mut known: HashMap<String, f64> = model
+        .params
+        .iter()
+        .zip(base)
+        .map(|(p, v)| (p.name.text.clone(), *v))
+        .collect();
+    let mut out = Vec::with_capacity(model.derived.len());
+    for p in &model.derived {
+        let mut diags = Vec::new();
+        let what = format!("param `{}`", p.name.text);
+        let v = eval(&p.expr, &known, &what, &mut diags).ok_or_else(|| {
+            diags.first().map_or_else(
+                || format!("{what} cannot be evaluated"),
+                |d| d.message.clone(),
+            )
+        })?;
+        known.insert(p.name.text.clone(), v);
+        out.push(v);
     }
-    let mut out = values.to_vec();
-    let mut known: HashMap<String, f64> = HashMap::new();
-    for (p, v) in model.params.iter().zip(out.iter_mut()) {
-        if p.is_derived() {
-            let mut diags = Vec::new();
-            let what = format!("param `{}`", p.name.text);
-            *v = eval(&p.expr, &known, &what, &mut diags).ok_or_else(|| {
-                diags.first().map_or_else(
-                    || format!("{what} cannot be evaluated"),
-                    |d| d.message.clone(),
-                )
-            })?;
-        }
-        known.insert(p.name.text.clone(), *v);
-    }
-    values.copy_from_slice(&out);
-    Ok(())
+    Ok(out)
 }
 
 /// The error for a call with the wrong number of arguments.

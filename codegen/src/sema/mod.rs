@@ -49,8 +49,9 @@ q3 = 1.8959394827657874
     fn params_only_functions_evaluate_and_derived_params_know_their_bases() {
         let (mechs, diags) = analyze(&SourceFile::new("m.toml", FILE));
         assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
-        let params = &mechs[0].model.params;
-        let value = |n: &str| params.iter().find(|p| p.name.text == n).unwrap().value;
+        let model = &mechs[0].model;
+        let all: Vec<_> = model.params.iter().chain(&model.derived).collect();
+        let value = |n: &str| all.iter().find(|p| p.name.text == n).unwrap().value;
         assert!((value("l2") - 0.35).abs() <= f64::EPSILON * 0.35);
         for n in ["a", "b", "cc", "d", "f", "g"] {
             assert!(
@@ -59,8 +60,12 @@ q3 = 1.8959394827657874
                 value(n)
             );
         }
-        let uses = |n: &str| &params.iter().find(|p| p.name.text == n).unwrap().uses;
+        let uses = |n: &str| &all.iter().find(|p| p.name.text == n).unwrap().uses;
         assert!(uses("l2").is_empty() && uses("a").is_empty());
-        assert_eq!(uses("g"), &[0]);
+        // g = abs(l1) - 0.1 is derived from l1; every other param is a base param.
+        assert_eq!(uses("g"), &[crate::Symbol::Param(0)]);
+        let derived: Vec<&str> = model.derived.iter().map(|d| d.name.text.as_str()).collect();
+        assert_eq!(derived, ["g"]);
+        assert_eq!(model.params.len(), 10);
     }
 }

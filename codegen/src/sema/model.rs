@@ -20,6 +20,8 @@ pub enum Symbol {
     Input(usize),
     Unknown(usize),
     Param(usize),
+    /// A derived param: defined by an expression of other params (index into `Model::derived`).
+    Derived(usize),
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -38,10 +40,9 @@ pub struct Param {
     pub value: f64,
     /// The expression as written when it was not a plain number.
     pub source: Option<String>,
-    /// The params its expression uses (indices of earlier params). A param that uses others is
-    /// derived: its value follows from theirs, and run-time engines recompute it when they change
-    /// ([`crate::sema::eval::derive_params`]).
-    pub uses: Vec<usize>,
+    /// The params its expression uses (earlier params, base or derived). A param that uses others
+    /// is derived: its value follows from theirs.
+    pub uses: Vec<Symbol>,
     /// Its expression (a number for a plain param).
     pub expr: Expr,
 }
@@ -69,7 +70,12 @@ pub struct Model {
     pub description: String,
     pub inputs: Vec<Coord>,
     pub unknowns: Vec<Coord>,
+    /// The base params: free values, the fields of the generated `Params` (`Symbol::Param`).
     pub params: Vec<Param>,
+    /// The derived params, in file order (`Symbol::Derived`): not free values. Lowering
+    /// substitutes their expressions, so the solvers recompute them from the base params and a
+    /// change of a base param at run time carries through.
+    pub derived: Vec<Param>,
     pub loops: Vec<Expr>,
     pub points: Vec<(Name, Expr)>,
     pub scenes: Vec<Scene>,

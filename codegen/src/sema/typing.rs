@@ -39,7 +39,7 @@ pub fn type_of(
         ExprKind::Number(_) => Some(Ty::Scalar),
         ExprKind::Name(n) if Builtin::from_name(n) == Some(Builtin::Pi) => Some(Ty::Scalar),
         ExprKind::Name(n) => match symbols.get(n) {
-            Some(Symbol::Param(_)) => Some(Ty::Scalar),
+            Some(Symbol::Param(_) | Symbol::Derived(_)) => Some(Ty::Scalar),
             Some(_) if !params_only => Some(Ty::Scalar),
             Some(_) => {
                 diags.push(Diagnostic::error(

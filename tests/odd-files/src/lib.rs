@@ -11,3 +11,8 @@
 pub mod other {
     ::mechgen::include_mechanisms!("other.rs");
 }
+
+/// `derived.toml`: derived params (expressions of other params) follow their bases at run time.
+pub mod derived {
+    ::mechgen::include_mechanisms!("derived.rs");
+}

@@ -13,7 +13,8 @@
 //!   the same prediction as its guess for `Kinematics::solve_motion`.
 //!
 //! - `<scene>/step/generated`: one tick of each compiled-in scene along its mechanism's walk (the
-//!   same states), so a scene's saving reads off against `<mechanism>/step/generated`.
+//!   same states), right after its mechanism's benches, so a scene's saving reads off against
+//!   `<mechanism>/step/generated` under the same load.
 //!
 //! The generated engine runs with static dispatch (`visit_all`, fixed arrays); the generic engine
 //! is loaded at run time from the same file.
@@ -219,6 +220,10 @@ impl Visitor<f64> for Generated<'_> {
             });
         }
         g.finish();
+        mechgen::visit_scenes(&mut Scenes {
+            c: self.c,
+            mechanism: M::NAME,
+        });
     }
 }
 
@@ -226,10 +231,16 @@ impl Visitor<f64> for Generated<'_> {
 /// `step` (from the mechanism's sweep), each tick from the previous one.
 struct Scenes<'c> {
     c: &'c mut Criterion,
+    /// Only the scenes of this mechanism: they run right after its benches, so that a scene and
+    /// its mechanism are timed under the same load of this shared machine.
+    mechanism: &'static str,
 }
 
 impl SceneVisitor<f64> for Scenes<'_> {
     fn visit<S: Scene<f64> + 'static>(&mut self, scene: &S) {
+        if scene.info().mechanism != self.mechanism {
+            return;
+        }
         let k = mechgen::lookup::<f64>(scene.info().mechanism).expect("its mechanism");
         let (states, _) = states(k.as_ref());
         let xs: Vec<S::X> = states.iter().map(|s| arr(&s.x)).collect();
@@ -324,7 +335,6 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
 
 fn benches(c: &mut Criterion) {
     mechgen::visit_all(&mut Generated { c });
-    mechgen::visit_scenes(&mut Scenes { c });
     let loaded = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
         .expect("the compiled-in file loads");
     for k in &loaded {

@@ -891,7 +891,7 @@ pub mod sixbar {
                 },
             ]
         }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its residual and Jacobian block.
+        /// Block 0: q2, q3 from loop 1 (x, y). Its residual and Jacobian block (Newton).
         #[inline]
         fn block0_position(
             &self,
@@ -942,147 +942,7 @@ pub mod sixbar {
             jac[(1, 1)] = t12;
             (::mechgen::__private::nalgebra::SVector::from([t9, t10]), jac)
         }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its Jacobian block.
-        #[inline]
-        fn block0_jacobian(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
-        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
-            let v_q2 = q[0];
-            let v_q3 = q[1];
-            let p_l2 = self.params.l2;
-            let p_l3 = self.params.l3;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t0 = p_l2 * c_v_q2;
-            let t1 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t2 = p_l3 * c_v_q3;
-            let t3 = p_l3 * s_v_q3;
-            let t4 = -t1;
-            let t5 = -t2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
-            // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t4;
-            // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t3;
-            // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t0;
-            // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t5;
-            jac
-        }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side (velocity).
-        #[inline]
-        fn block0_velocity(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
-            let p_l1 = self.params.l1;
-            let v_q1_d = xd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let t2 = t1 * v_q1_d;
-            let t3 = t0 * v_q1_d;
-            let t4 = -t3;
-            ::mechgen::__private::nalgebra::SVector::from([t2, t4])
-        }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side (acceleration).
-        #[inline]
-        fn block0_acceleration(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-            xdd: &[T; 1],
-            qdd: &[T; 4],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
-            let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let p_l3 = self.params.l3;
-            let v_q1_d = xd[0];
-            let v_q2_d = qd[0];
-            let v_q3_d = qd[1];
-            let v_q1_dd = xdd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l2 * c_v_q2;
-            let t3 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t4 = p_l3 * c_v_q3;
-            let t5 = p_l3 * s_v_q3;
-            let t6 = t2 * v_q2_d;
-            let t7 = t4 * v_q3_d;
-            let t8 = t3 * v_q2_d;
-            let t9 = t5 * v_q3_d;
-            let t10 = t1 * v_q1_d;
-            let t11 = t0 * v_q1_d;
-            let t12 = v_q1_d * t11;
-            let t13 = -t12;
-            let t14 = v_q2_d * t6;
-            let t15 = t13 - t14;
-            let t16 = v_q3_d * t7;
-            let t17 = t15 + t16;
-            let t18 = t1 * v_q1_dd;
-            let t19 = t18 - t17;
-            let t20 = v_q1_d * t10;
-            let t21 = -t20;
-            let t22 = v_q2_d * t8;
-            let t23 = t21 - t22;
-            let t24 = v_q3_d * t9;
-            let t25 = t23 + t24;
-            let t26 = t0 * v_q1_dd;
-            let t27 = t25 + t26;
-            let t28 = -t27;
-            ::mechgen::__private::nalgebra::SVector::from([t19, t28])
-        }
-        /// Block 0: q2, q3 from loop 1 (x, y). A dyad: K + M_a e(q2) + M_b e(q3) = 0; returns K, then (p, r) of M_a and of M_b.
-        #[inline]
-        fn block0_dyad(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
-        ) -> [T; 6] {
-            let v_q1 = x[0];
-            let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let p_l3 = self.params.l3;
-            let p_l4 = self.params.l4;
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let t2 = -p_l3;
-            let t3 = t0 - p_l4;
-            [t3, t1, p_l2, T::zero(), t2, T::zero()]
-        }
-        /// Block 1: q5, q6 from loop 2 (x, y). Its residual and Jacobian block.
+        /// Block 1: q5, q6 from loop 2 (x, y). Its residual and Jacobian block (Newton).
         #[inline]
         fn block1_position(
             &self,
@@ -1155,224 +1015,6 @@ pub mod sixbar {
             jac[(1, 1)] = t27;
             (::mechgen::__private::nalgebra::SVector::from([t24, t25]), jac)
         }
-        /// Block 1: q5, q6 from loop 2 (x, y). Its Jacobian block.
-        #[inline]
-        fn block1_jacobian(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
-        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
-            let v_q5 = q[2];
-            let v_q6 = q[3];
-            let p_l5 = self.params.l5;
-            let p_l6 = self.params.l6;
-            let (s_v_q5, c_v_q5) = tq[2];
-            let t0 = p_l5 * c_v_q5;
-            let t1 = p_l5 * s_v_q5;
-            let (s_v_q6, c_v_q6) = tq[3];
-            let t2 = p_l6 * c_v_q6;
-            let t3 = p_l6 * s_v_q6;
-            let t4 = -t0;
-            let t5 = -t2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
-            // J[2][2] = ∂Φ2/∂q5
-            jac[(0, 0)] = t1;
-            // J[2][3] = ∂Φ2/∂q6
-            jac[(0, 1)] = t3;
-            // J[3][2] = ∂Φ3/∂q5
-            jac[(1, 0)] = t4;
-            // J[3][3] = ∂Φ3/∂q6
-            jac[(1, 1)] = t5;
-            jac
-        }
-        /// Block 1: q5, q6 from loop 2 (x, y). Its right-hand side (velocity).
-        #[inline]
-        fn block1_velocity(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let p_l2e = self.params.l2e;
-            let p_alpha = self.params.alpha;
-            let v_q1_d = xd[0];
-            let v_q2_d = qd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l2 * c_v_q2;
-            let t3 = p_l2 * s_v_q2;
-            let (s_p_alpha, c_p_alpha) = tp[9];
-            let t4 = c_v_q2 * c_p_alpha;
-            let t5 = s_v_q2 * s_p_alpha;
-            let t6 = s_v_q2 * c_p_alpha;
-            let t7 = c_v_q2 * s_p_alpha;
-            let t8 = t4 + t5;
-            let t9 = p_l2e * t8;
-            let t10 = t7 - t6;
-            let t11 = p_l2e * t10;
-            let t12 = t11 - t3;
-            let t13 = t2 + t9;
-            let t14 = t12 * v_q2_d;
-            let t15 = t1 * v_q1_d;
-            let t16 = t0 * v_q1_d;
-            let t17 = -t16;
-            let t18 = t13 * v_q2_d;
-            let t19 = t15 - t14;
-            let t20 = t17 - t18;
-            ::mechgen::__private::nalgebra::SVector::from([t19, t20])
-        }
-        /// Block 1: q5, q6 from loop 2 (x, y). Its right-hand side (acceleration).
-        #[inline]
-        fn block1_acceleration(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-            xdd: &[T; 1],
-            qdd: &[T; 4],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q5 = q[2];
-            let v_q6 = q[3];
-            let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let p_l5 = self.params.l5;
-            let p_l6 = self.params.l6;
-            let p_l2e = self.params.l2e;
-            let p_alpha = self.params.alpha;
-            let v_q1_d = xd[0];
-            let v_q2_d = qd[0];
-            let v_q5_d = qd[2];
-            let v_q6_d = qd[3];
-            let v_q1_dd = xdd[0];
-            let v_q2_dd = qdd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l2 * c_v_q2;
-            let t3 = p_l2 * s_v_q2;
-            let (s_p_alpha, c_p_alpha) = tp[9];
-            let t4 = c_v_q2 * c_p_alpha;
-            let t5 = s_v_q2 * s_p_alpha;
-            let t6 = s_v_q2 * c_p_alpha;
-            let t7 = c_v_q2 * s_p_alpha;
-            let t8 = t4 + t5;
-            let t9 = p_l2e * t8;
-            let (s_v_q5, c_v_q5) = tq[2];
-            let t10 = p_l5 * c_v_q5;
-            let t11 = p_l5 * s_v_q5;
-            let (s_v_q6, c_v_q6) = tq[3];
-            let t12 = p_l6 * c_v_q6;
-            let t13 = p_l6 * s_v_q6;
-            let t14 = t7 - t6;
-            let t15 = p_l2e * t14;
-            let t16 = t15 - t3;
-            let t17 = -t5;
-            let t18 = t2 + t9;
-            let t19 = t17 - t4;
-            let t20 = p_l2e * t19;
-            let t21 = t20 - t2;
-            let t22 = v_q2_d * t21;
-            let t23 = t10 * v_q5_d;
-            let t24 = t12 * v_q6_d;
-            let t25 = t16 * v_q2_d;
-            let t26 = t11 * v_q5_d;
-            let t27 = t13 * v_q6_d;
-            let t28 = t1 * v_q1_d;
-            let t29 = t0 * v_q1_d;
-            let t30 = v_q1_d * t29;
-            let t31 = t1 * v_q1_dd;
-            let t32 = v_q1_d * t28;
-            let t33 = t0 * v_q1_dd;
-            let t34 = v_q2_d * t22;
-            let t35 = t34 - t30;
-            let t36 = v_q5_d * t23;
-            let t37 = t35 + t36;
-            let t38 = v_q6_d * t24;
-            let t39 = t37 + t38;
-            let t40 = t31 - t39;
-            let t41 = v_q2_d * t25;
-            let t42 = t41 - t32;
-            let t43 = v_q5_d * t26;
-            let t44 = t42 + t43;
-            let t45 = v_q6_d * t27;
-            let t46 = t44 + t45;
-            let t47 = t33 + t46;
-            let t48 = -t47;
-            let t49 = t16 * v_q2_dd;
-            let t50 = t18 * v_q2_dd;
-            let t51 = t40 - t49;
-            let t52 = t48 - t50;
-            ::mechgen::__private::nalgebra::SVector::from([t51, t52])
-        }
-        /// Block 1: q5, q6 from loop 2 (x, y). A dyad: K + M_a e(q5) + M_b e(q6) = 0; returns K, then (p, r) of M_a and of M_b.
-        #[inline]
-        fn block1_dyad(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
-        ) -> [T; 6] {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let p_l5 = self.params.l5;
-            let p_l6 = self.params.l6;
-            let p_l2e = self.params.l2e;
-            let p_xg = self.params.xg;
-            let p_yg = self.params.yg;
-            let p_alpha = self.params.alpha;
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l2 * c_v_q2;
-            let t3 = p_l2 * s_v_q2;
-            let t4 = t0 + t2;
-            let t5 = t1 + t3;
-            let (s_p_alpha, c_p_alpha) = tp[9];
-            let t6 = c_v_q2 * c_p_alpha;
-            let t7 = s_v_q2 * s_p_alpha;
-            let t8 = s_v_q2 * c_p_alpha;
-            let t9 = c_v_q2 * s_p_alpha;
-            let t10 = t6 + t7;
-            let t11 = t8 - t9;
-            let t12 = p_l2e * t10;
-            let t13 = p_l2e * t11;
-            let t14 = t4 + t12;
-            let t15 = t5 + t13;
-            let t16 = -p_l5;
-            let t17 = -p_l6;
-            let t18 = t14 - p_xg;
-            let t19 = t15 - p_yg;
-            [t18, t19, t16, T::zero(), t17, T::zero()]
-        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 10]) {
@@ -1388,6 +1030,7 @@ pub mod sixbar {
         fn trig_state(q: [T; 4]) -> ::mechgen::__private::TrigState<T, 4> {
             ::mechgen::__private::TrigState::new(q, [true, true, true, true])
         }
+        /// Positions block by block from the guess in `st`.
         #[inline]
         fn position_cached(
             &self,
@@ -1398,18 +1041,26 @@ pub mod sixbar {
             options: &::mechgen::__private::NewtonOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
+            // Block 0: closed form (a dyad).
+            let v_q1 = x[0];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
             if options.closed_forms {
-                let [kx, ky, pa, ra, pb, rb] = self
-                    .block0_dyad(x, &st.q, tx, tp, &st.sc);
                 ::mechgen::__private::solve_dyad(
                     0,
                     st,
                     0,
                     1,
-                    [kx, ky],
-                    (pa, ra),
-                    (pb, rb),
+                    [t3, t1],
+                    (p_l2, T::zero()),
+                    (t2, T::zero()),
                     || self.params.length_scale(),
                     options.tolerance,
                     report,
@@ -1426,18 +1077,43 @@ pub mod sixbar {
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
-            // Block 1: q5, q6 from loop 2 (x, y). Closed form (a dyad).
+            // Block 1: closed form (a dyad).
+            let v_q2 = st.q[0];
+            let p_l5 = self.params.l5;
+            let p_l6 = self.params.l6;
+            let p_l2e = self.params.l2e;
+            let p_xg = self.params.xg;
+            let p_yg = self.params.yg;
+            let p_alpha = self.params.alpha;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let t6 = t0 + t4;
+            let t7 = t1 + t5;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t8 = c_v_q2 * c_p_alpha;
+            let t9 = s_v_q2 * s_p_alpha;
+            let t10 = s_v_q2 * c_p_alpha;
+            let t11 = c_v_q2 * s_p_alpha;
+            let t12 = t8 + t9;
+            let t13 = t10 - t11;
+            let t14 = p_l2e * t12;
+            let t15 = p_l2e * t13;
+            let t16 = t6 + t14;
+            let t17 = t7 + t15;
+            let t18 = -p_l5;
+            let t19 = -p_l6;
+            let t20 = t16 - p_xg;
+            let t21 = t17 - p_yg;
             if options.closed_forms {
-                let [kx, ky, pa, ra, pb, rb] = self
-                    .block1_dyad(x, &st.q, tx, tp, &st.sc);
                 ::mechgen::__private::solve_dyad(
                     1,
                     st,
                     2,
                     3,
-                    [kx, ky],
-                    (pa, ra),
-                    (pb, rb),
+                    [t20, t21],
+                    (t18, T::zero()),
+                    (t19, T::zero()),
                     || self.params.length_scale(),
                     options.tolerance,
                     report,
@@ -1456,85 +1132,289 @@ pub mod sixbar {
             }
             Ok(())
         }
+        /// Velocities block by block at the solved position in `st`.
         #[inline]
         fn velocity_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 4],
+            st: &::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
             xd: &[T; 1],
         ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 4];
-            // Block 0: q2, q3 from loop 1 (x, y).
+            // Block 0: velocities.
+            let v_q1 = x[0];
+            let v_q2 = st.q[0];
+            let v_q3 = st.q[1];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let v_q1_d = xd[0];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t4 = p_l3 * c_v_q3;
+            let t5 = p_l3 * s_v_q3;
+            let t6 = -t3;
+            let t7 = -t4;
+            let t8 = t1 * v_q1_d;
+            let t9 = t0 * v_q1_d;
+            let t10 = -t9;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t6;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t5;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t2;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t7;
             let lu = ::mechgen::__private::factor_block(
                 0,
                 ::mechgen::__private::Stage::Velocity,
-                self.block0_jacobian(x, q, tx, tp, tq),
+                jac,
             )?;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Velocity,
-                    self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
+                    ::mechgen::__private::nalgebra::SVector::from([t8, t10]),
                 )?;
             qd[0] = z[0];
             qd[1] = z[1];
-            // Block 1: q5, q6 from loop 2 (x, y).
+            // Block 1: velocities.
+            let v_q5 = st.q[2];
+            let v_q6 = st.q[3];
+            let p_l5 = self.params.l5;
+            let p_l6 = self.params.l6;
+            let p_l2e = self.params.l2e;
+            let p_alpha = self.params.alpha;
+            let v_q2_d = qd[0];
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t11 = c_v_q2 * c_p_alpha;
+            let t12 = s_v_q2 * s_p_alpha;
+            let t13 = s_v_q2 * c_p_alpha;
+            let t14 = c_v_q2 * s_p_alpha;
+            let t15 = t11 + t12;
+            let t16 = p_l2e * t15;
+            let (s_v_q5, c_v_q5) = st.sc[2];
+            let t17 = p_l5 * c_v_q5;
+            let t18 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = st.sc[3];
+            let t19 = p_l6 * c_v_q6;
+            let t20 = p_l6 * s_v_q6;
+            let t21 = t14 - t13;
+            let t22 = p_l2e * t21;
+            let t23 = t22 - t3;
+            let t24 = t2 + t16;
+            let t25 = -t17;
+            let t26 = -t19;
+            let t27 = t23 * v_q2_d;
+            let t28 = t24 * v_q2_d;
+            let t29 = t8 - t27;
+            let t30 = t10 - t28;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
+            // J[2][2] = ∂Φ2/∂q5
+            jac[(0, 0)] = t18;
+            // J[2][3] = ∂Φ2/∂q6
+            jac[(0, 1)] = t20;
+            // J[3][2] = ∂Φ3/∂q5
+            jac[(1, 0)] = t25;
+            // J[3][3] = ∂Φ3/∂q6
+            jac[(1, 1)] = t26;
             let lu = ::mechgen::__private::factor_block(
                 1,
                 ::mechgen::__private::Stage::Velocity,
-                self.block1_jacobian(x, q, tx, tp, tq),
+                jac,
             )?;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Velocity,
-                    self.block1_velocity(x, q, tx, tp, tq, xd, &qd),
+                    ::mechgen::__private::nalgebra::SVector::from([t29, t30]),
                 )?;
             qd[2] = z[0];
             qd[3] = z[1];
             Ok(qd)
         }
+        /// Accelerations block by block at the solved position in `st` and the rates `qd`.
         #[inline]
         fn acceleration_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 4],
+            st: &::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
         ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 4];
-            // Block 0: q2, q3 from loop 1 (x, y).
+            // Block 0: accelerations.
+            let v_q2 = st.q[0];
+            let v_q3 = st.q[1];
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t0 = p_l2 * c_v_q2;
+            let t1 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t2 = p_l3 * c_v_q3;
+            let t3 = p_l3 * s_v_q3;
+            let t4 = -t1;
+            let t5 = -t2;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t4;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t3;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t0;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t5;
             let lu = ::mechgen::__private::factor_block(
                 0,
                 ::mechgen::__private::Stage::Acceleration,
-                self.block0_jacobian(x, q, tx, tp, tq),
+                jac,
             )?;
+            let v_q1 = x[0];
+            let p_l1 = self.params.l1;
+            let v_q1_d = xd[0];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t6 = p_l1 * c_v_q1;
+            let t7 = p_l1 * s_v_q1;
+            let t8 = t0 * v_q2_d;
+            let t9 = t2 * v_q3_d;
+            let t10 = t1 * v_q2_d;
+            let t11 = t3 * v_q3_d;
+            let t12 = t7 * v_q1_d;
+            let t13 = t6 * v_q1_d;
+            let t14 = v_q1_d * t13;
+            let t15 = -t14;
+            let t16 = v_q2_d * t8;
+            let t17 = t15 - t16;
+            let t18 = v_q3_d * t9;
+            let t19 = t17 + t18;
+            let t20 = t7 * v_q1_dd;
+            let t21 = t20 - t19;
+            let t22 = v_q1_d * t12;
+            let t23 = -t22;
+            let t24 = v_q2_d * t10;
+            let t25 = t23 - t24;
+            let t26 = v_q3_d * t11;
+            let t27 = t25 + t26;
+            let t28 = t6 * v_q1_dd;
+            let t29 = t27 + t28;
+            let t30 = -t29;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                    ::mechgen::__private::nalgebra::SVector::from([t21, t30]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
-            // Block 1: q5, q6 from loop 2 (x, y).
+            // Block 1: accelerations.
+            let v_q5 = st.q[2];
+            let v_q6 = st.q[3];
+            let p_l5 = self.params.l5;
+            let p_l6 = self.params.l6;
+            let (s_v_q5, c_v_q5) = st.sc[2];
+            let t31 = p_l5 * c_v_q5;
+            let t32 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = st.sc[3];
+            let t33 = p_l6 * c_v_q6;
+            let t34 = p_l6 * s_v_q6;
+            let t35 = -t31;
+            let t36 = -t33;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
+            // J[2][2] = ∂Φ2/∂q5
+            jac[(0, 0)] = t32;
+            // J[2][3] = ∂Φ2/∂q6
+            jac[(0, 1)] = t34;
+            // J[3][2] = ∂Φ3/∂q5
+            jac[(1, 0)] = t35;
+            // J[3][3] = ∂Φ3/∂q6
+            jac[(1, 1)] = t36;
             let lu = ::mechgen::__private::factor_block(
                 1,
                 ::mechgen::__private::Stage::Acceleration,
-                self.block1_jacobian(x, q, tx, tp, tq),
+                jac,
             )?;
+            let p_l2e = self.params.l2e;
+            let p_alpha = self.params.alpha;
+            let v_q5_d = qd[2];
+            let v_q6_d = qd[3];
+            let v_q2_dd = qdd[0];
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t37 = c_v_q2 * c_p_alpha;
+            let t38 = s_v_q2 * s_p_alpha;
+            let t39 = s_v_q2 * c_p_alpha;
+            let t40 = c_v_q2 * s_p_alpha;
+            let t41 = t37 + t38;
+            let t42 = p_l2e * t41;
+            let t43 = t40 - t39;
+            let t44 = p_l2e * t43;
+            let t45 = t44 - t1;
+            let t46 = -t38;
+            let t47 = t0 + t42;
+            let t48 = t46 - t37;
+            let t49 = p_l2e * t48;
+            let t50 = t49 - t0;
+            let t51 = v_q2_d * t50;
+            let t52 = t31 * v_q5_d;
+            let t53 = t33 * v_q6_d;
+            let t54 = t45 * v_q2_d;
+            let t55 = t32 * v_q5_d;
+            let t56 = t34 * v_q6_d;
+            let t57 = v_q2_d * t51;
+            let t58 = t57 - t14;
+            let t59 = v_q5_d * t52;
+            let t60 = t58 + t59;
+            let t61 = v_q6_d * t53;
+            let t62 = t60 + t61;
+            let t63 = t20 - t62;
+            let t64 = v_q2_d * t54;
+            let t65 = t64 - t22;
+            let t66 = v_q5_d * t55;
+            let t67 = t65 + t66;
+            let t68 = v_q6_d * t56;
+            let t69 = t67 + t68;
+            let t70 = t28 + t69;
+            let t71 = -t70;
+            let t72 = t45 * v_q2_dd;
+            let t73 = t47 * v_q2_dd;
+            let t74 = t63 - t72;
+            let t75 = t71 - t73;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    self.block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                    ::mechgen::__private::nalgebra::SVector::from([t74, t75]),
                 )?;
             qdd[2] = z[0];
             qdd[3] = z[1];
@@ -2552,7 +2432,7 @@ pub mod sixbar {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
+            self.velocity_cached(x, &st, &tx, &tp, xd)
         }
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
         /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
@@ -2590,7 +2470,7 @@ pub mod sixbar {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
@@ -3451,7 +3331,7 @@ pub mod shaper {
                 },
             ]
         }
-        /// Block 0: s3, q3 from loop 1 (x, y). Its residual and Jacobian block.
+        /// Block 0: s3, q3 from loop 1 (x, y). Its residual and Jacobian block (Newton).
         #[inline]
         fn block0_position(
             &self,
@@ -3494,117 +3374,7 @@ pub mod shaper {
             jac[(1, 1)] = t0;
             (::mechgen::__private::nalgebra::SVector::from([t4, t6]), jac)
         }
-        /// Block 0: s3, q3 from loop 1 (x, y). Its Jacobian block.
-        #[inline]
-        fn block0_jacobian(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
-            tq: &[(T, T); 4],
-        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
-            let v_s3 = q[0];
-            let v_q3 = q[1];
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t0 = v_s3 * c_v_q3;
-            let t1 = v_s3 * s_v_q3;
-            let t2 = -t1;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
-            // J[0][0] = ∂Φ0/∂s3
-            jac[(0, 0)] = c_v_q3;
-            // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t2;
-            // J[1][0] = ∂Φ1/∂s3
-            jac[(1, 0)] = s_v_q3;
-            // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t0;
-            jac
-        }
-        /// Block 0: s3, q3 from loop 1 (x, y). Its right-hand side (velocity).
-        #[inline]
-        fn block0_velocity(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
-            tq: &[(T, T); 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
-            let p_l1 = self.params.l1;
-            let v_q1_d = xd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let t2 = t1 * v_q1_d;
-            let t3 = -t2;
-            let t4 = t0 * v_q1_d;
-            ::mechgen::__private::nalgebra::SVector::from([t3, t4])
-        }
-        /// Block 0: s3, q3 from loop 1 (x, y). Its right-hand side (acceleration).
-        #[inline]
-        fn block0_acceleration(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
-            tq: &[(T, T); 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-            xdd: &[T; 1],
-            qdd: &[T; 4],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
-            let v_s3 = q[0];
-            let v_q3 = q[1];
-            let p_l1 = self.params.l1;
-            let v_q1_d = xd[0];
-            let v_s3_d = qd[0];
-            let v_q3_d = qd[1];
-            let v_q1_dd = xdd[0];
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t0 = v_s3 * c_v_q3;
-            let t1 = v_s3 * s_v_q3;
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t2 = p_l1 * c_v_q1;
-            let t3 = p_l1 * s_v_q1;
-            let t4 = s_v_q3 * v_q3_d;
-            let t5 = s_v_q3 * v_s3_d;
-            let t6 = -t5;
-            let t7 = t0 * v_q3_d;
-            let t8 = t6 - t7;
-            let t9 = c_v_q3 * v_q3_d;
-            let t10 = c_v_q3 * v_s3_d;
-            let t11 = t1 * v_q3_d;
-            let t12 = t10 - t11;
-            let t13 = t3 * v_q1_d;
-            let t14 = t2 * v_q1_d;
-            let t15 = v_q1_d * t14;
-            let t16 = t4 * v_s3_d;
-            let t17 = t15 - t16;
-            let t18 = v_q3_d * t8;
-            let t19 = t17 + t18;
-            let t20 = t3 * v_q1_dd;
-            let t21 = t19 + t20;
-            let t22 = -t21;
-            let t23 = v_q1_d * t13;
-            let t24 = v_s3_d * t9;
-            let t25 = t23 + t24;
-            let t26 = v_q3_d * t12;
-            let t27 = t25 + t26;
-            let t28 = t2 * v_q1_dd;
-            let t29 = t28 - t27;
-            ::mechgen::__private::nalgebra::SVector::from([t22, t29])
-        }
-        /// Block 1: q4 from loop 2 (y). Its residual and Jacobian block.
+        /// Block 1: q4 from loop 2 (y). Its residual and Jacobian block (Newton).
         #[inline]
         fn block1_position(
             &self,
@@ -3638,87 +3408,7 @@ pub mod shaper {
             jac[(0, 0)] = t1;
             (::mechgen::__private::nalgebra::SVector::from([t4]), jac)
         }
-        /// Block 1: q4 from loop 2 (y). Its Jacobian block.
-        #[inline]
-        fn block1_jacobian(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
-            tq: &[(T, T); 4],
-        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
-            let v_q4 = q[2];
-            let p_l4 = self.params.l4;
-            let (s_v_q4, c_v_q4) = tq[2];
-            let t0 = p_l4 * c_v_q4;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
-            // J[3][2] = ∂Φ3/∂q4
-            jac[(0, 0)] = t0;
-            jac
-        }
-        /// Block 1: q4 from loop 2 (y). Its right-hand side (velocity).
-        #[inline]
-        fn block1_velocity(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
-            tq: &[(T, T); 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q3 = q[1];
-            let p_l3 = self.params.l3;
-            let v_q3_d = qd[1];
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t0 = c_v_q3 * p_l3;
-            let t1 = t0 * v_q3_d;
-            let t2 = -t1;
-            ::mechgen::__private::nalgebra::SVector::from([t2])
-        }
-        /// Block 1: q4 from loop 2 (y). Its right-hand side (acceleration).
-        #[inline]
-        fn block1_acceleration(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
-            tq: &[(T, T); 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-            xdd: &[T; 1],
-            qdd: &[T; 4],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q3 = q[1];
-            let v_q4 = q[2];
-            let p_l3 = self.params.l3;
-            let p_l4 = self.params.l4;
-            let v_q3_d = qd[1];
-            let v_q4_d = qd[2];
-            let v_q3_dd = qdd[1];
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t0 = c_v_q3 * p_l3;
-            let t1 = s_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = tq[2];
-            let t2 = p_l4 * s_v_q4;
-            let t3 = t1 * v_q3_d;
-            let t4 = t2 * v_q4_d;
-            let t5 = v_q3_d * t3;
-            let t6 = -t5;
-            let t7 = v_q4_d * t4;
-            let t8 = t7 - t6;
-            let t9 = t0 * v_q3_dd;
-            let t10 = t8 - t9;
-            ::mechgen::__private::nalgebra::SVector::from([t10])
-        }
-        /// Block 2: sE from loop 2 (x). Its residual and Jacobian block.
+        /// Block 2: sE from loop 2 (x). Its residual and Jacobian block (Newton).
         #[inline]
         fn block2_position(
             &self,
@@ -3751,94 +3441,6 @@ pub mod shaper {
             jac[(0, 0)] = T::lit(-1.0);
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
         }
-        /// Block 2: sE from loop 2 (x). Its Jacobian block.
-        #[inline]
-        fn block2_jacobian(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
-            tq: &[(T, T); 4],
-        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
-            // J[2][3] = ∂Φ2/∂sE
-            jac[(0, 0)] = T::lit(-1.0);
-            jac
-        }
-        /// Block 2: sE from loop 2 (x). Its right-hand side (velocity).
-        #[inline]
-        fn block2_velocity(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
-            tq: &[(T, T); 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q3 = q[1];
-            let v_q4 = q[2];
-            let p_l3 = self.params.l3;
-            let p_l4 = self.params.l4;
-            let v_q3_d = qd[1];
-            let v_q4_d = qd[2];
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t0 = s_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = tq[2];
-            let t1 = p_l4 * s_v_q4;
-            let t2 = t0 * v_q3_d;
-            let t3 = -t2;
-            let t4 = t1 * v_q4_d;
-            let t5 = t4 - t3;
-            ::mechgen::__private::nalgebra::SVector::from([t5])
-        }
-        /// Block 2: sE from loop 2 (x). Its right-hand side (acceleration).
-        #[inline]
-        fn block2_acceleration(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
-            tq: &[(T, T); 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-            xdd: &[T; 1],
-            qdd: &[T; 4],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q3 = q[1];
-            let v_q4 = q[2];
-            let p_l3 = self.params.l3;
-            let p_l4 = self.params.l4;
-            let v_q3_d = qd[1];
-            let v_q4_d = qd[2];
-            let v_q3_dd = qdd[1];
-            let v_q4_dd = qdd[2];
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t0 = c_v_q3 * p_l3;
-            let t1 = s_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = tq[2];
-            let t2 = p_l4 * c_v_q4;
-            let t3 = p_l4 * s_v_q4;
-            let t4 = t0 * v_q3_d;
-            let t5 = t2 * v_q4_d;
-            let t6 = v_q3_d * t4;
-            let t7 = -t6;
-            let t8 = v_q4_d * t5;
-            let t9 = t8 - t7;
-            let t10 = t1 * v_q3_dd;
-            let t11 = -t10;
-            let t12 = t3 * v_q4_dd;
-            let t13 = t11 - t12;
-            let t14 = t9 - t13;
-            ::mechgen::__private::nalgebra::SVector::from([t14])
-        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 5]) {
@@ -3853,6 +3455,7 @@ pub mod shaper {
         fn trig_state(q: [T; 4]) -> ::mechgen::__private::TrigState<T, 4> {
             ::mechgen::__private::TrigState::new(q, [false, true, true, false])
         }
+        /// Positions block by block from the guess in `st`.
         #[inline]
         fn position_cached(
             &self,
@@ -3863,203 +3466,112 @@ pub mod shaper {
             options: &::mechgen::__private::NewtonOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            // Block 0: s3, q3 from loop 1 (x, y).
-            ::mechgen::__private::newton_block(
-                0,
-                st,
-                [0, 1],
-                [true, false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 1: q4 from loop 2 (y).
-            ::mechgen::__private::newton_block(
-                1,
-                st,
-                [2],
-                [false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 2: sE from loop 2 (x).
-            ::mechgen::__private::newton_block(
-                2,
-                st,
-                [3],
-                [true],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
-            )?;
+            // Block 0: closed form (RPR).
+            let v_q1 = x[0];
+            let p_l1 = self.params.l1;
+            let p_lAC = self.params.lAC;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -t1;
+            let t3 = -t0;
+            let t4 = t2 - p_lAC;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_rpr(
+                    0,
+                    st,
+                    1,
+                    0,
+                    [t3, t4],
+                    (T::zero(), T::zero()),
+                    (T::one(), T::zero()),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [true, false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: closed form (one angle).
+            let v_q3 = st.q[1];
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let p_yE = self.params.yE;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t5 = s_v_q3 * p_l3;
+            let t6 = t5 - p_yE;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_angle1(
+                    1,
+                    st,
+                    2,
+                    t6,
+                    (T::zero(), p_l4),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [2],
+                    [false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 2: closed form (one length).
+            let v_q4 = st.q[2];
+            let t7 = c_v_q3 * p_l3;
+            let (s_v_q4, c_v_q4) = st.sc[2];
+            let t8 = p_l4 * c_v_q4;
+            let t9 = t7 + t8;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_length1(
+                    2,
+                    st,
+                    3,
+                    t9,
+                    T::lit(-1.0),
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    2,
+                    st,
+                    [3],
+                    [true],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
             Ok(())
         }
+        /// Velocities block by block at the solved position in `st`.
         #[inline]
         fn velocity_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 4],
+            st: &::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 5],
-            tq: &[(T, T); 4],
             xd: &[T; 1],
         ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 4];
-            // Block 0: s3, q3 from loop 1 (x, y).
-            let lu = ::mechgen::__private::factor_block(
-                0,
-                ::mechgen::__private::Stage::Velocity,
-                self.block0_jacobian(x, q, tx, tp, tq),
-            )?;
-            let z = lu
-                .solve(
-                    0,
-                    ::mechgen::__private::Stage::Velocity,
-                    self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
-                )?;
-            qd[0] = z[0];
-            qd[1] = z[1];
-            // Block 1: q4 from loop 2 (y).
-            let lu = ::mechgen::__private::factor_block(
-                1,
-                ::mechgen::__private::Stage::Velocity,
-                self.block1_jacobian(x, q, tx, tp, tq),
-            )?;
-            let z = lu
-                .solve(
-                    1,
-                    ::mechgen::__private::Stage::Velocity,
-                    self.block1_velocity(x, q, tx, tp, tq, xd, &qd),
-                )?;
-            qd[2] = z[0];
-            // Block 2: sE from loop 2 (x).
-            let lu = ::mechgen::__private::factor_block(
-                2,
-                ::mechgen::__private::Stage::Velocity,
-                self.block2_jacobian(x, q, tx, tp, tq),
-            )?;
-            let z = lu
-                .solve(
-                    2,
-                    ::mechgen::__private::Stage::Velocity,
-                    self.block2_velocity(x, q, tx, tp, tq, xd, &qd),
-                )?;
-            qd[3] = z[0];
-            Ok(qd)
-        }
-        #[inline]
-        fn acceleration_cached(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
-            tq: &[(T, T); 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-            xdd: &[T; 1],
-        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
-            let mut qdd = [T::zero(); 4];
-            // Block 0: s3, q3 from loop 1 (x, y).
-            let lu = ::mechgen::__private::factor_block(
-                0,
-                ::mechgen::__private::Stage::Acceleration,
-                self.block0_jacobian(x, q, tx, tp, tq),
-            )?;
-            let z = lu
-                .solve(
-                    0,
-                    ::mechgen::__private::Stage::Acceleration,
-                    self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
-                )?;
-            qdd[0] = z[0];
-            qdd[1] = z[1];
-            // Block 1: q4 from loop 2 (y).
-            let lu = ::mechgen::__private::factor_block(
-                1,
-                ::mechgen::__private::Stage::Acceleration,
-                self.block1_jacobian(x, q, tx, tp, tq),
-            )?;
-            let z = lu
-                .solve(
-                    1,
-                    ::mechgen::__private::Stage::Acceleration,
-                    self.block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
-                )?;
-            qdd[2] = z[0];
-            // Block 2: sE from loop 2 (x).
-            let lu = ::mechgen::__private::factor_block(
-                2,
-                ::mechgen::__private::Stage::Acceleration,
-                self.block2_jacobian(x, q, tx, tp, tq),
-            )?;
-            let z = lu
-                .solve(
-                    2,
-                    ::mechgen::__private::Stage::Acceleration,
-                    self.block2_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
-                )?;
-            qdd[3] = z[0];
-            Ok(qdd)
-        }
-        /// Positions block by block from the guess in `st`, then velocities and accelerations
-        /// (each block's Jacobian factored once for both), then the points: one body, shared
-        /// subexpressions computed once.
-        #[inline(always)]
-        fn motion_cached(
-            &self,
-            x: &[T; 1],
-            st: &mut ::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
-            xd: &[T; 1],
-            xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
-            report: &mut ::mechgen::__private::NewtonReport<T>,
-        ) -> ::core::result::Result<
-            ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 2]),
-            ::mechgen::__private::SolveError,
-        > {
-            let mut qd = [T::zero(); 4];
-            let mut qdd = [T::zero(); 4];
-            // Block 0: Newton.
-            ::mechgen::__private::newton_block(
-                0,
-                st,
-                [0, 1],
-                [true, false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 1: Newton.
-            ::mechgen::__private::newton_block(
-                1,
-                st,
-                [2],
-                [false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 2: Newton.
-            ::mechgen::__private::newton_block(
-                2,
-                st,
-                [3],
-                [true],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 0: velocities and accelerations.
+            // Block 0: velocities.
             let v_q1 = x[0];
             let v_s3 = st.q[0];
             let v_q3 = st.q[1];
@@ -4101,57 +3613,23 @@ pub mod shaper {
                 )?;
             qd[0] = z[0];
             qd[1] = z[1];
-            let v_s3_d = qd[0];
-            let v_q3_d = qd[1];
-            let v_q1_dd = xdd[0];
-            let t8 = s_v_q3 * v_q3_d;
-            let t9 = s_v_q3 * v_s3_d;
-            let t10 = -t9;
-            let t11 = t0 * v_q3_d;
-            let t12 = t10 - t11;
-            let t13 = c_v_q3 * v_q3_d;
-            let t14 = c_v_q3 * v_s3_d;
-            let t15 = t1 * v_q3_d;
-            let t16 = t14 - t15;
-            let t17 = v_q1_d * t7;
-            let t18 = t8 * v_s3_d;
-            let t19 = t17 - t18;
-            let t20 = v_q3_d * t12;
-            let t21 = t19 + t20;
-            let t22 = t3 * v_q1_dd;
-            let t23 = t21 + t22;
-            let t24 = -t23;
-            let t25 = v_q1_d * t5;
-            let t26 = v_s3_d * t13;
-            let t27 = t25 + t26;
-            let t28 = v_q3_d * t16;
-            let t29 = t27 + t28;
-            let t30 = t2 * v_q1_dd;
-            let t31 = t30 - t29;
-            let z = lu
-                .solve(
-                    0,
-                    ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t24, t31]),
-                )?;
-            qdd[0] = z[0];
-            qdd[1] = z[1];
-            // Block 1: velocities and accelerations.
+            // Block 1: velocities.
             let v_q4 = st.q[2];
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
-            let t32 = c_v_q3 * p_l3;
+            let v_q3_d = qd[1];
+            let t8 = c_v_q3 * p_l3;
             let (s_v_q4, c_v_q4) = st.sc[2];
-            let t33 = p_l4 * c_v_q4;
-            let t34 = t32 * v_q3_d;
-            let t35 = -t34;
+            let t9 = p_l4 * c_v_q4;
+            let t10 = t8 * v_q3_d;
+            let t11 = -t10;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
                 T,
                 1,
                 1,
             >::zeros();
             // J[3][2] = ∂Φ3/∂q4
-            jac[(0, 0)] = t33;
+            jac[(0, 0)] = t9;
             let lu = ::mechgen::__private::factor_block(
                 1,
                 ::mechgen::__private::Stage::Velocity,
@@ -4161,31 +3639,17 @@ pub mod shaper {
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t35]),
+                    ::mechgen::__private::nalgebra::SVector::from([t11]),
                 )?;
             qd[2] = z[0];
+            // Block 2: velocities.
             let v_q4_d = qd[2];
-            let v_q3_dd = qdd[1];
-            let t36 = s_v_q3 * p_l3;
-            let t37 = p_l4 * s_v_q4;
-            let t38 = t36 * v_q3_d;
-            let t39 = t37 * v_q4_d;
-            let t40 = v_q3_d * t38;
-            let t41 = -t40;
-            let t42 = v_q4_d * t39;
-            let t43 = t42 - t41;
-            let t44 = t32 * v_q3_dd;
-            let t45 = t43 - t44;
-            let z = lu
-                .solve(
-                    1,
-                    ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t45]),
-                )?;
-            qdd[2] = z[0];
-            // Block 2: velocities and accelerations.
-            let t46 = -t38;
-            let t47 = t39 - t46;
+            let t12 = s_v_q3 * p_l3;
+            let t13 = p_l4 * s_v_q4;
+            let t14 = t12 * v_q3_d;
+            let t15 = -t14;
+            let t16 = t13 * v_q4_d;
+            let t17 = t16 - t15;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
                 T,
                 1,
@@ -4202,34 +3666,432 @@ pub mod shaper {
                 .solve(
                     2,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t47]),
+                    ::mechgen::__private::nalgebra::SVector::from([t17]),
                 )?;
             qd[3] = z[0];
+            Ok(qd)
+        }
+        /// Accelerations block by block at the solved position in `st` and the rates `qd`.
+        #[inline]
+        fn acceleration_cached(
+            &self,
+            x: &[T; 1],
+            st: &::mechgen::__private::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            xd: &[T; 1],
+            qd: &[T; 4],
+            xdd: &[T; 1],
+        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
+            let mut qdd = [T::zero(); 4];
+            // Block 0: accelerations.
+            let v_s3 = st.q[0];
+            let v_q3 = st.q[1];
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t0 = v_s3 * c_v_q3;
+            let t1 = v_s3 * s_v_q3;
+            let t2 = -t1;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
+            // J[0][0] = ∂Φ0/∂s3
+            jac[(0, 0)] = c_v_q3;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t2;
+            // J[1][0] = ∂Φ1/∂s3
+            jac[(1, 0)] = s_v_q3;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t0;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Acceleration,
+                jac,
+            )?;
+            let v_q1 = x[0];
+            let p_l1 = self.params.l1;
+            let v_q1_d = xd[0];
+            let v_s3_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t3 = p_l1 * c_v_q1;
+            let t4 = p_l1 * s_v_q1;
+            let t5 = s_v_q3 * v_q3_d;
+            let t6 = s_v_q3 * v_s3_d;
+            let t7 = -t6;
+            let t8 = t0 * v_q3_d;
+            let t9 = t7 - t8;
+            let t10 = c_v_q3 * v_q3_d;
+            let t11 = c_v_q3 * v_s3_d;
+            let t12 = t1 * v_q3_d;
+            let t13 = t11 - t12;
+            let t14 = t4 * v_q1_d;
+            let t15 = t3 * v_q1_d;
+            let t16 = v_q1_d * t15;
+            let t17 = t5 * v_s3_d;
+            let t18 = t16 - t17;
+            let t19 = v_q3_d * t9;
+            let t20 = t18 + t19;
+            let t21 = t4 * v_q1_dd;
+            let t22 = t20 + t21;
+            let t23 = -t22;
+            let t24 = v_q1_d * t14;
+            let t25 = v_s3_d * t10;
+            let t26 = t24 + t25;
+            let t27 = v_q3_d * t13;
+            let t28 = t26 + t27;
+            let t29 = t3 * v_q1_dd;
+            let t30 = t29 - t28;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t23, t30]),
+                )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            // Block 1: accelerations.
+            let v_q4 = st.q[2];
+            let p_l4 = self.params.l4;
+            let (s_v_q4, c_v_q4) = st.sc[2];
+            let t31 = p_l4 * c_v_q4;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
+            // J[3][2] = ∂Φ3/∂q4
+            jac[(0, 0)] = t31;
+            let lu = ::mechgen::__private::factor_block(
+                1,
+                ::mechgen::__private::Stage::Acceleration,
+                jac,
+            )?;
+            let p_l3 = self.params.l3;
+            let v_q4_d = qd[2];
+            let v_q3_dd = qdd[1];
+            let t32 = c_v_q3 * p_l3;
+            let t33 = s_v_q3 * p_l3;
+            let t34 = p_l4 * s_v_q4;
+            let t35 = t33 * v_q3_d;
+            let t36 = t34 * v_q4_d;
+            let t37 = v_q3_d * t35;
+            let t38 = -t37;
+            let t39 = v_q4_d * t36;
+            let t40 = t39 - t38;
+            let t41 = t32 * v_q3_dd;
+            let t42 = t40 - t41;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t42]),
+                )?;
+            qdd[2] = z[0];
+            // Block 2: accelerations.
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
+            // J[2][3] = ∂Φ2/∂sE
+            jac[(0, 0)] = T::lit(-1.0);
+            let lu = ::mechgen::__private::factor_block(
+                2,
+                ::mechgen::__private::Stage::Acceleration,
+                jac,
+            )?;
             let v_q4_dd = qdd[2];
-            let t48 = t33 * v_q4_d;
-            let t49 = v_q3_d * t34;
+            let t43 = t32 * v_q3_d;
+            let t44 = t31 * v_q4_d;
+            let t45 = v_q3_d * t43;
+            let t46 = -t45;
+            let t47 = v_q4_d * t44;
+            let t48 = t47 - t46;
+            let t49 = t33 * v_q3_dd;
             let t50 = -t49;
-            let t51 = v_q4_d * t48;
-            let t52 = t51 - t50;
-            let t53 = t36 * v_q3_dd;
-            let t54 = -t53;
-            let t55 = t37 * v_q4_dd;
-            let t56 = t54 - t55;
-            let t57 = t52 - t56;
+            let t51 = t34 * v_q4_dd;
+            let t52 = t50 - t51;
+            let t53 = t48 - t52;
             let z = lu
                 .solve(
                     2,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t57]),
+                    ::mechgen::__private::nalgebra::SVector::from([t53]),
+                )?;
+            qdd[3] = z[0];
+            Ok(qdd)
+        }
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
+        #[inline(always)]
+        fn motion_cached(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<
+            ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 2]),
+            ::mechgen::__private::SolveError,
+        > {
+            let mut qd = [T::zero(); 4];
+            let mut qdd = [T::zero(); 4];
+            // Block 0: closed form (RPR).
+            let v_q1 = x[0];
+            let p_l1 = self.params.l1;
+            let p_lAC = self.params.lAC;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -t1;
+            let t3 = -t0;
+            let t4 = t2 - p_lAC;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_rpr(
+                    0,
+                    st,
+                    1,
+                    0,
+                    [t3, t4],
+                    (T::zero(), T::zero()),
+                    (T::one(), T::zero()),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [true, false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: closed form (one angle).
+            let v_q3 = st.q[1];
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let p_yE = self.params.yE;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t5 = s_v_q3 * p_l3;
+            let t6 = t5 - p_yE;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_angle1(
+                    1,
+                    st,
+                    2,
+                    t6,
+                    (T::zero(), p_l4),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [2],
+                    [false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 2: closed form (one length).
+            let v_q4 = st.q[2];
+            let t7 = c_v_q3 * p_l3;
+            let (s_v_q4, c_v_q4) = st.sc[2];
+            let t8 = p_l4 * c_v_q4;
+            let t9 = t7 + t8;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_length1(
+                    2,
+                    st,
+                    3,
+                    t9,
+                    T::lit(-1.0),
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    2,
+                    st,
+                    [3],
+                    [true],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 0: velocities and accelerations.
+            let v_s3 = st.q[0];
+            let v_q1_d = xd[0];
+            let t10 = v_s3 * c_v_q3;
+            let t11 = v_s3 * s_v_q3;
+            let t12 = -t11;
+            let t13 = t1 * v_q1_d;
+            let t14 = -t13;
+            let t15 = t0 * v_q1_d;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
+            // J[0][0] = ∂Φ0/∂s3
+            jac[(0, 0)] = c_v_q3;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t12;
+            // J[1][0] = ∂Φ1/∂s3
+            jac[(1, 0)] = s_v_q3;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t10;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t14, t15]),
+                )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_s3_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t16 = s_v_q3 * v_q3_d;
+            let t17 = s_v_q3 * v_s3_d;
+            let t18 = -t17;
+            let t19 = t10 * v_q3_d;
+            let t20 = t18 - t19;
+            let t21 = c_v_q3 * v_q3_d;
+            let t22 = c_v_q3 * v_s3_d;
+            let t23 = t11 * v_q3_d;
+            let t24 = t22 - t23;
+            let t25 = v_q1_d * t15;
+            let t26 = t16 * v_s3_d;
+            let t27 = t25 - t26;
+            let t28 = v_q3_d * t20;
+            let t29 = t27 + t28;
+            let t30 = t1 * v_q1_dd;
+            let t31 = t29 + t30;
+            let t32 = -t31;
+            let t33 = v_q1_d * t13;
+            let t34 = v_s3_d * t21;
+            let t35 = t33 + t34;
+            let t36 = v_q3_d * t24;
+            let t37 = t35 + t36;
+            let t38 = t0 * v_q1_dd;
+            let t39 = t38 - t37;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t32, t39]),
+                )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            // Block 1: velocities and accelerations.
+            let t40 = t7 * v_q3_d;
+            let t41 = -t40;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
+            // J[3][2] = ∂Φ3/∂q4
+            jac[(0, 0)] = t8;
+            let lu = ::mechgen::__private::factor_block(
+                1,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t41]),
+                )?;
+            qd[2] = z[0];
+            let v_q4_d = qd[2];
+            let v_q3_dd = qdd[1];
+            let t42 = p_l4 * s_v_q4;
+            let t43 = t5 * v_q3_d;
+            let t44 = t42 * v_q4_d;
+            let t45 = v_q3_d * t43;
+            let t46 = -t45;
+            let t47 = v_q4_d * t44;
+            let t48 = t47 - t46;
+            let t49 = t7 * v_q3_dd;
+            let t50 = t48 - t49;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t50]),
+                )?;
+            qdd[2] = z[0];
+            // Block 2: velocities and accelerations.
+            let t51 = -t43;
+            let t52 = t44 - t51;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
+            // J[2][3] = ∂Φ2/∂sE
+            jac[(0, 0)] = T::lit(-1.0);
+            let lu = ::mechgen::__private::factor_block(
+                2,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    2,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t52]),
+                )?;
+            qd[3] = z[0];
+            let v_q4_dd = qdd[2];
+            let t53 = t8 * v_q4_d;
+            let t54 = v_q3_d * t40;
+            let t55 = -t54;
+            let t56 = v_q4_d * t53;
+            let t57 = t56 - t55;
+            let t58 = t5 * v_q3_dd;
+            let t59 = -t58;
+            let t60 = t42 * v_q4_dd;
+            let t61 = t59 - t60;
+            let t62 = t57 - t61;
+            let z = lu
+                .solve(
+                    2,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t62]),
                 )?;
             qdd[3] = z[0];
             // Points.
             let v_sE = st.q[3];
-            let p_yE = self.params.yE;
             let v_sE_d = qd[3];
             let v_sE_dd = qdd[3];
-            let t58 = t50 - t53;
-            let t59 = t44 - t40;
+            let t63 = t55 - t58;
+            let t64 = t49 - t45;
             Ok((
                 qd,
                 qdd,
@@ -4240,9 +4102,9 @@ pub mod shaper {
                         acceleration: [v_sE_dd, T::zero()],
                     },
                     ::mechgen::__private::PointMotion {
-                        position: [t32, t36],
-                        velocity: [t46, t34],
-                        acceleration: [t58, t59],
+                        position: [t7, t5],
+                        velocity: [t51, t40],
+                        acceleration: [t63, t64],
                     },
                 ],
             ))
@@ -4269,55 +4131,107 @@ pub mod shaper {
         > {
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
-            // Block 0: Newton.
-            ::mechgen::__private::newton_block(
-                0,
-                st,
-                [0, 1],
-                [true, false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 1: Newton.
-            ::mechgen::__private::newton_block(
-                1,
-                st,
-                [2],
-                [false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 2: Newton.
-            ::mechgen::__private::newton_block(
-                2,
-                st,
-                [3],
-                [true],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 0: velocities and accelerations.
+            // Block 0: closed form (RPR).
             let v_q1 = x[0];
-            let v_s3 = st.q[0];
-            let v_q3 = st.q[1];
             let p_l1 = self.params.l1;
-            let v_q1_d = xd[0];
-            let (s_v_q3, c_v_q3) = st.sc[1];
-            let t0 = v_s3 * c_v_q3;
-            let t1 = v_s3 * s_v_q3;
+            let p_lAC = self.params.lAC;
             let (s_v_q1, c_v_q1) = tx[0];
-            let t2 = p_l1 * c_v_q1;
-            let t3 = p_l1 * s_v_q1;
-            let t4 = -t1;
-            let t5 = t3 * v_q1_d;
-            let t6 = -t5;
-            let t7 = t2 * v_q1_d;
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -t1;
+            let t3 = -t0;
+            let t4 = t2 - p_lAC;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_rpr(
+                    0,
+                    st,
+                    1,
+                    0,
+                    [t3, t4],
+                    (T::zero(), T::zero()),
+                    (T::one(), T::zero()),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [true, false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: closed form (one angle).
+            let v_q3 = st.q[1];
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let p_yE = self.params.yE;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t5 = s_v_q3 * p_l3;
+            let t6 = t5 - p_yE;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_angle1(
+                    1,
+                    st,
+                    2,
+                    t6,
+                    (T::zero(), p_l4),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [2],
+                    [false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 2: closed form (one length).
+            let v_q4 = st.q[2];
+            let t7 = c_v_q3 * p_l3;
+            let (s_v_q4, c_v_q4) = st.sc[2];
+            let t8 = p_l4 * c_v_q4;
+            let t9 = t7 + t8;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_length1(
+                    2,
+                    st,
+                    3,
+                    t9,
+                    T::lit(-1.0),
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    2,
+                    st,
+                    [3],
+                    [true],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 0: velocities and accelerations.
+            let v_s3 = st.q[0];
+            let v_q1_d = xd[0];
+            let t10 = v_s3 * c_v_q3;
+            let t11 = v_s3 * s_v_q3;
+            let t12 = -t11;
+            let t13 = t1 * v_q1_d;
+            let t14 = -t13;
+            let t15 = t0 * v_q1_d;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
                 T,
                 2,
@@ -4326,11 +4240,11 @@ pub mod shaper {
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t4;
+            jac[(0, 1)] = t12;
             // J[1][0] = ∂Φ1/∂s3
             jac[(1, 0)] = s_v_q3;
             // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t0;
+            jac[(1, 1)] = t10;
             let lu = ::mechgen::__private::factor_block(
                 0,
                 ::mechgen::__private::Stage::Velocity,
@@ -4340,61 +4254,55 @@ pub mod shaper {
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t6, t7]),
+                    ::mechgen::__private::nalgebra::SVector::from([t14, t15]),
                 )?;
             qd[0] = z[0];
             qd[1] = z[1];
             let v_s3_d = qd[0];
             let v_q3_d = qd[1];
             let v_q1_dd = xdd[0];
-            let t8 = s_v_q3 * v_q3_d;
-            let t9 = s_v_q3 * v_s3_d;
-            let t10 = -t9;
-            let t11 = t0 * v_q3_d;
-            let t12 = t10 - t11;
-            let t13 = c_v_q3 * v_q3_d;
-            let t14 = c_v_q3 * v_s3_d;
-            let t15 = t1 * v_q3_d;
-            let t16 = t14 - t15;
-            let t17 = v_q1_d * t7;
-            let t18 = t8 * v_s3_d;
-            let t19 = t17 - t18;
-            let t20 = v_q3_d * t12;
-            let t21 = t19 + t20;
-            let t22 = t3 * v_q1_dd;
-            let t23 = t21 + t22;
-            let t24 = -t23;
-            let t25 = v_q1_d * t5;
-            let t26 = v_s3_d * t13;
-            let t27 = t25 + t26;
-            let t28 = v_q3_d * t16;
+            let t16 = s_v_q3 * v_q3_d;
+            let t17 = s_v_q3 * v_s3_d;
+            let t18 = -t17;
+            let t19 = t10 * v_q3_d;
+            let t20 = t18 - t19;
+            let t21 = c_v_q3 * v_q3_d;
+            let t22 = c_v_q3 * v_s3_d;
+            let t23 = t11 * v_q3_d;
+            let t24 = t22 - t23;
+            let t25 = v_q1_d * t15;
+            let t26 = t16 * v_s3_d;
+            let t27 = t25 - t26;
+            let t28 = v_q3_d * t20;
             let t29 = t27 + t28;
-            let t30 = t2 * v_q1_dd;
-            let t31 = t30 - t29;
+            let t30 = t1 * v_q1_dd;
+            let t31 = t29 + t30;
+            let t32 = -t31;
+            let t33 = v_q1_d * t13;
+            let t34 = v_s3_d * t21;
+            let t35 = t33 + t34;
+            let t36 = v_q3_d * t24;
+            let t37 = t35 + t36;
+            let t38 = t0 * v_q1_dd;
+            let t39 = t38 - t37;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t24, t31]),
+                    ::mechgen::__private::nalgebra::SVector::from([t32, t39]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
             // Block 1: velocities and accelerations.
-            let v_q4 = st.q[2];
-            let p_l3 = self.params.l3;
-            let p_l4 = self.params.l4;
-            let t32 = c_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = st.sc[2];
-            let t33 = p_l4 * c_v_q4;
-            let t34 = t32 * v_q3_d;
-            let t35 = -t34;
+            let t40 = t7 * v_q3_d;
+            let t41 = -t40;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
                 T,
                 1,
                 1,
             >::zeros();
             // J[3][2] = ∂Φ3/∂q4
-            jac[(0, 0)] = t33;
+            jac[(0, 0)] = t8;
             let lu = ::mechgen::__private::factor_block(
                 1,
                 ::mechgen::__private::Stage::Velocity,
@@ -4404,31 +4312,30 @@ pub mod shaper {
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t35]),
+                    ::mechgen::__private::nalgebra::SVector::from([t41]),
                 )?;
             qd[2] = z[0];
             let v_q4_d = qd[2];
             let v_q3_dd = qdd[1];
-            let t36 = s_v_q3 * p_l3;
-            let t37 = p_l4 * s_v_q4;
-            let t38 = t36 * v_q3_d;
-            let t39 = t37 * v_q4_d;
-            let t40 = v_q3_d * t38;
-            let t41 = -t40;
-            let t42 = v_q4_d * t39;
-            let t43 = t42 - t41;
-            let t44 = t32 * v_q3_dd;
-            let t45 = t43 - t44;
+            let t42 = p_l4 * s_v_q4;
+            let t43 = t5 * v_q3_d;
+            let t44 = t42 * v_q4_d;
+            let t45 = v_q3_d * t43;
+            let t46 = -t45;
+            let t47 = v_q4_d * t44;
+            let t48 = t47 - t46;
+            let t49 = t7 * v_q3_dd;
+            let t50 = t48 - t49;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t45]),
+                    ::mechgen::__private::nalgebra::SVector::from([t50]),
                 )?;
             qdd[2] = z[0];
             // Block 2: velocities and accelerations.
-            let t46 = -t38;
-            let t47 = t39 - t46;
+            let t51 = -t43;
+            let t52 = t44 - t51;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
                 T,
                 1,
@@ -4445,25 +4352,25 @@ pub mod shaper {
                 .solve(
                     2,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t47]),
+                    ::mechgen::__private::nalgebra::SVector::from([t52]),
                 )?;
             qd[3] = z[0];
             let v_q4_dd = qdd[2];
-            let t48 = t33 * v_q4_d;
-            let t49 = v_q3_d * t34;
-            let t50 = -t49;
-            let t51 = v_q4_d * t48;
-            let t52 = t51 - t50;
-            let t53 = t36 * v_q3_dd;
-            let t54 = -t53;
-            let t55 = t37 * v_q4_dd;
-            let t56 = t54 - t55;
-            let t57 = t52 - t56;
+            let t53 = t8 * v_q4_d;
+            let t54 = v_q3_d * t40;
+            let t55 = -t54;
+            let t56 = v_q4_d * t53;
+            let t57 = t56 - t55;
+            let t58 = t5 * v_q3_dd;
+            let t59 = -t58;
+            let t60 = t42 * v_q4_dd;
+            let t61 = t59 - t60;
+            let t62 = t57 - t61;
             let z = lu
                 .solve(
                     2,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t57]),
+                    ::mechgen::__private::nalgebra::SVector::from([t62]),
                 )?;
             qdd[3] = z[0];
             // Points.
@@ -4598,7 +4505,7 @@ pub mod shaper {
                 (tx, &*fresh_tp.insert(tp))
             };
             let keep = if options.closed_forms {
-                [false, false, false, false]
+                [true, true, true, true]
             } else {
                 [false, false, false, false]
             };
@@ -4684,7 +4591,7 @@ pub mod shaper {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
+            self.velocity_cached(x, &st, &tx, &tp, xd)
         }
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
         /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
@@ -4722,7 +4629,7 @@ pub mod shaper {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
@@ -4843,7 +4750,7 @@ pub mod shaper {
                 (tx, &*fresh_tp.insert(tp))
             };
             let keep = if options.closed_forms {
-                [false, false, false, false]
+                [true, true, true, true]
             } else {
                 [false; 4]
             };
@@ -5591,7 +5498,7 @@ pub mod four_bar {
                 },
             ]
         }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its residual and Jacobian block.
+        /// Block 0: q2, q3 from loop 1 (x, y). Its residual and Jacobian block (Newton).
         #[inline]
         fn block0_position(
             &self,
@@ -5642,146 +5549,6 @@ pub mod four_bar {
             jac[(1, 1)] = t12;
             (::mechgen::__private::nalgebra::SVector::from([t9, t10]), jac)
         }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its Jacobian block.
-        #[inline]
-        fn block0_jacobian(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 6],
-            tq: &[(T, T); 2],
-        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
-            let v_q2 = q[0];
-            let v_q3 = q[1];
-            let p_l2 = self.params.l2;
-            let p_l3 = self.params.l3;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t0 = p_l2 * c_v_q2;
-            let t1 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t2 = p_l3 * c_v_q3;
-            let t3 = p_l3 * s_v_q3;
-            let t4 = -t1;
-            let t5 = -t2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
-            // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t4;
-            // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t3;
-            // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t0;
-            // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t5;
-            jac
-        }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side (velocity).
-        #[inline]
-        fn block0_velocity(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 6],
-            tq: &[(T, T); 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
-            let p_l1 = self.params.l1;
-            let v_q1_d = xd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let t2 = t1 * v_q1_d;
-            let t3 = t0 * v_q1_d;
-            let t4 = -t3;
-            ::mechgen::__private::nalgebra::SVector::from([t2, t4])
-        }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side (acceleration).
-        #[inline]
-        fn block0_acceleration(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 6],
-            tq: &[(T, T); 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-            xdd: &[T; 1],
-            qdd: &[T; 2],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
-            let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let p_l3 = self.params.l3;
-            let v_q1_d = xd[0];
-            let v_q2_d = qd[0];
-            let v_q3_d = qd[1];
-            let v_q1_dd = xdd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l2 * c_v_q2;
-            let t3 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t4 = p_l3 * c_v_q3;
-            let t5 = p_l3 * s_v_q3;
-            let t6 = t2 * v_q2_d;
-            let t7 = t4 * v_q3_d;
-            let t8 = t3 * v_q2_d;
-            let t9 = t5 * v_q3_d;
-            let t10 = t1 * v_q1_d;
-            let t11 = t0 * v_q1_d;
-            let t12 = v_q1_d * t11;
-            let t13 = -t12;
-            let t14 = v_q2_d * t6;
-            let t15 = t13 - t14;
-            let t16 = v_q3_d * t7;
-            let t17 = t15 + t16;
-            let t18 = t1 * v_q1_dd;
-            let t19 = t18 - t17;
-            let t20 = v_q1_d * t10;
-            let t21 = -t20;
-            let t22 = v_q2_d * t8;
-            let t23 = t21 - t22;
-            let t24 = v_q3_d * t9;
-            let t25 = t23 + t24;
-            let t26 = t0 * v_q1_dd;
-            let t27 = t25 + t26;
-            let t28 = -t27;
-            ::mechgen::__private::nalgebra::SVector::from([t19, t28])
-        }
-        /// Block 0: q2, q3 from loop 1 (x, y). A dyad: K + M_a e(q2) + M_b e(q3) = 0; returns K, then (p, r) of M_a and of M_b.
-        #[inline]
-        fn block0_dyad(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 6],
-            tq: &[(T, T); 2],
-        ) -> [T; 6] {
-            let v_q1 = x[0];
-            let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let p_l3 = self.params.l3;
-            let p_l4 = self.params.l4;
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let t2 = -p_l3;
-            let t3 = t0 - p_l4;
-            [t3, t1, p_l2, T::zero(), t2, T::zero()]
-        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 6]) {
@@ -5797,6 +5564,7 @@ pub mod four_bar {
         fn trig_state(q: [T; 2]) -> ::mechgen::__private::TrigState<T, 2> {
             ::mechgen::__private::TrigState::new(q, [true, true])
         }
+        /// Positions block by block from the guess in `st`.
         #[inline]
         fn position_cached(
             &self,
@@ -5807,18 +5575,26 @@ pub mod four_bar {
             options: &::mechgen::__private::NewtonOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
+            // Block 0: closed form (a dyad).
+            let v_q1 = x[0];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
             if options.closed_forms {
-                let [kx, ky, pa, ra, pb, rb] = self
-                    .block0_dyad(x, &st.q, tx, tp, &st.sc);
                 ::mechgen::__private::solve_dyad(
                     0,
                     st,
                     0,
                     1,
-                    [kx, ky],
-                    (pa, ra),
-                    (pb, rb),
+                    [t3, t1],
+                    (p_l2, T::zero()),
+                    (t2, T::zero()),
                     || self.params.length_scale(),
                     options.tolerance,
                     report,
@@ -5837,57 +5613,148 @@ pub mod four_bar {
             }
             Ok(())
         }
+        /// Velocities block by block at the solved position in `st`.
         #[inline]
         fn velocity_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            st: &::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 6],
-            tq: &[(T, T); 2],
             xd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
-            // Block 0: q2, q3 from loop 1 (x, y).
+            // Block 0: velocities.
+            let v_q1 = x[0];
+            let v_q2 = st.q[0];
+            let v_q3 = st.q[1];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let v_q1_d = xd[0];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t4 = p_l3 * c_v_q3;
+            let t5 = p_l3 * s_v_q3;
+            let t6 = -t3;
+            let t7 = -t4;
+            let t8 = t1 * v_q1_d;
+            let t9 = t0 * v_q1_d;
+            let t10 = -t9;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t6;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t5;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t2;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t7;
             let lu = ::mechgen::__private::factor_block(
                 0,
                 ::mechgen::__private::Stage::Velocity,
-                self.block0_jacobian(x, q, tx, tp, tq),
+                jac,
             )?;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Velocity,
-                    self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
+                    ::mechgen::__private::nalgebra::SVector::from([t8, t10]),
                 )?;
             qd[0] = z[0];
             qd[1] = z[1];
             Ok(qd)
         }
+        /// Accelerations block by block at the solved position in `st` and the rates `qd`.
         #[inline]
         fn acceleration_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            st: &::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 6],
-            tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 2];
-            // Block 0: q2, q3 from loop 1 (x, y).
+            // Block 0: accelerations.
+            let v_q2 = st.q[0];
+            let v_q3 = st.q[1];
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t0 = p_l2 * c_v_q2;
+            let t1 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t2 = p_l3 * c_v_q3;
+            let t3 = p_l3 * s_v_q3;
+            let t4 = -t1;
+            let t5 = -t2;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t4;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t3;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t0;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t5;
             let lu = ::mechgen::__private::factor_block(
                 0,
                 ::mechgen::__private::Stage::Acceleration,
-                self.block0_jacobian(x, q, tx, tp, tq),
+                jac,
             )?;
+            let v_q1 = x[0];
+            let p_l1 = self.params.l1;
+            let v_q1_d = xd[0];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t6 = p_l1 * c_v_q1;
+            let t7 = p_l1 * s_v_q1;
+            let t8 = t0 * v_q2_d;
+            let t9 = t2 * v_q3_d;
+            let t10 = t1 * v_q2_d;
+            let t11 = t3 * v_q3_d;
+            let t12 = t7 * v_q1_d;
+            let t13 = t6 * v_q1_d;
+            let t14 = v_q1_d * t13;
+            let t15 = -t14;
+            let t16 = v_q2_d * t8;
+            let t17 = t15 - t16;
+            let t18 = v_q3_d * t9;
+            let t19 = t17 + t18;
+            let t20 = t7 * v_q1_dd;
+            let t21 = t20 - t19;
+            let t22 = v_q1_d * t12;
+            let t23 = -t22;
+            let t24 = v_q2_d * t10;
+            let t25 = t23 - t24;
+            let t26 = v_q3_d * t11;
+            let t27 = t25 + t26;
+            let t28 = t6 * v_q1_dd;
+            let t29 = t27 + t28;
+            let t30 = -t29;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                    ::mechgen::__private::nalgebra::SVector::from([t21, t30]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -6431,7 +6298,7 @@ pub mod four_bar {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
+            self.velocity_cached(x, &st, &tx, &tp, xd)
         }
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
         /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
@@ -6469,7 +6336,7 @@ pub mod four_bar {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
@@ -7229,7 +7096,7 @@ pub mod slider_crank {
                 },
             ]
         }
-        /// Block 0: q2 from loop 1 (y). Its residual and Jacobian block.
+        /// Block 0: q2 from loop 1 (y). Its residual and Jacobian block (Newton).
         #[inline]
         fn block0_position(
             &self,
@@ -7263,88 +7130,7 @@ pub mod slider_crank {
             jac[(0, 0)] = t1;
             (::mechgen::__private::nalgebra::SVector::from([t4]), jac)
         }
-        /// Block 0: q2 from loop 1 (y). Its Jacobian block.
-        #[inline]
-        fn block0_jacobian(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 3],
-            tq: &[(T, T); 2],
-        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
-            let v_q2 = q[0];
-            let p_l = self.params.l;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t0 = p_l * c_v_q2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
-            // J[1][0] = ∂Φ1/∂q2
-            jac[(0, 0)] = t0;
-            jac
-        }
-        /// Block 0: q2 from loop 1 (y). Its right-hand side (velocity).
-        #[inline]
-        fn block0_velocity(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 3],
-            tq: &[(T, T); 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q1 = x[0];
-            let p_r = self.params.r;
-            let v_q1_d = xd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_r * c_v_q1;
-            let t1 = t0 * v_q1_d;
-            let t2 = -t1;
-            ::mechgen::__private::nalgebra::SVector::from([t2])
-        }
-        /// Block 0: q2 from loop 1 (y). Its right-hand side (acceleration).
-        #[inline]
-        fn block0_acceleration(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 3],
-            tq: &[(T, T); 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-            xdd: &[T; 1],
-            qdd: &[T; 2],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let p_r = self.params.r;
-            let p_l = self.params.l;
-            let v_q1_d = xd[0];
-            let v_q2_d = qd[0];
-            let v_q1_dd = xdd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_r * c_v_q1;
-            let t1 = p_r * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l * s_v_q2;
-            let t3 = t2 * v_q2_d;
-            let t4 = t1 * v_q1_d;
-            let t5 = v_q1_d * t4;
-            let t6 = -t5;
-            let t7 = v_q2_d * t3;
-            let t8 = t6 - t7;
-            let t9 = t0 * v_q1_dd;
-            let t10 = t8 + t9;
-            let t11 = -t10;
-            ::mechgen::__private::nalgebra::SVector::from([t11])
-        }
-        /// Block 1: sC from loop 1 (x). Its residual and Jacobian block.
+        /// Block 1: sC from loop 1 (x). Its residual and Jacobian block (Newton).
         #[inline]
         fn block1_position(
             &self,
@@ -7377,92 +7163,6 @@ pub mod slider_crank {
             jac[(0, 0)] = T::lit(-1.0);
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
         }
-        /// Block 1: sC from loop 1 (x). Its Jacobian block.
-        #[inline]
-        fn block1_jacobian(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 3],
-            tq: &[(T, T); 2],
-        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
-            // J[0][1] = ∂Φ0/∂sC
-            jac[(0, 0)] = T::lit(-1.0);
-            jac
-        }
-        /// Block 1: sC from loop 1 (x). Its right-hand side (velocity).
-        #[inline]
-        fn block1_velocity(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 3],
-            tq: &[(T, T); 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let p_r = self.params.r;
-            let p_l = self.params.l;
-            let v_q1_d = xd[0];
-            let v_q2_d = qd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_r * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t1 = p_l * s_v_q2;
-            let t2 = t1 * v_q2_d;
-            let t3 = t0 * v_q1_d;
-            let t4 = t2 + t3;
-            ::mechgen::__private::nalgebra::SVector::from([t4])
-        }
-        /// Block 1: sC from loop 1 (x). Its right-hand side (acceleration).
-        #[inline]
-        fn block1_acceleration(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 3],
-            tq: &[(T, T); 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-            xdd: &[T; 1],
-            qdd: &[T; 2],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let p_r = self.params.r;
-            let p_l = self.params.l;
-            let v_q1_d = xd[0];
-            let v_q2_d = qd[0];
-            let v_q1_dd = xdd[0];
-            let v_q2_dd = qdd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_r * c_v_q1;
-            let t1 = p_r * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l * c_v_q2;
-            let t3 = p_l * s_v_q2;
-            let t4 = t2 * v_q2_d;
-            let t5 = t0 * v_q1_d;
-            let t6 = v_q1_d * t5;
-            let t7 = -t6;
-            let t8 = v_q2_d * t4;
-            let t9 = t7 - t8;
-            let t10 = t1 * v_q1_dd;
-            let t11 = t10 - t9;
-            let t12 = t3 * v_q2_dd;
-            let t13 = t11 + t12;
-            ::mechgen::__private::nalgebra::SVector::from([t13])
-        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 3]) {
@@ -7477,6 +7177,7 @@ pub mod slider_crank {
         fn trig_state(q: [T; 2]) -> ::mechgen::__private::TrigState<T, 2> {
             ::mechgen::__private::TrigState::new(q, [true, false])
         }
+        /// Positions block by block from the guess in `st`.
         #[inline]
         fn position_cached(
             &self,
@@ -7487,153 +7188,77 @@ pub mod slider_crank {
             options: &::mechgen::__private::NewtonOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            // Block 0: q2 from loop 1 (y).
-            ::mechgen::__private::newton_block(
-                0,
-                st,
-                [0],
-                [false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 1: sC from loop 1 (x).
-            ::mechgen::__private::newton_block(
-                1,
-                st,
-                [1],
-                [true],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
-            )?;
+            // Block 0: closed form (one angle).
+            let v_q1 = x[0];
+            let p_r = self.params.r;
+            let p_l = self.params.l;
+            let p_off = self.params.off;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_r * s_v_q1;
+            let t1 = t0 - p_off;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_angle1(
+                    0,
+                    st,
+                    0,
+                    t1,
+                    (T::zero(), p_l),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0],
+                    [false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: closed form (one length).
+            let v_q2 = st.q[0];
+            let t2 = p_r * c_v_q1;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t3 = p_l * c_v_q2;
+            let t4 = t2 + t3;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_length1(
+                    1,
+                    st,
+                    1,
+                    t4,
+                    T::lit(-1.0),
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [1],
+                    [true],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
             Ok(())
         }
+        /// Velocities block by block at the solved position in `st`.
         #[inline]
         fn velocity_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            st: &::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 3],
-            tq: &[(T, T); 2],
             xd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
-            // Block 0: q2 from loop 1 (y).
-            let lu = ::mechgen::__private::factor_block(
-                0,
-                ::mechgen::__private::Stage::Velocity,
-                self.block0_jacobian(x, q, tx, tp, tq),
-            )?;
-            let z = lu
-                .solve(
-                    0,
-                    ::mechgen::__private::Stage::Velocity,
-                    self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
-                )?;
-            qd[0] = z[0];
-            // Block 1: sC from loop 1 (x).
-            let lu = ::mechgen::__private::factor_block(
-                1,
-                ::mechgen::__private::Stage::Velocity,
-                self.block1_jacobian(x, q, tx, tp, tq),
-            )?;
-            let z = lu
-                .solve(
-                    1,
-                    ::mechgen::__private::Stage::Velocity,
-                    self.block1_velocity(x, q, tx, tp, tq, xd, &qd),
-                )?;
-            qd[1] = z[0];
-            Ok(qd)
-        }
-        #[inline]
-        fn acceleration_cached(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 3],
-            tq: &[(T, T); 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-            xdd: &[T; 1],
-        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
-            let mut qdd = [T::zero(); 2];
-            // Block 0: q2 from loop 1 (y).
-            let lu = ::mechgen::__private::factor_block(
-                0,
-                ::mechgen::__private::Stage::Acceleration,
-                self.block0_jacobian(x, q, tx, tp, tq),
-            )?;
-            let z = lu
-                .solve(
-                    0,
-                    ::mechgen::__private::Stage::Acceleration,
-                    self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
-                )?;
-            qdd[0] = z[0];
-            // Block 1: sC from loop 1 (x).
-            let lu = ::mechgen::__private::factor_block(
-                1,
-                ::mechgen::__private::Stage::Acceleration,
-                self.block1_jacobian(x, q, tx, tp, tq),
-            )?;
-            let z = lu
-                .solve(
-                    1,
-                    ::mechgen::__private::Stage::Acceleration,
-                    self.block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
-                )?;
-            qdd[1] = z[0];
-            Ok(qdd)
-        }
-        /// Positions block by block from the guess in `st`, then velocities and accelerations
-        /// (each block's Jacobian factored once for both), then the points: one body, shared
-        /// subexpressions computed once.
-        #[inline(always)]
-        fn motion_cached(
-            &self,
-            x: &[T; 1],
-            st: &mut ::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 3],
-            xd: &[T; 1],
-            xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
-            report: &mut ::mechgen::__private::NewtonReport<T>,
-        ) -> ::core::result::Result<
-            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 3]),
-            ::mechgen::__private::SolveError,
-        > {
-            let mut qd = [T::zero(); 2];
-            let mut qdd = [T::zero(); 2];
-            // Block 0: Newton.
-            ::mechgen::__private::newton_block(
-                0,
-                st,
-                [0],
-                [false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 1: Newton.
-            ::mechgen::__private::newton_block(
-                1,
-                st,
-                [1],
-                [true],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 0: velocities and accelerations.
+            // Block 0: velocities.
             let v_q1 = x[0];
             let v_q2 = st.q[0];
             let p_r = self.params.r;
@@ -7664,28 +7289,13 @@ pub mod slider_crank {
                     ::mechgen::__private::nalgebra::SVector::from([t3]),
                 )?;
             qd[0] = z[0];
+            // Block 1: velocities.
             let v_q2_d = qd[0];
-            let v_q1_dd = xdd[0];
             let t4 = p_r * s_v_q1;
             let t5 = p_l * s_v_q2;
             let t6 = t5 * v_q2_d;
             let t7 = t4 * v_q1_d;
-            let t8 = v_q1_d * t7;
-            let t9 = -t8;
-            let t10 = v_q2_d * t6;
-            let t11 = t9 - t10;
-            let t12 = t0 * v_q1_dd;
-            let t13 = t11 + t12;
-            let t14 = -t13;
-            let z = lu
-                .solve(
-                    0,
-                    ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t14]),
-                )?;
-            qdd[0] = z[0];
-            // Block 1: velocities and accelerations.
-            let t15 = t6 + t7;
+            let t8 = t6 + t7;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
                 T,
                 1,
@@ -7702,61 +7312,290 @@ pub mod slider_crank {
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t15]),
+                    ::mechgen::__private::nalgebra::SVector::from([t8]),
                 )?;
             qd[1] = z[0];
+            Ok(qd)
+        }
+        /// Accelerations block by block at the solved position in `st` and the rates `qd`.
+        #[inline]
+        fn acceleration_cached(
+            &self,
+            x: &[T; 1],
+            st: &::mechgen::__private::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            xd: &[T; 1],
+            qd: &[T; 2],
+            xdd: &[T; 1],
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let mut qdd = [T::zero(); 2];
+            // Block 0: accelerations.
+            let v_q2 = st.q[0];
+            let p_l = self.params.l;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t0 = p_l * c_v_q2;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(0, 0)] = t0;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Acceleration,
+                jac,
+            )?;
+            let v_q1 = x[0];
+            let p_r = self.params.r;
+            let v_q1_d = xd[0];
+            let v_q2_d = qd[0];
+            let v_q1_dd = xdd[0];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t1 = p_r * c_v_q1;
+            let t2 = p_r * s_v_q1;
+            let t3 = p_l * s_v_q2;
+            let t4 = t3 * v_q2_d;
+            let t5 = t2 * v_q1_d;
+            let t6 = v_q1_d * t5;
+            let t7 = -t6;
+            let t8 = v_q2_d * t4;
+            let t9 = t7 - t8;
+            let t10 = t1 * v_q1_dd;
+            let t11 = t9 + t10;
+            let t12 = -t11;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t12]),
+                )?;
+            qdd[0] = z[0];
+            // Block 1: accelerations.
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
+            // J[0][1] = ∂Φ0/∂sC
+            jac[(0, 0)] = T::lit(-1.0);
+            let lu = ::mechgen::__private::factor_block(
+                1,
+                ::mechgen::__private::Stage::Acceleration,
+                jac,
+            )?;
             let v_q2_dd = qdd[0];
-            let t16 = t1 * v_q2_d;
-            let t17 = v_q1_d * t2;
-            let t18 = -t17;
-            let t19 = v_q2_d * t16;
-            let t20 = t18 - t19;
-            let t21 = t4 * v_q1_dd;
-            let t22 = t21 - t20;
-            let t23 = t5 * v_q2_dd;
-            let t24 = t22 + t23;
+            let t13 = t0 * v_q2_d;
+            let t14 = t1 * v_q1_d;
+            let t15 = v_q1_d * t14;
+            let t16 = -t15;
+            let t17 = v_q2_d * t13;
+            let t18 = t16 - t17;
+            let t19 = t2 * v_q1_dd;
+            let t20 = t19 - t18;
+            let t21 = t3 * v_q2_dd;
+            let t22 = t20 + t21;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t24]),
+                    ::mechgen::__private::nalgebra::SVector::from([t22]),
+                )?;
+            qdd[1] = z[0];
+            Ok(qdd)
+        }
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
+        #[inline(always)]
+        fn motion_cached(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<
+            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 3]),
+            ::mechgen::__private::SolveError,
+        > {
+            let mut qd = [T::zero(); 2];
+            let mut qdd = [T::zero(); 2];
+            // Block 0: closed form (one angle).
+            let v_q1 = x[0];
+            let p_r = self.params.r;
+            let p_l = self.params.l;
+            let p_off = self.params.off;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_r * s_v_q1;
+            let t1 = t0 - p_off;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_angle1(
+                    0,
+                    st,
+                    0,
+                    t1,
+                    (T::zero(), p_l),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0],
+                    [false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: closed form (one length).
+            let v_q2 = st.q[0];
+            let t2 = p_r * c_v_q1;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t3 = p_l * c_v_q2;
+            let t4 = t2 + t3;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_length1(
+                    1,
+                    st,
+                    1,
+                    t4,
+                    T::lit(-1.0),
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [1],
+                    [true],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 0: velocities and accelerations.
+            let v_q1_d = xd[0];
+            let t5 = t2 * v_q1_d;
+            let t6 = -t5;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(0, 0)] = t3;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t6]),
+                )?;
+            qd[0] = z[0];
+            let v_q2_d = qd[0];
+            let v_q1_dd = xdd[0];
+            let t7 = p_l * s_v_q2;
+            let t8 = t7 * v_q2_d;
+            let t9 = t0 * v_q1_d;
+            let t10 = v_q1_d * t9;
+            let t11 = -t10;
+            let t12 = v_q2_d * t8;
+            let t13 = t11 - t12;
+            let t14 = t2 * v_q1_dd;
+            let t15 = t13 + t14;
+            let t16 = -t15;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t16]),
+                )?;
+            qdd[0] = z[0];
+            // Block 1: velocities and accelerations.
+            let t17 = t8 + t9;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
+            // J[0][1] = ∂Φ0/∂sC
+            jac[(0, 0)] = T::lit(-1.0);
+            let lu = ::mechgen::__private::factor_block(
+                1,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t17]),
+                )?;
+            qd[1] = z[0];
+            let v_q2_dd = qdd[0];
+            let t18 = t3 * v_q2_d;
+            let t19 = v_q1_d * t5;
+            let t20 = -t19;
+            let t21 = v_q2_d * t18;
+            let t22 = t20 - t21;
+            let t23 = t0 * v_q1_dd;
+            let t24 = t23 - t22;
+            let t25 = t7 * v_q2_dd;
+            let t26 = t24 + t25;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t26]),
                 )?;
             qdd[1] = z[0];
             // Points.
             let v_sC = st.q[1];
-            let p_off = self.params.off;
             let v_sC_d = qd[1];
             let v_sC_dd = qdd[1];
-            let t25 = p_l / T::lit(2.0);
-            let t26 = c_v_q2 * t25;
-            let t27 = s_v_q2 * t25;
-            let t28 = t0 + t26;
-            let t29 = t4 + t27;
-            let t30 = -t7;
-            let t31 = t27 * v_q2_d;
-            let t32 = t30 - t31;
-            let t33 = t26 * v_q2_d;
-            let t34 = t2 + t33;
-            let t35 = t18 - t21;
-            let t36 = t12 - t8;
-            let t37 = v_q2_d * t33;
-            let t38 = t18 - t37;
-            let t39 = t38 - t21;
-            let t40 = t27 * v_q2_dd;
-            let t41 = t39 - t40;
-            let t42 = v_q2_d * t31;
-            let t43 = t9 - t42;
-            let t44 = t12 + t43;
-            let t45 = t26 * v_q2_dd;
-            let t46 = t44 + t45;
+            let t27 = p_l / T::lit(2.0);
+            let t28 = c_v_q2 * t27;
+            let t29 = s_v_q2 * t27;
+            let t30 = t2 + t28;
+            let t31 = t0 + t29;
+            let t32 = -t9;
+            let t33 = t29 * v_q2_d;
+            let t34 = t32 - t33;
+            let t35 = t28 * v_q2_d;
+            let t36 = t5 + t35;
+            let t37 = t20 - t23;
+            let t38 = t14 - t10;
+            let t39 = v_q2_d * t35;
+            let t40 = t20 - t39;
+            let t41 = t40 - t23;
+            let t42 = t29 * v_q2_dd;
+            let t43 = t41 - t42;
+            let t44 = v_q2_d * t33;
+            let t45 = t11 - t44;
+            let t46 = t14 + t45;
+            let t47 = t28 * v_q2_dd;
+            let t48 = t46 + t47;
             Ok((
                 qd,
                 qdd,
                 [
                     ::mechgen::__private::PointMotion {
-                        position: [t0, t4],
-                        velocity: [t30, t2],
-                        acceleration: [t35, t36],
+                        position: [t2, t0],
+                        velocity: [t32, t5],
+                        acceleration: [t37, t38],
                     },
                     ::mechgen::__private::PointMotion {
                         position: [v_sC, p_off],
@@ -7764,9 +7603,9 @@ pub mod slider_crank {
                         acceleration: [v_sC_dd, T::zero()],
                     },
                     ::mechgen::__private::PointMotion {
-                        position: [t28, t29],
-                        velocity: [t32, t34],
-                        acceleration: [t41, t46],
+                        position: [t30, t31],
+                        velocity: [t34, t36],
+                        acceleration: [t43, t48],
                     },
                 ],
             ))
@@ -7827,7 +7666,7 @@ pub mod slider_crank {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
+            self.velocity_cached(x, &st, &tx, &tp, xd)
         }
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
         /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
@@ -7865,7 +7704,7 @@ pub mod slider_crank {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
@@ -7985,11 +7824,7 @@ pub mod slider_crank {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms {
-                [false, false]
-            } else {
-                [false; 2]
-            };
+            let keep = if options.closed_forms { [true, true] } else { [false; 2] };
             let mut st = t.predicted(x, [true, false], keep, same);
             let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
@@ -8663,7 +8498,7 @@ pub mod rocker_four_bar {
                 },
             ]
         }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its residual and Jacobian block.
+        /// Block 0: q2, q3 from loop 1 (x, y). Its residual and Jacobian block (Newton).
         #[inline]
         fn block0_position(
             &self,
@@ -8714,146 +8549,6 @@ pub mod rocker_four_bar {
             jac[(1, 1)] = t12;
             (::mechgen::__private::nalgebra::SVector::from([t9, t10]), jac)
         }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its Jacobian block.
-        #[inline]
-        fn block0_jacobian(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 4],
-            tq: &[(T, T); 2],
-        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
-            let v_q2 = q[0];
-            let v_q3 = q[1];
-            let p_l2 = self.params.l2;
-            let p_l3 = self.params.l3;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t0 = p_l2 * c_v_q2;
-            let t1 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t2 = p_l3 * c_v_q3;
-            let t3 = p_l3 * s_v_q3;
-            let t4 = -t1;
-            let t5 = -t2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
-            // J[0][0] = ∂Φ0/∂q2
-            jac[(0, 0)] = t4;
-            // J[0][1] = ∂Φ0/∂q3
-            jac[(0, 1)] = t3;
-            // J[1][0] = ∂Φ1/∂q2
-            jac[(1, 0)] = t0;
-            // J[1][1] = ∂Φ1/∂q3
-            jac[(1, 1)] = t5;
-            jac
-        }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side (velocity).
-        #[inline]
-        fn block0_velocity(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 4],
-            tq: &[(T, T); 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
-            let p_l1 = self.params.l1;
-            let v_q1_d = xd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let t2 = t1 * v_q1_d;
-            let t3 = t0 * v_q1_d;
-            let t4 = -t3;
-            ::mechgen::__private::nalgebra::SVector::from([t2, t4])
-        }
-        /// Block 0: q2, q3 from loop 1 (x, y). Its right-hand side (acceleration).
-        #[inline]
-        fn block0_acceleration(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 4],
-            tq: &[(T, T); 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-            xdd: &[T; 1],
-            qdd: &[T; 2],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
-            let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let p_l3 = self.params.l3;
-            let v_q1_d = xd[0];
-            let v_q2_d = qd[0];
-            let v_q3_d = qd[1];
-            let v_q1_dd = xdd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l2 * c_v_q2;
-            let t3 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = tq[1];
-            let t4 = p_l3 * c_v_q3;
-            let t5 = p_l3 * s_v_q3;
-            let t6 = t2 * v_q2_d;
-            let t7 = t4 * v_q3_d;
-            let t8 = t3 * v_q2_d;
-            let t9 = t5 * v_q3_d;
-            let t10 = t1 * v_q1_d;
-            let t11 = t0 * v_q1_d;
-            let t12 = v_q1_d * t11;
-            let t13 = -t12;
-            let t14 = v_q2_d * t6;
-            let t15 = t13 - t14;
-            let t16 = v_q3_d * t7;
-            let t17 = t15 + t16;
-            let t18 = t1 * v_q1_dd;
-            let t19 = t18 - t17;
-            let t20 = v_q1_d * t10;
-            let t21 = -t20;
-            let t22 = v_q2_d * t8;
-            let t23 = t21 - t22;
-            let t24 = v_q3_d * t9;
-            let t25 = t23 + t24;
-            let t26 = t0 * v_q1_dd;
-            let t27 = t25 + t26;
-            let t28 = -t27;
-            ::mechgen::__private::nalgebra::SVector::from([t19, t28])
-        }
-        /// Block 0: q2, q3 from loop 1 (x, y). A dyad: K + M_a e(q2) + M_b e(q3) = 0; returns K, then (p, r) of M_a and of M_b.
-        #[inline]
-        fn block0_dyad(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 4],
-            tq: &[(T, T); 2],
-        ) -> [T; 6] {
-            let v_q1 = x[0];
-            let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let p_l3 = self.params.l3;
-            let p_l4 = self.params.l4;
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let t2 = -p_l3;
-            let t3 = t0 - p_l4;
-            [t3, t1, p_l2, T::zero(), t2, T::zero()]
-        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 4]) {
@@ -8868,6 +8563,7 @@ pub mod rocker_four_bar {
         fn trig_state(q: [T; 2]) -> ::mechgen::__private::TrigState<T, 2> {
             ::mechgen::__private::TrigState::new(q, [true, true])
         }
+        /// Positions block by block from the guess in `st`.
         #[inline]
         fn position_cached(
             &self,
@@ -8878,18 +8574,26 @@ pub mod rocker_four_bar {
             options: &::mechgen::__private::NewtonOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            // Block 0: q2, q3 from loop 1 (x, y). Closed form (a dyad).
+            // Block 0: closed form (a dyad).
+            let v_q1 = x[0];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
             if options.closed_forms {
-                let [kx, ky, pa, ra, pb, rb] = self
-                    .block0_dyad(x, &st.q, tx, tp, &st.sc);
                 ::mechgen::__private::solve_dyad(
                     0,
                     st,
                     0,
                     1,
-                    [kx, ky],
-                    (pa, ra),
-                    (pb, rb),
+                    [t3, t1],
+                    (p_l2, T::zero()),
+                    (t2, T::zero()),
                     || self.params.length_scale(),
                     options.tolerance,
                     report,
@@ -8908,57 +8612,148 @@ pub mod rocker_four_bar {
             }
             Ok(())
         }
+        /// Velocities block by block at the solved position in `st`.
         #[inline]
         fn velocity_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            st: &::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 4],
-            tq: &[(T, T); 2],
             xd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
-            // Block 0: q2, q3 from loop 1 (x, y).
+            // Block 0: velocities.
+            let v_q1 = x[0];
+            let v_q2 = st.q[0];
+            let v_q3 = st.q[1];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let v_q1_d = xd[0];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t4 = p_l3 * c_v_q3;
+            let t5 = p_l3 * s_v_q3;
+            let t6 = -t3;
+            let t7 = -t4;
+            let t8 = t1 * v_q1_d;
+            let t9 = t0 * v_q1_d;
+            let t10 = -t9;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t6;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t5;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t2;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t7;
             let lu = ::mechgen::__private::factor_block(
                 0,
                 ::mechgen::__private::Stage::Velocity,
-                self.block0_jacobian(x, q, tx, tp, tq),
+                jac,
             )?;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Velocity,
-                    self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
+                    ::mechgen::__private::nalgebra::SVector::from([t8, t10]),
                 )?;
             qd[0] = z[0];
             qd[1] = z[1];
             Ok(qd)
         }
+        /// Accelerations block by block at the solved position in `st` and the rates `qd`.
         #[inline]
         fn acceleration_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            st: &::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 4],
-            tq: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 2];
-            // Block 0: q2, q3 from loop 1 (x, y).
+            // Block 0: accelerations.
+            let v_q2 = st.q[0];
+            let v_q3 = st.q[1];
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t0 = p_l2 * c_v_q2;
+            let t1 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t2 = p_l3 * c_v_q3;
+            let t3 = p_l3 * s_v_q3;
+            let t4 = -t1;
+            let t5 = -t2;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                2,
+                2,
+            >::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t4;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t3;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t0;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t5;
             let lu = ::mechgen::__private::factor_block(
                 0,
                 ::mechgen::__private::Stage::Acceleration,
-                self.block0_jacobian(x, q, tx, tp, tq),
+                jac,
             )?;
+            let v_q1 = x[0];
+            let p_l1 = self.params.l1;
+            let v_q1_d = xd[0];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t6 = p_l1 * c_v_q1;
+            let t7 = p_l1 * s_v_q1;
+            let t8 = t0 * v_q2_d;
+            let t9 = t2 * v_q3_d;
+            let t10 = t1 * v_q2_d;
+            let t11 = t3 * v_q3_d;
+            let t12 = t7 * v_q1_d;
+            let t13 = t6 * v_q1_d;
+            let t14 = v_q1_d * t13;
+            let t15 = -t14;
+            let t16 = v_q2_d * t8;
+            let t17 = t15 - t16;
+            let t18 = v_q3_d * t9;
+            let t19 = t17 + t18;
+            let t20 = t7 * v_q1_dd;
+            let t21 = t20 - t19;
+            let t22 = v_q1_d * t12;
+            let t23 = -t22;
+            let t24 = v_q2_d * t10;
+            let t25 = t23 - t24;
+            let t26 = v_q3_d * t11;
+            let t27 = t25 + t26;
+            let t28 = t6 * v_q1_dd;
+            let t29 = t27 + t28;
+            let t30 = -t29;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                    ::mechgen::__private::nalgebra::SVector::from([t21, t30]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -9178,7 +8973,7 @@ pub mod rocker_four_bar {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
+            self.velocity_cached(x, &st, &tx, &tp, xd)
         }
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
         /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
@@ -9216,7 +9011,7 @@ pub mod rocker_four_bar {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
@@ -10293,7 +10088,7 @@ pub mod sixbar_g {
                 },
             ]
         }
-        /// Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y). Its residual and Jacobian block.
+        /// Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y). Its residual and Jacobian block (Newton).
         #[inline]
         fn block0_position(
             &self,
@@ -10397,33 +10192,77 @@ pub mod sixbar_g {
             jac[(3, 3)] = t38;
             (::mechgen::__private::nalgebra::SVector::from([t9, t10, t29, t30]), jac)
         }
-        /// Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y). Its Jacobian block.
+        /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
-        fn block0_jacobian(
+        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 10]) {
+            let params = self.params.to_array();
+            let mut tx = [(T::zero(), T::one()); 1];
+            let mut tp = [(T::zero(), T::one()); 10];
+            tx[0] = x[0].sin_cos();
+            tp[9] = params[9].sin_cos();
+            (tx, tp)
+        }
+        /// The unknowns with the sines and cosines the solvers read.
+        #[inline]
+        fn trig_state(q: [T; 4]) -> ::mechgen::__private::TrigState<T, 4> {
+            ::mechgen::__private::TrigState::new(q, [true, true, true, true])
+        }
+        /// Positions block by block from the guess in `st`.
+        #[inline]
+        fn position_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 4],
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
-        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
-            let v_q1 = q[0];
-            let v_q2 = q[1];
-            let v_q3 = q[2];
-            let v_q5 = q[3];
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            // Block 0: Newton.
+            ::mechgen::__private::newton_block(
+                0,
+                st,
+                [0, 1, 2, 3],
+                [false, false, false, false],
+                self.params.length_scale(),
+                options,
+                report,
+                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+            )?;
+            Ok(())
+        }
+        /// Velocities block by block at the solved position in `st`.
+        #[inline]
+        fn velocity_cached(
+            &self,
+            x: &[T; 1],
+            st: &::mechgen::__private::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            xd: &[T; 1],
+        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
+            let mut qd = [T::zero(); 4];
+            // Block 0: velocities.
+            let v_q6 = x[0];
+            let v_q1 = st.q[0];
+            let v_q2 = st.q[1];
+            let v_q3 = st.q[2];
+            let v_q5 = st.q[3];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let p_l5 = self.params.l5;
+            let p_l6 = self.params.l6;
             let p_l2e = self.params.l2e;
             let p_alpha = self.params.alpha;
-            let (s_v_q1, c_v_q1) = tq[0];
+            let v_q6_d = xd[0];
+            let (s_v_q1, c_v_q1) = st.sc[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[1];
+            let (s_v_q2, c_v_q2) = st.sc[1];
             let t2 = p_l2 * c_v_q2;
             let t3 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = tq[2];
+            let (s_v_q3, c_v_q3) = st.sc[2];
             let t4 = p_l3 * c_v_q3;
             let t5 = p_l3 * s_v_q3;
             let (s_p_alpha, c_p_alpha) = tp[9];
@@ -10433,7 +10272,115 @@ pub mod sixbar_g {
             let t9 = c_v_q2 * s_p_alpha;
             let t10 = t6 + t7;
             let t11 = p_l2e * t10;
-            let (s_v_q5, c_v_q5) = tq[3];
+            let (s_v_q5, c_v_q5) = st.sc[3];
+            let t12 = p_l5 * c_v_q5;
+            let t13 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = tx[0];
+            let t14 = p_l6 * c_v_q6;
+            let t15 = p_l6 * s_v_q6;
+            let t16 = -t1;
+            let t17 = -t3;
+            let t18 = -t4;
+            let t19 = t9 - t8;
+            let t20 = p_l2e * t19;
+            let t21 = t20 - t3;
+            let t22 = t2 + t11;
+            let t23 = -t12;
+            let t24 = t15 * v_q6_d;
+            let t25 = -t24;
+            let t26 = t14 * v_q6_d;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                4,
+                4,
+            >::zeros();
+            // J[0][0] = ∂Φ0/∂q1
+            jac[(0, 0)] = t16;
+            // J[0][1] = ∂Φ0/∂q2
+            jac[(0, 1)] = t17;
+            // J[0][2] = ∂Φ0/∂q3
+            jac[(0, 2)] = t5;
+            // J[1][0] = ∂Φ1/∂q1
+            jac[(1, 0)] = t0;
+            // J[1][1] = ∂Φ1/∂q2
+            jac[(1, 1)] = t2;
+            // J[1][2] = ∂Φ1/∂q3
+            jac[(1, 2)] = t18;
+            // J[2][0] = ∂Φ2/∂q1
+            jac[(2, 0)] = t16;
+            // J[2][1] = ∂Φ2/∂q2
+            jac[(2, 1)] = t21;
+            // J[2][3] = ∂Φ2/∂q5
+            jac[(2, 3)] = t13;
+            // J[3][0] = ∂Φ3/∂q1
+            jac[(3, 0)] = t0;
+            // J[3][1] = ∂Φ3/∂q2
+            jac[(3, 1)] = t22;
+            // J[3][3] = ∂Φ3/∂q5
+            jac[(3, 3)] = t23;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([
+                        T::zero(),
+                        T::zero(),
+                        t25,
+                        t26,
+                    ]),
+                )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            qd[2] = z[2];
+            qd[3] = z[3];
+            Ok(qd)
+        }
+        /// Accelerations block by block at the solved position in `st` and the rates `qd`.
+        #[inline]
+        fn acceleration_cached(
+            &self,
+            x: &[T; 1],
+            st: &::mechgen::__private::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            xd: &[T; 1],
+            qd: &[T; 4],
+            xdd: &[T; 1],
+        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
+            let mut qdd = [T::zero(); 4];
+            // Block 0: accelerations.
+            let v_q1 = st.q[0];
+            let v_q2 = st.q[1];
+            let v_q3 = st.q[2];
+            let v_q5 = st.q[3];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l5 = self.params.l5;
+            let p_l2e = self.params.l2e;
+            let p_alpha = self.params.alpha;
+            let (s_v_q1, c_v_q1) = st.sc[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = st.sc[1];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = st.sc[2];
+            let t4 = p_l3 * c_v_q3;
+            let t5 = p_l3 * s_v_q3;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t6 = c_v_q2 * c_p_alpha;
+            let t7 = s_v_q2 * s_p_alpha;
+            let t8 = s_v_q2 * c_p_alpha;
+            let t9 = c_v_q2 * s_p_alpha;
+            let t10 = t6 + t7;
+            let t11 = p_l2e * t10;
+            let (s_v_q5, c_v_q5) = st.sc[3];
             let t12 = p_l5 * c_v_q5;
             let t13 = p_l5 * s_v_q5;
             let t14 = -t1;
@@ -10473,226 +10420,74 @@ pub mod sixbar_g {
             jac[(3, 1)] = t20;
             // J[3][3] = ∂Φ3/∂q5
             jac[(3, 3)] = t21;
-            jac
-        }
-        /// Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y). Its right-hand side (velocity).
-        #[inline]
-        fn block0_velocity(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Acceleration,
+                jac,
+            )?;
             let v_q6 = x[0];
             let p_l6 = self.params.l6;
-            let v_q6_d = xd[0];
-            let (s_v_q6, c_v_q6) = tx[0];
-            let t0 = p_l6 * c_v_q6;
-            let t1 = p_l6 * s_v_q6;
-            let t2 = t1 * v_q6_d;
-            let t3 = -t2;
-            let t4 = t0 * v_q6_d;
-            ::mechgen::__private::nalgebra::SVector::from([T::zero(), T::zero(), t3, t4])
-        }
-        /// Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y). Its right-hand side (acceleration).
-        #[inline]
-        fn block0_acceleration(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-            xdd: &[T; 1],
-            qdd: &[T; 4],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
-            let v_q6 = x[0];
-            let v_q1 = q[0];
-            let v_q2 = q[1];
-            let v_q3 = q[2];
-            let v_q5 = q[3];
-            let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let p_l3 = self.params.l3;
-            let p_l5 = self.params.l5;
-            let p_l6 = self.params.l6;
-            let p_l2e = self.params.l2e;
-            let p_alpha = self.params.alpha;
             let v_q6_d = xd[0];
             let v_q1_d = qd[0];
             let v_q2_d = qd[1];
             let v_q3_d = qd[2];
             let v_q5_d = qd[3];
             let v_q6_dd = xdd[0];
-            let (s_v_q1, c_v_q1) = tq[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[1];
-            let t2 = p_l2 * c_v_q2;
-            let t3 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = tq[2];
-            let t4 = p_l3 * c_v_q3;
-            let t5 = p_l3 * s_v_q3;
-            let (s_p_alpha, c_p_alpha) = tp[9];
-            let t6 = c_v_q2 * c_p_alpha;
-            let t7 = s_v_q2 * s_p_alpha;
-            let t8 = s_v_q2 * c_p_alpha;
-            let t9 = c_v_q2 * s_p_alpha;
-            let (s_v_q5, c_v_q5) = tq[3];
-            let t10 = p_l5 * c_v_q5;
-            let t11 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = tx[0];
-            let t12 = p_l6 * c_v_q6;
-            let t13 = p_l6 * s_v_q6;
-            let t14 = t9 - t8;
-            let t15 = p_l2e * t14;
-            let t16 = t15 - t3;
-            let t17 = -t7;
-            let t18 = t0 * v_q1_d;
-            let t19 = t2 * v_q2_d;
-            let t20 = t4 * v_q3_d;
-            let t21 = t1 * v_q1_d;
-            let t22 = t3 * v_q2_d;
-            let t23 = t5 * v_q3_d;
-            let t24 = t17 - t6;
-            let t25 = p_l2e * t24;
-            let t26 = t25 - t2;
-            let t27 = v_q2_d * t26;
-            let t28 = t10 * v_q5_d;
-            let t29 = t16 * v_q2_d;
-            let t30 = t11 * v_q5_d;
-            let t31 = t13 * v_q6_d;
-            let t32 = t12 * v_q6_d;
-            let t33 = v_q1_d * t18;
-            let t34 = -t33;
-            let t35 = v_q2_d * t19;
-            let t36 = t34 - t35;
-            let t37 = v_q3_d * t20;
-            let t38 = t36 + t37;
-            let t39 = -t38;
-            let t40 = v_q1_d * t21;
+            let t22 = p_l6 * c_v_q6;
+            let t23 = p_l6 * s_v_q6;
+            let t24 = -t7;
+            let t25 = t0 * v_q1_d;
+            let t26 = t2 * v_q2_d;
+            let t27 = t4 * v_q3_d;
+            let t28 = t1 * v_q1_d;
+            let t29 = t3 * v_q2_d;
+            let t30 = t5 * v_q3_d;
+            let t31 = t24 - t6;
+            let t32 = p_l2e * t31;
+            let t33 = t32 - t2;
+            let t34 = v_q2_d * t33;
+            let t35 = t12 * v_q5_d;
+            let t36 = t19 * v_q2_d;
+            let t37 = t13 * v_q5_d;
+            let t38 = t23 * v_q6_d;
+            let t39 = t22 * v_q6_d;
+            let t40 = v_q1_d * t25;
             let t41 = -t40;
-            let t42 = v_q2_d * t22;
+            let t42 = v_q2_d * t26;
             let t43 = t41 - t42;
-            let t44 = v_q3_d * t23;
+            let t44 = v_q3_d * t27;
             let t45 = t43 + t44;
             let t46 = -t45;
-            let t47 = v_q6_d * t32;
-            let t48 = t47 - t33;
-            let t49 = v_q2_d * t27;
-            let t50 = t48 + t49;
-            let t51 = v_q5_d * t28;
+            let t47 = v_q1_d * t28;
+            let t48 = -t47;
+            let t49 = v_q2_d * t29;
+            let t50 = t48 - t49;
+            let t51 = v_q3_d * t30;
             let t52 = t50 + t51;
-            let t53 = t13 * v_q6_dd;
-            let t54 = t52 + t53;
-            let t55 = -t54;
-            let t56 = v_q6_d * t31;
-            let t57 = t56 - t40;
-            let t58 = v_q2_d * t29;
+            let t53 = -t52;
+            let t54 = v_q6_d * t39;
+            let t55 = t54 - t40;
+            let t56 = v_q2_d * t34;
+            let t57 = t55 + t56;
+            let t58 = v_q5_d * t35;
             let t59 = t57 + t58;
-            let t60 = v_q5_d * t30;
+            let t60 = t23 * v_q6_dd;
             let t61 = t59 + t60;
-            let t62 = t12 * v_q6_dd;
-            let t63 = t62 - t61;
-            ::mechgen::__private::nalgebra::SVector::from([t39, t46, t55, t63])
-        }
-        /// Sines and cosines of the inputs and params that appear in a sin or cos.
-        #[inline]
-        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 10]) {
-            let params = self.params.to_array();
-            let mut tx = [(T::zero(), T::one()); 1];
-            let mut tp = [(T::zero(), T::one()); 10];
-            tx[0] = x[0].sin_cos();
-            tp[9] = params[9].sin_cos();
-            (tx, tp)
-        }
-        /// The unknowns with the sines and cosines the solvers read.
-        #[inline]
-        fn trig_state(q: [T; 4]) -> ::mechgen::__private::TrigState<T, 4> {
-            ::mechgen::__private::TrigState::new(q, [true, true, true, true])
-        }
-        #[inline]
-        fn position_cached(
-            &self,
-            x: &[T; 1],
-            st: &mut ::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            options: &::mechgen::__private::NewtonOptions<T>,
-            report: &mut ::mechgen::__private::NewtonReport<T>,
-        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
-            ::mechgen::__private::newton_block(
-                0,
-                st,
-                [0, 1, 2, 3],
-                [false, false, false, false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            Ok(())
-        }
-        #[inline]
-        fn velocity_cached(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
-            xd: &[T; 1],
-        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
-            let mut qd = [T::zero(); 4];
-            // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
-            let lu = ::mechgen::__private::factor_block(
-                0,
-                ::mechgen::__private::Stage::Velocity,
-                self.block0_jacobian(x, q, tx, tp, tq),
-            )?;
-            let z = lu
-                .solve(
-                    0,
-                    ::mechgen::__private::Stage::Velocity,
-                    self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
-                )?;
-            qd[0] = z[0];
-            qd[1] = z[1];
-            qd[2] = z[2];
-            qd[3] = z[3];
-            Ok(qd)
-        }
-        #[inline]
-        fn acceleration_cached(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            tq: &[(T, T); 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-            xdd: &[T; 1],
-        ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
-            let mut qdd = [T::zero(); 4];
-            // Block 0: q1, q2, q3, q5 from loop 1 (x, y), loop 2 (x, y).
-            let lu = ::mechgen::__private::factor_block(
-                0,
-                ::mechgen::__private::Stage::Acceleration,
-                self.block0_jacobian(x, q, tx, tp, tq),
-            )?;
+            let t62 = -t61;
+            let t63 = v_q6_d * t38;
+            let t64 = t63 - t47;
+            let t65 = v_q2_d * t36;
+            let t66 = t64 + t65;
+            let t67 = v_q5_d * t37;
+            let t68 = t66 + t67;
+            let t69 = t22 * v_q6_dd;
+            let t70 = t69 - t68;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
+                    ::mechgen::__private::nalgebra::SVector::from([t46, t53, t62, t70]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -10977,7 +10772,7 @@ pub mod sixbar_g {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
+            self.velocity_cached(x, &st, &tx, &tp, xd)
         }
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
         /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
@@ -11015,7 +10810,7 @@ pub mod sixbar_g {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).

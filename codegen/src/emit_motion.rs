@@ -45,6 +45,179 @@ impl VarSource for Fused<'_> {
     }
 }
 
+/// The position solves of every block, in order, as segments of `b`: each closed-form block's
+/// roots and its kernel (Newton when `options.closed_forms` is off), each other block's Newton.
+fn position_steps(
+    c: &Compiled,
+    blocks: &[usize],
+    b: &mut Builder,
+    rt: &TokenStream,
+) -> TokenStream {
+    let m = &c.model;
+    let mut steps = TokenStream::new();
+    for (bi, bf) in blocks.iter().map(|&bi| (bi, &c.blocks[bi])) {
+        let idx = &bf.block.unknowns;
+        let lengths: Vec<bool> = idx
+            .iter()
+            .map(|&u| m.unknowns[u].kind == Kind::Length)
+            .collect();
+        let pos_fn = format_ident!("block{}_position", bi);
+        let newton = quote! {
+            #rt::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
+                |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
+        };
+        match &bf.closed_form {
+            Some(cf) => {
+                let seg = b.segment(cf.roots());
+                let stmts = &seg.stmts;
+                let call = crate::emit_closed::kernel_call(rt, bi, cf, &seg.roots);
+                let kind = crate::emit_closed::kind_text(cf);
+                steps.extend(comment(&format!("Block {bi}: {kind}.")));
+                steps.extend(quote! {
+                    #stmts
+                    if options.closed_forms {
+                        #call
+                    } else {
+                        #newton
+                    }
+                });
+            }
+            None => {
+                steps.extend(comment(&format!("Block {bi}: Newton.")));
+                steps.extend(newton);
+            }
+        }
+    }
+    steps
+}
+
+/// Which rates the rate steps solve: velocities (writing `qd`), accelerations (writing `qdd`,
+/// reading `qd`), or both from one factorization per block.
+#[derive(Clone, Copy, PartialEq)]
+pub(crate) enum Rates {
+    Velocity,
+    Acceleration,
+    Both,
+}
+
+/// Per block in order: its Jacobian factored once, then the velocity and/or acceleration solve.
+fn rate_steps(
+    c: &Compiled,
+    blocks: &[usize],
+    b: &mut Builder,
+    rt: &TokenStream,
+    gt: &Ident,
+    rates: Rates,
+) -> TokenStream {
+    let mut steps = TokenStream::new();
+    let vel = rates != Rates::Acceleration;
+    let stage = if vel {
+        quote!(#rt::Stage::Velocity)
+    } else {
+        quote!(#rt::Stage::Acceleration)
+    };
+    for (bi, bf) in blocks.iter().map(|&bi| (bi, &c.blocks[bi])) {
+        let k = bf.block.unknowns.len();
+        let idx = &bf.block.unknowns;
+        let zi: Vec<usize> = (0..k).collect();
+        let nv = if vel { k } else { 0 };
+        let mut roots = if vel {
+            bf.velocity_rhs.clone()
+        } else {
+            Vec::new()
+        };
+        roots.extend(bf.jacobian.iter().flatten());
+        let seg = b.segment(&roots);
+        let (stmts, rhs) = (&seg.stmts, &seg.roots[..nv]);
+        let sets = crate::emit_solve::jacobian_sets(c, bi, &seg.roots[nv..]);
+        let what = match rates {
+            Rates::Velocity => "velocities",
+            Rates::Acceleration => "accelerations",
+            Rates::Both => "velocities and accelerations",
+        };
+        steps.extend(comment(&format!("Block {bi}: {what}.")));
+        steps.extend(quote! {
+            #stmts
+            let mut jac = #rt::nalgebra::SMatrix::<#gt, #k, #k>::zeros();
+            #sets
+            let lu = #rt::factor_block(#bi, #stage, jac)?;
+        });
+        if vel {
+            steps.extend(quote! {
+                let z = lu.solve(#bi, #rt::Stage::Velocity, #rt::nalgebra::SVector::from([#(#rhs),*]))?;
+                #( qd[#idx] = z[#zi]; )*
+            });
+        }
+        if rates != Rates::Velocity {
+            let seg = b.segment(&bf.acceleration_rhs);
+            let (stmts, acc) = (&seg.stmts, &seg.roots);
+            steps.extend(quote! {
+                #stmts
+                let z = lu.solve(#bi, #rt::Stage::Acceleration, #rt::nalgebra::SVector::from([#(#acc),*]))?;
+                #( qdd[#idx] = z[#zi]; )*
+            });
+        }
+    }
+    steps
+}
+
+/// The standalone position, velocity and acceleration solvers (`position_cached`,
+/// `velocity_cached`, `acceleration_cached`), from the same steps as the fused body, each
+/// stopping at its derivative order; unknowns and their sines and cosines read from `st`.
+pub(crate) fn stages(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> TokenStream {
+    let gt = cached.scalar();
+    let dag = &c.system.dag;
+    let (ni, nu, _, npar) = crate::emit::sizes(&c.model);
+    let fused = Fused(cached);
+    let all: Vec<usize> = (0..c.blocks.len()).collect();
+    let position = position_steps(c, &all, &mut Builder::new(dag, &fused), rt);
+    let velocity = rate_steps(
+        c,
+        &all,
+        &mut Builder::new(dag, &fused),
+        rt,
+        gt,
+        Rates::Velocity,
+    );
+    let acceleration = rate_steps(
+        c,
+        &all,
+        &mut Builder::new(dag, &fused),
+        rt,
+        gt,
+        Rates::Acceleration,
+    );
+    quote! {
+        /// Positions block by block from the guess in `st`.
+        #[inline]
+        fn position_cached(&self, x: &[#gt; #ni], st: &mut #rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
+            tp: &[(#gt, #gt); #npar], options: &#rt::NewtonOptions<#gt>, report: &mut #rt::NewtonReport<#gt>)
+            -> ::core::result::Result<(), #rt::SolveError> {
+            #position
+            Ok(())
+        }
+
+        /// Velocities block by block at the solved position in `st`.
+        #[inline]
+        fn velocity_cached(&self, x: &[#gt; #ni], st: &#rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
+            tp: &[(#gt, #gt); #npar], xd: &[#gt; #ni]) -> ::core::result::Result<[#gt; #nu], #rt::SolveError> {
+            let mut qd = [#gt::zero(); #nu];
+            #velocity
+            Ok(qd)
+        }
+
+        /// Accelerations block by block at the solved position in `st` and the rates `qd`.
+        #[inline]
+        fn acceleration_cached(&self, x: &[#gt; #ni], st: &#rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
+            tp: &[(#gt, #gt); #npar], xd: &[#gt; #ni], qd: &[#gt; #nu], xdd: &[#gt; #ni])
+            -> ::core::result::Result<[#gt; #nu], #rt::SolveError> {
+            let mut qdd = [#gt::zero(); #nu];
+            #acceleration
+            Ok(qdd)
+        }
+    }
+}
+
 /// What a fused body computes: the blocks (in solve order), the derivative order (0, 1, 2) and
 /// the points; a mechanism's `motion_cached` takes everything, a scene its subset.
 pub(crate) struct Subset<'a> {
@@ -85,73 +258,10 @@ pub(crate) fn motion_subset(
     let np = sub.points.len();
     let fused = Fused(cached);
     let mut b = Builder::new(dag, &fused);
-    let mut steps = TokenStream::new();
-    for (bi, bf) in sub.blocks.iter().map(|&bi| (bi, &c.blocks[bi])) {
-        let idx = &bf.block.unknowns;
-        let lengths: Vec<bool> = idx
-            .iter()
-            .map(|&u| m.unknowns[u].kind == Kind::Length)
-            .collect();
-        let pos_fn = format_ident!("block{}_position", bi);
-        let newton = quote! {
-            #rt::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
-                |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
-        };
-        match &bf.dyad {
-            Some(d) => {
-                let seg = b.segment(&d.roots);
-                let stmts = &seg.stmts;
-                let [kx, ky, pa, ra, pb, rb] = [0, 1, 2, 3, 4, 5].map(|i| &seg.roots[i]);
-                let (a, bu) = (d.a, d.b);
-                steps.extend(comment(&format!("Block {bi}: closed form (a dyad).")));
-                steps.extend(quote! {
-                    #stmts
-                    if options.closed_forms {
-                        #rt::solve_dyad(#bi, st, #a, #bu, [#kx, #ky], (#pa, #ra), (#pb, #rb),
-                            || self.params.length_scale(), options.tolerance, report)?;
-                    } else {
-                        #newton
-                    }
-                });
-            }
-            None => {
-                steps.extend(comment(&format!("Block {bi}: Newton.")));
-                steps.extend(newton);
-            }
-        }
-    }
-    let rate_blocks = if sub.order >= 1 { sub.blocks } else { &[] };
-    for (bi, bf) in rate_blocks.iter().map(|&bi| (bi, &c.blocks[bi])) {
-        let k = bf.block.unknowns.len();
-        let idx = &bf.block.unknowns;
-        let zi: Vec<usize> = (0..k).collect();
-        let mut roots = bf.velocity_rhs.clone();
-        roots.extend(bf.jacobian.iter().flatten());
-        let seg = b.segment(&roots);
-        let (stmts, vel) = (&seg.stmts, &seg.roots[..k]);
-        let sets = crate::emit_solve::jacobian_sets(c, bi, &seg.roots[k..]);
-        steps.extend(comment(&format!(
-            "Block {bi}: {}.",
-            ["velocities", "velocities and accelerations"][usize::from(sub.order >= 2)]
-        )));
-        steps.extend(quote! {
-            #stmts
-            let mut jac = #rt::nalgebra::SMatrix::<#gt, #k, #k>::zeros();
-            #sets
-            let lu = #rt::factor_block(#bi, #rt::Stage::Velocity, jac)?;
-            let z = lu.solve(#bi, #rt::Stage::Velocity, #rt::nalgebra::SVector::from([#(#vel),*]))?;
-            #( qd[#idx] = z[#zi]; )*
-        });
-        if sub.order < 2 {
-            continue;
-        }
-        let seg = b.segment(&bf.acceleration_rhs);
-        let (stmts, acc) = (&seg.stmts, &seg.roots);
-        steps.extend(quote! {
-            #stmts
-            let z = lu.solve(#bi, #rt::Stage::Acceleration, #rt::nalgebra::SVector::from([#(#acc),*]))?;
-            #( qdd[#idx] = z[#zi]; )*
-        });
+    let mut steps = position_steps(c, sub.blocks, &mut b, rt);
+    let rates = [None, Some(Rates::Velocity), Some(Rates::Both)][usize::from(sub.order.min(2))];
+    if let Some(rates) = rates {
+        steps.extend(rate_steps(c, sub.blocks, &mut b, rt, gt, rates));
     }
     let mut roots = Vec::new();
     let per = 2 * (usize::from(sub.order) + 1);

@@ -26,13 +26,7 @@ fn masks(c: &Compiled, plan: &ScenePlan) -> (Vec<bool>, Vec<bool>, Vec<bool>) {
     let (_, q_trig, _) = crate::emit_solve::trig_masks(c);
     let solved = plan.solved_unknowns(c);
     let angle: Vec<bool> = (0..nu).map(|k| q_trig[k] && solved.contains(&k)).collect();
-    let mut closed = vec![false; nu];
-    for &b in &plan.blocks {
-        if let Some(d) = &c.blocks[b].dyad {
-            closed[d.a] = true;
-            closed[d.b] = true;
-        }
-    }
+    let closed = crate::emit_closed::closed_mask(c);
     let keep_closed: Vec<bool> = (0..nu).map(|k| closed[k] || !solved.contains(&k)).collect();
     let keep_newton: Vec<bool> = (0..nu).map(|k| !solved.contains(&k)).collect();
     (angle, keep_closed, keep_newton)

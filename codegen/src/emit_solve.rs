@@ -1,16 +1,16 @@
-//! Stage 6b: the block-wise solvers of one mechanism. Block functions read the sines and cosines
-//! of inputs, params and unknowns from caches (`tx`, `tp`, and the Newton `mechgen::TrigState`'s `sc`),
-//! which are computed once per solve and kept in step through Newton by rotation; `solve` shares
-//! them between positions, velocities, accelerations and points.
+//! Stage 6b: the solver methods of one mechanism: Newton's residual-and-Jacobian function per
+//! block, the sine and cosine caches (`tx`, `tp`, and the `TrigState`'s `sc`, computed once per
+//! solve and kept in step through Newton by rotation), and the public entry points (positions,
+//! velocities, accelerations, the full state, ticks), which run the steps of the fused body
+//! (`emit_motion`): each quantity is written once per function that needs it.
 
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
-use crate::check::Kind;
 use crate::compile::Compiled;
-use crate::dag::{Node, NodeId, Var};
+use crate::dag::{Node, Var};
 use crate::emit::{Args, comment};
-use crate::emit_body::{Body, VarSource, body};
+use crate::emit_body::{VarSource, body};
 
 /// Variables whose sine and cosine come from caches.
 pub(crate) struct Cached<'a> {
@@ -107,13 +107,14 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
     let tp_sets = trig_sets(&pm, quote!(tp), quote!(params));
     let ctx = quote!(tx: &[(#gt, #gt); #ni], tp: &[(#gt, #gt); #npar], tq: &[(#gt, #gt); #nu]);
 
+    // Newton's residual and Jacobian of each block (every block: with `closed_forms` off, the
+    // closed-form ones run Newton too). Everything else is in the fused body and its stages.
     let mut block_fns = TokenStream::new();
-    let (mut pos_steps, mut vel_steps, mut acc_steps) =
-        (TokenStream::new(), TokenStream::new(), TokenStream::new());
     for (bi, bf) in c.blocks.iter().enumerate() {
         let k = bf.block.unknowns.len();
-        let idx = &bf.block.unknowns;
-        let members: Vec<&str> = idx
+        let members: Vec<&str> = bf
+            .block
+            .unknowns
             .iter()
             .map(|&u| m.unknowns[u].name.text.as_str())
             .collect();
@@ -122,141 +123,29 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             members.join(", "),
             crate::emit::equations_text(&bf.block.equations)
         );
-        let jac_sets = |b: &Body, off: usize| jacobian_sets(c, bi, &b.roots[off..]);
-        let jroots: Vec<NodeId> = bf.jacobian.iter().flatten().copied().collect();
-        let names = [
-            format_ident!("block{}_position", bi),
-            format_ident!("block{}_velocity", bi),
-            format_ident!("block{}_acceleration", bi),
-        ];
-        let params = [
-            quote!(x: &[#gt; #ni], q: &[#gt; #nu], #ctx),
-            quote!(x: &[#gt; #ni], q: &[#gt; #nu], #ctx, xd: &[#gt; #ni], qd: &[#gt; #nu]),
-            quote!(x: &[#gt; #ni], q: &[#gt; #nu], #ctx, xd: &[#gt; #ni], qd: &[#gt; #nu], xdd: &[#gt; #ni], qdd: &[#gt; #nu]),
-        ];
-        // Newton reads the residual with the Jacobian; the linear passes read the Jacobian once
-        // per block (factored for both right-hand sides) and each right-hand side alone.
         let mut roots = bf.residual.clone();
-        roots.extend(&jroots);
+        roots.extend(bf.jacobian.iter().flatten());
         let b = body(dag, &roots, &cached);
-        let (stmts, v, sets, fname, p) = (
-            &b.stmts,
-            &b.roots[..k],
-            jac_sets(&b, k),
-            &names[0],
-            &params[0],
-        );
-        let doc = format!(" {header} Its residual and Jacobian block.");
+        let (stmts, v, sets) = (&b.stmts, &b.roots[..k], jacobian_sets(c, bi, &b.roots[k..]));
+        let fname = format_ident!("block{}_position", bi);
+        let doc = format!(" {header} Its residual and Jacobian block (Newton).");
         block_fns.extend(quote! {
             #[doc = #doc]
             #[inline]
-            fn #fname(&self, #p) -> (#rt::nalgebra::SVector<#gt, #k>, #rt::nalgebra::SMatrix<#gt, #k, #k>) {
+            fn #fname(&self, x: &[#gt; #ni], q: &[#gt; #nu], #ctx) -> (#rt::nalgebra::SVector<#gt, #k>, #rt::nalgebra::SMatrix<#gt, #k, #k>) {
                 #stmts
                 let mut jac = #rt::nalgebra::SMatrix::<#gt, #k, #k>::zeros();
                 #sets
                 (#rt::nalgebra::SVector::from([#(#v),*]), jac)
             }
         });
-        let jac_fn = format_ident!("block{}_jacobian", bi);
-        let b = body(dag, &jroots, &cached);
-        let (stmts, sets, p) = (&b.stmts, jac_sets(&b, 0), &params[0]);
-        let doc = format!(" {header} Its Jacobian block.");
-        block_fns.extend(quote! {
-            #[doc = #doc]
-            #[inline]
-            fn #jac_fn(&self, #p) -> #rt::nalgebra::SMatrix<#gt, #k, #k> {
-                #stmts
-                let mut jac = #rt::nalgebra::SMatrix::<#gt, #k, #k>::zeros();
-                #sets
-                jac
-            }
-        });
-        let heads = [&bf.velocity_rhs, &bf.acceleration_rhs];
-        for s in 0..2 {
-            let b = body(dag, heads[s], &cached);
-            let (stmts, v, fname, p) = (&b.stmts, &b.roots, &names[s + 1], &params[s + 1]);
-            let doc = format!(
-                " {header} Its right-hand side ({}).",
-                ["velocity", "acceleration"][s]
-            );
-            block_fns.extend(quote! {
-                #[doc = #doc]
-                #[inline]
-                fn #fname(&self, #p) -> #rt::nalgebra::SVector<#gt, #k> {
-                    #stmts
-                    #rt::nalgebra::SVector::from([#(#v),*])
-                }
-            });
-        }
-        let c_text = comment(&header);
-        let lengths: Vec<bool> = idx
-            .iter()
-            .map(|&u| m.unknowns[u].kind == Kind::Length)
-            .collect();
-        let [pos_fn, vel_fn, acc_fn] = &names;
-        let pos_step = match &bf.dyad {
-            Some(d) => {
-                let dyad_fn = format_ident!("block{}_dyad", bi);
-                let b = body(dag, &d.roots, &cached);
-                let (stmts, r) = (&b.stmts, &b.roots);
-                let doc = format!(
-                    " {header} A dyad: K + M_a e({}) + M_b e({}) = 0; returns K, then (p, r) of M_a and of M_b.",
-                    m.unknowns[d.a].name.text, m.unknowns[d.b].name.text
-                );
-                block_fns.extend(quote! {
-                    #[doc = #doc]
-                    #[inline]
-                    fn #dyad_fn(&self, x: &[#gt; #ni], q: &[#gt; #nu], #ctx) -> [#gt; 6] {
-                        #stmts
-                        [#(#r),*]
-                    }
-                });
-                let (a, bu) = (d.a, d.b);
-                let c_text = comment(&format!("{header} Closed form (a dyad)."));
-                quote! {
-                    #c_text
-                    if options.closed_forms {
-                        let [kx, ky, pa, ra, pb, rb] = self.#dyad_fn(x, &st.q, tx, tp, &st.sc);
-                        #rt::solve_dyad(#bi, st, #a, #bu, [kx, ky], (pa, ra), (pb, rb), || self.params.length_scale(), options.tolerance, report)?;
-                    } else {
-                        #rt::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
-                            |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
-                    }
-                }
-            }
-            None => quote! {
-                #c_text
-                #rt::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
-                    |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
-            },
-        };
-        pos_steps.extend(pos_step);
-        let zi: Vec<usize> = (0..k).collect();
-        let jac_fn = format_ident!("block{}_jacobian", bi);
-        vel_steps.extend(quote! {
-            #c_text
-            let lu = #rt::factor_block(#bi, #rt::Stage::Velocity, self.#jac_fn(x, q, tx, tp, tq))?;
-            let z = lu.solve(#bi, #rt::Stage::Velocity, self.#vel_fn(x, q, tx, tp, tq, xd, &qd))?;
-            #( qd[#idx] = z[#zi]; )*
-        });
-        acc_steps.extend(quote! {
-            #c_text
-            let lu = #rt::factor_block(#bi, #rt::Stage::Acceleration, self.#jac_fn(x, q, tx, tp, tq))?;
-            let z = lu.solve(#bi, #rt::Stage::Acceleration, self.#acc_fn(x, q, tx, tp, tq, xd, qd, xdd, &qdd))?;
-            #( qdd[#idx] = z[#zi]; )*
-        });
     }
 
     let motion = crate::emit_motion::motion(c, &cached, rt);
+    let stages = crate::emit_motion::stages(c, &cached, rt);
     let scene_methods = crate::emit_scene::methods(c, &cached, args);
     let angle_mask = &qm;
-    let mut closed_mask = vec![false; nu];
-    for bf in &c.blocks {
-        if let Some(d) = &bf.dyad {
-            closed_mask[d.a] = true;
-            closed_mask[d.b] = true;
-        }
-    }
+    let closed_mask = crate::emit_closed::closed_mask(c);
     let input_mask = &xm;
 
     quote! {
@@ -279,27 +168,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             #rt::TrigState::new(q, [#(#angle_mask),*])
         }
 
-        #[inline]
-        fn position_cached(&self, x: &[#gt; #ni], st: &mut #rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni], tp: &[(#gt, #gt); #npar],
-            options: &#rt::NewtonOptions<#gt>, report: &mut #rt::NewtonReport<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
-            #pos_steps
-            Ok(())
-        }
-
-        #[inline]
-        fn velocity_cached(&self, x: &[#gt; #ni], q: &[#gt; #nu], #ctx, xd: &[#gt; #ni]) -> ::core::result::Result<[#gt; #nu], #rt::SolveError> {
-            let mut qd = [#gt::zero(); #nu];
-            #vel_steps
-            Ok(qd)
-        }
-
-        #[inline]
-        fn acceleration_cached(&self, x: &[#gt; #ni], q: &[#gt; #nu], #ctx, xd: &[#gt; #ni], qd: &[#gt; #nu], xdd: &[#gt; #ni])
-            -> ::core::result::Result<[#gt; #nu], #rt::SolveError> {
-            let mut qdd = [#gt::zero(); #nu];
-            #acc_steps
-            Ok(qdd)
-        }
+        #stages
 
         #motion
         #scene_methods
@@ -328,7 +197,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             #rt::check_finite(#rt::Quantity::InputRate, xd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
+            self.velocity_cached(x, &st, &tx, &tp, xd)
         }
 
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
@@ -343,7 +212,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             #rt::check_finite(#rt::Quantity::InputAcceleration, xdd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
         }
 
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one

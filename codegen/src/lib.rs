@@ -25,6 +25,7 @@ mod config;
 pub mod diagnostic;
 mod emit;
 mod emit_body;
+mod emit_closed;
 mod emit_module;
 mod emit_motion;
 mod emit_scene;

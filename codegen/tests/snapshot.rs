@@ -45,7 +45,7 @@ fn generation_is_deterministic() {
 }
 
 /// The slider-crank's blocks are [q2] (loop y) then [s] (loop x); scene `rod` reads q2 only, at
-/// order 0: its solver is block 0's Newton alone, no factorization, no rate, no point.
+/// order 0: its solver is block 0 alone (a closed form), no factorization, no rate, no point.
 const SLIDER_SCENES: &str = r#"
 [mechanism.slider]
 description = "Centred slider-crank: crank l1, rod l2, slider s on the x axis"
@@ -97,8 +97,8 @@ fn pruned_scene_snapshot() {
     ] {
         assert!(body.contains(needle), "full body lacks {needle}");
     }
-    // `rod`: block 0 only (its Newton), no block 1, no factorization, no points' expressions.
-    assert!(rod.contains("Block 0: Newton."), "{rod}");
+    // `rod`: block 0 only (its closed form), no block 1, no factorization, no points' expressions.
+    assert!(rod.contains("Block 0: closed form"), "{rod}");
     assert!(!rod.contains("Block 1"), "{rod}");
     assert!(
         !rod.contains("factor_block") && !rod.contains("lu.solve"),

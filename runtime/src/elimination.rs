@@ -192,6 +192,25 @@ pub fn factor_block<T: Real, const K: usize>(
 ) -> Result<Factored<T, K>, SolveError> {
     let mut scale = SVector::<T, K>::from_element(T::one());
     let mut swaps: [usize; K] = core::array::from_fn(|c| c);
+    if K == 1 {
+        // One division, which the solves then multiply by (a constant entry folds at compile
+        // time); zero or non-finite is singular, as elimination's column test says.
+        let a = jac[(0, 0)];
+        if !(a.abs() > T::zero()) || !a.is_finite() {
+            return Err(SolveError::Singular {
+                block,
+                stage,
+                pivot_ratio: 0.0,
+            });
+        }
+        jac[(0, 0)] = T::one() / a;
+        return Ok(Factored {
+            lu: jac,
+            scale,
+            swaps,
+            pivot_ratio: T::one(),
+        });
+    }
     if K == 2 {
         // Cramer, which column scaling does not change; the pivot ratio and the test are the
         // elimination's (its first pivot is 1 after equilibration, its second |det| / (m₀ m₁)).
@@ -260,7 +279,10 @@ impl<T: Real, const K: usize> Factored<T, K> {
         stage: Stage,
         mut rhs: SVector<T, K>,
     ) -> Result<SVector<T, K>, SolveError> {
-        if K == 2 {
+        if K == 1 {
+            // A 1×1 block holds its reciprocal.
+            rhs[0] *= self.lu[(0, 0)];
+        } else if K == 2 {
             // A 2×2 block holds its inverse (no scales, no swaps).
             let (b0, b1) = (rhs[0], rhs[1]);
             rhs[0] = self.lu[(0, 0)] * b0 + self.lu[(0, 1)] * b1;
@@ -401,5 +423,43 @@ mod tests {
         )
         .expect("regular");
         assert!((ok.pivot_ratio - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn one_by_one_is_a_division() {
+        for (a, b) in [
+            (3.0, 1.0),
+            (-0.1, 7.0),
+            (1e-300, 1e-300),
+            (1e300, 1e300),
+            (-1.0, 2.5),
+        ] {
+            let lu =
+                factor_block(0, Stage::Velocity, SMatrix::<f64, 1, 1>::new(a)).expect("regular");
+            assert_eq!(lu.pivot_ratio, 1.0);
+            let z = lu
+                .solve(0, Stage::Velocity, SVector::<f64, 1>::new(b))
+                .expect("finite");
+            assert!(
+                (z[0] - b / a).abs() <= 2.0 * f64::EPSILON * (b / a).abs(),
+                "{a} {b}"
+            );
+        }
+        for a in [0.0, -0.0, f64::NAN, f64::INFINITY] {
+            assert!(matches!(
+                factor_block(2, Stage::Acceleration, SMatrix::<f64, 1, 1>::new(a)),
+                Err(SolveError::Singular {
+                    block: 2,
+                    stage: Stage::Acceleration,
+                    ..
+                })
+            ));
+        }
+        let lu =
+            factor_block(0, Stage::Velocity, SMatrix::<f64, 1, 1>::new(1e-300)).expect("regular");
+        assert!(matches!(
+            lu.solve(0, Stage::Velocity, SVector::<f64, 1>::new(1e300)),
+            Err(SolveError::Overflow { .. })
+        ));
     }
 }

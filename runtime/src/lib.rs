@@ -47,6 +47,7 @@ pub use tick::{Solution, Tick};
 /// changes with the generator, which always emits code for the runtime it ships with.
 #[doc(hidden)]
 pub mod __private {
+    pub use crate::closed_form;
     pub use crate::dyad::solve_dyad;
     pub use crate::elimination::{copy_row_major, factor_block};
     pub use crate::error::{Quantity, SolveError, Stage};

@@ -23,7 +23,7 @@ pub fn check(name: &str, text: &str) -> Result<(), String> {
         Ok((mechs, warnings)) => {
             eprint!("{warnings}");
             for m in &mechs {
-                print_structure(&mechgen::Kinematics::<f64>::info(m));
+                print_structure(&mechgen::Kinematics::<f64>::info(m), &m.block_kinds());
             }
             for m in &mechs {
                 let info = mechgen::Kinematics::<f64>::info(m);
@@ -41,7 +41,7 @@ pub fn check(name: &str, text: &str) -> Result<(), String> {
     }
 }
 
-fn print_structure(info: &MechanismInfo) {
+fn print_structure(info: &MechanismInfo, kinds: &[String]) {
     let names = |v: &[(String, Kind, f64)]| {
         v.iter()
             .map(|(n, k, _)| {
@@ -60,9 +60,10 @@ fn print_structure(info: &MechanismInfo) {
     let blocks: Vec<String> = info
         .blocks
         .iter()
-        .map(|b| {
+        .zip(kinds)
+        .map(|(b, kind)| {
             let us: Vec<&str> = b.iter().map(|&u| info.unknowns[u].0.as_str()).collect();
-            format!("{}x{} [{}]", b.len(), b.len(), us.join(", "))
+            format!("{}x{} [{}] {kind}", b.len(), b.len(), us.join(", "))
         })
         .collect();
     say!("  blocks:   {}", blocks.join(" -> "));

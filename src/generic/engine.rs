@@ -199,6 +199,18 @@ impl Generic {
         &self.info.name
     }
 
+    /// How each block's positions are solved, in solve order: `closed form (KIND)` with the
+    /// kind's `ClosedForm::name()` (`RRR`, `RPR`, `one angle`, …), or `newton`.
+    pub fn block_kinds(&self) -> Vec<String> {
+        self.blocks
+            .iter()
+            .map(|b| match &b.closed {
+                Some(c) => format!("closed form ({})", c.form.name()),
+                None => "newton".to_string(),
+            })
+            .collect()
+    }
+
     /// Current param values, in the file's order.
     pub fn params(&self) -> &[f64] {
         &self.params

@@ -428,7 +428,7 @@ pub mod slider {
                 },
             ]
         }
-        /// Block 0: q2 from loop 1 (y). Its residual and Jacobian block.
+        /// Block 0: q2 from loop 1 (y). Its residual and Jacobian block (Newton).
         #[inline]
         fn block0_position(
             &self,
@@ -460,88 +460,7 @@ pub mod slider {
             jac[(0, 0)] = t1;
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
         }
-        /// Block 0: q2 from loop 1 (y). Its Jacobian block.
-        #[inline]
-        fn block0_jacobian(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
-            tq: &[(T, T); 2],
-        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
-            let v_q2 = q[0];
-            let p_l2 = self.params.l2;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t0 = p_l2 * c_v_q2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
-            // J[1][0] = ∂Φ1/∂q2
-            jac[(0, 0)] = t0;
-            jac
-        }
-        /// Block 0: q2 from loop 1 (y). Its right-hand side (velocity).
-        #[inline]
-        fn block0_velocity(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
-            tq: &[(T, T); 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q1 = x[0];
-            let p_l1 = self.params.l1;
-            let v_q1_d = xd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = t0 * v_q1_d;
-            let t2 = -t1;
-            ::mechgen::__private::nalgebra::SVector::from([t2])
-        }
-        /// Block 0: q2 from loop 1 (y). Its right-hand side (acceleration).
-        #[inline]
-        fn block0_acceleration(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
-            tq: &[(T, T); 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-            xdd: &[T; 1],
-            qdd: &[T; 2],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let v_q1_d = xd[0];
-            let v_q2_d = qd[0];
-            let v_q1_dd = xdd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l2 * s_v_q2;
-            let t3 = t2 * v_q2_d;
-            let t4 = t1 * v_q1_d;
-            let t5 = v_q1_d * t4;
-            let t6 = -t5;
-            let t7 = v_q2_d * t3;
-            let t8 = t6 - t7;
-            let t9 = t0 * v_q1_dd;
-            let t10 = t8 + t9;
-            let t11 = -t10;
-            ::mechgen::__private::nalgebra::SVector::from([t11])
-        }
-        /// Block 1: s from loop 1 (x). Its residual and Jacobian block.
+        /// Block 1: s from loop 1 (x). Its residual and Jacobian block (Newton).
         #[inline]
         fn block1_position(
             &self,
@@ -574,92 +493,6 @@ pub mod slider {
             jac[(0, 0)] = T::lit(-1.0);
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
         }
-        /// Block 1: s from loop 1 (x). Its Jacobian block.
-        #[inline]
-        fn block1_jacobian(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
-            tq: &[(T, T); 2],
-        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 1, 1> {
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
-            // J[0][1] = ∂Φ0/∂s
-            jac[(0, 0)] = T::lit(-1.0);
-            jac
-        }
-        /// Block 1: s from loop 1 (x). Its right-hand side (velocity).
-        #[inline]
-        fn block1_velocity(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
-            tq: &[(T, T); 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let v_q1_d = xd[0];
-            let v_q2_d = qd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t1 = p_l2 * s_v_q2;
-            let t2 = t1 * v_q2_d;
-            let t3 = t0 * v_q1_d;
-            let t4 = t2 + t3;
-            ::mechgen::__private::nalgebra::SVector::from([t4])
-        }
-        /// Block 1: s from loop 1 (x). Its right-hand side (acceleration).
-        #[inline]
-        fn block1_acceleration(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
-            tq: &[(T, T); 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-            xdd: &[T; 1],
-            qdd: &[T; 2],
-        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let p_l1 = self.params.l1;
-            let p_l2 = self.params.l2;
-            let v_q1_d = xd[0];
-            let v_q2_d = qd[0];
-            let v_q1_dd = xdd[0];
-            let v_q2_dd = qdd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
-            let t0 = p_l1 * c_v_q1;
-            let t1 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
-            let t2 = p_l2 * c_v_q2;
-            let t3 = p_l2 * s_v_q2;
-            let t4 = t2 * v_q2_d;
-            let t5 = t0 * v_q1_d;
-            let t6 = v_q1_d * t5;
-            let t7 = -t6;
-            let t8 = v_q2_d * t4;
-            let t9 = t7 - t8;
-            let t10 = t1 * v_q1_dd;
-            let t11 = t10 - t9;
-            let t12 = t3 * v_q2_dd;
-            let t13 = t11 + t12;
-            ::mechgen::__private::nalgebra::SVector::from([t13])
-        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 2]) {
@@ -674,6 +507,7 @@ pub mod slider {
         fn trig_state(q: [T; 2]) -> ::mechgen::__private::TrigState<T, 2> {
             ::mechgen::__private::TrigState::new(q, [true, false])
         }
+        /// Positions block by block from the guess in `st`.
         #[inline]
         fn position_cached(
             &self,
@@ -684,153 +518,75 @@ pub mod slider {
             options: &::mechgen::__private::NewtonOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            // Block 0: q2 from loop 1 (y).
-            ::mechgen::__private::newton_block(
-                0,
-                st,
-                [0],
-                [false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 1: s from loop 1 (x).
-            ::mechgen::__private::newton_block(
-                1,
-                st,
-                [1],
-                [true],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
-            )?;
+            // Block 0: closed form (one angle).
+            let v_q1 = x[0];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * s_v_q1;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_angle1(
+                    0,
+                    st,
+                    0,
+                    t0,
+                    (T::zero(), p_l2),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0],
+                    [false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: closed form (one length).
+            let v_q2 = st.q[0];
+            let t1 = p_l1 * c_v_q1;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = t1 + t2;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_length1(
+                    1,
+                    st,
+                    1,
+                    t3,
+                    T::lit(-1.0),
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [1],
+                    [true],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
             Ok(())
         }
+        /// Velocities block by block at the solved position in `st`.
         #[inline]
         fn velocity_cached(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            st: &::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 2],
-            tq: &[(T, T); 2],
             xd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
-            // Block 0: q2 from loop 1 (y).
-            let lu = ::mechgen::__private::factor_block(
-                0,
-                ::mechgen::__private::Stage::Velocity,
-                self.block0_jacobian(x, q, tx, tp, tq),
-            )?;
-            let z = lu
-                .solve(
-                    0,
-                    ::mechgen::__private::Stage::Velocity,
-                    self.block0_velocity(x, q, tx, tp, tq, xd, &qd),
-                )?;
-            qd[0] = z[0];
-            // Block 1: s from loop 1 (x).
-            let lu = ::mechgen::__private::factor_block(
-                1,
-                ::mechgen::__private::Stage::Velocity,
-                self.block1_jacobian(x, q, tx, tp, tq),
-            )?;
-            let z = lu
-                .solve(
-                    1,
-                    ::mechgen::__private::Stage::Velocity,
-                    self.block1_velocity(x, q, tx, tp, tq, xd, &qd),
-                )?;
-            qd[1] = z[0];
-            Ok(qd)
-        }
-        #[inline]
-        fn acceleration_cached(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
-            tq: &[(T, T); 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-            xdd: &[T; 1],
-        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
-            let mut qdd = [T::zero(); 2];
-            // Block 0: q2 from loop 1 (y).
-            let lu = ::mechgen::__private::factor_block(
-                0,
-                ::mechgen::__private::Stage::Acceleration,
-                self.block0_jacobian(x, q, tx, tp, tq),
-            )?;
-            let z = lu
-                .solve(
-                    0,
-                    ::mechgen::__private::Stage::Acceleration,
-                    self.block0_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
-                )?;
-            qdd[0] = z[0];
-            // Block 1: s from loop 1 (x).
-            let lu = ::mechgen::__private::factor_block(
-                1,
-                ::mechgen::__private::Stage::Acceleration,
-                self.block1_jacobian(x, q, tx, tp, tq),
-            )?;
-            let z = lu
-                .solve(
-                    1,
-                    ::mechgen::__private::Stage::Acceleration,
-                    self.block1_acceleration(x, q, tx, tp, tq, xd, qd, xdd, &qdd),
-                )?;
-            qdd[1] = z[0];
-            Ok(qdd)
-        }
-        /// Positions block by block from the guess in `st`, then velocities and accelerations
-        /// (each block's Jacobian factored once for both), then the points: one body, shared
-        /// subexpressions computed once.
-        #[inline(always)]
-        fn motion_cached(
-            &self,
-            x: &[T; 1],
-            st: &mut ::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
-            xd: &[T; 1],
-            xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
-            report: &mut ::mechgen::__private::NewtonReport<T>,
-        ) -> ::core::result::Result<
-            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 1]),
-            ::mechgen::__private::SolveError,
-        > {
-            let mut qd = [T::zero(); 2];
-            let mut qdd = [T::zero(); 2];
-            // Block 0: Newton.
-            ::mechgen::__private::newton_block(
-                0,
-                st,
-                [0],
-                [false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 1: Newton.
-            ::mechgen::__private::newton_block(
-                1,
-                st,
-                [1],
-                [true],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
-            )?;
-            // Block 0: velocities and accelerations.
+            // Block 0: velocities.
             let v_q1 = x[0];
             let v_q2 = st.q[0];
             let p_l1 = self.params.l1;
@@ -861,28 +617,13 @@ pub mod slider {
                     ::mechgen::__private::nalgebra::SVector::from([t3]),
                 )?;
             qd[0] = z[0];
+            // Block 1: velocities.
             let v_q2_d = qd[0];
-            let v_q1_dd = xdd[0];
             let t4 = p_l1 * s_v_q1;
             let t5 = p_l2 * s_v_q2;
             let t6 = t5 * v_q2_d;
             let t7 = t4 * v_q1_d;
-            let t8 = v_q1_d * t7;
-            let t9 = -t8;
-            let t10 = v_q2_d * t6;
-            let t11 = t9 - t10;
-            let t12 = t0 * v_q1_dd;
-            let t13 = t11 + t12;
-            let t14 = -t13;
-            let z = lu
-                .solve(
-                    0,
-                    ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t14]),
-                )?;
-            qdd[0] = z[0];
-            // Block 1: velocities and accelerations.
-            let t15 = t6 + t7;
+            let t8 = t6 + t7;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
                 T,
                 1,
@@ -899,38 +640,266 @@ pub mod slider {
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t15]),
+                    ::mechgen::__private::nalgebra::SVector::from([t8]),
                 )?;
             qd[1] = z[0];
+            Ok(qd)
+        }
+        /// Accelerations block by block at the solved position in `st` and the rates `qd`.
+        #[inline]
+        fn acceleration_cached(
+            &self,
+            x: &[T; 1],
+            st: &::mechgen::__private::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+            xd: &[T; 1],
+            qd: &[T; 2],
+            xdd: &[T; 1],
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let mut qdd = [T::zero(); 2];
+            // Block 0: accelerations.
+            let v_q2 = st.q[0];
+            let p_l2 = self.params.l2;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t0 = p_l2 * c_v_q2;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(0, 0)] = t0;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Acceleration,
+                jac,
+            )?;
+            let v_q1 = x[0];
+            let p_l1 = self.params.l1;
+            let v_q1_d = xd[0];
+            let v_q2_d = qd[0];
+            let v_q1_dd = xdd[0];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t1 = p_l1 * c_v_q1;
+            let t2 = p_l1 * s_v_q1;
+            let t3 = p_l2 * s_v_q2;
+            let t4 = t3 * v_q2_d;
+            let t5 = t2 * v_q1_d;
+            let t6 = v_q1_d * t5;
+            let t7 = -t6;
+            let t8 = v_q2_d * t4;
+            let t9 = t7 - t8;
+            let t10 = t1 * v_q1_dd;
+            let t11 = t9 + t10;
+            let t12 = -t11;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t12]),
+                )?;
+            qdd[0] = z[0];
+            // Block 1: accelerations.
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
+            // J[0][1] = ∂Φ0/∂s
+            jac[(0, 0)] = T::lit(-1.0);
+            let lu = ::mechgen::__private::factor_block(
+                1,
+                ::mechgen::__private::Stage::Acceleration,
+                jac,
+            )?;
             let v_q2_dd = qdd[0];
-            let t16 = t1 * v_q2_d;
-            let t17 = v_q1_d * t2;
-            let t18 = -t17;
-            let t19 = v_q2_d * t16;
-            let t20 = t18 - t19;
-            let t21 = t4 * v_q1_dd;
-            let t22 = t21 - t20;
-            let t23 = t5 * v_q2_dd;
-            let t24 = t22 + t23;
+            let t13 = t0 * v_q2_d;
+            let t14 = t1 * v_q1_d;
+            let t15 = v_q1_d * t14;
+            let t16 = -t15;
+            let t17 = v_q2_d * t13;
+            let t18 = t16 - t17;
+            let t19 = t2 * v_q1_dd;
+            let t20 = t19 - t18;
+            let t21 = t3 * v_q2_dd;
+            let t22 = t20 + t21;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t24]),
+                    ::mechgen::__private::nalgebra::SVector::from([t22]),
+                )?;
+            qdd[1] = z[0];
+            Ok(qdd)
+        }
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
+        #[inline(always)]
+        fn motion_cached(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::NewtonOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<
+            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 1]),
+            ::mechgen::__private::SolveError,
+        > {
+            let mut qd = [T::zero(); 2];
+            let mut qdd = [T::zero(); 2];
+            // Block 0: closed form (one angle).
+            let v_q1 = x[0];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * s_v_q1;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_angle1(
+                    0,
+                    st,
+                    0,
+                    t0,
+                    (T::zero(), p_l2),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0],
+                    [false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: closed form (one length).
+            let v_q2 = st.q[0];
+            let t1 = p_l1 * c_v_q1;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = t1 + t2;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_length1(
+                    1,
+                    st,
+                    1,
+                    t3,
+                    T::lit(-1.0),
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [1],
+                    [true],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 0: velocities and accelerations.
+            let v_q1_d = xd[0];
+            let t4 = t1 * v_q1_d;
+            let t5 = -t4;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(0, 0)] = t2;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t5]),
+                )?;
+            qd[0] = z[0];
+            let v_q2_d = qd[0];
+            let v_q1_dd = xdd[0];
+            let t6 = p_l2 * s_v_q2;
+            let t7 = t6 * v_q2_d;
+            let t8 = t0 * v_q1_d;
+            let t9 = v_q1_d * t8;
+            let t10 = -t9;
+            let t11 = v_q2_d * t7;
+            let t12 = t10 - t11;
+            let t13 = t1 * v_q1_dd;
+            let t14 = t12 + t13;
+            let t15 = -t14;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t15]),
+                )?;
+            qdd[0] = z[0];
+            // Block 1: velocities and accelerations.
+            let t16 = t7 + t8;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
+                T,
+                1,
+                1,
+            >::zeros();
+            // J[0][1] = ∂Φ0/∂s
+            jac[(0, 0)] = T::lit(-1.0);
+            let lu = ::mechgen::__private::factor_block(
+                1,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t16]),
+                )?;
+            qd[1] = z[0];
+            let v_q2_dd = qdd[0];
+            let t17 = t2 * v_q2_d;
+            let t18 = v_q1_d * t4;
+            let t19 = -t18;
+            let t20 = v_q2_d * t17;
+            let t21 = t19 - t20;
+            let t22 = t0 * v_q1_dd;
+            let t23 = t22 - t21;
+            let t24 = t6 * v_q2_dd;
+            let t25 = t23 + t24;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t25]),
                 )?;
             qdd[1] = z[0];
             // Points.
-            let t25 = -t7;
-            let t26 = t18 - t21;
-            let t27 = t12 - t8;
+            let t26 = -t8;
+            let t27 = t19 - t22;
+            let t28 = t13 - t9;
             Ok((
                 qd,
                 qdd,
                 [
                     ::mechgen::__private::PointMotion {
-                        position: [t0, t4],
-                        velocity: [t25, t2],
-                        acceleration: [t26, t27],
+                        position: [t1, t0],
+                        velocity: [t26, t4],
+                        acceleration: [t27, t28],
                     },
                 ],
             ))
@@ -991,7 +960,7 @@ pub mod slider {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, q, &tx, &tp, &st.sc, xd)
+            self.velocity_cached(x, &st, &tx, &tp, xd)
         }
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
         /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
@@ -1029,7 +998,7 @@ pub mod slider {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, q, &tx, &tp, &st.sc, xd, qd, xdd)
+            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
@@ -1149,11 +1118,7 @@ pub mod slider {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms {
-                [false, false]
-            } else {
-                [false; 2]
-            };
+            let keep = if options.closed_forms { [true, true] } else { [false; 2] };
             let mut st = t.predicted(x, [true, false], keep, same);
             let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self

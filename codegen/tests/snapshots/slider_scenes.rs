@@ -14,17 +14,35 @@
         > {
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
-            // Block 0: Newton.
-            ::mechgen::__private::newton_block(
-                0,
-                st,
-                [0],
-                [false],
-                self.params.length_scale(),
-                options,
-                report,
-                |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
-            )?;
+            // Block 0: closed form (one angle).
+            let v_q1 = x[0];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * s_v_q1;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_angle1(
+                    0,
+                    st,
+                    0,
+                    t0,
+                    (T::zero(), p_l2),
+                    || self.params.length_scale(),
+                    options.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0],
+                    [false],
+                    self.params.length_scale(),
+                    options,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
             // Points.
             Ok((qd, qdd, []))
         }

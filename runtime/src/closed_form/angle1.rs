@@ -12,6 +12,7 @@ use crate::solve::{NewtonReport, TrigState};
 // `!(a > b)` is deliberate: a NaN must fail the test.
 #[allow(clippy::neg_cmp_op_on_partial_ord)]
 #[allow(clippy::type_complexity)]
+#[inline(always)]
 fn reduce<T: Real>(
     block: usize,
     k: T,
@@ -20,7 +21,14 @@ fn reduce<T: Real>(
     if !all_finite(&[k, w.0, w.1]) {
         return Err(super::overflow(block));
     }
-    let ww = w.0 * w.0 + w.1 * w.1;
+    // `P = 0` (a slide along x; in generated code the literal zero, so this folds away): `|w| =
+    // |Q|` without a square root, as the dyad takes `|p|`.
+    let pure = w.0 == T::zero();
+    let ww = if pure {
+        w.1 * w.1
+    } else {
+        w.0 * w.0 + w.1 * w.1
+    };
     if !(ww > T::zero()) {
         return Err(SolveError::Singular {
             block,
@@ -31,7 +39,7 @@ fn reduce<T: Real>(
     if !(ww + k * k).is_finite() {
         return Err(super::overflow(block));
     }
-    let (c, r) = (-k, ww.sqrt());
+    let (c, r) = (-k, if pure { w.1.abs() } else { ww.sqrt() });
     // √(|w|² − c²) as √((|w| − |c|)(|w| + |c|)), cancellation-free at the dead point.
     let near = r - c.abs();
     if near < -dead_point_slack::<T>() * r {
@@ -46,8 +54,15 @@ fn reduce<T: Real>(
 }
 
 /// `e(q)` of mode `tau` (the sign of `w⊥ · e(q)`).
+#[inline(always)]
 fn direction<T: Real>((c, w, ww, t): (T, (T, T), T, T), tau: T) -> (T, T) {
-    let (x, inv) = (tau * t, T::one() / ww);
+    let x = tau * t;
+    if w.0 == T::zero() {
+        // `w = (0, Q)`: `e = (−x, c) / Q`, one division.
+        let inv = T::one() / w.1;
+        return (-x * inv, c * inv);
+    }
+    let inv = T::one() / ww;
     ((c * w.0 - x * w.1) * inv, (c * w.1 + x * w.0) * inv)
 }
 
@@ -81,7 +96,7 @@ pub fn angle1_modes<T: Real>(block: usize, k: T, w: (T, T)) -> Result<Modes<T>, 
 /// `Unassemblable` with the relative gap; a non-finite guess: `NonFinite`. The pivot ratio of a
 /// 1×1 block is 1 (as elimination reports), so the report is left as it is.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 pub fn solve_angle1<T: Real, const N: usize>(
     block: usize,
     st: &mut TrigState<T, N>,

@@ -91,6 +91,7 @@ pub fn solve_linear2<T: Real, const N: usize>(
     Ok(())
 }
 
+#[inline(always)]
 fn divide<T: Real>(block: usize, k: T, a: T) -> Result<T, SolveError> {
     if !all_finite(&[k, a]) {
         return Err(super::overflow(block));
@@ -116,7 +117,7 @@ pub fn length1_modes<T: Real>(block: usize, k: T, a: T) -> Result<Modes<T>, Solv
 
 /// Solves `K + a s = 0` for the length `st.q[s]`; `Singular` for `a = 0`. (The pivot ratio of a
 /// 1×1 block is 1: the report is left as it is.)
-#[inline]
+#[inline(always)]
 pub fn solve_length1<T: Real, const N: usize>(
     block: usize,
     st: &mut TrigState<T, N>,

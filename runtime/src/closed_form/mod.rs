@@ -115,6 +115,7 @@ fn all_finite<T: Real>(v: &[T]) -> bool {
 /// Writes angle `k` of `st` as the direction `(c, s)`: the guess's angle plus the turn to it
 /// (whole turns kept), or the principal value where the guess is too large to hold the answer to
 /// `tolerance` (as `crate::dyad` does).
+#[inline(always)]
 fn set_angle<T: Real, const N: usize>(st: &mut TrigState<T, N>, k: usize, (c, s): (T, T), tol: T) {
     let (sg, cg) = st.sc[k];
     st.q[k] = crate::dyad::near(st.q[k], (cg, sg), (c, s), tol);

@@ -29,6 +29,7 @@ struct Guide<T> {
 // `!(a > b)` is deliberate: a NaN must fail the test.
 #[allow(clippy::neg_cmp_op_on_partial_ord)]
 #[allow(clippy::type_complexity)]
+#[inline(always)]
 fn guide<T: Real>(
     block: usize,
     k: [T; 2],
@@ -78,6 +79,7 @@ fn guide<T: Real>(
 
 impl<T: Real> Guide<T> {
     /// Mode `tau` (±1: the sign of `s + a`): `e(q) = g (x − i b) / |g|²` with `x = tau t`, and s.
+    #[inline(always)]
     fn mode(&self, tau: T) -> ((T, T), T) {
         let x = tau * self.t;
         let inv = T::one() / self.g2;
@@ -122,7 +124,7 @@ pub fn rpr_modes<T: Real>(
 /// relative gap; a non-finite guess of `q`: `NonFinite`. The pivot ratio reported is the cosine
 /// between the guide and the pivot-to-slider line, `|s + a| / |g|`.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 pub fn solve_rpr<T: Real, const N: usize>(
     block: usize,
     st: &mut TrigState<T, N>,

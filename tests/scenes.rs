@@ -174,7 +174,7 @@ fn check_lists_each_scene_with_what_it_keeps() {
     let e = stdout.split("scene sixbar_e_path").nth(1).expect("listed");
     let e: String = e.lines().take(6).collect::<Vec<_>>().join("\n");
     assert!(e.contains("order:    0"), "{e}");
-    assert!(e.contains("blocks:   0 [q2, q3]"), "{e}");
+    assert!(e.contains("keeps:    0 [q2, q3]"), "{e}");
     assert!(e.contains("skipped:  1 [q5, q6]"), "{e}");
     assert!(e.contains("points:   E"), "{e}");
     for name in mechgen::SCENES {

@@ -101,7 +101,7 @@ fn print_scene(s: &SceneDescription, info: &MechanismInfo) {
         s.order,
         orders[usize::from(s.order.min(2))]
     );
-    say!("  blocks:   {}", none(&kept));
+    say!("  keeps:    {}", none(&kept));
     say!("  skipped:  {}", none(&skipped));
     say!("  points:   {}", none(&s.points));
     say!("  columns:  {}", s.columns.join(", "));

@@ -8,9 +8,9 @@
 //! - `step` (one simulator tick, interfaces.md): from the full state (x, q, q̇, q̈), advance the input
 //!   by one step, predict q + q'·Δx + q''·Δx²/2 (input rate 1, so q' = q̇ and q'' = q̈), solve
 //!   positions, velocities, accelerations and all points. Both engines tick in place along the
-//!   states, 1° at a time, there and back: the generated engine with `Mechanism::tick` (its state,
+//!   states, 1° at a time, there and back: the generated engine with `StaticMechanism::tick` (its state,
 //!   a `Tick`, also holds the sines and cosines, and it predicts itself), the generic engine with
-//!   the same prediction as its guess for `Kinematics::solve_motion`.
+//!   the same prediction as its guess for `DynMechanism::solve`.
 //!
 //! - `<scene>/step/generated`: one tick of each compiled-in scene along its mechanism's walk (the
 //!   same states), right after its mechanism's benches, so a scene's saving reads off against
@@ -25,7 +25,8 @@ use std::time::Duration;
 use criterion::{Criterion, criterion_group, criterion_main};
 use mechgen::sweep::{Continuation, sweep};
 use mechgen::{
-    Array, Kind, Kinematics, Mechanism, NewtonOptions, PointMotion, Scene, SceneVisitor, Visitor,
+    Array, CoordDesc, DynMechanism, InputMotion, Kind, PointMotion, Scene, SceneVisitor,
+    SolveOptions, StaticMechanism, StaticVisitor,
 };
 
 /// A solved state and the input one step further (which is solvable too).
@@ -38,17 +39,17 @@ struct State {
 }
 
 /// States along the start branch with a solvable next step, input rate 1.
-fn states(k: &dyn Kinematics<f64>) -> (Vec<State>, f64) {
+fn states(k: &dyn DynMechanism<f64>) -> (Vec<State>, f64) {
     let info = k.info();
-    let (_, kind, start) = info.inputs[0].clone();
+    let CoordDesc { kind, start, .. } = info.inputs[0].clone();
     let dx = match kind {
         Kind::Angle => 1f64.to_radians(),
-        Kind::Length => {
+        _ => {
             let scale = info
                 .params
                 .iter()
-                .filter(|p| p.1 == Kind::Length)
-                .fold(0.0f64, |m, p| m.max(p.2.abs()));
+                .filter(|p| p.kind == Kind::Length)
+                .fold(0.0f64, |m, p| m.max(p.value.abs()));
             (if scale > 0.0 { scale } else { 1.0 }) / 360.0
         }
     };
@@ -63,7 +64,7 @@ fn states(k: &dyn Kinematics<f64>) -> (Vec<State>, f64) {
     let mut out = Vec::new();
     for pair in rows.windows(2) {
         if let (Ok(s), Ok(_)) = (&pair[0].result, &pair[1].result) {
-            let mut x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
+            let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
             x[0] = pair[0].input;
             let mut x_next = x.clone();
             x_next[0] = pair[1].input;
@@ -79,10 +80,10 @@ fn states(k: &dyn Kinematics<f64>) -> (Vec<State>, f64) {
     if out.is_empty() {
         // No step of the sweep could be taken (a start at a dead point, say): time ticks that stay
         // at the start input, so every mechanism still has its benches.
-        let x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
-        let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
+        let x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+        let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
         let n = q.len();
-        if k.solve_position(&x, &mut q, &NewtonOptions::default())
+        if k.solve_position(&x, &mut q, &SolveOptions::default())
             .is_ok()
         {
             eprintln!(
@@ -146,15 +147,15 @@ fn arr<A: Array<f64>>(v: &[f64]) -> A {
     a
 }
 
-impl Visitor<f64> for Generated<'_> {
-    fn visit<M: Mechanism<f64> + 'static>(&mut self, m: &M) {
+impl StaticVisitor<f64> for Generated<'_> {
+    fn visit<M: StaticMechanism<f64> + 'static>(&mut self, m: &M) {
         let (states, _) = states(m);
         type Typed<M> = (
-            <M as Mechanism<f64>>::X,
-            <M as Mechanism<f64>>::Q,
-            <M as Mechanism<f64>>::Q,
-            <M as Mechanism<f64>>::Q,
-            <M as Mechanism<f64>>::X,
+            <M as StaticMechanism<f64>>::X,
+            <M as StaticMechanism<f64>>::Q,
+            <M as StaticMechanism<f64>>::Q,
+            <M as StaticMechanism<f64>>::Q,
+            <M as StaticMechanism<f64>>::X,
         );
         let typed: Vec<Typed<M>> = states
             .iter()
@@ -170,7 +171,7 @@ impl Visitor<f64> for Generated<'_> {
             .collect();
         let (xd_v, xdd_v) = unit_rate(M::INPUTS);
         let (xd, xdd): (M::X, M::X) = (arr(&xd_v), arr(&xdd_v));
-        let opts = NewtonOptions::default();
+        let opts = SolveOptions::default();
         let n = typed.len();
         let mut g = self.c.benchmark_group(M::NAME);
         let mut i = 0;
@@ -199,21 +200,20 @@ impl Visitor<f64> for Generated<'_> {
         });
         // A simulator ticks in place: the state walks along the precomputed inputs (there and
         // back at the ends of the list), each tick from the previous one.
-        let xs: Vec<M::X> = typed.iter().map(|s| s.0).collect();
-        let mut walk = Walk::new(xs.len());
-        let mut tick = m
-            .tick_start(&typed[0].0, &xd, &xdd, &typed[0].1, &opts)
-            .ok();
+        let inputs: Vec<InputMotion<M::X>> = typed
+            .iter()
+            .map(|s| InputMotion::new(s.0, xd, xdd))
+            .collect();
+        let mut walk = Walk::new(inputs.len());
+        let mut tick = m.tick_start(&inputs[0], &typed[0].1, &opts).ok();
         if tick.is_some() {
             g.bench_function("step/generated", |b| {
                 b.iter(|| {
                     let j = walk.next();
                     let Some(t) = tick.as_mut() else { return };
-                    if m.tick(t, black_box(&xs[j]), &xd, &xdd, &opts).is_err() {
+                    if m.tick(t, black_box(&inputs[j]), &opts).is_err() {
                         // Off the branch (not expected along solved states): start again there.
-                        tick = m
-                            .tick_start(&typed[j].0, &xd, &xdd, &typed[j].1, &opts)
-                            .ok();
+                        tick = m.tick_start(&inputs[j], &typed[j].1, &opts).ok();
                     }
                     black_box(&tick);
                 })
@@ -243,21 +243,24 @@ impl SceneVisitor<f64> for Scenes<'_> {
         }
         let k = mechgen::lookup::<f64>(scene.info().mechanism).expect("its mechanism");
         let (states, _) = states(k.as_ref());
-        let xs: Vec<S::X> = states.iter().map(|s| arr(&s.x)).collect();
         let qs: Vec<S::Q> = states.iter().map(|s| arr(&s.q)).collect();
         let (xd_v, xdd_v) = unit_rate(states[0].x.len());
         let (xd, xdd): (S::X, S::X) = (arr(&xd_v), arr(&xdd_v));
-        let opts = NewtonOptions::default();
-        let mut walk = Walk::new(xs.len());
-        let mut tick = scene.tick_start(&xs[0], &xd, &xdd, &qs[0], &opts).ok();
+        let inputs: Vec<InputMotion<S::X>> = states
+            .iter()
+            .map(|s| InputMotion::new(arr(&s.x), xd, xdd))
+            .collect();
+        let opts = SolveOptions::default();
+        let mut walk = Walk::new(inputs.len());
+        let mut tick = scene.tick_start(&inputs[0], &qs[0], &opts).ok();
         let mut g = self.c.benchmark_group(S::NAME);
         if tick.is_some() {
             g.bench_function("step/generated", |b| {
                 b.iter(|| {
                     let j = walk.next();
                     let Some(t) = tick.as_mut() else { return };
-                    if scene.tick(t, black_box(&xs[j]), &xd, &xdd, &opts).is_err() {
-                        tick = scene.tick_start(&xs[j], &xd, &xdd, &qs[j], &opts).ok();
+                    if scene.tick(t, black_box(&inputs[j]), &opts).is_err() {
+                        tick = scene.tick_start(&inputs[j], &qs[j], &opts).ok();
                     }
                     black_box(&tick);
                 })
@@ -269,11 +272,11 @@ impl SceneVisitor<f64> for Scenes<'_> {
 
 /// The generic engine: interpreted tapes, slices, `DMatrix`.
 fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
-    let k: &dyn Kinematics<f64> = k;
+    let k: &dyn DynMechanism<f64> = k;
     let info = k.info();
     let (states, _) = states(k);
     let (xd, xdd) = unit_rate(info.inputs.len());
-    let opts = NewtonOptions::default();
+    let opts = SolveOptions::default();
     let n = states.len();
     let nu = info.unknowns.len();
     let mut g = c.benchmark_group(info.name.as_str());
@@ -300,11 +303,17 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
         b.iter(|| {
             i = (i + 1) % n;
             let s = &states[i];
-            black_box(k.solve_acceleration(black_box(&s.x), &s.q, &xd, &s.qd, &xdd, &mut qdd)).ok();
+            black_box(k.solve_acceleration(
+                InputMotion::new(black_box(&s.x), &xd, &xdd),
+                &s.q,
+                &s.qd,
+                &mut qdd,
+            ))
+            .ok();
         })
     });
     // Ticking in place along the same walk: the predicted guess from the previous state, then
-    // `solve_motion`.
+    // `solve`.
     let mut points = vec![PointMotion::default(); info.points.len()];
     let mut walk = Walk::new(n);
     let (mut x, mut qs) = (states[0].x.clone(), states[0].q.clone());
@@ -317,7 +326,14 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
             for (((v, q0), d), a) in q.iter_mut().zip(&qs).zip(&qds).zip(&qdds) {
                 *v = q0 + h * (d + 0.5 * h * a);
             }
-            let tick = k.solve_motion(xn, &xd, &xdd, &mut q, &mut qd, &mut qdd, &mut points, &opts);
+            let tick = k.solve(
+                InputMotion::new(xn, &xd, &xdd),
+                &mut q,
+                &mut qd,
+                &mut qdd,
+                &mut points,
+                &opts,
+            );
             if tick.is_ok() {
                 x.copy_from_slice(xn);
                 qs.copy_from_slice(&q);

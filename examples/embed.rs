@@ -1,20 +1,25 @@
 //! Embedding the generated solvers in a simulation loop: no allocation, no panics, f64 or f32.
 //! Run: `cargo run --release --example embed`
 
-use mechgen::NewtonOptions;
 use mechgen::sixbar::{Inputs, Sixbar};
+use mechgen::{InputMotion, SolveOptions};
 
 fn main() {
     let mut mech = Sixbar::<f64>::default();
     mech.params.l1 = 26.5; // params can change at run time
-    let options = NewtonOptions::default();
+    let options = SolveOptions::default();
     let (_, mut q) = Sixbar::<f64>::start();
     let omega = 1.0; // crank speed, rad/s
     for step in 0..=12 {
-        let x = Inputs {
-            q1: (step as f64 * 30.0).to_radians(),
+        let input = InputMotion {
+            x: Inputs {
+                q1: (step as f64 * 30.0).to_radians(),
+            },
+            xd: Inputs { q1: omega },
+            xdd: Inputs { q1: 0.0 },
         };
-        match mech.solve(x, Inputs { q1: omega }, Inputs { q1: 0.0 }, q, &options) {
+        let x = input.x;
+        match mech.solve(&input, &q, &options) {
             Ok(m) => {
                 q = m.q; // the next guess: stays on this assembly branch
                 let e = m.points.E;

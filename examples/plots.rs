@@ -7,7 +7,7 @@ use std::error::Error;
 use std::f64::consts::PI;
 use std::path::Path;
 
-use mechgen::Kinematics;
+use mechgen::DynMechanism;
 use mechgen::generic::{self, Generic};
 use mechgen::plot::{Frame, drawing_svg, motion_svg, point_paths, sweep_frames, write_animation};
 use mechgen::sweep::{Continuation, Row, sweep};
@@ -25,14 +25,16 @@ fn four(frames: Vec<Frame>) -> Vec<Frame> {
 }
 
 fn plot(out: &Path, model: &Generic, steps: u32) -> Result<(), Box<dyn Error>> {
-    let info = Kinematics::<f64>::info(model);
+    let info = DynMechanism::<f64>::info(model);
     let name = &info.name;
-    let (input, kind, _) = info.inputs.first().ok_or("no input")?;
-    let x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
+    let mechgen::CoordDesc {
+        name: input, kind, ..
+    } = info.inputs.first().ok_or("no input")?;
+    let x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
     // A full turn from the start value (a length input: from half its start value to 1.5 times).
     let (from, span) = match kind {
         mechgen::Kind::Angle => (x[0], 2.0 * PI),
-        mechgen::Kind::Length => (x[0] * 0.5, x[0].abs().max(1e-9)),
+        _ => (x[0] * 0.5, x[0].abs().max(1e-9)),
     };
     let values: Vec<f64> = (0..=steps)
         .map(|i| from + span * f64::from(i) / f64::from(steps))

@@ -12,7 +12,9 @@ pub const MECHANISMS: [&str; 6] = [
 /// A compiled-in mechanism by name, with its default params, behind the object-safe trait.
 pub fn lookup<T: ::mechgen::__private::Real>(
     name: &str,
-) -> ::core::option::Option<::std::boxed::Box<dyn ::mechgen::__private::Kinematics<T>>> {
+) -> ::core::option::Option<
+    ::std::boxed::Box<dyn ::mechgen::__private::DynMechanism<T>>,
+> {
     match name {
         "sixbar" => {
             ::core::option::Option::Some(
@@ -63,9 +65,10 @@ pub fn lookup<T: ::mechgen::__private::Real>(
 }
 /// Calls `v.visit` with every compiled-in mechanism (default params), statically typed, in
 /// file order: generic code over whatever the build compiled in, without dynamic dispatch.
-pub fn visit_all<T: ::mechgen::__private::Real, V: ::mechgen::__private::Visitor<T>>(
-    v: &mut V,
-) {
+pub fn visit_all<
+    T: ::mechgen::__private::Real,
+    V: ::mechgen::__private::StaticVisitor<T>,
+>(v: &mut V) {
     v.visit(&<sixbar::Sixbar<T> as ::core::default::Default>::default());
     v.visit(&<shaper::Shaper<T> as ::core::default::Default>::default());
     v.visit(&<four_bar::FourBar<T> as ::core::default::Default>::default());
@@ -136,7 +139,19 @@ pub fn visit_scenes<
 }
 /// Six-bar linkage: crank-rocker four-bar ABCD plus the RRR dyad E-F-G on the coupler point E
 pub mod sixbar {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(
+        non_snake_case,
+        unused_variables,
+        clippy::too_many_arguments,
+        clippy::type_complexity
+    )]
+    // Allowed above, and why:
+    // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
+    // unused_variables: block functions share one signature (inputs,
+    // unknowns, their sines and cosines) and a block reads only some of
+    // them; no local is bound without being read.
+    // too_many_arguments, type_complexity: those private signatures, and
+    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "sixbar",
@@ -418,12 +433,8 @@ pub mod sixbar {
         }
         /// The file's `start` configuration (on the wanted assembly branch).
         pub fn start() -> (Inputs<T>, Unknowns<T>) {
-            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(
-                INFO.inputs[i].start,
-            ));
-            let q: [T; 4] = ::core::array::from_fn(|i| T::lit(
-                INFO.unknowns[i].start,
-            ));
+            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(INFO.inputs[i].start));
+            let q: [T; 4] = ::core::array::from_fn(|i| T::lit(INFO.unknowns[i].start));
             (Inputs::from_array(x), Unknowns::from_array(q))
         }
         /// Φ(x, q): the loop-closure residuals, two per loop (x then y).
@@ -525,11 +536,7 @@ pub mod sixbar {
             let t24 = t1 + t12;
             let t25 = -t14;
             let t26 = -t17;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t19;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -564,11 +571,7 @@ pub mod sixbar {
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
             let t3 = -t2;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                1,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 1>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t3;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -637,11 +640,7 @@ pub mod sixbar {
             let t33 = t19 * v_q2_d;
             let t34 = t13 * v_q5_d;
             let t35 = t16 * v_q6_d;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t22;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -783,11 +782,7 @@ pub mod sixbar {
             ::mechgen::__private::nalgebra::SVector::from([t46, t55, t62, t70])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-        ) -> [[T; 2]; 1] {
+        pub fn point_positions(&self, x: &[T; 1], q: &[T; 4]) -> [[T; 2]; 1] {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let p_l1 = self.params.l1;
@@ -904,9 +899,6 @@ pub mod sixbar {
             ::mechgen::__private::nalgebra::SVector<T, 2>,
             ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
         ) {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -927,11 +919,7 @@ pub mod sixbar {
             let t10 = t5 - t8;
             let t11 = -t3;
             let t12 = -t7;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t11;
             // J[0][1] = ∂Φ0/∂q3
@@ -955,10 +943,6 @@ pub mod sixbar {
             ::mechgen::__private::nalgebra::SVector<T, 2>,
             ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
         ) {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q5 = q[2];
-            let v_q6 = q[3];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l5 = self.params.l5;
@@ -966,7 +950,6 @@ pub mod sixbar {
             let p_l2e = self.params.l2e;
             let p_xg = self.params.xg;
             let p_yg = self.params.yg;
-            let p_alpha = self.params.alpha;
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
@@ -1000,11 +983,7 @@ pub mod sixbar {
             let t25 = t23 - p_yg;
             let t26 = -t16;
             let t27 = -t20;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[2][2] = ∂Φ2/∂q5
             jac[(0, 0)] = t17;
             // J[2][3] = ∂Φ2/∂q6
@@ -1019,8 +998,8 @@ pub mod sixbar {
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 10]) {
             let params = self.params.to_array();
-            let mut tx = [(T::zero(), T::one()); 1];
-            let mut tp = [(T::zero(), T::one()); 10];
+            let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
+            let mut tp: [(T, T); 10] = [(T::zero(), T::one()); 10];
             tx[0] = x[0].sin_cos();
             tp[9] = params[9].sin_cos();
             (tx, tp)
@@ -1038,11 +1017,10 @@ pub mod sixbar {
             st: &mut ::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: closed form (a dyad).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -1062,7 +1040,7 @@ pub mod sixbar {
                     (p_l2, T::zero()),
                     (t2, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -1072,19 +1050,17 @@ pub mod sixbar {
                     [0, 1],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 1: closed form (a dyad).
-            let v_q2 = st.q[0];
             let p_l5 = self.params.l5;
             let p_l6 = self.params.l6;
             let p_l2e = self.params.l2e;
             let p_xg = self.params.xg;
             let p_yg = self.params.yg;
-            let p_alpha = self.params.alpha;
             let (s_v_q2, c_v_q2) = st.sc[0];
             let t4 = p_l2 * c_v_q2;
             let t5 = p_l2 * s_v_q2;
@@ -1115,7 +1091,7 @@ pub mod sixbar {
                     (t18, T::zero()),
                     (t19, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -1125,7 +1101,7 @@ pub mod sixbar {
                     [2, 3],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
@@ -1144,9 +1120,6 @@ pub mod sixbar {
         ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 4];
             // Block 0: velocities.
-            let v_q1 = x[0];
-            let v_q2 = st.q[0];
-            let v_q3 = st.q[1];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -1165,11 +1138,7 @@ pub mod sixbar {
             let t8 = t1 * v_q1_d;
             let t9 = t0 * v_q1_d;
             let t10 = -t9;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t6;
             // J[0][1] = ∂Φ0/∂q3
@@ -1192,12 +1161,9 @@ pub mod sixbar {
             qd[0] = z[0];
             qd[1] = z[1];
             // Block 1: velocities.
-            let v_q5 = st.q[2];
-            let v_q6 = st.q[3];
             let p_l5 = self.params.l5;
             let p_l6 = self.params.l6;
             let p_l2e = self.params.l2e;
-            let p_alpha = self.params.alpha;
             let v_q2_d = qd[0];
             let (s_p_alpha, c_p_alpha) = tp[9];
             let t11 = c_v_q2 * c_p_alpha;
@@ -1222,11 +1188,7 @@ pub mod sixbar {
             let t28 = t24 * v_q2_d;
             let t29 = t8 - t27;
             let t30 = t10 - t28;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[2][2] = ∂Φ2/∂q5
             jac[(0, 0)] = t18;
             // J[2][3] = ∂Φ2/∂q6
@@ -1264,8 +1226,6 @@ pub mod sixbar {
         ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 4];
             // Block 0: accelerations.
-            let v_q2 = st.q[0];
-            let v_q3 = st.q[1];
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let (s_v_q2, c_v_q2) = st.sc[0];
@@ -1276,11 +1236,7 @@ pub mod sixbar {
             let t3 = p_l3 * s_v_q3;
             let t4 = -t1;
             let t5 = -t2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t4;
             // J[0][1] = ∂Φ0/∂q3
@@ -1294,7 +1250,6 @@ pub mod sixbar {
                 ::mechgen::__private::Stage::Acceleration,
                 jac,
             )?;
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
             let v_q2_d = qd[0];
@@ -1335,8 +1290,6 @@ pub mod sixbar {
             qdd[0] = z[0];
             qdd[1] = z[1];
             // Block 1: accelerations.
-            let v_q5 = st.q[2];
-            let v_q6 = st.q[3];
             let p_l5 = self.params.l5;
             let p_l6 = self.params.l6;
             let (s_v_q5, c_v_q5) = st.sc[2];
@@ -1347,11 +1300,7 @@ pub mod sixbar {
             let t34 = p_l6 * s_v_q6;
             let t35 = -t31;
             let t36 = -t33;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[2][2] = ∂Φ2/∂q5
             jac[(0, 0)] = t32;
             // J[2][3] = ∂Φ2/∂q6
@@ -1366,7 +1315,6 @@ pub mod sixbar {
                 jac,
             )?;
             let p_l2e = self.params.l2e;
-            let p_alpha = self.params.alpha;
             let v_q5_d = qd[2];
             let v_q6_d = qd[3];
             let v_q2_dd = qdd[0];
@@ -1432,7 +1380,7 @@ pub mod sixbar {
             tp: &[(T, T); 10],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 1]),
@@ -1441,7 +1389,6 @@ pub mod sixbar {
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
             // Block 0: closed form (a dyad).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -1461,7 +1408,7 @@ pub mod sixbar {
                     (p_l2, T::zero()),
                     (t2, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -1471,19 +1418,17 @@ pub mod sixbar {
                     [0, 1],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 1: closed form (a dyad).
-            let v_q2 = st.q[0];
             let p_l5 = self.params.l5;
             let p_l6 = self.params.l6;
             let p_l2e = self.params.l2e;
             let p_xg = self.params.xg;
             let p_yg = self.params.yg;
-            let p_alpha = self.params.alpha;
             let (s_v_q2, c_v_q2) = st.sc[0];
             let t4 = p_l2 * c_v_q2;
             let t5 = p_l2 * s_v_q2;
@@ -1514,7 +1459,7 @@ pub mod sixbar {
                     (t18, T::zero()),
                     (t19, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -1524,13 +1469,12 @@ pub mod sixbar {
                     [2, 3],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 0: velocities and accelerations.
-            let v_q3 = st.q[1];
             let v_q1_d = xd[0];
             let (s_v_q3, c_v_q3) = st.sc[1];
             let t22 = p_l3 * c_v_q3;
@@ -1540,11 +1484,7 @@ pub mod sixbar {
             let t26 = t1 * v_q1_d;
             let t27 = t0 * v_q1_d;
             let t28 = -t27;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t24;
             // J[0][1] = ∂Φ0/∂q3
@@ -1599,8 +1539,6 @@ pub mod sixbar {
             qdd[0] = z[0];
             qdd[1] = z[1];
             // Block 1: velocities and accelerations.
-            let v_q5 = st.q[2];
-            let v_q6 = st.q[3];
             let (s_v_q5, c_v_q5) = st.sc[2];
             let t50 = p_l5 * c_v_q5;
             let t51 = p_l5 * s_v_q5;
@@ -1617,11 +1555,7 @@ pub mod sixbar {
             let t61 = t57 * v_q2_d;
             let t62 = t26 - t60;
             let t63 = t28 - t61;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[2][2] = ∂Φ2/∂q5
             jac[(0, 0)] = t51;
             // J[2][3] = ∂Φ2/∂q6
@@ -1715,16 +1649,15 @@ pub mod sixbar {
             tp: &[(T, T); 10],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 1]),
             ::mechgen::__private::SolveError,
         > {
-            let mut qd = [T::zero(); 4];
-            let mut qdd = [T::zero(); 4];
+            let qd = [T::zero(); 4];
+            let qdd = [T::zero(); 4];
             // Block 0: closed form (a dyad).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -1744,7 +1677,7 @@ pub mod sixbar {
                     (p_l2, T::zero()),
                     (t2, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -1754,15 +1687,13 @@ pub mod sixbar {
                     [0, 1],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Points.
-            let v_q2 = st.q[0];
             let p_l2e = self.params.l2e;
-            let p_alpha = self.params.alpha;
             let (s_v_q2, c_v_q2) = st.sc[0];
             let t4 = p_l2 * c_v_q2;
             let t5 = p_l2 * s_v_q2;
@@ -1800,7 +1731,7 @@ pub mod sixbar {
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 4],
@@ -1857,7 +1788,7 @@ pub mod sixbar {
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::Tick<T, 1, 4, 1, 10>,
             ::mechgen::__private::SolveError,
@@ -1890,7 +1821,7 @@ pub mod sixbar {
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -1964,7 +1895,7 @@ pub mod sixbar {
             tp: &[(T, T); 10],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 0]),
@@ -1973,7 +1904,6 @@ pub mod sixbar {
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
             // Block 0: closed form (a dyad).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -1993,7 +1923,7 @@ pub mod sixbar {
                     (p_l2, T::zero()),
                     (t2, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -2003,19 +1933,17 @@ pub mod sixbar {
                     [0, 1],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 1: closed form (a dyad).
-            let v_q2 = st.q[0];
             let p_l5 = self.params.l5;
             let p_l6 = self.params.l6;
             let p_l2e = self.params.l2e;
             let p_xg = self.params.xg;
             let p_yg = self.params.yg;
-            let p_alpha = self.params.alpha;
             let (s_v_q2, c_v_q2) = st.sc[0];
             let t4 = p_l2 * c_v_q2;
             let t5 = p_l2 * s_v_q2;
@@ -2046,7 +1974,7 @@ pub mod sixbar {
                     (t18, T::zero()),
                     (t19, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -2056,13 +1984,12 @@ pub mod sixbar {
                     [2, 3],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 0: velocities and accelerations.
-            let v_q3 = st.q[1];
             let v_q1_d = xd[0];
             let (s_v_q3, c_v_q3) = st.sc[1];
             let t22 = p_l3 * c_v_q3;
@@ -2072,11 +1999,7 @@ pub mod sixbar {
             let t26 = t1 * v_q1_d;
             let t27 = t0 * v_q1_d;
             let t28 = -t27;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t24;
             // J[0][1] = ∂Φ0/∂q3
@@ -2131,8 +2054,6 @@ pub mod sixbar {
             qdd[0] = z[0];
             qdd[1] = z[1];
             // Block 1: velocities and accelerations.
-            let v_q5 = st.q[2];
-            let v_q6 = st.q[3];
             let (s_v_q5, c_v_q5) = st.sc[2];
             let t50 = p_l5 * c_v_q5;
             let t51 = p_l5 * s_v_q5;
@@ -2149,11 +2070,7 @@ pub mod sixbar {
             let t61 = t57 * v_q2_d;
             let t62 = t26 - t60;
             let t63 = t28 - t61;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[2][2] = ∂Φ2/∂q5
             jac[(0, 0)] = t51;
             // J[2][3] = ∂Φ2/∂q6
@@ -2226,7 +2143,7 @@ pub mod sixbar {
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 4],
@@ -2283,7 +2200,7 @@ pub mod sixbar {
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::Tick<T, 1, 4, 0, 10>,
             ::mechgen::__private::SolveError,
@@ -2316,7 +2233,7 @@ pub mod sixbar {
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -2382,7 +2299,7 @@ pub mod sixbar {
             &self,
             x: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -2475,13 +2392,13 @@ pub mod sixbar {
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
         #[inline]
-        pub fn solve_arrays(
+        fn solve_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 4],
@@ -2520,14 +2437,14 @@ pub mod sixbar {
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
-        /// cosines for [`Self::tick`].
-        pub fn tick_start(
+        /// cosines for `tick_arrays` (the typed `tick_start` and `tick` call these).
+        fn tick_start_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
@@ -2555,13 +2472,13 @@ pub mod sixbar {
         /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
-        pub fn tick(
+        fn tick_arrays(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -2612,28 +2529,27 @@ pub mod sixbar {
             );
             Ok(())
         }
-        /// Everything at once: positions from `guess`, velocities, accelerations and points.
+        /// One whole tick from `guess`: positions, velocities, accelerations and points,
+        /// sharing one set of sines and cosines between the stages.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
             Ok(Motion {
-                x,
-                xd,
-                xdd,
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
@@ -2641,8 +2557,44 @@ pub mod sixbar {
                 report,
             })
         }
+        /// The first tick of a simulation, solved from `guess` and kept with its sines and
+        /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.tick_start_arrays(
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                &guess.to_array(),
+                options,
+            )
+        }
+        /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the
+        /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when
+        /// the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.tick_arrays(
+                t,
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                options,
+            )
+        }
     }
-    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::StaticMechanism<T>
     for Sixbar<T> {
         const NAME: &'static str = "sixbar";
         const INPUTS: usize = 1;
@@ -2650,6 +2602,9 @@ pub mod sixbar {
         const POINTS: usize = 1;
         type X = [T; 1];
         type Q = [T; 4];
+        type Points = [::mechgen::__private::PointMotion<T>; 1];
+        type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>;
+        type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 1>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -2657,14 +2612,11 @@ pub mod sixbar {
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             Sixbar::residual(self, x, q)
         }
-        fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(&Sixbar::jacobian(self, x, q), out)
+        fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian {
+            Sixbar::jacobian(self, x, q)
         }
-        fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(
-                &Sixbar::input_jacobian(self, x, q),
-                out,
-            )
+        fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian {
+            Sixbar::input_jacobian(self, x, q)
         }
         fn jacobian_dot(
             &self,
@@ -2672,12 +2624,8 @@ pub mod sixbar {
             q: &Self::Q,
             xd: &Self::X,
             qd: &Self::Q,
-            out: &mut [T],
-        ) {
-            ::mechgen::__private::copy_row_major(
-                &Sixbar::jacobian_dot(self, x, q, xd, qd),
-                out,
-            )
+        ) -> Self::Jacobian {
+            Sixbar::jacobian_dot(self, x, q, xd, qd)
         }
         fn acceleration_rhs(
             &self,
@@ -2693,7 +2641,7 @@ pub mod sixbar {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -2720,68 +2668,81 @@ pub mod sixbar {
         }
         fn points(
             &self,
-            x: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &Self::Q,
-            xd: &Self::X,
             qd: &Self::Q,
-            xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::__private::PointMotion<T>],
-        ) {
-            for (o, p) in out
-                .iter_mut()
-                .zip(Sixbar::point_motion(self, x, q, xd, qd, xdd, qdd))
-            {
-                *o = p;
-            }
+        ) -> Self::Points {
+            Sixbar::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
+        }
+        #[inline]
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = Sixbar::solve_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                &mut q,
+                options,
+            )?;
+            Ok(::mechgen::__private::Solved {
+                q,
+                qd,
+                qdd,
+                points,
+                report,
+            })
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            Sixbar::tick_start(self, x, xd, xdd, guess, options)
+            Sixbar::tick_start_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                guess,
+                options,
+            )
         }
+        #[inline]
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            Sixbar::tick(self, t, x, xd, xdd, options)
-        }
-        fn solve_motion(
-            &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            q: &mut Self::Q,
-            qd: &mut Self::Q,
-            qdd: &mut Self::Q,
-            points: &mut [::mechgen::__private::PointMotion<T>],
-            options: &::mechgen::__private::NewtonOptions<T>,
-        ) -> ::core::result::Result<
-            ::mechgen::__private::NewtonReport<T>,
-            ::mechgen::__private::SolveError,
-        > {
-            let (v, a, p, report) = Sixbar::solve_arrays(self, x, xd, xdd, q, options)?;
-            *qd = v;
-            *qdd = a;
-            for (o, m) in points.iter_mut().zip(p) {
-                *o = m;
-            }
-            Ok(report)
+            Sixbar::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
         }
     }
 }
 /// Shaper (crank and slotted guide bar): crank AB drives slider B on guide bar CD, link DE drives the ram E
 pub mod shaper {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(
+        non_snake_case,
+        unused_variables,
+        clippy::too_many_arguments,
+        clippy::type_complexity
+    )]
+    // Allowed above, and why:
+    // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
+    // unused_variables: block functions share one signature (inputs,
+    // unknowns, their sines and cosines) and a block reads only some of
+    // them; no local is bound without being read.
+    // too_many_arguments, type_complexity: those private signatures, and
+    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "shaper",
@@ -2965,10 +2926,7 @@ pub mod shaper {
     }
     impl<T: ::core::marker::Copy> Points<T> {
         pub fn from_array(a: [::mechgen::__private::PointMotion<T>; 2]) -> Self {
-            Points {
-                E: a[0],
-                D: a[1],
-            }
+            Points { E: a[0], D: a[1] }
         }
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
@@ -3007,12 +2965,8 @@ pub mod shaper {
         }
         /// The file's `start` configuration (on the wanted assembly branch).
         pub fn start() -> (Inputs<T>, Unknowns<T>) {
-            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(
-                INFO.inputs[i].start,
-            ));
-            let q: [T; 4] = ::core::array::from_fn(|i| T::lit(
-                INFO.unknowns[i].start,
-            ));
+            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(INFO.inputs[i].start));
+            let q: [T; 4] = ::core::array::from_fn(|i| T::lit(INFO.unknowns[i].start));
             (Inputs::from_array(x), Unknowns::from_array(q))
         }
         /// Φ(x, q): the loop-closure residuals, two per loop (x then y).
@@ -3069,11 +3023,7 @@ pub mod shaper {
             let t8 = -t2;
             let t9 = -t4;
             let t10 = -t7;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂s3 (loop 1, x)
             m[(0, 0)] = c_v_q3;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -3106,11 +3056,7 @@ pub mod shaper {
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
             let t3 = -t1;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                1,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 1>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t2;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -3159,11 +3105,7 @@ pub mod shaper {
             let t23 = -t22;
             let t24 = t7 * v_q4_d;
             let t25 = -t24;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂s3 (loop 1, x)
             m[(0, 0)] = t9;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -3273,11 +3215,7 @@ pub mod shaper {
             ::mechgen::__private::nalgebra::SVector::from([t33, t40, t44, t48])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-        ) -> [[T; 2]; 2] {
+        pub fn point_positions(&self, x: &[T; 1], q: &[T; 4]) -> [[T; 2]; 2] {
             let v_q3 = q[1];
             let v_sE = q[3];
             let p_l3 = self.params.l3;
@@ -3344,9 +3282,7 @@ pub mod shaper {
             ::mechgen::__private::nalgebra::SVector<T, 2>,
             ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
         ) {
-            let v_q1 = x[0];
             let v_s3 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
             let p_lAC = self.params.lAC;
             let (s_v_q3, c_v_q3) = tq[1];
@@ -3359,11 +3295,7 @@ pub mod shaper {
             let t5 = t1 - t3;
             let t6 = t5 - p_lAC;
             let t7 = -t1;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
@@ -3387,23 +3319,17 @@ pub mod shaper {
             ::mechgen::__private::nalgebra::SVector<T, 1>,
             ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
-            let v_q3 = q[1];
-            let v_q4 = q[2];
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
             let p_yE = self.params.yE;
-            let (s_v_q3, c_v_q3) = tq[1];
+            let (s_v_q3, _) = tq[1];
             let t0 = s_v_q3 * p_l3;
             let (s_v_q4, c_v_q4) = tq[2];
             let t1 = p_l4 * c_v_q4;
             let t2 = p_l4 * s_v_q4;
             let t3 = t0 + t2;
             let t4 = t3 - p_yE;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[3][2] = ∂Φ3/∂q4
             jac[(0, 0)] = t1;
             (::mechgen::__private::nalgebra::SVector::from([t4]), jac)
@@ -3421,22 +3347,16 @@ pub mod shaper {
             ::mechgen::__private::nalgebra::SVector<T, 1>,
             ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
-            let v_q3 = q[1];
-            let v_q4 = q[2];
             let v_sE = q[3];
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
-            let (s_v_q3, c_v_q3) = tq[1];
+            let (_, c_v_q3) = tq[1];
             let t0 = c_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = tq[2];
+            let (_, c_v_q4) = tq[2];
             let t1 = p_l4 * c_v_q4;
             let t2 = t0 + t1;
             let t3 = t2 - v_sE;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
@@ -3444,9 +3364,8 @@ pub mod shaper {
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 5]) {
-            let params = self.params.to_array();
-            let mut tx = [(T::zero(), T::one()); 1];
-            let mut tp = [(T::zero(), T::one()); 5];
+            let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
+            let tp: [(T, T); 5] = [(T::zero(), T::one()); 5];
             tx[0] = x[0].sin_cos();
             (tx, tp)
         }
@@ -3463,11 +3382,10 @@ pub mod shaper {
             st: &mut ::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 5],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: closed form (RPR).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_lAC = self.params.lAC;
             let (s_v_q1, c_v_q1) = tx[0];
@@ -3486,7 +3404,7 @@ pub mod shaper {
                     (T::zero(), T::zero()),
                     (T::one(), T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -3496,17 +3414,16 @@ pub mod shaper {
                     [0, 1],
                     [true, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 1: closed form (one angle).
-            let v_q3 = st.q[1];
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
             let p_yE = self.params.yE;
-            let (s_v_q3, c_v_q3) = st.sc[1];
+            let (s_v_q3, _) = st.sc[1];
             let t5 = s_v_q3 * p_l3;
             let t6 = t5 - p_yE;
             if options.closed_forms {
@@ -3517,7 +3434,7 @@ pub mod shaper {
                     t6,
                     (T::zero(), p_l4),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -3527,15 +3444,15 @@ pub mod shaper {
                     [2],
                     [false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 2: closed form (one length).
-            let v_q4 = st.q[2];
+            let (_, c_v_q3) = st.sc[1];
             let t7 = c_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = st.sc[2];
+            let (_, c_v_q4) = st.sc[2];
             let t8 = p_l4 * c_v_q4;
             let t9 = t7 + t8;
             if options.closed_forms {
@@ -3553,7 +3470,7 @@ pub mod shaper {
                     [3],
                     [true],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
                 )?;
@@ -3572,9 +3489,7 @@ pub mod shaper {
         ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 4];
             // Block 0: velocities.
-            let v_q1 = x[0];
             let v_s3 = st.q[0];
-            let v_q3 = st.q[1];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
             let (s_v_q3, c_v_q3) = st.sc[1];
@@ -3587,11 +3502,7 @@ pub mod shaper {
             let t5 = t3 * v_q1_d;
             let t6 = -t5;
             let t7 = t2 * v_q1_d;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
@@ -3614,20 +3525,15 @@ pub mod shaper {
             qd[0] = z[0];
             qd[1] = z[1];
             // Block 1: velocities.
-            let v_q4 = st.q[2];
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
             let v_q3_d = qd[1];
             let t8 = c_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = st.sc[2];
+            let (_, c_v_q4) = st.sc[2];
             let t9 = p_l4 * c_v_q4;
             let t10 = t8 * v_q3_d;
             let t11 = -t10;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[3][2] = ∂Φ3/∂q4
             jac[(0, 0)] = t9;
             let lu = ::mechgen::__private::factor_block(
@@ -3645,16 +3551,13 @@ pub mod shaper {
             // Block 2: velocities.
             let v_q4_d = qd[2];
             let t12 = s_v_q3 * p_l3;
+            let (s_v_q4, _) = st.sc[2];
             let t13 = p_l4 * s_v_q4;
             let t14 = t12 * v_q3_d;
             let t15 = -t14;
             let t16 = t13 * v_q4_d;
             let t17 = t16 - t15;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
             let lu = ::mechgen::__private::factor_block(
@@ -3686,16 +3589,11 @@ pub mod shaper {
             let mut qdd = [T::zero(); 4];
             // Block 0: accelerations.
             let v_s3 = st.q[0];
-            let v_q3 = st.q[1];
             let (s_v_q3, c_v_q3) = st.sc[1];
             let t0 = v_s3 * c_v_q3;
             let t1 = v_s3 * s_v_q3;
             let t2 = -t1;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
@@ -3709,7 +3607,6 @@ pub mod shaper {
                 ::mechgen::__private::Stage::Acceleration,
                 jac,
             )?;
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
             let v_s3_d = qd[0];
@@ -3753,15 +3650,10 @@ pub mod shaper {
             qdd[0] = z[0];
             qdd[1] = z[1];
             // Block 1: accelerations.
-            let v_q4 = st.q[2];
             let p_l4 = self.params.l4;
-            let (s_v_q4, c_v_q4) = st.sc[2];
+            let (_, c_v_q4) = st.sc[2];
             let t31 = p_l4 * c_v_q4;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[3][2] = ∂Φ3/∂q4
             jac[(0, 0)] = t31;
             let lu = ::mechgen::__private::factor_block(
@@ -3774,6 +3666,7 @@ pub mod shaper {
             let v_q3_dd = qdd[1];
             let t32 = c_v_q3 * p_l3;
             let t33 = s_v_q3 * p_l3;
+            let (s_v_q4, _) = st.sc[2];
             let t34 = p_l4 * s_v_q4;
             let t35 = t33 * v_q3_d;
             let t36 = t34 * v_q4_d;
@@ -3791,11 +3684,7 @@ pub mod shaper {
                 )?;
             qdd[2] = z[0];
             // Block 2: accelerations.
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
             let lu = ::mechgen::__private::factor_block(
@@ -3836,7 +3725,7 @@ pub mod shaper {
             tp: &[(T, T); 5],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 2]),
@@ -3845,7 +3734,6 @@ pub mod shaper {
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
             // Block 0: closed form (RPR).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_lAC = self.params.lAC;
             let (s_v_q1, c_v_q1) = tx[0];
@@ -3864,7 +3752,7 @@ pub mod shaper {
                     (T::zero(), T::zero()),
                     (T::one(), T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -3874,17 +3762,16 @@ pub mod shaper {
                     [0, 1],
                     [true, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 1: closed form (one angle).
-            let v_q3 = st.q[1];
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
             let p_yE = self.params.yE;
-            let (s_v_q3, c_v_q3) = st.sc[1];
+            let (s_v_q3, _) = st.sc[1];
             let t5 = s_v_q3 * p_l3;
             let t6 = t5 - p_yE;
             if options.closed_forms {
@@ -3895,7 +3782,7 @@ pub mod shaper {
                     t6,
                     (T::zero(), p_l4),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -3905,15 +3792,15 @@ pub mod shaper {
                     [2],
                     [false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 2: closed form (one length).
-            let v_q4 = st.q[2];
+            let (_, c_v_q3) = st.sc[1];
             let t7 = c_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = st.sc[2];
+            let (_, c_v_q4) = st.sc[2];
             let t8 = p_l4 * c_v_q4;
             let t9 = t7 + t8;
             if options.closed_forms {
@@ -3931,7 +3818,7 @@ pub mod shaper {
                     [3],
                     [true],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
                 )?;
@@ -3945,11 +3832,7 @@ pub mod shaper {
             let t13 = t1 * v_q1_d;
             let t14 = -t13;
             let t15 = t0 * v_q1_d;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
@@ -4009,11 +3892,7 @@ pub mod shaper {
             // Block 1: velocities and accelerations.
             let t40 = t7 * v_q3_d;
             let t41 = -t40;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[3][2] = ∂Φ3/∂q4
             jac[(0, 0)] = t8;
             let lu = ::mechgen::__private::factor_block(
@@ -4030,6 +3909,7 @@ pub mod shaper {
             qd[2] = z[0];
             let v_q4_d = qd[2];
             let v_q3_dd = qdd[1];
+            let (s_v_q4, _) = st.sc[2];
             let t42 = p_l4 * s_v_q4;
             let t43 = t5 * v_q3_d;
             let t44 = t42 * v_q4_d;
@@ -4049,11 +3929,7 @@ pub mod shaper {
             // Block 2: velocities and accelerations.
             let t51 = -t43;
             let t52 = t44 - t51;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
             let lu = ::mechgen::__private::factor_block(
@@ -4123,7 +3999,7 @@ pub mod shaper {
             tp: &[(T, T); 5],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 0]),
@@ -4132,7 +4008,6 @@ pub mod shaper {
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
             // Block 0: closed form (RPR).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_lAC = self.params.lAC;
             let (s_v_q1, c_v_q1) = tx[0];
@@ -4151,7 +4026,7 @@ pub mod shaper {
                     (T::zero(), T::zero()),
                     (T::one(), T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -4161,17 +4036,16 @@ pub mod shaper {
                     [0, 1],
                     [true, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 1: closed form (one angle).
-            let v_q3 = st.q[1];
             let p_l3 = self.params.l3;
             let p_l4 = self.params.l4;
             let p_yE = self.params.yE;
-            let (s_v_q3, c_v_q3) = st.sc[1];
+            let (s_v_q3, _) = st.sc[1];
             let t5 = s_v_q3 * p_l3;
             let t6 = t5 - p_yE;
             if options.closed_forms {
@@ -4182,7 +4056,7 @@ pub mod shaper {
                     t6,
                     (T::zero(), p_l4),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -4192,15 +4066,15 @@ pub mod shaper {
                     [2],
                     [false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 2: closed form (one length).
-            let v_q4 = st.q[2];
+            let (_, c_v_q3) = st.sc[1];
             let t7 = c_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = st.sc[2];
+            let (_, c_v_q4) = st.sc[2];
             let t8 = p_l4 * c_v_q4;
             let t9 = t7 + t8;
             if options.closed_forms {
@@ -4218,7 +4092,7 @@ pub mod shaper {
                     [3],
                     [true],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
                 )?;
@@ -4232,11 +4106,7 @@ pub mod shaper {
             let t13 = t1 * v_q1_d;
             let t14 = -t13;
             let t15 = t0 * v_q1_d;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂s3
             jac[(0, 0)] = c_v_q3;
             // J[0][1] = ∂Φ0/∂q3
@@ -4296,11 +4166,7 @@ pub mod shaper {
             // Block 1: velocities and accelerations.
             let t40 = t7 * v_q3_d;
             let t41 = -t40;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[3][2] = ∂Φ3/∂q4
             jac[(0, 0)] = t8;
             let lu = ::mechgen::__private::factor_block(
@@ -4317,6 +4183,7 @@ pub mod shaper {
             qd[2] = z[0];
             let v_q4_d = qd[2];
             let v_q3_dd = qdd[1];
+            let (s_v_q4, _) = st.sc[2];
             let t42 = p_l4 * s_v_q4;
             let t43 = t5 * v_q3_d;
             let t44 = t42 * v_q4_d;
@@ -4336,11 +4203,7 @@ pub mod shaper {
             // Block 2: velocities and accelerations.
             let t51 = -t43;
             let t52 = t44 - t51;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
             let lu = ::mechgen::__private::factor_block(
@@ -4385,7 +4248,7 @@ pub mod shaper {
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 4],
@@ -4442,7 +4305,7 @@ pub mod shaper {
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::Tick<T, 1, 4, 0, 5>,
             ::mechgen::__private::SolveError,
@@ -4475,7 +4338,7 @@ pub mod shaper {
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -4541,7 +4404,7 @@ pub mod shaper {
             &self,
             x: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -4634,13 +4497,13 @@ pub mod shaper {
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
         #[inline]
-        pub fn solve_arrays(
+        fn solve_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 4],
@@ -4679,14 +4542,14 @@ pub mod shaper {
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
-        /// cosines for [`Self::tick`].
-        pub fn tick_start(
+        /// cosines for `tick_arrays` (the typed `tick_start` and `tick` call these).
+        fn tick_start_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
@@ -4714,13 +4577,13 @@ pub mod shaper {
         /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
-        pub fn tick(
+        fn tick_arrays(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -4771,28 +4634,27 @@ pub mod shaper {
             );
             Ok(())
         }
-        /// Everything at once: positions from `guess`, velocities, accelerations and points.
+        /// One whole tick from `guess`: positions, velocities, accelerations and points,
+        /// sharing one set of sines and cosines between the stages.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
             Ok(Motion {
-                x,
-                xd,
-                xdd,
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
@@ -4800,8 +4662,44 @@ pub mod shaper {
                 report,
             })
         }
+        /// The first tick of a simulation, solved from `guess` and kept with its sines and
+        /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.tick_start_arrays(
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                &guess.to_array(),
+                options,
+            )
+        }
+        /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the
+        /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when
+        /// the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.tick_arrays(
+                t,
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                options,
+            )
+        }
     }
-    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::StaticMechanism<T>
     for Shaper<T> {
         const NAME: &'static str = "shaper";
         const INPUTS: usize = 1;
@@ -4809,6 +4707,9 @@ pub mod shaper {
         const POINTS: usize = 2;
         type X = [T; 1];
         type Q = [T; 4];
+        type Points = [::mechgen::__private::PointMotion<T>; 2];
+        type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>;
+        type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 1>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -4816,14 +4717,11 @@ pub mod shaper {
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             Shaper::residual(self, x, q)
         }
-        fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(&Shaper::jacobian(self, x, q), out)
+        fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian {
+            Shaper::jacobian(self, x, q)
         }
-        fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(
-                &Shaper::input_jacobian(self, x, q),
-                out,
-            )
+        fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian {
+            Shaper::input_jacobian(self, x, q)
         }
         fn jacobian_dot(
             &self,
@@ -4831,12 +4729,8 @@ pub mod shaper {
             q: &Self::Q,
             xd: &Self::X,
             qd: &Self::Q,
-            out: &mut [T],
-        ) {
-            ::mechgen::__private::copy_row_major(
-                &Shaper::jacobian_dot(self, x, q, xd, qd),
-                out,
-            )
+        ) -> Self::Jacobian {
+            Shaper::jacobian_dot(self, x, q, xd, qd)
         }
         fn acceleration_rhs(
             &self,
@@ -4852,7 +4746,7 @@ pub mod shaper {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -4879,68 +4773,81 @@ pub mod shaper {
         }
         fn points(
             &self,
-            x: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &Self::Q,
-            xd: &Self::X,
             qd: &Self::Q,
-            xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::__private::PointMotion<T>],
-        ) {
-            for (o, p) in out
-                .iter_mut()
-                .zip(Shaper::point_motion(self, x, q, xd, qd, xdd, qdd))
-            {
-                *o = p;
-            }
+        ) -> Self::Points {
+            Shaper::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
+        }
+        #[inline]
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = Shaper::solve_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                &mut q,
+                options,
+            )?;
+            Ok(::mechgen::__private::Solved {
+                q,
+                qd,
+                qdd,
+                points,
+                report,
+            })
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            Shaper::tick_start(self, x, xd, xdd, guess, options)
+            Shaper::tick_start_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                guess,
+                options,
+            )
         }
+        #[inline]
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            Shaper::tick(self, t, x, xd, xdd, options)
-        }
-        fn solve_motion(
-            &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            q: &mut Self::Q,
-            qd: &mut Self::Q,
-            qdd: &mut Self::Q,
-            points: &mut [::mechgen::__private::PointMotion<T>],
-            options: &::mechgen::__private::NewtonOptions<T>,
-        ) -> ::core::result::Result<
-            ::mechgen::__private::NewtonReport<T>,
-            ::mechgen::__private::SolveError,
-        > {
-            let (v, a, p, report) = Shaper::solve_arrays(self, x, xd, xdd, q, options)?;
-            *qd = v;
-            *qdd = a;
-            for (o, m) in points.iter_mut().zip(p) {
-                *o = m;
-            }
-            Ok(report)
+            Shaper::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
         }
     }
 }
 /// Crank-rocker four-bar (Grashof): crank AB, coupler BC with coupler point P, rocker DC
 pub mod four_bar {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(
+        non_snake_case,
+        unused_variables,
+        clippy::too_many_arguments,
+        clippy::type_complexity
+    )]
+    // Allowed above, and why:
+    // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
+    // unused_variables: block functions share one signature (inputs,
+    // unknowns, their sines and cosines) and a block reads only some of
+    // them; no local is bound without being read.
+    // too_many_arguments, type_complexity: those private signatures, and
+    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "four_bar",
@@ -5090,10 +4997,7 @@ pub mod four_bar {
     }
     impl<T: ::core::marker::Copy> Unknowns<T> {
         pub fn from_array(a: [T; 2]) -> Self {
-            Unknowns {
-                q2: a[0],
-                q3: a[1],
-            }
+            Unknowns { q2: a[0], q3: a[1] }
         }
         pub fn to_array(&self) -> [T; 2] {
             [self.q2, self.q3]
@@ -5161,12 +5065,8 @@ pub mod four_bar {
         }
         /// The file's `start` configuration (on the wanted assembly branch).
         pub fn start() -> (Inputs<T>, Unknowns<T>) {
-            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(
-                INFO.inputs[i].start,
-            ));
-            let q: [T; 2] = ::core::array::from_fn(|i| T::lit(
-                INFO.unknowns[i].start,
-            ));
+            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(INFO.inputs[i].start));
+            let q: [T; 2] = ::core::array::from_fn(|i| T::lit(INFO.unknowns[i].start));
             (Inputs::from_array(x), Unknowns::from_array(q))
         }
         /// Φ(x, q): the loop-closure residuals, two per loop (x then y).
@@ -5212,11 +5112,7 @@ pub mod four_bar {
             let t5 = p_l3 * s_v_q3;
             let t6 = -t2;
             let t7 = -t4;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t6;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -5239,11 +5135,7 @@ pub mod four_bar {
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
             let t3 = -t2;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                1,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 1>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t3;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -5276,11 +5168,7 @@ pub mod four_bar {
             let t9 = t2 * v_q2_d;
             let t10 = -t9;
             let t11 = t5 * v_q3_d;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t7;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -5363,11 +5251,7 @@ pub mod four_bar {
             ::mechgen::__private::nalgebra::SVector::from([t22, t31])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-        ) -> [[T; 2]; 3] {
+        pub fn point_positions(&self, x: &[T; 1], q: &[T; 2]) -> [[T; 2]; 3] {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -5511,9 +5395,6 @@ pub mod four_bar {
             ::mechgen::__private::nalgebra::SVector<T, 2>,
             ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
         ) {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -5534,11 +5415,7 @@ pub mod four_bar {
             let t10 = t5 - t8;
             let t11 = -t3;
             let t12 = -t7;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t11;
             // J[0][1] = ∂Φ0/∂q3
@@ -5553,8 +5430,8 @@ pub mod four_bar {
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 6]) {
             let params = self.params.to_array();
-            let mut tx = [(T::zero(), T::one()); 1];
-            let mut tp = [(T::zero(), T::one()); 6];
+            let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
+            let mut tp: [(T, T); 6] = [(T::zero(), T::one()); 6];
             tx[0] = x[0].sin_cos();
             tp[5] = params[5].sin_cos();
             (tx, tp)
@@ -5572,11 +5449,10 @@ pub mod four_bar {
             st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 6],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: closed form (a dyad).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -5596,7 +5472,7 @@ pub mod four_bar {
                     (p_l2, T::zero()),
                     (t2, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -5606,7 +5482,7 @@ pub mod four_bar {
                     [0, 1],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
@@ -5625,9 +5501,6 @@ pub mod four_bar {
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
             // Block 0: velocities.
-            let v_q1 = x[0];
-            let v_q2 = st.q[0];
-            let v_q3 = st.q[1];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -5646,11 +5519,7 @@ pub mod four_bar {
             let t8 = t1 * v_q1_d;
             let t9 = t0 * v_q1_d;
             let t10 = -t9;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t6;
             // J[0][1] = ∂Φ0/∂q3
@@ -5688,8 +5557,6 @@ pub mod four_bar {
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 2];
             // Block 0: accelerations.
-            let v_q2 = st.q[0];
-            let v_q3 = st.q[1];
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let (s_v_q2, c_v_q2) = st.sc[0];
@@ -5700,11 +5567,7 @@ pub mod four_bar {
             let t3 = p_l3 * s_v_q3;
             let t4 = -t1;
             let t5 = -t2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t4;
             // J[0][1] = ∂Φ0/∂q3
@@ -5718,7 +5581,6 @@ pub mod four_bar {
                 ::mechgen::__private::Stage::Acceleration,
                 jac,
             )?;
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
             let v_q2_d = qd[0];
@@ -5772,7 +5634,7 @@ pub mod four_bar {
             tp: &[(T, T); 6],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 3]),
@@ -5781,7 +5643,6 @@ pub mod four_bar {
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: closed form (a dyad).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -5801,7 +5662,7 @@ pub mod four_bar {
                     (p_l2, T::zero()),
                     (t2, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -5811,14 +5672,12 @@ pub mod four_bar {
                     [0, 1],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 0: velocities and accelerations.
-            let v_q2 = st.q[0];
-            let v_q3 = st.q[1];
             let v_q1_d = xd[0];
             let (s_v_q2, c_v_q2) = st.sc[0];
             let t4 = p_l2 * c_v_q2;
@@ -5831,11 +5690,7 @@ pub mod four_bar {
             let t10 = t1 * v_q1_d;
             let t11 = t0 * v_q1_d;
             let t12 = -t11;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t8;
             // J[0][1] = ∂Φ0/∂q3
@@ -5891,7 +5746,6 @@ pub mod four_bar {
             qdd[1] = z[1];
             // Points.
             let p_lp = self.params.lp;
-            let p_beta = self.params.beta;
             let v_q2_dd = qdd[0];
             let v_q3_dd = qdd[1];
             let t34 = p_l4 + t6;
@@ -5971,16 +5825,15 @@ pub mod four_bar {
             tp: &[(T, T); 6],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 1]),
             ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 2];
-            let mut qdd = [T::zero(); 2];
+            let qdd = [T::zero(); 2];
             // Block 0: closed form (a dyad).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -6000,7 +5853,7 @@ pub mod four_bar {
                     (p_l2, T::zero()),
                     (t2, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -6010,14 +5863,12 @@ pub mod four_bar {
                     [0, 1],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 0: velocities.
-            let v_q2 = st.q[0];
-            let v_q3 = st.q[1];
             let v_q1_d = xd[0];
             let (s_v_q2, c_v_q2) = st.sc[0];
             let t4 = p_l2 * c_v_q2;
@@ -6030,11 +5881,7 @@ pub mod four_bar {
             let t10 = t1 * v_q1_d;
             let t11 = t0 * v_q1_d;
             let t12 = -t11;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t8;
             // J[0][1] = ∂Φ0/∂q3
@@ -6058,7 +5905,6 @@ pub mod four_bar {
             qd[1] = z[1];
             // Points.
             let p_lp = self.params.lp;
-            let p_beta = self.params.beta;
             let v_q2_d = qd[0];
             let (s_p_beta, c_p_beta) = tp[5];
             let t13 = c_v_q2 * c_p_beta;
@@ -6099,7 +5945,7 @@ pub mod four_bar {
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 2],
@@ -6153,7 +5999,7 @@ pub mod four_bar {
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::Tick<T, 1, 2, 1, 6>,
             ::mechgen::__private::SolveError,
@@ -6186,7 +6032,7 @@ pub mod four_bar {
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -6248,7 +6094,7 @@ pub mod four_bar {
             &self,
             x: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -6341,13 +6187,13 @@ pub mod four_bar {
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
         #[inline]
-        pub fn solve_arrays(
+        fn solve_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 2],
@@ -6386,14 +6232,14 @@ pub mod four_bar {
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
-        /// cosines for [`Self::tick`].
-        pub fn tick_start(
+        /// cosines for `tick_arrays` (the typed `tick_start` and `tick` call these).
+        fn tick_start_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
@@ -6421,13 +6267,13 @@ pub mod four_bar {
         /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
-        pub fn tick(
+        fn tick_arrays(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -6474,28 +6320,27 @@ pub mod four_bar {
             );
             Ok(())
         }
-        /// Everything at once: positions from `guess`, velocities, accelerations and points.
+        /// One whole tick from `guess`: positions, velocities, accelerations and points,
+        /// sharing one set of sines and cosines between the stages.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
             Ok(Motion {
-                x,
-                xd,
-                xdd,
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
@@ -6503,8 +6348,44 @@ pub mod four_bar {
                 report,
             })
         }
+        /// The first tick of a simulation, solved from `guess` and kept with its sines and
+        /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.tick_start_arrays(
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                &guess.to_array(),
+                options,
+            )
+        }
+        /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the
+        /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when
+        /// the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.tick_arrays(
+                t,
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                options,
+            )
+        }
     }
-    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::StaticMechanism<T>
     for FourBar<T> {
         const NAME: &'static str = "four_bar";
         const INPUTS: usize = 1;
@@ -6512,6 +6393,9 @@ pub mod four_bar {
         const POINTS: usize = 3;
         type X = [T; 1];
         type Q = [T; 2];
+        type Points = [::mechgen::__private::PointMotion<T>; 3];
+        type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>;
+        type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 1>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -6519,14 +6403,11 @@ pub mod four_bar {
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             FourBar::residual(self, x, q)
         }
-        fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(&FourBar::jacobian(self, x, q), out)
+        fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian {
+            FourBar::jacobian(self, x, q)
         }
-        fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(
-                &FourBar::input_jacobian(self, x, q),
-                out,
-            )
+        fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian {
+            FourBar::input_jacobian(self, x, q)
         }
         fn jacobian_dot(
             &self,
@@ -6534,12 +6415,8 @@ pub mod four_bar {
             q: &Self::Q,
             xd: &Self::X,
             qd: &Self::Q,
-            out: &mut [T],
-        ) {
-            ::mechgen::__private::copy_row_major(
-                &FourBar::jacobian_dot(self, x, q, xd, qd),
-                out,
-            )
+        ) -> Self::Jacobian {
+            FourBar::jacobian_dot(self, x, q, xd, qd)
         }
         fn acceleration_rhs(
             &self,
@@ -6555,7 +6432,7 @@ pub mod four_bar {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -6582,68 +6459,81 @@ pub mod four_bar {
         }
         fn points(
             &self,
-            x: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &Self::Q,
-            xd: &Self::X,
             qd: &Self::Q,
-            xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::__private::PointMotion<T>],
-        ) {
-            for (o, p) in out
-                .iter_mut()
-                .zip(FourBar::point_motion(self, x, q, xd, qd, xdd, qdd))
-            {
-                *o = p;
-            }
+        ) -> Self::Points {
+            FourBar::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
+        }
+        #[inline]
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = FourBar::solve_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                &mut q,
+                options,
+            )?;
+            Ok(::mechgen::__private::Solved {
+                q,
+                qd,
+                qdd,
+                points,
+                report,
+            })
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            FourBar::tick_start(self, x, xd, xdd, guess, options)
+            FourBar::tick_start_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                guess,
+                options,
+            )
         }
+        #[inline]
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            FourBar::tick(self, t, x, xd, xdd, options)
-        }
-        fn solve_motion(
-            &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            q: &mut Self::Q,
-            qd: &mut Self::Q,
-            qdd: &mut Self::Q,
-            points: &mut [::mechgen::__private::PointMotion<T>],
-            options: &::mechgen::__private::NewtonOptions<T>,
-        ) -> ::core::result::Result<
-            ::mechgen::__private::NewtonReport<T>,
-            ::mechgen::__private::SolveError,
-        > {
-            let (v, a, p, report) = FourBar::solve_arrays(self, x, xd, xdd, q, options)?;
-            *qd = v;
-            *qdd = a;
-            for (o, m) in points.iter_mut().zip(p) {
-                *o = m;
-            }
-            Ok(report)
+            FourBar::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
         }
     }
 }
 /// Offset slider-crank: crank AB, connecting rod BC, slider C on the line y = off
 pub mod slider_crank {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(
+        non_snake_case,
+        unused_variables,
+        clippy::too_many_arguments,
+        clippy::type_complexity
+    )]
+    // Allowed above, and why:
+    // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
+    // unused_variables: block functions share one signature (inputs,
+    // unknowns, their sines and cosines) and a block reads only some of
+    // them; no local is bound without being read.
+    // too_many_arguments, type_complexity: those private signatures, and
+    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "slider_crank",
@@ -6764,10 +6654,7 @@ pub mod slider_crank {
     }
     impl<T: ::core::marker::Copy> Unknowns<T> {
         pub fn from_array(a: [T; 2]) -> Self {
-            Unknowns {
-                q2: a[0],
-                sC: a[1],
-            }
+            Unknowns { q2: a[0], sC: a[1] }
         }
         pub fn to_array(&self) -> [T; 2] {
             [self.q2, self.sC]
@@ -6835,12 +6722,8 @@ pub mod slider_crank {
         }
         /// The file's `start` configuration (on the wanted assembly branch).
         pub fn start() -> (Inputs<T>, Unknowns<T>) {
-            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(
-                INFO.inputs[i].start,
-            ));
-            let q: [T; 2] = ::core::array::from_fn(|i| T::lit(
-                INFO.unknowns[i].start,
-            ));
+            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(INFO.inputs[i].start));
+            let q: [T; 2] = ::core::array::from_fn(|i| T::lit(INFO.unknowns[i].start));
             (Inputs::from_array(x), Unknowns::from_array(q))
         }
         /// Φ(x, q): the loop-closure residuals, two per loop (x then y).
@@ -6875,11 +6758,7 @@ pub mod slider_crank {
             let t1 = p_l * c_v_q2;
             let t2 = p_l * s_v_q2;
             let t3 = -t2;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t3;
             // [0][1] = ∂Φ0/∂sC (loop 1, x)
@@ -6900,11 +6779,7 @@ pub mod slider_crank {
             let t1 = p_r * c_v_q1;
             let t2 = p_r * s_v_q1;
             let t3 = -t2;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                1,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 1>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t3;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -6929,11 +6804,7 @@ pub mod slider_crank {
             let t4 = -t3;
             let t5 = t2 * v_q2_d;
             let t6 = -t5;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t4;
             // [1][0] = ∂Φ1/∂q2 (loop 1, y)
@@ -7000,11 +6871,7 @@ pub mod slider_crank {
             ::mechgen::__private::nalgebra::SVector::from([t15, t22])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-        ) -> [[T; 2]; 3] {
+        pub fn point_positions(&self, x: &[T; 1], q: &[T; 2]) -> [[T; 2]; 3] {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_sC = q[1];
@@ -7109,23 +6976,17 @@ pub mod slider_crank {
             ::mechgen::__private::nalgebra::SVector<T, 1>,
             ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
             let p_r = self.params.r;
             let p_l = self.params.l;
             let p_off = self.params.off;
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (s_v_q1, _) = tx[0];
             let t0 = p_r * s_v_q1;
             let (s_v_q2, c_v_q2) = tq[0];
             let t1 = p_l * c_v_q2;
             let t2 = p_l * s_v_q2;
             let t3 = t0 + t2;
             let t4 = t3 - p_off;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t1;
             (::mechgen::__private::nalgebra::SVector::from([t4]), jac)
@@ -7143,22 +7004,16 @@ pub mod slider_crank {
             ::mechgen::__private::nalgebra::SVector<T, 1>,
             ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
             let v_sC = q[1];
             let p_r = self.params.r;
             let p_l = self.params.l;
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (_, c_v_q1) = tx[0];
             let t0 = p_r * c_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
+            let (_, c_v_q2) = tq[0];
             let t1 = p_l * c_v_q2;
             let t2 = t0 + t1;
             let t3 = t2 - v_sC;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂sC
             jac[(0, 0)] = T::lit(-1.0);
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
@@ -7166,9 +7021,8 @@ pub mod slider_crank {
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 3]) {
-            let params = self.params.to_array();
-            let mut tx = [(T::zero(), T::one()); 1];
-            let mut tp = [(T::zero(), T::one()); 3];
+            let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
+            let tp: [(T, T); 3] = [(T::zero(), T::one()); 3];
             tx[0] = x[0].sin_cos();
             (tx, tp)
         }
@@ -7185,15 +7039,14 @@ pub mod slider_crank {
             st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 3],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: closed form (one angle).
-            let v_q1 = x[0];
             let p_r = self.params.r;
             let p_l = self.params.l;
             let p_off = self.params.off;
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (s_v_q1, _) = tx[0];
             let t0 = p_r * s_v_q1;
             let t1 = t0 - p_off;
             if options.closed_forms {
@@ -7204,7 +7057,7 @@ pub mod slider_crank {
                     t1,
                     (T::zero(), p_l),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -7214,15 +7067,15 @@ pub mod slider_crank {
                     [0],
                     [false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 1: closed form (one length).
-            let v_q2 = st.q[0];
+            let (_, c_v_q1) = tx[0];
             let t2 = p_r * c_v_q1;
-            let (s_v_q2, c_v_q2) = st.sc[0];
+            let (_, c_v_q2) = st.sc[0];
             let t3 = p_l * c_v_q2;
             let t4 = t2 + t3;
             if options.closed_forms {
@@ -7240,7 +7093,7 @@ pub mod slider_crank {
                     [1],
                     [true],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
@@ -7259,22 +7112,16 @@ pub mod slider_crank {
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
             // Block 0: velocities.
-            let v_q1 = x[0];
-            let v_q2 = st.q[0];
             let p_r = self.params.r;
             let p_l = self.params.l;
             let v_q1_d = xd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (_, c_v_q1) = tx[0];
             let t0 = p_r * c_v_q1;
-            let (s_v_q2, c_v_q2) = st.sc[0];
+            let (_, c_v_q2) = st.sc[0];
             let t1 = p_l * c_v_q2;
             let t2 = t0 * v_q1_d;
             let t3 = -t2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t1;
             let lu = ::mechgen::__private::factor_block(
@@ -7291,16 +7138,14 @@ pub mod slider_crank {
             qd[0] = z[0];
             // Block 1: velocities.
             let v_q2_d = qd[0];
+            let (s_v_q1, _) = tx[0];
             let t4 = p_r * s_v_q1;
+            let (s_v_q2, _) = st.sc[0];
             let t5 = p_l * s_v_q2;
             let t6 = t5 * v_q2_d;
             let t7 = t4 * v_q1_d;
             let t8 = t6 + t7;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂sC
             jac[(0, 0)] = T::lit(-1.0);
             let lu = ::mechgen::__private::factor_block(
@@ -7331,15 +7176,10 @@ pub mod slider_crank {
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 2];
             // Block 0: accelerations.
-            let v_q2 = st.q[0];
             let p_l = self.params.l;
-            let (s_v_q2, c_v_q2) = st.sc[0];
+            let (_, c_v_q2) = st.sc[0];
             let t0 = p_l * c_v_q2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t0;
             let lu = ::mechgen::__private::factor_block(
@@ -7347,7 +7187,6 @@ pub mod slider_crank {
                 ::mechgen::__private::Stage::Acceleration,
                 jac,
             )?;
-            let v_q1 = x[0];
             let p_r = self.params.r;
             let v_q1_d = xd[0];
             let v_q2_d = qd[0];
@@ -7355,6 +7194,7 @@ pub mod slider_crank {
             let (s_v_q1, c_v_q1) = tx[0];
             let t1 = p_r * c_v_q1;
             let t2 = p_r * s_v_q1;
+            let (s_v_q2, _) = st.sc[0];
             let t3 = p_l * s_v_q2;
             let t4 = t3 * v_q2_d;
             let t5 = t2 * v_q1_d;
@@ -7373,11 +7213,7 @@ pub mod slider_crank {
                 )?;
             qdd[0] = z[0];
             // Block 1: accelerations.
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂sC
             jac[(0, 0)] = T::lit(-1.0);
             let lu = ::mechgen::__private::factor_block(
@@ -7417,7 +7253,7 @@ pub mod slider_crank {
             tp: &[(T, T); 3],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 3]),
@@ -7426,11 +7262,10 @@ pub mod slider_crank {
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: closed form (one angle).
-            let v_q1 = x[0];
             let p_r = self.params.r;
             let p_l = self.params.l;
             let p_off = self.params.off;
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (s_v_q1, _) = tx[0];
             let t0 = p_r * s_v_q1;
             let t1 = t0 - p_off;
             if options.closed_forms {
@@ -7441,7 +7276,7 @@ pub mod slider_crank {
                     t1,
                     (T::zero(), p_l),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -7451,15 +7286,15 @@ pub mod slider_crank {
                     [0],
                     [false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 1: closed form (one length).
-            let v_q2 = st.q[0];
+            let (_, c_v_q1) = tx[0];
             let t2 = p_r * c_v_q1;
-            let (s_v_q2, c_v_q2) = st.sc[0];
+            let (_, c_v_q2) = st.sc[0];
             let t3 = p_l * c_v_q2;
             let t4 = t2 + t3;
             if options.closed_forms {
@@ -7477,7 +7312,7 @@ pub mod slider_crank {
                     [1],
                     [true],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
@@ -7486,11 +7321,7 @@ pub mod slider_crank {
             let v_q1_d = xd[0];
             let t5 = t2 * v_q1_d;
             let t6 = -t5;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t3;
             let lu = ::mechgen::__private::factor_block(
@@ -7507,6 +7338,7 @@ pub mod slider_crank {
             qd[0] = z[0];
             let v_q2_d = qd[0];
             let v_q1_dd = xdd[0];
+            let (s_v_q2, _) = st.sc[0];
             let t7 = p_l * s_v_q2;
             let t8 = t7 * v_q2_d;
             let t9 = t0 * v_q1_d;
@@ -7526,11 +7358,7 @@ pub mod slider_crank {
             qdd[0] = z[0];
             // Block 1: velocities and accelerations.
             let t17 = t8 + t9;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂sC
             jac[(0, 0)] = T::lit(-1.0);
             let lu = ::mechgen::__private::factor_block(
@@ -7616,7 +7444,7 @@ pub mod slider_crank {
             &self,
             x: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -7709,13 +7537,13 @@ pub mod slider_crank {
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
         #[inline]
-        pub fn solve_arrays(
+        fn solve_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 2],
@@ -7754,14 +7582,14 @@ pub mod slider_crank {
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
-        /// cosines for [`Self::tick`].
-        pub fn tick_start(
+        /// cosines for `tick_arrays` (the typed `tick_start` and `tick` call these).
+        fn tick_start_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
@@ -7789,13 +7617,13 @@ pub mod slider_crank {
         /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
-        pub fn tick(
+        fn tick_arrays(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -7842,28 +7670,27 @@ pub mod slider_crank {
             );
             Ok(())
         }
-        /// Everything at once: positions from `guess`, velocities, accelerations and points.
+        /// One whole tick from `guess`: positions, velocities, accelerations and points,
+        /// sharing one set of sines and cosines between the stages.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
             Ok(Motion {
-                x,
-                xd,
-                xdd,
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
@@ -7871,8 +7698,44 @@ pub mod slider_crank {
                 report,
             })
         }
+        /// The first tick of a simulation, solved from `guess` and kept with its sines and
+        /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.tick_start_arrays(
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                &guess.to_array(),
+                options,
+            )
+        }
+        /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the
+        /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when
+        /// the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.tick_arrays(
+                t,
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                options,
+            )
+        }
     }
-    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::StaticMechanism<T>
     for SliderCrank<T> {
         const NAME: &'static str = "slider_crank";
         const INPUTS: usize = 1;
@@ -7880,6 +7743,9 @@ pub mod slider_crank {
         const POINTS: usize = 3;
         type X = [T; 1];
         type Q = [T; 2];
+        type Points = [::mechgen::__private::PointMotion<T>; 3];
+        type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>;
+        type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 1>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -7887,14 +7753,11 @@ pub mod slider_crank {
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             SliderCrank::residual(self, x, q)
         }
-        fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(&SliderCrank::jacobian(self, x, q), out)
+        fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian {
+            SliderCrank::jacobian(self, x, q)
         }
-        fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(
-                &SliderCrank::input_jacobian(self, x, q),
-                out,
-            )
+        fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian {
+            SliderCrank::input_jacobian(self, x, q)
         }
         fn jacobian_dot(
             &self,
@@ -7902,12 +7765,8 @@ pub mod slider_crank {
             q: &Self::Q,
             xd: &Self::X,
             qd: &Self::Q,
-            out: &mut [T],
-        ) {
-            ::mechgen::__private::copy_row_major(
-                &SliderCrank::jacobian_dot(self, x, q, xd, qd),
-                out,
-            )
+        ) -> Self::Jacobian {
+            SliderCrank::jacobian_dot(self, x, q, xd, qd)
         }
         fn acceleration_rhs(
             &self,
@@ -7923,7 +7782,7 @@ pub mod slider_crank {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -7950,75 +7809,81 @@ pub mod slider_crank {
         }
         fn points(
             &self,
-            x: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &Self::Q,
-            xd: &Self::X,
             qd: &Self::Q,
-            xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::__private::PointMotion<T>],
-        ) {
-            for (o, p) in out
-                .iter_mut()
-                .zip(SliderCrank::point_motion(self, x, q, xd, qd, xdd, qdd))
-            {
-                *o = p;
-            }
+        ) -> Self::Points {
+            SliderCrank::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
+        }
+        #[inline]
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = SliderCrank::solve_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                &mut q,
+                options,
+            )?;
+            Ok(::mechgen::__private::Solved {
+                q,
+                qd,
+                qdd,
+                points,
+                report,
+            })
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            SliderCrank::tick_start(self, x, xd, xdd, guess, options)
+            SliderCrank::tick_start_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                guess,
+                options,
+            )
         }
+        #[inline]
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            SliderCrank::tick(self, t, x, xd, xdd, options)
-        }
-        fn solve_motion(
-            &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            q: &mut Self::Q,
-            qd: &mut Self::Q,
-            qdd: &mut Self::Q,
-            points: &mut [::mechgen::__private::PointMotion<T>],
-            options: &::mechgen::__private::NewtonOptions<T>,
-        ) -> ::core::result::Result<
-            ::mechgen::__private::NewtonReport<T>,
-            ::mechgen::__private::SolveError,
-        > {
-            let (v, a, p, report) = SliderCrank::solve_arrays(
-                self,
-                x,
-                xd,
-                xdd,
-                q,
-                options,
-            )?;
-            *qd = v;
-            *qdd = a;
-            for (o, m) in points.iter_mut().zip(p) {
-                *o = m;
-            }
-            Ok(report)
+            SliderCrank::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
         }
     }
 }
 /// Non-Grashof (triple-rocker) four-bar: input rocker AB, coupler BC, rocker DC; dead points at q1 = ±135.95 deg
 pub mod rocker_four_bar {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(
+        non_snake_case,
+        unused_variables,
+        clippy::too_many_arguments,
+        clippy::type_complexity
+    )]
+    // Allowed above, and why:
+    // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
+    // unused_variables: block functions share one signature (inputs,
+    // unknowns, their sines and cosines) and a block reads only some of
+    // them; no local is bound without being read.
+    // too_many_arguments, type_complexity: those private signatures, and
+    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "rocker_four_bar",
@@ -8149,10 +8014,7 @@ pub mod rocker_four_bar {
     }
     impl<T: ::core::marker::Copy> Unknowns<T> {
         pub fn from_array(a: [T; 2]) -> Self {
-            Unknowns {
-                q2: a[0],
-                q3: a[1],
-            }
+            Unknowns { q2: a[0], q3: a[1] }
         }
         pub fn to_array(&self) -> [T; 2] {
             [self.q2, self.q3]
@@ -8176,10 +8038,7 @@ pub mod rocker_four_bar {
     }
     impl<T: ::core::marker::Copy> Points<T> {
         pub fn from_array(a: [::mechgen::__private::PointMotion<T>; 2]) -> Self {
-            Points {
-                B: a[0],
-                C: a[1],
-            }
+            Points { B: a[0], C: a[1] }
         }
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
@@ -8218,12 +8077,8 @@ pub mod rocker_four_bar {
         }
         /// The file's `start` configuration (on the wanted assembly branch).
         pub fn start() -> (Inputs<T>, Unknowns<T>) {
-            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(
-                INFO.inputs[i].start,
-            ));
-            let q: [T; 2] = ::core::array::from_fn(|i| T::lit(
-                INFO.unknowns[i].start,
-            ));
+            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(INFO.inputs[i].start));
+            let q: [T; 2] = ::core::array::from_fn(|i| T::lit(INFO.unknowns[i].start));
             (Inputs::from_array(x), Unknowns::from_array(q))
         }
         /// Φ(x, q): the loop-closure residuals, two per loop (x then y).
@@ -8269,11 +8124,7 @@ pub mod rocker_four_bar {
             let t5 = p_l3 * s_v_q3;
             let t6 = -t2;
             let t7 = -t4;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t6;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -8296,11 +8147,7 @@ pub mod rocker_four_bar {
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
             let t3 = -t2;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                1,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 1>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t3;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -8333,11 +8180,7 @@ pub mod rocker_four_bar {
             let t9 = t2 * v_q2_d;
             let t10 = -t9;
             let t11 = t5 * v_q3_d;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t7;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
@@ -8420,11 +8263,7 @@ pub mod rocker_four_bar {
             ::mechgen::__private::nalgebra::SVector::from([t22, t31])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-        ) -> [[T; 2]; 2] {
+        pub fn point_positions(&self, x: &[T; 1], q: &[T; 2]) -> [[T; 2]; 2] {
             let v_q1 = x[0];
             let v_q3 = q[1];
             let p_l1 = self.params.l1;
@@ -8511,9 +8350,6 @@ pub mod rocker_four_bar {
             ::mechgen::__private::nalgebra::SVector<T, 2>,
             ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
         ) {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
-            let v_q3 = q[1];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -8534,11 +8370,7 @@ pub mod rocker_four_bar {
             let t10 = t5 - t8;
             let t11 = -t3;
             let t12 = -t7;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t11;
             // J[0][1] = ∂Φ0/∂q3
@@ -8552,9 +8384,8 @@ pub mod rocker_four_bar {
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 4]) {
-            let params = self.params.to_array();
-            let mut tx = [(T::zero(), T::one()); 1];
-            let mut tp = [(T::zero(), T::one()); 4];
+            let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
+            let tp: [(T, T); 4] = [(T::zero(), T::one()); 4];
             tx[0] = x[0].sin_cos();
             (tx, tp)
         }
@@ -8571,11 +8402,10 @@ pub mod rocker_four_bar {
             st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: closed form (a dyad).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -8595,7 +8425,7 @@ pub mod rocker_four_bar {
                     (p_l2, T::zero()),
                     (t2, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -8605,7 +8435,7 @@ pub mod rocker_four_bar {
                     [0, 1],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
@@ -8624,9 +8454,6 @@ pub mod rocker_four_bar {
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
             // Block 0: velocities.
-            let v_q1 = x[0];
-            let v_q2 = st.q[0];
-            let v_q3 = st.q[1];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -8645,11 +8472,7 @@ pub mod rocker_four_bar {
             let t8 = t1 * v_q1_d;
             let t9 = t0 * v_q1_d;
             let t10 = -t9;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t6;
             // J[0][1] = ∂Φ0/∂q3
@@ -8687,8 +8510,6 @@ pub mod rocker_four_bar {
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 2];
             // Block 0: accelerations.
-            let v_q2 = st.q[0];
-            let v_q3 = st.q[1];
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let (s_v_q2, c_v_q2) = st.sc[0];
@@ -8699,11 +8520,7 @@ pub mod rocker_four_bar {
             let t3 = p_l3 * s_v_q3;
             let t4 = -t1;
             let t5 = -t2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t4;
             // J[0][1] = ∂Φ0/∂q3
@@ -8717,7 +8534,6 @@ pub mod rocker_four_bar {
                 ::mechgen::__private::Stage::Acceleration,
                 jac,
             )?;
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
             let v_q2_d = qd[0];
@@ -8771,7 +8587,7 @@ pub mod rocker_four_bar {
             tp: &[(T, T); 4],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 2]),
@@ -8780,7 +8596,6 @@ pub mod rocker_four_bar {
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: closed form (a dyad).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -8800,7 +8615,7 @@ pub mod rocker_four_bar {
                     (p_l2, T::zero()),
                     (t2, T::zero()),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -8810,14 +8625,12 @@ pub mod rocker_four_bar {
                     [0, 1],
                     [false, false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 0: velocities and accelerations.
-            let v_q2 = st.q[0];
-            let v_q3 = st.q[1];
             let v_q1_d = xd[0];
             let (s_v_q2, c_v_q2) = st.sc[0];
             let t4 = p_l2 * c_v_q2;
@@ -8830,11 +8643,7 @@ pub mod rocker_four_bar {
             let t10 = t1 * v_q1_d;
             let t11 = t0 * v_q1_d;
             let t12 = -t11;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[0][0] = ∂Φ0/∂q2
             jac[(0, 0)] = t8;
             // J[0][1] = ∂Φ0/∂q3
@@ -8923,7 +8732,7 @@ pub mod rocker_four_bar {
             &self,
             x: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -9016,13 +8825,13 @@ pub mod rocker_four_bar {
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
         #[inline]
-        pub fn solve_arrays(
+        fn solve_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 2],
@@ -9061,14 +8870,14 @@ pub mod rocker_four_bar {
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
-        /// cosines for [`Self::tick`].
-        pub fn tick_start(
+        /// cosines for `tick_arrays` (the typed `tick_start` and `tick` call these).
+        fn tick_start_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
@@ -9096,13 +8905,13 @@ pub mod rocker_four_bar {
         /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
-        pub fn tick(
+        fn tick_arrays(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -9149,28 +8958,27 @@ pub mod rocker_four_bar {
             );
             Ok(())
         }
-        /// Everything at once: positions from `guess`, velocities, accelerations and points.
+        /// One whole tick from `guess`: positions, velocities, accelerations and points,
+        /// sharing one set of sines and cosines between the stages.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
             Ok(Motion {
-                x,
-                xd,
-                xdd,
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
@@ -9178,8 +8986,44 @@ pub mod rocker_four_bar {
                 report,
             })
         }
+        /// The first tick of a simulation, solved from `guess` and kept with its sines and
+        /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.tick_start_arrays(
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                &guess.to_array(),
+                options,
+            )
+        }
+        /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the
+        /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when
+        /// the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.tick_arrays(
+                t,
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                options,
+            )
+        }
     }
-    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::StaticMechanism<T>
     for RockerFourBar<T> {
         const NAME: &'static str = "rocker_four_bar";
         const INPUTS: usize = 1;
@@ -9187,6 +9031,9 @@ pub mod rocker_four_bar {
         const POINTS: usize = 2;
         type X = [T; 1];
         type Q = [T; 2];
+        type Points = [::mechgen::__private::PointMotion<T>; 2];
+        type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>;
+        type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 1>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -9194,17 +9041,11 @@ pub mod rocker_four_bar {
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             RockerFourBar::residual(self, x, q)
         }
-        fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(
-                &RockerFourBar::jacobian(self, x, q),
-                out,
-            )
+        fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian {
+            RockerFourBar::jacobian(self, x, q)
         }
-        fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(
-                &RockerFourBar::input_jacobian(self, x, q),
-                out,
-            )
+        fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian {
+            RockerFourBar::input_jacobian(self, x, q)
         }
         fn jacobian_dot(
             &self,
@@ -9212,12 +9053,8 @@ pub mod rocker_four_bar {
             q: &Self::Q,
             xd: &Self::X,
             qd: &Self::Q,
-            out: &mut [T],
-        ) {
-            ::mechgen::__private::copy_row_major(
-                &RockerFourBar::jacobian_dot(self, x, q, xd, qd),
-                out,
-            )
+        ) -> Self::Jacobian {
+            RockerFourBar::jacobian_dot(self, x, q, xd, qd)
         }
         fn acceleration_rhs(
             &self,
@@ -9233,7 +9070,7 @@ pub mod rocker_four_bar {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -9260,75 +9097,89 @@ pub mod rocker_four_bar {
         }
         fn points(
             &self,
-            x: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &Self::Q,
-            xd: &Self::X,
             qd: &Self::Q,
-            xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::__private::PointMotion<T>],
-        ) {
-            for (o, p) in out
-                .iter_mut()
-                .zip(RockerFourBar::point_motion(self, x, q, xd, qd, xdd, qdd))
-            {
-                *o = p;
-            }
+        ) -> Self::Points {
+            RockerFourBar::point_motion(
+                self,
+                &input.x,
+                q,
+                &input.xd,
+                qd,
+                &input.xdd,
+                qdd,
+            )
+        }
+        #[inline]
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = RockerFourBar::solve_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                &mut q,
+                options,
+            )?;
+            Ok(::mechgen::__private::Solved {
+                q,
+                qd,
+                qdd,
+                points,
+                report,
+            })
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            RockerFourBar::tick_start(self, x, xd, xdd, guess, options)
+            RockerFourBar::tick_start_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                guess,
+                options,
+            )
         }
+        #[inline]
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            RockerFourBar::tick(self, t, x, xd, xdd, options)
-        }
-        fn solve_motion(
-            &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            q: &mut Self::Q,
-            qd: &mut Self::Q,
-            qdd: &mut Self::Q,
-            points: &mut [::mechgen::__private::PointMotion<T>],
-            options: &::mechgen::__private::NewtonOptions<T>,
-        ) -> ::core::result::Result<
-            ::mechgen::__private::NewtonReport<T>,
-            ::mechgen::__private::SolveError,
-        > {
-            let (v, a, p, report) = RockerFourBar::solve_arrays(
-                self,
-                x,
-                xd,
-                xdd,
-                q,
-                options,
-            )?;
-            *qd = v;
-            *qdd = a;
-            for (o, m) in points.iter_mut().zip(p) {
-                *o = m;
-            }
-            Ok(report)
+            RockerFourBar::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
         }
     }
 }
 /// Seed six-bar driven from the dyad angle q6 at G (one 4x4 block; dead points at q6 = 244.53 and 344.13 deg)
 pub mod sixbar_g {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(
+        non_snake_case,
+        unused_variables,
+        clippy::too_many_arguments,
+        clippy::type_complexity
+    )]
+    // Allowed above, and why:
+    // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
+    // unused_variables: block functions share one signature (inputs,
+    // unknowns, their sines and cosines) and a block reads only some of
+    // them; no local is bound without being read.
+    // too_many_arguments, type_complexity: those private signatures, and
+    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "sixbar_g",
@@ -9610,12 +9461,8 @@ pub mod sixbar_g {
         }
         /// The file's `start` configuration (on the wanted assembly branch).
         pub fn start() -> (Inputs<T>, Unknowns<T>) {
-            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(
-                INFO.inputs[i].start,
-            ));
-            let q: [T; 4] = ::core::array::from_fn(|i| T::lit(
-                INFO.unknowns[i].start,
-            ));
+            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(INFO.inputs[i].start));
+            let q: [T; 4] = ::core::array::from_fn(|i| T::lit(INFO.unknowns[i].start));
             (Inputs::from_array(x), Unknowns::from_array(q))
         }
         /// Φ(x, q): the loop-closure residuals, two per loop (x then y).
@@ -9717,11 +9564,7 @@ pub mod sixbar_g {
             let t24 = t23 - t5;
             let t25 = t4 + t15;
             let t26 = -t17;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t19;
             // [0][1] = ∂Φ0/∂q2 (loop 1, x)
@@ -9760,11 +9603,7 @@ pub mod sixbar_g {
             let t1 = p_l6 * c_v_q6;
             let t2 = p_l6 * s_v_q6;
             let t3 = -t1;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                1,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 1>::zeros();
             // [2][0] = ∂Φ2/∂q6 (loop 2, x)
             m[(2, 0)] = t2;
             // [3][0] = ∂Φ3/∂q6 (loop 2, y)
@@ -9831,11 +9670,7 @@ pub mod sixbar_g {
             let t35 = t15 * v_q5_d;
             let t36 = t19 * v_q2_d;
             let t37 = t16 * v_q5_d;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t22;
             // [0][1] = ∂Φ0/∂q2 (loop 1, x)
@@ -9980,11 +9815,7 @@ pub mod sixbar_g {
             ::mechgen::__private::nalgebra::SVector::from([t45, t52, t61, t69])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(
-            &self,
-            x: &[T; 1],
-            q: &[T; 4],
-        ) -> [[T; 2]; 1] {
+        pub fn point_positions(&self, x: &[T; 1], q: &[T; 4]) -> [[T; 2]; 1] {
             let v_q1 = q[0];
             let v_q2 = q[1];
             let p_l1 = self.params.l1;
@@ -10101,11 +9932,6 @@ pub mod sixbar_g {
             ::mechgen::__private::nalgebra::SVector<T, 4>,
             ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>,
         ) {
-            let v_q6 = x[0];
-            let v_q1 = q[0];
-            let v_q2 = q[1];
-            let v_q3 = q[2];
-            let v_q5 = q[3];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -10115,7 +9941,6 @@ pub mod sixbar_g {
             let p_l2e = self.params.l2e;
             let p_xg = self.params.xg;
             let p_yg = self.params.yg;
-            let p_alpha = self.params.alpha;
             let (s_v_q1, c_v_q1) = tq[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
@@ -10161,11 +9986,7 @@ pub mod sixbar_g {
             let t36 = t35 - t3;
             let t37 = t2 + t17;
             let t38 = -t21;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // J[0][0] = ∂Φ0/∂q1
             jac[(0, 0)] = t31;
             // J[0][1] = ∂Φ0/∂q2
@@ -10196,8 +10017,8 @@ pub mod sixbar_g {
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 10]) {
             let params = self.params.to_array();
-            let mut tx = [(T::zero(), T::one()); 1];
-            let mut tp = [(T::zero(), T::one()); 10];
+            let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
+            let mut tp: [(T, T); 10] = [(T::zero(), T::one()); 10];
             tx[0] = x[0].sin_cos();
             tp[9] = params[9].sin_cos();
             (tx, tp)
@@ -10215,7 +10036,7 @@ pub mod sixbar_g {
             st: &mut ::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: Newton.
@@ -10225,7 +10046,7 @@ pub mod sixbar_g {
                 [0, 1, 2, 3],
                 [false, false, false, false],
                 self.params.length_scale(),
-                options,
+                &options.newton,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
@@ -10243,18 +10064,12 @@ pub mod sixbar_g {
         ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 4];
             // Block 0: velocities.
-            let v_q6 = x[0];
-            let v_q1 = st.q[0];
-            let v_q2 = st.q[1];
-            let v_q3 = st.q[2];
-            let v_q5 = st.q[3];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let p_l5 = self.params.l5;
             let p_l6 = self.params.l6;
             let p_l2e = self.params.l2e;
-            let p_alpha = self.params.alpha;
             let v_q6_d = xd[0];
             let (s_v_q1, c_v_q1) = st.sc[0];
             let t0 = p_l1 * c_v_q1;
@@ -10289,11 +10104,7 @@ pub mod sixbar_g {
             let t24 = t15 * v_q6_d;
             let t25 = -t24;
             let t26 = t14 * v_q6_d;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // J[0][0] = ∂Φ0/∂q1
             jac[(0, 0)] = t16;
             // J[0][1] = ∂Φ0/∂q2
@@ -10354,16 +10165,11 @@ pub mod sixbar_g {
         ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 4];
             // Block 0: accelerations.
-            let v_q1 = st.q[0];
-            let v_q2 = st.q[1];
-            let v_q3 = st.q[2];
-            let v_q5 = st.q[3];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let p_l5 = self.params.l5;
             let p_l2e = self.params.l2e;
-            let p_alpha = self.params.alpha;
             let (s_v_q1, c_v_q1) = st.sc[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
@@ -10391,11 +10197,7 @@ pub mod sixbar_g {
             let t19 = t18 - t3;
             let t20 = t2 + t11;
             let t21 = -t12;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // J[0][0] = ∂Φ0/∂q1
             jac[(0, 0)] = t14;
             // J[0][1] = ∂Φ0/∂q2
@@ -10425,7 +10227,6 @@ pub mod sixbar_g {
                 ::mechgen::__private::Stage::Acceleration,
                 jac,
             )?;
-            let v_q6 = x[0];
             let p_l6 = self.params.l6;
             let v_q6_d = xd[0];
             let v_q1_d = qd[0];
@@ -10507,7 +10308,7 @@ pub mod sixbar_g {
             tp: &[(T, T); 10],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 1]),
@@ -10522,23 +10323,17 @@ pub mod sixbar_g {
                 [0, 1, 2, 3],
                 [false, false, false, false],
                 self.params.length_scale(),
-                options,
+                &options.newton,
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
             // Block 0: velocities and accelerations.
-            let v_q6 = x[0];
-            let v_q1 = st.q[0];
-            let v_q2 = st.q[1];
-            let v_q3 = st.q[2];
-            let v_q5 = st.q[3];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
             let p_l5 = self.params.l5;
             let p_l6 = self.params.l6;
             let p_l2e = self.params.l2e;
-            let p_alpha = self.params.alpha;
             let v_q6_d = xd[0];
             let (s_v_q1, c_v_q1) = st.sc[0];
             let t0 = p_l1 * c_v_q1;
@@ -10573,11 +10368,7 @@ pub mod sixbar_g {
             let t24 = t15 * v_q6_d;
             let t25 = -t24;
             let t26 = t14 * v_q6_d;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                4,
-                4,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // J[0][0] = ∂Φ0/∂q1
             jac[(0, 0)] = t16;
             // J[0][1] = ∂Φ0/∂q2
@@ -10722,7 +10513,7 @@ pub mod sixbar_g {
             &self,
             x: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -10815,13 +10606,13 @@ pub mod sixbar_g {
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
         #[inline]
-        pub fn solve_arrays(
+        fn solve_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 4],
@@ -10860,14 +10651,14 @@ pub mod sixbar_g {
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
-        /// cosines for [`Self::tick`].
-        pub fn tick_start(
+        /// cosines for `tick_arrays` (the typed `tick_start` and `tick` call these).
+        fn tick_start_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
@@ -10895,13 +10686,13 @@ pub mod sixbar_g {
         /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
-        pub fn tick(
+        fn tick_arrays(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -10952,28 +10743,27 @@ pub mod sixbar_g {
             );
             Ok(())
         }
-        /// Everything at once: positions from `guess`, velocities, accelerations and points.
+        /// One whole tick from `guess`: positions, velocities, accelerations and points,
+        /// sharing one set of sines and cosines between the stages.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
             Ok(Motion {
-                x,
-                xd,
-                xdd,
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
@@ -10981,8 +10771,44 @@ pub mod sixbar_g {
                 report,
             })
         }
+        /// The first tick of a simulation, solved from `guess` and kept with its sines and
+        /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.tick_start_arrays(
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                &guess.to_array(),
+                options,
+            )
+        }
+        /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the
+        /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when
+        /// the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.tick_arrays(
+                t,
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                options,
+            )
+        }
     }
-    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::StaticMechanism<T>
     for SixbarG<T> {
         const NAME: &'static str = "sixbar_g";
         const INPUTS: usize = 1;
@@ -10990,6 +10816,9 @@ pub mod sixbar_g {
         const POINTS: usize = 1;
         type X = [T; 1];
         type Q = [T; 4];
+        type Points = [::mechgen::__private::PointMotion<T>; 1];
+        type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>;
+        type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 1>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -10997,14 +10826,11 @@ pub mod sixbar_g {
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             SixbarG::residual(self, x, q)
         }
-        fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(&SixbarG::jacobian(self, x, q), out)
+        fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian {
+            SixbarG::jacobian(self, x, q)
         }
-        fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(
-                &SixbarG::input_jacobian(self, x, q),
-                out,
-            )
+        fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian {
+            SixbarG::input_jacobian(self, x, q)
         }
         fn jacobian_dot(
             &self,
@@ -11012,12 +10838,8 @@ pub mod sixbar_g {
             q: &Self::Q,
             xd: &Self::X,
             qd: &Self::Q,
-            out: &mut [T],
-        ) {
-            ::mechgen::__private::copy_row_major(
-                &SixbarG::jacobian_dot(self, x, q, xd, qd),
-                out,
-            )
+        ) -> Self::Jacobian {
+            SixbarG::jacobian_dot(self, x, q, xd, qd)
         }
         fn acceleration_rhs(
             &self,
@@ -11033,7 +10855,7 @@ pub mod sixbar_g {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -11060,68 +10882,75 @@ pub mod sixbar_g {
         }
         fn points(
             &self,
-            x: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &Self::Q,
-            xd: &Self::X,
             qd: &Self::Q,
-            xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::__private::PointMotion<T>],
-        ) {
-            for (o, p) in out
-                .iter_mut()
-                .zip(SixbarG::point_motion(self, x, q, xd, qd, xdd, qdd))
-            {
-                *o = p;
-            }
+        ) -> Self::Points {
+            SixbarG::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
+        }
+        #[inline]
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = SixbarG::solve_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                &mut q,
+                options,
+            )?;
+            Ok(::mechgen::__private::Solved {
+                q,
+                qd,
+                qdd,
+                points,
+                report,
+            })
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            SixbarG::tick_start(self, x, xd, xdd, guess, options)
+            SixbarG::tick_start_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                guess,
+                options,
+            )
         }
+        #[inline]
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            SixbarG::tick(self, t, x, xd, xdd, options)
-        }
-        fn solve_motion(
-            &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            q: &mut Self::Q,
-            qd: &mut Self::Q,
-            qdd: &mut Self::Q,
-            points: &mut [::mechgen::__private::PointMotion<T>],
-            options: &::mechgen::__private::NewtonOptions<T>,
-        ) -> ::core::result::Result<
-            ::mechgen::__private::NewtonReport<T>,
-            ::mechgen::__private::SolveError,
-        > {
-            let (v, a, p, report) = SixbarG::solve_arrays(self, x, xd, xdd, q, options)?;
-            *qd = v;
-            *qdd = a;
-            for (o, m) in points.iter_mut().zip(p) {
-                *o = m;
-            }
-            Ok(report)
+            SixbarG::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
         }
     }
 }
 /// Scene `sixbar_e_path` of mechanism `sixbar`: E_x, E_y to order 0; solves blocks [0] only.
 pub mod sixbar_e_path {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+    // Allowed above, and why:
+    // non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).
+    // unused_variables: `outputs_of` takes the whole state and a scene
+    // reads only its columns of it.
+    // type_complexity: `solve` returns outputs, unknowns and report as one
+    // tuple.
     pub use super::sixbar::{Params as Params, Inputs as Inputs, Unknowns as Unknowns};
     /// What the scene keeps of its mechanism, and its output columns.
     pub const INFO: ::mechgen::__private::SceneInfo = ::mechgen::__private::SceneInfo {
@@ -11143,10 +10972,7 @@ pub mod sixbar_e_path {
     }
     impl<T: ::core::marker::Copy> Outputs<T> {
         pub fn from_array(a: [T; 2]) -> Self {
-            Outputs {
-                E_x: a[0],
-                E_y: a[1],
-            }
+            Outputs { E_x: a[0], E_y: a[1] }
         }
         pub fn to_array(&self) -> [T; 2] {
             [self.E_x, self.E_y]
@@ -11192,11 +11018,9 @@ pub mod sixbar_e_path {
         /// outputs; the returned unknowns hold the kept blocks' solution.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (Outputs<T>, Unknowns<T>, ::mechgen::__private::NewtonReport<T>),
             ::mechgen::__private::SolveError,
@@ -11205,9 +11029,9 @@ pub mod sixbar_e_path {
             let (qd, qdd, points, report) = self
                 .mechanism()
                 .scene_sixbar_e_path_solve(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
@@ -11217,30 +11041,40 @@ pub mod sixbar_e_path {
                 report,
             ))
         }
-        /// The first tick of a simulation (see `tick`).
+        /// The first tick of a simulation, solved from `guess` (see `tick`).
         pub fn tick_start(
             &self,
-            x: &[T; 1],
-            xd: &[T; 1],
-            xdd: &[T; 1],
-            guess: &[T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
-            self.mechanism().scene_sixbar_e_path_tick_start(x, xd, xdd, guess, options)
+            self.mechanism()
+                .scene_sixbar_e_path_tick_start(
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    &guess.to_array(),
+                    options,
+                )
         }
-        /// One simulator tick to `x`: the mechanism's tick (predictor, cached sines and
-        /// cosines, closed forms on the last branch) on the kept blocks only. On error
-        /// `t` is unchanged.
+        /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
+        /// and cosines, closed forms on the last branch) on the kept blocks only. On
+        /// error `t` is unchanged.
         #[inline]
         pub fn tick(
             &self,
             t: &mut Tick<T>,
-            x: &[T; 1],
-            xd: &[T; 1],
-            xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            self.mechanism().scene_sixbar_e_path_tick(t, x, xd, xdd, options)
+            self.mechanism()
+                .scene_sixbar_e_path_tick(
+                    t,
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    options,
+                )
         }
         /// The outputs of a tick state.
         pub fn outputs(t: &Tick<T>) -> Outputs<T> {
@@ -11259,39 +11093,41 @@ pub mod sixbar_e_path {
         }
         fn solve(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (Self::Out, ::mechgen::__private::NewtonReport<T>),
             ::mechgen::__private::SolveError,
         > {
             let (qd, qdd, points, report) = self
                 .mechanism()
-                .scene_sixbar_e_path_solve(x, xd, xdd, q, options)?;
+                .scene_sixbar_e_path_solve(&input.x, &input.xd, &input.xdd, q, options)?;
             Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            SixbarEPath::tick_start(self, x, xd, xdd, guess, options)
+            self.mechanism()
+                .scene_sixbar_e_path_tick_start(
+                    &input.x,
+                    &input.xd,
+                    &input.xdd,
+                    guess,
+                    options,
+                )
         }
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            SixbarEPath::tick(self, t, x, xd, xdd, options)
+            self.mechanism()
+                .scene_sixbar_e_path_tick(t, &input.x, &input.xd, &input.xdd, options)
         }
         fn outputs(&self, t: &Self::Tick) -> Self::Out {
             SixbarEPath::outputs(t).to_array()
@@ -11300,7 +11136,13 @@ pub mod sixbar_e_path {
 }
 /// Scene `sixbar_output` of mechanism `sixbar`: q6, q6_vel, q6_acc to order 2; solves blocks [0, 1] only.
 pub mod sixbar_output {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+    // Allowed above, and why:
+    // non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).
+    // unused_variables: `outputs_of` takes the whole state and a scene
+    // reads only its columns of it.
+    // type_complexity: `solve` returns outputs, unknowns and report as one
+    // tuple.
     pub use super::sixbar::{Params as Params, Inputs as Inputs, Unknowns as Unknowns};
     /// What the scene keeps of its mechanism, and its output columns.
     pub const INFO: ::mechgen::__private::SceneInfo = ::mechgen::__private::SceneInfo {
@@ -11373,11 +11215,9 @@ pub mod sixbar_output {
         /// outputs; the returned unknowns hold the kept blocks' solution.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (Outputs<T>, Unknowns<T>, ::mechgen::__private::NewtonReport<T>),
             ::mechgen::__private::SolveError,
@@ -11386,9 +11226,9 @@ pub mod sixbar_output {
             let (qd, qdd, points, report) = self
                 .mechanism()
                 .scene_sixbar_output_solve(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
@@ -11398,30 +11238,40 @@ pub mod sixbar_output {
                 report,
             ))
         }
-        /// The first tick of a simulation (see `tick`).
+        /// The first tick of a simulation, solved from `guess` (see `tick`).
         pub fn tick_start(
             &self,
-            x: &[T; 1],
-            xd: &[T; 1],
-            xdd: &[T; 1],
-            guess: &[T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
-            self.mechanism().scene_sixbar_output_tick_start(x, xd, xdd, guess, options)
+            self.mechanism()
+                .scene_sixbar_output_tick_start(
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    &guess.to_array(),
+                    options,
+                )
         }
-        /// One simulator tick to `x`: the mechanism's tick (predictor, cached sines and
-        /// cosines, closed forms on the last branch) on the kept blocks only. On error
-        /// `t` is unchanged.
+        /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
+        /// and cosines, closed forms on the last branch) on the kept blocks only. On
+        /// error `t` is unchanged.
         #[inline]
         pub fn tick(
             &self,
             t: &mut Tick<T>,
-            x: &[T; 1],
-            xd: &[T; 1],
-            xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            self.mechanism().scene_sixbar_output_tick(t, x, xd, xdd, options)
+            self.mechanism()
+                .scene_sixbar_output_tick(
+                    t,
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    options,
+                )
         }
         /// The outputs of a tick state.
         pub fn outputs(t: &Tick<T>) -> Outputs<T> {
@@ -11440,39 +11290,41 @@ pub mod sixbar_output {
         }
         fn solve(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (Self::Out, ::mechgen::__private::NewtonReport<T>),
             ::mechgen::__private::SolveError,
         > {
             let (qd, qdd, points, report) = self
                 .mechanism()
-                .scene_sixbar_output_solve(x, xd, xdd, q, options)?;
+                .scene_sixbar_output_solve(&input.x, &input.xd, &input.xdd, q, options)?;
             Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            SixbarOutput::tick_start(self, x, xd, xdd, guess, options)
+            self.mechanism()
+                .scene_sixbar_output_tick_start(
+                    &input.x,
+                    &input.xd,
+                    &input.xdd,
+                    guess,
+                    options,
+                )
         }
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            SixbarOutput::tick(self, t, x, xd, xdd, options)
+            self.mechanism()
+                .scene_sixbar_output_tick(t, &input.x, &input.xd, &input.xdd, options)
         }
         fn outputs(&self, t: &Self::Tick) -> Self::Out {
             SixbarOutput::outputs(t).to_array()
@@ -11481,7 +11333,13 @@ pub mod sixbar_output {
 }
 /// Scene `shaper_ram` of mechanism `shaper`: sE, sE_vel, sE_acc to order 2; solves blocks [0, 1, 2] only.
 pub mod shaper_ram {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+    // Allowed above, and why:
+    // non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).
+    // unused_variables: `outputs_of` takes the whole state and a scene
+    // reads only its columns of it.
+    // type_complexity: `solve` returns outputs, unknowns and report as one
+    // tuple.
     pub use super::shaper::{Params as Params, Inputs as Inputs, Unknowns as Unknowns};
     /// What the scene keeps of its mechanism, and its output columns.
     pub const INFO: ::mechgen::__private::SceneInfo = ::mechgen::__private::SceneInfo {
@@ -11554,11 +11412,9 @@ pub mod shaper_ram {
         /// outputs; the returned unknowns hold the kept blocks' solution.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (Outputs<T>, Unknowns<T>, ::mechgen::__private::NewtonReport<T>),
             ::mechgen::__private::SolveError,
@@ -11567,9 +11423,9 @@ pub mod shaper_ram {
             let (qd, qdd, points, report) = self
                 .mechanism()
                 .scene_shaper_ram_solve(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
@@ -11579,30 +11435,40 @@ pub mod shaper_ram {
                 report,
             ))
         }
-        /// The first tick of a simulation (see `tick`).
+        /// The first tick of a simulation, solved from `guess` (see `tick`).
         pub fn tick_start(
             &self,
-            x: &[T; 1],
-            xd: &[T; 1],
-            xdd: &[T; 1],
-            guess: &[T; 4],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
-            self.mechanism().scene_shaper_ram_tick_start(x, xd, xdd, guess, options)
+            self.mechanism()
+                .scene_shaper_ram_tick_start(
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    &guess.to_array(),
+                    options,
+                )
         }
-        /// One simulator tick to `x`: the mechanism's tick (predictor, cached sines and
-        /// cosines, closed forms on the last branch) on the kept blocks only. On error
-        /// `t` is unchanged.
+        /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
+        /// and cosines, closed forms on the last branch) on the kept blocks only. On
+        /// error `t` is unchanged.
         #[inline]
         pub fn tick(
             &self,
             t: &mut Tick<T>,
-            x: &[T; 1],
-            xd: &[T; 1],
-            xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            self.mechanism().scene_shaper_ram_tick(t, x, xd, xdd, options)
+            self.mechanism()
+                .scene_shaper_ram_tick(
+                    t,
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    options,
+                )
         }
         /// The outputs of a tick state.
         pub fn outputs(t: &Tick<T>) -> Outputs<T> {
@@ -11620,39 +11486,41 @@ pub mod shaper_ram {
         }
         fn solve(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (Self::Out, ::mechgen::__private::NewtonReport<T>),
             ::mechgen::__private::SolveError,
         > {
             let (qd, qdd, points, report) = self
                 .mechanism()
-                .scene_shaper_ram_solve(x, xd, xdd, q, options)?;
+                .scene_shaper_ram_solve(&input.x, &input.xd, &input.xdd, q, options)?;
             Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            ShaperRam::tick_start(self, x, xd, xdd, guess, options)
+            self.mechanism()
+                .scene_shaper_ram_tick_start(
+                    &input.x,
+                    &input.xd,
+                    &input.xdd,
+                    guess,
+                    options,
+                )
         }
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            ShaperRam::tick(self, t, x, xd, xdd, options)
+            self.mechanism()
+                .scene_shaper_ram_tick(t, &input.x, &input.xd, &input.xdd, options)
         }
         fn outputs(&self, t: &Self::Tick) -> Self::Out {
             ShaperRam::outputs(t).to_array()
@@ -11661,7 +11529,13 @@ pub mod shaper_ram {
 }
 /// Scene `coupler_curve` of mechanism `four_bar`: P_x, P_y, P_vx, P_vy to order 1; solves blocks [0] only.
 pub mod coupler_curve {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+    // Allowed above, and why:
+    // non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).
+    // unused_variables: `outputs_of` takes the whole state and a scene
+    // reads only its columns of it.
+    // type_complexity: `solve` returns outputs, unknowns and report as one
+    // tuple.
     pub use super::four_bar::{Params as Params, Inputs as Inputs, Unknowns as Unknowns};
     /// What the scene keeps of its mechanism, and its output columns.
     pub const INFO: ::mechgen::__private::SceneInfo = ::mechgen::__private::SceneInfo {
@@ -11741,11 +11615,9 @@ pub mod coupler_curve {
         /// outputs; the returned unknowns hold the kept blocks' solution.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (Outputs<T>, Unknowns<T>, ::mechgen::__private::NewtonReport<T>),
             ::mechgen::__private::SolveError,
@@ -11754,9 +11626,9 @@ pub mod coupler_curve {
             let (qd, qdd, points, report) = self
                 .mechanism()
                 .scene_coupler_curve_solve(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
@@ -11766,30 +11638,40 @@ pub mod coupler_curve {
                 report,
             ))
         }
-        /// The first tick of a simulation (see `tick`).
+        /// The first tick of a simulation, solved from `guess` (see `tick`).
         pub fn tick_start(
             &self,
-            x: &[T; 1],
-            xd: &[T; 1],
-            xdd: &[T; 1],
-            guess: &[T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
-            self.mechanism().scene_coupler_curve_tick_start(x, xd, xdd, guess, options)
+            self.mechanism()
+                .scene_coupler_curve_tick_start(
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    &guess.to_array(),
+                    options,
+                )
         }
-        /// One simulator tick to `x`: the mechanism's tick (predictor, cached sines and
-        /// cosines, closed forms on the last branch) on the kept blocks only. On error
-        /// `t` is unchanged.
+        /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
+        /// and cosines, closed forms on the last branch) on the kept blocks only. On
+        /// error `t` is unchanged.
         #[inline]
         pub fn tick(
             &self,
             t: &mut Tick<T>,
-            x: &[T; 1],
-            xd: &[T; 1],
-            xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            self.mechanism().scene_coupler_curve_tick(t, x, xd, xdd, options)
+            self.mechanism()
+                .scene_coupler_curve_tick(
+                    t,
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    options,
+                )
         }
         /// The outputs of a tick state.
         pub fn outputs(t: &Tick<T>) -> Outputs<T> {
@@ -11808,39 +11690,41 @@ pub mod coupler_curve {
         }
         fn solve(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (Self::Out, ::mechgen::__private::NewtonReport<T>),
             ::mechgen::__private::SolveError,
         > {
             let (qd, qdd, points, report) = self
                 .mechanism()
-                .scene_coupler_curve_solve(x, xd, xdd, q, options)?;
+                .scene_coupler_curve_solve(&input.x, &input.xd, &input.xdd, q, options)?;
             Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            CouplerCurve::tick_start(self, x, xd, xdd, guess, options)
+            self.mechanism()
+                .scene_coupler_curve_tick_start(
+                    &input.x,
+                    &input.xd,
+                    &input.xdd,
+                    guess,
+                    options,
+                )
         }
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            CouplerCurve::tick(self, t, x, xd, xdd, options)
+            self.mechanism()
+                .scene_coupler_curve_tick(t, &input.x, &input.xd, &input.xdd, options)
         }
         fn outputs(&self, t: &Self::Tick) -> Self::Out {
             CouplerCurve::outputs(t).to_array()

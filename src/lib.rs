@@ -9,13 +9,12 @@
 //!
 //! ```
 //! use mechgen::sixbar::{Inputs, Sixbar};
-//! use mechgen::NewtonOptions;
+//! use mechgen::{InputMotion, SolveOptions};
 //!
 //! let sixbar = Sixbar::<f64>::default();
 //! let (_, start) = Sixbar::<f64>::start();
-//! let m = sixbar
-//!     .solve(Inputs { q1: 0.0 }, Inputs { q1: 1.0 }, Inputs { q1: 0.0 }, start, &NewtonOptions::default())
-//!     .unwrap();
+//! let input = InputMotion { x: Inputs { q1: 0.0 }, xd: Inputs { q1: 1.0 }, xdd: Inputs { q1: 0.0 } };
+//! let m = sixbar.solve(&input, &start, &SolveOptions::default()).unwrap();
 //! assert!((m.q.q2 - 0.875_017_264_833_039).abs() < 1e-12);
 //! ```
 //!
@@ -39,16 +38,16 @@ pub use mechgen_runtime as runtime;
 pub use mechgen_runtime::__private;
 pub use mechgen_runtime::dyad::solve_dyad;
 pub use mechgen_runtime::elimination::{
-    Factored, copy_row_major, factor_block, gauss, gauss_in_place, lu_in_place, lu_solve,
-    solve_block,
+    Factored, factor_block, gauss, gauss_in_place, lu_in_place, lu_solve, solve_block,
 };
 pub use mechgen_runtime::nalgebra;
 pub use mechgen_runtime::solve::{check_finite, newton_block, newton_in_place};
 pub use mechgen_runtime::trig::{NewtonState, TrigState};
 pub use mechgen_runtime::{
-    Array, CoordInfo, Kind, Kinematics, Mechanism, MechanismInfo, NewtonOptions, NewtonReport,
-    ParamInfo, PointMotion, Quantity, Real, Scene, SceneDescription, SceneInfo, SceneKinematics,
-    SceneVisitor, Solution, SolveError, Stage, StaticInfo, Tick, Visitor,
+    Array, CoordDesc, CoordInfo, DynMechanism, InputMotion, Kind, MechanismInfo, NewtonOptions,
+    NewtonReport, ParamDesc, ParamInfo, PointMotion, Quantity, Real, RowMajor, Scene,
+    SceneDescription, SceneInfo, SceneKinematics, SceneVisitor, Solution, SolveError, SolveOptions,
+    Solved, Stage, StaticInfo, StaticMechanism, StaticVisitor, Tick, TickState,
 };
 
 #[cfg(feature = "runtime")]

@@ -5,14 +5,14 @@
 use std::fmt::Write as _;
 
 use crate::sweep::{Row, Solved, StopReason};
-use mechgen_runtime::mechanism::{Kind, MechanismInfo};
+use mechgen_runtime::{CoordDesc, Kind, MechanismInfo};
 
 /// Column headers of the CSV, in order.
 pub fn csv_header(info: &MechanismInfo, index: usize) -> Vec<String> {
-    let mut h = vec![info.inputs[index].0.clone()];
-    h.extend(info.unknowns.iter().map(|u| u.0.clone()));
-    h.extend(info.unknowns.iter().map(|u| format!("{}_vel", u.0)));
-    h.extend(info.unknowns.iter().map(|u| format!("{}_acc", u.0)));
+    let mut h = vec![info.inputs[index].name.clone()];
+    h.extend(info.unknowns.iter().map(|u| u.name.clone()));
+    h.extend(info.unknowns.iter().map(|u| format!("{}_vel", u.name)));
+    h.extend(info.unknowns.iter().map(|u| format!("{}_acc", u.name)));
     for p in &info.points {
         h.extend(
             ["x", "y", "vx", "vy", "ax", "ay"]
@@ -100,7 +100,7 @@ pub fn preamble(info: &MechanismInfo, index: usize, rate: f64, x: &[f64]) -> Str
     let mut out = String::from(
         "units: angles [deg], angular rates [deg/s] and [deg/s2]; lengths in the file's unit [u], [u/s], [u/s2]\n",
     );
-    let (name, kind, _) = &info.inputs[index];
+    let CoordDesc { name, kind, .. } = &info.inputs[index];
     let _ = match kind {
         Kind::Angle => writeln!(
             out,
@@ -108,7 +108,7 @@ pub fn preamble(info: &MechanismInfo, index: usize, rate: f64, x: &[f64]) -> Str
             significant(rate),
             significant(rate.to_degrees())
         ),
-        Kind::Length => writeln!(
+        _ => writeln!(
             out,
             "input {name} swept at --rate {} u/s, zero input acceleration",
             significant(rate)
@@ -120,10 +120,20 @@ pub fn preamble(info: &MechanismInfo, index: usize, rate: f64, x: &[f64]) -> Str
         .zip(x)
         .enumerate()
         .filter(|(i, _)| *i != index)
-        .map(|(_, ((n, k, _), v))| match k {
-            Kind::Angle => format!("{n} = {} deg", significant(v.to_degrees())),
-            Kind::Length => format!("{n} = {} u", significant(*v)),
-        })
+        .map(
+            |(
+                _,
+                (
+                    CoordDesc {
+                        name: n, kind: k, ..
+                    },
+                    v,
+                ),
+            )| match k {
+                Kind::Angle => format!("{n} = {} deg", significant(v.to_degrees())),
+                _ => format!("{n} = {} u", significant(*v)),
+            },
+        )
         .collect();
     if !held.is_empty() {
         let _ = writeln!(out, "held: {}", held.join(", "));
@@ -134,13 +144,17 @@ pub fn preamble(info: &MechanismInfo, index: usize, rate: f64, x: &[f64]) -> Str
 /// The seed-style table: angles in degrees (and degrees per second, per second squared), lengths
 /// in file units `[u]`, numbers to [`DIGITS`] significant digits.
 pub fn table(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
-    let input_kind = info.inputs[index].1;
-    let mut head = vec![format!("{}{}", info.inputs[index].0, unit(input_kind, ""))];
+    let input_kind = info.inputs[index].kind;
+    let mut head = vec![format!(
+        "{}{}",
+        info.inputs[index].name,
+        unit(input_kind, "")
+    )];
     for (suffix, per) in [("", ""), ("_vel", "/s"), ("_acc", "/s2")] {
         head.extend(
             info.unknowns
                 .iter()
-                .map(|u| format!("{}{suffix}{}", u.0, unit(u.1, per))),
+                .map(|u| format!("{}{suffix}{}", u.name, unit(u.kind, per))),
         );
     }
     for p in &info.points {
@@ -170,7 +184,7 @@ pub fn table(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
                 }
             }
             Err(e) => {
-                let name = &info.inputs[index].0;
+                let name = &info.inputs[index].name;
                 let at = |input: f64| {
                     format!(
                         "{name} = {}{}",
@@ -224,7 +238,7 @@ pub fn table(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
 
 /// A solved row's numbers in table units: angles in [0, 360) degrees, angular rates in degrees.
 fn scaled(info: &MechanismInfo, s: &Solved) -> Vec<f64> {
-    let kinds = info.unknowns.iter().map(|u| u.1);
+    let kinds = info.unknowns.iter().map(|u| u.kind);
     let mut v: Vec<f64> =
         s.q.iter()
             .zip(kinds.clone())
@@ -260,7 +274,7 @@ fn unit_word(k: Kind) -> &'static str {
 fn unit(k: Kind, per: &str) -> String {
     match k {
         Kind::Angle => format!("[deg{per}]"),
-        Kind::Length => format!("[u{per}]"),
+        _ => format!("[u{per}]"),
     }
 }
 

@@ -5,7 +5,7 @@
 #[path = "../examples/accuracy/variants.rs"]
 mod variants;
 
-use mechgen::NewtonOptions;
+use mechgen::SolveOptions;
 use variants::{
     Budget, Engine, Errors, FiniteDifferences, Generated, Pass, SAMPLE_EVERY, STEPS, Scheme,
     Stepper, errors, inputs, reference, run,
@@ -95,15 +95,15 @@ fn generated_f32_and_the_generic_engine() {
     assert!(e.max() < 1e-4 && e.max() > 1e-8, "{e:?}");
     let g = generic();
     // Block Newton (two iterations per dyad block per step from the last step's answer) …
-    let newton = NewtonOptions {
+    let newton = SolveOptions {
         closed_forms: false,
-        ..NewtonOptions::default()
+        ..SolveOptions::default()
     };
     let (pass, e) = turn(Engine::new(&g, newton));
     assert!(e.max() < 1e-13, "{e:?}");
     assert_eq!(pass.iterations, 4 * STEPS as u64);
     // … and, by default, the dyads' closed forms: no iterations, as exact.
-    let (pass, e) = turn(Engine::new(&g, NewtonOptions::default()));
+    let (pass, e) = turn(Engine::new(&g, SolveOptions::default()));
     assert!(e.max() < 1e-13, "{e:?}");
     assert_eq!(pass.iterations, 0);
 }

@@ -7,7 +7,7 @@ use std::cell::Cell;
 use std::hint::black_box;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use mechgen::{NewtonOptions, SolveError};
+use mechgen::{InputMotion, SolveError, SolveOptions};
 
 /// Allocations (alloc, alloc_zeroed, realloc) made while a thread had counting switched on.
 static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
@@ -84,7 +84,7 @@ macro_rules! solves {
         fn $fn() -> Outcome {
             use mechgen::$module::{Inputs, Unknowns, $ty};
             let m = black_box($ty::<$t>::default());
-            let options = NewtonOptions::<$t>::default();
+            let options = SolveOptions::<$t>::default();
             let (x0, q0) = $ty::<$t>::start();
             let x0 = x0.to_array();
             let step = (1.0f64).to_radians() as $t;
@@ -112,14 +112,12 @@ macro_rules! solves {
                 // All at once.
                 let mut guess: Unknowns<$t> = q0;
                 for i in 0..SOLVES {
-                    let x = Inputs::from_array([x0[0] + step * i as $t]);
-                    match m.solve(
-                        x,
-                        Inputs::from_array(xd),
-                        Inputs::from_array(xdd),
-                        guess,
-                        &options,
-                    ) {
+                    let input = InputMotion {
+                        x: Inputs::from_array([x0[0] + step * i as $t]),
+                        xd: Inputs::from_array(xd),
+                        xdd: Inputs::from_array(xdd),
+                    };
+                    match m.solve(&input, &guess, &options) {
                         Ok(motion) => {
                             guess = motion.q;
                             black_box(motion);
@@ -129,13 +127,14 @@ macro_rules! solves {
                     }
                 }
                 // Predictor stepping.
-                let mut tick = match m.tick_start(&x0, &xd, &xdd, &q0.to_array(), &options) {
+                let at = |x: [$t; 1]| InputMotion::new(x, xd, xdd).map(|a| Inputs::from_array(*a));
+                let mut tick = match m.tick_start(&at(x0), &q0, &options) {
                     Ok(t) => t,
                     Err(e) => return (done, Some(e)),
                 };
                 for i in 1..SOLVES {
                     let x = [x0[0] + step * i as $t];
-                    match m.tick(&mut tick, &x, &xd, &xdd, &options) {
+                    match m.tick(&mut tick, &at(x), &options) {
                         Ok(()) => {
                             black_box(&tick);
                             done += 1;
@@ -177,23 +176,23 @@ impl<T: mechgen::Real> mechgen::SceneVisitor<T> for SceneSolves<T> {
         x0.as_mut()
             .iter_mut()
             .zip(&info.inputs)
-            .for_each(|(x, i)| *x = lit(i.2));
+            .for_each(|(x, i)| *x = lit(i.start));
         q0.as_mut()
             .iter_mut()
             .zip(&info.unknowns)
-            .for_each(|(q, u)| *q = lit(u.2));
+            .for_each(|(q, u)| *q = lit(u.start));
         let step = lit(1f64.to_radians());
         let (mut xd, xdd) = (S::X::zeros(), S::X::zeros());
         xd.as_mut()[0] = lit(1.0);
-        let options = NewtonOptions::<T>::default();
+        let options = SolveOptions::<T>::default();
         let scene = black_box(scene);
         let (allocations, (done, error)) = count(|| {
             let mut done = 0;
             let mut q = q0;
-            let mut x = x0;
+            let mut input = InputMotion::new(x0, xd, xdd);
             for _ in 0..SOLVES {
-                x.as_mut()[0] += step;
-                match scene.solve(&x, &xd, &xdd, &mut q, &options) {
+                input.x.as_mut()[0] += step;
+                match scene.solve(&input, &mut q, &options) {
                     Ok(out) => {
                         black_box(out);
                         done += 1;
@@ -201,14 +200,14 @@ impl<T: mechgen::Real> mechgen::SceneVisitor<T> for SceneSolves<T> {
                     Err(e) => return (done, Some(e)),
                 }
             }
-            let mut x = x0;
-            let mut tick = match scene.tick_start(&x, &xd, &xdd, &q0, &options) {
+            let mut input = InputMotion::new(x0, xd, xdd);
+            let mut tick = match scene.tick_start(&input, &q0, &options) {
                 Ok(t) => t,
                 Err(e) => return (done, Some(e)),
             };
             for _ in 1..SOLVES {
-                x.as_mut()[0] += step;
-                match scene.tick(&mut tick, &x, &xd, &xdd, &options) {
+                input.x.as_mut()[0] += step;
+                match scene.tick(&mut tick, &input, &options) {
                     Ok(()) => {
                         black_box(scene.outputs(&tick));
                         done += 1;

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use mechgen::generic::{self, Generic};
 use mechgen::plot::{Frame, PlotError, animation_svg, point_paths, sweep_frames, write_animation};
 use mechgen::sweep::{Continuation, Row, sweep};
-use mechgen::{Kind, Kinematics, MechanismInfo, SolveError};
+use mechgen::{DynMechanism, Kind, MechanismInfo, SolveError};
 
 fn compiled_in(name: &str) -> Generic {
     let all = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE).expect("source");
@@ -18,7 +18,7 @@ fn compiled_in(name: &str) -> Generic {
 }
 
 fn sweep_degrees(model: &Generic, from: i32, to: i32, step: usize) -> (MechanismInfo, Vec<Row>) {
-    let info = Kinematics::<f64>::info(model);
+    let info = DynMechanism::<f64>::info(model);
     let values: Vec<f64> = (from..=to)
         .step_by(step)
         .map(|d| f64::from(d).to_radians())

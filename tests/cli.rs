@@ -63,8 +63,8 @@ fn compare_with_reference(csv: &Path, reference: &str, tolerance: f64) {
         .inputs
         .iter()
         .chain(&info.unknowns)
-        .filter(|c| c.1 == mechgen::Kind::Angle)
-        .map(|c| c.0.as_str())
+        .filter(|c| c.kind == mechgen::Kind::Angle)
+        .map(|c| c.name.as_str())
         .collect();
     let got = check_csv_format(csv);
     let want = Table::read(&format!(

@@ -19,7 +19,7 @@ use std::f64::consts::PI;
 
 use common::angle_diff;
 use mechgen::generic::{self, Generic};
-use mechgen::{Kinematics, NewtonOptions};
+use mechgen::{DynMechanism, SolveOptions};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
 
@@ -171,7 +171,7 @@ fn check(g: &mut Generic, case: &(Group, f64, bool, [f64; 2])) -> Result<f64, Te
         .map(|i| want[i] + 1e-3 * perturb[i] * if angle[i] { 1.0 } else { scale })
         .collect();
     let report = g
-        .solve_position(&[x], &mut q, &NewtonOptions::default())
+        .solve_position(&[x], &mut q, &SolveOptions::default())
         .map_err(|e| TestCaseError::fail(format!("{e}")))?;
     prop_assert_eq!(report.iterations, 0, "a closed form takes no iterations");
     let mut worst: f64 = 0.0;

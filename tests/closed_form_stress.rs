@@ -8,7 +8,7 @@
 #![cfg(feature = "runtime")]
 
 use mechgen::generic::{self, Generic};
-use mechgen::{Kinematics, NewtonOptions, SolveError};
+use mechgen::{DynMechanism, SolveError, SolveOptions};
 
 /// Errors in units of ε/√δ (positions) and ε/δ (rates) at most this.
 const BOUND: f64 = 16.0;
@@ -110,7 +110,7 @@ fn load(c: &Case) -> Generic {
 fn approaching_and_passing_dead_points() {
     for c in cases() {
         let g = load(&c);
-        let options = NewtonOptions::default();
+        let options = SolveOptions::default();
         // Along the branch from 0.3 rad inside, each solve from the previous answer.
         let x0 = c.dead + c.side * 0.3;
         let mut q = (c.closed)(x0).0;

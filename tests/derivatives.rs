@@ -16,7 +16,7 @@
 use std::collections::BTreeMap;
 
 use mechgen::sweep::{Continuation, continue_to};
-use mechgen::{Kind, Kinematics, MechanismInfo, NewtonOptions, PointMotion};
+use mechgen::{DynMechanism, InputMotion, Kind, MechanismInfo, PointMotion, SolveOptions};
 
 /// Configurations per mechanism.
 const CONFIGURATIONS: usize = 20;
@@ -111,7 +111,7 @@ fn positions(p: &[PointMotion<f64>]) -> Vec<f64> {
 
 /// A compiled-in mechanism behind the object-safe API, with vector-returning helpers.
 struct Case {
-    k: Box<dyn Kinematics<f64>>,
+    k: Box<dyn DynMechanism<f64>>,
     info: MechanismInfo,
     n: usize,
     m: usize,
@@ -128,19 +128,19 @@ impl Case {
         let length = info
             .params
             .iter()
-            .filter(|p| p.1 == Kind::Length)
-            .fold(0.0f64, |m, p| m.max(p.2.abs()));
+            .filter(|p| p.kind == Kind::Length)
+            .fold(0.0f64, |m, p| m.max(p.value.abs()));
         let length = if length > 0.0 { length } else { 1.0 };
         let scale = |kind: Kind| match kind {
             Kind::Angle => 1.0,
-            Kind::Length => length,
+            _ => length,
         };
         Case {
             n: info.unknowns.len(),
             m: info.inputs.len(),
             np: info.points.len(),
-            x_scale: info.inputs.iter().map(|c| scale(c.1)).collect(),
-            q_scale: info.unknowns.iter().map(|c| scale(c.1)).collect(),
+            x_scale: info.inputs.iter().map(|c| scale(c.kind)).collect(),
+            q_scale: info.unknowns.iter().map(|c| scale(c.kind)).collect(),
             k,
             info,
         }
@@ -186,7 +186,11 @@ impl Case {
         let mut out = vec![PointMotion::default(); self.np];
         self.k
             .points(
-                &state.x, &state.q, &state.xd, &state.qd, &state.xdd, qdd, &mut out,
+                InputMotion::new(&state.x, &state.xd, &state.xdd),
+                &state.q,
+                &state.qd,
+                qdd,
+                &mut out,
             )
             .expect("points");
         out
@@ -195,7 +199,7 @@ impl Case {
     fn solve_position(&self, x: &[f64], guess: &[f64]) -> Vec<f64> {
         let mut q = guess.to_vec();
         self.k
-            .solve_position(x, &mut q, &NewtonOptions::default())
+            .solve_position(x, &mut q, &SolveOptions::default())
             .unwrap_or_else(|e| panic!("solve_position at {x:?}: {e:?}"));
         q
     }
@@ -218,7 +222,7 @@ impl Case {
     ) -> Vec<f64> {
         let mut qdd = vec![0.0; self.n];
         self.k
-            .solve_acceleration(x, q, xd, qd, xdd, &mut qdd)
+            .solve_acceleration(InputMotion::new(x, xd, xdd), q, qd, &mut qdd)
             .unwrap_or_else(|e| panic!("solve_acceleration at {x:?}: {e:?}"));
         qdd
     }
@@ -236,8 +240,8 @@ impl Case {
 
     /// Random configuration near the start one (not assembled), with random rates.
     fn random_state(&self, rng: &mut Rng) -> State {
-        let x0: Vec<f64> = self.info.inputs.iter().map(|c| c.2).collect();
-        let q0: Vec<f64> = self.info.unknowns.iter().map(|c| c.2).collect();
+        let x0: Vec<f64> = self.info.inputs.iter().map(|c| c.start).collect();
+        let q0: Vec<f64> = self.info.unknowns.iter().map(|c| c.start).collect();
         State {
             x: add(&x0, &rng.coords(&self.x_scale, 0.5)),
             q: add(&q0, &rng.coords(&self.q_scale, 0.1)),
@@ -449,10 +453,13 @@ impl State {
 /// velocity solves along the motion.
 fn check_solves(c: &Case, rng: &mut Rng, config: usize, r: &mut Record) {
     // Assemble from the start configuration, then follow the branch to a random input.
-    let mut x: Vec<f64> = c.info.inputs.iter().map(|i| i.2).collect();
-    let mut q = c.solve_position(&x, &c.info.unknowns.iter().map(|u| u.2).collect::<Vec<_>>());
+    let mut x: Vec<f64> = c.info.inputs.iter().map(|i| i.start).collect();
+    let mut q = c.solve_position(
+        &x,
+        &c.info.unknowns.iter().map(|u| u.start).collect::<Vec<_>>(),
+    );
     let target = add(&x, &rng.coords(&c.x_scale, 0.5));
-    for (i, kind) in c.info.inputs.iter().map(|i| i.1).enumerate() {
+    for (i, kind) in c.info.inputs.iter().map(|i| i.kind).enumerate() {
         continue_to(
             c.k.as_ref(),
             &mut x,

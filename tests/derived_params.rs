@@ -5,7 +5,7 @@
 //! form written here).
 #![cfg(feature = "runtime")]
 
-use mechgen::{Kinematics, NewtonOptions, generic};
+use mechgen::{DynMechanism, SolveOptions, generic};
 
 const FILE: &str = r#"
 [mechanism.derived_four_bar]
@@ -26,10 +26,10 @@ q3 = 1.8959394827657874
 "#;
 
 fn param(g: &generic::Generic, name: &str) -> f64 {
-    let base = Kinematics::<f64>::info(g)
+    let base = DynMechanism::<f64>::info(g)
         .params
         .iter()
-        .position(|p| p.0 == name)
+        .position(|p| p.name == name)
         .map(|i| g.params()[i]);
     base.unwrap_or_else(|| {
         let derived = g.derived_params().unwrap();
@@ -62,7 +62,7 @@ fn setting_a_base_param_recomputes_its_derived_params_and_the_solution() {
     // The solver uses the new values.
     let q1 = 0.7;
     let mut q = [0.9, 1.9];
-    Kinematics::<f64>::solve_position(&g, &[q1], &mut q, &NewtonOptions::default()).unwrap();
+    DynMechanism::<f64>::solve_position(&g, &[q1], &mut q, &SolveOptions::default()).unwrap();
     let want = rocker_angle(0.1, l2, 0.33, 0.44, q1);
     let diff = (q[1] - want + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
         - std::f64::consts::PI;
@@ -72,10 +72,10 @@ fn setting_a_base_param_recomputes_its_derived_params_and_the_solution() {
 #[test]
 fn a_derived_param_cannot_be_set_and_is_not_a_free_value() {
     let mut g = generic::load("derived.toml", FILE).unwrap().remove(0);
-    let names: Vec<String> = Kinematics::<f64>::info(&g)
+    let names: Vec<String> = DynMechanism::<f64>::info(&g)
         .params
         .iter()
-        .map(|p| p.0.clone())
+        .map(|p| p.name.clone())
         .collect();
     assert_eq!(names, ["l1", "a", "b", "l3"], "the base params");
     let err = g.set_param("l2", 1.0).unwrap_err();

@@ -5,7 +5,7 @@
 mod common;
 
 use common::{Table, angle_diff};
-use mechgen::{Kind, NewtonOptions, SolveError, StaticInfo};
+use mechgen::{Kind, SolveError, SolveOptions, StaticInfo};
 
 const TOLERANCE: f64 = 1e-4;
 /// Largest continuation substep: 1°.
@@ -122,7 +122,7 @@ macro_rules! sweep_f32 {
         fn $fn(reference: &Table) -> Result<Columns, (usize, SolveError)> {
             use mechgen::$module::{INFO, $ty};
             let m = $ty::<f32>::default();
-            let options = NewtonOptions::<f32>::default();
+            let options = SolveOptions::<f32>::default();
             let (x, q) = $ty::<f32>::start();
             let (mut x, mut q) = (x.to_array(), q.to_array());
             // Settle the start configuration (its values are rounded).

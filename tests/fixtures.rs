@@ -46,7 +46,7 @@ fn compiled_in_mechanisms_match_their_references() {
             0,
             &values,
             1.0,
-            &Continuation::for_input(info.inputs[0].1, span),
+            &Continuation::for_input(info.inputs[0].kind, span),
         );
         for (i, r) in rows.iter().enumerate() {
             assert!(

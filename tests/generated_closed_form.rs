@@ -19,7 +19,9 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use common::angle_diff;
 use mechgen::generic::{self, Generic};
-use mechgen::{Kinematics, NewtonOptions, SolveError, shaper, slider_crank};
+use mechgen::{
+    DynMechanism, InputMotion, SolveError, SolveOptions, StaticMechanism, shaper, slider_crank,
+};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
 
@@ -106,10 +108,10 @@ fn check(g: &mut Generic, case: &(Inverted, f64, bool, [f64; 4])) -> Result<f64,
     let guess: Vec<f64> = (0..4)
         .map(|i| want[i] + 1e-3 * perturb[i] * if ANGLE[i] { 1.0 } else { scale })
         .collect();
-    let options = NewtonOptions::default();
+    let options = SolveOptions::default();
     let mut worst: f64 = 0.0;
     let mut answers = Vec::new();
-    for engine in [&generated as &dyn Kinematics<f64>, &*g] {
+    for engine in [&generated as &dyn DynMechanism<f64>, &*g] {
         let mut q = guess.clone();
         let report = engine
             .solve_position(&[x], &mut q, &options)
@@ -134,7 +136,7 @@ fn check(g: &mut Generic, case: &(Inverted, f64, bool, [f64; 4])) -> Result<f64,
     let h = 1e-6;
     let (a, b) = (m.closed(plus, x + h).0, m.closed(plus, x - h).0);
     let mut qd = vec![0.0; 4];
-    Kinematics::solve_velocity(&generated, &[x], &answers[0], &[1.0], &mut qd)
+    DynMechanism::solve_velocity(&generated, &[x], &answers[0], &[1.0], &mut qd)
         .map_err(|e| TestCaseError::fail(format!("{e}")))?;
     for i in 0..4 {
         let diff = if ANGLE[i] {
@@ -199,26 +201,27 @@ fn random_inverted_slider_cranks_generated_equals_generic_and_closed_form() {
 
 #[test]
 fn ticks_of_closed_form_mechanisms_take_no_iteration() {
-    let newton = NewtonOptions {
+    let newton = SolveOptions {
         closed_forms: false,
-        ..NewtonOptions::default()
+        ..SolveOptions::default()
     };
     let (xd, xdd) = ([1.0], [0.0]);
     let step = PI / 180.0;
     macro_rules! run {
         ($m:expr, $guess:expr) => {{
             let m = $m;
-            for (options, closed) in [(NewtonOptions::default(), true), (newton, false)] {
-                let mut t = m
-                    .tick_start(&[0.0], &xd, &xdd, &$guess, &options)
-                    .expect("start");
+            for (options, closed) in [(SolveOptions::default(), true), (newton, false)] {
+                let start = InputMotion::new([0.0], xd, xdd);
+                let mut t =
+                    StaticMechanism::tick_start(&m, &start, &$guess, &options).expect("start");
                 let mut iterations = 0;
                 for k in 1..=720 {
                     let x = [k as f64 * step];
-                    m.tick(&mut t, &x, &xd, &xdd, &options).expect("tick");
+                    StaticMechanism::tick(&m, &mut t, &InputMotion::new(x, xd, xdd), &options)
+                        .expect("tick");
                     iterations += t.report.iterations;
                     let mut fresh = t.q;
-                    m.solve_position(&x, &mut fresh, &NewtonOptions::default())
+                    m.solve_position(&x, &mut fresh, &SolveOptions::default())
                         .expect("solve");
                     for (a, b) in t.q.iter().zip(&fresh) {
                         assert!((a - b).abs() <= 1e-12, "tick {k}: {:?} vs {fresh:?}", t.q);
@@ -257,9 +260,9 @@ fn generated_slider_crank_near_and_past_its_dead_point() {
             off: 0.05,
         },
     };
-    let m: &dyn Kinematics<f64> = &typed;
+    let m: &dyn DynMechanism<f64> = &typed;
     let dead = (0.25f64 / 0.3).asin();
-    let options = NewtonOptions::default();
+    let options = SolveOptions::default();
     let mut q = slider(dead - 0.3).0;
     let (mut worst_q, mut worst_qd): (f64, f64) = (0.0, 0.0);
     for k in 2..=10 {
@@ -303,8 +306,8 @@ fn generated_shaper_slot_through_the_crank_pivot() {
         l3: 0.5,
     };
     let typed = shaper::Shaper { params: m.params() };
-    let generated: &dyn Kinematics<f64> = &typed;
-    let options = NewtonOptions::default();
+    let generated: &dyn DynMechanism<f64> = &typed;
+    let options = SolveOptions::default();
     let mut q = m.closed(true, -FRAC_PI_2 + 0.3).0;
     let mut worst: f64 = 0.0;
     for k in 2..=10 {
@@ -331,7 +334,7 @@ fn generated_shaper_slot_through_the_crank_pivot() {
         }
         .params(),
     };
-    let at: &dyn Kinematics<f64> = &at_typed;
+    let at: &dyn DynMechanism<f64> = &at_typed;
     let mut trial = q.clone();
     let r = at.solve_position(&[0.3], &mut trial, &options);
     assert!(matches!(r, Err(SolveError::Singular { .. })), "{r:?}");

@@ -6,9 +6,9 @@ mod common;
 
 use common::angle_diff;
 use mechgen::sweep::{Continuation, sweep};
-use mechgen::{Kind, Kinematics, MechanismInfo, generic};
+use mechgen::{DynMechanism, Kind, MechanismInfo, generic};
 
-fn engines() -> Vec<(Box<dyn Kinematics<f64>>, generic::Generic)> {
+fn engines() -> Vec<(Box<dyn DynMechanism<f64>>, generic::Generic)> {
     let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
         .expect("the compiled-in file loads at run time");
     assert_eq!(loaded.len(), mechgen::MECHANISMS.len());
@@ -34,7 +34,7 @@ fn sweep_difference(
         match (&ra.result, &rb.result) {
             (Ok(sa), Ok(sb)) => {
                 for i in 0..nu {
-                    let d = if info.unknowns[i].1 == Kind::Angle {
+                    let d = if info.unknowns[i].kind == Kind::Angle {
                         angle_diff(sa.q[i], sb.q[i])
                     } else {
                         sa.q[i] - sb.q[i]
@@ -72,18 +72,18 @@ fn sweep_difference(
 fn generic_and_generated_agree_over_full_sweeps() {
     for (k, g) in engines() {
         let info = k.info();
-        assert_eq!(info, Kinematics::<f64>::info(&g), "same description");
+        assert_eq!(info, DynMechanism::<f64>::info(&g), "same description");
         // A full turn around the start input, from 170° below it (rounded down to 10°): an angle
         // input's start is moved by whole turns to the representative nearest the first value,
         // so this keeps the start where it is and the sweep covers its whole branch (`sixbar_g`,
         // start 280.67°, dead points 244.53° and 344.13°: from 110° to 470°).
-        let first = ((info.inputs[0].2.to_degrees() - 170.0) / 10.0).floor() * 10.0;
+        let first = ((info.inputs[0].start.to_degrees() - 170.0) / 10.0).floor() * 10.0;
         let values: Vec<f64> = (0..=72)
             .map(|i| (first + f64::from(i) * 5.0).to_radians())
             .collect();
-        let c = Continuation::for_input(info.inputs[0].1, 1.0);
-        let (values, c) = if info.inputs[0].1 == Kind::Length {
-            let s = info.inputs[0].2;
+        let c = Continuation::for_input(info.inputs[0].kind, 1.0);
+        let (values, c) = if info.inputs[0].kind == Kind::Length {
+            let s = info.inputs[0].start;
             let v: Vec<f64> = (0..=20).map(|i| s * (1.0 + 0.01 * f64::from(i))).collect();
             (
                 v,
@@ -161,8 +161,8 @@ fn same_error_values() {
         let info = k.info();
         let (ni, nu) = (info.inputs.len(), info.unknowns.len());
         let x = vec![f64::NAN; ni];
-        let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
-        let opts = mechgen::NewtonOptions::default();
+        let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
+        let opts = mechgen::SolveOptions::default();
         assert_eq!(
             k.solve_position(&x, &mut q.clone(), &opts),
             g.solve_position(&x, &mut q, &opts)
@@ -175,8 +175,8 @@ fn same_error_values() {
                 .unwrap_err()
         );
         let mut qd = vec![0.0; nu];
-        let xs: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
-        let q0: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
+        let xs: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+        let q0: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
         assert_eq!(
             k.solve_velocity(&xs, &q0, &vec![f64::INFINITY; ni], &mut qd),
             g.solve_velocity(&xs, &q0, &vec![f64::INFINITY; ni], &mut qd)
@@ -187,10 +187,10 @@ fn same_error_values() {
 #[test]
 fn generic_f32_runs() {
     for (_, g) in engines() {
-        let info = Kinematics::<f32>::info(&g);
-        let x: Vec<f32> = info.inputs.iter().map(|i| i.2 as f32).collect();
-        let mut q: Vec<f32> = info.unknowns.iter().map(|u| u.2 as f32).collect();
-        let r = g.solve_position(&x, &mut q, &mechgen::NewtonOptions::default());
+        let info = DynMechanism::<f32>::info(&g);
+        let x: Vec<f32> = info.inputs.iter().map(|i| i.start as f32).collect();
+        let mut q: Vec<f32> = info.unknowns.iter().map(|u| u.start as f32).collect();
+        let r = g.solve_position(&x, &mut q, &mechgen::SolveOptions::default());
         assert!(r.is_ok(), "{}: {r:?}", info.name);
         assert!(q.iter().all(|v| v.is_finite()));
     }
@@ -205,10 +205,10 @@ fn a_failed_position_solve_leaves_the_guess_alone_in_both_engines() {
         }
         // 170°: past the dead point at 135.95°, no configuration exists.
         let x = [170f64.to_radians()];
-        let guess: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
-        for engine in [k.as_ref(), &g as &dyn Kinematics<f64>] {
+        let guess: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
+        for engine in [k.as_ref(), &g as &dyn DynMechanism<f64>] {
             let mut q = guess.clone();
-            let r = engine.solve_position(&x, &mut q, &mechgen::NewtonOptions::default());
+            let r = engine.solve_position(&x, &mut q, &mechgen::SolveOptions::default());
             assert!(
                 matches!(r, Err(mechgen::SolveError::Unassemblable { .. })),
                 "{r:?}"
@@ -253,7 +253,7 @@ start = { a = 1.5, b = 1.5, q2 = 0.0, q3 = 3.14159 }
         assert!(s.q.iter().all(|v| v.abs() < 10.0), "{:?}", s.q);
         let mut phi = [0.0; 2];
         let x = [r.input, 1.5];
-        Kinematics::<f64>::residual(&mechs[0], &x, &s.q, &mut phi).expect("sizes");
+        DynMechanism::<f64>::residual(&mechs[0], &x, &s.q, &mut phi).expect("sizes");
         assert!(phi.iter().all(|v| v.abs() < 1e-13), "{phi:?}");
     }
 }
@@ -271,14 +271,14 @@ fn closed_form_blocks_take_no_iterations() {
             "sixbar_g" => false,
             _ => continue,
         };
-        let x: Vec<f64> = info.inputs.iter().map(|i| i.2 * 1.01 + 0.01).collect();
-        let start: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
-        let newton = mechgen::NewtonOptions {
+        let x: Vec<f64> = info.inputs.iter().map(|i| i.start * 1.01 + 0.01).collect();
+        let start: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
+        let newton = mechgen::SolveOptions {
             closed_forms: false,
-            ..mechgen::NewtonOptions::default()
+            ..mechgen::SolveOptions::default()
         };
         let (mut a, mut b) = (start.clone(), start);
-        let ra = g.solve_position(&x, &mut a, &mechgen::NewtonOptions::default());
+        let ra = g.solve_position(&x, &mut a, &mechgen::SolveOptions::default());
         let rb = g.solve_position(&x, &mut b, &newton);
         let (ra, rb) = (ra.expect("solves"), rb.expect("solves"));
         assert_eq!(ra.iterations == 0, closed, "{}: {ra:?}", info.name);

@@ -13,7 +13,7 @@
 use std::cell::Cell;
 use std::sync::OnceLock;
 
-use mechgen::{Kinematics, NewtonOptions, PointMotion, generic};
+use mechgen::{DynMechanism, InputMotion, PointMotion, SolveOptions, generic};
 use mechgen_codegen::diagnostic::render_one;
 use mechgen_codegen::{SourceFile, analyze, generate_source};
 use proptest::prelude::*;
@@ -394,11 +394,11 @@ fn check_text(text: &str) -> Result<Outcome, TestCaseError> {
 /// One solve of a mechanism loaded from arbitrary text, from its `start`: no panic, no NaN in an
 /// Ok answer.
 fn run_engine(g: &generic::Generic) -> Result<(), TestCaseError> {
-    let info = Kinematics::<f64>::info(g);
-    let x: Vec<f64> = info.inputs.iter().map(|c| c.2).collect();
-    let mut q: Vec<f64> = info.unknowns.iter().map(|c| c.2).collect();
+    let info = DynMechanism::<f64>::info(g);
+    let x: Vec<f64> = info.inputs.iter().map(|c| c.start).collect();
+    let mut q: Vec<f64> = info.unknowns.iter().map(|c| c.start).collect();
     let finite = |v: &[f64]| v.iter().all(|v| v.is_finite());
-    if g.solve_position(&x, &mut q, &NewtonOptions::default())
+    if g.solve_position(&x, &mut q, &SolveOptions::default())
         .is_ok()
     {
         prop_assert!(finite(&q), "{}: position {q:?}", info.name);
@@ -409,13 +409,13 @@ fn run_engine(g: &generic::Generic) -> Result<(), TestCaseError> {
         prop_assert!(finite(&qd), "{}: velocity {qd:?}", info.name);
     }
     let mut qdd = vec![0.0; q.len()];
-    if g.solve_acceleration(&x, &q, &xd, &qd, &xd, &mut qdd)
+    if g.solve_acceleration(InputMotion::new(&x, &xd, &xd), &q, &qd, &mut qdd)
         .is_ok()
     {
         prop_assert!(finite(&qdd), "{}: acceleration {qdd:?}", info.name);
     }
     let mut points = vec![PointMotion::default(); info.points.len()];
-    g.points(&x, &q, &xd, &qd, &xd, &qdd, &mut points)
+    g.points(InputMotion::new(&x, &xd, &xd), &q, &qd, &qdd, &mut points)
         .map_err(|e| TestCaseError::fail(e.to_string()))?;
     g.chains(&x, &q)
         .map_err(|e| TestCaseError::fail(e.to_string()))?;

@@ -10,7 +10,7 @@ use mechgen::{Kind, MechanismInfo, SolveError};
 fn sweep_degrees(name: &str, from: i32, to: i32, step: usize) -> (MechanismInfo, Vec<Row>) {
     let k = mechgen::lookup::<f64>(name).unwrap_or_else(|| panic!("{name}: compiled in"));
     let info = k.info();
-    assert_eq!(info.inputs[0].1, Kind::Angle);
+    assert_eq!(info.inputs[0].kind, Kind::Angle);
     let values: Vec<f64> = (from..=to)
         .step_by(step)
         .map(|d| f64::from(d).to_radians())
@@ -21,7 +21,11 @@ fn sweep_degrees(name: &str, from: i32, to: i32, step: usize) -> (MechanismInfo,
 }
 
 fn param(info: &MechanismInfo, name: &str) -> f64 {
-    info.params.iter().find(|p| p.0 == name).expect("param").2
+    info.params
+        .iter()
+        .find(|p| p.name == name)
+        .expect("param")
+        .value
 }
 
 fn point(info: &MechanismInfo, s: &Solved, name: &str) -> [f64; 2] {
@@ -33,7 +37,7 @@ fn unknown(info: &MechanismInfo, s: &Solved, name: &str) -> f64 {
     s.q[info
         .unknowns
         .iter()
-        .position(|u| u.0 == name)
+        .position(|u| u.name == name)
         .expect("unknown")]
 }
 

@@ -9,7 +9,7 @@ use std::path::Path;
 use mechgen::generic::{self, Generic, Sketch};
 use mechgen::plot::{drawing_svg, point_paths, sweep_frames};
 use mechgen::sweep::{Continuation, Row, sweep};
-use mechgen::{Kind, Kinematics, MechanismInfo};
+use mechgen::{DynMechanism, Kind, MechanismInfo};
 
 type P = [f64; 2];
 
@@ -29,7 +29,7 @@ fn jansen() -> Generic {
 
 /// Sweeps input 0 from `from` to `to` degrees in `step` degree steps.
 fn sweep_degrees(model: &Generic, from: i32, to: i32, step: usize) -> (MechanismInfo, Vec<Row>) {
-    let info = Kinematics::<f64>::info(model);
+    let info = DynMechanism::<f64>::info(model);
     let values: Vec<f64> = (from..=to)
         .step_by(step)
         .map(|d| f64::from(d).to_radians())
@@ -40,14 +40,18 @@ fn sweep_degrees(model: &Generic, from: i32, to: i32, step: usize) -> (Mechanism
 }
 
 fn param(info: &MechanismInfo, name: &str) -> f64 {
-    info.params.iter().find(|p| p.0 == name).expect("param").2
+    info.params
+        .iter()
+        .find(|p| p.name == name)
+        .expect("param")
+        .value
 }
 
 fn unknown(info: &MechanismInfo, q: &[f64], name: &str) -> f64 {
     q[info
         .unknowns
         .iter()
-        .position(|u| u.0 == name)
+        .position(|u| u.name == name)
         .expect("unknown")]
 }
 
@@ -338,7 +342,7 @@ start = { q1 = 0.0, s = 0.3, qc = 3.1 }
     let mut models = generic::load("two.toml", text).expect("loads");
     let (trammel, cylinder) = (models.remove(0), models.remove(0));
 
-    let info = Kinematics::<f64>::info(&trammel);
+    let info = DynMechanism::<f64>::info(&trammel);
     let values: Vec<f64> = (0..=10).map(|i| 0.02 + 0.02 * f64::from(i)).collect();
     let c = Continuation::for_input(Kind::Length, 0.2);
     let rows = sweep(&trammel, 0, &values, 1.0, &c);
@@ -367,7 +371,7 @@ start = { q1 = 0.0, s = 0.3, qc = 3.1 }
     let svg = drawing_svg("trammel", &frames[..2], &[]).expect("drawing");
     assert!(svg.contains("slider on a fixed guide") && !svg.contains("ground pivot"));
 
-    let info = Kinematics::<f64>::info(&cylinder);
+    let info = DynMechanism::<f64>::info(&cylinder);
     let (_, rows) = sweep_degrees(&cylinder, 0, 360, 30);
     for row in &rows {
         let s = row.result.as_ref().expect("solved");

@@ -14,7 +14,7 @@ fn check_against_reference(name: &str, tolerance: f64) {
     ));
     let info = k.info();
     let input = &reference.header[0];
-    assert_eq!(input, &info.inputs[0].0);
+    assert_eq!(input, &info.inputs[0].name);
     let values = reference.column(input);
     let rows = sweep(
         k.as_ref(),

@@ -5,7 +5,7 @@
 mod common;
 
 use common::scenes::{check_compiled_in_scenes, expected_columns, full_sweep};
-use mechgen::{NewtonOptions, Scene, SceneVisitor};
+use mechgen::{InputMotion, Scene, SceneVisitor, SolveOptions};
 
 #[test]
 fn scene_outputs_equal_the_full_solvers() {
@@ -27,7 +27,7 @@ impl SceneVisitor<f64> for Ticks {
         let info = scene.info();
         let full = mechgen::lookup::<f64>(info.mechanism).unwrap();
         let rows = full_sweep(full.as_ref());
-        let options = NewtonOptions::default();
+        let options = SolveOptions::default();
         let mut tick: Option<S::Tick> = None;
         for r in rows.iter() {
             let Ok(solved) = &r.result else { break };
@@ -35,22 +35,23 @@ impl SceneVisitor<f64> for Ticks {
             let (mut xd, xdd) = (S::X::zeros(), S::X::zeros());
             x.as_mut().copy_from_slice(&[r.input]);
             xd.as_mut()[0] = 1.0;
+            let input = InputMotion::new(x, xd, xdd);
             let outputs = match &mut tick {
                 None => {
                     let mut q = S::Q::zeros();
                     q.as_mut().copy_from_slice(&solved.q);
-                    let t = scene.tick_start(&x, &xd, &xdd, &q, &options).unwrap();
+                    let t = scene.tick_start(&input, &q, &options).unwrap();
                     tick.insert(t)
                 }
                 Some(t) => {
-                    scene.tick(t, &x, &xd, &xdd, &options).unwrap();
+                    scene.tick(t, &input, &options).unwrap();
                     t
                 }
             };
             let got = scene.outputs(outputs);
             let mut q = S::Q::zeros();
             q.as_mut().copy_from_slice(&solved.q);
-            let (want, _) = scene.solve(&x, &xd, &xdd, &mut q, &options).unwrap();
+            let (want, _) = scene.solve(&input, &mut q, &options).unwrap();
             for (c, (a, b)) in got.as_ref().iter().zip(want.as_ref()).enumerate() {
                 if (a - b).abs() > 1e-9 * b.abs().max(1.0) {
                     self.fails.push(format!(
@@ -101,19 +102,26 @@ fn the_typed_scene_api() {
     use mechgen::sixbar_e_path::{Inputs, SixbarEPath};
     let scene = SixbarEPath::<f64>::default();
     let (x, q) = SixbarEPath::<f64>::start();
-    let options = NewtonOptions::default();
-    let (out, _, _) = scene
-        .solve(x, Inputs { q1: 1.0 }, Inputs { q1: 0.0 }, q, &options)
-        .unwrap();
+    let options = SolveOptions::default();
+    let input = InputMotion::new(x, Inputs { q1: 1.0 }, Inputs { q1: 0.0 });
+    let (out, _, _) = scene.solve(&input, &q, &options).unwrap();
     let full = mechgen::sixbar::Sixbar::<f64>::default()
-        .solve(x, Inputs { q1: 1.0 }, Inputs { q1: 0.0 }, q, &options)
+        .solve(&input, &q, &options)
         .unwrap();
     assert_eq!([out.E_x, out.E_y], full.points.E.position);
     let mut t = scene
-        .tick_start(&[0.0], &[1.0], &[0.0], &q.to_array(), &options)
+        .tick_start(
+            &InputMotion::new(Inputs { q1: 0.0 }, Inputs { q1: 1.0 }, Inputs { q1: 0.0 }),
+            &q,
+            &options,
+        )
         .unwrap();
     scene
-        .tick(&mut t, &[0.01], &[1.0], &[0.0], &options)
+        .tick(
+            &mut t,
+            &InputMotion::new(Inputs { q1: 0.01 }, Inputs { q1: 1.0 }, Inputs { q1: 0.0 }),
+            &options,
+        )
         .unwrap();
     assert!(SixbarEPath::outputs(&t).E_x.is_finite());
 }
@@ -137,7 +145,7 @@ fn sweep_scene_writes_only_the_scene_columns() {
     for name in mechgen::SCENES {
         let s = mechgen::lookup_scene::<f64>(name).unwrap().info();
         let full = mechgen::lookup::<f64>(&s.mechanism).unwrap().info();
-        let mut want = vec![full.inputs[0].0.clone()];
+        let mut want = vec![full.inputs[0].name.clone()];
         want.extend(expected_columns(&s));
         for engine in ["generated", "generic"] {
             let csv = dir.join(format!("{name}-{engine}.csv"));

@@ -13,7 +13,7 @@ use common::stress::{
     within,
 };
 use mechgen::sweep::continue_to;
-use mechgen::{NewtonOptions, PointMotion};
+use mechgen::{PointMotion, SolveOptions};
 
 const EPS: f64 = f64::EPSILON;
 
@@ -52,7 +52,7 @@ fn measure(name: &'static str) -> Vec<Measured> {
     let (k, x0, q0) = start(name);
     let info = k.info();
     let scale = length_scale(&info);
-    let unknowns: Vec<&str> = info.unknowns.iter().map(|u| u.0.as_str()).collect();
+    let unknowns: Vec<&str> = info.unknowns.iter().map(|u| u.name.as_str()).collect();
     let mut out = Vec::new();
     let mut side = String::new();
     let (mut x, mut q) = (x0.clone(), q0.clone());
@@ -62,11 +62,11 @@ fn measure(name: &'static str) -> Vec<Measured> {
             side = row[0].clone();
             (x, q) = (x0.clone(), q0.clone());
         }
-        let input = col(row, &info.inputs[0].0);
+        let input = col(row, &info.inputs[0].name);
         continue_to(k.as_ref(), &mut x, &mut q, 0, input, &continuation())
             .unwrap_or_else(|e| panic!("{name} {side}: continuation to {input}: {e:?}"));
         let condition = k
-            .solve_position(&x, &mut q.clone(), &NewtonOptions::default())
+            .solve_position(&x, &mut q.clone(), &SolveOptions::default())
             .expect("settled")
             .condition();
         let (qd, qdd, points) = motion(k.as_ref(), &x, &q);

@@ -10,7 +10,7 @@ mod common;
 
 use common::angle_diff;
 use common::stress::{DEAD_POINT_MECHANISMS, cell, length_scale, reference, within};
-use mechgen::{Kind, Kinematics, NewtonOptions, PointMotion, SolveError};
+use mechgen::{DynMechanism, InputMotion, Kind, PointMotion, SolveError, SolveOptions};
 
 /// Largest continuation substep: 1 degree.
 const SUBSTEP: f64 = std::f64::consts::PI / 180.0;
@@ -18,12 +18,12 @@ const SUBSTEP: f64 = std::f64::consts::PI / 180.0;
 /// Follows the branch of (x, q) to `target` in substeps of at most 1 degree with a tangent
 /// predictor, halving a substep whose corrector fails (f32 or f64 alike).
 fn follow<T: mechgen::Real>(
-    k: &dyn Kinematics<T>,
+    k: &dyn DynMechanism<T>,
     x: &mut [T; 1],
     q: &mut [T],
     target: T,
 ) -> Result<(), SolveError> {
-    let options = NewtonOptions::<T>::default();
+    let options = SolveOptions::<T>::default();
     let mut tangent = vec![T::zero(); q.len()];
     let mut h = SUBSTEP;
     let mut last = SolveError::Unassemblable {
@@ -64,7 +64,7 @@ fn follow<T: mechgen::Real>(
 /// Positions (unknowns, then point coordinates), velocities and accelerations of one state, as
 /// f64, for input rate 1 and input acceleration 0.
 fn state<T: mechgen::Real>(
-    k: &dyn Kinematics<T>,
+    k: &dyn DynMechanism<T>,
     x: &[T; 1],
     q: &[T],
 ) -> Result<[Vec<f64>; 3], SolveError> {
@@ -73,8 +73,8 @@ fn state<T: mechgen::Real>(
     let mut points = vec![PointMotion::<T>::default(); k.info().points.len()];
     let (one, zero) = ([T::one()], [T::zero()]);
     k.solve_velocity(x, q, &one, &mut qd)?;
-    k.solve_acceleration(x, q, &one, &qd, &zero, &mut qdd)?;
-    k.points(x, q, &one, &qd, &zero, &qdd, &mut points)?;
+    k.solve_acceleration(InputMotion::new(x, &one, &zero), q, &qd, &mut qdd)?;
+    k.points(InputMotion::new(x, &one, &zero), q, &qd, &qdd, &mut points)?;
     let f = |v: &[T]| v.iter().map(|t| t.to_f64()).collect::<Vec<f64>>();
     let (mut pos, mut vel, mut acc) = (f(q), f(&qd), f(&qdd));
     for p in &points {
@@ -86,12 +86,12 @@ fn state<T: mechgen::Real>(
 }
 
 /// The start configuration of `name` in precision T, settled.
-fn start<T: mechgen::Real>(name: &str) -> (Box<dyn Kinematics<T>>, [T; 1], Vec<T>) {
+fn start<T: mechgen::Real>(name: &str) -> (Box<dyn DynMechanism<T>>, [T; 1], Vec<T>) {
     let k = mechgen::lookup::<T>(name).expect("compiled in");
     let info = k.info();
-    let x = [T::lit(info.inputs[0].2)];
-    let mut q: Vec<T> = info.unknowns.iter().map(|u| T::lit(u.2)).collect();
-    k.solve_position(&x, &mut q, &NewtonOptions::default())
+    let x = [T::lit(info.inputs[0].start)];
+    let mut q: Vec<T> = info.unknowns.iter().map(|u| T::lit(u.start)).collect();
+    k.solve_position(&x, &mut q, &SolveOptions::default())
         .expect("start assembles");
     (k, x, q)
 }
@@ -151,7 +151,11 @@ fn f32_follows_f64_over_every_mechanism() {
         let (k64, mut x64, mut q64) = start::<f64>(name);
         let (k32, mut x32, mut q32) = start::<f32>(name);
         let info = k64.info();
-        let angles: Vec<bool> = info.unknowns.iter().map(|u| u.1 == Kind::Angle).collect();
+        let angles: Vec<bool> = info
+            .unknowns
+            .iter()
+            .map(|u| u.kind == Kind::Angle)
+            .collect();
         let (mut got, mut want) = (Vec::new(), Vec::new());
         for deg in range(name) {
             let input = deg.to_radians() as f32;
@@ -228,10 +232,14 @@ fn f32_near_dead_points() {
             let (k64, mut x64, mut q64) = start::<f64>(name);
             let (k32, mut x32, mut q32) = start::<f32>(name);
             let info = k64.info();
-            let angles: Vec<bool> = info.unknowns.iter().map(|u| u.1 == Kind::Angle).collect();
+            let angles: Vec<bool> = info
+                .unknowns
+                .iter()
+                .map(|u| u.kind == Kind::Angle)
+                .collect();
             for row in table.rows.iter().filter(|r| r[0] == side) {
                 let offset = cell(&table, row, "offset_deg");
-                let input = inside_f32(cell(&table, row, &info.inputs[0].0), dead);
+                let input = inside_f32(cell(&table, row, &info.inputs[0].name), dead);
                 let delta = (dead - f64::from(input)).abs();
                 follow(k64.as_ref(), &mut x64, &mut q64, f64::from(input)).expect("f64 inside");
                 let want = state(k64.as_ref(), &x64, &q64).expect("f64 state");

@@ -13,7 +13,7 @@ use common::stress::{
 };
 use mechgen::report::table;
 use mechgen::sweep::{Row, continue_to, sweep};
-use mechgen::{NewtonOptions, SolveError};
+use mechgen::{NewtonOptions, SolveError, SolveOptions};
 
 /// Degrees beyond the dead point at which no configuration exists.
 const BEYOND_DEG: [f64; 5] = [1e-6, 1e-5, 1e-4, 1e-2, 1.0];
@@ -31,7 +31,7 @@ fn just_past_a_dead_point_is_unassemblable() {
                 let (mut x, mut q) = (x0.clone(), q0.clone());
                 let mut guesses = Vec::new();
                 for row in table.rows.iter().filter(|r| r[0] == side) {
-                    let input = cell(&table, row, &k.info().inputs[0].0);
+                    let input = cell(&table, row, &k.info().inputs[0].name);
                     continue_to(k.as_ref(), &mut x, &mut q, 0, input, &continuation())
                         .expect("inside the range");
                     if cell(&table, row, "offset_deg") < 0.1 {
@@ -42,7 +42,7 @@ fn just_past_a_dead_point_is_unassemblable() {
                     let past = [dead + direction * beyond.to_radians()];
                     for guess in &guesses {
                         let mut trial = guess.clone();
-                        let result = k.solve_position(&past, &mut trial, &NewtonOptions::default());
+                        let result = k.solve_position(&past, &mut trial, &SolveOptions::default());
                         match result {
                             Err(SolveError::Unassemblable {
                                 iterations,
@@ -96,7 +96,7 @@ fn at_the_dead_point_itself_newton_converges_linearly() {
                 // (A closed-form dyad block takes no iterations: 0 is allowed for the four-bar
                 // loop, which both engines solve in closed form.)
                 let report = k
-                    .solve_position(&[dead], &mut q, &NewtonOptions::default())
+                    .solve_position(&[dead], &mut q, &SolveOptions::default())
                     .unwrap_or_else(|e| panic!("{name} {side}: {e:?}"));
                 eprintln!(
                     "{name:<16} {side:<6} at the dead point from 1e-2 deg inside: {} iterations, cond {:.1e}",
@@ -123,9 +123,9 @@ fn at_the_dead_point_itself_newton_converges_linearly() {
     }
     // Newton at a dead point is exercised on both mechanisms: the generic engine with its closed
     // forms off iterates on every block.
-    let newton = NewtonOptions {
+    let newton = SolveOptions {
         closed_forms: false,
-        ..NewtonOptions::default()
+        ..SolveOptions::default()
     };
     for name in DEAD_POINT_MECHANISMS {
         let (k, mut x, mut q) = start_with(generic(name));
@@ -145,9 +145,12 @@ fn no_convergence_means_the_iteration_cap_was_too_tight() {
         for (k, x, q) in engines(name) {
             // An ordinary configuration 0.2 rad from the start, from the start's values.
             let moved = [x[0] + 0.2];
-            let tight = NewtonOptions {
-                max_iterations: 2,
-                ..NewtonOptions::default()
+            let tight = SolveOptions {
+                newton: NewtonOptions {
+                    max_iterations: 2,
+                    ..NewtonOptions::default()
+                },
+                ..SolveOptions::default()
             };
             let mut trial = q.clone();
             let result = k.solve_position(&moved, &mut trial, &tight);
@@ -162,14 +165,17 @@ fn no_convergence_means_the_iteration_cap_was_too_tight() {
             );
             // The same solve with the default cap converges, continuing from where it stopped.
             let report = k
-                .solve_position(&moved, &mut trial, &NewtonOptions::default())
+                .solve_position(&moved, &mut trial, &SolveOptions::default())
                 .unwrap_or_else(|e| panic!("{name}: {e:?}"));
             assert!(report.residual <= 64.0 * f64::EPSILON, "{name}: {report:?}");
             // A tolerance below rounding is met as far as the precision allows: steps that stop
             // shrinking at a rounding-level residual are convergence, not failure.
-            let exact = NewtonOptions {
-                tolerance: 0.0,
-                ..NewtonOptions::default()
+            let exact = SolveOptions {
+                newton: NewtonOptions {
+                    tolerance: 0.0,
+                    ..NewtonOptions::default()
+                },
+                ..SolveOptions::default()
             };
             let mut again = q.clone();
             let report = k
@@ -218,7 +224,7 @@ fn check_stops(name: &str, rows: &[Row], stop_at: impl Fn(f64) -> Option<f64>) {
         assert!(stopped.at_dead_point(), "{at}: {stopped:?}");
         let expected = format!(
             "unassemblable: dead point near {} = {:.4} deg",
-            info.inputs[0].0,
+            info.inputs[0].name,
             dead.to_degrees()
         );
         assert!(
@@ -240,9 +246,9 @@ fn reference_row(name: &str, side: &str, offset_deg: &str) -> (f64, Vec<f64>) {
     let q = info
         .unknowns
         .iter()
-        .map(|u| cell(&table, row, &u.0))
+        .map(|u| cell(&table, row, &u.name))
         .collect();
-    (cell(&table, row, &info.inputs[0].0), q)
+    (cell(&table, row, &info.inputs[0].name), q)
 }
 
 /// The row at `input` is on the start branch: its unknowns match the reference (modulo 2π).

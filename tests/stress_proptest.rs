@@ -29,8 +29,8 @@ use std::sync::OnceLock;
 use common::angle_diff;
 use mechgen::generic::Generic;
 use mechgen::{
-    Kind, Kinematics, NewtonOptions, PointMotion, Quantity, SolveError, four_bar, generic, sixbar,
-    slider_crank,
+    DynMechanism, InputMotion, Kind, PointMotion, Quantity, SolveError, SolveOptions, four_bar,
+    generic, sixbar, slider_crank,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
@@ -118,11 +118,11 @@ impl Mech {
 
     /// Generated solver and generic engine with this case's params, and the generated solver's
     /// params in file order.
-    fn engines(&self) -> (Box<dyn Kinematics<f64>>, Generic, Vec<f64>) {
-        fn boxed<M: Kinematics<f64> + 'static>(
+    fn engines(&self) -> (Box<dyn DynMechanism<f64>>, Generic, Vec<f64>) {
+        fn boxed<M: DynMechanism<f64> + 'static>(
             m: M,
             p: &[f64],
-        ) -> (Box<dyn Kinematics<f64>>, Vec<f64>) {
+        ) -> (Box<dyn DynMechanism<f64>>, Vec<f64>) {
             (Box::new(m), p.to_vec())
         }
         let (generated, params) = match *self {
@@ -496,7 +496,7 @@ struct Answer {
 }
 
 fn solve(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     what: &str,
     s: &Spec,
     guess: &[f64],
@@ -504,7 +504,7 @@ fn solve(
     worst: &mut Worst,
 ) -> Result<Answer, TestCaseError> {
     let nu = guess.len();
-    let options = NewtonOptions::default();
+    let options = SolveOptions::default();
     let x = [s.x];
     let mut q = guess.to_vec();
     let report = k.solve_position(&x, &mut q, &options);
@@ -515,21 +515,27 @@ fn solve(
     let residual = phi.iter().fold(0.0f64, |m, v| m.max(v.abs())) / scale;
     worst.residual = worst.residual.max(residual);
     prop_assert!(
-        residual <= options.tolerance,
+        residual <= options.newton.tolerance,
         "{what}: relative residual {residual:e} of an Ok answer"
     );
     let mut qd = vec![0.0; nu];
     let v = k.solve_velocity(&x, &q, &[s.xd], &mut qd);
     prop_assert!(v.is_ok() && finite(&qd), "{what}: velocity {v:?} {qd:?}");
     let mut qdd = vec![0.0; nu];
-    let a = k.solve_acceleration(&x, &q, &[s.xd], &qd, &[s.xdd], &mut qdd);
+    let a = k.solve_acceleration(InputMotion::new(&x, &[s.xd], &[s.xdd]), &q, &qd, &mut qdd);
     prop_assert!(
         a.is_ok() && finite(&qdd),
         "{what}: acceleration {a:?} {qdd:?}"
     );
     let mut points = vec![PointMotion::default(); k.info().points.len()];
-    k.points(&x, &q, &[s.xd], &qd, &[s.xdd], &qdd, &mut points)
-        .expect("lengths fit");
+    k.points(
+        InputMotion::new(&x, &[s.xd], &[s.xdd]),
+        &q,
+        &qd,
+        &qdd,
+        &mut points,
+    )
+    .expect("lengths fit");
     for part in point_parts(&points) {
         prop_assert!(finite(&part), "{what}: points {points:?}");
     }
@@ -545,7 +551,7 @@ fn check_valid(s: &Spec) -> Result<Worst, TestCaseError> {
     // Bit for bit (NaN-safe): the same params on both engines.
     let bits = |p: &[f64]| p.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
     prop_assert_eq!(bits(&params), bits(generic.params()), "same params set");
-    let kinds: Vec<Kind> = info.unknowns.iter().map(|u| u.1).collect();
+    let kinds: Vec<Kind> = info.unknowns.iter().map(|u| u.kind).collect();
     let scale = generic.length_scale();
     let units = units(&kinds, scale);
     let nu = kinds.len();
@@ -600,7 +606,13 @@ fn check_valid(s: &Spec) -> Result<Worst, TestCaseError> {
         let mut p = vec![PointMotion::default(); a.points.len()];
         let zero = vec![0.0; nu];
         generated
-            .points(&[x], &q, &[xd], &qd, &[0.0], &zero, &mut p)
+            .points(
+                InputMotion::new(&[x], &[xd], &[0.0]),
+                &q,
+                &qd,
+                &zero,
+                &mut p,
+            )
             .expect("lengths fit");
         let [pos, vel, _] = point_parts(&p);
         Ok([q, qd, pos, vel])
@@ -777,9 +789,9 @@ fn check_garbage(c: &Garbage) -> Result<u32, TestCaseError> {
     let mut oks = 0;
     for (what, k) in [
         ("generated", generated.as_ref()),
-        ("generic", &generic as &dyn Kinematics<f64>),
+        ("generic", &generic as &dyn DynMechanism<f64>),
     ] {
-        let options = NewtonOptions::default();
+        let options = SolveOptions::default();
         let mut q = guess.clone();
         let r = k.solve_position(&x, &mut q, &options);
         if let Some(e) = expected {
@@ -792,7 +804,7 @@ fn check_garbage(c: &Garbage) -> Result<u32, TestCaseError> {
             k.residual(&x, &q, &mut phi).expect("lengths fit");
             let residual = phi.iter().fold(0.0f64, |m, v| m.max(v.abs())) / scale;
             prop_assert!(
-                residual <= options.tolerance,
+                residual <= options.newton.tolerance,
                 "{what}: relative residual {residual:e} of an Ok answer {q:?}"
             );
         }
@@ -810,7 +822,7 @@ fn check_garbage(c: &Garbage) -> Result<u32, TestCaseError> {
             prop_assert!(finite(&qd), "{what}: Ok velocity {qd:?}");
         }
         let mut qdd = vec![0.0; nu];
-        let a = k.solve_acceleration(&x, &q, &xd, &qd, &xdd, &mut qdd);
+        let a = k.solve_acceleration(InputMotion::new(&x, &xd, &xdd), &q, &qd, &mut qdd);
         let expected = bad_position
             .or_else(|| first_non_finite(Quantity::InputRate, &xd))
             .or_else(|| first_non_finite(Quantity::Rate, &qd))
@@ -863,9 +875,9 @@ fn huge_param_is_an_error_not_a_nan_answer() {
     .expect("assembles with a small offset")
     .0;
     let (generated, generic, _) = Mech::SliderCrank { r, l, off }.engines();
-    for k in [generated.as_ref(), &generic as &dyn Kinematics<f64>] {
+    for k in [generated.as_ref(), &generic as &dyn DynMechanism<f64>] {
         let mut q = guess.clone();
-        let result = k.solve_position(&[x], &mut q, &NewtonOptions::default());
+        let result = k.solve_position(&[x], &mut q, &SolveOptions::default());
         assert!(
             matches!(result, Err(SolveError::Unassemblable { .. })),
             "{result:?} {q:?}"

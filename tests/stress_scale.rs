@@ -12,7 +12,7 @@ mod common;
 use common::angle_diff;
 use common::stress::{continuation, length_scale};
 use mechgen::sweep::continue_to;
-use mechgen::{Kind, Kinematics, NewtonOptions, PointMotion};
+use mechgen::{DynMechanism, InputMotion, Kind, PointMotion, SolveOptions};
 
 const FACTORS: [f64; 2] = [1e-3, 1e4];
 /// Angles (radians) and everything else relative to the length scale or the column's largest value.
@@ -22,12 +22,12 @@ const TOLERANCE: f64 = 1e-12;
 /// `Params::from_array` and the kinds in `INFO`.
 macro_rules! scaled {
     ($module:ident :: $ty:ident) => {
-        |s: f64| -> Box<dyn Kinematics<f64>> {
+        |s: f64| -> Box<dyn DynMechanism<f64>> {
             use mechgen::$module::{INFO, Params};
             let p = Params::<f64>::default().to_array();
             let v = std::array::from_fn(|i| match INFO.params[i].kind {
-                Kind::Length => p[i] * s,
                 Kind::Angle => p[i],
+                _ => p[i] * s,
             });
             Box::new(mechgen::$module::$ty {
                 params: Params::from_array(v),
@@ -36,15 +36,15 @@ macro_rules! scaled {
     };
 }
 
-fn sixbar(s: f64) -> Box<dyn Kinematics<f64>> {
+fn sixbar(s: f64) -> Box<dyn DynMechanism<f64>> {
     scaled!(sixbar::Sixbar)(s)
 }
 
-fn sixbar_g(s: f64) -> Box<dyn Kinematics<f64>> {
+fn sixbar_g(s: f64) -> Box<dyn DynMechanism<f64>> {
     scaled!(sixbar_g::SixbarG)(s)
 }
 
-fn shaper(s: f64) -> Box<dyn Kinematics<f64>> {
+fn shaper(s: f64) -> Box<dyn DynMechanism<f64>> {
     scaled!(shaper::Shaper)(s)
 }
 
@@ -57,24 +57,24 @@ struct Sweep {
 
 /// Sweeps the (one, angle) input of `make(s)` over `inputs` by continuation from the file's start
 /// configuration scaled by `s`, at input rate 1 and input acceleration 0.
-fn run(make: fn(f64) -> Box<dyn Kinematics<f64>>, s: f64, inputs: &[f64]) -> Sweep {
+fn run(make: fn(f64) -> Box<dyn DynMechanism<f64>>, s: f64, inputs: &[f64]) -> Sweep {
     let k = make(s);
     let info = k.info();
-    assert_eq!(info.inputs[0].1, Kind::Angle, "an angle input");
+    assert_eq!(info.inputs[0].kind, Kind::Angle, "an angle input");
     let length = |kind: Kind| kind == Kind::Length;
     let unscale = |kind: Kind, v: f64| if length(kind) { v / s } else { v };
-    let mut x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
+    let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
     let mut q: Vec<f64> = info
         .unknowns
         .iter()
-        .map(|u| if length(u.1) { u.2 * s } else { u.2 })
+        .map(|u| if length(u.kind) { u.start * s } else { u.start })
         .collect();
-    k.solve_position(&x, &mut q, &NewtonOptions::default())
+    k.solve_position(&x, &mut q, &SolveOptions::default())
         .expect("start assembles");
     let n = q.len();
     let mut columns: Vec<(bool, Vec<f64>)> = Vec::new();
     for u in &info.unknowns {
-        columns.push((u.1 == Kind::Angle, Vec::new()));
+        columns.push((u.kind == Kind::Angle, Vec::new()));
     }
     for _ in 0..2 * n + 6 * info.points.len() {
         columns.push((false, Vec::new()));
@@ -85,11 +85,17 @@ fn run(make: fn(f64) -> Box<dyn Kinematics<f64>>, s: f64, inputs: &[f64]) -> Swe
         let (mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n]);
         let mut points = vec![PointMotion::default(); info.points.len()];
         k.solve_velocity(&x, &q, &[1.0], &mut qd).expect("velocity");
-        k.solve_acceleration(&x, &q, &[1.0], &qd, &[0.0], &mut qdd)
+        k.solve_acceleration(InputMotion::new(&x, &[1.0], &[0.0]), &q, &qd, &mut qdd)
             .expect("acceleration");
-        k.points(&x, &q, &[1.0], &qd, &[0.0], &qdd, &mut points)
-            .expect("points");
-        let kinds = info.unknowns.iter().map(|u| u.1).cycle();
+        k.points(
+            InputMotion::new(&x, &[1.0], &[0.0]),
+            &q,
+            &qd,
+            &qdd,
+            &mut points,
+        )
+        .expect("points");
+        let kinds = info.unknowns.iter().map(|u| u.kind).cycle();
         let row = q
             .iter()
             .chain(&qd)
@@ -142,7 +148,7 @@ fn column_max(v: &[f64]) -> f64 {
     v.iter().fold(f64::MIN_POSITIVE, |m, x| m.max(x.abs()))
 }
 
-fn check(make: fn(f64) -> Box<dyn Kinematics<f64>>, degrees: &[f64]) {
+fn check(make: fn(f64) -> Box<dyn DynMechanism<f64>>, degrees: &[f64]) {
     let inputs: Vec<f64> = degrees.iter().map(|d| d.to_radians()).collect();
     let info = make(1.0).info();
     let length = length_scale(&info);

@@ -10,7 +10,7 @@ mod support;
 
 use mechgen::generic::Generic;
 use mechgen::sweep::{Continuation, DEAD_POINT_CONDITION, Row, sweep, sweep_budget};
-use mechgen::{Kind, Kinematics};
+use mechgen::{DynMechanism, Kind};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestCaseError, TestRunner};
 use support::{Counting, Exact, angle_diff, load};
@@ -108,9 +108,9 @@ fn run(m: &Mech, start_x: f64, values: &[f64], span: f64) -> (Vec<Row>, usize, G
     let calls;
     {
         let mut k = Counting::new(&g);
-        k.info.inputs[0].2 = start_x;
+        k.info.inputs[0].start = start_x;
         for (u, v) in k.info.unknowns.iter_mut().zip(start_q) {
-            u.2 = v;
+            u.start = v;
         }
         rows = sweep(&k, 0, values, 1.0, &Continuation::for_input(m.kind(), span));
         calls = k.calls.get();
@@ -126,9 +126,9 @@ fn check_row(m: &Mech, g: &Generic, r: &Row) -> Result<(), TestCaseError> {
         .as_ref()
         .map_err(|e| TestCaseError::fail(format!("row {} lost: {e} ({:?})", r.input, r.stopped)))?;
     let (q, qd) = m.exact(r.input).expect("in reach");
-    let info = Kinematics::<f64>::info(g);
+    let info = DynMechanism::<f64>::info(g);
     for (i, u) in info.unknowns.iter().enumerate() {
-        let (d, unit) = if u.1 == Kind::Angle {
+        let (d, unit) = if u.kind == Kind::Angle {
             (angle_diff(s.q[i], q[i]), 1.0)
         } else {
             (s.q[i] - q[i], m.scale)
@@ -136,7 +136,7 @@ fn check_row(m: &Mech, g: &Generic, r: &Row) -> Result<(), TestCaseError> {
         prop_assert!(
             d.abs() <= 1e-11 * unit,
             "{} at {}: {} vs {}",
-            u.0,
+            u.name,
             r.input,
             s.q[i],
             q[i]
@@ -145,7 +145,7 @@ fn check_row(m: &Mech, g: &Generic, r: &Row) -> Result<(), TestCaseError> {
         prop_assert!(
             rate <= 1e-8,
             "{}_vel at {}: {} vs {}",
-            u.0,
+            u.name,
             r.input,
             s.qd[i],
             qd[i]

@@ -8,13 +8,13 @@
 mod support;
 
 use mechgen::sweep::{Continuation, Row, StopReason, check_start, sweep, sweep_budget};
-use mechgen::{Kind, Kinematics, report};
+use mechgen::{DynMechanism, Kind, report};
 use support::{Counting, Exact, angle_diff, load};
 
 /// Every row solved and equal to `exact` (angles modulo 2π and lengths to `tol`, rates to
 /// `tol_rate` relative to `scale`); the unknowns' kinds say which are angles.
 fn assert_rows(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     rows: &[Row],
     exact: impl Fn(f64) -> Exact,
     tol: f64,
@@ -28,7 +28,7 @@ fn assert_rows(
         });
         let (q, qd) = exact(r.input);
         for (i, u) in info.unknowns.iter().enumerate() {
-            let d = if u.1 == Kind::Angle {
+            let d = if u.kind == Kind::Angle {
                 angle_diff(s.q[i], q[i])
             } else {
                 s.q[i] - q[i]
@@ -38,7 +38,7 @@ fn assert_rows(
                 "{} at {}: {} {} vs {}",
                 info.name,
                 r.input,
-                u.0,
+                u.name,
                 s.q[i],
                 q[i]
             );
@@ -48,7 +48,7 @@ fn assert_rows(
                 "{} at {}: {}_vel {} vs {}",
                 info.name,
                 r.input,
-                u.0,
+                u.name,
                 s.qd[i],
                 qd[i]
             );
@@ -239,7 +239,7 @@ fn huge_params_and_start_inputs_end() {
         for file in ["trammel.toml", "slider_inline.toml"] {
             let g = load(file);
             let mut k = Counting::new(&g);
-            k.info.inputs[0].2 = start;
+            k.info.inputs[0].start = start;
             assert!(check_start(&k.info).is_err());
             let (rows, calls) =
                 counted(&k, &[0.1, 0.2], &Continuation::for_input(Kind::Angle, 0.0));
@@ -268,7 +268,7 @@ fn rows_many_turns_apart_get_a_substep_limit() {
         assert_eq!(r.stopped.map(|s| s.reason), Some(StopReason::SubstepLimit));
         assert!(!r.stopped.expect("stopped").at_dead_point());
     }
-    let info = Kinematics::<f64>::info(&g);
+    let info = DynMechanism::<f64>::info(&g);
     let table = report::table(&info, 0, &rows);
     assert!(
         table.contains("substep-limit: the continuation used up its substeps"),

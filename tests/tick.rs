@@ -6,7 +6,9 @@
 mod common;
 
 use common::angle_diff;
-use mechgen::{Kind, Mechanism, NewtonOptions, SolveError, Visitor};
+use mechgen::{
+    Array, InputMotion, Kind, SolveError, SolveOptions, StaticMechanism, StaticVisitor, TickState,
+};
 
 /// Largest difference between two states (angles folded, rates relative to max(1, |v|)).
 fn difference(kinds: &[Kind], a: [&[f64]; 3], b: [&[f64]; 3]) -> f64 {
@@ -24,20 +26,19 @@ fn difference(kinds: &[Kind], a: [&[f64]; 3], b: [&[f64]; 3]) -> f64 {
     worst
 }
 
-/// Ticks `turns` full turns of input 0 in steps of `step_deg` and compares every tick with
-/// `solve_arrays` from the previous state's positions. Returns the largest difference.
-fn run<M: Mechanism<f64>>(m: &M, turns: u32, step_deg: f64) -> f64
-where
-    M::Tick: AsTick,
-{
-    run_with(m, turns, step_deg, NewtonOptions::default())
+/// Ticks `turns` full turns of input 0 in steps of `step_deg` and compares every tick with a
+/// whole `solve` from the previous state's positions. Returns the largest difference.
+fn run<M: StaticMechanism<f64>>(m: &M, turns: u32, step_deg: f64) -> f64 {
+    run_with(m, turns, step_deg, SolveOptions::default())
 }
 
 /// [`run`] with given solver options.
-fn run_with<M: Mechanism<f64>>(m: &M, turns: u32, step_deg: f64, opts: NewtonOptions<f64>) -> f64
-where
-    M::Tick: AsTick,
-{
+fn run_with<M: StaticMechanism<f64>>(
+    m: &M,
+    turns: u32,
+    step_deg: f64,
+    opts: SolveOptions<f64>,
+) -> f64 {
     let info = m.info();
     let kinds: Vec<Kind> = info.unknowns.iter().map(|u| u.kind).collect();
     let mut x = M::X::zeros();
@@ -50,56 +51,27 @@ where
     }
     let mut xd = M::X::zeros();
     xd.as_mut()[0] = 1.3;
-    let xdd = M::X::zeros();
+    let mut input = InputMotion::new(x, xd, M::X::zeros());
     let mut t = m
-        .tick_start(&x, &xd, &xdd, &guess, &opts)
+        .tick_start(&input, &guess, &opts)
         .expect("the start assembles");
     let steps = (f64::from(turns) * 360.0 / step_deg.abs()).round() as u32;
     let mut worst: f64 = 0.0;
     for _ in 0..steps {
-        x.as_mut()[0] += step_deg.to_radians();
-        let mut q = M::Q::zeros();
-        q.as_mut().copy_from_slice(t.q_of().as_ref());
-        m.tick(&mut t, &x, &xd, &xdd, &opts)
-            .unwrap_or_else(|e| panic!("{}: tick to {:?}: {e}", info.name, x.as_ref()));
-        let (mut qd, mut qdd) = (M::Q::zeros(), M::Q::zeros());
-        let mut points = vec![Default::default(); info.points.len()];
-        m.solve_motion(&x, &xd, &xdd, &mut q, &mut qd, &mut qdd, &mut points, &opts)
-            .expect("a fresh solve");
+        input.x.as_mut()[0] += step_deg.to_radians();
+        let q = *t.q();
+        m.tick(&mut t, &input, &opts)
+            .unwrap_or_else(|e| panic!("{}: tick to {:?}: {e}", info.name, input.x.as_ref()));
+        let s = m.solve(&input, &q, &opts).expect("a fresh solve");
         let d = difference(
             &kinds,
-            [t.q_of().as_ref(), t.qd_of().as_ref(), t.qdd_of().as_ref()],
-            [q.as_ref(), qd.as_ref(), qdd.as_ref()],
+            [t.q().as_ref(), t.qd().as_ref(), t.qdd().as_ref()],
+            [s.q.as_ref(), s.qd.as_ref(), s.qdd.as_ref()],
         );
         worst = worst.max(d);
     }
     worst
 }
-
-/// Read access to a tick's arrays through the `Mechanism` trait's associated type.
-trait AsTick {
-    type Q: Copy + AsRef<[f64]> + AsMut<[f64]>;
-    fn q_of(&self) -> Self::Q;
-    fn qd_of(&self) -> Self::Q;
-    fn qdd_of(&self) -> Self::Q;
-}
-
-impl<const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> AsTick
-    for mechgen::Tick<f64, NI, NU, NP, NPAR>
-{
-    type Q = [f64; NU];
-    fn q_of(&self) -> [f64; NU] {
-        self.q
-    }
-    fn qd_of(&self) -> [f64; NU] {
-        self.qd
-    }
-    fn qdd_of(&self) -> [f64; NU] {
-        self.qdd
-    }
-}
-
-use mechgen::Array;
 
 #[test]
 fn ticks_equal_fresh_solves() {
@@ -128,9 +100,9 @@ fn large_ticks_and_newton_on_dyads() {
     eprintln!("sixbar, 48 ticks of −7.5°: {d:e}");
     assert!(d < 1e-12, "sixbar −7.5°: {d:e}");
     // Newton on the dyad blocks: their unknowns are predicted and their caches rotated.
-    let newton = NewtonOptions {
+    let newton = SolveOptions {
         closed_forms: false,
-        ..NewtonOptions::default()
+        ..SolveOptions::default()
     };
     let d = run_with(&sixbar, 1, 1.0, newton);
     eprintln!("sixbar, Newton on dyads, 360 ticks of 1°: {d:e}");
@@ -152,13 +124,13 @@ fn long_runs_do_not_drift() {
 
 #[test]
 fn block_newton_ticks_inside_the_range() {
-    use mechgen::sixbar_g::{SixbarG, Tick};
+    use mechgen::sixbar_g::{Inputs, SixbarG, Tick, Unknowns};
     let m = SixbarG::<f64>::default();
     let (x0, q0) = SixbarG::<f64>::start();
-    let opts = NewtonOptions::default();
-    let (xd, xdd) = ([1.0], [0.0]);
+    let opts = SolveOptions::default();
+    let at = |x: f64| InputMotion::new([x], [1.0], [0.0]).map(|a| Inputs::from_array(*a));
     let mut t: Tick<f64> = m
-        .tick_start(&x0.to_array(), &xd, &xdd, &q0.to_array(), &opts)
+        .tick_start(&at(x0.to_array()[0]), &q0, &opts)
         .expect("start");
     // From 280.7° down to 250° and up to 340°, inside the dead points (244.5°, 344.1°).
     let mut worst: f64 = 0.0;
@@ -166,11 +138,11 @@ fn block_newton_ticks_inside_the_range() {
         .map(|i| 280.0 - f64::from(i))
         .chain((250..=340).map(f64::from));
     for deg in path {
-        let x = [deg.to_radians()];
-        let mut q = t.q;
-        m.tick(&mut t, &x, &xd, &xdd, &opts)
-            .expect("inside the range");
-        let (qd, qdd, _, _) = m.solve_arrays(&x, &xd, &xdd, &mut q, &opts).expect("fresh");
+        let input = at(deg.to_radians());
+        let guess = Unknowns::from_array(t.q);
+        m.tick(&mut t, &input, &opts).expect("inside the range");
+        let s = m.solve(&input, &guess, &opts).expect("fresh");
+        let (q, qd, qdd) = (s.q.to_array(), s.qd.to_array(), s.qdd.to_array());
         for k in 0..4 {
             worst = worst
                 .max(angle_diff(t.q[k], q[k]).abs())
@@ -184,18 +156,18 @@ fn block_newton_ticks_inside_the_range() {
 
 #[test]
 fn params_changes_and_failures() {
-    use mechgen::rocker_four_bar::RockerFourBar;
+    use mechgen::rocker_four_bar::{Inputs, RockerFourBar};
     let mut m = RockerFourBar::<f64>::default();
     let (x0, q0) = RockerFourBar::<f64>::start();
-    let opts = NewtonOptions::default();
-    let (xd, xdd) = ([1.0], [0.0]);
+    let opts = SolveOptions::default();
+    let at = |x: f64| InputMotion::new([x], [1.0], [0.0]).map(|a| Inputs::from_array(*a));
     let mut t = m
-        .tick_start(&x0.to_array(), &xd, &xdd, &q0.to_array(), &opts)
+        .tick_start(&at(x0.to_array()[0]), &q0, &opts)
         .expect("start");
-    m.tick(&mut t, &[0.1], &xd, &xdd, &opts).expect("tick");
+    m.tick(&mut t, &at(0.1), &opts).expect("tick");
     // A longer coupler: the cached param trig is not used, the answer is the new mechanism's.
     m.params.l2 = 0.36;
-    m.tick(&mut t, &[0.2], &xd, &xdd, &opts).expect("tick");
+    m.tick(&mut t, &at(0.2), &opts).expect("tick");
     let mut q = t.q;
     m.solve_position(&[0.2], &mut q, &opts).expect("fresh");
     assert!(
@@ -205,10 +177,10 @@ fn params_changes_and_failures() {
     );
     // Past the dead point: an error, and the state is left as it was.
     let before = t;
-    let r = m.tick(&mut t, &[170f64.to_radians()], &xd, &xdd, &opts);
+    let r = m.tick(&mut t, &at(170f64.to_radians()), &opts);
     assert!(matches!(r, Err(SolveError::Unassemblable { .. })), "{r:?}");
     assert_eq!(t, before);
-    let r = m.tick(&mut t, &[f64::NAN], &xd, &xdd, &opts);
+    let r = m.tick(&mut t, &at(f64::NAN), &opts);
     assert!(matches!(r, Err(SolveError::NonFinite { .. })), "{r:?}");
     assert_eq!(t, before);
 }
@@ -217,8 +189,8 @@ fn params_changes_and_failures() {
 #[test]
 fn every_mechanism_ticks_from_its_start() {
     struct Check;
-    impl Visitor<f64> for Check {
-        fn visit<M: Mechanism<f64> + 'static>(&mut self, m: &M) {
+    impl StaticVisitor<f64> for Check {
+        fn visit<M: StaticMechanism<f64> + 'static>(&mut self, m: &M) {
             let info = m.info();
             let (mut x, mut q) = (M::X::zeros(), M::Q::zeros());
             for (v, c) in x.as_mut().iter_mut().zip(info.inputs) {
@@ -227,14 +199,10 @@ fn every_mechanism_ticks_from_its_start() {
             for (v, c) in q.as_mut().iter_mut().zip(info.unknowns) {
                 *v = c.start;
             }
-            let (xd, xdd) = (x, M::X::zeros());
-            let opts = NewtonOptions::default();
-            let mut t = m.tick_start(&x, &xd, &xdd, &q, &opts).expect("start");
-            assert!(
-                m.tick(&mut t, &x, &xd, &xdd, &opts).is_ok(),
-                "{}",
-                info.name
-            );
+            let input = InputMotion::new(x, x, M::X::zeros());
+            let opts = SolveOptions::default();
+            let mut t = m.tick_start(&input, &q, &opts).expect("start");
+            assert!(m.tick(&mut t, &input, &opts).is_ok(), "{}", info.name);
         }
     }
     mechgen::visit_all(&mut Check);

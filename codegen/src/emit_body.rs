@@ -75,7 +75,12 @@ impl<'a> Builder<'a> {
         let mut stack: Vec<NodeId> = roots.to_vec();
         while let Some(id) = stack.pop() {
             if self.names[id.index()].is_none() && !std::mem::replace(&mut live[id.index()], true) {
-                stack.extend(dag.node(id).children());
+                // A sine or cosine read from a cache does not need its variable's value.
+                match dag.node(id) {
+                    Node::Sin(a) | Node::Cos(a) if matches!(dag.node(a), Node::Var(v) if vars.trig(v).is_some()) =>
+                        {}
+                    node => stack.extend(node.children()),
+                }
             }
         }
         // Sine and cosine of the same argument, both live: one sin_cos.
@@ -122,9 +127,15 @@ impl<'a> Builder<'a> {
                     let Node::Var(v) = dag.node(a) else { continue };
                     let (sn, cn) = self.trig_names(v);
                     let src = vars.trig(v).unwrap_or_default();
-                    stmts.extend(quote!(let (#sn, #cn) = #src;));
-                    // Both names are bound, whichever a later segment asks for.
+                    // Only what this segment reads is bound; a later segment that needs the
+                    // other one binds it from the same cache.
                     let (s, c) = (dag.find(&Node::Sin(a)), dag.find(&Node::Cos(a)));
+                    let wanted =
+                        |id: Option<NodeId>| id.filter(|id| id.index() < n && live[id.index()]);
+                    let (s, c) = (wanted(s), wanted(c));
+                    let pat_s = if s.is_some() { quote!(#sn) } else { quote!(_) };
+                    let pat_c = if c.is_some() { quote!(#cn) } else { quote!(_) };
+                    stmts.extend(quote!(let (#pat_s, #pat_c) = #src;));
                     for (id, nm) in [(s, &sn), (c, &cn)] {
                         if let Some(id) = id {
                             self.names[id.index()] = Some(quote!(#nm));

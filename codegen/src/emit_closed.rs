@@ -18,7 +18,7 @@ pub(crate) fn kernel_call(
     r: &[TokenStream],
 ) -> TokenStream {
     let sc = quote!(|| self.params.length_scale());
-    let tol = quote!(options.tolerance);
+    let tol = quote!(options.newton.tolerance);
     match cf {
         ClosedForm::Rrr(d) => {
             let (a, b) = (d.a, d.b);

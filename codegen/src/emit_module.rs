@@ -1,7 +1,8 @@
 //! Stage 6 (emit), one mechanism's module: its static description, the `Params`, `Inputs`,
 //! `Unknowns`, `Points`, `Motion` structs and `Tick` alias (named by the names table around the
 //! mechanism's type), the mechanism type with its whole-system functions ([`crate::emit_system`])
-//! and solvers ([`crate::emit_solve`]), and its `Mechanism` impl.
+//! and solvers ([`crate::emit_solve`]), its typed `solve`, `tick_start` and `tick`, and its
+//! `StaticMechanism` impl.
 
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
@@ -93,11 +94,21 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     let (params_marker, params_marker_init) = (marker(npar), marker_init(npar));
     let (points_marker, points_marker_init) = (marker(np), marker_init(np));
     let param_idx = 0..npar;
-    let length_params = m
+    let length_params: Vec<Ident> = m
         .params
         .iter()
         .filter(|p| p.kind == Kind::Length)
-        .map(|p| format_ident!("{}", p.name.text));
+        .map(|p| format_ident!("{}", p.name.text))
+        .collect();
+    let length_scale = if length_params.is_empty() {
+        quote!(#gt::one())
+    } else {
+        quote! {
+            let mut s = #gt::zero();
+            #( s = s.max(self.#length_params.abs()); )*
+            if s > #gt::zero() { s } else { #gt::one() }
+        }
+    };
 
     let coords = |cs: &[crate::check::Coord], ty: &Ident, what: &str| {
         let fields: Vec<Ident> = cs
@@ -136,6 +147,19 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     let point_fields: Vec<Ident> = point_names.iter().map(|n| format_ident!("{}", n)).collect();
     let point_idx = 0..np;
 
+    // Why each allow of the module's `#![allow]` is there, as `//` lines below it.
+    let allow_reasons: TokenStream = [
+        "Allowed above, and why:",
+        "non_snake_case: fields and locals keep the file's names (`E`, `sE`).",
+        "unused_variables: block functions share one signature (inputs,",
+        "unknowns, their sines and cosines) and a block reads only some of",
+        "them; no local is bound without being read.",
+        "too_many_arguments, type_complexity: those private signatures, and",
+        "whole-tick results as tuples of fixed arrays.",
+    ]
+    .iter()
+    .map(|t| crate::emit::comment(t))
+    .collect();
     let system_fns = crate::emit_system::system_fns(c, &args);
     let solvers = crate::emit_solve::solvers(c, &args);
     let nblocks = c.blocks.len();
@@ -143,7 +167,8 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     quote! {
         #[doc = #doc]
         pub mod #mod_name {
-            #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+            #![allow(non_snake_case, unused_variables, clippy::too_many_arguments, clippy::type_complexity)]
+            #allow_reasons
 
             /// Static description: names, kinds, start configuration, blocks.
             pub const INFO: #rt::StaticInfo = #rt::StaticInfo {
@@ -171,9 +196,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                 pub fn from_array(a: [#gt; #npar]) -> Self { #params_ty { #( #param_fields: a[#param_idx], )* #params_marker_init } }
                 /// The largest length param (1 when there is none): tolerances on lengths are relative to it.
                 pub fn length_scale(&self) -> #gt {
-                    let mut s = #gt::zero();
-                    #( s = s.max(self.#length_params.abs()); )*
-                    if s > #gt::zero() { s } else { #gt::one() }
+                    #length_scale
                 }
             }
 
@@ -224,57 +247,78 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                 #system_fns
                 #solvers
 
-                /// Everything at once: positions from `guess`, velocities, accelerations and points.
-                pub fn solve(&self, x: #inputs_ty<#gt>, xd: #inputs_ty<#gt>, xdd: #inputs_ty<#gt>, guess: #unknowns_ty<#gt>, options: &#rt::NewtonOptions<#gt>)
+                /// One whole tick from `guess`: positions, velocities, accelerations and points,
+                /// sharing one set of sines and cosines between the stages.
+                pub fn solve(&self, input: &#rt::InputMotion<#inputs_ty<#gt>>, guess: &#unknowns_ty<#gt>, options: &#rt::SolveOptions<#gt>)
                     -> ::core::result::Result<#motion_ty<#gt>, #rt::SolveError> {
                     let mut q = guess.to_array();
-                    let (qd, qdd, points, report) = self.solve_arrays(&x.to_array(), &xd.to_array(), &xdd.to_array(), &mut q, options)?;
-                    Ok(#motion_ty { x, xd, xdd, q: #unknowns_ty::from_array(q), qd: #unknowns_ty::from_array(qd),
+                    let (qd, qdd, points, report) = self.solve_arrays(&input.x.to_array(), &input.xd.to_array(), &input.xdd.to_array(), &mut q, options)?;
+                    Ok(#motion_ty { x: input.x, xd: input.xd, xdd: input.xdd, q: #unknowns_ty::from_array(q), qd: #unknowns_ty::from_array(qd),
                         qdd: #unknowns_ty::from_array(qdd), points: #points_ty::from_array(points), report })
+                }
+
+                /// The first tick of a simulation, solved from `guess` and kept with its sines and
+                /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
+                pub fn tick_start(&self, input: &#rt::InputMotion<#inputs_ty<#gt>>, guess: &#unknowns_ty<#gt>, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<#tick_ty<#gt>, #rt::SolveError> {
+                    self.tick_start_arrays(&input.x.to_array(), &input.xd.to_array(), &input.xdd.to_array(), &guess.to_array(), options)
+                }
+
+                /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
+                /// second-order step from the last tick, their sines and cosines rotated from the
+                /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when
+                /// the params changed); closed-form blocks solved on the last tick's branch; then
+                /// velocities, accelerations and points. On error `t` is unchanged.
+                #[inline]
+                pub fn tick(&self, t: &mut #tick_ty<#gt>, input: &#rt::InputMotion<#inputs_ty<#gt>>, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<(), #rt::SolveError> {
+                    self.tick_arrays(t, &input.x.to_array(), &input.xd.to_array(), &input.xdd.to_array(), options)
                 }
             }
 
-            impl<#gt: #rt::Real> #rt::Mechanism<#gt> for #ty<#gt> {
+            impl<#gt: #rt::Real> #rt::StaticMechanism<#gt> for #ty<#gt> {
                 const NAME: &'static str = #name;
                 const INPUTS: usize = #ni;
                 const UNKNOWNS: usize = #nu;
                 const POINTS: usize = #np;
                 type X = [#gt; #ni];
                 type Q = [#gt; #nu];
+                type Points = [#rt::PointMotion<#gt>; #np];
+                type Jacobian = #rt::nalgebra::SMatrix<#gt, #nu, #nu>;
+                type InputJacobian = #rt::nalgebra::SMatrix<#gt, #nu, #ni>;
                 type Tick = #tick_ty<#gt>;
                 fn info(&self) -> &'static #rt::StaticInfo { &INFO }
                 fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q { #ty::residual(self, x, q) }
-                fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [#gt]) { #rt::copy_row_major(&#ty::jacobian(self, x, q), out) }
-                fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [#gt]) { #rt::copy_row_major(&#ty::input_jacobian(self, x, q), out) }
-                fn jacobian_dot(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, out: &mut [#gt]) {
-                    #rt::copy_row_major(&#ty::jacobian_dot(self, x, q, xd, qd), out)
+                fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian { #ty::jacobian(self, x, q) }
+                fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian { #ty::input_jacobian(self, x, q) }
+                fn jacobian_dot(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q) -> Self::Jacobian {
+                    #ty::jacobian_dot(self, x, q, xd, qd)
                 }
                 fn acceleration_rhs(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X) -> Self::Q {
                     #ty::acceleration_rhs(self, x, q, xd, qd, xdd).into()
                 }
-                fn solve_position(&self, x: &Self::X, q: &mut Self::Q, options: &#rt::NewtonOptions<#gt>)
+                fn solve_position(&self, x: &Self::X, q: &mut Self::Q, options: &#rt::SolveOptions<#gt>)
                     -> ::core::result::Result<#rt::NewtonReport<#gt>, #rt::SolveError> { #ty::solve_position(self, x, q, options) }
                 fn solve_velocity(&self, x: &Self::X, q: &Self::Q, xd: &Self::X) -> ::core::result::Result<Self::Q, #rt::SolveError> {
                     #ty::solve_velocity(self, x, q, xd)
                 }
                 fn solve_acceleration(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X)
                     -> ::core::result::Result<Self::Q, #rt::SolveError> { #ty::solve_acceleration(self, x, q, xd, qd, xdd) }
-                fn points(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X, qdd: &Self::Q, out: &mut [#rt::PointMotion<#gt>]) {
-                    for (o, p) in out.iter_mut().zip(#ty::point_motion(self, x, q, xd, qd, xdd, qdd)) { *o = p; }
+                fn points(&self, input: &#rt::InputMotion<Self::X>, q: &Self::Q, qd: &Self::Q, qdd: &Self::Q) -> Self::Points {
+                    #ty::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
                 }
-                fn tick_start(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, guess: &Self::Q, options: &#rt::NewtonOptions<#gt>)
-                    -> ::core::result::Result<Self::Tick, #rt::SolveError> { #ty::tick_start(self, x, xd, xdd, guess, options) }
-                fn tick(&self, t: &mut Self::Tick, x: &Self::X, xd: &Self::X, xdd: &Self::X, options: &#rt::NewtonOptions<#gt>)
-                    -> ::core::result::Result<(), #rt::SolveError> { #ty::tick(self, t, x, xd, xdd, options) }
-                fn solve_motion(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, q: &mut Self::Q, qd: &mut Self::Q, qdd: &mut Self::Q,
-                    points: &mut [#rt::PointMotion<#gt>], options: &#rt::NewtonOptions<#gt>)
-                    -> ::core::result::Result<#rt::NewtonReport<#gt>, #rt::SolveError> {
-                    let (v, a, p, report) = #ty::solve_arrays(self, x, xd, xdd, q, options)?;
-                    *qd = v;
-                    *qdd = a;
-                    for (o, m) in points.iter_mut().zip(p) { *o = m; }
-                    Ok(report)
+                #[inline]
+                fn solve(&self, input: &#rt::InputMotion<Self::X>, guess: &Self::Q, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<#rt::Solved<Self::Q, Self::Points, #gt>, #rt::SolveError> {
+                    let mut q = *guess;
+                    let (qd, qdd, points, report) = #ty::solve_arrays(self, &input.x, &input.xd, &input.xdd, &mut q, options)?;
+                    Ok(#rt::Solved { q, qd, qdd, points, report })
                 }
+                fn tick_start(&self, input: &#rt::InputMotion<Self::X>, guess: &Self::Q, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<Self::Tick, #rt::SolveError> { #ty::tick_start_arrays(self, &input.x, &input.xd, &input.xdd, guess, options) }
+                #[inline]
+                fn tick(&self, t: &mut Self::Tick, input: &#rt::InputMotion<Self::X>, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<(), #rt::SolveError> { #ty::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options) }
             }
         }
     }

@@ -63,7 +63,7 @@ fn position_steps(
             .collect();
         let pos_fn = format_ident!("block{}_position", bi);
         let newton = quote! {
-            #rt::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), options, report,
+            #rt::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), &options.newton, report,
                 |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
         };
         match &bf.closed_form {
@@ -191,7 +191,7 @@ pub(crate) fn stages(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
         /// Positions block by block from the guess in `st`.
         #[inline]
         fn position_cached(&self, x: &[#gt; #ni], st: &mut #rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
-            tp: &[(#gt, #gt); #npar], options: &#rt::NewtonOptions<#gt>, report: &mut #rt::NewtonReport<#gt>)
+            tp: &[(#gt, #gt); #npar], options: &#rt::SolveOptions<#gt>, report: &mut #rt::NewtonReport<#gt>)
             -> ::core::result::Result<(), #rt::SolveError> {
             #position
             Ok(())
@@ -284,17 +284,24 @@ pub(crate) fn motion_subset(
     });
     steps.extend(comment("Points."));
     let (name, vis) = (&sub.name, &sub.vis);
+    // `q̇`, `q̈` are written only by the rate stages the order reaches.
+    let rate_let = |name: Ident, written: bool| {
+        let m = written.then(|| quote!(mut));
+        quote!(let #m #name = [#gt::zero(); #nu];)
+    };
+    let qd_let = rate_let(format_ident!("qd"), sub.order >= 1);
+    let qdd_let = rate_let(format_ident!("qdd"), sub.order >= 2);
     quote! {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
         #[inline(always)]
         #vis fn #name(&self, x: &[#gt; #ni], st: &mut #rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
-            tp: &[(#gt, #gt); #npar], xd: &[#gt; #ni], xdd: &[#gt; #ni], options: &#rt::NewtonOptions<#gt>,
+            tp: &[(#gt, #gt); #npar], xd: &[#gt; #ni], xdd: &[#gt; #ni], options: &#rt::SolveOptions<#gt>,
             report: &mut #rt::NewtonReport<#gt>)
             -> ::core::result::Result<([#gt; #nu], [#gt; #nu], [#rt::PointMotion<#gt>; #np]), #rt::SolveError> {
-            let mut qd = [#gt::zero(); #nu];
-            let mut qdd = [#gt::zero(); #nu];
+            #qd_let
+            #qdd_let
             #steps
             #stmts
             Ok((qd, qdd, [#(#items),*]))

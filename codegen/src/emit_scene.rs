@@ -71,7 +71,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
             #[doc(hidden)]
             #[inline]
             pub(super) fn #solve_fn(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], q: &mut [#gt; #nu],
-                options: &#rt::NewtonOptions<#gt>)
+                options: &#rt::SolveOptions<#gt>)
                 -> ::core::result::Result<([#gt; #nu], [#gt; #nu], [#rt::PointMotion<#gt>; #np], #rt::NewtonReport<#gt>), #rt::SolveError> {
                 #rt::check_finite(#rt::Quantity::Param, &self.params.to_array())?;
                 #rt::check_finite(#rt::Quantity::Input, x)?;
@@ -88,7 +88,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
 
             #[doc(hidden)]
             pub(super) fn #start_fn(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], guess: &[#gt; #nu],
-                options: &#rt::NewtonOptions<#gt>) -> ::core::result::Result<#rt::Tick<#gt, #ni, #nu, #np, #npar>, #rt::SolveError> {
+                options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<#rt::Tick<#gt, #ni, #nu, #np, #npar>, #rt::SolveError> {
                 let mut q = *guess;
                 let (qd, qdd, points, report) = self.#solve_fn(x, xd, xdd, &mut q, options)?;
                 let (tx, tp) = self.trig_fixed(x);
@@ -99,7 +99,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
 
             #[doc(hidden)]
             pub(super) fn #tick_fn(&self, t: &mut #rt::Tick<#gt, #ni, #nu, #np, #npar>, x: &[#gt; #ni], xd: &[#gt; #ni],
-                xdd: &[#gt; #ni], options: &#rt::NewtonOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
+                xdd: &[#gt; #ni], options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
                 let params = self.params.to_array();
                 let same = t.same_params(&params);
                 if !same {
@@ -214,10 +214,23 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
         method(plan, "tick_start"),
         method(plan, "tick"),
     );
+    // Why each allow of the module's `#![allow]` is there, as `//` lines below it.
+    let allow_reasons: TokenStream = [
+        "Allowed above, and why:",
+        "non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).",
+        "unused_variables: `outputs_of` takes the whole state and a scene",
+        "reads only its columns of it.",
+        "type_complexity: `solve` returns outputs, unknowns and report as one",
+        "tuple.",
+    ]
+    .iter()
+    .map(|t| comment(t))
+    .collect();
     quote! {
         #[doc = #doc]
         pub mod #mod_name {
-            #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+            #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+            #allow_reasons
 
             pub use super::#mech_mod::{#m_params as #params_ty, #m_inputs as #inputs_ty, #m_unknowns as #unknowns_ty};
 
@@ -269,27 +282,29 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
 
                 /// Positions of the kept blocks from `guess`, their rates up to the order, the
                 /// outputs; the returned unknowns hold the kept blocks' solution.
-                pub fn solve(&self, x: #inputs_ty<#gt>, xd: #inputs_ty<#gt>, xdd: #inputs_ty<#gt>, guess: #unknowns_ty<#gt>,
-                    options: &#rt::NewtonOptions<#gt>)
+                pub fn solve(&self, input: &#rt::InputMotion<#inputs_ty<#gt>>, guess: &#unknowns_ty<#gt>,
+                    options: &#rt::SolveOptions<#gt>)
                     -> ::core::result::Result<(#outputs_ty<#gt>, #unknowns_ty<#gt>, #rt::NewtonReport<#gt>), #rt::SolveError> {
                     let mut q = guess.to_array();
-                    let (qd, qdd, points, report) = self.mechanism().#solve_fn(&x.to_array(), &xd.to_array(), &xdd.to_array(), &mut q, options)?;
+                    let (qd, qdd, points, report) = self.mechanism().#solve_fn(&input.x.to_array(), &input.xd.to_array(),
+                        &input.xdd.to_array(), &mut q, options)?;
                     Ok((Self::outputs_of(&q, &qd, &qdd, &points), #unknowns_ty::from_array(q), report))
                 }
 
-                /// The first tick of a simulation (see `tick`).
-                pub fn tick_start(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], guess: &[#gt; #nu],
-                    options: &#rt::NewtonOptions<#gt>) -> ::core::result::Result<#tick_ty<#gt>, #rt::SolveError> {
-                    self.mechanism().#start_fn(x, xd, xdd, guess, options)
+                /// The first tick of a simulation, solved from `guess` (see `tick`).
+                pub fn tick_start(&self, input: &#rt::InputMotion<#inputs_ty<#gt>>, guess: &#unknowns_ty<#gt>,
+                    options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<#tick_ty<#gt>, #rt::SolveError> {
+                    self.mechanism().#start_fn(&input.x.to_array(), &input.xd.to_array(), &input.xdd.to_array(),
+                        &guess.to_array(), options)
                 }
 
-                /// One simulator tick to `x`: the mechanism's tick (predictor, cached sines and
-                /// cosines, closed forms on the last branch) on the kept blocks only. On error
-                /// `t` is unchanged.
+                /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
+                /// and cosines, closed forms on the last branch) on the kept blocks only. On
+                /// error `t` is unchanged.
                 #[inline]
-                pub fn tick(&self, t: &mut #tick_ty<#gt>, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni],
-                    options: &#rt::NewtonOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
-                    self.mechanism().#tick_fn(t, x, xd, xdd, options)
+                pub fn tick(&self, t: &mut #tick_ty<#gt>, input: &#rt::InputMotion<#inputs_ty<#gt>>,
+                    options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
+                    self.mechanism().#tick_fn(t, &input.x.to_array(), &input.xd.to_array(), &input.xdd.to_array(), options)
                 }
 
                 /// The outputs of a tick state.
@@ -303,15 +318,19 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
                 type Out = [#gt; #ncols];
                 type Tick = #tick_ty<#gt>;
                 fn info(&self) -> &'static #rt::SceneInfo { &INFO }
-                fn solve(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, q: &mut Self::Q, options: &#rt::NewtonOptions<#gt>)
+                fn solve(&self, input: &#rt::InputMotion<Self::X>, q: &mut Self::Q, options: &#rt::SolveOptions<#gt>)
                     -> ::core::result::Result<(Self::Out, #rt::NewtonReport<#gt>), #rt::SolveError> {
-                    let (qd, qdd, points, report) = self.mechanism().#solve_fn(x, xd, xdd, q, options)?;
+                    let (qd, qdd, points, report) = self.mechanism().#solve_fn(&input.x, &input.xd, &input.xdd, q, options)?;
                     Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
                 }
-                fn tick_start(&self, x: &Self::X, xd: &Self::X, xdd: &Self::X, guess: &Self::Q, options: &#rt::NewtonOptions<#gt>)
-                    -> ::core::result::Result<Self::Tick, #rt::SolveError> { #ty::tick_start(self, x, xd, xdd, guess, options) }
-                fn tick(&self, t: &mut Self::Tick, x: &Self::X, xd: &Self::X, xdd: &Self::X, options: &#rt::NewtonOptions<#gt>)
-                    -> ::core::result::Result<(), #rt::SolveError> { #ty::tick(self, t, x, xd, xdd, options) }
+                fn tick_start(&self, input: &#rt::InputMotion<Self::X>, guess: &Self::Q, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<Self::Tick, #rt::SolveError> {
+                    self.mechanism().#start_fn(&input.x, &input.xd, &input.xdd, guess, options)
+                }
+                fn tick(&self, t: &mut Self::Tick, input: &#rt::InputMotion<Self::X>, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<(), #rt::SolveError> {
+                    self.mechanism().#tick_fn(t, &input.x, &input.xd, &input.xdd, options)
+                }
                 fn outputs(&self, t: &Self::Tick) -> Self::Out { #ty::outputs(t).to_array() }
             }
         }

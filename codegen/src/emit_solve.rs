@@ -105,6 +105,18 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
     };
     let tx_sets = trig_sets(&xm, quote!(tx), quote!(x));
     let tp_sets = trig_sets(&pm, quote!(tp), quote!(params));
+    // Bindings only where something is written into them (no unused `mut`, no unused `params`).
+    let tx_mut = xm.iter().any(|&a| a).then(|| quote!(mut));
+    let tp_mut = pm.iter().any(|&a| a).then(|| quote!(mut));
+    let params_let = tp_mut
+        .as_ref()
+        .map(|_| quote!(let params = self.params.to_array();));
+    // `[]` for an empty array (a repeat expression of length 0 would evaluate its operand).
+    let unit_trig = |n: usize| match n {
+        0 => quote!([]),
+        _ => quote!([(#gt::zero(), #gt::one()); #n]),
+    };
+    let (tx_init, tp_init) = (unit_trig(ni), unit_trig(npar));
     let ctx = quote!(tx: &[(#gt, #gt); #ni], tp: &[(#gt, #gt); #npar], tq: &[(#gt, #gt); #nu]);
 
     // Newton's residual and Jacobian of each block (every block: with `closed_forms` off, the
@@ -154,9 +166,9 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[#gt; #ni]) -> ([(#gt, #gt); #ni], [(#gt, #gt); #npar]) {
-            let params = self.params.to_array();
-            let mut tx = [(#gt::zero(), #gt::one()); #ni];
-            let mut tp = [(#gt::zero(), #gt::one()); #npar];
+            #params_let
+            let #tx_mut tx: [(#gt, #gt); #ni] = #tx_init;
+            let #tp_mut tp: [(#gt, #gt); #npar] = #tp_init;
             #tx_sets
             #tp_sets
             (tx, tp)
@@ -175,7 +187,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
 
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
-        pub fn solve_position(&self, x: &[#gt; #ni], q: &mut [#gt; #nu], options: &#rt::NewtonOptions<#gt>)
+        pub fn solve_position(&self, x: &[#gt; #ni], q: &mut [#gt; #nu], options: &#rt::SolveOptions<#gt>)
             -> ::core::result::Result<#rt::NewtonReport<#gt>, #rt::SolveError> {
             #rt::check_finite(#rt::Quantity::Param, &self.params.to_array())?;
             #rt::check_finite(#rt::Quantity::Input, x)?;
@@ -218,8 +230,8 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
         #[inline]
-        pub fn solve_arrays(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], q: &mut [#gt; #nu],
-            options: &#rt::NewtonOptions<#gt>)
+        fn solve_arrays(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], q: &mut [#gt; #nu],
+            options: &#rt::SolveOptions<#gt>)
             -> ::core::result::Result<([#gt; #nu], [#gt; #nu], [#rt::PointMotion<#gt>; #np], #rt::NewtonReport<#gt>), #rt::SolveError> {
             #rt::check_finite(#rt::Quantity::Param, &self.params.to_array())?;
             #rt::check_finite(#rt::Quantity::Input, x)?;
@@ -235,9 +247,9 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         }
 
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
-        /// cosines for [`Self::tick`].
-        pub fn tick_start(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], guess: &[#gt; #nu],
-            options: &#rt::NewtonOptions<#gt>) -> ::core::result::Result<#tick_ty<#gt>, #rt::SolveError> {
+        /// cosines for `tick_arrays` (the typed `tick_start` and `tick` call these).
+        fn tick_start_arrays(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], guess: &[#gt; #nu],
+            options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<#tick_ty<#gt>, #rt::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self.solve_arrays(x, xd, xdd, &mut q, options)?;
             let (tx, tp) = self.trig_fixed(x);
@@ -251,8 +263,8 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
-        pub fn tick(&self, t: &mut #tick_ty<#gt>, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni],
-            options: &#rt::NewtonOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
+        fn tick_arrays(&self, t: &mut #tick_ty<#gt>, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni],
+            options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {

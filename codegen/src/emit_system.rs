@@ -27,6 +27,7 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
         let roots: Vec<NodeId> = entries.iter().flatten().copied().collect();
         let b = body(dag, &roots, args);
         let mut sets = TokenStream::new();
+        let mut written = false;
         for (r, row) in entries.iter().enumerate() {
             for (k, &e) in row.iter().enumerate() {
                 if dag.is_zero(e) {
@@ -39,16 +40,25 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
                     equation_name(m, r)
                 )));
                 sets.extend(quote!(m[(#r, #k)] = #v;));
+                written = true;
             }
         }
         let stmts = b.stmts;
+        // A structurally zero matrix is returned as is.
+        let matrix = if written {
+            quote! {
+                let mut m = #rt::nalgebra::SMatrix::<#gt, #rows, #cols>::zeros();
+                #sets
+                m
+            }
+        } else {
+            quote!(#rt::nalgebra::SMatrix::<#gt, #rows, #cols>::zeros())
+        };
         quote! {
             #[doc = #doc]
             pub fn #f(&self, x: &[#gt; #ni], q: &[#gt; #nu] #extra) -> #rt::nalgebra::SMatrix<#gt, #rows, #cols> {
                 #stmts
-                let mut m = #rt::nalgebra::SMatrix::<#gt, #rows, #cols>::zeros();
-                #sets
-                m
+                #matrix
             }
         }
     };

@@ -28,7 +28,7 @@ use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use mechgen::NewtonOptions;
+use mechgen::SolveOptions;
 use mechgen::plot::{Marker, ScatterLayout, log_log_scatter_svg};
 use variants::{
     Budget, Engine, Errors, FiniteDifferences, Generated, Pass, STEPS, Scheme, Stepper, errors,
@@ -263,7 +263,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         );
     }
     variant!(
-        Engine::new(generic, NewtonOptions::default()),
+        Engine::new(generic, SolveOptions::default()),
         "generic engine f64 (default)",
         "generic",
         4,

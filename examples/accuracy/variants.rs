@@ -9,7 +9,10 @@ use std::time::{Duration, Instant};
 
 use mechgen::nalgebra::{DMatrix, DVector};
 use mechgen::sixbar::Sixbar;
-use mechgen::{Kinematics, Mechanism, NewtonOptions, PointMotion, Real, SolveError};
+use mechgen::{
+    DynMechanism, InputMotion, NewtonOptions, PointMotion, Real, SolveError, SolveOptions, Solved,
+    StaticMechanism,
+};
 
 /// Unknowns of the six-bar (q2, q3, q5, q6), all angles.
 pub const N: usize = 4;
@@ -201,18 +204,18 @@ pub fn errors(samples: &[State], reference: &Reference) -> Errors {
 /// How a generated variant spends its Newton budget.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Budget {
-    /// `solve_motion` with the default options: dyad blocks (both of the six-bar's) in closed
+    /// `solve` with the default options: dyad blocks (both of the six-bar's) in closed
     /// form, no Newton iterations.
     ClosedForm,
     /// `tick` from the kept `Tick` (predictor and cached sines and cosines inside), default
     /// options.
     Ticked,
-    /// `solve_motion` with Newton on every block (`closed_forms: false`) and these options; a tick whose position solve fails (e.g. `NoConvergence`
+    /// `solve` with Newton on every block (`closed_forms: false`) and these options; a tick whose position solve fails (e.g. `NoConvergence`
     /// at the cap) keeps the predicted positions and solves the rates there.
     Options { tolerance: f64, max_iterations: u32 },
     /// Exactly `k` Newton iterations per block, the iterate accepted without a convergence test:
     /// `k` calls with one iteration each and tolerance ∞ (`k - 1` × `solve_position`, then
-    /// `solve_motion`).
+    /// `solve`).
     Fixed(u32),
 }
 
@@ -220,7 +223,7 @@ pub enum Budget {
 pub struct Generated<T: Real> {
     mechanism: Sixbar<T>,
     budget: Budget,
-    options: NewtonOptions<T>,
+    options: SolveOptions<T>,
     q: [T; N],
     qd: [T; N],
     qdd: [T; N],
@@ -234,17 +237,21 @@ impl<T: Real> Generated<T> {
             Budget::Options {
                 tolerance,
                 max_iterations,
-            } => NewtonOptions {
-                tolerance: T::lit(tolerance),
-                max_iterations,
+            } => SolveOptions {
+                newton: NewtonOptions {
+                    tolerance: T::lit(tolerance),
+                    max_iterations,
+                },
                 closed_forms: false,
             },
-            Budget::Fixed(_) => NewtonOptions {
-                tolerance: T::lit(f64::INFINITY),
-                max_iterations: 1,
+            Budget::Fixed(_) => SolveOptions {
+                newton: NewtonOptions {
+                    tolerance: T::lit(f64::INFINITY),
+                    max_iterations: 1,
+                },
                 closed_forms: false,
             },
-            Budget::ClosedForm | Budget::Ticked => NewtonOptions::default(),
+            Budget::ClosedForm | Budget::Ticked => SolveOptions::default(),
         };
         Generated {
             mechanism: Sixbar::default(),
@@ -258,21 +265,18 @@ impl<T: Real> Generated<T> {
         }
     }
 
+    /// Keeps a whole solve's state.
+    fn store(&mut self, s: Solved<[T; N], [PointMotion<T>; 1], T>) {
+        (self.q, self.qd, self.qdd, self.points) = (s.q, s.qd, s.qdd, s.points);
+    }
+
     /// The rates at the positions in `self.q` (after a failed position solve).
     fn rates(&mut self, x: &[T; 1], xd: &[T; 1], xdd: &[T; 1]) -> Result<(), SolveError> {
         let m = &self.mechanism;
         self.qd = m.solve_velocity(x, &self.q, xd)?;
         self.qdd = m.solve_acceleration(x, &self.q, xd, &self.qd, xdd)?;
-        Mechanism::points(
-            m,
-            x,
-            &self.q,
-            xd,
-            &self.qd,
-            xdd,
-            &self.qdd,
-            &mut self.points,
-        );
+        let input = InputMotion::new(*x, *xd, *xdd);
+        self.points = StaticMechanism::points(m, &input, &self.q, &self.qd, &self.qdd);
         Ok(())
     }
 }
@@ -297,26 +301,21 @@ impl<T: Real> Stepper for Generated<T> {
         let (x, xd, xdd) = ([T::lit(x)], [T::one()], [T::zero()]);
         let m = &self.mechanism;
         if self.budget == Budget::Ticked {
-            let t = m
-                .tick_start(&x, &xd, &xdd, &self.q, &self.options)
-                .map_err(|e| format!("assembly at {x:?}: {e}", x = x[0].to_f64()))?;
+            let t = StaticMechanism::tick_start(
+                m,
+                &InputMotion::new(x, xd, xdd),
+                &self.q,
+                &self.options,
+            )
+            .map_err(|e| format!("assembly at {x:?}: {e}", x = x[0].to_f64()))?;
             (self.q, self.qd, self.qdd) = (t.q, t.qd, t.qdd);
             self.tick = Some(t);
             return Ok(());
         }
-        Mechanism::solve_motion(
-            m,
-            &x,
-            &xd,
-            &xdd,
-            &mut self.q,
-            &mut self.qd,
-            &mut self.qdd,
-            &mut self.points,
-            &NewtonOptions::default(),
-        )
-        .map(|_| ())
-        .map_err(|e| format!("assembly at {x:?}: {e}", x = x[0].to_f64()))
+        let input = InputMotion::new(x, xd, xdd);
+        StaticMechanism::solve(m, &input, &self.q, &SolveOptions::default())
+            .map(|s| self.store(s))
+            .map_err(|e| format!("assembly at {x:?}: {e}", x = x[0].to_f64()))
     }
 
     #[inline]
@@ -324,7 +323,12 @@ impl<T: Real> Stepper for Generated<T> {
         let (x, xd, xdd) = ([T::lit(x)], [T::one()], [T::zero()]);
         if let Some(t) = self.tick.as_mut() {
             let mut tick = Tick::default();
-            match self.mechanism.tick(t, &x, &xd, &xdd, &self.options) {
+            match StaticMechanism::tick(
+                &self.mechanism,
+                t,
+                &InputMotion::new(x, xd, xdd),
+                &self.options,
+            ) {
                 Ok(()) => tick.iterations += t.report.iterations,
                 Err(_) => tick.failed = true,
             }
@@ -349,21 +353,15 @@ impl<T: Real> Stepper for Generated<T> {
                 }
             }
         }
-        let result = Mechanism::solve_motion(
-            m,
-            &x,
-            &xd,
-            &xdd,
-            &mut self.q,
-            &mut self.qd,
-            &mut self.qdd,
-            &mut self.points,
-            &self.options,
-        );
+        let result =
+            StaticMechanism::solve(m, &InputMotion::new(x, xd, xdd), &self.q, &self.options);
         match result {
-            Ok(r) => tick.iterations += r.iterations,
+            Ok(s) => {
+                tick.iterations += s.report.iterations;
+                self.store(s);
+            }
             Err(e) => {
-                tick.iterations += failed_iterations(&e, self.options.max_iterations);
+                tick.iterations += failed_iterations(&e, self.options.newton.max_iterations);
                 tick.failed = true;
                 // `q` still holds the prediction: the solvers write it back only on success.
                 self.rates(&x, &xd, &xdd)
@@ -383,19 +381,19 @@ impl<T: Real> Stepper for Generated<T> {
     }
 }
 
-/// Any [`Kinematics`] through its object-safe `solve_motion` (the generic engine: interpreted
+/// Any [`DynMechanism`] through its object-safe `solve` (the generic engine: interpreted
 /// tapes, slices, `DMatrix`).
 pub struct Engine<'k, K: ?Sized> {
     k: &'k K,
-    options: NewtonOptions<f64>,
+    options: SolveOptions<f64>,
     q: Vec<f64>,
     qd: Vec<f64>,
     qdd: Vec<f64>,
     points: Vec<PointMotion<f64>>,
 }
 
-impl<'k, K: Kinematics<f64> + ?Sized> Engine<'k, K> {
-    pub fn new(k: &'k K, options: NewtonOptions<f64>) -> Self {
+impl<'k, K: DynMechanism<f64> + ?Sized> Engine<'k, K> {
+    pub fn new(k: &'k K, options: SolveOptions<f64>) -> Self {
         let points = vec![PointMotion::default(); k.info().points.len()];
         Engine {
             k,
@@ -408,20 +406,18 @@ impl<'k, K: Kinematics<f64> + ?Sized> Engine<'k, K> {
     }
 }
 
-impl<K: Kinematics<f64> + ?Sized> Stepper for Engine<'_, K> {
+impl<K: DynMechanism<f64> + ?Sized> Stepper for Engine<'_, K> {
     fn reset(&mut self, x: f64) -> Result<(), String> {
         let start = Sixbar::<f64>::start().1.to_array();
         self.q.copy_from_slice(&start);
         self.k
-            .solve_motion(
-                &[x],
-                &[1.0],
-                &[0.0],
+            .solve(
+                InputMotion::new(&[x], &[1.0], &[0.0]),
                 &mut self.q,
                 &mut self.qd,
                 &mut self.qdd,
                 &mut self.points,
-                &NewtonOptions::default(),
+                &SolveOptions::default(),
             )
             .map(|_| ())
             .map_err(|e| format!("assembly at {x}: {e}"))
@@ -434,10 +430,8 @@ impl<K: Kinematics<f64> + ?Sized> Stepper for Engine<'_, K> {
         }
         let r = self
             .k
-            .solve_motion(
-                &[x],
-                &[1.0],
-                &[0.0],
+            .solve(
+                InputMotion::new(&[x], &[1.0], &[0.0]),
                 &mut self.q,
                 &mut self.qd,
                 &mut self.qdd,
@@ -470,7 +464,7 @@ pub enum Scheme {
 }
 
 /// What many users write by hand: only the residual function Φ(x, q) (here
-/// [`Kinematics::residual`], e.g. the generic engine's residual tape), Jacobians by finite
+/// [`DynMechanism::residual`], e.g. the generic engine's residual tape), Jacobians by finite
 /// differences, dense full-system Newton with nalgebra's `DMatrix` LU (no block structure), and:
 /// - velocities from J q̇ = −Φx ẋ, both Jacobians by finite differences at the solution;
 /// - accelerations from J q̈ = −Φx ẍ − D²Φ[v, v] with v = (ẋ, q̇), the second directional
@@ -490,7 +484,7 @@ pub struct FiniteDifferences<'k, K: ?Sized> {
     points: Vec<PointMotion<f64>>,
 }
 
-impl<'k, K: Kinematics<f64> + ?Sized> FiniteDifferences<'k, K> {
+impl<'k, K: DynMechanism<f64> + ?Sized> FiniteDifferences<'k, K> {
     pub fn new(k: &'k K, scheme: Scheme) -> Self {
         let points = vec![PointMotion::default(); k.info().points.len()];
         FiniteDifferences {
@@ -605,11 +599,9 @@ impl<'k, K: Kinematics<f64> + ?Sized> FiniteDifferences<'k, K> {
             .ok_or("singular Jacobian")?;
         self.k
             .points(
-                &[x],
+                InputMotion::new(&[x], &[xd], &[xdd]),
                 self.q.as_slice(),
-                &[xd],
                 self.qd.as_slice(),
-                &[xdd],
                 self.qdd.as_slice(),
                 &mut self.points,
             )
@@ -617,7 +609,7 @@ impl<'k, K: Kinematics<f64> + ?Sized> FiniteDifferences<'k, K> {
     }
 }
 
-impl<K: Kinematics<f64> + ?Sized> Stepper for FiniteDifferences<'_, K> {
+impl<K: DynMechanism<f64> + ?Sized> Stepper for FiniteDifferences<'_, K> {
     fn reset(&mut self, x: f64) -> Result<(), String> {
         self.q = DVector::from_column_slice(&Sixbar::<f64>::start().1.to_array());
         self.x = x;

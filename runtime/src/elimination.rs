@@ -312,20 +312,6 @@ pub fn solve_block<T: Real, const K: usize>(
     factor_block(block, stage, jac)?.solve(block, stage, rhs)
 }
 
-/// Copies a matrix into a row-major slice (as much as fits).
-pub fn copy_row_major<T: Real, const R: usize, const C: usize>(
-    m: &SMatrix<T, R, C>,
-    out: &mut [T],
-) {
-    for i in 0..R {
-        for j in 0..C {
-            if let Some(o) = out.get_mut(i * C + j) {
-                *o = m[(i, j)];
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

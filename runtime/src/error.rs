@@ -4,6 +4,7 @@ use core::fmt;
 
 /// Which solve failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Stage {
     Position,
     Velocity,
@@ -12,6 +13,7 @@ pub enum Stage {
 
 /// Which argument held a non-finite value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Quantity {
     Param,
     Input,
@@ -28,6 +30,7 @@ pub enum Quantity {
 /// Why a solve failed. `block` is the index of the diagonal block (see `StaticInfo::blocks`).
 /// Numbers are reported in f64 whatever the solver's precision.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum SolveError {
     /// A param, input, rate or guess is NaN or infinite (`index` in its array).
     NonFinite { quantity: Quantity, index: usize },

@@ -1,6 +1,7 @@
 //! mechgen-runtime: what the generated solvers of `mechgen-codegen` run on. The user-facing types
 //! sit at the root (the scalar trait [`Real`], [`SolveError`], [`NewtonOptions`], the traits
-//! [`Mechanism`] and [`Kinematics`], [`Tick`]); the functions generated code calls are its ABI,
+//! [`StaticMechanism`] (static dispatch, generated code) and [`DynMechanism`] (object-safe, slices),
+//! [`Tick`], [`SolveOptions`]); the functions generated code calls are its ABI,
 //! re-exported under the hidden [`__private`] module, which is the only path generated code uses.
 //!
 //! Applications depend on `mechgen` (which re-exports this crate); this crate depends on nalgebra
@@ -22,8 +23,10 @@ compile_error!("mechgen-runtime needs its `std` feature (the float functions com
 
 pub mod closed_form;
 pub mod dyad;
+pub mod dynamic;
 pub mod elimination;
 pub mod error;
+pub mod info;
 pub mod mechanism;
 pub mod scalar;
 pub mod scene;
@@ -31,16 +34,17 @@ pub mod solve;
 pub mod tick;
 pub mod trig;
 
+pub use dynamic::DynMechanism;
 pub use error::{Quantity, SolveError, Stage};
-pub use mechanism::{
-    Array, CoordInfo, Kind, Kinematics, Mechanism, MechanismInfo, ParamInfo, PointMotion,
-    StaticInfo, Visitor,
+pub use info::{
+    CoordDesc, CoordInfo, Kind, MechanismInfo, ParamDesc, ParamInfo, PointMotion, StaticInfo,
 };
+pub use mechanism::{Array, InputMotion, RowMajor, Solved, StaticMechanism, StaticVisitor};
 pub use nalgebra;
 pub use scalar::Real;
 pub use scene::{Scene, SceneDescription, SceneInfo, SceneKinematics, SceneVisitor};
-pub use solve::{NewtonOptions, NewtonReport};
-pub use tick::{Solution, Tick};
+pub use solve::{NewtonOptions, NewtonReport, SolveOptions};
+pub use tick::{Solution, Tick, TickState};
 
 /// The ABI of generated code: every item the generated solvers name, reached by them as
 /// `<runtime path>::__private::…` (`::mechgen::__private::…` by default). Not a public API: it
@@ -49,14 +53,14 @@ pub use tick::{Solution, Tick};
 pub mod __private {
     pub use crate::closed_form;
     pub use crate::dyad::solve_dyad;
-    pub use crate::elimination::{copy_row_major, factor_block};
+    pub use crate::dynamic::DynMechanism;
+    pub use crate::elimination::factor_block;
     pub use crate::error::{Quantity, SolveError, Stage};
-    pub use crate::mechanism::{
-        CoordInfo, Kind, Kinematics, Mechanism, ParamInfo, PointMotion, StaticInfo, Visitor,
-    };
+    pub use crate::info::{CoordInfo, Kind, ParamInfo, PointMotion, StaticInfo};
+    pub use crate::mechanism::{InputMotion, Solved, StaticMechanism, StaticVisitor};
     pub use crate::scalar::Real;
     pub use crate::scene::{Scene, SceneInfo, SceneKinematics, SceneVisitor};
-    pub use crate::solve::{NewtonOptions, NewtonReport, check_finite, newton_block};
+    pub use crate::solve::{NewtonOptions, NewtonReport, SolveOptions, check_finite, newton_block};
     pub use crate::tick::{Solution, Tick};
     pub use crate::trig::TrigState;
     pub use nalgebra;

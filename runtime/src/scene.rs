@@ -6,10 +6,11 @@
 use alloc::string::{String, ToString};
 use alloc::vec::Vec;
 
+use crate::dynamic::len;
 use crate::error::SolveError;
-use crate::mechanism::{Array, len};
+use crate::mechanism::{Array, InputMotion};
 use crate::scalar::Real;
-use crate::solve::{NewtonOptions, NewtonReport};
+use crate::solve::{NewtonReport, SolveOptions};
 
 /// Static description of a scene: what it keeps of its mechanism.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -76,29 +77,23 @@ pub trait Scene<T: Real>: Send + Sync {
     /// to the scene's order and the outputs.
     fn solve(
         &self,
-        x: &Self::X,
-        xd: &Self::X,
-        xdd: &Self::X,
+        input: &InputMotion<Self::X>,
         q: &mut Self::Q,
-        options: &NewtonOptions<T>,
+        options: &SolveOptions<T>,
     ) -> Result<(Self::Out, NewtonReport<T>), SolveError>;
     /// The first tick of a simulation.
     fn tick_start(
         &self,
-        x: &Self::X,
-        xd: &Self::X,
-        xdd: &Self::X,
+        input: &InputMotion<Self::X>,
         guess: &Self::Q,
-        options: &NewtonOptions<T>,
+        options: &SolveOptions<T>,
     ) -> Result<Self::Tick, SolveError>;
-    /// One tick to `x` (same predictor and trig caching as the mechanism's tick).
+    /// One tick to `input` (same predictor and trig caching as the mechanism's tick).
     fn tick(
         &self,
         t: &mut Self::Tick,
-        x: &Self::X,
-        xd: &Self::X,
-        xdd: &Self::X,
-        options: &NewtonOptions<T>,
+        input: &InputMotion<Self::X>,
+        options: &SolveOptions<T>,
     ) -> Result<(), SolveError>;
     /// The outputs a tick state holds.
     fn outputs(&self, t: &Self::Tick) -> Self::Out;
@@ -115,12 +110,10 @@ pub trait SceneKinematics<T: Real> {
     /// As [`Scene::solve`]: `q` has the mechanism's unknowns, `out` one value per column.
     fn solve_outputs(
         &self,
-        x: &[T],
-        xd: &[T],
-        xdd: &[T],
+        input: InputMotion<&[T]>,
         q: &mut [T],
         out: &mut [T],
-        options: &NewtonOptions<T>,
+        options: &SolveOptions<T>,
     ) -> Result<NewtonReport<T>, SolveError>;
 }
 
@@ -137,17 +130,16 @@ impl<T: Real, S: Scene<T>> SceneKinematics<T> for S {
     }
     fn solve_outputs(
         &self,
-        x: &[T],
-        xd: &[T],
-        xdd: &[T],
+        input: InputMotion<&[T]>,
         q: &mut [T],
         out: &mut [T],
-        options: &NewtonOptions<T>,
+        options: &SolveOptions<T>,
     ) -> Result<NewtonReport<T>, SolveError> {
-        let (x, xd, xdd): (S::X, S::X, S::X) = (arr(x)?, arr(xd)?, arr(xdd)?);
+        let input: InputMotion<S::X> =
+            InputMotion::new(arr(input.x)?, arr(input.xd)?, arr(input.xdd)?);
         let mut qa: S::Q = arr(q)?;
         len(out, S::Out::zeros().as_ref().len())?;
-        let (o, report) = Scene::solve(self, &x, &xd, &xdd, &mut qa, options)?;
+        let (o, report) = Scene::solve(self, &input, &mut qa, options)?;
         q.copy_from_slice(qa.as_ref());
         out.copy_from_slice(o.as_ref());
         Ok(report)

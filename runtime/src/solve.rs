@@ -19,10 +19,6 @@ pub struct NewtonOptions<T> {
     pub tolerance: T,
     /// Iteration cap per block.
     pub max_iterations: u32,
-    /// Solve closed-form blocks in closed form (exact, no iterations; the default): dyad blocks
-    /// in generated solvers, every closed-form kind in the generic engine. `false` runs Newton on
-    /// them like on every other block.
-    pub closed_forms: bool,
 }
 
 impl<T: Real> Default for NewtonOptions<T> {
@@ -30,6 +26,36 @@ impl<T: Real> Default for NewtonOptions<T> {
         NewtonOptions {
             tolerance: T::DEFAULT_TOLERANCE,
             max_iterations: 64,
+        }
+    }
+}
+
+/// How a solve runs: Newton's options for the blocks Newton solves, and whether closed-form
+/// blocks are solved in closed form. `SolveOptions::default()` is the usual choice.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolveOptions<T> {
+    /// Tolerance and iteration cap of every Newton block.
+    pub newton: NewtonOptions<T>,
+    /// Solve closed-form blocks in closed form (exact, no iterations; the default): dyad blocks
+    /// in generated solvers, every closed-form kind in the generic engine. `false` runs Newton on
+    /// them like on every other block.
+    pub closed_forms: bool,
+}
+
+impl<T: Real> Default for SolveOptions<T> {
+    fn default() -> Self {
+        SolveOptions {
+            newton: NewtonOptions::default(),
+            closed_forms: true,
+        }
+    }
+}
+
+impl<T: Real> From<NewtonOptions<T>> for SolveOptions<T> {
+    /// These Newton options, closed forms on.
+    fn from(newton: NewtonOptions<T>) -> Self {
+        SolveOptions {
+            newton,
             closed_forms: true,
         }
     }

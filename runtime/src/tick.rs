@@ -2,12 +2,13 @@
 //! configuration, its rates and points) together with the sines and cosines of its angles. The
 //! next tick predicts the unknowns by a second-order Taylor step, rotates the cached sines and
 //! cosines by the predicted changes (no `sin_cos` call for a small step) and solves from there.
-//! Generated mechanisms expose it as `tick_start` / `tick` (and `Mechanism::tick`).
+//! Generated mechanisms expose it as `tick_start` / `tick` (and `StaticMechanism::tick`); generic
+//! code reads it through [`TickState`].
 
 // Index loops over several parallel arrays read better than zipped iterators here.
 #![allow(clippy::needless_range_loop)]
 
-use crate::mechanism::PointMotion;
+use crate::info::PointMotion;
 use crate::scalar::Real;
 use crate::solve::NewtonReport;
 use crate::trig::{TrigState, rotate, sin_cos_cold};
@@ -15,8 +16,20 @@ use crate::trig::{TrigState, rotate, sin_cos_cold};
 /// Ticks after which every cached sine and cosine is recomputed, bounding rounding drift.
 pub const RESYNC_TICKS: u32 = 64;
 
-/// The state of a mechanism between ticks: inputs `x` (and their rates `xd`), unknowns `q`, `qd`,
-/// `qdd`, the points and the last solve's report, plus caches the next tick reads.
+/// The state of a mechanism between simulator ticks, made by a generated `tick_start` and moved
+/// on by `tick` (`NAME::Tick<T>` names it with the mechanism's sizes: `NI` inputs, `NU`
+/// unknowns, `NP` points, `NPAR` params).
+///
+/// What it holds, all valid to read after every successful `tick_start`/`tick` (and unchanged by
+/// a failed `tick`): the inputs `x` and their rates `xd` of the last tick, the solved unknowns
+/// `q` (on the branch of the first guess), their rates `qd` and accelerations `qdd`, every
+/// point's motion (`points`, in the order of `INFO.points`) and the last position solve's
+/// `report`. Besides those, private caches the next tick reads: the sines and cosines of the
+/// inputs, unknowns and params, the params they were made with (a change of params is detected
+/// and starts them afresh) and their age (recomputed every [`RESYNC_TICKS`] ticks). The fields
+/// are public to read; to move the state, call `tick` (a written field would not match the
+/// caches). Use: `let mut t = mech.tick_start(&input, &guess, &options)?;` once, then
+/// `mech.tick(&mut t, &input, &options)?` per step and read `t.q`, `t.qd`, `t.qdd`, `t.points`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tick<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> {
     pub x: [T; NI],
@@ -33,10 +46,66 @@ pub struct Tick<T, const NI: usize, const NU: usize, const NP: usize, const NPAR
     age: u32,
 }
 
+/// Read access to a tick's solved state, for generic code over [`crate::StaticMechanism`] (whose
+/// `Tick` is a [`Tick`]).
+pub trait TickState<T>: Copy + core::fmt::Debug + Send + Sync + 'static {
+    /// `[T; INPUTS]`
+    type X;
+    /// `[T; UNKNOWNS]`
+    type Q;
+    /// `[PointMotion<T>; POINTS]`
+    type Points;
+    /// The inputs of the last tick.
+    fn x(&self) -> &Self::X;
+    /// Their rates.
+    fn xd(&self) -> &Self::X;
+    /// The solved unknowns.
+    fn q(&self) -> &Self::Q;
+    /// Their rates.
+    fn qd(&self) -> &Self::Q;
+    /// Their accelerations.
+    fn qdd(&self) -> &Self::Q;
+    /// Every point's motion.
+    fn points(&self) -> &Self::Points;
+    /// The last position solve's report.
+    fn report(&self) -> &NewtonReport<T>;
+}
+
+impl<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> TickState<T>
+    for Tick<T, NI, NU, NP, NPAR>
+where
+    T: Copy + core::fmt::Debug + Send + Sync + 'static,
+{
+    type X = [T; NI];
+    type Q = [T; NU];
+    type Points = [PointMotion<T>; NP];
+    fn x(&self) -> &[T; NI] {
+        &self.x
+    }
+    fn xd(&self) -> &[T; NI] {
+        &self.xd
+    }
+    fn q(&self) -> &[T; NU] {
+        &self.q
+    }
+    fn qd(&self) -> &[T; NU] {
+        &self.qd
+    }
+    fn qdd(&self) -> &[T; NU] {
+        &self.qdd
+    }
+    fn points(&self) -> &[PointMotion<T>; NP] {
+        &self.points
+    }
+    fn report(&self) -> &NewtonReport<T> {
+        &self.report
+    }
+}
+
 /// Params a tick had not seen, with their sines and cosines.
 pub type NewParams<'a, T, const NPAR: usize> = (&'a [T; NPAR], &'a [(T, T); NPAR]);
 
-/// The solved state a tick stores (what `solve_arrays` returns, with the trigonometry it used).
+/// The solved state a tick stores (what a whole solve returns, with the trigonometry it used).
 #[derive(Clone, Copy, Debug)]
 pub struct Solution<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> {
     pub x: [T; NI],

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use mechgen::{Kind, MechanismInfo, SceneDescription, generic};
+use mechgen::{CoordDesc, Kind, MechanismInfo, SceneDescription, generic};
 
 /// `mechgen check [--file PATH]`: the file given, or the compiled-in one.
 pub fn run(file: Option<&Path>) -> Result<(), String> {
@@ -23,10 +23,10 @@ pub fn check(name: &str, text: &str) -> Result<(), String> {
         Ok((mechs, warnings)) => {
             eprint!("{warnings}");
             for m in &mechs {
-                print_structure(&mechgen::Kinematics::<f64>::info(m), &m.block_kinds());
+                print_structure(&mechgen::DynMechanism::<f64>::info(m), &m.block_kinds());
             }
             for m in &mechs {
-                let info = mechgen::Kinematics::<f64>::info(m);
+                let info = mechgen::DynMechanism::<f64>::info(m);
                 for s in m.scene_names().into_iter().filter_map(|n| m.scene(n)) {
                     print_scene(&mechgen::SceneKinematics::<f64>::info(&s), &info);
                 }
@@ -42,14 +42,18 @@ pub fn check(name: &str, text: &str) -> Result<(), String> {
 }
 
 fn print_structure(info: &MechanismInfo, kinds: &[String]) {
-    let names = |v: &[(String, Kind, f64)]| {
+    let names = |v: &[CoordDesc]| {
         v.iter()
-            .map(|(n, k, _)| {
-                format!(
-                    "{n} ({})",
-                    if *k == Kind::Angle { "angle" } else { "length" }
-                )
-            })
+            .map(
+                |CoordDesc {
+                     name: n, kind: k, ..
+                 }| {
+                    format!(
+                        "{n} ({})",
+                        if *k == Kind::Angle { "angle" } else { "length" }
+                    )
+                },
+            )
             .collect::<Vec<_>>()
     };
     say!("mechanism {}: {}", info.name, info.description);
@@ -62,7 +66,7 @@ fn print_structure(info: &MechanismInfo, kinds: &[String]) {
         .iter()
         .zip(kinds)
         .map(|(b, kind)| {
-            let us: Vec<&str> = b.iter().map(|&u| info.unknowns[u].0.as_str()).collect();
+            let us: Vec<&str> = b.iter().map(|&u| info.unknowns[u].name.as_str()).collect();
             format!("{}x{} [{}] {kind}", b.len(), b.len(), us.join(", "))
         })
         .collect();
@@ -74,7 +78,7 @@ fn print_scene(s: &SceneDescription, info: &MechanismInfo) {
     let block = |b: usize| {
         let us: Vec<&str> = info.blocks[b]
             .iter()
-            .map(|&u| info.unknowns[u].0.as_str())
+            .map(|&u| info.unknowns[u].name.as_str())
             .collect();
         format!("{b} [{}]", us.join(", "))
     };

@@ -2,7 +2,7 @@
 //! included, the last row exactly `--to`), the held inputs' values, in sweep units (radians or
 //! file units). Sits between [`super::args`] and [`mechgen::sweep`].
 
-use mechgen::{Kind, MechanismInfo};
+use mechgen::{CoordDesc, Kind, MechanismInfo};
 
 /// A sweep resolved against a mechanism.
 #[derive(Clone, Debug, PartialEq)]
@@ -37,18 +37,21 @@ pub fn plan(
     let names = || {
         info.inputs
             .iter()
-            .map(|i| i.0.as_str())
+            .map(|i| i.name.as_str())
             .collect::<Vec<_>>()
             .join(", ")
     };
     let find = |name: &str| {
-        info.inputs.iter().position(|i| i.0 == name).ok_or_else(|| {
-            format!(
-                "`{}` has no input `{name}` (its inputs: {})",
-                info.name,
-                names()
-            )
-        })
+        info.inputs
+            .iter()
+            .position(|i| i.name == name)
+            .ok_or_else(|| {
+                format!(
+                    "`{}` has no input `{name}` (its inputs: {})",
+                    info.name,
+                    names()
+                )
+            })
     };
     if info.inputs.is_empty() {
         return Err(format!("`{}` has no input", info.name));
@@ -62,7 +65,7 @@ pub fn plan(
                 "--set {name}=…: `{name}` is the swept input (use --from/--to, or --input to sweep another)"
             ));
         }
-        let value = if info.inputs[i].1 == Kind::Angle {
+        let value = if info.inputs[i].kind == Kind::Angle {
             value.to_radians()
         } else {
             *value
@@ -70,14 +73,14 @@ pub fn plan(
         held.retain(|h: &(usize, f64)| h.0 != i);
         held.push((i, value));
     }
-    let (name, kind, _) = &info.inputs[index];
+    let CoordDesc { name, kind, .. } = &info.inputs[index];
     let (from, to, step) = match kind {
         Kind::Angle => (
             range.from.unwrap_or(0.0),
             range.to.unwrap_or(360.0),
             range.step.unwrap_or(10.0),
         ),
-        Kind::Length => match (range.from, range.to) {
+        _ => match (range.from, range.to) {
             (Some(f), Some(t)) => (f, t, range.step.unwrap_or((t - f) / 36.0)),
             _ => {
                 return Err(format!(

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use mechgen::generic::Generic;
 use mechgen::plot::{Frame, drawing_svg, motion_svg, point_paths, sweep_frames};
 use mechgen::sweep::Row;
-use mechgen::{Kind, MechanismInfo};
+use mechgen::{CoordDesc, Kind, MechanismInfo};
 
 /// How many configurations the drawing shows.
 const FRAMES: usize = 4;
@@ -52,7 +52,7 @@ pub fn write(
     if frames.is_empty() {
         eprintln!("mechgen: {}: no drawing: no row solved", info.name);
     } else {
-        let (name, kind, _) = &info.inputs[index];
+        let CoordDesc { name, kind, .. } = &info.inputs[index];
         let shown: Vec<String> = frames
             .iter()
             .map(|f| {

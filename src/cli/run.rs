@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use mechgen::generic::Generic;
 use mechgen::sweep::{Continuation, Row, check_start, sweep_holding};
-use mechgen::{Kind, Kinematics, MechanismInfo, report};
+use mechgen::{CoordDesc, DynMechanism, Kind, MechanismInfo, report};
 use mechgen_codegen::diagnostic::{Diagnostic, Severity, SourceFile, render};
 
 use super::args::{Engine, MainArgs, SweepArgs};
@@ -69,7 +69,7 @@ impl Loaded {
 
 /// The mechanism to sweep: its solvers, and the generic engine of the same file (for drawings).
 pub struct Selected {
-    pub solver: Box<dyn Kinematics<f64>>,
+    pub solver: Box<dyn DynMechanism<f64>>,
     pub model: Generic,
 }
 
@@ -104,7 +104,7 @@ pub(super) fn select(
                 names.join(", ")
             )
         })?;
-    let solver: Box<dyn Kinematics<f64>> = match engine {
+    let solver: Box<dyn DynMechanism<f64>> = match engine {
         Engine::Generic => Box::new(model.clone()),
         Engine::Generated => mechgen::lookup::<f64>(name)
             .ok_or_else(|| format!("no compiled-in mechanism `{name}`"))?,
@@ -122,7 +122,7 @@ pub(super) struct Swept {
 impl Swept {
     /// Every input's value during the sweep (the swept one at its start value).
     pub(super) fn inputs(&self, info: &MechanismInfo) -> Vec<f64> {
-        let mut x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
+        let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
         for &(i, v) in &self.plan.held {
             x[i] = v;
         }
@@ -142,13 +142,13 @@ impl Swept {
 
 /// Runs the sweep that `plan` describes on `k`, after the start checks.
 pub(super) fn run_plan(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     info: &MechanismInfo,
     plan: Plan,
     rate: f64,
 ) -> Result<Swept, String> {
     check_start(info).map_err(|e| format!("{}: {e}", info.name))?;
-    let kind = info.inputs[plan.index].1;
+    let kind = info.inputs[plan.index].kind;
     let continuation = Continuation::for_input(kind, plan.span);
     let rows = sweep_holding(k, plan.index, &plan.values, rate, &plan.held, &continuation);
     Ok(Swept { plan, rate, rows })
@@ -239,7 +239,11 @@ pub(super) fn write_plots(
 /// value, if larger), in 36 steps.
 pub(super) fn main_job_range(info: &MechanismInfo) -> Range {
     match info.inputs.first() {
-        Some((_, Kind::Angle, start)) => {
+        Some(CoordDesc {
+            kind: Kind::Angle,
+            start,
+            ..
+        }) => {
             let from = (start.to_degrees() / 10.0).floor() * 10.0;
             let from = if from.is_finite() { from } else { 0.0 };
             Range {
@@ -248,12 +252,13 @@ pub(super) fn main_job_range(info: &MechanismInfo) -> Range {
                 step: Some(10.0),
             }
         }
-        Some((_, Kind::Length, start)) => {
+        // A length input.
+        Some(CoordDesc { start, .. }) => {
             let scale = info
                 .params
                 .iter()
-                .filter(|p| p.1 == Kind::Length)
-                .fold(start.abs(), |m, p| m.max(p.2.abs()));
+                .filter(|p| p.kind == Kind::Length)
+                .fold(start.abs(), |m, p| m.max(p.value.abs()));
             let half = if scale > 0.0 && scale.is_finite() {
                 scale / 4.0
             } else {

@@ -66,7 +66,7 @@ fn sweep_scene(
     let info = sel.solver.info();
     let swept = run_plan(sel.solver.as_ref(), &info, plan_of(&info)?, rate)?;
     let index = swept.plan.index;
-    let continuation = Continuation::for_input(info.inputs[index].1, swept.plan.span);
+    let continuation = Continuation::for_input(info.inputs[index].kind, swept.plan.span);
     let x = swept.inputs(&info);
     let rows = scene_rows(
         solver.as_ref(),
@@ -74,7 +74,7 @@ fn sweep_scene(
         index,
         &swept.rows,
         rate,
-        &continuation.newton,
+        &continuation.options,
     );
     Ok(SceneSweep {
         sel,
@@ -100,7 +100,7 @@ impl SceneSweep {
     }
 
     fn write_csv(&self, path: &Path) -> Result<(), String> {
-        let input = &self.info.inputs[self.swept.plan.index].0;
+        let input = &self.info.inputs[self.swept.plan.index].name;
         std::fs::write(path, scene_csv(&self.scene, input, &self.rows))
             .map_err(|e| format!("cannot write {}: {e}", path.display()))
     }

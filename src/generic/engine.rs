@@ -1,7 +1,7 @@
 //! Generic engine, solvers: a mechanism loaded at run time (through mechgen-codegen's parser,
 //! checker, lowering and derivatives), its DAG compiled to tapes per diagonal block, solved with
 //! the same block Newton and elimination as the generated code on nalgebra `DMatrix`/`DVector`.
-//! Implements [`Kinematics`] with the generated solvers' semantics and error values.
+//! Implements [`DynMechanism`] with the generated solvers' semantics and error values.
 
 use mechgen_codegen::Kind as CodegenKind;
 use mechgen_codegen::{Compiled, Diagnostic, SourceFile};
@@ -11,9 +11,9 @@ use super::closed::{self, ClosedTape};
 use super::tape::{Env, Tape};
 use mechgen_runtime::elimination::gauss_in_place;
 use mechgen_runtime::error::{Quantity, SolveError, Stage};
-use mechgen_runtime::mechanism::{Kind, MechanismInfo};
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::solve::{NewtonWork, check_finite};
+use mechgen_runtime::{CoordDesc, Kind, MechanismInfo, ParamDesc};
 
 /// A mechanism file that could not be loaded: every diagnostic, rendered as FILE:LINE:COLUMN.
 #[derive(Clone, Debug)]
@@ -115,7 +115,11 @@ impl Generic {
         let flat = |rows: &[Vec<_>]| rows.iter().flatten().copied().collect::<Vec<_>>();
         let coords = |cs: &[mechgen_codegen::Coord]| {
             cs.iter()
-                .map(|c| (c.name.text.clone(), kind(c.kind), c.start))
+                .map(|c| CoordDesc {
+                    name: c.name.text.clone(),
+                    kind: kind(c.kind),
+                    start: c.start,
+                })
                 .collect::<Vec<_>>()
         };
         let info = MechanismInfo {
@@ -126,7 +130,11 @@ impl Generic {
             params: m
                 .params
                 .iter()
-                .map(|p| (p.name.text.clone(), kind(p.kind), p.value))
+                .map(|p| ParamDesc {
+                    name: p.name.text.clone(),
+                    kind: kind(p.kind),
+                    value: p.value,
+                })
                 .collect(),
             points: m.points.iter().map(|p| p.0.text.clone()).collect(),
             blocks: c.blocks.iter().map(|b| b.block.unknowns.clone()).collect(),
@@ -240,10 +248,10 @@ impl Generic {
             .info
             .params
             .iter()
-            .position(|p| p.0 == name)
+            .position(|p| p.name == name)
             .ok_or_else(|| format!("no param `{name}` in `{}`", self.info.name))?;
         self.params[i] = value;
-        self.info.params[i].2 = value;
+        self.info.params[i].value = value;
         Ok(())
     }
 
@@ -277,7 +285,7 @@ impl Generic {
         &self,
         x: &[T],
         q: &mut [T],
-        options: &crate::NewtonOptions<T>,
+        options: &crate::SolveOptions<T>,
     ) -> Result<crate::NewtonReport<T>, SolveError> {
         self.newton_blocks(&self.all_blocks(), x, q, options)
     }
@@ -293,7 +301,7 @@ impl Generic {
         which: &[usize],
         x: &[T],
         q: &mut [T],
-        options: &crate::NewtonOptions<T>,
+        options: &crate::SolveOptions<T>,
     ) -> Result<crate::NewtonReport<T>, SolveError> {
         check_finite(Quantity::Param, &self.params)?;
         check_finite(Quantity::Input, x)?;
@@ -315,7 +323,7 @@ impl Generic {
                     &out,
                     &mut trial,
                     scale,
-                    options.tolerance,
+                    options.newton.tolerance,
                     &mut report,
                 )?;
                 continue;
@@ -332,7 +340,7 @@ impl Generic {
                 &b.unknowns,
                 &b.length,
                 scale,
-                options,
+                &options.newton,
                 &mut report,
                 &mut work,
                 |q, r, j| {

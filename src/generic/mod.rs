@@ -1,7 +1,7 @@
 //! The generic runtime engine (feature `runtime`): loads a mechanism file at run time and solves
 //! it by interpreting the same derivatives the generator emits ([`tape`]), with the same block
 //! Newton and error values (`engine.rs`). It is the `--file` path of the CLI and the honest
-//! comparison for the generated solvers. [`Kinematics`] is implemented here, and the drawings'
+//! comparison for the generated solvers. [`DynMechanism`] is implemented here, and the drawings'
 //! structure ([`Linkage`], [`Sketch`]) is read from the loaded model.
 
 mod closed;
@@ -17,10 +17,11 @@ pub use linkage::Linkage;
 pub use scene::GenericScene;
 pub use sketch::{Sketch, SliderAt};
 
+use mechgen_runtime::InputMotion;
 use mechgen_runtime::error::{Quantity, SolveError, Stage};
-use mechgen_runtime::mechanism::{Kinematics, MechanismInfo, PointMotion, len};
 use mechgen_runtime::scalar::Real;
-use mechgen_runtime::solve::{NewtonOptions, NewtonReport, check_finite};
+use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
+use mechgen_runtime::{DynMechanism, MechanismInfo, PointMotion, dynamic::len};
 use tape::Env;
 
 /// One chain of the mechanism drawing at a configuration.
@@ -113,7 +114,7 @@ impl Generic {
 /// mechanisms).
 macro_rules! kinematics {
     ($t:ty) => {
-        impl Kinematics<$t> for Generic {
+        impl DynMechanism<$t> for Generic {
             fn info(&self) -> MechanismInfo {
                 self.info.clone()
             }
@@ -173,7 +174,7 @@ macro_rules! kinematics {
                 &self,
                 x: &[$t],
                 q: &mut [$t],
-                options: &NewtonOptions<$t>,
+                options: &SolveOptions<$t>,
             ) -> Result<NewtonReport<$t>, SolveError> {
                 self.lengths(&[x, q])?;
                 self.newton(x, q, options)
@@ -197,13 +198,12 @@ macro_rules! kinematics {
 
             fn solve_acceleration(
                 &self,
-                x: &[$t],
+                input: InputMotion<&[$t]>,
                 q: &[$t],
-                xd: &[$t],
                 qd: &[$t],
-                xdd: &[$t],
                 qdd: &mut [$t],
             ) -> Result<(), SolveError> {
+                let InputMotion { x, xd, xdd } = input;
                 self.lengths(&[x, q, xd, qd, xdd, qdd])?;
                 self.finite(&[x, q, xd, qd, xdd])?;
                 let env = Env {
@@ -217,14 +217,13 @@ macro_rules! kinematics {
 
             fn points(
                 &self,
-                x: &[$t],
+                input: InputMotion<&[$t]>,
                 q: &[$t],
-                xd: &[$t],
                 qd: &[$t],
-                xdd: &[$t],
                 qdd: &[$t],
                 out: &mut [PointMotion<$t>],
             ) -> Result<(), SolveError> {
+                let InputMotion { x, xd, xdd } = input;
                 self.lengths(&[x, q, xd, qd, xdd, qdd])?;
                 len(out, self.info.points.len())?;
                 let env = Env {

@@ -4,11 +4,12 @@
 //! scene's points only.
 
 use mechgen_codegen::{Compiled, Dag, ScenePlan};
+use mechgen_runtime::dynamic::len;
 use mechgen_runtime::error::{Quantity, SolveError, Stage};
-use mechgen_runtime::mechanism::len;
+use mechgen_runtime::mechanism::InputMotion;
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::scene::{SceneDescription, SceneKinematics};
-use mechgen_runtime::solve::{NewtonOptions, NewtonReport, check_finite};
+use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
 
 use super::Generic;
 use super::tape::{Env, Tape};
@@ -88,13 +89,12 @@ impl Generic {
 impl GenericScene {
     fn solve<T: Real>(
         &self,
-        x: &[T],
-        xd: &[T],
-        xdd: &[T],
+        input: InputMotion<&[T]>,
         q: &mut [T],
         out: &mut [T],
-        options: &NewtonOptions<T>,
+        options: &SolveOptions<T>,
     ) -> Result<NewtonReport<T>, SolveError> {
+        let InputMotion { x, xd, xdd } = input;
         let (g, s) = (&self.mechanism, &self.mechanism.scenes[self.index]);
         let (ni, nu) = (g.info.inputs.len(), g.info.unknowns.len());
         for (v, n) in [(x, ni), (xd, ni), (xdd, ni)] {
@@ -149,7 +149,7 @@ impl GenericScene {
     }
 }
 
-/// Implemented for f64 and f32, as `Kinematics` is for [`Generic`].
+/// Implemented for f64 and f32, as `DynMechanism` is for [`Generic`].
 macro_rules! scene_kinematics {
     ($t:ty) => {
         impl SceneKinematics<$t> for GenericScene {
@@ -158,14 +158,12 @@ macro_rules! scene_kinematics {
             }
             fn solve_outputs(
                 &self,
-                x: &[$t],
-                xd: &[$t],
-                xdd: &[$t],
+                input: InputMotion<&[$t]>,
                 q: &mut [$t],
                 out: &mut [$t],
-                options: &NewtonOptions<$t>,
+                options: &SolveOptions<$t>,
             ) -> Result<NewtonReport<$t>, SolveError> {
-                self.solve(x, xd, xdd, q, out, options)
+                self.solve(input, q, out, options)
             }
         }
     };

@@ -7,7 +7,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::sweep::Row;
-use mechgen_runtime::mechanism::MechanismInfo;
+use mechgen_runtime::MechanismInfo;
 
 use super::symbols::{axes, block, draw_legend, draw_shape, guide, pivot};
 use super::{

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use crate::generic::{Generic, Sketch, SliderAt};
 use crate::sweep::Row;
-use mechgen_runtime::mechanism::{Kind, Kinematics};
+use mechgen_runtime::{CoordDesc, DynMechanism, Kind};
 
 use super::animation::short;
 use super::drawing::{Frame, Slider, point_paths};
@@ -21,8 +21,8 @@ const GUIDE_MARGIN: f64 = 0.08;
 /// entry `input` is replaced by each row's value); failed rows give none. A frame's input is in
 /// degrees for an angle input. Empty when `x` or `input` do not fit the mechanism.
 pub fn sweep_frames(model: &Generic, x: &[f64], input: usize, rows: &[Row]) -> Vec<Frame> {
-    let info = Kinematics::<f64>::info(model);
-    let Some((_, kind, _)) = info.inputs.get(input) else {
+    let info = DynMechanism::<f64>::info(model);
+    let Some(CoordDesc { kind, .. }) = info.inputs.get(input) else {
         return Vec::new();
     };
     let angle = *kind == Kind::Angle;
@@ -190,9 +190,9 @@ pub fn write_animation(
     input: usize,
     rows: &[Row],
 ) -> Result<PathBuf, PlotError> {
-    let info = Kinematics::<f64>::info(model);
+    let info = DynMechanism::<f64>::info(model);
     let frames = sweep_frames(model, x, input, rows);
-    let (Some(first), Some(last), Some((name, kind, _))) =
+    let (Some(first), Some(last), Some(CoordDesc { name, kind, .. })) =
         (frames.first(), frames.last(), info.inputs.get(input))
     else {
         return Err(PlotError::NoData);

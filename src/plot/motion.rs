@@ -10,7 +10,7 @@ use super::{
     padded_range, robust_range, tick_text,
 };
 use crate::sweep::{Row, Solved};
-use mechgen_runtime::mechanism::{Kind, MechanismInfo};
+use mechgen_runtime::{CoordDesc, Kind, MechanismInfo};
 
 type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 
@@ -27,16 +27,16 @@ fn unit(kind: Kind, derivative: usize) -> &'static str {
         (Kind::Angle, 0) => "deg",
         (Kind::Angle, 1) => "deg/s",
         (Kind::Angle, _) => "deg/s²",
-        (Kind::Length, 0) => "units",
-        (Kind::Length, 1) => "units/s",
-        (Kind::Length, _) => "units/s²",
+        (_, 0) => "units",
+        (_, 1) => "units/s",
+        (_, _) => "units/s²",
     }
 }
 
 fn to_display(kind: Kind) -> f64 {
     match kind {
         Kind::Angle => 180.0 / std::f64::consts::PI,
-        Kind::Length => 1.0,
+        _ => 1.0,
     }
 }
 
@@ -60,7 +60,11 @@ struct Panel {
 /// its input rate).
 pub fn motion_svg(info: &MechanismInfo, input: usize, rows: &[Row]) -> Result<String, PlotError> {
     ensure_font()?;
-    let (input_name, input_kind, _) = info.inputs.get(input).ok_or(PlotError::BadInput {
+    let CoordDesc {
+        name: input_name,
+        kind: input_kind,
+        ..
+    } = info.inputs.get(input).ok_or(PlotError::BadInput {
         index: input,
         inputs: info.inputs.len(),
     })?;
@@ -70,7 +74,7 @@ pub fn motion_svg(info: &MechanismInfo, input: usize, rows: &[Row]) -> Result<St
 
     let kinds: Vec<Kind> = [Kind::Angle, Kind::Length]
         .into_iter()
-        .filter(|k| info.unknowns.iter().any(|u| u.1 == *k))
+        .filter(|k| info.unknowns.iter().any(|u| u.kind == *k))
         .collect();
     let columns = kinds.len().max(1);
     let x_desc = format!("{input_name} [{}]", unit(*input_kind, 0));
@@ -83,7 +87,7 @@ pub fn motion_svg(info: &MechanismInfo, input: usize, rows: &[Row]) -> Result<St
                 .unknowns
                 .iter()
                 .enumerate()
-                .filter(|(_, u)| u.1 == *kind)
+                .filter(|(_, u)| u.kind == *kind)
                 .map(|(j, _)| {
                     let points = rows.iter().map(|r| {
                         let v = r
@@ -99,7 +103,7 @@ pub fn motion_svg(info: &MechanismInfo, input: usize, rows: &[Row]) -> Result<St
             let group = match (columns, kind) {
                 (1, _) => String::new(),
                 (_, Kind::Angle) => "angles: ".into(),
-                (_, Kind::Length) => "lengths: ".into(),
+                _ => "lengths: ".into(),
             };
             panels.push(Panel {
                 caption: format!("{group}{quantity}"),
@@ -196,7 +200,7 @@ fn draw_header(
         .unknowns
         .iter()
         .enumerate()
-        .map(|(j, u)| (u.0.clone(), color(j).stroke_width(3), false))
+        .map(|(j, u)| (u.name.clone(), color(j).stroke_width(3), false))
         .collect();
     if gaps {
         entries.push(("no solution".into(), GAP_FILL.mix(0.15).filled(), true));

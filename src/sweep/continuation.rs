@@ -4,7 +4,7 @@
 
 use super::Continuation;
 use mechgen_runtime::error::SolveError;
-use mechgen_runtime::mechanism::{Kind, Kinematics, MechanismInfo};
+use mechgen_runtime::{DynMechanism, Kind, MechanismInfo};
 
 /// Substeps one continuation may always try (halvings near a dead point included).
 pub const BASE_SUBSTEPS: usize = 1000;
@@ -54,8 +54,8 @@ pub fn length_scale(info: &MechanismInfo) -> f64 {
     let s = info
         .params
         .iter()
-        .filter(|p| p.1 == Kind::Length && p.2.is_finite())
-        .fold(0.0f64, |m, p| m.max(p.2.abs()));
+        .filter(|p| p.kind == Kind::Length && p.value.is_finite())
+        .fold(0.0f64, |m, p| m.max(p.value.abs()));
     if s > 0.0 { s } else { 1.0 }
 }
 
@@ -71,7 +71,7 @@ pub fn largest_substep(c: &Continuation, kind: Kind, scale: f64) -> f64 {
     match kind {
         Kind::Angle if given > 0.0 => given,
         Kind::Angle => 2f64.to_radians(),
-        Kind::Length => given.max(scale / 180.0),
+        _ => given.max(scale / 180.0),
     }
 }
 
@@ -90,7 +90,7 @@ pub fn substep_budget(distance: f64, h_max: f64) -> usize {
 /// `x` and `q` hold the new state and the condition estimate there is returned; on failure they
 /// keep the last state reached. At most [`substep_budget`] substeps, so it always ends.
 pub fn continue_branch(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     x: &mut [f64],
     q: &mut [f64],
     index: usize,
@@ -104,7 +104,7 @@ pub fn continue_branch(
 /// [`continue_branch`] with at most `allowance` substeps (a sweep's remaining budget), which it
 /// decreases by the substeps it used.
 pub fn continue_within(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     x: &mut [f64],
     q: &mut [f64],
     index: usize,
@@ -121,7 +121,7 @@ pub fn continue_within(
 /// The continuation itself, at most `allowance` substeps, counted in `used`.
 #[allow(clippy::too_many_arguments)]
 fn follow(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     x: &mut [f64],
     q: &mut [f64],
     index: usize,
@@ -136,7 +136,7 @@ fn follow(
     };
     let info = k.info();
     let kind = match info.inputs.get(index) {
-        Some(input) if index < x.len() => input.1,
+        Some(input) if index < x.len() => input.kind,
         _ => {
             return Err(solver(SolveError::BadLength {
                 expected: info.inputs.len(),
@@ -207,7 +207,7 @@ fn follow(
         let corrected = if too_far {
             None
         } else {
-            Some(k.solve_position(&xt, &mut trial, &c.newton))
+            Some(k.solve_position(&xt, &mut trial, &c.options))
         };
         let accepted = match corrected {
             // Accept only a corrector that stayed near the prediction: no silent branch jump.
@@ -227,7 +227,7 @@ fn follow(
                 return None;
             }
             trial.copy_from_slice(q);
-            let report = k.solve_position(&xt, &mut trial, &c.newton).ok()?;
+            let report = k.solve_position(&xt, &mut trial, &c.options).ok()?;
             leaves_along(&predicted, &trial, q).then_some(report)
         });
         match accepted {
@@ -263,14 +263,14 @@ fn predictor_limits(info: &MechanismInfo, q: &[f64], scale: f64) -> Vec<f64> {
     let current = q
         .iter()
         .zip(&info.unknowns)
-        .filter(|(v, u)| u.1 == Kind::Length && v.is_finite())
+        .filter(|(v, u)| u.kind == Kind::Length && v.is_finite())
         .fold(0.0f64, |m, (v, _)| m.max(v.abs()));
     let length = scale.max(current);
     info.unknowns
         .iter()
-        .map(|u| match u.1 {
+        .map(|u| match u.kind {
             Kind::Angle => MAX_PREDICTED,
-            Kind::Length => MAX_PREDICTED * length,
+            _ => MAX_PREDICTED * length,
         })
         .collect()
 }

@@ -1,6 +1,6 @@
 //! Sweeps of one input: continuation along the `start` configuration's branch ([`continuation`]),
 //! other inputs held at set values, then velocities, accelerations and points at every row.
-//! Works on any [`Kinematics`] (generated or generic), written once; the CLI and reports sit on it.
+//! Works on any [`DynMechanism`] (generated or generic), written once; the CLI and reports sit on it.
 
 pub mod continuation;
 pub mod scene;
@@ -11,8 +11,8 @@ pub use continuation::{
 };
 
 use mechgen_runtime::error::SolveError;
-use mechgen_runtime::mechanism::{Kind, Kinematics, MechanismInfo, PointMotion};
-use mechgen_runtime::solve::NewtonOptions;
+use mechgen_runtime::solve::SolveOptions;
+use mechgen_runtime::{CoordDesc, DynMechanism, Kind, MechanismInfo, PointMotion};
 
 /// How the branch is followed between rows.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -22,7 +22,8 @@ pub struct Continuation {
     pub max_step: f64,
     /// Give up on a row when the substep falls below this fraction of `max_step`.
     pub min_fraction: f64,
-    pub newton: NewtonOptions<f64>,
+    /// The position solves of every substep and row.
+    pub options: SolveOptions<f64>,
 }
 
 impl Continuation {
@@ -30,12 +31,12 @@ impl Continuation {
     pub fn for_input(kind: Kind, span: f64) -> Self {
         let max_step = match kind {
             Kind::Angle => 2f64.to_radians(),
-            Kind::Length => (span.abs() / 180.0).max(f64::MIN_POSITIVE),
+            _ => (span.abs() / 180.0).max(f64::MIN_POSITIVE),
         };
         Continuation {
             max_step,
             min_fraction: 1e-9,
-            newton: NewtonOptions::default(),
+            options: SolveOptions::default(),
         }
     }
 }
@@ -102,7 +103,7 @@ impl Stopped {
 /// `x` and `q` hold the new state; on failure they keep the last state reached. Always ends
 /// ([`continue_branch`] says why it stopped).
 pub fn continue_to(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     x: &mut [f64],
     q: &mut [f64],
     index: usize,
@@ -144,10 +145,15 @@ impl std::error::Error for StartError {}
 /// [`MAX_START_ANGLE`] (angles) or [`MAX_START_LENGTH`] × the length scale (lengths).
 pub fn check_start(info: &MechanismInfo) -> Result<(), StartError> {
     let scale = length_scale(info);
-    for (name, kind, value) in &info.inputs {
+    for CoordDesc {
+        name,
+        kind,
+        start: value,
+    } in &info.inputs
+    {
         let limit = match kind {
             Kind::Angle => MAX_START_ANGLE,
-            Kind::Length => MAX_START_LENGTH * scale,
+            _ => MAX_START_LENGTH * scale,
         };
         if value.is_nan() || value.abs() > limit {
             return Err(StartError {

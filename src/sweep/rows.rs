@@ -7,13 +7,13 @@ use super::{
     nearest_turn, sweep_budget,
 };
 use mechgen_runtime::error::SolveError;
-use mechgen_runtime::mechanism::{Kind, Kinematics, MechanismInfo, PointMotion};
+use mechgen_runtime::{DynMechanism, InputMotion, Kind, MechanismInfo, PointMotion};
 
 /// Sweeps input `index` over `values` (radians or file units) from the file's start configuration,
 /// with input rate `rate` and zero input acceleration; the other inputs stay at their start
 /// values. See [`sweep_holding`].
 pub fn sweep(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     index: usize,
     values: &[f64],
     rate: f64,
@@ -31,7 +31,7 @@ pub fn sweep(
 /// at most [`sweep_budget`]`(values.len())` substeps (three solves each) and four more solves per
 /// row: once they are used up, the remaining rows get `substep-limit` without any work.
 pub fn sweep_holding(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     index: usize,
     values: &[f64],
     rate: f64,
@@ -39,8 +39,8 @@ pub fn sweep_holding(
     c: &Continuation,
 ) -> Vec<Row> {
     let info: MechanismInfo = k.info();
-    let mut x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
-    let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
+    let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+    let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
     let (ni, nu, np) = (x.len(), q.len(), info.points.len());
     let fail_all = |error: SolveError, stopped: Stopped| -> Vec<Row> {
         values
@@ -76,12 +76,12 @@ pub fn sweep_holding(
     let mut allowance = sweep_budget(values.len());
     // Held inputs first, each along the branch from its start value to its value.
     for &(i, value) in held.iter().filter(|h| h.0 < ni && h.0 != index) {
-        let kind = info.inputs[i].1;
+        let kind = info.inputs[i].kind;
         if kind == Kind::Angle {
             x[i] = nearest_turn(x[i], value);
         }
         let held_c = Continuation {
-            newton: c.newton,
+            options: c.options,
             min_fraction: c.min_fraction,
             ..Continuation::for_input(kind, value - x[i])
         };
@@ -93,7 +93,7 @@ pub fn sweep_holding(
             );
         }
     }
-    if let (Kind::Angle, Some(first)) = (info.inputs[index].1, values.first()) {
+    if let (Kind::Angle, Some(first)) = (info.inputs[index].kind, values.first()) {
         x[index] = nearest_turn(x[index], *first);
     }
     values
@@ -110,8 +110,9 @@ pub fn sweep_holding(
                     let mut qdd = vec![0.0; nu];
                     let mut points = vec![PointMotion::default(); np];
                     k.solve_velocity(&x, &q, &xd, &mut qd)?;
-                    k.solve_acceleration(&x, &q, &xd, &qd, &xdd, &mut qdd)?;
-                    k.points(&x, &q, &xd, &qd, &xdd, &qdd, &mut points)?;
+                    let input = InputMotion::new(&x[..], &xd[..], &xdd[..]);
+                    k.solve_acceleration(input, &q, &qd, &mut qdd)?;
+                    k.points(input, &q, &qd, &qdd, &mut points)?;
                     Ok(Solved {
                         q: q.clone(),
                         qd,
@@ -142,9 +143,9 @@ fn stopped(input: f64, condition: f64, reason: StopReason) -> Stopped {
 }
 
 /// Condition estimate at a converged state (infinite when the solve fails there).
-fn condition_at(k: &dyn Kinematics<f64>, x: &[f64], q: &[f64], c: &Continuation) -> f64 {
+fn condition_at(k: &dyn DynMechanism<f64>, x: &[f64], q: &[f64], c: &Continuation) -> f64 {
     let mut settled = q.to_vec();
-    k.solve_position(x, &mut settled, &c.newton)
+    k.solve_position(x, &mut settled, &c.options)
         .map_or(f64::INFINITY, |r| r.condition())
 }
 
@@ -152,16 +153,16 @@ fn condition_at(k: &dyn Kinematics<f64>, x: &[f64], q: &[f64], c: &Continuation)
 /// near the file's values as whole turns allow (a far-off start may have converged turns away,
 /// where angles lose precision). Leaves `q` as it is when the solve fails.
 fn settle_start(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     info: &MechanismInfo,
     x: &[f64],
     q: &mut [f64],
     c: &Continuation,
 ) {
     let mut start_q = q.to_vec();
-    if k.solve_position(x, &mut start_q, &c.newton).is_ok() {
+    if k.solve_position(x, &mut start_q, &c.options).is_ok() {
         for ((settled, file), u) in start_q.iter_mut().zip(q.iter()).zip(&info.unknowns) {
-            if u.1 == Kind::Angle {
+            if u.kind == Kind::Angle {
                 *settled = nearest_turn(*settled, *file);
             }
         }

@@ -7,9 +7,10 @@
 use std::fmt::Write as _;
 
 use mechgen_runtime::error::SolveError;
-use mechgen_runtime::mechanism::{Kind, MechanismInfo};
+use mechgen_runtime::info::{Kind, MechanismInfo};
+use mechgen_runtime::mechanism::InputMotion;
 use mechgen_runtime::scene::{SceneDescription, SceneKinematics};
-use mechgen_runtime::solve::NewtonOptions;
+use mechgen_runtime::solve::SolveOptions;
 
 use super::Row;
 use crate::report::significant;
@@ -34,7 +35,7 @@ pub fn scene_rows(
     index: usize,
     rows: &[Row],
     rate: f64,
-    options: &NewtonOptions<f64>,
+    options: &SolveOptions<f64>,
 ) -> Vec<SceneRow> {
     let ncols = scene.info().columns.len();
     let (mut xs, mut xd) = (x.to_vec(), vec![0.0; x.len()]);
@@ -47,7 +48,7 @@ pub fn scene_rows(
                 let mut q = s.q.clone();
                 let mut out = vec![0.0; ncols];
                 let solved = scene
-                    .solve_outputs(&xs, &xd, &xdd, &mut q, &mut out, options)
+                    .solve_outputs(InputMotion::new(&xs, &xd, &xdd), &mut q, &mut out, options)
                     .and_then(|_| match out.iter().all(|v| v.is_finite()) {
                         true => Ok(out),
                         false => Err(SolveError::Overflow {
@@ -111,8 +112,8 @@ fn column_units(scene: &SceneDescription, info: &MechanismInfo) -> Vec<(Kind, us
         let kind = info
             .unknowns
             .iter()
-            .find(|c| &c.0 == u)
-            .map_or(Kind::Length, |c| c.1);
+            .find(|c| &c.name == u)
+            .map_or(Kind::Length, |c| c.kind);
         units.extend((0..n).map(|o| (kind, o)));
     }
     units.extend((0..scene.points.len()).flat_map(|_| (0..n).flat_map(|o| [(Kind::Length, o); 2])));
@@ -127,13 +128,13 @@ pub fn scene_table(
     index: usize,
     rows: &[SceneRow],
 ) -> String {
-    let (input, input_kind, _) = &info.inputs[index];
+    let (input, input_kind) = (&info.inputs[index].name, &info.inputs[index].kind);
     let units = column_units(scene, info);
     let tag = |k: Kind, o: usize| {
         let per = ["", "/s", "/s2"][o];
         match k {
             Kind::Angle => format!("[deg{per}]"),
-            Kind::Length => format!("[u{per}]"),
+            _ => format!("[u{per}]"),
         }
     };
     let mut head = vec![format!("{input}{}", tag(*input_kind, 0))];
@@ -147,7 +148,7 @@ pub fn scene_table(
     let width = head.iter().map(String::len).max().unwrap_or(0).max(13) + 1;
     let deg = |k: Kind| match k {
         Kind::Angle => 180.0 / std::f64::consts::PI,
-        Kind::Length => 1.0,
+        _ => 1.0,
     };
     let mut out = String::new();
     head.iter().for_each(|h| {

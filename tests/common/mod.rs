@@ -58,11 +58,11 @@ pub fn sweep_columns(info: &MechanismInfo, rows: &[Row]) -> Vec<(String, Kind, b
             .collect()
     };
     for (i, u) in info.unknowns.iter().enumerate() {
-        cols.push((u.0.clone(), u.1, false, get(&|s| s.q[i])));
+        cols.push((u.name.clone(), u.kind, false, get(&|s| s.q[i])));
     }
     for (i, u) in info.unknowns.iter().enumerate() {
         cols.push((
-            format!("{}_vel", u.0),
+            format!("{}_vel", u.name),
             Kind::Length,
             true,
             get(&|s| s.qd[i]),
@@ -70,7 +70,7 @@ pub fn sweep_columns(info: &MechanismInfo, rows: &[Row]) -> Vec<(String, Kind, b
     }
     for (i, u) in info.unknowns.iter().enumerate() {
         cols.push((
-            format!("{}_acc", u.0),
+            format!("{}_acc", u.name),
             Kind::Length,
             true,
             get(&|s| s.qdd[i]),

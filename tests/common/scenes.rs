@@ -5,7 +5,9 @@
 
 use mechgen::generic::Generic;
 use mechgen::sweep::{Continuation, Row, sweep};
-use mechgen::{Kind, Kinematics, MechanismInfo, NewtonOptions, PointMotion, SceneDescription};
+use mechgen::{
+    DynMechanism, InputMotion, Kind, MechanismInfo, PointMotion, SceneDescription, SolveOptions,
+};
 use mechgen::{SceneKinematics, lookup, lookup_scene};
 
 /// The columns interfaces.md asks for: per unknown `u`, `u_vel`, `u_acc`; per point `P_x, P_y`,
@@ -37,7 +39,7 @@ fn full_values<T: Copy>(
         let k = info
             .unknowns
             .iter()
-            .position(|c| &c.0 == u)
+            .position(|c| &c.name == u)
             .expect("unknown");
         v.extend(q[..n].iter().map(|a| a[k]));
     }
@@ -52,16 +54,16 @@ fn full_values<T: Copy>(
 
 /// Solved rows of a sweep of the mechanism's first input: a full turn (1° apart) for an angle,
 /// the start ± a quarter of the length scale (101 rows) for a length.
-pub fn full_sweep(k: &dyn Kinematics<f64>) -> Vec<Row> {
+pub fn full_sweep(k: &dyn DynMechanism<f64>) -> Vec<Row> {
     let info = k.info();
-    let (_, kind, start) = info.inputs[0].clone();
+    let (kind, start) = (info.inputs[0].kind, info.inputs[0].start);
     let values: Vec<f64> = match kind {
         Kind::Angle => (0..=360)
             .map(|i| start + f64::from(i).to_radians())
             .collect(),
-        Kind::Length => {
-            let scale = info.params.iter().filter(|p| p.1 == Kind::Length);
-            let half = scale.fold(0.0f64, |m, p| m.max(p.2.abs())) / 4.0;
+        _ => {
+            let scale = info.params.iter().filter(|p| p.kind == Kind::Length);
+            let half = scale.fold(0.0f64, |m, p| m.max(p.value.abs())) / 4.0;
             (0..=100)
                 .map(|i| start - half + f64::from(i) * half / 50.0)
                 .collect()
@@ -82,7 +84,7 @@ fn close(a: f64, b: f64, scale: f64, tol: f64) -> bool {
 pub fn compare<T: mechgen::Real>(
     what: &str,
     scene: &dyn SceneKinematics<T>,
-    full: &dyn Kinematics<T>,
+    full: &dyn DynMechanism<T>,
     rows: &[Row],
     tol: f64,
 ) -> (Vec<String>, usize) {
@@ -93,7 +95,7 @@ pub fn compare<T: mechgen::Real>(
     let mut fails = Vec::new();
     for r in rows {
         let Ok(solved) = &r.result else { continue };
-        let mut x: Vec<T> = info.inputs.iter().map(|i| lit(i.2)).collect();
+        let mut x: Vec<T> = info.inputs.iter().map(|i| lit(i.start)).collect();
         x[0] = lit(r.input);
         let mut xd = vec![lit(0.0); ni];
         xd[0] = lit(1.0);
@@ -101,20 +103,22 @@ pub fn compare<T: mechgen::Real>(
         let guess: Vec<T> = solved.q.iter().map(|&v| lit(v)).collect();
         let (mut q, mut qd, mut qdd) = (guess.clone(), vec![lit(0.0); nu], vec![lit(0.0); nu]);
         let mut points = vec![PointMotion::<T>::default(); np];
-        let full_ok = full.solve_motion(
-            &x,
-            &xd,
-            &xdd,
+        let full_ok = full.solve(
+            InputMotion::new(&x, &xd, &xdd),
             &mut q,
             &mut qd,
             &mut qdd,
             &mut points,
-            &NewtonOptions::default(),
+            &SolveOptions::default(),
         );
         let mut sq = guess;
         let mut out = vec![lit(0.0); s.columns.len()];
-        let scene_ok =
-            scene.solve_outputs(&x, &xd, &xdd, &mut sq, &mut out, &NewtonOptions::default());
+        let scene_ok = scene.solve_outputs(
+            InputMotion::new(&x, &xd, &xdd),
+            &mut sq,
+            &mut out,
+            &SolveOptions::default(),
+        );
         match (full_ok, scene_ok) {
             (Ok(_), Ok(_)) => pairs.push((full_values(&s, &info, [&q, &qd, &qdd], &points), out)),
             (f, g) => fails.push(format!("{what} at {}: full {f:?}, scene {g:?}", r.input)),

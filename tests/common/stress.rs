@@ -1,10 +1,10 @@
 //! Helpers of the stress suite (`tests/stress_*.rs`): the dead-point references of
-//! `tests/data/stress/`, settled start configurations and full motions through `Kinematics`.
+//! `tests/data/stress/`, settled start configurations and full motions through `DynMechanism`.
 #![allow(dead_code)]
 
 use super::Table;
 use mechgen::sweep::Continuation;
-use mechgen::{Kind, Kinematics, MechanismInfo, NewtonOptions, PointMotion};
+use mechgen::{DynMechanism, InputMotion, Kind, MechanismInfo, PointMotion, SolveOptions};
 
 /// The dead-point mechanisms of `mechanism.toml` with references in `tests/data/stress/`.
 pub const DEAD_POINT_MECHANISMS: [&str; 2] = ["rocker_four_bar", "sixbar_g"];
@@ -13,8 +13,8 @@ pub const DEAD_POINT_MECHANISMS: [&str; 2] = ["rocker_four_bar", "sixbar_g"];
 pub fn length_scale(info: &MechanismInfo) -> f64 {
     info.params
         .iter()
-        .filter(|p| p.1 == Kind::Length)
-        .fold(0.0f64, |m, p| m.max(p.2.abs()))
+        .filter(|p| p.kind == Kind::Length)
+        .fold(0.0f64, |m, p| m.max(p.value.abs()))
 }
 
 fn data(file: &str) -> Table {
@@ -56,7 +56,7 @@ pub fn start(name: &str) -> Started {
 
 /// The generic engine's copy of a compiled-in mechanism (always block Newton, no closed forms).
 #[cfg(feature = "runtime")]
-pub fn generic(name: &str) -> Box<dyn Kinematics<f64>> {
+pub fn generic(name: &str) -> Box<dyn DynMechanism<f64>> {
     let all = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
         .expect("compiled-in file loads");
     Box::new(
@@ -67,14 +67,14 @@ pub fn generic(name: &str) -> Box<dyn Kinematics<f64>> {
 }
 
 /// An engine with its start state (x, q).
-pub type Started = (Box<dyn Kinematics<f64>>, Vec<f64>, Vec<f64>);
+pub type Started = (Box<dyn DynMechanism<f64>>, Vec<f64>, Vec<f64>);
 
 /// [`start`] for a given engine.
-pub fn start_with(k: Box<dyn Kinematics<f64>>) -> Started {
+pub fn start_with(k: Box<dyn DynMechanism<f64>>) -> Started {
     let info = k.info();
-    let x: Vec<f64> = info.inputs.iter().map(|i| i.2).collect();
-    let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
-    k.solve_position(&x, &mut q, &NewtonOptions::default())
+    let x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+    let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
+    k.solve_position(&x, &mut q, &SolveOptions::default())
         .expect("start assembles");
     (k, x, q)
 }
@@ -87,7 +87,7 @@ pub fn continuation() -> Continuation {
 /// q̇, q̈ and the points at a solved state of a one-input mechanism, for input rate 1 and input
 /// acceleration 0.
 pub fn motion(
-    k: &dyn Kinematics<f64>,
+    k: &dyn DynMechanism<f64>,
     x: &[f64],
     q: &[f64],
 ) -> (Vec<f64>, Vec<f64>, Vec<PointMotion<f64>>) {
@@ -95,10 +95,16 @@ pub fn motion(
     let (mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n]);
     let mut points = vec![PointMotion::default(); k.info().points.len()];
     k.solve_velocity(x, q, &[1.0], &mut qd).expect("velocity");
-    k.solve_acceleration(x, q, &[1.0], &qd, &[0.0], &mut qdd)
+    k.solve_acceleration(InputMotion::new(x, &[1.0], &[0.0]), q, &qd, &mut qdd)
         .expect("acceleration");
-    k.points(x, q, &[1.0], &qd, &[0.0], &qdd, &mut points)
-        .expect("points");
+    k.points(
+        InputMotion::new(x, &[1.0], &[0.0]),
+        q,
+        &qd,
+        &qdd,
+        &mut points,
+    )
+    .expect("points");
     (qd, qdd, points)
 }
 

@@ -1,22 +1,24 @@
-//! Shared by the sweep tests: a [`Kinematics`] wrapper that counts solves (and can report another
+//! Shared by the sweep tests: a [`DynMechanism`] wrapper that counts solves (and can report another
 //! start), and the closed forms of the test mechanisms in `tests/data/sweep/`, computed here
 //! independently of the solvers.
 #![allow(dead_code)]
 
 use std::cell::Cell;
 
-use mechgen::{Kinematics, MechanismInfo, NewtonOptions, NewtonReport, PointMotion, SolveError};
+use mechgen::{
+    DynMechanism, InputMotion, MechanismInfo, NewtonReport, PointMotion, SolveError, SolveOptions,
+};
 
 /// Counts every call that solves or evaluates something; `info` may differ from the inner one's
 /// (another start configuration).
 pub struct Counting<'a> {
-    pub inner: &'a dyn Kinematics<f64>,
+    pub inner: &'a dyn DynMechanism<f64>,
     pub info: MechanismInfo,
     pub calls: Cell<usize>,
 }
 
 impl<'a> Counting<'a> {
-    pub fn new(inner: &'a dyn Kinematics<f64>) -> Self {
+    pub fn new(inner: &'a dyn DynMechanism<f64>) -> Self {
         Counting {
             inner,
             info: inner.info(),
@@ -29,7 +31,7 @@ impl<'a> Counting<'a> {
     }
 }
 
-impl Kinematics<f64> for Counting<'_> {
+impl DynMechanism<f64> for Counting<'_> {
     fn info(&self) -> MechanismInfo {
         self.info.clone()
     }
@@ -72,7 +74,7 @@ impl Kinematics<f64> for Counting<'_> {
         &self,
         x: &[f64],
         q: &mut [f64],
-        options: &NewtonOptions<f64>,
+        options: &SolveOptions<f64>,
     ) -> Result<NewtonReport<f64>, SolveError> {
         self.count();
         self.inner.solve_position(x, q, options)
@@ -89,28 +91,24 @@ impl Kinematics<f64> for Counting<'_> {
     }
     fn solve_acceleration(
         &self,
-        x: &[f64],
+        input: InputMotion<&[f64]>,
         q: &[f64],
-        xd: &[f64],
         qd: &[f64],
-        xdd: &[f64],
         qdd: &mut [f64],
     ) -> Result<(), SolveError> {
         self.count();
-        self.inner.solve_acceleration(x, q, xd, qd, xdd, qdd)
+        self.inner.solve_acceleration(input, q, qd, qdd)
     }
     fn points(
         &self,
-        x: &[f64],
+        input: InputMotion<&[f64]>,
         q: &[f64],
-        xd: &[f64],
         qd: &[f64],
-        xdd: &[f64],
         qdd: &[f64],
         out: &mut [PointMotion<f64>],
     ) -> Result<(), SolveError> {
         self.count();
-        self.inner.points(x, q, xd, qd, xdd, qdd, out)
+        self.inner.points(input, q, qd, qdd, out)
     }
 }
 

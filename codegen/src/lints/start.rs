@@ -90,7 +90,6 @@ pub fn newton_from_start(model: &Model, system: &System, derivatives: &Derivativ
     let options = NewtonOptions {
         tolerance: TOLERANCE,
         max_iterations: MAX_ITERATIONS,
-        ..NewtonOptions::default()
     };
     let mut work: NewtonWork<f64, Dyn> = NewtonWork {
         residual: DVector::zeros(n),

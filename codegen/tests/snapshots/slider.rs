@@ -5,7 +5,9 @@ pub const MECHANISMS: [&str; 1] = ["slider"];
 /// A compiled-in mechanism by name, with its default params, behind the object-safe trait.
 pub fn lookup<T: ::mechgen::__private::Real>(
     name: &str,
-) -> ::core::option::Option<::std::boxed::Box<dyn ::mechgen::__private::Kinematics<T>>> {
+) -> ::core::option::Option<
+    ::std::boxed::Box<dyn ::mechgen::__private::DynMechanism<T>>,
+> {
     match name {
         "slider" => {
             ::core::option::Option::Some(
@@ -19,9 +21,10 @@ pub fn lookup<T: ::mechgen::__private::Real>(
 }
 /// Calls `v.visit` with every compiled-in mechanism (default params), statically typed, in
 /// file order: generic code over whatever the build compiled in, without dynamic dispatch.
-pub fn visit_all<T: ::mechgen::__private::Real, V: ::mechgen::__private::Visitor<T>>(
-    v: &mut V,
-) {
+pub fn visit_all<
+    T: ::mechgen::__private::Real,
+    V: ::mechgen::__private::StaticVisitor<T>,
+>(v: &mut V) {
     v.visit(&<slider::Slider<T> as ::core::default::Default>::default());
 }
 /// Names of the compiled-in scenes, in file order.
@@ -42,7 +45,19 @@ pub fn visit_scenes<
 >(_v: &mut V) {}
 /// Centred slider-crank: crank l1, rod l2, slider s on the x axis
 pub mod slider {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(
+        non_snake_case,
+        unused_variables,
+        clippy::too_many_arguments,
+        clippy::type_complexity
+    )]
+    // Allowed above, and why:
+    // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
+    // unused_variables: block functions share one signature (inputs,
+    // unknowns, their sines and cosines) and a block reads only some of
+    // them; no local is bound without being read.
+    // too_many_arguments, type_complexity: those private signatures, and
+    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "slider",
@@ -106,10 +121,7 @@ pub mod slider {
         }
         /// Params from an array in file order (see `INFO.params` for names and kinds).
         pub fn from_array(a: [T; 2]) -> Self {
-            Params {
-                l1: a[0],
-                l2: a[1],
-            }
+            Params { l1: a[0], l2: a[1] }
         }
         /// The largest length param (1 when there is none): tolerances on lengths are relative to it.
         pub fn length_scale(&self) -> T {
@@ -153,10 +165,7 @@ pub mod slider {
     }
     impl<T: ::core::marker::Copy> Unknowns<T> {
         pub fn from_array(a: [T; 2]) -> Self {
-            Unknowns {
-                q2: a[0],
-                s: a[1],
-            }
+            Unknowns { q2: a[0], s: a[1] }
         }
         pub fn to_array(&self) -> [T; 2] {
             [self.q2, self.s]
@@ -218,12 +227,8 @@ pub mod slider {
         }
         /// The file's `start` configuration (on the wanted assembly branch).
         pub fn start() -> (Inputs<T>, Unknowns<T>) {
-            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(
-                INFO.inputs[i].start,
-            ));
-            let q: [T; 2] = ::core::array::from_fn(|i| T::lit(
-                INFO.unknowns[i].start,
-            ));
+            let x: [T; 1] = ::core::array::from_fn(|i| T::lit(INFO.inputs[i].start));
+            let q: [T; 2] = ::core::array::from_fn(|i| T::lit(INFO.unknowns[i].start));
             (Inputs::from_array(x), Unknowns::from_array(q))
         }
         /// Φ(x, q): the loop-closure residuals, two per loop (x then y).
@@ -256,11 +261,7 @@ pub mod slider {
             let t1 = p_l2 * c_v_q2;
             let t2 = p_l2 * s_v_q2;
             let t3 = -t2;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t3;
             // [0][1] = ∂Φ0/∂s (loop 1, x)
@@ -281,11 +282,7 @@ pub mod slider {
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
             let t3 = -t2;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                1,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 1>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
             m[(0, 0)] = t3;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -310,11 +307,7 @@ pub mod slider {
             let t4 = -t3;
             let t5 = t2 * v_q2_d;
             let t6 = -t5;
-            let mut m = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                2,
-                2,
-            >::zeros();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
             m[(0, 0)] = t4;
             // [1][0] = ∂Φ1/∂q2 (loop 1, y)
@@ -381,11 +374,7 @@ pub mod slider {
             ::mechgen::__private::nalgebra::SVector::from([t15, t22])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(
-            &self,
-            x: &[T; 1],
-            q: &[T; 2],
-        ) -> [[T; 2]; 1] {
+        pub fn point_positions(&self, x: &[T; 1], q: &[T; 2]) -> [[T; 2]; 1] {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let (s_v_q1, c_v_q1) = v_q1.sin_cos();
@@ -441,21 +430,15 @@ pub mod slider {
             ::mechgen::__private::nalgebra::SVector<T, 1>,
             ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (s_v_q1, _) = tx[0];
             let t0 = p_l1 * s_v_q1;
             let (s_v_q2, c_v_q2) = tq[0];
             let t1 = p_l2 * c_v_q2;
             let t2 = p_l2 * s_v_q2;
             let t3 = t0 + t2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t1;
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
@@ -473,22 +456,16 @@ pub mod slider {
             ::mechgen::__private::nalgebra::SVector<T, 1>,
             ::mechgen::__private::nalgebra::SMatrix<T, 1, 1>,
         ) {
-            let v_q1 = x[0];
-            let v_q2 = q[0];
             let v_s = q[1];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (_, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
-            let (s_v_q2, c_v_q2) = tq[0];
+            let (_, c_v_q2) = tq[0];
             let t1 = p_l2 * c_v_q2;
             let t2 = t0 + t1;
             let t3 = t2 - v_s;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂s
             jac[(0, 0)] = T::lit(-1.0);
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
@@ -496,9 +473,8 @@ pub mod slider {
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 2]) {
-            let params = self.params.to_array();
-            let mut tx = [(T::zero(), T::one()); 1];
-            let mut tp = [(T::zero(), T::one()); 2];
+            let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
+            let tp: [(T, T); 2] = [(T::zero(), T::one()); 2];
             tx[0] = x[0].sin_cos();
             (tx, tp)
         }
@@ -515,14 +491,13 @@ pub mod slider {
             st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             // Block 0: closed form (one angle).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (s_v_q1, _) = tx[0];
             let t0 = p_l1 * s_v_q1;
             if options.closed_forms {
                 ::mechgen::__private::closed_form::solve_angle1(
@@ -532,7 +507,7 @@ pub mod slider {
                     t0,
                     (T::zero(), p_l2),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -542,15 +517,15 @@ pub mod slider {
                     [0],
                     [false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 1: closed form (one length).
-            let v_q2 = st.q[0];
+            let (_, c_v_q1) = tx[0];
             let t1 = p_l1 * c_v_q1;
-            let (s_v_q2, c_v_q2) = st.sc[0];
+            let (_, c_v_q2) = st.sc[0];
             let t2 = p_l2 * c_v_q2;
             let t3 = t1 + t2;
             if options.closed_forms {
@@ -568,7 +543,7 @@ pub mod slider {
                     [1],
                     [true],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
@@ -587,22 +562,16 @@ pub mod slider {
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
             // Block 0: velocities.
-            let v_q1 = x[0];
-            let v_q2 = st.q[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let v_q1_d = xd[0];
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (_, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
-            let (s_v_q2, c_v_q2) = st.sc[0];
+            let (_, c_v_q2) = st.sc[0];
             let t1 = p_l2 * c_v_q2;
             let t2 = t0 * v_q1_d;
             let t3 = -t2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t1;
             let lu = ::mechgen::__private::factor_block(
@@ -619,16 +588,14 @@ pub mod slider {
             qd[0] = z[0];
             // Block 1: velocities.
             let v_q2_d = qd[0];
+            let (s_v_q1, _) = tx[0];
             let t4 = p_l1 * s_v_q1;
+            let (s_v_q2, _) = st.sc[0];
             let t5 = p_l2 * s_v_q2;
             let t6 = t5 * v_q2_d;
             let t7 = t4 * v_q1_d;
             let t8 = t6 + t7;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂s
             jac[(0, 0)] = T::lit(-1.0);
             let lu = ::mechgen::__private::factor_block(
@@ -659,15 +626,10 @@ pub mod slider {
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qdd = [T::zero(); 2];
             // Block 0: accelerations.
-            let v_q2 = st.q[0];
             let p_l2 = self.params.l2;
-            let (s_v_q2, c_v_q2) = st.sc[0];
+            let (_, c_v_q2) = st.sc[0];
             let t0 = p_l2 * c_v_q2;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t0;
             let lu = ::mechgen::__private::factor_block(
@@ -675,7 +637,6 @@ pub mod slider {
                 ::mechgen::__private::Stage::Acceleration,
                 jac,
             )?;
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
             let v_q2_d = qd[0];
@@ -683,6 +644,7 @@ pub mod slider {
             let (s_v_q1, c_v_q1) = tx[0];
             let t1 = p_l1 * c_v_q1;
             let t2 = p_l1 * s_v_q1;
+            let (s_v_q2, _) = st.sc[0];
             let t3 = p_l2 * s_v_q2;
             let t4 = t3 * v_q2_d;
             let t5 = t2 * v_q1_d;
@@ -701,11 +663,7 @@ pub mod slider {
                 )?;
             qdd[0] = z[0];
             // Block 1: accelerations.
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂s
             jac[(0, 0)] = T::lit(-1.0);
             let lu = ::mechgen::__private::factor_block(
@@ -745,7 +703,7 @@ pub mod slider {
             tp: &[(T, T); 2],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 1]),
@@ -754,10 +712,9 @@ pub mod slider {
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: closed form (one angle).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (s_v_q1, _) = tx[0];
             let t0 = p_l1 * s_v_q1;
             if options.closed_forms {
                 ::mechgen::__private::closed_form::solve_angle1(
@@ -767,7 +724,7 @@ pub mod slider {
                     t0,
                     (T::zero(), p_l2),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -777,15 +734,15 @@ pub mod slider {
                     [0],
                     [false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
             // Block 1: closed form (one length).
-            let v_q2 = st.q[0];
+            let (_, c_v_q1) = tx[0];
             let t1 = p_l1 * c_v_q1;
-            let (s_v_q2, c_v_q2) = st.sc[0];
+            let (_, c_v_q2) = st.sc[0];
             let t2 = p_l2 * c_v_q2;
             let t3 = t1 + t2;
             if options.closed_forms {
@@ -803,7 +760,7 @@ pub mod slider {
                     [1],
                     [true],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
@@ -812,11 +769,7 @@ pub mod slider {
             let v_q1_d = xd[0];
             let t4 = t1 * v_q1_d;
             let t5 = -t4;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[1][0] = ∂Φ1/∂q2
             jac[(0, 0)] = t2;
             let lu = ::mechgen::__private::factor_block(
@@ -833,6 +786,7 @@ pub mod slider {
             qd[0] = z[0];
             let v_q2_d = qd[0];
             let v_q1_dd = xdd[0];
+            let (s_v_q2, _) = st.sc[0];
             let t6 = p_l2 * s_v_q2;
             let t7 = t6 * v_q2_d;
             let t8 = t0 * v_q1_d;
@@ -852,11 +806,7 @@ pub mod slider {
             qdd[0] = z[0];
             // Block 1: velocities and accelerations.
             let t16 = t7 + t8;
-            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<
-                T,
-                1,
-                1,
-            >::zeros();
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂s
             jac[(0, 0)] = T::lit(-1.0);
             let lu = ::mechgen::__private::factor_block(
@@ -910,7 +860,7 @@ pub mod slider {
             &self,
             x: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -1003,13 +953,13 @@ pub mod slider {
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
         #[inline]
-        pub fn solve_arrays(
+        fn solve_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             q: &mut [T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (
                 [T; 2],
@@ -1048,14 +998,14 @@ pub mod slider {
             Ok((qd, qdd, points, report))
         }
         /// The first tick of a simulation: `solve_arrays` from `guess`, kept with its sines and
-        /// cosines for [`Self::tick`].
-        pub fn tick_start(
+        /// cosines for `tick_arrays` (the typed `tick_start` and `tick` call these).
+        fn tick_start_arrays(
             &self,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             guess: &[T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
             let mut q = *guess;
             let (qd, qdd, points, report) = self
@@ -1083,13 +1033,13 @@ pub mod slider {
         /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
         /// when the params changed); closed-form blocks solved on the last tick's branch; then
         /// velocities, accelerations and points. On error `t` is unchanged.
-        pub fn tick(
+        fn tick_arrays(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let params = self.params.to_array();
             let same = t.same_params(&params);
@@ -1136,28 +1086,27 @@ pub mod slider {
             );
             Ok(())
         }
-        /// Everything at once: positions from `guess`, velocities, accelerations and points.
+        /// One whole tick from `guess`: positions, velocities, accelerations and points,
+        /// sharing one set of sines and cosines between the stages.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Motion<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .solve_arrays(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
             Ok(Motion {
-                x,
-                xd,
-                xdd,
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q: Unknowns::from_array(q),
                 qd: Unknowns::from_array(qd),
                 qdd: Unknowns::from_array(qdd),
@@ -1165,8 +1114,44 @@ pub mod slider {
                 report,
             })
         }
+        /// The first tick of a simulation, solved from `guess` and kept with its sines and
+        /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.tick_start_arrays(
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                &guess.to_array(),
+                options,
+            )
+        }
+        /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
+        /// second-order step from the last tick, their sines and cosines rotated from the
+        /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when
+        /// the params changed); closed-form blocks solved on the last tick's branch; then
+        /// velocities, accelerations and points. On error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.tick_arrays(
+                t,
+                &input.x.to_array(),
+                &input.xd.to_array(),
+                &input.xdd.to_array(),
+                options,
+            )
+        }
     }
-    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Mechanism<T>
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::StaticMechanism<T>
     for Slider<T> {
         const NAME: &'static str = "slider";
         const INPUTS: usize = 1;
@@ -1174,6 +1159,9 @@ pub mod slider {
         const POINTS: usize = 1;
         type X = [T; 1];
         type Q = [T; 2];
+        type Points = [::mechgen::__private::PointMotion<T>; 1];
+        type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>;
+        type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 1>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -1181,14 +1169,11 @@ pub mod slider {
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             Slider::residual(self, x, q)
         }
-        fn jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(&Slider::jacobian(self, x, q), out)
+        fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian {
+            Slider::jacobian(self, x, q)
         }
-        fn input_jacobian(&self, x: &Self::X, q: &Self::Q, out: &mut [T]) {
-            ::mechgen::__private::copy_row_major(
-                &Slider::input_jacobian(self, x, q),
-                out,
-            )
+        fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian {
+            Slider::input_jacobian(self, x, q)
         }
         fn jacobian_dot(
             &self,
@@ -1196,12 +1181,8 @@ pub mod slider {
             q: &Self::Q,
             xd: &Self::X,
             qd: &Self::Q,
-            out: &mut [T],
-        ) {
-            ::mechgen::__private::copy_row_major(
-                &Slider::jacobian_dot(self, x, q, xd, qd),
-                out,
-            )
+        ) -> Self::Jacobian {
+            Slider::jacobian_dot(self, x, q, xd, qd)
         }
         fn acceleration_rhs(
             &self,
@@ -1217,7 +1198,7 @@ pub mod slider {
             &self,
             x: &Self::X,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::NewtonReport<T>,
             ::mechgen::__private::SolveError,
@@ -1244,62 +1225,63 @@ pub mod slider {
         }
         fn points(
             &self,
-            x: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &Self::Q,
-            xd: &Self::X,
             qd: &Self::Q,
-            xdd: &Self::X,
             qdd: &Self::Q,
-            out: &mut [::mechgen::__private::PointMotion<T>],
-        ) {
-            for (o, p) in out
-                .iter_mut()
-                .zip(Slider::point_motion(self, x, q, xd, qd, xdd, qdd))
-            {
-                *o = p;
-            }
+        ) -> Self::Points {
+            Slider::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
+        }
+        #[inline]
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = Slider::solve_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                &mut q,
+                options,
+            )?;
+            Ok(::mechgen::__private::Solved {
+                q,
+                qd,
+                qdd,
+                points,
+                report,
+            })
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            Slider::tick_start(self, x, xd, xdd, guess, options)
+            Slider::tick_start_arrays(
+                self,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                guess,
+                options,
+            )
         }
+        #[inline]
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            Slider::tick(self, t, x, xd, xdd, options)
-        }
-        fn solve_motion(
-            &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            q: &mut Self::Q,
-            qd: &mut Self::Q,
-            qdd: &mut Self::Q,
-            points: &mut [::mechgen::__private::PointMotion<T>],
-            options: &::mechgen::__private::NewtonOptions<T>,
-        ) -> ::core::result::Result<
-            ::mechgen::__private::NewtonReport<T>,
-            ::mechgen::__private::SolveError,
-        > {
-            let (v, a, p, report) = Slider::solve_arrays(self, x, xd, xdd, q, options)?;
-            *qd = v;
-            *qdd = a;
-            for (o, m) in points.iter_mut().zip(p) {
-                *o = m;
-            }
-            Ok(report)
+            Slider::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
         }
     }
 }

@@ -6,19 +6,18 @@
             tp: &[(T, T); 2],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 0]),
             ::mechgen::__private::SolveError,
         > {
-            let mut qd = [T::zero(); 2];
-            let mut qdd = [T::zero(); 2];
+            let qd = [T::zero(); 2];
+            let qdd = [T::zero(); 2];
             // Block 0: closed form (one angle).
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
-            let (s_v_q1, c_v_q1) = tx[0];
+            let (s_v_q1, _) = tx[0];
             let t0 = p_l1 * s_v_q1;
             if options.closed_forms {
                 ::mechgen::__private::closed_form::solve_angle1(
@@ -28,7 +27,7 @@
                     t0,
                     (T::zero(), p_l2),
                     || self.params.length_scale(),
-                    options.tolerance,
+                    options.newton.tolerance,
                     report,
                 )?;
             } else {
@@ -38,7 +37,7 @@
                     [0],
                     [false],
                     self.params.length_scale(),
-                    options,
+                    &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
@@ -58,16 +57,15 @@
             tp: &[(T, T); 2],
             xd: &[T; 1],
             xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 1]),
             ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 2];
-            let mut qdd = [T::zero(); 2];
+            let qdd = [T::zero(); 2];
             // Points.
-            let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
             let (s_v_q1, c_v_q1) = tx[0];
@@ -93,7 +91,13 @@
         #[inline]
 
 pub mod rod {
-    #![allow(non_snake_case, unused_variables, unused_mut, clippy::all)]
+    #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+    // Allowed above, and why:
+    // non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).
+    // unused_variables: `outputs_of` takes the whole state and a scene
+    // reads only its columns of it.
+    // type_complexity: `solve` returns outputs, unknowns and report as one
+    // tuple.
     pub use super::slider::{Params as Params, Inputs as Inputs, Unknowns as Unknowns};
     /// What the scene keeps of its mechanism, and its output columns.
     pub const INFO: ::mechgen::__private::SceneInfo = ::mechgen::__private::SceneInfo {
@@ -160,11 +164,9 @@ pub mod rod {
         /// outputs; the returned unknowns hold the kept blocks' solution.
         pub fn solve(
             &self,
-            x: Inputs<T>,
-            xd: Inputs<T>,
-            xdd: Inputs<T>,
-            guess: Unknowns<T>,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (Outputs<T>, Unknowns<T>, ::mechgen::__private::NewtonReport<T>),
             ::mechgen::__private::SolveError,
@@ -173,9 +175,9 @@ pub mod rod {
             let (qd, qdd, points, report) = self
                 .mechanism()
                 .scene_rod_solve(
-                    &x.to_array(),
-                    &xd.to_array(),
-                    &xdd.to_array(),
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
                     &mut q,
                     options,
                 )?;
@@ -185,30 +187,40 @@ pub mod rod {
                 report,
             ))
         }
-        /// The first tick of a simulation (see `tick`).
+        /// The first tick of a simulation, solved from `guess` (see `tick`).
         pub fn tick_start(
             &self,
-            x: &[T; 1],
-            xd: &[T; 1],
-            xdd: &[T; 1],
-            guess: &[T; 2],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
-            self.mechanism().scene_rod_tick_start(x, xd, xdd, guess, options)
+            self.mechanism()
+                .scene_rod_tick_start(
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    &guess.to_array(),
+                    options,
+                )
         }
-        /// One simulator tick to `x`: the mechanism's tick (predictor, cached sines and
-        /// cosines, closed forms on the last branch) on the kept blocks only. On error
-        /// `t` is unchanged.
+        /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
+        /// and cosines, closed forms on the last branch) on the kept blocks only. On
+        /// error `t` is unchanged.
         #[inline]
         pub fn tick(
             &self,
             t: &mut Tick<T>,
-            x: &[T; 1],
-            xd: &[T; 1],
-            xdd: &[T; 1],
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            self.mechanism().scene_rod_tick(t, x, xd, xdd, options)
+            self.mechanism()
+                .scene_rod_tick(
+                    t,
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    options,
+                )
         }
         /// The outputs of a tick state.
         pub fn outputs(t: &Tick<T>) -> Outputs<T> {
@@ -226,39 +238,34 @@ pub mod rod {
         }
         fn solve(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             q: &mut Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
             (Self::Out, ::mechgen::__private::NewtonReport<T>),
             ::mechgen::__private::SolveError,
         > {
             let (qd, qdd, points, report) = self
                 .mechanism()
-                .scene_rod_solve(x, xd, xdd, q, options)?;
+                .scene_rod_solve(&input.x, &input.xd, &input.xdd, q, options)?;
             Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
         }
         fn tick_start(
             &self,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
+            input: &::mechgen::__private::InputMotion<Self::X>,
             guess: &Self::Q,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
-            Rod::tick_start(self, x, xd, xdd, guess, options)
+            self.mechanism()
+                .scene_rod_tick_start(&input.x, &input.xd, &input.xdd, guess, options)
         }
         fn tick(
             &self,
             t: &mut Self::Tick,
-            x: &Self::X,
-            xd: &Self::X,
-            xdd: &Self::X,
-            options: &::mechgen::__private::NewtonOptions<T>,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            Rod::tick(self, t, x, xd, xdd, options)
+            self.mechanism().scene_rod_tick(t, &input.x, &input.xd, &input.xdd, options)
         }
         fn outputs(&self, t: &Self::Tick) -> Self::Out {
             Rod::outputs(t).to_array()

@@ -3,7 +3,7 @@
 //! `k = hypot(l, off) / l` are computed by the solvers from it, so setting `r` at run time moves
 //! everything. Checked against the offset slider-crank's closed form written here.
 
-use mechgen::{Kinematics, NewtonOptions, PointMotion};
+use mechgen::{DynMechanism, InputMotion, PointMotion, SolveOptions};
 use mechgen_odd_files::derived::offset_slider::{OffsetSlider, Params};
 
 /// (q2, s, P) of the offset slider-crank with crank `r` at `q1`, on the branch with the rod
@@ -26,15 +26,14 @@ fn sweep_against_closed_form(m: &OffsetSlider<f64>, r: f64) {
     let mut points = vec![PointMotion::default(); 1];
     for i in 0..=36 {
         let q1 = f64::from(i) * 10f64.to_radians();
-        m.solve_motion(
-            &[q1],
-            &[1.0],
-            &[0.0],
+        DynMechanism::solve(
+            m,
+            InputMotion::new(&[q1], &[1.0], &[0.0]),
             &mut q,
             &mut qd,
             &mut qdd,
             &mut points,
-            &NewtonOptions::default(),
+            &SolveOptions::default(),
         )
         .unwrap_or_else(|e| panic!("r = {r}, q1 = {q1}: {e}"));
         let (q2, s, p) = closed_form(r, q1);

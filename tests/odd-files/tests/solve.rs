@@ -4,7 +4,7 @@
 
 use std::f64::consts::TAU;
 
-use mechgen::{Kind, Kinematics, MechanismInfo, NewtonOptions, PointMotion};
+use mechgen::{DynMechanism, InputMotion, Kind, MechanismInfo, PointMotion, SolveOptions};
 use mechgen_odd_files as odd;
 
 const XD: f64 = 1.3;
@@ -32,7 +32,7 @@ fn close(got: f64, want: f64, angle: bool) -> bool {
 }
 
 /// Solves `m` at every reference row and compares every column; returns the rows checked.
-fn check(m: &dyn Kinematics<f64>) -> usize {
+fn check(m: &dyn DynMechanism<f64>) -> usize {
     let info: MechanismInfo = m.info();
     let rows = reference(&info.name);
     let (ni, nu, np) = (info.inputs.len(), info.unknowns.len(), info.points.len());
@@ -42,25 +42,23 @@ fn check(m: &dyn Kinematics<f64>) -> usize {
         "{}: reference columns",
         info.name
     );
-    let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.2).collect();
+    let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
     let (mut qd, mut qdd) = (vec![0.0; nu], vec![0.0; nu]);
     let mut points = vec![PointMotion::default(); np];
     for (r, row) in rows.iter().enumerate() {
         let x = &row[..ni];
-        m.solve_motion(
-            x,
-            &vec![XD; ni],
-            &vec![XDD; ni],
+        m.solve(
+            InputMotion::new(x, &vec![XD; ni], &vec![XDD; ni]),
             &mut q,
             &mut qd,
             &mut qdd,
             &mut points,
-            &NewtonOptions::default(),
+            &SolveOptions::default(),
         )
         .unwrap_or_else(|e| panic!("{} row {r}: {e}", info.name));
         for (k, u) in info.unknowns.iter().enumerate() {
             let want = &row[ni + 3 * k..ni + 3 * k + 3];
-            let angle = u.1 == Kind::Angle;
+            let angle = u.kind == Kind::Angle;
             for (what, got, want, angle) in [
                 ("", q[k], want[0], angle),
                 ("_vel", qd[k], want[1], false),
@@ -70,7 +68,7 @@ fn check(m: &dyn Kinematics<f64>) -> usize {
                     close(got, want, angle),
                     "{} row {r}: {}{what} = {got}, reference {want}",
                     info.name,
-                    u.0
+                    u.name
                 );
             }
         }
@@ -121,18 +119,20 @@ fn every_mechanism_of_the_builder_file_solves_to_its_reference() {
 /// colliding item takes its alternative.
 #[test]
 fn typed_api_with_colliding_names() {
-    use mechgen::Mechanism;
-    let options = NewtonOptions::default();
+    use mechgen::StaticMechanism;
+    let options = SolveOptions::default();
 
     // `tick::Tick` is the mechanism; its tick state is `tick::TickState`.
     let m = odd::tick::Tick::<f64>::default();
     let (_, start) = odd::tick::Tick::<f64>::start();
-    let mut state: odd::tick::TickState<f64> = m
-        .tick_start(&[0.0], &[XD], &[XDD], &start.to_array(), &options)
-        .expect("start");
+    // The typed form (named inputs) starts, the static-dispatch trait's (arrays) steps.
+    let input = InputMotion::new([0.0], [XD], [XDD]).map(|a| odd::tick::Inputs::from_array(*a));
+    let mut state: odd::tick::TickState<f64> =
+        m.tick_start(&input, &start, &options).expect("start");
     let want = reference("tick");
     for (r, row) in want.iter().enumerate().skip(1).take(3) {
-        Mechanism::tick(&m, &mut state, &[row[0]], &[XD], &[XDD], &options).expect("tick");
+        let input = InputMotion::new([row[0]], [XD], [XDD]);
+        StaticMechanism::tick(&m, &mut state, &input, &options).expect("tick");
         assert!(
             close(state.q[0], row[1], true) && close(state.qd[0], row[2], false),
             "tick row {r}"
@@ -154,10 +154,12 @@ fn typed_api_with_colliding_names() {
     let (_, guess) = odd::inputs::Inputs::<f64>::start();
     let s = m
         .solve(
-            x,
-            x,
-            odd::inputs::InputValues { x0: 0.0, q1: 0.0 },
-            guess,
+            &InputMotion {
+                x,
+                xd: x,
+                xdd: odd::inputs::InputValues { x0: 0.0, q1: 0.0 },
+            },
+            &guess,
             &options,
         )
         .expect("solve");

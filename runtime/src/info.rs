@@ -1,0 +1,116 @@
+//! What a mechanism is made of, as data: [`StaticInfo`] (compiled into generated code) and
+//! [`MechanismInfo`] (owned, for mechanisms loaded at run time), with the descriptions of their
+//! coordinates and params, and [`PointMotion`].
+
+use alloc::string::{String, ToString};
+use alloc::vec::Vec;
+
+/// Angle (radians) or length (file units), as inferred from the file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Kind {
+    Angle,
+    Length,
+}
+
+/// An input or unknown of a generated mechanism: its name, kind and value in the file's `start`
+/// configuration.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CoordInfo {
+    pub name: &'static str,
+    pub kind: Kind,
+    pub start: f64,
+}
+
+/// A param of a generated mechanism and its default (the file's value).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParamInfo {
+    pub name: &'static str,
+    pub kind: Kind,
+    pub default: f64,
+}
+
+/// Everything static about a generated mechanism.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StaticInfo {
+    pub name: &'static str,
+    pub description: &'static str,
+    pub inputs: &'static [CoordInfo],
+    pub unknowns: &'static [CoordInfo],
+    pub params: &'static [ParamInfo],
+    pub points: &'static [&'static str],
+    /// Unknown indices of each diagonal block, in solve order.
+    pub blocks: &'static [&'static [usize]],
+}
+
+/// An input or unknown, owned: its name, kind and value in the file's `start` configuration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CoordDesc {
+    pub name: String,
+    pub kind: Kind,
+    pub start: f64,
+}
+
+/// A param, owned: its name, kind and value (the file's, or the one a loader was given).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamDesc {
+    pub name: String,
+    pub kind: Kind,
+    pub value: f64,
+}
+
+/// An owned description of a mechanism (generated or loaded at run time): what the object-safe
+/// [`crate::DynMechanism::info`] returns.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MechanismInfo {
+    pub name: String,
+    pub description: String,
+    pub inputs: Vec<CoordDesc>,
+    pub unknowns: Vec<CoordDesc>,
+    pub params: Vec<ParamDesc>,
+    pub points: Vec<String>,
+    /// Unknown indices of each diagonal block, in solve order.
+    pub blocks: Vec<Vec<usize>>,
+}
+
+impl From<&CoordInfo> for CoordDesc {
+    fn from(c: &CoordInfo) -> Self {
+        CoordDesc {
+            name: c.name.to_string(),
+            kind: c.kind,
+            start: c.start,
+        }
+    }
+}
+
+impl From<&ParamInfo> for ParamDesc {
+    fn from(p: &ParamInfo) -> Self {
+        ParamDesc {
+            name: p.name.to_string(),
+            kind: p.kind,
+            value: p.default,
+        }
+    }
+}
+
+impl From<&StaticInfo> for MechanismInfo {
+    fn from(s: &StaticInfo) -> Self {
+        MechanismInfo {
+            name: s.name.to_string(),
+            description: s.description.to_string(),
+            inputs: s.inputs.iter().map(CoordDesc::from).collect(),
+            unknowns: s.unknowns.iter().map(CoordDesc::from).collect(),
+            params: s.params.iter().map(ParamDesc::from).collect(),
+            points: s.points.iter().map(|p| p.to_string()).collect(),
+            blocks: s.blocks.iter().map(|b| b.to_vec()).collect(),
+        }
+    }
+}
+
+/// A point's position, velocity and acceleration.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PointMotion<T> {
+    pub position: [T; 2],
+    pub velocity: [T; 2],
+    pub acceleration: [T; 2],
+}

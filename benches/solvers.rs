@@ -12,6 +12,10 @@
 //!   a `Tick`, also holds the sines and cosines, and it predicts itself), the generic engine with
 //!   the same prediction as its guess for `DynMechanism::solve`.
 //!
+//! - `<scene>/step/generated`: one tick of each compiled-in scene along its mechanism's walk (the
+//!   same states), right after its mechanism's benches, so a scene's saving reads off against
+//!   `<mechanism>/step/generated` under the same load.
+//!
 //! The generated engine runs with static dispatch (`visit_all`, fixed arrays); the generic engine
 //! is loaded at run time from the same file.
 
@@ -21,8 +25,8 @@ use std::time::Duration;
 use criterion::{Criterion, criterion_group, criterion_main};
 use mechgen::sweep::{Continuation, sweep};
 use mechgen::{
-    Array, CoordDesc, DynMechanism, InputMotion, Kind, PointMotion, SolveOptions, StaticMechanism,
-    StaticVisitor,
+    Array, CoordDesc, DynMechanism, InputMotion, Kind, PointMotion, Scene, SceneVisitor,
+    SolveOptions, StaticMechanism, StaticVisitor,
 };
 
 /// A solved state and the input one step further (which is solvable too).
@@ -210,6 +214,53 @@ impl StaticVisitor<f64> for Generated<'_> {
                     if m.tick(t, black_box(&inputs[j]), &opts).is_err() {
                         // Off the branch (not expected along solved states): start again there.
                         tick = m.tick_start(&inputs[j], &typed[j].1, &opts).ok();
+                    }
+                    black_box(&tick);
+                })
+            });
+        }
+        g.finish();
+        mechgen::visit_scenes(&mut Scenes {
+            c: self.c,
+            mechanism: M::NAME,
+        });
+    }
+}
+
+/// The generated scenes: `<scene>/step/generated`, the same walk of states as their mechanism's
+/// `step` (from the mechanism's sweep), each tick from the previous one.
+struct Scenes<'c> {
+    c: &'c mut Criterion,
+    /// Only the scenes of this mechanism: they run right after its benches, so that a scene and
+    /// its mechanism are timed under the same load of this shared machine.
+    mechanism: &'static str,
+}
+
+impl SceneVisitor<f64> for Scenes<'_> {
+    fn visit<S: Scene<f64> + 'static>(&mut self, scene: &S) {
+        if scene.info().mechanism != self.mechanism {
+            return;
+        }
+        let k = mechgen::lookup::<f64>(scene.info().mechanism).expect("its mechanism");
+        let (states, _) = states(k.as_ref());
+        let qs: Vec<S::Q> = states.iter().map(|s| arr(&s.q)).collect();
+        let (xd_v, xdd_v) = unit_rate(states[0].x.len());
+        let (xd, xdd): (S::X, S::X) = (arr(&xd_v), arr(&xdd_v));
+        let inputs: Vec<InputMotion<S::X>> = states
+            .iter()
+            .map(|s| InputMotion::new(arr(&s.x), xd, xdd))
+            .collect();
+        let opts = SolveOptions::default();
+        let mut walk = Walk::new(inputs.len());
+        let mut tick = scene.tick_start(&inputs[0], &qs[0], &opts).ok();
+        let mut g = self.c.benchmark_group(S::NAME);
+        if tick.is_some() {
+            g.bench_function("step/generated", |b| {
+                b.iter(|| {
+                    let j = walk.next();
+                    let Some(t) = tick.as_mut() else { return };
+                    if scene.tick(t, black_box(&inputs[j]), &opts).is_err() {
+                        tick = scene.tick_start(&inputs[j], &qs[j], &opts).ok();
                     }
                     black_box(&tick);
                 })

@@ -76,6 +76,67 @@ pub fn visit_all<
     v.visit(&<rocker_four_bar::RockerFourBar<T> as ::core::default::Default>::default());
     v.visit(&<sixbar_g::SixbarG<T> as ::core::default::Default>::default());
 }
+/// Names of the compiled-in scenes, in file order.
+pub const SCENES: [&str; 4] = [
+    "sixbar_e_path",
+    "sixbar_output",
+    "shaper_ram",
+    "coupler_curve",
+];
+/// A compiled-in scene by name, with its mechanism's default params, behind the object-safe trait.
+pub fn lookup_scene<T: ::mechgen::__private::Real>(
+    name: &str,
+) -> ::core::option::Option<
+    ::std::boxed::Box<dyn ::mechgen::__private::SceneKinematics<T>>,
+> {
+    match name {
+        "sixbar_e_path" => {
+            ::core::option::Option::Some(
+                ::std::boxed::Box::new(
+                    <sixbar_e_path::SixbarEPath<
+                        T,
+                    > as ::core::default::Default>::default(),
+                ),
+            )
+        }
+        "sixbar_output" => {
+            ::core::option::Option::Some(
+                ::std::boxed::Box::new(
+                    <sixbar_output::SixbarOutput<
+                        T,
+                    > as ::core::default::Default>::default(),
+                ),
+            )
+        }
+        "shaper_ram" => {
+            ::core::option::Option::Some(
+                ::std::boxed::Box::new(
+                    <shaper_ram::ShaperRam<T> as ::core::default::Default>::default(),
+                ),
+            )
+        }
+        "coupler_curve" => {
+            ::core::option::Option::Some(
+                ::std::boxed::Box::new(
+                    <coupler_curve::CouplerCurve<
+                        T,
+                    > as ::core::default::Default>::default(),
+                ),
+            )
+        }
+        _ => ::core::option::Option::None,
+    }
+}
+/// Calls `v.visit` with every compiled-in scene (default params), statically typed, in file order.
+pub fn visit_scenes<
+    T: ::mechgen::__private::Real,
+    V: ::mechgen::__private::SceneVisitor<T>,
+>(v: &mut V) {
+    v.visit(&<sixbar_e_path::SixbarEPath<T> as ::core::default::Default>::default());
+    v.visit(&<sixbar_output::SixbarOutput<T> as ::core::default::Default>::default());
+    v.visit(&<shaper_ram::ShaperRam<T> as ::core::default::Default>::default());
+    v.visit(&<coupler_curve::CouplerCurve<T> as ::core::default::Default>::default());
+}
 /// Six-bar linkage: crank-rocker four-bar ABCD plus the RRR dyad E-F-G on the coupler point E
 pub mod sixbar {
     #![allow(
@@ -1573,6 +1634,664 @@ pub mod sixbar {
                     },
                 ],
             ))
+        }
+        // Scene sixbar_e_path: blocks [0], order 0, points [0].
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
+        #[inline(always)]
+        #[doc(hidden)]
+        pub(super) fn scene_sixbar_e_path_motion(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::SolveOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<
+            ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 1]),
+            ::mechgen::__private::SolveError,
+        > {
+            let qd = [T::zero(); 4];
+            let qdd = [T::zero(); 4];
+            // Block 0: closed form (a dyad).
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
+            if options.closed_forms {
+                ::mechgen::__private::solve_dyad(
+                    0,
+                    st,
+                    0,
+                    1,
+                    [t3, t1],
+                    (p_l2, T::zero()),
+                    (t2, T::zero()),
+                    || self.params.length_scale(),
+                    options.newton.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [false, false],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Points.
+            let p_l2e = self.params.l2e;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let t6 = t0 + t4;
+            let t7 = t1 + t5;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t8 = c_v_q2 * c_p_alpha;
+            let t9 = s_v_q2 * s_p_alpha;
+            let t10 = s_v_q2 * c_p_alpha;
+            let t11 = c_v_q2 * s_p_alpha;
+            let t12 = t8 + t9;
+            let t13 = t10 - t11;
+            let t14 = p_l2e * t12;
+            let t15 = p_l2e * t13;
+            let t16 = t6 + t14;
+            let t17 = t7 + t15;
+            Ok((
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [t16, t17],
+                        velocity: [T::zero(), T::zero()],
+                        acceleration: [T::zero(), T::zero()],
+                    },
+                ],
+            ))
+        }
+        /// Scene `sixbar_e_path`: its pruned solver.
+        #[doc(hidden)]
+        #[inline]
+        pub(super) fn scene_sixbar_e_path_solve(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            q: &mut [T; 4],
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            (
+                [T; 4],
+                [T; 4],
+                [::mechgen::__private::PointMotion<T>; 1],
+                ::mechgen::__private::NewtonReport<T>,
+            ),
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = ::mechgen::__private::TrigState::new(
+                *q,
+                [true, true, false, false],
+            );
+            let mut report = ::mechgen::__private::NewtonReport::new();
+            let (qd, qdd, points) = self
+                .scene_sixbar_e_path_motion(
+                    x,
+                    &mut st,
+                    &tx,
+                    &tp,
+                    xd,
+                    xdd,
+                    options,
+                    &mut report,
+                )?;
+            *q = st.q;
+            Ok((qd, qdd, points, report))
+        }
+        #[doc(hidden)]
+        pub(super) fn scene_sixbar_e_path_tick_start(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            guess: &[T; 4],
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Tick<T, 1, 4, 1, 10>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = self
+                .scene_sixbar_e_path_solve(x, xd, xdd, &mut q, options)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let st = ::mechgen::__private::TrigState::new(q, [true, true, false, false]);
+            Ok(
+                ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
+                    x: *x,
+                    xd: *xd,
+                    q,
+                    qd,
+                    qdd,
+                    points,
+                    report,
+                    tx,
+                    tq: st.sc,
+                    tp,
+                    params: self.params.to_array(),
+                }),
+            )
+        }
+        #[doc(hidden)]
+        pub(super) fn scene_sixbar_e_path_tick(
+            &self,
+            t: &mut ::mechgen::__private::Tick<T, 1, 4, 1, 10>,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let params = self.params.to_array();
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::__private::check_finite(
+                    ::mechgen::__private::Quantity::Param,
+                    &params,
+                )?;
+            }
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
+            let mut fresh_tp = None;
+            let (tx, tp) = if same {
+                (t.inputs_trig(x, [true]), t.params_trig())
+            } else {
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
+            };
+            let keep = if options.closed_forms {
+                [true, true, true, true]
+            } else {
+                [false, false, true, true]
+            };
+            let mut st = t.predicted(x, [true, true, false, false], keep, same);
+            let mut report = ::mechgen::__private::NewtonReport::new();
+            let (qd, qdd, points) = self
+                .scene_sixbar_e_path_motion(
+                    x,
+                    &mut st,
+                    &tx,
+                    tp,
+                    xd,
+                    xdd,
+                    options,
+                    &mut report,
+                )?;
+            t.update(
+                x,
+                xd,
+                &st,
+                qd,
+                qdd,
+                points,
+                report,
+                tx,
+                fresh_tp.as_ref().map(|tp| (&params, tp)),
+            );
+            Ok(())
+        }
+        // Scene sixbar_output: blocks [0, 1], order 2, points [].
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
+        #[inline(always)]
+        #[doc(hidden)]
+        pub(super) fn scene_sixbar_output_motion(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::SolveOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<
+            ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 0]),
+            ::mechgen::__private::SolveError,
+        > {
+            let mut qd = [T::zero(); 4];
+            let mut qdd = [T::zero(); 4];
+            // Block 0: closed form (a dyad).
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
+            if options.closed_forms {
+                ::mechgen::__private::solve_dyad(
+                    0,
+                    st,
+                    0,
+                    1,
+                    [t3, t1],
+                    (p_l2, T::zero()),
+                    (t2, T::zero()),
+                    || self.params.length_scale(),
+                    options.newton.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [false, false],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: closed form (a dyad).
+            let p_l5 = self.params.l5;
+            let p_l6 = self.params.l6;
+            let p_l2e = self.params.l2e;
+            let p_xg = self.params.xg;
+            let p_yg = self.params.yg;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let t6 = t0 + t4;
+            let t7 = t1 + t5;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t8 = c_v_q2 * c_p_alpha;
+            let t9 = s_v_q2 * s_p_alpha;
+            let t10 = s_v_q2 * c_p_alpha;
+            let t11 = c_v_q2 * s_p_alpha;
+            let t12 = t8 + t9;
+            let t13 = t10 - t11;
+            let t14 = p_l2e * t12;
+            let t15 = p_l2e * t13;
+            let t16 = t6 + t14;
+            let t17 = t7 + t15;
+            let t18 = -p_l5;
+            let t19 = -p_l6;
+            let t20 = t16 - p_xg;
+            let t21 = t17 - p_yg;
+            if options.closed_forms {
+                ::mechgen::__private::solve_dyad(
+                    1,
+                    st,
+                    2,
+                    3,
+                    [t20, t21],
+                    (t18, T::zero()),
+                    (t19, T::zero()),
+                    || self.params.length_scale(),
+                    options.newton.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [2, 3],
+                    [false, false],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 0: velocities and accelerations.
+            let v_q1_d = xd[0];
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t22 = p_l3 * c_v_q3;
+            let t23 = p_l3 * s_v_q3;
+            let t24 = -t5;
+            let t25 = -t22;
+            let t26 = t1 * v_q1_d;
+            let t27 = t0 * v_q1_d;
+            let t28 = -t27;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t24;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t23;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t4;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t25;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t26, t28]),
+                )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t29 = t4 * v_q2_d;
+            let t30 = t22 * v_q3_d;
+            let t31 = t5 * v_q2_d;
+            let t32 = t23 * v_q3_d;
+            let t33 = v_q1_d * t27;
+            let t34 = -t33;
+            let t35 = v_q2_d * t29;
+            let t36 = t34 - t35;
+            let t37 = v_q3_d * t30;
+            let t38 = t36 + t37;
+            let t39 = t1 * v_q1_dd;
+            let t40 = t39 - t38;
+            let t41 = v_q1_d * t26;
+            let t42 = -t41;
+            let t43 = v_q2_d * t31;
+            let t44 = t42 - t43;
+            let t45 = v_q3_d * t32;
+            let t46 = t44 + t45;
+            let t47 = t0 * v_q1_dd;
+            let t48 = t46 + t47;
+            let t49 = -t48;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t40, t49]),
+                )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            // Block 1: velocities and accelerations.
+            let (s_v_q5, c_v_q5) = st.sc[2];
+            let t50 = p_l5 * c_v_q5;
+            let t51 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = st.sc[3];
+            let t52 = p_l6 * c_v_q6;
+            let t53 = p_l6 * s_v_q6;
+            let t54 = t11 - t10;
+            let t55 = p_l2e * t54;
+            let t56 = t55 - t5;
+            let t57 = t4 + t14;
+            let t58 = -t50;
+            let t59 = -t52;
+            let t60 = t56 * v_q2_d;
+            let t61 = t57 * v_q2_d;
+            let t62 = t26 - t60;
+            let t63 = t28 - t61;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[2][2] = ∂Φ2/∂q5
+            jac[(0, 0)] = t51;
+            // J[2][3] = ∂Φ2/∂q6
+            jac[(0, 1)] = t53;
+            // J[3][2] = ∂Φ3/∂q5
+            jac[(1, 0)] = t58;
+            // J[3][3] = ∂Φ3/∂q6
+            jac[(1, 1)] = t59;
+            let lu = ::mechgen::__private::factor_block(
+                1,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t62, t63]),
+                )?;
+            qd[2] = z[0];
+            qd[3] = z[1];
+            let v_q5_d = qd[2];
+            let v_q6_d = qd[3];
+            let v_q2_dd = qdd[0];
+            let t64 = -t9;
+            let t65 = t64 - t8;
+            let t66 = p_l2e * t65;
+            let t67 = t66 - t4;
+            let t68 = v_q2_d * t67;
+            let t69 = t50 * v_q5_d;
+            let t70 = t52 * v_q6_d;
+            let t71 = t51 * v_q5_d;
+            let t72 = t53 * v_q6_d;
+            let t73 = v_q2_d * t68;
+            let t74 = t73 - t33;
+            let t75 = v_q5_d * t69;
+            let t76 = t74 + t75;
+            let t77 = v_q6_d * t70;
+            let t78 = t76 + t77;
+            let t79 = t39 - t78;
+            let t80 = v_q2_d * t60;
+            let t81 = t80 - t41;
+            let t82 = v_q5_d * t71;
+            let t83 = t81 + t82;
+            let t84 = v_q6_d * t72;
+            let t85 = t83 + t84;
+            let t86 = t47 + t85;
+            let t87 = -t86;
+            let t88 = t56 * v_q2_dd;
+            let t89 = t57 * v_q2_dd;
+            let t90 = t79 - t88;
+            let t91 = t87 - t89;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t90, t91]),
+                )?;
+            qdd[2] = z[0];
+            qdd[3] = z[1];
+            // Points.
+            Ok((qd, qdd, []))
+        }
+        /// Scene `sixbar_output`: its pruned solver.
+        #[doc(hidden)]
+        #[inline]
+        pub(super) fn scene_sixbar_output_solve(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            q: &mut [T; 4],
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            (
+                [T; 4],
+                [T; 4],
+                [::mechgen::__private::PointMotion<T>; 0],
+                ::mechgen::__private::NewtonReport<T>,
+            ),
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = ::mechgen::__private::TrigState::new(
+                *q,
+                [true, true, true, true],
+            );
+            let mut report = ::mechgen::__private::NewtonReport::new();
+            let (qd, qdd, points) = self
+                .scene_sixbar_output_motion(
+                    x,
+                    &mut st,
+                    &tx,
+                    &tp,
+                    xd,
+                    xdd,
+                    options,
+                    &mut report,
+                )?;
+            *q = st.q;
+            Ok((qd, qdd, points, report))
+        }
+        #[doc(hidden)]
+        pub(super) fn scene_sixbar_output_tick_start(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            guess: &[T; 4],
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Tick<T, 1, 4, 0, 10>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = self
+                .scene_sixbar_output_solve(x, xd, xdd, &mut q, options)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let st = ::mechgen::__private::TrigState::new(q, [true, true, true, true]);
+            Ok(
+                ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
+                    x: *x,
+                    xd: *xd,
+                    q,
+                    qd,
+                    qdd,
+                    points,
+                    report,
+                    tx,
+                    tq: st.sc,
+                    tp,
+                    params: self.params.to_array(),
+                }),
+            )
+        }
+        #[doc(hidden)]
+        pub(super) fn scene_sixbar_output_tick(
+            &self,
+            t: &mut ::mechgen::__private::Tick<T, 1, 4, 0, 10>,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let params = self.params.to_array();
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::__private::check_finite(
+                    ::mechgen::__private::Quantity::Param,
+                    &params,
+                )?;
+            }
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
+            let mut fresh_tp = None;
+            let (tx, tp) = if same {
+                (t.inputs_trig(x, [true]), t.params_trig())
+            } else {
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
+            };
+            let keep = if options.closed_forms {
+                [true, true, true, true]
+            } else {
+                [false, false, false, false]
+            };
+            let mut st = t.predicted(x, [true, true, true, true], keep, same);
+            let mut report = ::mechgen::__private::NewtonReport::new();
+            let (qd, qdd, points) = self
+                .scene_sixbar_output_motion(
+                    x,
+                    &mut st,
+                    &tx,
+                    tp,
+                    xd,
+                    xdd,
+                    options,
+                    &mut report,
+                )?;
+            t.update(
+                x,
+                xd,
+                &st,
+                qd,
+                qdd,
+                points,
+                report,
+                tx,
+                fresh_tp.as_ref().map(|tp| (&params, tp)),
+            );
+            Ok(())
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -3266,6 +3985,419 @@ pub mod shaper {
                 ],
             ))
         }
+        // Scene shaper_ram: blocks [0, 1, 2], order 2, points [].
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
+        #[inline(always)]
+        #[doc(hidden)]
+        pub(super) fn scene_shaper_ram_motion(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::SolveOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<
+            ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 0]),
+            ::mechgen::__private::SolveError,
+        > {
+            let mut qd = [T::zero(); 4];
+            let mut qdd = [T::zero(); 4];
+            // Block 0: closed form (RPR).
+            let p_l1 = self.params.l1;
+            let p_lAC = self.params.lAC;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -t1;
+            let t3 = -t0;
+            let t4 = t2 - p_lAC;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_rpr(
+                    0,
+                    st,
+                    1,
+                    0,
+                    [t3, t4],
+                    (T::zero(), T::zero()),
+                    (T::one(), T::zero()),
+                    || self.params.length_scale(),
+                    options.newton.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [true, false],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: closed form (one angle).
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let p_yE = self.params.yE;
+            let (s_v_q3, _) = st.sc[1];
+            let t5 = s_v_q3 * p_l3;
+            let t6 = t5 - p_yE;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_angle1(
+                    1,
+                    st,
+                    2,
+                    t6,
+                    (T::zero(), p_l4),
+                    || self.params.length_scale(),
+                    options.newton.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [2],
+                    [false],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 2: closed form (one length).
+            let (_, c_v_q3) = st.sc[1];
+            let t7 = c_v_q3 * p_l3;
+            let (_, c_v_q4) = st.sc[2];
+            let t8 = p_l4 * c_v_q4;
+            let t9 = t7 + t8;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_length1(
+                    2,
+                    st,
+                    3,
+                    t9,
+                    T::lit(-1.0),
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    2,
+                    st,
+                    [3],
+                    [true],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 0: velocities and accelerations.
+            let v_s3 = st.q[0];
+            let v_q1_d = xd[0];
+            let t10 = v_s3 * c_v_q3;
+            let t11 = v_s3 * s_v_q3;
+            let t12 = -t11;
+            let t13 = t1 * v_q1_d;
+            let t14 = -t13;
+            let t15 = t0 * v_q1_d;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂s3
+            jac[(0, 0)] = c_v_q3;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t12;
+            // J[1][0] = ∂Φ1/∂s3
+            jac[(1, 0)] = s_v_q3;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t10;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t14, t15]),
+                )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_s3_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t16 = s_v_q3 * v_q3_d;
+            let t17 = s_v_q3 * v_s3_d;
+            let t18 = -t17;
+            let t19 = t10 * v_q3_d;
+            let t20 = t18 - t19;
+            let t21 = c_v_q3 * v_q3_d;
+            let t22 = c_v_q3 * v_s3_d;
+            let t23 = t11 * v_q3_d;
+            let t24 = t22 - t23;
+            let t25 = v_q1_d * t15;
+            let t26 = t16 * v_s3_d;
+            let t27 = t25 - t26;
+            let t28 = v_q3_d * t20;
+            let t29 = t27 + t28;
+            let t30 = t1 * v_q1_dd;
+            let t31 = t29 + t30;
+            let t32 = -t31;
+            let t33 = v_q1_d * t13;
+            let t34 = v_s3_d * t21;
+            let t35 = t33 + t34;
+            let t36 = v_q3_d * t24;
+            let t37 = t35 + t36;
+            let t38 = t0 * v_q1_dd;
+            let t39 = t38 - t37;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t32, t39]),
+                )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            // Block 1: velocities and accelerations.
+            let t40 = t7 * v_q3_d;
+            let t41 = -t40;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[3][2] = ∂Φ3/∂q4
+            jac[(0, 0)] = t8;
+            let lu = ::mechgen::__private::factor_block(
+                1,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t41]),
+                )?;
+            qd[2] = z[0];
+            let v_q4_d = qd[2];
+            let v_q3_dd = qdd[1];
+            let (s_v_q4, _) = st.sc[2];
+            let t42 = p_l4 * s_v_q4;
+            let t43 = t5 * v_q3_d;
+            let t44 = t42 * v_q4_d;
+            let t45 = v_q3_d * t43;
+            let t46 = -t45;
+            let t47 = v_q4_d * t44;
+            let t48 = t47 - t46;
+            let t49 = t7 * v_q3_dd;
+            let t50 = t48 - t49;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t50]),
+                )?;
+            qdd[2] = z[0];
+            // Block 2: velocities and accelerations.
+            let t51 = -t43;
+            let t52 = t44 - t51;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[2][3] = ∂Φ2/∂sE
+            jac[(0, 0)] = T::lit(-1.0);
+            let lu = ::mechgen::__private::factor_block(
+                2,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    2,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t52]),
+                )?;
+            qd[3] = z[0];
+            let v_q4_dd = qdd[2];
+            let t53 = t8 * v_q4_d;
+            let t54 = v_q3_d * t40;
+            let t55 = -t54;
+            let t56 = v_q4_d * t53;
+            let t57 = t56 - t55;
+            let t58 = t5 * v_q3_dd;
+            let t59 = -t58;
+            let t60 = t42 * v_q4_dd;
+            let t61 = t59 - t60;
+            let t62 = t57 - t61;
+            let z = lu
+                .solve(
+                    2,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t62]),
+                )?;
+            qdd[3] = z[0];
+            // Points.
+            Ok((qd, qdd, []))
+        }
+        /// Scene `shaper_ram`: its pruned solver.
+        #[doc(hidden)]
+        #[inline]
+        pub(super) fn scene_shaper_ram_solve(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            q: &mut [T; 4],
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            (
+                [T; 4],
+                [T; 4],
+                [::mechgen::__private::PointMotion<T>; 0],
+                ::mechgen::__private::NewtonReport<T>,
+            ),
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = ::mechgen::__private::TrigState::new(
+                *q,
+                [false, true, true, false],
+            );
+            let mut report = ::mechgen::__private::NewtonReport::new();
+            let (qd, qdd, points) = self
+                .scene_shaper_ram_motion(
+                    x,
+                    &mut st,
+                    &tx,
+                    &tp,
+                    xd,
+                    xdd,
+                    options,
+                    &mut report,
+                )?;
+            *q = st.q;
+            Ok((qd, qdd, points, report))
+        }
+        #[doc(hidden)]
+        pub(super) fn scene_shaper_ram_tick_start(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            guess: &[T; 4],
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Tick<T, 1, 4, 0, 5>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = self
+                .scene_shaper_ram_solve(x, xd, xdd, &mut q, options)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let st = ::mechgen::__private::TrigState::new(q, [false, true, true, false]);
+            Ok(
+                ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
+                    x: *x,
+                    xd: *xd,
+                    q,
+                    qd,
+                    qdd,
+                    points,
+                    report,
+                    tx,
+                    tq: st.sc,
+                    tp,
+                    params: self.params.to_array(),
+                }),
+            )
+        }
+        #[doc(hidden)]
+        pub(super) fn scene_shaper_ram_tick(
+            &self,
+            t: &mut ::mechgen::__private::Tick<T, 1, 4, 0, 5>,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let params = self.params.to_array();
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::__private::check_finite(
+                    ::mechgen::__private::Quantity::Param,
+                    &params,
+                )?;
+            }
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
+            let mut fresh_tp = None;
+            let (tx, tp) = if same {
+                (t.inputs_trig(x, [true]), t.params_trig())
+            } else {
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
+            };
+            let keep = if options.closed_forms {
+                [true, true, true, true]
+            } else {
+                [false, false, false, false]
+            };
+            let mut st = t.predicted(x, [false, true, true, false], keep, same);
+            let mut report = ::mechgen::__private::NewtonReport::new();
+            let (qd, qdd, points) = self
+                .scene_shaper_ram_motion(
+                    x,
+                    &mut st,
+                    &tx,
+                    tp,
+                    xd,
+                    xdd,
+                    options,
+                    &mut report,
+                )?;
+            t.update(
+                x,
+                xd,
+                &st,
+                qd,
+                qdd,
+                points,
+                report,
+                tx,
+                fresh_tp.as_ref().map(|tp| (&params, tp)),
+            );
+            Ok(())
+        }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
         pub fn solve_position(
@@ -4678,6 +5810,283 @@ pub mod four_bar {
                     },
                 ],
             ))
+        }
+        // Scene coupler_curve: blocks [0], order 1, points [2].
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
+        #[inline(always)]
+        #[doc(hidden)]
+        pub(super) fn scene_coupler_curve_motion(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 6],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::SolveOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+        ) -> ::core::result::Result<
+            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 1]),
+            ::mechgen::__private::SolveError,
+        > {
+            let mut qd = [T::zero(); 2];
+            let qdd = [T::zero(); 2];
+            // Block 0: closed form (a dyad).
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
+            if options.closed_forms {
+                ::mechgen::__private::solve_dyad(
+                    0,
+                    st,
+                    0,
+                    1,
+                    [t3, t1],
+                    (p_l2, T::zero()),
+                    (t2, T::zero()),
+                    || self.params.length_scale(),
+                    options.newton.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [false, false],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 0: velocities.
+            let v_q1_d = xd[0];
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t6 = p_l3 * c_v_q3;
+            let t7 = p_l3 * s_v_q3;
+            let t8 = -t5;
+            let t9 = -t6;
+            let t10 = t1 * v_q1_d;
+            let t11 = t0 * v_q1_d;
+            let t12 = -t11;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t8;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t7;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t4;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t9;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t10, t12]),
+                )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            // Points.
+            let p_lp = self.params.lp;
+            let v_q2_d = qd[0];
+            let (s_p_beta, c_p_beta) = tp[5];
+            let t13 = c_v_q2 * c_p_beta;
+            let t14 = s_v_q2 * s_p_beta;
+            let t15 = s_v_q2 * c_p_beta;
+            let t16 = c_v_q2 * s_p_beta;
+            let t17 = t13 - t14;
+            let t18 = t15 + t16;
+            let t19 = p_lp * t17;
+            let t20 = p_lp * t18;
+            let t21 = t0 + t19;
+            let t22 = t1 + t20;
+            let t23 = -t15;
+            let t24 = t23 - t16;
+            let t25 = p_lp * t24;
+            let t26 = v_q2_d * t25;
+            let t27 = t26 - t10;
+            let t28 = t19 * v_q2_d;
+            let t29 = t11 + t28;
+            Ok((
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [t21, t22],
+                        velocity: [t27, t29],
+                        acceleration: [T::zero(), T::zero()],
+                    },
+                ],
+            ))
+        }
+        /// Scene `coupler_curve`: its pruned solver.
+        #[doc(hidden)]
+        #[inline]
+        pub(super) fn scene_coupler_curve_solve(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            q: &mut [T; 2],
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            (
+                [T; 2],
+                [T; 2],
+                [::mechgen::__private::PointMotion<T>; 1],
+                ::mechgen::__private::NewtonReport<T>,
+            ),
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Guess,
+                q,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
+            let (tx, tp) = self.trig_fixed(x);
+            let mut st = ::mechgen::__private::TrigState::new(*q, [true, true]);
+            let mut report = ::mechgen::__private::NewtonReport::new();
+            let (qd, qdd, points) = self
+                .scene_coupler_curve_motion(
+                    x,
+                    &mut st,
+                    &tx,
+                    &tp,
+                    xd,
+                    xdd,
+                    options,
+                    &mut report,
+                )?;
+            *q = st.q;
+            Ok((qd, qdd, points, report))
+        }
+        #[doc(hidden)]
+        pub(super) fn scene_coupler_curve_tick_start(
+            &self,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            guess: &[T; 2],
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Tick<T, 1, 2, 1, 6>,
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = *guess;
+            let (qd, qdd, points, report) = self
+                .scene_coupler_curve_solve(x, xd, xdd, &mut q, options)?;
+            let (tx, tp) = self.trig_fixed(x);
+            let st = ::mechgen::__private::TrigState::new(q, [true, true]);
+            Ok(
+                ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
+                    x: *x,
+                    xd: *xd,
+                    q,
+                    qd,
+                    qdd,
+                    points,
+                    report,
+                    tx,
+                    tq: st.sc,
+                    tp,
+                    params: self.params.to_array(),
+                }),
+            )
+        }
+        #[doc(hidden)]
+        pub(super) fn scene_coupler_curve_tick(
+            &self,
+            t: &mut ::mechgen::__private::Tick<T, 1, 2, 1, 6>,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let params = self.params.to_array();
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::__private::check_finite(
+                    ::mechgen::__private::Quantity::Param,
+                    &params,
+                )?;
+            }
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
+            let mut fresh_tp = None;
+            let (tx, tp) = if same {
+                (t.inputs_trig(x, [true]), t.params_trig())
+            } else {
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
+            };
+            let keep = if options.closed_forms { [true, true] } else { [false, false] };
+            let mut st = t.predicted(x, [true, true], keep, same);
+            let mut report = ::mechgen::__private::NewtonReport::new();
+            let (qd, qdd, points) = self
+                .scene_coupler_curve_motion(
+                    x,
+                    &mut st,
+                    &tx,
+                    tp,
+                    xd,
+                    xdd,
+                    options,
+                    &mut report,
+                )?;
+            t.update(
+                x,
+                xd,
+                &st,
+                qd,
+                qdd,
+                points,
+                report,
+                tx,
+                fresh_tp.as_ref().map(|tp| (&params, tp)),
+            );
+            Ok(())
         }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
@@ -9530,6 +10939,795 @@ pub mod sixbar_g {
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             SixbarG::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
+        }
+    }
+}
+/// Scene `sixbar_e_path` of mechanism `sixbar`: E_x, E_y to order 0; solves blocks [0] only.
+pub mod sixbar_e_path {
+    #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+    // Allowed above, and why:
+    // non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).
+    // unused_variables: `outputs_of` takes the whole state and a scene
+    // reads only its columns of it.
+    // type_complexity: `solve` returns outputs, unknowns and report as one
+    // tuple.
+    pub use super::sixbar::{Params as Params, Inputs as Inputs, Unknowns as Unknowns};
+    /// What the scene keeps of its mechanism, and its output columns.
+    pub const INFO: ::mechgen::__private::SceneInfo = ::mechgen::__private::SceneInfo {
+        name: "sixbar_e_path",
+        mechanism: "sixbar",
+        order: 0,
+        blocks: &[0],
+        solved: &[0, 1],
+        unknowns: &[],
+        points: &["E"],
+        columns: &["E_x", "E_y"],
+    };
+    /// The scene's outputs, one field per column of `INFO.columns` (a point's
+    /// coordinates as `P_x`, `P_y`, rates as `u_vel`, `P_vx`, …).
+    #[derive(Clone, Copy, Debug, Default, PartialEq)]
+    pub struct Outputs<T> {
+        pub E_x: T,
+        pub E_y: T,
+    }
+    impl<T: ::core::marker::Copy> Outputs<T> {
+        pub fn from_array(a: [T; 2]) -> Self {
+            Outputs { E_x: a[0], E_y: a[1] }
+        }
+        pub fn to_array(&self) -> [T; 2] {
+            [self.E_x, self.E_y]
+        }
+    }
+    /// The state between ticks: the mechanism's unknowns (only the kept blocks' are
+    /// solved), their rates up to the scene's order, the scene's points.
+    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 4, 1, 10>;
+    /// Scene `sixbar_e_path` of mechanism `sixbar`: E_x, E_y to order 0; solves blocks [0] only.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct SixbarEPath<T = f64> {
+        pub params: Params<T>,
+    }
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for SixbarEPath<T> {
+        fn default() -> Self {
+            SixbarEPath {
+                params: <Params<T> as ::core::default::Default>::default(),
+            }
+        }
+    }
+    impl<T: ::mechgen::__private::Real> SixbarEPath<T> {
+        pub fn new(params: Params<T>) -> Self {
+            SixbarEPath { params }
+        }
+        #[inline(always)]
+        fn mechanism(&self) -> super::sixbar::Sixbar<T> {
+            super::sixbar::Sixbar::new(self.params)
+        }
+        /// The mechanism's `start` configuration.
+        pub fn start() -> (Inputs<T>, Unknowns<T>) {
+            super::sixbar::Sixbar::<T>::start()
+        }
+        #[inline]
+        fn outputs_of(
+            q: &[T; 4],
+            qd: &[T; 4],
+            qdd: &[T; 4],
+            points: &[::mechgen::__private::PointMotion<T>; 1],
+        ) -> Outputs<T> {
+            Outputs::from_array([points[0].position[0], points[0].position[1]])
+        }
+        /// Positions of the kept blocks from `guess`, their rates up to the order, the
+        /// outputs; the returned unknowns hold the kept blocks' solution.
+        pub fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            (Outputs<T>, Unknowns<T>, ::mechgen::__private::NewtonReport<T>),
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = guess.to_array();
+            let (qd, qdd, points, report) = self
+                .mechanism()
+                .scene_sixbar_e_path_solve(
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    &mut q,
+                    options,
+                )?;
+            Ok((
+                Self::outputs_of(&q, &qd, &qdd, &points),
+                Unknowns::from_array(q),
+                report,
+            ))
+        }
+        /// The first tick of a simulation, solved from `guess` (see `tick`).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_sixbar_e_path_tick_start(
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    &guess.to_array(),
+                    options,
+                )
+        }
+        /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
+        /// and cosines, closed forms on the last branch) on the kept blocks only. On
+        /// error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_sixbar_e_path_tick(
+                    t,
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    options,
+                )
+        }
+        /// The outputs of a tick state.
+        pub fn outputs(t: &Tick<T>) -> Outputs<T> {
+            Self::outputs_of(&t.q, &t.qd, &t.qdd, &t.points)
+        }
+    }
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Scene<T>
+    for SixbarEPath<T> {
+        const NAME: &'static str = "sixbar_e_path";
+        type X = [T; 1];
+        type Q = [T; 4];
+        type Out = [T; 2];
+        type Tick = Tick<T>;
+        fn info(&self) -> &'static ::mechgen::__private::SceneInfo {
+            &INFO
+        }
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            q: &mut Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            (Self::Out, ::mechgen::__private::NewtonReport<T>),
+            ::mechgen::__private::SolveError,
+        > {
+            let (qd, qdd, points, report) = self
+                .mechanism()
+                .scene_sixbar_e_path_solve(&input.x, &input.xd, &input.xdd, q, options)?;
+            Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_sixbar_e_path_tick_start(
+                    &input.x,
+                    &input.xd,
+                    &input.xdd,
+                    guess,
+                    options,
+                )
+        }
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_sixbar_e_path_tick(t, &input.x, &input.xd, &input.xdd, options)
+        }
+        fn outputs(&self, t: &Self::Tick) -> Self::Out {
+            SixbarEPath::outputs(t).to_array()
+        }
+    }
+}
+/// Scene `sixbar_output` of mechanism `sixbar`: q6, q6_vel, q6_acc to order 2; solves blocks [0, 1] only.
+pub mod sixbar_output {
+    #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+    // Allowed above, and why:
+    // non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).
+    // unused_variables: `outputs_of` takes the whole state and a scene
+    // reads only its columns of it.
+    // type_complexity: `solve` returns outputs, unknowns and report as one
+    // tuple.
+    pub use super::sixbar::{Params as Params, Inputs as Inputs, Unknowns as Unknowns};
+    /// What the scene keeps of its mechanism, and its output columns.
+    pub const INFO: ::mechgen::__private::SceneInfo = ::mechgen::__private::SceneInfo {
+        name: "sixbar_output",
+        mechanism: "sixbar",
+        order: 2,
+        blocks: &[0, 1],
+        solved: &[0, 1, 2, 3],
+        unknowns: &["q6"],
+        points: &[],
+        columns: &["q6", "q6_vel", "q6_acc"],
+    };
+    /// The scene's outputs, one field per column of `INFO.columns` (a point's
+    /// coordinates as `P_x`, `P_y`, rates as `u_vel`, `P_vx`, …).
+    #[derive(Clone, Copy, Debug, Default, PartialEq)]
+    pub struct Outputs<T> {
+        pub q6: T,
+        pub q6_vel: T,
+        pub q6_acc: T,
+    }
+    impl<T: ::core::marker::Copy> Outputs<T> {
+        pub fn from_array(a: [T; 3]) -> Self {
+            Outputs {
+                q6: a[0],
+                q6_vel: a[1],
+                q6_acc: a[2],
+            }
+        }
+        pub fn to_array(&self) -> [T; 3] {
+            [self.q6, self.q6_vel, self.q6_acc]
+        }
+    }
+    /// The state between ticks: the mechanism's unknowns (only the kept blocks' are
+    /// solved), their rates up to the scene's order, the scene's points.
+    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 4, 0, 10>;
+    /// Scene `sixbar_output` of mechanism `sixbar`: q6, q6_vel, q6_acc to order 2; solves blocks [0, 1] only.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct SixbarOutput<T = f64> {
+        pub params: Params<T>,
+    }
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for SixbarOutput<T> {
+        fn default() -> Self {
+            SixbarOutput {
+                params: <Params<T> as ::core::default::Default>::default(),
+            }
+        }
+    }
+    impl<T: ::mechgen::__private::Real> SixbarOutput<T> {
+        pub fn new(params: Params<T>) -> Self {
+            SixbarOutput { params }
+        }
+        #[inline(always)]
+        fn mechanism(&self) -> super::sixbar::Sixbar<T> {
+            super::sixbar::Sixbar::new(self.params)
+        }
+        /// The mechanism's `start` configuration.
+        pub fn start() -> (Inputs<T>, Unknowns<T>) {
+            super::sixbar::Sixbar::<T>::start()
+        }
+        #[inline]
+        fn outputs_of(
+            q: &[T; 4],
+            qd: &[T; 4],
+            qdd: &[T; 4],
+            points: &[::mechgen::__private::PointMotion<T>; 0],
+        ) -> Outputs<T> {
+            Outputs::from_array([q[3], qd[3], qdd[3]])
+        }
+        /// Positions of the kept blocks from `guess`, their rates up to the order, the
+        /// outputs; the returned unknowns hold the kept blocks' solution.
+        pub fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            (Outputs<T>, Unknowns<T>, ::mechgen::__private::NewtonReport<T>),
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = guess.to_array();
+            let (qd, qdd, points, report) = self
+                .mechanism()
+                .scene_sixbar_output_solve(
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    &mut q,
+                    options,
+                )?;
+            Ok((
+                Self::outputs_of(&q, &qd, &qdd, &points),
+                Unknowns::from_array(q),
+                report,
+            ))
+        }
+        /// The first tick of a simulation, solved from `guess` (see `tick`).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_sixbar_output_tick_start(
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    &guess.to_array(),
+                    options,
+                )
+        }
+        /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
+        /// and cosines, closed forms on the last branch) on the kept blocks only. On
+        /// error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_sixbar_output_tick(
+                    t,
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    options,
+                )
+        }
+        /// The outputs of a tick state.
+        pub fn outputs(t: &Tick<T>) -> Outputs<T> {
+            Self::outputs_of(&t.q, &t.qd, &t.qdd, &t.points)
+        }
+    }
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Scene<T>
+    for SixbarOutput<T> {
+        const NAME: &'static str = "sixbar_output";
+        type X = [T; 1];
+        type Q = [T; 4];
+        type Out = [T; 3];
+        type Tick = Tick<T>;
+        fn info(&self) -> &'static ::mechgen::__private::SceneInfo {
+            &INFO
+        }
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            q: &mut Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            (Self::Out, ::mechgen::__private::NewtonReport<T>),
+            ::mechgen::__private::SolveError,
+        > {
+            let (qd, qdd, points, report) = self
+                .mechanism()
+                .scene_sixbar_output_solve(&input.x, &input.xd, &input.xdd, q, options)?;
+            Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_sixbar_output_tick_start(
+                    &input.x,
+                    &input.xd,
+                    &input.xdd,
+                    guess,
+                    options,
+                )
+        }
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_sixbar_output_tick(t, &input.x, &input.xd, &input.xdd, options)
+        }
+        fn outputs(&self, t: &Self::Tick) -> Self::Out {
+            SixbarOutput::outputs(t).to_array()
+        }
+    }
+}
+/// Scene `shaper_ram` of mechanism `shaper`: sE, sE_vel, sE_acc to order 2; solves blocks [0, 1, 2] only.
+pub mod shaper_ram {
+    #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+    // Allowed above, and why:
+    // non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).
+    // unused_variables: `outputs_of` takes the whole state and a scene
+    // reads only its columns of it.
+    // type_complexity: `solve` returns outputs, unknowns and report as one
+    // tuple.
+    pub use super::shaper::{Params as Params, Inputs as Inputs, Unknowns as Unknowns};
+    /// What the scene keeps of its mechanism, and its output columns.
+    pub const INFO: ::mechgen::__private::SceneInfo = ::mechgen::__private::SceneInfo {
+        name: "shaper_ram",
+        mechanism: "shaper",
+        order: 2,
+        blocks: &[0, 1, 2],
+        solved: &[0, 1, 2, 3],
+        unknowns: &["sE"],
+        points: &[],
+        columns: &["sE", "sE_vel", "sE_acc"],
+    };
+    /// The scene's outputs, one field per column of `INFO.columns` (a point's
+    /// coordinates as `P_x`, `P_y`, rates as `u_vel`, `P_vx`, …).
+    #[derive(Clone, Copy, Debug, Default, PartialEq)]
+    pub struct Outputs<T> {
+        pub sE: T,
+        pub sE_vel: T,
+        pub sE_acc: T,
+    }
+    impl<T: ::core::marker::Copy> Outputs<T> {
+        pub fn from_array(a: [T; 3]) -> Self {
+            Outputs {
+                sE: a[0],
+                sE_vel: a[1],
+                sE_acc: a[2],
+            }
+        }
+        pub fn to_array(&self) -> [T; 3] {
+            [self.sE, self.sE_vel, self.sE_acc]
+        }
+    }
+    /// The state between ticks: the mechanism's unknowns (only the kept blocks' are
+    /// solved), their rates up to the scene's order, the scene's points.
+    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 4, 0, 5>;
+    /// Scene `shaper_ram` of mechanism `shaper`: sE, sE_vel, sE_acc to order 2; solves blocks [0, 1, 2] only.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct ShaperRam<T = f64> {
+        pub params: Params<T>,
+    }
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for ShaperRam<T> {
+        fn default() -> Self {
+            ShaperRam {
+                params: <Params<T> as ::core::default::Default>::default(),
+            }
+        }
+    }
+    impl<T: ::mechgen::__private::Real> ShaperRam<T> {
+        pub fn new(params: Params<T>) -> Self {
+            ShaperRam { params }
+        }
+        #[inline(always)]
+        fn mechanism(&self) -> super::shaper::Shaper<T> {
+            super::shaper::Shaper::new(self.params)
+        }
+        /// The mechanism's `start` configuration.
+        pub fn start() -> (Inputs<T>, Unknowns<T>) {
+            super::shaper::Shaper::<T>::start()
+        }
+        #[inline]
+        fn outputs_of(
+            q: &[T; 4],
+            qd: &[T; 4],
+            qdd: &[T; 4],
+            points: &[::mechgen::__private::PointMotion<T>; 0],
+        ) -> Outputs<T> {
+            Outputs::from_array([q[3], qd[3], qdd[3]])
+        }
+        /// Positions of the kept blocks from `guess`, their rates up to the order, the
+        /// outputs; the returned unknowns hold the kept blocks' solution.
+        pub fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            (Outputs<T>, Unknowns<T>, ::mechgen::__private::NewtonReport<T>),
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = guess.to_array();
+            let (qd, qdd, points, report) = self
+                .mechanism()
+                .scene_shaper_ram_solve(
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    &mut q,
+                    options,
+                )?;
+            Ok((
+                Self::outputs_of(&q, &qd, &qdd, &points),
+                Unknowns::from_array(q),
+                report,
+            ))
+        }
+        /// The first tick of a simulation, solved from `guess` (see `tick`).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_shaper_ram_tick_start(
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    &guess.to_array(),
+                    options,
+                )
+        }
+        /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
+        /// and cosines, closed forms on the last branch) on the kept blocks only. On
+        /// error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_shaper_ram_tick(
+                    t,
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    options,
+                )
+        }
+        /// The outputs of a tick state.
+        pub fn outputs(t: &Tick<T>) -> Outputs<T> {
+            Self::outputs_of(&t.q, &t.qd, &t.qdd, &t.points)
+        }
+    }
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Scene<T> for ShaperRam<T> {
+        const NAME: &'static str = "shaper_ram";
+        type X = [T; 1];
+        type Q = [T; 4];
+        type Out = [T; 3];
+        type Tick = Tick<T>;
+        fn info(&self) -> &'static ::mechgen::__private::SceneInfo {
+            &INFO
+        }
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            q: &mut Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            (Self::Out, ::mechgen::__private::NewtonReport<T>),
+            ::mechgen::__private::SolveError,
+        > {
+            let (qd, qdd, points, report) = self
+                .mechanism()
+                .scene_shaper_ram_solve(&input.x, &input.xd, &input.xdd, q, options)?;
+            Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_shaper_ram_tick_start(
+                    &input.x,
+                    &input.xd,
+                    &input.xdd,
+                    guess,
+                    options,
+                )
+        }
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_shaper_ram_tick(t, &input.x, &input.xd, &input.xdd, options)
+        }
+        fn outputs(&self, t: &Self::Tick) -> Self::Out {
+            ShaperRam::outputs(t).to_array()
+        }
+    }
+}
+/// Scene `coupler_curve` of mechanism `four_bar`: P_x, P_y, P_vx, P_vy to order 1; solves blocks [0] only.
+pub mod coupler_curve {
+    #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+    // Allowed above, and why:
+    // non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).
+    // unused_variables: `outputs_of` takes the whole state and a scene
+    // reads only its columns of it.
+    // type_complexity: `solve` returns outputs, unknowns and report as one
+    // tuple.
+    pub use super::four_bar::{Params as Params, Inputs as Inputs, Unknowns as Unknowns};
+    /// What the scene keeps of its mechanism, and its output columns.
+    pub const INFO: ::mechgen::__private::SceneInfo = ::mechgen::__private::SceneInfo {
+        name: "coupler_curve",
+        mechanism: "four_bar",
+        order: 1,
+        blocks: &[0],
+        solved: &[0, 1],
+        unknowns: &[],
+        points: &["P"],
+        columns: &["P_x", "P_y", "P_vx", "P_vy"],
+    };
+    /// The scene's outputs, one field per column of `INFO.columns` (a point's
+    /// coordinates as `P_x`, `P_y`, rates as `u_vel`, `P_vx`, …).
+    #[derive(Clone, Copy, Debug, Default, PartialEq)]
+    pub struct Outputs<T> {
+        pub P_x: T,
+        pub P_y: T,
+        pub P_vx: T,
+        pub P_vy: T,
+    }
+    impl<T: ::core::marker::Copy> Outputs<T> {
+        pub fn from_array(a: [T; 4]) -> Self {
+            Outputs {
+                P_x: a[0],
+                P_y: a[1],
+                P_vx: a[2],
+                P_vy: a[3],
+            }
+        }
+        pub fn to_array(&self) -> [T; 4] {
+            [self.P_x, self.P_y, self.P_vx, self.P_vy]
+        }
+    }
+    /// The state between ticks: the mechanism's unknowns (only the kept blocks' are
+    /// solved), their rates up to the scene's order, the scene's points.
+    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 2, 1, 6>;
+    /// Scene `coupler_curve` of mechanism `four_bar`: P_x, P_y, P_vx, P_vy to order 1; solves blocks [0] only.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct CouplerCurve<T = f64> {
+        pub params: Params<T>,
+    }
+    impl<T: ::mechgen::__private::Real> ::core::default::Default for CouplerCurve<T> {
+        fn default() -> Self {
+            CouplerCurve {
+                params: <Params<T> as ::core::default::Default>::default(),
+            }
+        }
+    }
+    impl<T: ::mechgen::__private::Real> CouplerCurve<T> {
+        pub fn new(params: Params<T>) -> Self {
+            CouplerCurve { params }
+        }
+        #[inline(always)]
+        fn mechanism(&self) -> super::four_bar::FourBar<T> {
+            super::four_bar::FourBar::new(self.params)
+        }
+        /// The mechanism's `start` configuration.
+        pub fn start() -> (Inputs<T>, Unknowns<T>) {
+            super::four_bar::FourBar::<T>::start()
+        }
+        #[inline]
+        fn outputs_of(
+            q: &[T; 2],
+            qd: &[T; 2],
+            qdd: &[T; 2],
+            points: &[::mechgen::__private::PointMotion<T>; 1],
+        ) -> Outputs<T> {
+            Outputs::from_array([
+                points[0].position[0],
+                points[0].position[1],
+                points[0].velocity[0],
+                points[0].velocity[1],
+            ])
+        }
+        /// Positions of the kept blocks from `guess`, their rates up to the order, the
+        /// outputs; the returned unknowns hold the kept blocks' solution.
+        pub fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            (Outputs<T>, Unknowns<T>, ::mechgen::__private::NewtonReport<T>),
+            ::mechgen::__private::SolveError,
+        > {
+            let mut q = guess.to_array();
+            let (qd, qdd, points, report) = self
+                .mechanism()
+                .scene_coupler_curve_solve(
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    &mut q,
+                    options,
+                )?;
+            Ok((
+                Self::outputs_of(&q, &qd, &qdd, &points),
+                Unknowns::from_array(q),
+                report,
+            ))
+        }
+        /// The first tick of a simulation, solved from `guess` (see `tick`).
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            guess: &Unknowns<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_coupler_curve_tick_start(
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    &guess.to_array(),
+                    options,
+                )
+        }
+        /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
+        /// and cosines, closed forms on the last branch) on the kept blocks only. On
+        /// error `t` is unchanged.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut Tick<T>,
+            input: &::mechgen::__private::InputMotion<Inputs<T>>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_coupler_curve_tick(
+                    t,
+                    &input.x.to_array(),
+                    &input.xd.to_array(),
+                    &input.xdd.to_array(),
+                    options,
+                )
+        }
+        /// The outputs of a tick state.
+        pub fn outputs(t: &Tick<T>) -> Outputs<T> {
+            Self::outputs_of(&t.q, &t.qd, &t.qdd, &t.points)
+        }
+    }
+    impl<T: ::mechgen::__private::Real> ::mechgen::__private::Scene<T>
+    for CouplerCurve<T> {
+        const NAME: &'static str = "coupler_curve";
+        type X = [T; 1];
+        type Q = [T; 2];
+        type Out = [T; 4];
+        type Tick = Tick<T>;
+        fn info(&self) -> &'static ::mechgen::__private::SceneInfo {
+            &INFO
+        }
+        fn solve(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            q: &mut Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<
+            (Self::Out, ::mechgen::__private::NewtonReport<T>),
+            ::mechgen::__private::SolveError,
+        > {
+            let (qd, qdd, points, report) = self
+                .mechanism()
+                .scene_coupler_curve_solve(&input.x, &input.xd, &input.xdd, q, options)?;
+            Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<Self::Tick, ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_coupler_curve_tick_start(
+                    &input.x,
+                    &input.xd,
+                    &input.xdd,
+                    guess,
+                    options,
+                )
+        }
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            self.mechanism()
+                .scene_coupler_curve_tick(t, &input.x, &input.xd, &input.xdd, options)
+        }
+        fn outputs(&self, t: &Self::Tick) -> Self::Out {
+            CouplerCurve::outputs(t).to_array()
         }
     }
 }

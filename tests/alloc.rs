@@ -1,6 +1,6 @@
 //! The typed generated solvers allocate nothing: 100 full solves (position from the previous
 //! solution at an input 1° further on, velocity, acceleration, points) of every seed mechanism, in
-//! f64 and f32, under a counting global allocator.
+//! f64 and f32, and of every compiled-in scene (solves and ticks), under a counting global allocator.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -158,6 +158,83 @@ solves!(shaper_f32, shaper::Shaper, f32);
 solves!(four_bar_f32, four_bar::FourBar, f32);
 solves!(slider_crank_f32, slider_crank::SliderCrank, f32);
 
+/// Every compiled-in scene: `SOLVES` solves through `Scene::solve` and `SOLVES` ticks from the
+/// start, 1° (or 1/360 of the start value of a length input) at a time; allocations counted.
+struct SceneSolves<T> {
+    outcome: Outcome,
+    _t: std::marker::PhantomData<T>,
+}
+
+impl<T: mechgen::Real> mechgen::SceneVisitor<T> for SceneSolves<T> {
+    fn visit<S: mechgen::Scene<T> + 'static>(&mut self, scene: &S) {
+        use mechgen::Array;
+        let k = mechgen::lookup::<f64>(scene.info().mechanism).expect("its mechanism");
+        let info = k.info();
+        let lit = |v: f64| T::lit(v);
+        let mut x0 = S::X::zeros();
+        let mut q0 = S::Q::zeros();
+        x0.as_mut()
+            .iter_mut()
+            .zip(&info.inputs)
+            .for_each(|(x, i)| *x = lit(i.start));
+        q0.as_mut()
+            .iter_mut()
+            .zip(&info.unknowns)
+            .for_each(|(q, u)| *q = lit(u.start));
+        let step = lit(1f64.to_radians());
+        let (mut xd, xdd) = (S::X::zeros(), S::X::zeros());
+        xd.as_mut()[0] = lit(1.0);
+        let options = SolveOptions::<T>::default();
+        let scene = black_box(scene);
+        let (allocations, (done, error)) = count(|| {
+            let mut done = 0;
+            let mut q = q0;
+            let mut input = InputMotion::new(x0, xd, xdd);
+            for _ in 0..SOLVES {
+                input.x.as_mut()[0] += step;
+                match scene.solve(&input, &mut q, &options) {
+                    Ok(out) => {
+                        black_box(out);
+                        done += 1;
+                    }
+                    Err(e) => return (done, Some(e)),
+                }
+            }
+            let mut input = InputMotion::new(x0, xd, xdd);
+            let mut tick = match scene.tick_start(&input, &q0, &options) {
+                Ok(t) => t,
+                Err(e) => return (done, Some(e)),
+            };
+            for _ in 1..SOLVES {
+                input.x.as_mut()[0] += step;
+                match scene.tick(&mut tick, &input, &options) {
+                    Ok(()) => {
+                        black_box(scene.outputs(&tick));
+                        done += 1;
+                    }
+                    Err(e) => return (done, Some(e)),
+                }
+            }
+            (done, None)
+        });
+        let o = &mut self.outcome;
+        o.0 += allocations;
+        o.1 += done;
+        if o.2.is_none() {
+            o.2 = error;
+        }
+    }
+}
+
+fn scenes<T: mechgen::Real>() -> Outcome {
+    let mut v = SceneSolves::<T> {
+        outcome: (0, 0, None),
+        _t: std::marker::PhantomData,
+    };
+    mechgen::visit_scenes(&mut v);
+    v.outcome
+}
+
 /// One test only, so no two counting regions of this binary ever overlap.
 #[test]
 fn generated_solvers_do_not_allocate() {
@@ -181,6 +258,8 @@ fn generated_solvers_do_not_allocate() {
         ("shaper f32", shaper_f32),
         ("four_bar f32", four_bar_f32),
         ("slider_crank f32", slider_crank_f32),
+        ("every scene f64", scenes::<f64>),
+        ("every scene f32", scenes::<f32>),
     ];
     let mut failures = Vec::new();
     for (name, run) in cases {

@@ -81,6 +81,17 @@ fn fixture_block_kinds() {
         &[("derived_slider", slider_b)],
     );
     assert_blocks(
+        Some("tests/fixtures/scenes.toml"),
+        &[
+            ("actuator", "2x2 [qa, qr] closed form (RRR)"),
+            (
+                "coupler_slider",
+                "2x2 [q2, q3] closed form (RRR) -> 1x1 [qc] closed form (one angle) \
+                 -> 1x1 [sx] closed form (one length)",
+            ),
+        ],
+    );
+    assert_blocks(
         Some("tests/fixtures/wide_scale.toml"),
         &[("wide_four_bar", RRR)],
     );
@@ -111,6 +122,7 @@ fn fixture_block_kinds() {
             "dyad_driven.toml",
             "module_names.toml",
             "param_exprs.toml",
+            "scenes.toml",
             "wide_scale.toml"
         ]
     );

@@ -1,10 +1,12 @@
 //! Whatever mechanism file this build compiled in (`mechanism.toml`, or `MECHGEN_MECHANISM`), every
 //! compiled-in mechanism that has an independent reference CSV in `tests/data/` or
 //! `tests/fixtures/` is swept and compared with it. CI builds once per fixture file with
-//! `MECHGEN_MECHANISM` set and `MECHGEN_EXPECT_COMPARED` naming how many must be compared.
+//! `MECHGEN_MECHANISM` set and `MECHGEN_EXPECT_COMPARED` naming how many must be compared. Every
+//! compiled-in scene is held to its full mechanism (`common::scenes`).
 
 mod common;
 
+use common::scenes::check_compiled_in_scenes;
 use common::{Table, compare};
 use mechgen::sweep::{Continuation, sweep};
 
@@ -68,4 +70,10 @@ fn compiled_in_mechanisms_match_their_references() {
             "expected {n} mechanisms compared, got {compared:?}"
         );
     }
+}
+
+#[test]
+fn compiled_in_scenes_equal_their_mechanisms() {
+    let fails = check_compiled_in_scenes();
+    assert!(fails.is_empty(), "{}", fails.join("\n"));
 }

@@ -39,6 +39,36 @@ pub fn emit_with(mechs: &[Compiled], source_name: &str, runtime: &str) -> Result
         let (module, ty) = (format_ident!("{}", m.model.name.text), type_ident(&m.model));
         quote!(v.visit(&<#module::#ty::<#gt> as ::core::default::Default>::default());)
     });
+    let scenes = crate::emit_scene::all(mechs);
+    let scene_modules = scenes
+        .iter()
+        .map(|(c, p)| crate::emit_scene::module(c, p, &rt));
+    let scene_names: Vec<&str> = scenes.iter().map(|(_, p)| p.name.as_str()).collect();
+    let scene_count = scene_names.len();
+    let scene_ty = |p: &crate::analysis::scene::ScenePlan| {
+        (format_ident!("{}", p.name), ModuleItems::new(&p.name).ty)
+    };
+    let scene_arms = scenes.iter().map(|(_, p)| {
+        let (name, (module, ty)) = (&p.name, scene_ty(p));
+        quote!(#name => ::core::option::Option::Some(::std::boxed::Box::new(
+            <#module::#ty::<#gt> as ::core::default::Default>::default())),)
+    });
+    let scene_visits = scenes.iter().map(|(_, p)| {
+        let (module, ty) = scene_ty(p);
+        quote!(v.visit(&<#module::#ty::<#gt> as ::core::default::Default>::default());)
+    });
+    // A file without scenes: the same functions, with nothing to match or visit.
+    let (scene_match, visitor) = if scene_count == 0 {
+        (
+            quote!(let _ = name; ::core::option::Option::None),
+            quote!(_v),
+        )
+    } else {
+        (
+            quote!(match name { #(#scene_arms)* _ => ::core::option::Option::None, }),
+            quote!(v),
+        )
+    };
     let file = quote! {
         /// Names of the compiled-in mechanisms, in file order.
         pub const MECHANISMS: [&str; #count] = [#(#names),*];
@@ -57,7 +87,21 @@ pub fn emit_with(mechs: &[Compiled], source_name: &str, runtime: &str) -> Result
             #(#visits)*
         }
 
+        /// Names of the compiled-in scenes, in file order.
+        pub const SCENES: [&str; #scene_count] = [#(#scene_names),*];
+
+        /// A compiled-in scene by name, with its mechanism's default params, behind the object-safe trait.
+        pub fn lookup_scene<#gt: #rt::Real>(name: &str) -> ::core::option::Option<::std::boxed::Box<dyn #rt::SceneKinematics<#gt>>> {
+            #scene_match
+        }
+
+        /// Calls `v.visit` with every compiled-in scene (default params), statically typed, in file order.
+        pub fn visit_scenes<#gt: #rt::Real, V: #rt::SceneVisitor<#gt>>(#visitor: &mut V) {
+            #(#scene_visits)*
+        }
+
         #(#modules)*
+        #(#scene_modules)*
     };
     let mut parsed: syn::File = syn::parse2(file)
         .map_err(|e| format!("internal error: generated code does not parse: {e}"))?;

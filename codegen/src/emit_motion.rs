@@ -47,10 +47,15 @@ impl VarSource for Fused<'_> {
 
 /// The position solves of every block, in order, as segments of `b`: each closed-form block's
 /// roots and its kernel (Newton when `options.closed_forms` is off), each other block's Newton.
-fn position_steps(c: &Compiled, b: &mut Builder, rt: &TokenStream) -> TokenStream {
+fn position_steps(
+    c: &Compiled,
+    blocks: &[usize],
+    b: &mut Builder,
+    rt: &TokenStream,
+) -> TokenStream {
     let m = &c.model;
     let mut steps = TokenStream::new();
-    for (bi, bf) in c.blocks.iter().enumerate() {
+    for (bi, bf) in blocks.iter().map(|&bi| (bi, &c.blocks[bi])) {
         let idx = &bf.block.unknowns;
         let lengths: Vec<bool> = idx
             .iter()
@@ -98,6 +103,7 @@ pub(crate) enum Rates {
 /// Per block in order: its Jacobian factored once, then the velocity and/or acceleration solve.
 fn rate_steps(
     c: &Compiled,
+    blocks: &[usize],
     b: &mut Builder,
     rt: &TokenStream,
     gt: &Ident,
@@ -110,7 +116,7 @@ fn rate_steps(
     } else {
         quote!(#rt::Stage::Acceleration)
     };
-    for (bi, bf) in c.blocks.iter().enumerate() {
+    for (bi, bf) in blocks.iter().map(|&bi| (bi, &c.blocks[bi])) {
         let k = bf.block.unknowns.len();
         let idx = &bf.block.unknowns;
         let zi: Vec<usize> = (0..k).collect();
@@ -163,10 +169,19 @@ pub(crate) fn stages(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
     let dag = &c.system.dag;
     let (ni, nu, _, npar) = crate::emit::sizes(&c.model);
     let fused = Fused(cached);
-    let position = position_steps(c, &mut Builder::new(dag, &fused), rt);
-    let velocity = rate_steps(c, &mut Builder::new(dag, &fused), rt, gt, Rates::Velocity);
+    let all: Vec<usize> = (0..c.blocks.len()).collect();
+    let position = position_steps(c, &all, &mut Builder::new(dag, &fused), rt);
+    let velocity = rate_steps(
+        c,
+        &all,
+        &mut Builder::new(dag, &fused),
+        rt,
+        gt,
+        Rates::Velocity,
+    );
     let acceleration = rate_steps(
         c,
+        &all,
         &mut Builder::new(dag, &fused),
         rt,
         gt,
@@ -203,40 +218,90 @@ pub(crate) fn stages(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
     }
 }
 
+/// What a fused body computes: the blocks (in solve order), the derivative order (0, 1, 2) and
+/// the points; a mechanism's `motion_cached` takes everything, a scene its subset.
+pub(crate) struct Subset<'a> {
+    pub blocks: &'a [usize],
+    pub order: u8,
+    pub points: &'a [usize],
+    /// The function's name and visibility (a scene's is called from its own module).
+    pub name: Ident,
+    pub vis: TokenStream,
+}
+
 /// `fn motion_cached(…) -> ::core::result::Result<(q̇, q̈, points), SolveError>`, inside the mechanism's impl.
 pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> TokenStream {
+    let blocks: Vec<usize> = (0..c.blocks.len()).collect();
+    let points: Vec<usize> = (0..c.model.points.len()).collect();
+    let sub = Subset {
+        blocks: &blocks,
+        order: 2,
+        points: &points,
+        name: format_ident!("motion_cached"),
+        vis: TokenStream::new(),
+    };
+    motion_subset(c, cached, rt, &sub)
+}
+
+/// The fused body of `sub`: only its blocks, its derivative stages and its points (nodes that
+/// nothing kept reaches are never emitted: segments take their roots' cones only).
+pub(crate) fn motion_subset(
+    c: &Compiled,
+    cached: &dyn VarSource,
+    rt: &TokenStream,
+    sub: &Subset,
+) -> TokenStream {
     let gt = cached.scalar();
     let m = &c.model;
     let dag = &c.system.dag;
-    let (ni, nu, np, npar) = crate::emit::sizes(m);
+    let (ni, nu, _, npar) = crate::emit::sizes(m);
+    let np = sub.points.len();
     let fused = Fused(cached);
     let mut b = Builder::new(dag, &fused);
-    let mut steps = position_steps(c, &mut b, rt);
-    steps.extend(rate_steps(c, &mut b, rt, gt, Rates::Both));
+    let mut steps = position_steps(c, sub.blocks, &mut b, rt);
+    let rates = [None, Some(Rates::Velocity), Some(Rates::Both)][usize::from(sub.order.min(2))];
+    if let Some(rates) = rates {
+        steps.extend(rate_steps(c, sub.blocks, &mut b, rt, gt, rates));
+    }
     let mut roots = Vec::new();
-    for p in 0..np {
+    let per = 2 * (usize::from(sub.order) + 1);
+    for &p in sub.points {
         roots.extend(c.system.points[p]);
-        roots.extend(c.derivatives.point_velocity[p]);
-        roots.extend(c.derivatives.point_acceleration[p]);
+        if sub.order >= 1 {
+            roots.extend(c.derivatives.point_velocity[p]);
+        }
+        if sub.order >= 2 {
+            roots.extend(c.derivatives.point_acceleration[p]);
+        }
     }
     let seg = b.segment(&roots);
     let stmts = &seg.stmts;
-    let items = seg.roots.chunks(6).map(|p| {
-        let (px, py, vx, vy, ax, ay) = (&p[0], &p[1], &p[2], &p[3], &p[4], &p[5]);
+    let zero = quote!(#gt::zero());
+    let items = seg.roots.chunks(per).map(|p| {
+        let at = |i: usize| p.get(i).unwrap_or(&zero);
+        let (px, py, vx, vy, ax, ay) = (at(0), at(1), at(2), at(3), at(4), at(5));
         quote!(#rt::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] })
     });
     steps.extend(comment("Points."));
+    let (name, vis) = (&sub.name, &sub.vis);
+    // `q̇`, `q̈` are written only by the rate stages the order reaches.
+    let rate_let = |name: Ident, written: bool| {
+        let m = written.then(|| quote!(mut));
+        quote!(let #m #name = [#gt::zero(); #nu];)
+    };
+    let qd_let = rate_let(format_ident!("qd"), sub.order >= 1);
+    let qdd_let = rate_let(format_ident!("qdd"), sub.order >= 2);
     quote! {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
         #[inline(always)]
-        fn motion_cached(&self, x: &[#gt; #ni], st: &mut #rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
+        #vis fn #name(&self, x: &[#gt; #ni], st: &mut #rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
             tp: &[(#gt, #gt); #npar], xd: &[#gt; #ni], xdd: &[#gt; #ni], options: &#rt::SolveOptions<#gt>,
             report: &mut #rt::NewtonReport<#gt>)
             -> ::core::result::Result<([#gt; #nu], [#gt; #nu], [#rt::PointMotion<#gt>; #np]), #rt::SolveError> {
-            let mut qd = [#gt::zero(); #nu];
-            let mut qdd = [#gt::zero(); #nu];
+            #qd_let
+            #qdd_let
             #steps
             #stmts
             Ok((qd, qdd, [#(#items),*]))

@@ -13,7 +13,7 @@ use crate::emit::{Args, comment};
 use crate::emit_body::{VarSource, body};
 
 /// Variables whose sine and cosine come from caches.
-struct Cached<'a> {
+pub(crate) struct Cached<'a> {
     args: &'a Args<'a>,
     /// Inputs, unknowns and params that appear as the argument of a sin or cos.
     x: Vec<bool>,
@@ -42,7 +42,7 @@ impl VarSource for Cached<'_> {
     }
 }
 
-fn trig_masks(c: &Compiled) -> (Vec<bool>, Vec<bool>, Vec<bool>) {
+pub(crate) fn trig_masks(c: &Compiled) -> (Vec<bool>, Vec<bool>, Vec<bool>) {
     let m = &c.model;
     let (mut x, mut q, mut p) = (
         vec![false; m.inputs.len()],
@@ -155,6 +155,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
 
     let motion = crate::emit_motion::motion(c, &cached, rt);
     let stages = crate::emit_motion::stages(c, &cached, rt);
+    let scene_methods = crate::emit_scene::methods(c, &cached, args);
     let angle_mask = &qm;
     let closed_mask = crate::emit_closed::closed_mask(c);
     let input_mask = &xm;
@@ -182,6 +183,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         #stages
 
         #motion
+        #scene_methods
 
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.

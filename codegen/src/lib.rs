@@ -24,6 +24,7 @@ mod emit_body;
 mod emit_closed;
 mod emit_module;
 mod emit_motion;
+mod emit_scene;
 mod emit_solve;
 mod emit_system;
 mod front;

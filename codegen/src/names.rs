@@ -106,6 +106,8 @@ pub enum Item {
     Points,
     Tick,
     Motion,
+    /// A scene's outputs.
+    Outputs,
 }
 
 /// Proposals per item, in order: the mechanism's type takes its name first (the file names it);
@@ -119,6 +121,7 @@ const ITEM_NAMES: &[(Item, &[&str])] = &[
     (Item::Points, &["Points", "PointValues"]),
     (Item::Tick, &["Tick", "TickState"]),
     (Item::Motion, &["Motion", "MotionState"]),
+    (Item::Outputs, &["Outputs", "OutputValues"]),
 ];
 
 /// The names of one mechanism module's items, all distinct.
@@ -132,6 +135,7 @@ pub struct ModuleItems {
     pub points: Ident,
     pub tick: Ident,
     pub motion: Ident,
+    pub outputs: Ident,
 }
 
 impl ModuleItems {
@@ -157,6 +161,7 @@ impl ModuleItems {
             points: get(Item::Points),
             tick: get(Item::Tick),
             motion: get(Item::Motion),
+            outputs: get(Item::Outputs),
             ty,
         }
     }

@@ -43,3 +43,75 @@ fn generation_is_deterministic() {
         .0;
     assert_eq!(a, b);
 }
+
+/// The slider-crank's blocks are [q2] (loop y) then [s] (loop x); scene `rod` reads q2 only, at
+/// order 0: its solver is block 0 alone (a closed form), no factorization, no rate, no point.
+const SLIDER_SCENES: &str = r#"
+[mechanism.slider]
+description = "Centred slider-crank: crank l1, rod l2, slider s on the x axis"
+inputs = ["q1"]
+unknowns = ["q2", "s"]
+loops = ["l1*e(q1) + l2*e(q2) - s"]
+params = { l1 = 1.0, l2 = 3.0 }
+points = { B = "l1*e(q1)", C = "s + c(0, 0)" }
+start = { q1 = 0.0, q2 = 0.0, s = 4.0 }
+
+[scene.rod]
+mechanism = "slider"
+outputs = ["q2"]
+order = 0
+
+[scene.crank_pin]
+mechanism = "slider"
+outputs = ["B"]
+order = 1
+"#;
+
+/// The lines from the first one containing `from` up to (not including) the next one containing `to`.
+fn between<'a>(code: &'a str, from: &str, to: &str) -> Vec<&'a str> {
+    code.lines()
+        .skip_while(|l| !l.contains(from))
+        .take_while(|l| !l.contains(to))
+        .collect()
+}
+
+#[test]
+fn pruned_scene_snapshot() {
+    let (code, warnings) =
+        generate_source(&SourceFile::new("slider.toml", SLIDER_SCENES)).expect("valid file");
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let rod = between(&code, "fn scene_rod_motion(", "fn scene_rod_solve(").join("\n");
+    let pin = between(
+        &code,
+        "fn scene_crank_pin_motion(",
+        "fn scene_crank_pin_solve(",
+    )
+    .join("\n");
+    let full = between(&code, "fn motion_cached(", "fn scene_rod_motion(").join("\n");
+    // The full body solves both blocks, factors, and computes both points; the full module shows
+    // what the scenes leave out.
+    for (body, needle) in [
+        (&full, "newton_block(\n"),
+        (&full, "factor_block"),
+        (&full, "p_l2"),
+    ] {
+        assert!(body.contains(needle), "full body lacks {needle}");
+    }
+    // `rod`: block 0 only (its closed form), no block 1, no factorization, no points' expressions.
+    assert!(rod.contains("Block 0: closed form"), "{rod}");
+    assert!(!rod.contains("Block 1"), "{rod}");
+    assert!(
+        !rod.contains("factor_block") && !rod.contains("lu.solve"),
+        "{rod}"
+    );
+    assert!(!rod.contains("v_q1_d") && !rod.contains("xd[0]"), "{rod}");
+    assert!(rod.contains("PointMotion<T>; 0]"), "no point: {rod}");
+    assert!(!rod.contains("PointMotion {"), "no point: {rod}");
+    // `crank_pin`: B reads only the input, so no block at all; velocities but no accelerations.
+    assert!(!pin.contains("Block "), "{pin}");
+    assert!(pin.contains("xd[0]") && !pin.contains("xdd[0]"), "{pin}");
+    assert!(pin.contains("PointMotion<T>; 1]"), "one point: {pin}");
+    let module = between(&code, "pub mod rod {", "pub mod crank_pin {").join("\n");
+    let snapshot = format!("{rod}\n\n{pin}\n\n{module}\n");
+    expect_file!["snapshots/slider_scenes.rs"].assert_eq(&snapshot);
+}

@@ -29,6 +29,7 @@ pub mod error;
 pub mod info;
 pub mod mechanism;
 pub mod scalar;
+pub mod scene;
 pub mod solve;
 pub mod tick;
 pub mod trig;
@@ -41,6 +42,7 @@ pub use info::{
 pub use mechanism::{Array, InputMotion, RowMajor, Solved, StaticMechanism, StaticVisitor};
 pub use nalgebra;
 pub use scalar::Real;
+pub use scene::{Scene, SceneDescription, SceneInfo, SceneKinematics, SceneVisitor};
 pub use solve::{NewtonOptions, NewtonReport, SolveOptions};
 pub use tick::{Solution, Tick, TickState};
 
@@ -57,6 +59,7 @@ pub mod __private {
     pub use crate::info::{CoordInfo, Kind, ParamInfo, PointMotion, StaticInfo};
     pub use crate::mechanism::{InputMotion, Solved, StaticMechanism, StaticVisitor};
     pub use crate::scalar::Real;
+    pub use crate::scene::{Scene, SceneInfo, SceneKinematics, SceneVisitor};
     pub use crate::solve::{NewtonOptions, NewtonReport, SolveOptions, check_finite, newton_block};
     pub use crate::tick::{Solution, Tick};
     pub use crate::trig::TrigState;

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use mechgen::{CoordDesc, Kind, MechanismInfo, generic};
+use mechgen::{CoordDesc, Kind, MechanismInfo, SceneDescription, generic};
 
 /// `mechgen check [--file PATH]`: the file given, or the compiled-in one.
 pub fn run(file: Option<&Path>) -> Result<(), String> {
@@ -24,6 +24,12 @@ pub fn check(name: &str, text: &str) -> Result<(), String> {
             eprint!("{warnings}");
             for m in &mechs {
                 print_structure(&mechgen::DynMechanism::<f64>::info(m), &m.block_kinds());
+            }
+            for m in &mechs {
+                let info = mechgen::DynMechanism::<f64>::info(m);
+                for s in m.scene_names().into_iter().filter_map(|n| m.scene(n)) {
+                    print_scene(&mechgen::SceneKinematics::<f64>::info(&s), &info);
+                }
             }
             Ok(())
         }
@@ -65,4 +71,42 @@ fn print_structure(info: &MechanismInfo, kinds: &[String]) {
         })
         .collect();
     say!("  blocks:   {}", blocks.join(" -> "));
+}
+
+/// A scene: what it keeps of its mechanism (blocks, order, points) and its columns.
+fn print_scene(s: &SceneDescription, info: &MechanismInfo) {
+    let block = |b: usize| {
+        let us: Vec<&str> = info.blocks[b]
+            .iter()
+            .map(|&u| info.unknowns[u].name.as_str())
+            .collect();
+        format!("{b} [{}]", us.join(", "))
+    };
+    let kept: Vec<String> = s.blocks.iter().map(|&b| block(b)).collect();
+    let skipped: Vec<String> = (0..info.blocks.len())
+        .filter(|b| !s.blocks.contains(b))
+        .map(block)
+        .collect();
+    let orders = [
+        "positions",
+        "positions, velocities",
+        "positions, velocities, accelerations",
+    ];
+    let none = |v: &[String]| {
+        if v.is_empty() {
+            "none".to_string()
+        } else {
+            v.join(", ")
+        }
+    };
+    say!("scene {} (mechanism {}):", s.name, s.mechanism);
+    say!(
+        "  order:    {} ({})",
+        s.order,
+        orders[usize::from(s.order.min(2))]
+    );
+    say!("  keeps:    {}", none(&kept));
+    say!("  skipped:  {}", none(&skipped));
+    say!("  points:   {}", none(&s.points));
+    say!("  columns:  {}", s.columns.join(", "));
 }

@@ -23,3 +23,4 @@ pub mod check;
 pub mod options;
 pub mod plots;
 pub mod run;
+pub mod scene;

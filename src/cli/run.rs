@@ -74,7 +74,7 @@ pub struct Selected {
 }
 
 /// Mechanism `name` of `loaded` with the engine asked for (generated only for the compiled-in file).
-fn select(
+pub(super) fn select(
     loaded: &Loaded,
     name: &str,
     file: Option<&Path>,
@@ -113,15 +113,15 @@ fn select(
 }
 
 /// A finished sweep: the plan it ran and its rows.
-struct Swept {
-    plan: Plan,
-    rate: f64,
-    rows: Vec<Row>,
+pub(super) struct Swept {
+    pub(super) plan: Plan,
+    pub(super) rate: f64,
+    pub(super) rows: Vec<Row>,
 }
 
 impl Swept {
     /// Every input's value during the sweep (the swept one at its start value).
-    fn inputs(&self, info: &MechanismInfo) -> Vec<f64> {
+    pub(super) fn inputs(&self, info: &MechanismInfo) -> Vec<f64> {
         let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
         for &(i, v) in &self.plan.held {
             x[i] = v;
@@ -141,7 +141,7 @@ impl Swept {
 }
 
 /// Runs the sweep that `plan` describes on `k`, after the start checks.
-fn run_plan(
+pub(super) fn run_plan(
     k: &dyn DynMechanism<f64>,
     info: &MechanismInfo,
     plan: Plan,
@@ -158,6 +158,9 @@ fn run_plan(
 pub fn sweep(args: &SweepArgs) -> Result<(), String> {
     let file = args.file.as_deref();
     let loaded = Loaded::read(file)?;
+    if let Some(mech) = super::scene::scene_mechanism(&loaded, &args.name) {
+        return super::scene::sweep(&loaded, mech, args);
+    }
     let sel = select(&loaded, &args.name, file, args.engine)?;
     if let Some(w) = loaded.start_warning(&args.name) {
         eprint!("{w}");
@@ -198,7 +201,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
 }
 
 /// The plots and animation a sweep asked for; `report` says what was written on stderr.
-fn write_plots(
+pub(super) fn write_plots(
     sel: &Selected,
     info: &MechanismInfo,
     swept: &Swept,
@@ -240,7 +243,7 @@ fn write_plots(
 /// to cross to reach 0°; a start of 0 gives the `sweep` defaults); for a length input, which has no
 /// default range, its start value ± a quarter of the mechanism's length scale (or of the start
 /// value, if larger), in 36 steps.
-fn main_job_range(info: &MechanismInfo) -> Range {
+pub(super) fn main_job_range(info: &MechanismInfo) -> Range {
     match info.inputs.first() {
         Some(CoordDesc {
             kind: Kind::Angle,
@@ -292,8 +295,20 @@ pub fn main_job(args: &MainArgs) -> Result<(), String> {
             failed.push(name.as_str());
         }
     }
+    let scenes: Vec<String> = loaded
+        .mechs
+        .iter()
+        .flat_map(|m| m.scene_names())
+        .map(str::to_string)
+        .collect();
+    for name in &scenes {
+        if let Err(e) = super::scene::main_job_scene(&loaded, name, file, dir, main_job_range) {
+            eprintln!("mechgen: {name}: {e}");
+            failed.push(name.as_str());
+        }
+    }
     say!(
-        "CSV files and plots written to {}/ (one CSV, a motion plot and a drawing per mechanism)",
+        "CSV files and plots written to {}/ (one CSV, a motion plot and a drawing per mechanism; one CSV per scene)",
         dir.display()
     );
     if failed.is_empty() {

@@ -65,6 +65,8 @@ pub struct Generic {
     pub(super) chain_shape: Vec<(usize, usize)>,
     /// The drawing structure (terms classified by how they move).
     pub(super) linkage: super::Linkage,
+    /// The file's scenes on this mechanism, each from its `ScenePlan`.
+    pub(super) scenes: Vec<super::scene::SceneTapes>,
 }
 
 fn kind(k: CodegenKind) -> Kind {
@@ -191,6 +193,11 @@ impl Generic {
                 .map(|ch| (ch.vertices.len(), ch.ground_segments))
                 .collect(),
             linkage: super::Linkage::new(m),
+            scenes: m
+                .scenes
+                .iter()
+                .map(|s| super::scene::SceneTapes::new(c, &dag, &mechgen_codegen::plan_scene(c, s)))
+                .collect(),
             info,
             model: m.clone(),
         }
@@ -280,6 +287,22 @@ impl Generic {
         q: &mut [T],
         options: &crate::SolveOptions<T>,
     ) -> Result<crate::NewtonReport<T>, SolveError> {
+        self.newton_blocks(&self.all_blocks(), x, q, options)
+    }
+
+    /// Every block index, in solve order.
+    pub(super) fn all_blocks(&self) -> Vec<usize> {
+        (0..self.blocks.len()).collect()
+    }
+
+    /// [`Generic::newton`] on the blocks `which` only (a scene's kept blocks, in solve order).
+    pub(super) fn newton_blocks<T: Real>(
+        &self,
+        which: &[usize],
+        x: &[T],
+        q: &mut [T],
+        options: &crate::SolveOptions<T>,
+    ) -> Result<crate::NewtonReport<T>, SolveError> {
         check_finite(Quantity::Param, &self.params)?;
         check_finite(Quantity::Input, x)?;
         check_finite(Quantity::Guess, q)?;
@@ -288,7 +311,7 @@ impl Generic {
         let mut trial = q.to_vec();
         let mut regs = Vec::new();
         let mut out = Vec::new();
-        for (bi, b) in self.blocks.iter().enumerate() {
+        for (bi, b) in which.iter().map(|&bi| (bi, &self.blocks[bi])) {
             let k = b.unknowns.len();
             if let Some(c) = b.closed.as_ref().filter(|_| options.closed_forms) {
                 out.resize(c.form.roots().len(), T::zero());
@@ -338,10 +361,21 @@ impl Generic {
         env: Env<'_, T>,
         z: &mut [T],
     ) -> Result<(), SolveError> {
+        self.linear_blocks(&self.all_blocks(), stage, env, z)
+    }
+
+    /// [`Generic::linear`] on the blocks `which` only.
+    pub(super) fn linear_blocks<T: Real>(
+        &self,
+        which: &[usize],
+        stage: Stage,
+        env: Env<'_, T>,
+        z: &mut [T],
+    ) -> Result<(), SolveError> {
         z.iter_mut().for_each(|v| *v = T::zero());
         let mut regs = Vec::new();
         let mut out = Vec::new();
-        for (bi, b) in self.blocks.iter().enumerate() {
+        for (bi, b) in which.iter().map(|&bi| (bi, &self.blocks[bi])) {
             let k = b.unknowns.len();
             let (tape, env) = match stage {
                 Stage::Velocity => (&b.velocity, Env { qd: z, ..env }),

@@ -7,12 +7,14 @@
 mod closed;
 mod engine;
 mod linkage;
+mod scene;
 mod sketch;
 pub mod tape;
 mod terms;
 
 pub use engine::{Generic, LoadError, load, load_file, load_with_warnings};
 pub use linkage::Linkage;
+pub use scene::GenericScene;
 pub use sketch::{Sketch, SliderAt};
 
 use mechgen_runtime::InputMotion;

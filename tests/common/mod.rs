@@ -1,6 +1,7 @@
 //! Shared test helpers: reading reference CSVs and comparing sweeps with them.
 #![allow(dead_code)]
 
+pub mod scenes;
 pub mod stress;
 
 use mechgen::sweep::Row;

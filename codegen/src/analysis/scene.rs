@@ -59,6 +59,36 @@ impl ScenePlan {
     }
 }
 
+/// The CSV column suffixes of an unknown, by order: `u`, `u_vel`, `u_acc`.
+pub const UNKNOWN_SUFFIXES: [&str; 3] = ["", "_vel", "_acc"];
+/// The CSV column suffixes of a point, by order (two per order).
+pub const POINT_SUFFIXES: [[&str; 2]; 3] = [["_x", "_y"], ["_vx", "_vy"], ["_ax", "_ay"]];
+
+impl ScenePlan {
+    /// The output columns (interfaces.md, "Scenes on the command line"): each output unknown up
+    /// to the order (`u`, `u_vel`, `u_acc`), then each point (`P_x, P_y`, `P_vx, P_vy`,
+    /// `P_ax, P_ay`).
+    pub fn columns(&self, c: &Compiled) -> Vec<String> {
+        let orders = 0..=usize::from(self.order.as_number());
+        let mut cols = Vec::new();
+        for &u in &self.unknowns {
+            let n = &c.model.unknowns[u].name.text;
+            cols.extend(
+                orders
+                    .clone()
+                    .map(|o| format!("{n}{}", UNKNOWN_SUFFIXES[o])),
+            );
+        }
+        for &p in &self.points {
+            let n = &c.model.points[p].0.text;
+            for o in orders.clone() {
+                cols.extend(POINT_SUFFIXES[o].iter().map(|s| format!("{n}{s}")));
+            }
+        }
+        cols
+    }
+}
+
 /// The plan of `scene` on the compiled mechanism `c`.
 pub fn plan_scene(c: &Compiled, scene: &Scene) -> ScenePlan {
     let dag = &c.system.dag;
@@ -176,6 +206,19 @@ order = 2
         assert_eq!(out.points, vec![1]);
         assert_eq!(out.order, Order::Accelerations);
         assert_eq!(out.solved_unknowns(&c[0]).len(), 4);
+    }
+
+    #[test]
+    fn columns_follow_the_order() {
+        let (c, plans) = plans();
+        assert_eq!(plans[0].columns(&c[0]), ["E_x", "E_y"]);
+        assert_eq!(plans[1].columns(&c[0]), ["q3", "q3_vel"]);
+        assert_eq!(
+            plans[2].columns(&c[0]),
+            [
+                "q6", "q6_vel", "q6_acc", "F_x", "F_y", "F_vx", "F_vy", "F_ax", "F_ay"
+            ]
+        );
     }
 
     #[test]

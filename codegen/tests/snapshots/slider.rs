@@ -27,6 +27,22 @@ pub fn visit_all<
 >(v: &mut V) {
     v.visit(&<slider::Slider<T> as ::core::default::Default>::default());
 }
+/// Names of the compiled-in scenes, in file order.
+pub const SCENES: [&str; 0] = [];
+/// A compiled-in scene by name, with its mechanism's default params, behind the object-safe trait.
+pub fn lookup_scene<T: ::mechgen::__private::Real>(
+    name: &str,
+) -> ::core::option::Option<
+    ::std::boxed::Box<dyn ::mechgen::__private::SceneKinematics<T>>,
+> {
+    let _ = name;
+    ::core::option::Option::None
+}
+/// Calls `v.visit` with every compiled-in scene (default params), statically typed, in file order.
+pub fn visit_scenes<
+    T: ::mechgen::__private::Real,
+    V: ::mechgen::__private::SceneVisitor<T>,
+>(_v: &mut V) {}
 /// Centred slider-crank: crank l1, rod l2, slider s on the x axis
 pub mod slider {
     #![allow(

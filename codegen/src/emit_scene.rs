@@ -1,0 +1,346 @@
+//! Stage 6d: scenes. Each scene's pruned solver is a fused body ([`crate::emit_motion::Subset`]:
+//! its kept blocks, its order, its points) with `solve`/`tick_start`/`tick` around it, emitted as
+//! hidden methods of its mechanism's type (they call the block functions), and a module `NAME`
+//! with the scene's type, `Params`/`Inputs`/`Unknowns` re-exported from the mechanism, `Outputs`
+//! (only the scene's fields), the `Tick` alias and the `mechgen::Scene` impl.
+
+use proc_macro2::{Ident, TokenStream};
+use quote::{format_ident, quote};
+
+use crate::analysis::scene::{ScenePlan, plan_scene};
+use crate::compile::Compiled;
+use crate::emit::{Args, comment};
+use crate::emit_body::VarSource;
+use crate::emit_motion::{Subset, motion_subset};
+use crate::names::{ModuleItems, Names};
+
+fn method(plan: &ScenePlan, what: &str) -> Ident {
+    format_ident!("scene_{}_{}", plan.name, what)
+}
+
+/// Masks over the unknowns: angles the scene's kept blocks solve (their sines and cosines are
+/// cached), and unknowns a tick does not predict (closed forms, and everything outside the kept
+/// blocks, which is carried unchanged).
+fn masks(c: &Compiled, plan: &ScenePlan) -> (Vec<bool>, Vec<bool>, Vec<bool>) {
+    let nu = c.model.unknowns.len();
+    let (_, q_trig, _) = crate::emit_solve::trig_masks(c);
+    let solved = plan.solved_unknowns(c);
+    let angle: Vec<bool> = (0..nu).map(|k| q_trig[k] && solved.contains(&k)).collect();
+    let closed = crate::emit_closed::closed_mask(c);
+    let keep_closed: Vec<bool> = (0..nu).map(|k| closed[k] || !solved.contains(&k)).collect();
+    let keep_newton: Vec<bool> = (0..nu).map(|k| !solved.contains(&k)).collect();
+    (angle, keep_closed, keep_newton)
+}
+
+/// The hidden methods of every scene of `c`, inside the mechanism's `impl`.
+pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> TokenStream {
+    let (rt, gt) = (&args.rt, &args.items.scalar);
+    let (ni, nu, _, npar) = crate::emit::sizes(&c.model);
+    let (x_trig, _, _) = crate::emit_solve::trig_masks(c);
+    let mut out = TokenStream::new();
+    for scene in &c.model.scenes {
+        let plan = plan_scene(c, scene);
+        let np = plan.points.len();
+        let motion_fn = method(&plan, "motion");
+        let sub = Subset {
+            blocks: &plan.blocks,
+            order: plan.order.as_number(),
+            points: &plan.points,
+            name: motion_fn.clone(),
+            vis: quote!(#[doc(hidden)] pub(super)),
+        };
+        let body = motion_subset(c, cached, rt, &sub);
+        let (angle, keep_closed, keep_newton) = masks(c, &plan);
+        let (solve_fn, start_fn, tick_fn) = (
+            method(&plan, "solve"),
+            method(&plan, "tick_start"),
+            method(&plan, "tick"),
+        );
+        let doc = format!(" Scene `{}`: its pruned solver.", plan.name);
+        out.extend(comment(&format!(
+            "Scene {}: blocks {:?}, order {}, points {:?}.",
+            plan.name,
+            plan.blocks,
+            plan.order.as_number(),
+            plan.points
+        )));
+        out.extend(quote! {
+            #body
+
+            #[doc = #doc]
+            #[doc(hidden)]
+            #[inline]
+            pub(super) fn #solve_fn(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], q: &mut [#gt; #nu],
+                options: &#rt::SolveOptions<#gt>)
+                -> ::core::result::Result<([#gt; #nu], [#gt; #nu], [#rt::PointMotion<#gt>; #np], #rt::NewtonReport<#gt>), #rt::SolveError> {
+                #rt::check_finite(#rt::Quantity::Param, &self.params.to_array())?;
+                #rt::check_finite(#rt::Quantity::Input, x)?;
+                #rt::check_finite(#rt::Quantity::Guess, q)?;
+                #rt::check_finite(#rt::Quantity::InputRate, xd)?;
+                #rt::check_finite(#rt::Quantity::InputAcceleration, xdd)?;
+                let (tx, tp) = self.trig_fixed(x);
+                let mut st = #rt::TrigState::new(*q, [#(#angle),*]);
+                let mut report = #rt::NewtonReport::new();
+                let (qd, qdd, points) = self.#motion_fn(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+                *q = st.q;
+                Ok((qd, qdd, points, report))
+            }
+
+            #[doc(hidden)]
+            pub(super) fn #start_fn(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], guess: &[#gt; #nu],
+                options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<#rt::Tick<#gt, #ni, #nu, #np, #npar>, #rt::SolveError> {
+                let mut q = *guess;
+                let (qd, qdd, points, report) = self.#solve_fn(x, xd, xdd, &mut q, options)?;
+                let (tx, tp) = self.trig_fixed(x);
+                let st = #rt::TrigState::new(q, [#(#angle),*]);
+                Ok(#rt::Tick::new(#rt::Solution { x: *x, xd: *xd, q, qd, qdd, points, report,
+                    tx, tq: st.sc, tp, params: self.params.to_array() }))
+            }
+
+            #[doc(hidden)]
+            pub(super) fn #tick_fn(&self, t: &mut #rt::Tick<#gt, #ni, #nu, #np, #npar>, x: &[#gt; #ni], xd: &[#gt; #ni],
+                xdd: &[#gt; #ni], options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
+                let params = self.params.to_array();
+                let same = t.same_params(&params);
+                if !same {
+                    #rt::check_finite(#rt::Quantity::Param, &params)?;
+                }
+                #rt::check_finite(#rt::Quantity::Input, x)?;
+                #rt::check_finite(#rt::Quantity::InputRate, xd)?;
+                #rt::check_finite(#rt::Quantity::InputAcceleration, xdd)?;
+                let mut fresh_tp = None;
+                let (tx, tp) = if same {
+                    (t.inputs_trig(x, [#(#x_trig),*]), t.params_trig())
+                } else {
+                    let (tx, tp) = self.trig_fixed(x);
+                    (tx, &*fresh_tp.insert(tp))
+                };
+                let keep = if options.closed_forms { [#(#keep_closed),*] } else { [#(#keep_newton),*] };
+                let mut st = t.predicted(x, [#(#angle),*], keep, same);
+                let mut report = #rt::NewtonReport::new();
+                let (qd, qdd, points) = self.#motion_fn(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+                t.update(x, xd, &st, qd, qdd, points, report, tx, fresh_tp.as_ref().map(|tp| (&params, tp)));
+                Ok(())
+            }
+        });
+    }
+    out
+}
+
+/// An output column and the expression that reads it from `q`, `qd`, `qdd`, `points`.
+struct Column {
+    name: String,
+    read: TokenStream,
+}
+
+/// The output columns of interfaces.md, unknowns first, then points, each up to the order.
+fn columns(c: &Compiled, plan: &ScenePlan) -> Vec<Column> {
+    let order = plan.order.as_number();
+    let mut cols = Vec::new();
+    for &u in &plan.unknowns {
+        let n = &c.model.unknowns[u].name.text;
+        let arrays = [quote!(q), quote!(qd), quote!(qdd)];
+        for (o, (suffix, arr)) in ["", "_vel", "_acc"].iter().zip(arrays).enumerate() {
+            if o <= usize::from(order) {
+                cols.push(Column {
+                    name: format!("{n}{suffix}"),
+                    read: quote!(#arr[#u]),
+                });
+            }
+        }
+    }
+    for (i, &p) in plan.points.iter().enumerate() {
+        let n = &c.model.points[p].0.text;
+        let fields = [quote!(position), quote!(velocity), quote!(acceleration)];
+        for (o, (s, f)) in [("x", "y"), ("vx", "vy"), ("ax", "ay")]
+            .iter()
+            .zip(fields)
+            .enumerate()
+        {
+            if o <= usize::from(order) {
+                cols.push(Column {
+                    name: format!("{n}_{}", s.0),
+                    read: quote!(points[#i].#f[0]),
+                });
+                cols.push(Column {
+                    name: format!("{n}_{}", s.1),
+                    read: quote!(points[#i].#f[1]),
+                });
+            }
+        }
+    }
+    cols
+}
+
+/// The module of one scene (a sibling of its mechanism's module).
+pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenStream {
+    let m = &c.model;
+    let mech = ModuleItems::new(&m.name.text);
+    let it = ModuleItems::new(&plan.name);
+    let (ty, gt, outputs_ty, tick_ty) = (&it.ty, &it.scalar, &it.outputs, &it.tick);
+    let (params_ty, inputs_ty, unknowns_ty) = (&it.params, &it.inputs, &it.unknowns);
+    let (m_params, m_inputs, m_unknowns, m_ty) =
+        (&mech.params, &mech.inputs, &mech.unknowns, &mech.ty);
+    let mech_mod = format_ident!("{}", m.name.text);
+    let mod_name = format_ident!("{}", plan.name);
+    let (ni, nu, _, npar) = crate::emit::sizes(m);
+    let np = plan.points.len();
+    let cols = columns(c, plan);
+    let ncols = cols.len();
+    let col_names: Vec<&str> = cols.iter().map(|c| c.name.as_str()).collect();
+    let reads = cols.iter().map(|c| &c.read);
+    let mut fields: Names<usize> = Names::new(["_scalar"]);
+    let field_ids: Vec<Ident> = cols
+        .iter()
+        .enumerate()
+        .map(|(i, c)| fields.get(i, &[&c.name]))
+        .collect();
+    let col_idx = 0..ncols;
+    let (name, mech_name) = (&plan.name, &m.name.text);
+    let order = proc_macro2::Literal::u8_unsuffixed(plan.order.as_number());
+    let blocks = &plan.blocks;
+    let solved = plan.solved_unknowns(c);
+    let unknown_names = plan.unknowns.iter().map(|&u| &m.unknowns[u].name.text);
+    let point_names = plan.points.iter().map(|&p| &m.points[p].0.text);
+    let doc = format!(
+        "Scene `{name}` of mechanism `{mech_name}`: {} to order {order}; solves blocks {blocks:?} only.",
+        col_names.join(", ")
+    );
+    let marker =
+        (ncols == 0).then(|| quote!(#[doc(hidden)] pub _scalar: ::core::marker::PhantomData<#gt>,));
+    let marker_init = (ncols == 0).then(|| quote!(_scalar: ::core::marker::PhantomData,));
+    let (solve_fn, start_fn, tick_fn) = (
+        method(plan, "solve"),
+        method(plan, "tick_start"),
+        method(plan, "tick"),
+    );
+    // Why each allow of the module's `#![allow]` is there, as `//` lines below it.
+    let allow_reasons: TokenStream = [
+        "Allowed above, and why:",
+        "non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).",
+        "unused_variables: `outputs_of` takes the whole state and a scene",
+        "reads only its columns of it.",
+        "type_complexity: `solve` returns outputs, unknowns and report as one",
+        "tuple.",
+    ]
+    .iter()
+    .map(|t| comment(t))
+    .collect();
+    quote! {
+        #[doc = #doc]
+        pub mod #mod_name {
+            #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+            #allow_reasons
+
+            pub use super::#mech_mod::{#m_params as #params_ty, #m_inputs as #inputs_ty, #m_unknowns as #unknowns_ty};
+
+            /// What the scene keeps of its mechanism, and its output columns.
+            pub const INFO: #rt::SceneInfo = #rt::SceneInfo {
+                name: #name,
+                mechanism: #mech_name,
+                order: #order,
+                blocks: &[#(#blocks),*],
+                solved: &[#(#solved),*],
+                unknowns: &[#(#unknown_names),*],
+                points: &[#(#point_names),*],
+                columns: &[#(#col_names),*],
+            };
+
+            /// The scene's outputs, one field per column of `INFO.columns` (a point's
+            /// coordinates as `P_x`, `P_y`, rates as `u_vel`, `P_vx`, …).
+            #[derive(Clone, Copy, Debug, Default, PartialEq)]
+            pub struct #outputs_ty<#gt> { #( pub #field_ids: #gt, )* #marker }
+            impl<#gt: ::core::marker::Copy> #outputs_ty<#gt> {
+                pub fn from_array(a: [#gt; #ncols]) -> Self { #outputs_ty { #( #field_ids: a[#col_idx], )* #marker_init } }
+                pub fn to_array(&self) -> [#gt; #ncols] { [#(self.#field_ids),*] }
+            }
+
+            /// The state between ticks: the mechanism's unknowns (only the kept blocks' are
+            /// solved), their rates up to the scene's order, the scene's points.
+            pub type #tick_ty<#gt> = #rt::Tick<#gt, #ni, #nu, #np, #npar>;
+
+            #[doc = #doc]
+            #[derive(Clone, Copy, Debug, PartialEq)]
+            pub struct #ty<#gt = f64> { pub params: #params_ty<#gt> }
+            impl<#gt: #rt::Real> ::core::default::Default for #ty<#gt> {
+                fn default() -> Self { #ty { params: <#params_ty<#gt> as ::core::default::Default>::default() } }
+            }
+
+            impl<#gt: #rt::Real> #ty<#gt> {
+                pub fn new(params: #params_ty<#gt>) -> Self { #ty { params } }
+
+                #[inline(always)]
+                fn mechanism(&self) -> super::#mech_mod::#m_ty<#gt> { super::#mech_mod::#m_ty::new(self.params) }
+
+                /// The mechanism's `start` configuration.
+                pub fn start() -> (#inputs_ty<#gt>, #unknowns_ty<#gt>) { super::#mech_mod::#m_ty::<#gt>::start() }
+
+                #[inline]
+                fn outputs_of(q: &[#gt; #nu], qd: &[#gt; #nu], qdd: &[#gt; #nu], points: &[#rt::PointMotion<#gt>; #np]) -> #outputs_ty<#gt> {
+                    #outputs_ty::from_array([#(#reads),*])
+                }
+
+                /// Positions of the kept blocks from `guess`, their rates up to the order, the
+                /// outputs; the returned unknowns hold the kept blocks' solution.
+                pub fn solve(&self, input: &#rt::InputMotion<#inputs_ty<#gt>>, guess: &#unknowns_ty<#gt>,
+                    options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<(#outputs_ty<#gt>, #unknowns_ty<#gt>, #rt::NewtonReport<#gt>), #rt::SolveError> {
+                    let mut q = guess.to_array();
+                    let (qd, qdd, points, report) = self.mechanism().#solve_fn(&input.x.to_array(), &input.xd.to_array(),
+                        &input.xdd.to_array(), &mut q, options)?;
+                    Ok((Self::outputs_of(&q, &qd, &qdd, &points), #unknowns_ty::from_array(q), report))
+                }
+
+                /// The first tick of a simulation, solved from `guess` (see `tick`).
+                pub fn tick_start(&self, input: &#rt::InputMotion<#inputs_ty<#gt>>, guess: &#unknowns_ty<#gt>,
+                    options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<#tick_ty<#gt>, #rt::SolveError> {
+                    self.mechanism().#start_fn(&input.x.to_array(), &input.xd.to_array(), &input.xdd.to_array(),
+                        &guess.to_array(), options)
+                }
+
+                /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
+                /// and cosines, closed forms on the last branch) on the kept blocks only. On
+                /// error `t` is unchanged.
+                #[inline]
+                pub fn tick(&self, t: &mut #tick_ty<#gt>, input: &#rt::InputMotion<#inputs_ty<#gt>>,
+                    options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
+                    self.mechanism().#tick_fn(t, &input.x.to_array(), &input.xd.to_array(), &input.xdd.to_array(), options)
+                }
+
+                /// The outputs of a tick state.
+                pub fn outputs(t: &#tick_ty<#gt>) -> #outputs_ty<#gt> { Self::outputs_of(&t.q, &t.qd, &t.qdd, &t.points) }
+            }
+
+            impl<#gt: #rt::Real> #rt::Scene<#gt> for #ty<#gt> {
+                const NAME: &'static str = #name;
+                type X = [#gt; #ni];
+                type Q = [#gt; #nu];
+                type Out = [#gt; #ncols];
+                type Tick = #tick_ty<#gt>;
+                fn info(&self) -> &'static #rt::SceneInfo { &INFO }
+                fn solve(&self, input: &#rt::InputMotion<Self::X>, q: &mut Self::Q, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<(Self::Out, #rt::NewtonReport<#gt>), #rt::SolveError> {
+                    let (qd, qdd, points, report) = self.mechanism().#solve_fn(&input.x, &input.xd, &input.xdd, q, options)?;
+                    Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
+                }
+                fn tick_start(&self, input: &#rt::InputMotion<Self::X>, guess: &Self::Q, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<Self::Tick, #rt::SolveError> {
+                    self.mechanism().#start_fn(&input.x, &input.xd, &input.xdd, guess, options)
+                }
+                fn tick(&self, t: &mut Self::Tick, input: &#rt::InputMotion<Self::X>, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<(), #rt::SolveError> {
+                    self.mechanism().#tick_fn(t, &input.x, &input.xd, &input.xdd, options)
+                }
+                fn outputs(&self, t: &Self::Tick) -> Self::Out { #ty::outputs(t).to_array() }
+            }
+        }
+    }
+}
+
+/// Every scene of the file, mechanism by mechanism in file order.
+pub(crate) fn all(mechs: &[Compiled]) -> Vec<(&Compiled, ScenePlan)> {
+    mechs
+        .iter()
+        .flat_map(|c| c.model.scenes.iter().map(move |s| (c, plan_scene(c, s))))
+        .collect()
+}

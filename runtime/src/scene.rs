@@ -1,0 +1,147 @@
+//! Scenes: generated solvers that compute only what one use of a mechanism needs (the blocks its
+//! outputs depend on, derivatives up to its order, its points). Every generated scene implements
+//! [`Scene`] (static sizes, its own tick state); [`SceneKinematics`] is its object-safe face over
+//! slices (blanket impl), which `lookup_scene` returns; [`SceneVisitor`] visits them statically.
+
+use alloc::string::{String, ToString};
+use alloc::vec::Vec;
+
+use crate::dynamic::len;
+use crate::error::SolveError;
+use crate::mechanism::{Array, InputMotion};
+use crate::scalar::Real;
+use crate::solve::{NewtonReport, SolveOptions};
+
+/// Static description of a scene: what it keeps of its mechanism.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SceneInfo {
+    pub name: &'static str,
+    /// The mechanism it solves.
+    pub mechanism: &'static str,
+    /// 0 positions, 1 and velocities, 2 and accelerations.
+    pub order: u8,
+    /// Kept blocks (indices into the mechanism's blocks), in solve order.
+    pub blocks: &'static [usize],
+    /// Unknowns the kept blocks solve (indices into the mechanism's unknowns).
+    pub solved: &'static [usize],
+    /// Output unknowns and points, by name.
+    pub unknowns: &'static [&'static str],
+    pub points: &'static [&'static str],
+    /// The output columns in order (interfaces.md): per unknown `u`, `u_vel`, `u_acc`; per point
+    /// `P_x`, `P_y`, `P_vx`, `P_vy`, `P_ax`, `P_ay`, up to the order.
+    pub columns: &'static [&'static str],
+}
+
+/// The owned description of a scene, what run-time engines (the generic engine) share with
+/// generated scenes through [`SceneKinematics::info`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SceneDescription {
+    pub name: String,
+    pub mechanism: String,
+    pub order: u8,
+    pub blocks: Vec<usize>,
+    pub solved: Vec<usize>,
+    pub unknowns: Vec<String>,
+    pub points: Vec<String>,
+    pub columns: Vec<String>,
+}
+
+impl From<&SceneInfo> for SceneDescription {
+    fn from(s: &SceneInfo) -> Self {
+        let strings = |v: &[&str]| v.iter().map(|n| n.to_string()).collect();
+        SceneDescription {
+            name: s.name.to_string(),
+            mechanism: s.mechanism.to_string(),
+            order: s.order,
+            blocks: s.blocks.to_vec(),
+            solved: s.solved.to_vec(),
+            unknowns: strings(s.unknowns),
+            points: strings(s.points),
+            columns: strings(s.columns),
+        }
+    }
+}
+
+/// A generated scene: fixed sizes, arrays on the stack, no allocation. `X` and `Q` are its
+/// mechanism's input and unknown arrays (unknowns outside the kept blocks are carried, never
+/// solved); `Out` holds the output columns of [`SceneInfo::columns`].
+pub trait Scene<T: Real>: Send + Sync {
+    const NAME: &'static str;
+    type X: Array<T>;
+    type Q: Array<T>;
+    type Out: Array<T>;
+    /// The state between ticks (`tick_start`, `tick`).
+    type Tick;
+    fn info(&self) -> &'static SceneInfo;
+    /// Positions of the kept blocks from the guess in `q` (solved in place), then their rates up
+    /// to the scene's order and the outputs.
+    fn solve(
+        &self,
+        input: &InputMotion<Self::X>,
+        q: &mut Self::Q,
+        options: &SolveOptions<T>,
+    ) -> Result<(Self::Out, NewtonReport<T>), SolveError>;
+    /// The first tick of a simulation.
+    fn tick_start(
+        &self,
+        input: &InputMotion<Self::X>,
+        guess: &Self::Q,
+        options: &SolveOptions<T>,
+    ) -> Result<Self::Tick, SolveError>;
+    /// One tick to `input` (same predictor and trig caching as the mechanism's tick).
+    fn tick(
+        &self,
+        t: &mut Self::Tick,
+        input: &InputMotion<Self::X>,
+        options: &SolveOptions<T>,
+    ) -> Result<(), SolveError>;
+    /// The outputs a tick state holds.
+    fn outputs(&self, t: &Self::Tick) -> Self::Out;
+}
+
+/// Generic code over every compiled-in scene, statically typed (`visit_scenes`).
+pub trait SceneVisitor<T: Real> {
+    fn visit<S: Scene<T> + 'static>(&mut self, scene: &S);
+}
+
+/// The object-safe face of a [`Scene`] over slices (lengths checked: `SolveError::BadLength`).
+pub trait SceneKinematics<T: Real> {
+    fn info(&self) -> SceneDescription;
+    /// As [`Scene::solve`]: `q` has the mechanism's unknowns, `out` one value per column.
+    fn solve_outputs(
+        &self,
+        input: InputMotion<&[T]>,
+        q: &mut [T],
+        out: &mut [T],
+        options: &SolveOptions<T>,
+    ) -> Result<NewtonReport<T>, SolveError>;
+}
+
+fn arr<T: Real, A: Array<T>>(s: &[T]) -> Result<A, SolveError> {
+    let mut a = A::zeros();
+    len(s, a.as_ref().len())?;
+    a.as_mut().copy_from_slice(s);
+    Ok(a)
+}
+
+impl<T: Real, S: Scene<T>> SceneKinematics<T> for S {
+    fn info(&self) -> SceneDescription {
+        Scene::info(self).into()
+    }
+    fn solve_outputs(
+        &self,
+        input: InputMotion<&[T]>,
+        q: &mut [T],
+        out: &mut [T],
+        options: &SolveOptions<T>,
+    ) -> Result<NewtonReport<T>, SolveError> {
+        let input: InputMotion<S::X> =
+            InputMotion::new(arr(input.x)?, arr(input.xd)?, arr(input.xdd)?);
+        let mut qa: S::Q = arr(q)?;
+        len(out, S::Out::zeros().as_ref().len())?;
+        let (o, report) = Scene::solve(self, &input, &mut qa, options)?;
+        q.copy_from_slice(qa.as_ref());
+        out.copy_from_slice(o.as_ref());
+        Ok(report)
+    }
+}

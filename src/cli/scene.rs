@@ -1,0 +1,174 @@
+//! CLI, scenes: `mechgen sweep SCENE` and the main job's scene sweeps. The scene's mechanism is
+//! swept as usual (branch, options, statuses); the scene's solver (generated, or the generic
+//! engine's on the same `ScenePlan`) gives the columns (interfaces.md, "Scenes on the command line").
+
+use std::path::Path;
+
+use mechgen::generic::Generic;
+use mechgen::sweep::Continuation;
+use mechgen::sweep::scene::{SceneRow, scene_csv, scene_rows, scene_table};
+use mechgen::{MechanismInfo, SceneDescription, SceneKinematics, report};
+
+use super::args::{Engine, SweepArgs};
+use super::options::{Plan, Range, plan};
+use super::run::{Loaded, Selected, Swept, run_plan, select, write_plots};
+
+/// The mechanism that scene `name` of `loaded` runs on, if `name` is a scene.
+pub fn scene_mechanism<'a>(loaded: &'a Loaded, name: &str) -> Option<&'a Generic> {
+    loaded
+        .mechs
+        .iter()
+        .find(|m| m.scene_names().contains(&name))
+}
+
+/// Scene `name` of `mech` with the engine `select` chooses for its mechanism.
+fn select_scene(
+    mech: &Generic,
+    name: &str,
+    file: Option<&Path>,
+    engine: Option<Engine>,
+) -> Result<Box<dyn SceneKinematics<f64>>, String> {
+    let default = if file.is_some() {
+        Engine::Generic
+    } else {
+        Engine::Generated
+    };
+    let scene: Option<Box<dyn SceneKinematics<f64>>> = match engine.unwrap_or(default) {
+        Engine::Generated => mechgen::lookup_scene::<f64>(name),
+        Engine::Generic => mech
+            .scene(name)
+            .map(|s| Box::new(s) as Box<dyn SceneKinematics<f64>>),
+    };
+    scene.ok_or_else(|| format!("no compiled-in scene `{name}`"))
+}
+
+/// A scene sweep: what ran, and the scene's rows.
+struct SceneSweep {
+    sel: Selected,
+    info: MechanismInfo,
+    swept: Swept,
+    scene: SceneDescription,
+    rows: Vec<SceneRow>,
+}
+
+/// Sweeps scene `name` of `mech`: its mechanism's branch over the plan `plan_of` gives, then the
+/// scene's solver at every row.
+fn sweep_scene(
+    loaded: &Loaded,
+    mech: &Generic,
+    name: &str,
+    (file, engine): (Option<&Path>, Option<Engine>),
+    plan_of: impl FnOnce(&MechanismInfo) -> Result<Plan, String>,
+    rate: f64,
+) -> Result<SceneSweep, String> {
+    let sel = select(loaded, mech.name(), file, engine)?;
+    let solver = select_scene(mech, name, file, engine)?;
+    let info = sel.solver.info();
+    let swept = run_plan(sel.solver.as_ref(), &info, plan_of(&info)?, rate)?;
+    let index = swept.plan.index;
+    let continuation = Continuation::for_input(info.inputs[index].kind, swept.plan.span);
+    let x = swept.inputs(&info);
+    let rows = scene_rows(
+        solver.as_ref(),
+        &x,
+        index,
+        &swept.rows,
+        rate,
+        &continuation.options,
+    );
+    Ok(SceneSweep {
+        sel,
+        info,
+        swept,
+        scene: solver.info(),
+        rows,
+    })
+}
+
+impl SceneSweep {
+    /// The table with the mechanism's preamble (units, rate, held inputs).
+    fn table(&self) -> String {
+        let index = self.swept.plan.index;
+        let mut out = report::preamble(
+            &self.info,
+            index,
+            self.swept.rate,
+            &self.swept.inputs(&self.info),
+        );
+        out.push_str(&scene_table(&self.scene, &self.info, index, &self.rows));
+        out
+    }
+
+    fn write_csv(&self, path: &Path) -> Result<(), String> {
+        let input = &self.info.inputs[self.swept.plan.index].name;
+        std::fs::write(path, scene_csv(&self.scene, input, &self.rows))
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))
+    }
+}
+
+/// `mechgen sweep SCENE [options]`.
+pub fn sweep(loaded: &Loaded, mech: &Generic, args: &SweepArgs) -> Result<(), String> {
+    if let Some(w) = loaded.start_warning(mech.name()) {
+        eprint!("{w}");
+    }
+    let range = Range {
+        from: args.from,
+        to: args.to,
+        step: args.step,
+    };
+    let s = sweep_scene(
+        loaded,
+        mech,
+        &args.name,
+        (args.file.as_deref(), args.engine),
+        |info| plan(info, args.input.as_deref(), &args.set, range),
+        args.rate,
+    )?;
+    say_raw!(
+        "{} (scene of {}, order {}; {} rows)\n{}",
+        s.scene.name,
+        s.scene.mechanism,
+        s.scene.order,
+        s.rows.len(),
+        s.table()
+    );
+    if let Some(path) = &args.csv {
+        s.write_csv(path)?;
+    }
+    write_plots(
+        &s.sel,
+        &s.info,
+        &s.swept,
+        args.plot.as_deref(),
+        args.animate.as_deref(),
+        true,
+    )
+}
+
+/// The main job's sweep of scene `name` over its mechanism's default range: table and
+/// `DIR/NAME.csv`.
+pub fn main_job_scene(
+    loaded: &Loaded,
+    name: &str,
+    file: Option<&Path>,
+    dir: &Path,
+    range: impl FnOnce(&MechanismInfo) -> Range,
+) -> Result<(), String> {
+    let mech = scene_mechanism(loaded, name).ok_or_else(|| format!("no scene `{name}`"))?;
+    let s = sweep_scene(
+        loaded,
+        mech,
+        name,
+        (file, None),
+        |info| plan(info, None, &[], range(info)),
+        1.0,
+    )?;
+    say!(
+        "{} — scene of {}, order {}",
+        name,
+        s.scene.mechanism,
+        s.scene.order
+    );
+    say!("{}", s.table());
+    s.write_csv(&dir.join(format!("{name}.csv")))
+}

@@ -1,0 +1,173 @@
+//! Scenes on the generic engine: the same [`ScenePlan`] as the generated scene solvers (kept
+//! blocks, order, points), so `mechgen sweep SCENE --engine generic` computes the same subset:
+//! Newton or closed forms on the kept blocks only, rates only up to the order, a tape of the
+//! scene's points only.
+
+use mechgen_codegen::{Compiled, Dag, ScenePlan};
+use mechgen_runtime::dynamic::len;
+use mechgen_runtime::error::{Quantity, SolveError, Stage};
+use mechgen_runtime::mechanism::InputMotion;
+use mechgen_runtime::scalar::Real;
+use mechgen_runtime::scene::{SceneDescription, SceneKinematics};
+use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
+
+use super::Generic;
+use super::tape::{Env, Tape};
+
+/// One scene's plan and its points' tape (per point: positions, then rates up to the order).
+#[derive(Clone, Debug)]
+pub(super) struct SceneTapes {
+    desc: SceneDescription,
+    unknowns: Vec<usize>,
+    points: Tape,
+    point_values: usize,
+}
+
+impl SceneTapes {
+    pub(super) fn new(c: &Compiled, dag: &Dag, plan: &ScenePlan) -> SceneTapes {
+        let order = plan.order.as_number();
+        let mut roots = Vec::new();
+        for &p in &plan.points {
+            roots.extend(c.system.points[p]);
+            if order >= 1 {
+                roots.extend(c.derivatives.point_velocity[p]);
+            }
+            if order >= 2 {
+                roots.extend(c.derivatives.point_acceleration[p]);
+            }
+        }
+        let m = &c.model;
+        SceneTapes {
+            desc: SceneDescription {
+                name: plan.name.clone(),
+                mechanism: plan.mechanism.clone(),
+                order,
+                blocks: plan.blocks.clone(),
+                solved: plan.solved_unknowns(c),
+                unknowns: plan
+                    .unknowns
+                    .iter()
+                    .map(|&u| m.unknowns[u].name.text.clone())
+                    .collect(),
+                points: plan
+                    .points
+                    .iter()
+                    .map(|&p| m.points[p].0.text.clone())
+                    .collect(),
+                columns: plan.columns(c),
+            },
+            unknowns: plan.unknowns.clone(),
+            points: Tape::new(dag, &roots),
+            point_values: roots.len(),
+        }
+    }
+}
+
+/// A scene of a [`Generic`] mechanism (`Generic::scene`).
+#[derive(Clone, Debug)]
+pub struct GenericScene {
+    mechanism: Generic,
+    index: usize,
+}
+
+impl Generic {
+    /// The names of the file's scenes on this mechanism.
+    pub fn scene_names(&self) -> Vec<&str> {
+        self.scenes.iter().map(|s| s.desc.name.as_str()).collect()
+    }
+
+    /// Scene `name` of this mechanism, solved by this engine (with its current params).
+    pub fn scene(&self, name: &str) -> Option<GenericScene> {
+        let index = self.scenes.iter().position(|s| s.desc.name == name)?;
+        Some(GenericScene {
+            mechanism: self.clone(),
+            index,
+        })
+    }
+}
+
+impl GenericScene {
+    fn solve<T: Real>(
+        &self,
+        input: InputMotion<&[T]>,
+        q: &mut [T],
+        out: &mut [T],
+        options: &SolveOptions<T>,
+    ) -> Result<NewtonReport<T>, SolveError> {
+        let InputMotion { x, xd, xdd } = input;
+        let (g, s) = (&self.mechanism, &self.mechanism.scenes[self.index]);
+        let (ni, nu) = (g.info.inputs.len(), g.info.unknowns.len());
+        for (v, n) in [(x, ni), (xd, ni), (xdd, ni)] {
+            len(v, n)?;
+        }
+        len(q, nu)?;
+        len(out, s.desc.columns.len())?;
+        check_finite(Quantity::Param, &g.params)?;
+        check_finite(Quantity::Input, x)?;
+        check_finite(Quantity::Guess, q)?;
+        check_finite(Quantity::InputRate, xd)?;
+        check_finite(Quantity::InputAcceleration, xdd)?;
+        let report = g.newton_blocks(&s.desc.blocks, x, q, options)?;
+        let (mut qd, mut qdd) = (vec![T::zero(); nu], vec![T::zero(); nu]);
+        let order = s.desc.order;
+        if order >= 1 {
+            let env = Env {
+                xd,
+                ..Env::position(x, q, &g.params)
+            };
+            g.linear_blocks(&s.desc.blocks, Stage::Velocity, env, &mut qd)?;
+        }
+        if order >= 2 {
+            let env = Env {
+                xd,
+                qd: &qd,
+                xdd,
+                ..Env::position(x, q, &g.params)
+            };
+            g.linear_blocks(&s.desc.blocks, Stage::Acceleration, env, &mut qdd)?;
+        }
+        let rates = [&*q, &qd, &qdd];
+        let mut at = 0;
+        for &u in &s.unknowns {
+            for r in rates.iter().take(usize::from(order) + 1) {
+                out[at] = r[u];
+                at += 1;
+            }
+        }
+        let env = Env {
+            x,
+            q,
+            p: &g.params,
+            xd,
+            qd: &qd,
+            xdd,
+            qdd: &qdd,
+        };
+        s.points
+            .eval(&env, &mut Vec::new(), &mut out[at..at + s.point_values]);
+        Ok(report)
+    }
+}
+
+/// Implemented for f64 and f32, as `DynMechanism` is for [`Generic`].
+macro_rules! scene_kinematics {
+    ($t:ty) => {
+        impl SceneKinematics<$t> for GenericScene {
+            fn info(&self) -> SceneDescription {
+                self.mechanism.scenes[self.index].desc.clone()
+            }
+            fn solve_outputs(
+                &self,
+                input: InputMotion<&[$t]>,
+                q: &mut [$t],
+                out: &mut [$t],
+                options: &SolveOptions<$t>,
+            ) -> Result<NewtonReport<$t>, SolveError> {
+                self.solve(input, q, out, options)
+            }
+        }
+    };
+}
+
+scene_kinematics!(f64);
+scene_kinematics!(f32);

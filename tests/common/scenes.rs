@@ -1,0 +1,197 @@
+//! Shared by `tests/scenes.rs` and `tests/fixtures.rs` (which CI runs on every fixture file):
+//! every compiled-in scene against its full mechanism over a full sweep of its first input. The
+//! expected columns and values are built here from interfaces.md, not from the generator.
+#![allow(dead_code)]
+
+use mechgen::generic::Generic;
+use mechgen::sweep::{Continuation, Row, sweep};
+use mechgen::{
+    DynMechanism, InputMotion, Kind, MechanismInfo, PointMotion, SceneDescription, SolveOptions,
+};
+use mechgen::{SceneKinematics, lookup, lookup_scene};
+
+/// The columns interfaces.md asks for: per unknown `u`, `u_vel`, `u_acc`; per point `P_x, P_y`,
+/// `P_vx, P_vy`, `P_ax, P_ay`; each up to the order; unknowns first, then points.
+pub fn expected_columns(s: &SceneDescription) -> Vec<String> {
+    let n = usize::from(s.order) + 1;
+    let mut c = Vec::new();
+    for u in &s.unknowns {
+        c.extend(["", "_vel", "_acc"][..n].iter().map(|x| format!("{u}{x}")));
+    }
+    for p in &s.points {
+        for o in &[["x", "y"], ["vx", "vy"], ["ax", "ay"]][..n] {
+            c.extend(o.iter().map(|x| format!("{p}_{x}")));
+        }
+    }
+    c
+}
+
+/// The scene's columns read off the full solver's state.
+fn full_values<T: Copy>(
+    s: &SceneDescription,
+    info: &MechanismInfo,
+    q: [&[T]; 3],
+    points: &[PointMotion<T>],
+) -> Vec<T> {
+    let n = usize::from(s.order) + 1;
+    let mut v = Vec::new();
+    for u in &s.unknowns {
+        let k = info
+            .unknowns
+            .iter()
+            .position(|c| &c.name == u)
+            .expect("unknown");
+        v.extend(q[..n].iter().map(|a| a[k]));
+    }
+    for p in &s.points {
+        let m = points[info.points.iter().position(|c| c == p).expect("point")];
+        for a in &[m.position, m.velocity, m.acceleration][..n] {
+            v.extend(a);
+        }
+    }
+    v
+}
+
+/// Solved rows of a sweep of the mechanism's first input: a full turn (1° apart) for an angle,
+/// the start ± a quarter of the length scale (101 rows) for a length.
+pub fn full_sweep(k: &dyn DynMechanism<f64>) -> Vec<Row> {
+    let info = k.info();
+    let (kind, start) = (info.inputs[0].kind, info.inputs[0].start);
+    let values: Vec<f64> = match kind {
+        Kind::Angle => (0..=360)
+            .map(|i| start + f64::from(i).to_radians())
+            .collect(),
+        _ => {
+            let scale = info.params.iter().filter(|p| p.kind == Kind::Length);
+            let half = scale.fold(0.0f64, |m, p| m.max(p.value.abs())) / 4.0;
+            (0..=100)
+                .map(|i| start - half + f64::from(i) * half / 50.0)
+                .collect()
+        }
+    };
+    let span = values[values.len() - 1] - values[0];
+    sweep(k, 0, &values, 1.0, &Continuation::for_input(kind, span))
+}
+
+/// `a` within `tol` of `b`, relative to the larger of |b| and the column's scale over the sweep.
+fn close(a: f64, b: f64, scale: f64, tol: f64) -> bool {
+    a.is_finite() && (a - b).abs() <= tol * b.abs().max(scale)
+}
+
+/// Compares a scene's solver (`scene`, any engine and scalar, through `solve`) with the full
+/// solver (`full`) from the same guesses along `rows`; returns the failures and the rows compared.
+#[allow(clippy::type_complexity)]
+pub fn compare<T: mechgen::Real>(
+    what: &str,
+    scene: &dyn SceneKinematics<T>,
+    full: &dyn DynMechanism<T>,
+    rows: &[Row],
+    tol: f64,
+) -> (Vec<String>, usize) {
+    let (s, info) = (scene.info(), full.info());
+    let (ni, nu, np) = (info.inputs.len(), info.unknowns.len(), info.points.len());
+    let lit = |v: f64| T::lit(v);
+    let mut pairs = Vec::new();
+    let mut fails = Vec::new();
+    for r in rows {
+        let Ok(solved) = &r.result else { continue };
+        let mut x: Vec<T> = info.inputs.iter().map(|i| lit(i.start)).collect();
+        x[0] = lit(r.input);
+        let mut xd = vec![lit(0.0); ni];
+        xd[0] = lit(1.0);
+        let xdd = vec![lit(0.0); ni];
+        let guess: Vec<T> = solved.q.iter().map(|&v| lit(v)).collect();
+        let (mut q, mut qd, mut qdd) = (guess.clone(), vec![lit(0.0); nu], vec![lit(0.0); nu]);
+        let mut points = vec![PointMotion::<T>::default(); np];
+        let full_ok = full.solve(
+            InputMotion::new(&x, &xd, &xdd),
+            &mut q,
+            &mut qd,
+            &mut qdd,
+            &mut points,
+            &SolveOptions::default(),
+        );
+        let mut sq = guess;
+        let mut out = vec![lit(0.0); s.columns.len()];
+        let scene_ok = scene.solve_outputs(
+            InputMotion::new(&x, &xd, &xdd),
+            &mut sq,
+            &mut out,
+            &SolveOptions::default(),
+        );
+        match (full_ok, scene_ok) {
+            (Ok(_), Ok(_)) => pairs.push((full_values(&s, &info, [&q, &qd, &qdd], &points), out)),
+            (f, g) => fails.push(format!("{what} at {}: full {f:?}, scene {g:?}", r.input)),
+        }
+    }
+    let to64 = |v: T| v.to_f64();
+    for (c, name) in s.columns.iter().enumerate() {
+        let scale = pairs
+            .iter()
+            .fold(0.0f64, |m, (f, _)| m.max(to64(f[c]).abs()));
+        for (f, g) in &pairs {
+            let (a, b) = (to64(g[c]), to64(f[c]));
+            if !close(a, b, scale, tol) {
+                fails.push(format!(
+                    "{what}.{name}: scene {a:e}, full {b:e} (tolerance {tol:e})"
+                ));
+                break;
+            }
+        }
+    }
+    (fails, pairs.len())
+}
+
+/// Every compiled-in scene: its columns (interfaces.md), and its outputs equal to the full
+/// solver's over a full sweep, generated f64 (1e-14), generated f32 (1e-5) and the generic
+/// engine's scene against the generic full solver (1e-14). Returns the failures.
+pub fn check_compiled_in_scenes() -> Vec<String> {
+    let generic = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
+        .expect("the compiled-in file loads");
+    let mut fails = Vec::new();
+    for name in mechgen::SCENES {
+        let scene = lookup_scene::<f64>(name).expect("listed scene");
+        let s = scene.info();
+        if s.columns != expected_columns(&s) {
+            fails.push(format!("{name}: columns {:?}", s.columns));
+        }
+        let full = lookup::<f64>(&s.mechanism).expect("its mechanism");
+        let rows = full_sweep(full.as_ref());
+        let solved = rows.iter().filter(|r| r.result.is_ok()).count();
+        if solved < rows.len() / 2 {
+            fails.push(format!(
+                "{name}: only {solved} of {} rows solved",
+                rows.len()
+            ));
+        }
+        let (f, n) = compare(name, scene.as_ref(), full.as_ref(), &rows, 1e-14);
+        fails.extend(f);
+        let (scene32, full32) = (
+            lookup_scene::<f32>(name).unwrap(),
+            lookup::<f32>(&s.mechanism).unwrap(),
+        );
+        let (f, n32) = compare(
+            &format!("{name} f32"),
+            scene32.as_ref(),
+            full32.as_ref(),
+            &rows,
+            1e-5,
+        );
+        fails.extend(f);
+        let g: &Generic = generic
+            .iter()
+            .find(|g| g.name() == s.mechanism)
+            .expect("generic");
+        let gs = g.scene(name).expect("generic scene");
+        if SceneKinematics::<f64>::info(&gs) != s {
+            fails.push(format!("{name}: the generic engine's plan differs"));
+        }
+        let (f, ng) = compare::<f64>(&format!("{name} generic"), &gs, g, &rows, 1e-14);
+        fails.extend(f);
+        eprintln!("{name}: {n} rows f64, {n32} f32, {ng} generic");
+        if n != solved || n32 == 0 || ng != solved {
+            fails.push(format!("{name}: compared {n}/{n32}/{ng} of {solved} rows"));
+        }
+    }
+    fails
+}

@@ -5,7 +5,8 @@
 //! `front` (TOML + syn → syntax tree with spans) → `sema` (names, types, angles, values →
 //! `Model`) → `ir` (the hash-consed DAG, lowering, derivatives) → `lints` (start check, overflow,
 //! unused, structural errors) → `analysis` (block structure and the per-block plan → [`Compiled`])
-//! → emit (tokens → `prettyplease`). [`diagnostic`] renders errors as FILE:LINE:COLUMN.
+//! → `emit` (one emitter per kind of output, identifiers from a names table; tokens →
+//! `prettyplease`). [`diagnostic`] renders errors as FILE:LINE:COLUMN.
 //!
 //! The build library: [`compile`]`("mechanism.toml")` in any crate's `build.rs` (or [`Config`] for
 //! options) writes the solvers to `OUT_DIR`, for `mechgen::include_mechanisms!()`;
@@ -20,22 +21,10 @@ mod compile;
 mod config;
 pub mod diagnostic;
 mod emit;
-mod emit_body;
-mod emit_closed;
-mod emit_module;
-mod emit_motion;
-mod emit_scene;
-mod emit_solve;
-mod emit_system;
 mod front;
 mod ir;
 mod lints;
-mod names;
 mod sema;
-
-// Transitional paths for the emitters until they move into their own stage folder.
-use ir::dag;
-use sema::model as check;
 
 pub use analysis::Compiled;
 pub use analysis::closed_form::{ClosedForm, closed_form as classify_closed_form};

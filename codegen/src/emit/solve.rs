@@ -7,10 +7,10 @@
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
-use crate::compile::Compiled;
-use crate::dag::{Node, Var};
+use crate::analysis::Compiled;
+use crate::emit::body::{VarSource, body};
 use crate::emit::{Args, comment};
-use crate::emit_body::{VarSource, body};
+use crate::ir::dag::{Node, Var};
 
 /// Variables whose sine and cosine come from caches.
 pub(crate) struct Cached<'a> {
@@ -153,11 +153,11 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         });
     }
 
-    let motion = crate::emit_motion::motion(c, &cached, rt);
-    let stages = crate::emit_motion::stages(c, &cached, rt);
-    let scene_methods = crate::emit_scene::methods(c, &cached, args);
+    let motion = crate::emit::motion::motion(c, &cached, rt);
+    let stages = crate::emit::motion::stages(c, &cached, rt);
+    let scene_methods = crate::emit::scene::methods(c, &cached, args);
     let angle_mask = &qm;
-    let closed_mask = crate::emit_closed::closed_mask(c);
+    let closed_mask = crate::emit::closed::closed_mask(c);
     let input_mask = &xm;
 
     quote! {

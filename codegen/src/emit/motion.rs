@@ -7,11 +7,11 @@
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
-use crate::check::Kind;
-use crate::compile::Compiled;
-use crate::dag::Var;
+use crate::analysis::Compiled;
+use crate::emit::body::{Builder, VarSource};
 use crate::emit::comment;
-use crate::emit_body::{Builder, VarSource};
+use crate::ir::dag::Var;
+use crate::sema::model::Kind;
 
 /// Variables as the fused body reads them: the unknowns and their sines and cosines from the
 /// Newton state `st` (written block by block), everything else as the cached solvers do.
@@ -70,8 +70,8 @@ fn position_steps(
             Some(cf) => {
                 let seg = b.segment(cf.roots());
                 let stmts = &seg.stmts;
-                let call = crate::emit_closed::kernel_call(rt, bi, cf, &seg.roots);
-                let kind = crate::emit_closed::kind_text(cf);
+                let call = crate::emit::closed::kernel_call(rt, bi, cf, &seg.roots);
+                let kind = crate::emit::closed::kind_text(cf);
                 steps.extend(comment(&format!("Block {bi}: {kind}.")));
                 steps.extend(quote! {
                     #stmts
@@ -129,7 +129,7 @@ fn rate_steps(
         roots.extend(bf.jacobian.iter().flatten());
         let seg = b.segment(&roots);
         let (stmts, rhs) = (&seg.stmts, &seg.roots[..nv]);
-        let sets = crate::emit_solve::jacobian_sets(c, bi, &seg.roots[nv..]);
+        let sets = crate::emit::solve::jacobian_sets(c, bi, &seg.roots[nv..]);
         let what = match rates {
             Rates::Velocity => "velocities",
             Rates::Acceleration => "accelerations",

@@ -7,8 +7,8 @@ use std::collections::HashMap;
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 
-use crate::dag::{Dag, Node, NodeId, Var};
-use crate::names::{Local, Names};
+use crate::emit::names::{Local, Names};
+use crate::ir::dag::{Dag, Node, NodeId, Var};
 
 /// How variables are read inside an emitted function.
 pub trait VarSource {

@@ -1,4 +1,4 @@
-//! Stage 6d: scenes. Each scene's pruned solver is a fused body ([`crate::emit_motion::Subset`]:
+//! Stage 6d: scenes. Each scene's pruned solver is a fused body ([`crate::emit::motion::Subset`]:
 //! its kept blocks, its order, its points) with `solve`/`tick_start`/`tick` around it, emitted as
 //! hidden methods of its mechanism's type (they call the block functions), and a module `NAME`
 //! with the scene's type, `Params`/`Inputs`/`Unknowns` re-exported from the mechanism, `Outputs`
@@ -7,12 +7,12 @@
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
+use crate::analysis::Compiled;
 use crate::analysis::scene::{ScenePlan, plan_scene};
-use crate::compile::Compiled;
+use crate::emit::body::VarSource;
+use crate::emit::motion::{Subset, motion_subset};
+use crate::emit::names::{ModuleItems, Names};
 use crate::emit::{Args, comment};
-use crate::emit_body::VarSource;
-use crate::emit_motion::{Subset, motion_subset};
-use crate::names::{ModuleItems, Names};
 
 fn method(plan: &ScenePlan, what: &str) -> Ident {
     format_ident!("scene_{}_{}", plan.name, what)
@@ -23,10 +23,10 @@ fn method(plan: &ScenePlan, what: &str) -> Ident {
 /// blocks, which is carried unchanged).
 fn masks(c: &Compiled, plan: &ScenePlan) -> (Vec<bool>, Vec<bool>, Vec<bool>) {
     let nu = c.model.unknowns.len();
-    let (_, q_trig, _) = crate::emit_solve::trig_masks(c);
+    let (_, q_trig, _) = crate::emit::solve::trig_masks(c);
     let solved = plan.solved_unknowns(c);
     let angle: Vec<bool> = (0..nu).map(|k| q_trig[k] && solved.contains(&k)).collect();
-    let closed = crate::emit_closed::closed_mask(c);
+    let closed = crate::emit::closed::closed_mask(c);
     let keep_closed: Vec<bool> = (0..nu).map(|k| closed[k] || !solved.contains(&k)).collect();
     let keep_newton: Vec<bool> = (0..nu).map(|k| !solved.contains(&k)).collect();
     (angle, keep_closed, keep_newton)
@@ -36,7 +36,7 @@ fn masks(c: &Compiled, plan: &ScenePlan) -> (Vec<bool>, Vec<bool>, Vec<bool>) {
 pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> TokenStream {
     let (rt, gt) = (&args.rt, &args.items.scalar);
     let (ni, nu, _, npar) = crate::emit::sizes(&c.model);
-    let (x_trig, _, _) = crate::emit_solve::trig_masks(c);
+    let (x_trig, _, _) = crate::emit::solve::trig_masks(c);
     let mut out = TokenStream::new();
     for scene in &c.model.scenes {
         let plan = plan_scene(c, scene);

@@ -5,10 +5,10 @@
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
-use crate::compile::Compiled;
-use crate::dag::NodeId;
+use crate::analysis::Compiled;
+use crate::emit::body::body;
 use crate::emit::{Args, comment, equation_name};
-use crate::emit_body::body;
+use crate::ir::dag::NodeId;
 
 /// The whole-system methods (inside the mechanism type's `impl<T: Real>` block).
 pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {

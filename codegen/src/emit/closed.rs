@@ -6,8 +6,8 @@
 use proc_macro2::TokenStream;
 use quote::quote;
 
+use crate::analysis::Compiled;
 use crate::analysis::closed_form::ClosedForm;
-use crate::compile::Compiled;
 
 /// `rt::…::solve_*(bi, st, …)?;` for the closed form `cf` of block `bi`, whose roots (in the
 /// kind's order, `ClosedForm::roots`) are the expressions `r`. Reads `self`, `options`, `report`.

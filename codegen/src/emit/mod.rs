@@ -1,5 +1,5 @@
-//! Stage 6: compiled mechanisms → one Rust source file: the file-level items (`MECHANISMS`,
-//! `lookup`, `visit_all`) and one module per mechanism ([`crate::emit_module`]), built with `quote`,
+//! Stage 6 (emit): compiled mechanisms → one Rust source file: the file-level items (`MECHANISMS`,
+//! `lookup`, `visit_all`) and one module per mechanism ([`crate::emit::module`]), built with `quote`,
 //! parsed into a `syn::File`, normalized on the syntax tree ([`Tidy`]: integer literals without
 //! their `usize` suffix, doc text after a space) and printed by `prettyplease`;
 //! `__comment!("…");` marker statements then become `// …` lines. Output is deterministic.
@@ -7,11 +7,20 @@
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
-use crate::check::Model;
-use crate::compile::Compiled;
-use crate::dag::Var;
-use crate::emit_body::VarSource;
-use crate::names::ModuleItems;
+mod body;
+mod closed;
+mod module;
+mod motion;
+pub(crate) mod names;
+mod scene;
+mod solve;
+mod system;
+
+use crate::analysis::Compiled;
+use crate::ir::dag::Var;
+use crate::sema::model::Model;
+use body::VarSource;
+use names::ModuleItems;
 
 /// The runtime path generated code uses unless told otherwise: users depend on `mechgen`.
 pub const DEFAULT_RUNTIME: &str = "::mechgen";
@@ -25,7 +34,7 @@ pub fn emit_with(mechs: &[Compiled], source_name: &str, runtime: &str) -> Result
     let gt = format_ident!("T");
     let modules: Vec<TokenStream> = mechs
         .iter()
-        .map(|c| crate::emit_module::module(c, &rt))
+        .map(|c| crate::emit::module::module(c, &rt))
         .collect();
     let names: Vec<&str> = mechs.iter().map(|m| m.model.name.text.as_str()).collect();
     let count = names.len();
@@ -39,10 +48,10 @@ pub fn emit_with(mechs: &[Compiled], source_name: &str, runtime: &str) -> Result
         let (module, ty) = (format_ident!("{}", m.model.name.text), type_ident(&m.model));
         quote!(v.visit(&<#module::#ty::<#gt> as ::core::default::Default>::default());)
     });
-    let scenes = crate::emit_scene::all(mechs);
+    let scenes = crate::emit::scene::all(mechs);
     let scene_modules = scenes
         .iter()
-        .map(|(c, p)| crate::emit_scene::module(c, p, &rt));
+        .map(|(c, p)| crate::emit::scene::module(c, p, &rt));
     let scene_names: Vec<&str> = scenes.iter().map(|(_, p)| p.name.as_str()).collect();
     let scene_count = scene_names.len();
     let scene_ty = |p: &crate::analysis::scene::ScenePlan| {

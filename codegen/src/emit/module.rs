@@ -1,16 +1,16 @@
 //! Stage 6 (emit), one mechanism's module: its static description, the `Params`, `Inputs`,
 //! `Unknowns`, `Points`, `Motion` structs and `Tick` alias (named by the names table around the
-//! mechanism's type), the mechanism type with its whole-system functions ([`crate::emit_system`])
-//! and solvers ([`crate::emit_solve`]), its typed `solve`, `tick_start` and `tick`, and its
+//! mechanism's type), the mechanism type with its whole-system functions ([`crate::emit::system`])
+//! and solvers ([`crate::emit::solve`]), its typed `solve`, `tick_start` and `tick`, and its
 //! `StaticMechanism` impl.
 
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
-use crate::check::Kind;
-use crate::compile::Compiled;
+use crate::analysis::Compiled;
 use crate::emit::Args;
-use crate::names::ModuleItems;
+use crate::emit::names::ModuleItems;
+use crate::sema::model::Kind;
 
 fn f64_lit(x: f64) -> proc_macro2::Literal {
     proc_macro2::Literal::f64_unsuffixed(x)
@@ -44,7 +44,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     };
 
     // Static description.
-    let coord_info = |cs: &[crate::check::Coord]| -> Vec<TokenStream> {
+    let coord_info = |cs: &[crate::sema::model::Coord]| -> Vec<TokenStream> {
         cs.iter()
             .map(|c| {
                 let (n, k, s) = (&c.name.text, kind(c.kind, rt), f64_lit(c.start));
@@ -82,10 +82,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
             None => format!("`{}` = {:?} ({k})", p.name.text, p.value),
         }
     });
-    let param_defaults = m
-        .params
-        .iter()
-        .map(|p| super::emit_body::literal(p.value, gt));
+    let param_defaults = m.params.iter().map(|p| super::body::literal(p.value, gt));
     // A struct with no field of its own (no params, no points, …) still uses its type parameter.
     let marker = |n: usize| {
         (n == 0).then(|| quote!(#[doc(hidden)] pub _scalar: ::core::marker::PhantomData<#gt>,))
@@ -110,7 +107,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
         }
     };
 
-    let coords = |cs: &[crate::check::Coord], ty: &Ident, what: &str| {
+    let coords = |cs: &[crate::sema::model::Coord], ty: &Ident, what: &str| {
         let fields: Vec<Ident> = cs
             .iter()
             .map(|c| format_ident!("{}", c.name.text))
@@ -160,8 +157,8 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     .iter()
     .map(|t| crate::emit::comment(t))
     .collect();
-    let system_fns = crate::emit_system::system_fns(c, &args);
-    let solvers = crate::emit_solve::solvers(c, &args);
+    let system_fns = crate::emit::system::system_fns(c, &args);
+    let solvers = crate::emit::solve::solvers(c, &args);
     let nblocks = c.blocks.len();
 
     quote! {

@@ -9,4 +9,7 @@ fn main() {
     mechgen_codegen::Config::new()
         .out_file("derived.rs")
         .compile("derived.toml");
+    mechgen_codegen::Config::new()
+        .out_file("closed.rs")
+        .compile("closed.toml");
 }

@@ -16,3 +16,9 @@ pub mod other {
 pub mod derived {
     ::mechgen::include_mechanisms!("derived.rs");
 }
+
+/// `closed.toml`: closed-form blocks no other file has, an offset slot (RPR, `h != 0`) and an
+/// inclined slide (RRP), in generated code (`tests/closed.rs`).
+pub mod closed {
+    ::mechgen::include_mechanisms!("closed.rs");
+}

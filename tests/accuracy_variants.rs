@@ -1,7 +1,10 @@
 //! The solver variants of `examples/accuracy` (its `variants.rs`, included here) against the
-//! 40-digit reference over a full turn in 1° steps, to their expected orders: no timing.
+//! 40-digit reference over a full turn in 1° steps, to their expected orders: no timing. The
+//! seed shaper's variants (`shaper.rs`) too.
 #![cfg(feature = "runtime")]
 
+#[path = "../examples/accuracy/shaper.rs"]
+mod shaper;
 #[path = "../examples/accuracy/variants.rs"]
 mod variants;
 
@@ -148,4 +151,63 @@ fn closed_form_dyads_are_exact_without_iterations() {
     let (pass, e) = turn(Generated::<f32>::new(Budget::ClosedForm));
     assert!(e.max() < 1e-4 && e.max() > 1e-8, "{e:?}");
     assert_eq!(pass.iterations, 0);
+}
+
+fn shaper_turn<S: Stepper>(mut s: S) -> (Pass, Errors) {
+    let r = shaper::reference().expect("shaper reference");
+    let (pass, _) = run(&mut s, &inputs()).expect("a full turn of the shaper");
+    let e = shaper::errors(&pass.samples, &r);
+    eprintln!(
+        "shaper: {e:?}, {} iterations, {} failed",
+        pass.iterations, pass.failed
+    );
+    (pass, e)
+}
+
+#[test]
+fn shaper_errors_measure_angles_and_lengths() {
+    let r = shaper::reference().expect("shaper reference");
+    assert_eq!(r.rows.len(), STEPS / SAMPLE_EVERY + 1);
+    for (i, x) in r.x.iter().enumerate() {
+        assert!((inputs()[i * SAMPLE_EVERY] - x).abs() < 1e-15, "row {i}");
+    }
+    assert_eq!(shaper::errors(&r.rows, &r).max(), 0.0);
+    // s3 and sE are lengths, q3 and q4 angles (the order of the file's unknowns).
+    let scale = shaper::largest_length_param();
+    assert_eq!(scale, 0.6);
+    let mut off = r.rows.clone();
+    off[2].q[0] += 6e-4; // s3: 1e-3 of the largest length
+    let e = shaper::errors(&off, &r);
+    assert!((e.position - 1e-3).abs() < 1e-12, "{e:?}");
+    let mut off = r.rows.clone();
+    off[4].q[2] += 2e-3 - 2.0 * std::f64::consts::PI; // q4, an angle: modulo 2π
+    let e = shaper::errors(&off, &r);
+    assert!((e.position - 2e-3).abs() < 1e-12, "{e:?}");
+    assert_eq!(shaper::errors(&off[1..], &r).max(), f64::INFINITY);
+}
+
+#[test]
+fn shaper_variants_to_their_orders() {
+    use mechgen::SolveOptions;
+    // Closed forms (the default), f64: exact to rounding, no iterations.
+    let (pass, e) = shaper_turn(shaper::Generated::<f64>::new(SolveOptions::default()));
+    assert!(e.position <= 1e-12 && e.max() < 1e-12, "{e:?}");
+    assert_eq!((pass.iterations, pass.failed), (0, 0));
+    // Newton on every block at the default tolerance: as exact.
+    let (pass, e) = shaper_turn(shaper::Generated::<f64>::new(shaper::newton(1e-12)));
+    assert!(e.position <= 1e-12 && e.max() < 1e-11, "{e:?}");
+    assert_eq!(pass.failed, 0);
+    assert!(pass.iterations > 0);
+    // At 1e-6: looser, but within the tolerance.
+    let (pass, e) = shaper_turn(shaper::Generated::<f64>::new(shaper::newton(1e-6)));
+    assert!(e.position <= 1e-6 && e.max() < 1e-5, "{e:?}");
+    assert_eq!(pass.failed, 0);
+    // f32 closed forms: single-precision rounding.
+    let (pass, e) = shaper_turn(shaper::Generated::<f32>::new(SolveOptions::default()));
+    assert!(e.max() <= 1e-4 && e.max() > 1e-9, "{e:?}");
+    assert_eq!(pass.failed, 0);
+    // The generic engine (closed forms by default).
+    let g = shaper::generic().expect("shaper");
+    let (_, e) = shaper_turn(Engine::new(&g, SolveOptions::default()).with_start(shaper::start()));
+    assert!(e.position <= 1e-12 && e.max() < 1e-11, "{e:?}");
 }

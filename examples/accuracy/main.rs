@@ -19,7 +19,15 @@
 //! success); with exactly k iterations accepted without a convergence test; in f32; the generic
 //! engine; and a hand-written-style solver that only evaluates the residual (finite-difference
 //! Jacobians, dense Newton, see `variants.rs`).
+//!
+//! Then the seed shaper, the same way (`shaper.rs`: its unknowns s3, sE are lengths, q3, q4
+//! angles; reference `tests/data/shaper.csv`): `tick` with closed forms (the default), Newton on
+//! every block (`closed_forms: false`) at tolerances 1e-6 and 1e-12, f32 with closed forms, and the
+//! generic engine; written to `OUT_DIR/accuracy-shaper.md` (also printed). Errors: angles in
+//! radians modulo 2π, lengths relative to the larger of the largest length param and their
+//! column's largest magnitude, rates relative to their column's largest magnitude.
 
+mod shaper;
 mod variants;
 
 use std::error::Error;
@@ -118,9 +126,13 @@ fn sci(v: f64) -> String {
 }
 
 fn table(rows: &[Row]) -> String {
-    let mut t = String::from(
+    table_with(rows, "max error positions [rad]")
+}
+
+fn table_with(rows: &[Row], positions: &str) -> String {
+    let mut t = format!(
         "| variant | tolerance | iteration cap | time per step [ns] | Newton iterations per step \
-         | max error positions [rad] | velocities (rel.) | accelerations (rel.) | failed steps |\n\
+         | {positions} | velocities (rel.) | accelerations (rel.) | failed steps |\n\
          | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n",
     );
     for r in rows {
@@ -283,37 +295,7 @@ fn main() -> Result<(), Box<dyn Error>> {
         );
     }
 
-    // Repetitions interleaved over the variants, so a slow spell of the machine hits them all.
-    for rep in 0..REPETITIONS {
-        eprintln!("repetition {}/{REPETITIONS}", rep + 1);
-        for t in &mut timed {
-            t.repeat()?;
-        }
-    }
-    let rows: Vec<Row> = timed
-        .into_iter()
-        .map(|mut t| {
-            t.per_step.sort_by(f64::total_cmp);
-            let row = Row {
-                ns_per_step: t.per_step[t.per_step.len() / 2],
-                iterations_per_step: t.first.iterations as f64 / STEPS as f64,
-                errors: errors(&t.first.samples, &reference),
-                failed: t.first.failed,
-                ..t.row
-            };
-            eprintln!(
-                "{:<64} {:>6.0} ns/step (spread {:.0}..{:.0})  {:>5.2} it/step  max error {}  failed {}",
-                row.variant,
-                row.ns_per_step,
-                t.per_step[0],
-                t.per_step[t.per_step.len() - 1],
-                row.iterations_per_step,
-                sci(row.errors.max()),
-                row.failed
-            );
-            row
-        })
-        .collect();
+    let rows = measure(timed, |s| errors(s, &reference))?;
 
     let md = format!(
         "Seed six-bar, full turn in 1° steps (360 ticks: predict q + q'·Δx + q''·Δx²/2, then \
@@ -357,5 +339,105 @@ fn main() -> Result<(), Box<dyn Error>> {
         log_log_scatter_svg(&layout, &markers)?,
     )?;
     eprintln!("wrote {}/accuracy.md and accuracy.svg", out.display());
+
+    let md = shaper_study(&xs)?;
+    print!("{md}");
+    std::fs::write(out.join("accuracy-shaper.md"), &md)?;
+    eprintln!("wrote {}/accuracy-shaper.md", out.display());
     Ok(())
+}
+
+/// Times the variants (repetitions interleaved over them, so a slow spell of the machine hits
+/// them all) and measures their warm-up turns' errors.
+fn measure(
+    mut timed: Vec<Timed>,
+    errors: impl Fn(&[variants::State]) -> Errors,
+) -> Result<Vec<Row>, String> {
+    for rep in 0..REPETITIONS {
+        eprintln!("repetition {}/{REPETITIONS}", rep + 1);
+        for t in &mut timed {
+            t.repeat()?;
+        }
+    }
+    Ok(timed
+        .into_iter()
+        .map(|mut t| {
+            t.per_step.sort_by(f64::total_cmp);
+            let row = Row {
+                ns_per_step: t.per_step[t.per_step.len() / 2],
+                iterations_per_step: t.first.iterations as f64 / STEPS as f64,
+                errors: errors(&t.first.samples),
+                failed: t.first.failed,
+                ..t.row
+            };
+            eprintln!(
+                "{:<64} {:>6.0} ns/step (spread {:.0}..{:.0})  {:>5.2} it/step  max error {}  failed {}",
+                row.variant,
+                row.ns_per_step,
+                t.per_step[0],
+                t.per_step[t.per_step.len() - 1],
+                row.iterations_per_step,
+                sci(row.errors.max()),
+                row.failed
+            );
+            row
+        })
+        .collect())
+}
+
+/// The seed shaper's variants (`shaper.rs`), timed and measured like the six-bar's: the markdown.
+fn shaper_study(xs: &[f64]) -> Result<String, Box<dyn Error>> {
+    let reference = shaper::reference()?;
+    let generic = shaper::generic()?;
+    let mut timed: Vec<Timed> = Vec::new();
+    let row = |variant: &str, tolerance: &str| Row {
+        variant: variant.to_string(),
+        label: String::new(),
+        group: 0,
+        tolerance: tolerance.to_string(),
+        cap: if tolerance == "—" { "—" } else { "64" }.to_string(),
+        ns_per_step: f64::NAN,
+        iterations_per_step: f64::NAN,
+        errors: shaper::errors(&[], &reference),
+        failed: 0,
+    };
+    timed.push(Timed::new(
+        shaper::Generated::<f64>::new(SolveOptions::default()),
+        xs,
+        row("generated f64, `tick`, closed forms (default)", "—"),
+    )?);
+    for (tolerance, name) in [(1e-6, "1e-6"), (1e-12, "1e-12")] {
+        timed.push(Timed::new(
+            shaper::Generated::<f64>::new(shaper::newton(tolerance)),
+            xs,
+            row(
+                &format!("generated f64, `tick`, Newton (`closed_forms: false`), tolerance {name}"),
+                name,
+            ),
+        )?);
+    }
+    timed.push(Timed::new(
+        shaper::Generated::<f32>::new(SolveOptions::default()),
+        xs,
+        row("generated f32, `tick`, closed forms (default)", "—"),
+    )?);
+    timed.push(Timed::new(
+        Engine::new(&generic, SolveOptions::default()).with_start(shaper::start()),
+        xs,
+        row("generic engine f64 (default)", "1e-12"),
+    )?);
+    let rows = measure(timed, |s| shaper::errors(s, &reference))?;
+    Ok(format!(
+        "Seed shaper, full turn in 1° steps (360 `tick`s, or predict and `solve` for the generic \
+         engine); largest error over 0°, 10°, …, 360° against the 40-digit reference \
+         (`tests/data/shaper.csv`): angles q3, q4 in rad modulo 2π, lengths s3, sE relative to the \
+         larger of the largest length param ({}) and the column's largest value, rates relative to \
+         the column's largest value. Time per step: median of {REPETITIONS} repetitions of about \
+         {} ms, interleaved over the variants.\n\n{}\n\
+         Newton iterations are block iterations summed over the shaper's blocks (0 for closed \
+         forms).\n",
+        shaper::largest_length_param(),
+        REPETITION.as_millis(),
+        table_with(&rows, "max error positions [rad, rel.]")
+    ))
 }

@@ -1,7 +1,8 @@
 //! The work and the solver variants of `examples/accuracy` (no timing here): the seed six-bar
 //! stepped over a full turn like a simulator, each variant's state sampled where the 40-digit
 //! reference has rows, and the errors against it. `tests/accuracy_variants.rs` includes this file
-//! too.
+//! too. `shaper.rs` reuses [`Stepper`], [`run`], [`State`], [`parse_reference`] and
+//! [`Engine::with_start`] for the seed shaper.
 #![allow(dead_code)]
 
 use std::f64::consts::PI;
@@ -105,6 +106,23 @@ pub fn reference() -> Result<Reference, String> {
         env!("CARGO_MANIFEST_DIR"),
         "/tests/data/sixbar.csv"
     ));
+    parse_reference(
+        text,
+        mechgen::sixbar::INFO.inputs[0].name,
+        mechgen::sixbar::INFO.unknowns,
+    )
+}
+
+/// A reference table of a mechanism with `N` unknowns: the column `input`, and per unknown its
+/// position, `_vel` and `_acc` columns (40-digit values, parsed to the nearest f64).
+pub fn parse_reference(
+    text: &str,
+    input: &str,
+    names: &[mechgen::CoordInfo],
+) -> Result<Reference, String> {
+    if names.len() != N {
+        return Err(format!("reference: {} unknowns, not {N}", names.len()));
+    }
     let mut lines = text.lines().filter(|l| !l.trim().is_empty());
     let header: Vec<&str> = lines.next().ok_or("empty reference")?.split(',').collect();
     let col = |name: &str| {
@@ -113,8 +131,7 @@ pub fn reference() -> Result<Reference, String> {
             .position(|h| *h == name)
             .ok_or_else(|| format!("reference: no column {name}"))
     };
-    let names = mechgen::sixbar::INFO.unknowns;
-    let input = col(mechgen::sixbar::INFO.inputs[0].name)?;
+    let input = col(input)?;
     // Per unknown: its position, velocity and acceleration columns.
     let mut cols = [[0usize; 3]; N];
     for (c, u) in cols.iter_mut().zip(names) {
@@ -386,6 +403,8 @@ impl<T: Real> Stepper for Generated<T> {
 pub struct Engine<'k, K: ?Sized> {
     k: &'k K,
     options: SolveOptions<f64>,
+    /// The assembly's start values (the six-bar's unless [`Engine::with_start`]).
+    start: [f64; N],
     q: Vec<f64>,
     qd: Vec<f64>,
     qdd: Vec<f64>,
@@ -398,18 +417,24 @@ impl<'k, K: DynMechanism<f64> + ?Sized> Engine<'k, K> {
         Engine {
             k,
             options,
+            start: Sixbar::<f64>::start().1.to_array(),
             q: vec![0.0; N],
             qd: vec![0.0; N],
             qdd: vec![0.0; N],
             points,
         }
     }
+
+    /// Assembles from these start values instead (another mechanism with `N` unknowns).
+    pub fn with_start(mut self, start: [f64; N]) -> Self {
+        self.start = start;
+        self
+    }
 }
 
 impl<K: DynMechanism<f64> + ?Sized> Stepper for Engine<'_, K> {
     fn reset(&mut self, x: f64) -> Result<(), String> {
-        let start = Sixbar::<f64>::start().1.to_array();
-        self.q.copy_from_slice(&start);
+        self.q.copy_from_slice(&self.start);
         self.k
             .solve(
                 InputMotion::new(&[x], &[1.0], &[0.0]),

@@ -2,15 +2,11 @@
 //! columns and consistent labels, the plot, `--file` with a length input, and the errors.
 #![cfg(feature = "cli")]
 
-use std::process::{Command, Output};
+mod common;
 
-fn mechgen(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_mechgen"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("mechgen runs")
-}
+use std::process::Output;
+
+use common::cli::mechgen;
 
 fn dir(name: &str) -> std::path::PathBuf {
     let d = std::env::temp_dir().join(format!("mechgen-branches-{}-{name}", std::process::id()));

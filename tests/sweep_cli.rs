@@ -9,27 +9,15 @@ mod common;
 mod support;
 
 use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Command;
 
 use common::Table;
 use support::angle_diff;
 
-fn mechgen(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_mechgen"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("mechgen runs")
-}
+use common::cli::{mechgen, text};
 
 fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("mechgen-sweep-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir.join(name)
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
+    common::cli::temp("sweep-cli", name)
 }
 
 #[test]

@@ -1,6 +1,8 @@
 //! Shared test helpers: reading reference CSVs and comparing sweeps with them.
 #![allow(dead_code)]
 
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod scenes;
 pub mod stress;
 

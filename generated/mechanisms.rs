@@ -1651,6 +1651,7 @@ pub mod sixbar {
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
+            every_angle: bool,
         ) -> ::core::result::Result<
             ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 1]),
             ::mechgen::__private::SolveError,
@@ -1668,7 +1669,7 @@ pub mod sixbar {
             let t2 = -p_l3;
             let t3 = t0 - p_l4;
             if options.closed_forms {
-                ::mechgen::__private::solve_dyad(
+                ::mechgen::__private::solve_dyad_angles(
                     0,
                     st,
                     0,
@@ -1679,6 +1680,7 @@ pub mod sixbar {
                     || self.params.length_scale(),
                     options.newton.tolerance,
                     report,
+                    [every_angle, every_angle],
                 )?;
             } else {
                 ::mechgen::__private::newton_block(
@@ -1741,9 +1743,10 @@ pub mod sixbar {
             ),
             ::mechgen::__private::SolveError,
         > {
-            ::mechgen::__private::check_finite(
+            ::mechgen::__private::check_finite_in(
                 ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
+                [true, true, true, true, false, false, true, false, false, true],
             )?;
             ::mechgen::__private::check_finite(
                 ::mechgen::__private::Quantity::Input,
@@ -1777,6 +1780,7 @@ pub mod sixbar {
                     xdd,
                     options,
                     &mut report,
+                    true,
                 )?;
             *q = st.q;
             Ok((qd, qdd, points, report))
@@ -1790,7 +1794,7 @@ pub mod sixbar {
             guess: &[T; 4],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            ::mechgen::__private::Tick<T, 1, 4, 1, 10>,
+            ::mechgen::__private::SceneTick<T, 1, 4, 1, 10>,
             ::mechgen::__private::SolveError,
         > {
             let mut q = *guess;
@@ -1799,36 +1803,44 @@ pub mod sixbar {
             let (tx, tp) = self.trig_fixed(x);
             let st = ::mechgen::__private::TrigState::new(q, [true, true, false, false]);
             Ok(
-                ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
-                    x: *x,
-                    xd: *xd,
-                    q,
-                    qd,
-                    qdd,
-                    points,
-                    report,
-                    tx,
-                    tq: st.sc,
-                    tp,
-                    params: self.params.to_array(),
-                }),
+                ::mechgen::__private::scene_tick(
+                    ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
+                        x: *x,
+                        xd: *xd,
+                        q,
+                        qd,
+                        qdd,
+                        points,
+                        report,
+                        tx,
+                        tq: st.sc,
+                        tp,
+                        params: self.params.to_array(),
+                    }),
+                ),
             )
         }
         #[doc(hidden)]
         pub(super) fn scene_sixbar_e_path_tick(
             &self,
-            t: &mut ::mechgen::__private::Tick<T, 1, 4, 1, 10>,
+            t: &mut ::mechgen::__private::SceneTick<T, 1, 4, 1, 10>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let t = ::mechgen::__private::scene_tick_state_mut(t);
             let params = self.params.to_array();
-            let same = t.same_params(&params);
+            let same = t
+                .same_params_in(
+                    &params,
+                    [true, true, true, true, false, false, true, false, false, true],
+                );
             if !same {
-                ::mechgen::__private::check_finite(
+                ::mechgen::__private::check_finite_in(
                     ::mechgen::__private::Quantity::Param,
                     &params,
+                    [true, true, true, true, false, false, true, false, false, true],
                 )?;
             }
             ::mechgen::__private::check_finite(
@@ -1843,6 +1855,9 @@ pub mod sixbar {
                 ::mechgen::__private::Quantity::InputAcceleration,
                 xdd,
             )?;
+            if !options.closed_forms {
+                t.principal_angles([true, true, false, false]);
+            }
             let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
@@ -1850,12 +1865,16 @@ pub mod sixbar {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms {
-                [true, true, true, true]
+            let mut st = if options.closed_forms {
+                t.carried([true, true, false, false])
             } else {
-                [false, false, true, true]
+                t.predicted(
+                    x,
+                    [true, true, false, false],
+                    [false, false, true, true],
+                    same,
+                )
             };
-            let mut st = t.predicted(x, [true, true, false, false], keep, same);
             let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .scene_sixbar_e_path_motion(
@@ -1867,6 +1886,7 @@ pub mod sixbar {
                     xdd,
                     options,
                     &mut report,
+                    false,
                 )?;
             t.update(
                 x,
@@ -1897,6 +1917,7 @@ pub mod sixbar {
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
+            every_angle: bool,
         ) -> ::core::result::Result<
             ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 0]),
             ::mechgen::__private::SolveError,
@@ -1914,7 +1935,7 @@ pub mod sixbar {
             let t2 = -p_l3;
             let t3 = t0 - p_l4;
             if options.closed_forms {
-                ::mechgen::__private::solve_dyad(
+                ::mechgen::__private::solve_dyad_angles(
                     0,
                     st,
                     0,
@@ -1925,6 +1946,7 @@ pub mod sixbar {
                     || self.params.length_scale(),
                     options.newton.tolerance,
                     report,
+                    [every_angle, every_angle],
                 )?;
             } else {
                 ::mechgen::__private::newton_block(
@@ -1965,7 +1987,7 @@ pub mod sixbar {
             let t20 = t16 - p_xg;
             let t21 = t17 - p_yg;
             if options.closed_forms {
-                ::mechgen::__private::solve_dyad(
+                ::mechgen::__private::solve_dyad_angles(
                     1,
                     st,
                     2,
@@ -1976,6 +1998,7 @@ pub mod sixbar {
                     || self.params.length_scale(),
                     options.newton.tolerance,
                     report,
+                    [every_angle, true],
                 )?;
             } else {
                 ::mechgen::__private::newton_block(
@@ -2153,9 +2176,10 @@ pub mod sixbar {
             ),
             ::mechgen::__private::SolveError,
         > {
-            ::mechgen::__private::check_finite(
+            ::mechgen::__private::check_finite_in(
                 ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
+                [true, true, true, true, true, true, true, true, true, true],
             )?;
             ::mechgen::__private::check_finite(
                 ::mechgen::__private::Quantity::Input,
@@ -2189,6 +2213,7 @@ pub mod sixbar {
                     xdd,
                     options,
                     &mut report,
+                    true,
                 )?;
             *q = st.q;
             Ok((qd, qdd, points, report))
@@ -2202,7 +2227,7 @@ pub mod sixbar {
             guess: &[T; 4],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            ::mechgen::__private::Tick<T, 1, 4, 0, 10>,
+            ::mechgen::__private::SceneTick<T, 1, 4, 0, 10>,
             ::mechgen::__private::SolveError,
         > {
             let mut q = *guess;
@@ -2211,36 +2236,44 @@ pub mod sixbar {
             let (tx, tp) = self.trig_fixed(x);
             let st = ::mechgen::__private::TrigState::new(q, [true, true, true, true]);
             Ok(
-                ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
-                    x: *x,
-                    xd: *xd,
-                    q,
-                    qd,
-                    qdd,
-                    points,
-                    report,
-                    tx,
-                    tq: st.sc,
-                    tp,
-                    params: self.params.to_array(),
-                }),
+                ::mechgen::__private::scene_tick(
+                    ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
+                        x: *x,
+                        xd: *xd,
+                        q,
+                        qd,
+                        qdd,
+                        points,
+                        report,
+                        tx,
+                        tq: st.sc,
+                        tp,
+                        params: self.params.to_array(),
+                    }),
+                ),
             )
         }
         #[doc(hidden)]
         pub(super) fn scene_sixbar_output_tick(
             &self,
-            t: &mut ::mechgen::__private::Tick<T, 1, 4, 0, 10>,
+            t: &mut ::mechgen::__private::SceneTick<T, 1, 4, 0, 10>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let t = ::mechgen::__private::scene_tick_state_mut(t);
             let params = self.params.to_array();
-            let same = t.same_params(&params);
+            let same = t
+                .same_params_in(
+                    &params,
+                    [true, true, true, true, true, true, true, true, true, true],
+                );
             if !same {
-                ::mechgen::__private::check_finite(
+                ::mechgen::__private::check_finite_in(
                     ::mechgen::__private::Quantity::Param,
                     &params,
+                    [true, true, true, true, true, true, true, true, true, true],
                 )?;
             }
             ::mechgen::__private::check_finite(
@@ -2255,6 +2288,9 @@ pub mod sixbar {
                 ::mechgen::__private::Quantity::InputAcceleration,
                 xdd,
             )?;
+            if !options.closed_forms {
+                t.principal_angles([true, true, true, false]);
+            }
             let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
@@ -2262,12 +2298,16 @@ pub mod sixbar {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms {
-                [true, true, true, true]
+            let mut st = if options.closed_forms {
+                t.carried([true, true, true, true])
             } else {
-                [false, false, false, false]
+                t.predicted(
+                    x,
+                    [true, true, true, true],
+                    [false, false, false, false],
+                    same,
+                )
             };
-            let mut st = t.predicted(x, [true, true, true, true], keep, same);
             let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .scene_sixbar_output_motion(
@@ -2279,6 +2319,7 @@ pub mod sixbar {
                     xdd,
                     options,
                     &mut report,
+                    false,
                 )?;
             t.update(
                 x,
@@ -2507,12 +2548,11 @@ pub mod sixbar {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms {
-                [true, true, true, true]
+            let mut st = if options.closed_forms {
+                t.carried([true, true, true, true])
             } else {
-                [false; 4]
+                t.predicted(x, [true, true, true, true], [false; 4], same)
             };
-            let mut st = t.predicted(x, [true, true, true, true], keep, same);
             let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
@@ -3406,6 +3446,7 @@ pub mod shaper {
                     || self.params.length_scale(),
                     options.newton.tolerance,
                     report,
+                    true,
                 )?;
             } else {
                 ::mechgen::__private::newton_block(
@@ -3436,6 +3477,7 @@ pub mod shaper {
                     || self.params.length_scale(),
                     options.newton.tolerance,
                     report,
+                    true,
                 )?;
             } else {
                 ::mechgen::__private::newton_block(
@@ -3754,6 +3796,7 @@ pub mod shaper {
                     || self.params.length_scale(),
                     options.newton.tolerance,
                     report,
+                    true,
                 )?;
             } else {
                 ::mechgen::__private::newton_block(
@@ -3784,6 +3827,7 @@ pub mod shaper {
                     || self.params.length_scale(),
                     options.newton.tolerance,
                     report,
+                    true,
                 )?;
             } else {
                 ::mechgen::__private::newton_block(
@@ -4001,6 +4045,7 @@ pub mod shaper {
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
+            every_angle: bool,
         ) -> ::core::result::Result<
             ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 0]),
             ::mechgen::__private::SolveError,
@@ -4028,6 +4073,7 @@ pub mod shaper {
                     || self.params.length_scale(),
                     options.newton.tolerance,
                     report,
+                    every_angle,
                 )?;
             } else {
                 ::mechgen::__private::newton_block(
@@ -4058,6 +4104,7 @@ pub mod shaper {
                     || self.params.length_scale(),
                     options.newton.tolerance,
                     report,
+                    every_angle,
                 )?;
             } else {
                 ::mechgen::__private::newton_block(
@@ -4258,9 +4305,10 @@ pub mod shaper {
             ),
             ::mechgen::__private::SolveError,
         > {
-            ::mechgen::__private::check_finite(
+            ::mechgen::__private::check_finite_in(
                 ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
+                [true, true, true, true, true],
             )?;
             ::mechgen::__private::check_finite(
                 ::mechgen::__private::Quantity::Input,
@@ -4294,6 +4342,7 @@ pub mod shaper {
                     xdd,
                     options,
                     &mut report,
+                    true,
                 )?;
             *q = st.q;
             Ok((qd, qdd, points, report))
@@ -4307,7 +4356,7 @@ pub mod shaper {
             guess: &[T; 4],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            ::mechgen::__private::Tick<T, 1, 4, 0, 5>,
+            ::mechgen::__private::SceneTick<T, 1, 4, 0, 5>,
             ::mechgen::__private::SolveError,
         > {
             let mut q = *guess;
@@ -4316,36 +4365,40 @@ pub mod shaper {
             let (tx, tp) = self.trig_fixed(x);
             let st = ::mechgen::__private::TrigState::new(q, [false, true, true, false]);
             Ok(
-                ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
-                    x: *x,
-                    xd: *xd,
-                    q,
-                    qd,
-                    qdd,
-                    points,
-                    report,
-                    tx,
-                    tq: st.sc,
-                    tp,
-                    params: self.params.to_array(),
-                }),
+                ::mechgen::__private::scene_tick(
+                    ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
+                        x: *x,
+                        xd: *xd,
+                        q,
+                        qd,
+                        qdd,
+                        points,
+                        report,
+                        tx,
+                        tq: st.sc,
+                        tp,
+                        params: self.params.to_array(),
+                    }),
+                ),
             )
         }
         #[doc(hidden)]
         pub(super) fn scene_shaper_ram_tick(
             &self,
-            t: &mut ::mechgen::__private::Tick<T, 1, 4, 0, 5>,
+            t: &mut ::mechgen::__private::SceneTick<T, 1, 4, 0, 5>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let t = ::mechgen::__private::scene_tick_state_mut(t);
             let params = self.params.to_array();
-            let same = t.same_params(&params);
+            let same = t.same_params_in(&params, [true, true, true, true, true]);
             if !same {
-                ::mechgen::__private::check_finite(
+                ::mechgen::__private::check_finite_in(
                     ::mechgen::__private::Quantity::Param,
                     &params,
+                    [true, true, true, true, true],
                 )?;
             }
             ::mechgen::__private::check_finite(
@@ -4360,6 +4413,9 @@ pub mod shaper {
                 ::mechgen::__private::Quantity::InputAcceleration,
                 xdd,
             )?;
+            if !options.closed_forms {
+                t.principal_angles([false, true, true, false]);
+            }
             let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
@@ -4367,12 +4423,16 @@ pub mod shaper {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms {
-                [true, true, true, true]
+            let mut st = if options.closed_forms {
+                t.carried([false, true, true, false])
             } else {
-                [false, false, false, false]
+                t.predicted(
+                    x,
+                    [false, true, true, false],
+                    [false, false, false, false],
+                    same,
+                )
             };
-            let mut st = t.predicted(x, [false, true, true, false], keep, same);
             let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .scene_shaper_ram_motion(
@@ -4384,6 +4444,7 @@ pub mod shaper {
                     xdd,
                     options,
                     &mut report,
+                    false,
                 )?;
             t.update(
                 x,
@@ -4612,12 +4673,11 @@ pub mod shaper {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms {
-                [true, true, true, true]
+            let mut st = if options.closed_forms {
+                t.carried([false, true, true, false])
             } else {
-                [false; 4]
+                t.predicted(x, [false, true, true, false], [false; 4], same)
             };
-            let mut st = t.predicted(x, [false, true, true, false], keep, same);
             let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
@@ -5827,6 +5887,7 @@ pub mod four_bar {
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
+            every_angle: bool,
         ) -> ::core::result::Result<
             ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 1]),
             ::mechgen::__private::SolveError,
@@ -5844,7 +5905,7 @@ pub mod four_bar {
             let t2 = -p_l3;
             let t3 = t0 - p_l4;
             if options.closed_forms {
-                ::mechgen::__private::solve_dyad(
+                ::mechgen::__private::solve_dyad_angles(
                     0,
                     st,
                     0,
@@ -5855,6 +5916,7 @@ pub mod four_bar {
                     || self.params.length_scale(),
                     options.newton.tolerance,
                     report,
+                    [every_angle, every_angle],
                 )?;
             } else {
                 ::mechgen::__private::newton_block(
@@ -5955,9 +6017,10 @@ pub mod four_bar {
             ),
             ::mechgen::__private::SolveError,
         > {
-            ::mechgen::__private::check_finite(
+            ::mechgen::__private::check_finite_in(
                 ::mechgen::__private::Quantity::Param,
                 &self.params.to_array(),
+                [true, true, true, true, true, true],
             )?;
             ::mechgen::__private::check_finite(
                 ::mechgen::__private::Quantity::Input,
@@ -5988,6 +6051,7 @@ pub mod four_bar {
                     xdd,
                     options,
                     &mut report,
+                    true,
                 )?;
             *q = st.q;
             Ok((qd, qdd, points, report))
@@ -6001,7 +6065,7 @@ pub mod four_bar {
             guess: &[T; 2],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            ::mechgen::__private::Tick<T, 1, 2, 1, 6>,
+            ::mechgen::__private::SceneTick<T, 1, 2, 1, 6>,
             ::mechgen::__private::SolveError,
         > {
             let mut q = *guess;
@@ -6010,36 +6074,40 @@ pub mod four_bar {
             let (tx, tp) = self.trig_fixed(x);
             let st = ::mechgen::__private::TrigState::new(q, [true, true]);
             Ok(
-                ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
-                    x: *x,
-                    xd: *xd,
-                    q,
-                    qd,
-                    qdd,
-                    points,
-                    report,
-                    tx,
-                    tq: st.sc,
-                    tp,
-                    params: self.params.to_array(),
-                }),
+                ::mechgen::__private::scene_tick(
+                    ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
+                        x: *x,
+                        xd: *xd,
+                        q,
+                        qd,
+                        qdd,
+                        points,
+                        report,
+                        tx,
+                        tq: st.sc,
+                        tp,
+                        params: self.params.to_array(),
+                    }),
+                ),
             )
         }
         #[doc(hidden)]
         pub(super) fn scene_coupler_curve_tick(
             &self,
-            t: &mut ::mechgen::__private::Tick<T, 1, 2, 1, 6>,
+            t: &mut ::mechgen::__private::SceneTick<T, 1, 2, 1, 6>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let t = ::mechgen::__private::scene_tick_state_mut(t);
             let params = self.params.to_array();
-            let same = t.same_params(&params);
+            let same = t.same_params_in(&params, [true, true, true, true, true, true]);
             if !same {
-                ::mechgen::__private::check_finite(
+                ::mechgen::__private::check_finite_in(
                     ::mechgen::__private::Quantity::Param,
                     &params,
+                    [true, true, true, true, true, true],
                 )?;
             }
             ::mechgen::__private::check_finite(
@@ -6054,6 +6122,9 @@ pub mod four_bar {
                 ::mechgen::__private::Quantity::InputAcceleration,
                 xdd,
             )?;
+            if !options.closed_forms {
+                t.principal_angles([true, true]);
+            }
             let mut fresh_tp = None;
             let (tx, tp) = if same {
                 (t.inputs_trig(x, [true]), t.params_trig())
@@ -6061,8 +6132,11 @@ pub mod four_bar {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms { [true, true] } else { [false, false] };
-            let mut st = t.predicted(x, [true, true], keep, same);
+            let mut st = if options.closed_forms {
+                t.carried([true, true])
+            } else {
+                t.predicted(x, [true, true], [false, false], same)
+            };
             let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .scene_coupler_curve_motion(
@@ -6074,6 +6148,7 @@ pub mod four_bar {
                     xdd,
                     options,
                     &mut report,
+                    false,
                 )?;
             t.update(
                 x,
@@ -6302,8 +6377,11 @@ pub mod four_bar {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms { [true, true] } else { [false; 2] };
-            let mut st = t.predicted(x, [true, true], keep, same);
+            let mut st = if options.closed_forms {
+                t.carried([true, true])
+            } else {
+                t.predicted(x, [true, true], [false; 2], same)
+            };
             let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
@@ -7059,6 +7137,7 @@ pub mod slider_crank {
                     || self.params.length_scale(),
                     options.newton.tolerance,
                     report,
+                    true,
                 )?;
             } else {
                 ::mechgen::__private::newton_block(
@@ -7278,6 +7357,7 @@ pub mod slider_crank {
                     || self.params.length_scale(),
                     options.newton.tolerance,
                     report,
+                    true,
                 )?;
             } else {
                 ::mechgen::__private::newton_block(
@@ -7652,8 +7732,11 @@ pub mod slider_crank {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms { [true, true] } else { [false; 2] };
-            let mut st = t.predicted(x, [true, false], keep, same);
+            let mut st = if options.closed_forms {
+                t.carried([true, false])
+            } else {
+                t.predicted(x, [true, false], [false; 2], same)
+            };
             let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
@@ -8940,8 +9023,11 @@ pub mod rocker_four_bar {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms { [true, true] } else { [false; 2] };
-            let mut st = t.predicted(x, [true, true], keep, same);
+            let mut st = if options.closed_forms {
+                t.carried([true, true])
+            } else {
+                t.predicted(x, [true, true], [false; 2], same)
+            };
             let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
@@ -10721,12 +10807,16 @@ pub mod sixbar_g {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms {
-                [false, false, false, false]
+            let mut st = if options.closed_forms {
+                t.predicted(
+                    x,
+                    [true, true, true, true],
+                    [false, false, false, false],
+                    same,
+                )
             } else {
-                [false; 4]
+                t.predicted(x, [true, true, true, true], [false; 4], same)
             };
-            let mut st = t.predicted(x, [true, true, true, true], keep, same);
             let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
@@ -10959,6 +11049,7 @@ pub mod sixbar_e_path {
         order: 0,
         blocks: &[0],
         solved: &[0, 1],
+        angles_skipped: &[0, 1],
         unknowns: &[],
         points: &["E"],
         columns: &["E_x", "E_y"],
@@ -10978,9 +11069,9 @@ pub mod sixbar_e_path {
             [self.E_x, self.E_y]
         }
     }
-    /// The state between ticks: the mechanism's unknowns (only the kept blocks' are
-    /// solved), their rates up to the scene's order, the scene's points.
-    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 4, 1, 10>;
+    /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
+    /// their rates up to the scene's order, the scene's points, and the caches.
+    pub type Tick<T> = ::mechgen::__private::SceneTick<T, 1, 4, 1, 10>;
     /// Scene `sixbar_e_path` of mechanism `sixbar`: E_x, E_y to order 0; solves blocks [0] only.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct SixbarEPath<T = f64> {
@@ -11078,7 +11169,8 @@ pub mod sixbar_e_path {
         }
         /// The outputs of a tick state.
         pub fn outputs(t: &Tick<T>) -> Outputs<T> {
-            Self::outputs_of(&t.q, &t.qd, &t.qdd, &t.points)
+            let s = ::mechgen::__private::scene_tick_state(t);
+            Self::outputs_of(&s.q, &s.qd, &s.qdd, &s.points)
         }
     }
     impl<T: ::mechgen::__private::Real> ::mechgen::__private::Scene<T>
@@ -11151,6 +11243,7 @@ pub mod sixbar_output {
         order: 2,
         blocks: &[0, 1],
         solved: &[0, 1, 2, 3],
+        angles_skipped: &[0, 1, 2],
         unknowns: &["q6"],
         points: &[],
         columns: &["q6", "q6_vel", "q6_acc"],
@@ -11175,9 +11268,9 @@ pub mod sixbar_output {
             [self.q6, self.q6_vel, self.q6_acc]
         }
     }
-    /// The state between ticks: the mechanism's unknowns (only the kept blocks' are
-    /// solved), their rates up to the scene's order, the scene's points.
-    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 4, 0, 10>;
+    /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
+    /// their rates up to the scene's order, the scene's points, and the caches.
+    pub type Tick<T> = ::mechgen::__private::SceneTick<T, 1, 4, 0, 10>;
     /// Scene `sixbar_output` of mechanism `sixbar`: q6, q6_vel, q6_acc to order 2; solves blocks [0, 1] only.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct SixbarOutput<T = f64> {
@@ -11275,7 +11368,8 @@ pub mod sixbar_output {
         }
         /// The outputs of a tick state.
         pub fn outputs(t: &Tick<T>) -> Outputs<T> {
-            Self::outputs_of(&t.q, &t.qd, &t.qdd, &t.points)
+            let s = ::mechgen::__private::scene_tick_state(t);
+            Self::outputs_of(&s.q, &s.qd, &s.qdd, &s.points)
         }
     }
     impl<T: ::mechgen::__private::Real> ::mechgen::__private::Scene<T>
@@ -11348,6 +11442,7 @@ pub mod shaper_ram {
         order: 2,
         blocks: &[0, 1, 2],
         solved: &[0, 1, 2, 3],
+        angles_skipped: &[1, 2],
         unknowns: &["sE"],
         points: &[],
         columns: &["sE", "sE_vel", "sE_acc"],
@@ -11372,9 +11467,9 @@ pub mod shaper_ram {
             [self.sE, self.sE_vel, self.sE_acc]
         }
     }
-    /// The state between ticks: the mechanism's unknowns (only the kept blocks' are
-    /// solved), their rates up to the scene's order, the scene's points.
-    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 4, 0, 5>;
+    /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
+    /// their rates up to the scene's order, the scene's points, and the caches.
+    pub type Tick<T> = ::mechgen::__private::SceneTick<T, 1, 4, 0, 5>;
     /// Scene `shaper_ram` of mechanism `shaper`: sE, sE_vel, sE_acc to order 2; solves blocks [0, 1, 2] only.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct ShaperRam<T = f64> {
@@ -11472,7 +11567,8 @@ pub mod shaper_ram {
         }
         /// The outputs of a tick state.
         pub fn outputs(t: &Tick<T>) -> Outputs<T> {
-            Self::outputs_of(&t.q, &t.qd, &t.qdd, &t.points)
+            let s = ::mechgen::__private::scene_tick_state(t);
+            Self::outputs_of(&s.q, &s.qd, &s.qdd, &s.points)
         }
     }
     impl<T: ::mechgen::__private::Real> ::mechgen::__private::Scene<T> for ShaperRam<T> {
@@ -11544,6 +11640,7 @@ pub mod coupler_curve {
         order: 1,
         blocks: &[0],
         solved: &[0, 1],
+        angles_skipped: &[0, 1],
         unknowns: &[],
         points: &["P"],
         columns: &["P_x", "P_y", "P_vx", "P_vy"],
@@ -11570,9 +11667,9 @@ pub mod coupler_curve {
             [self.P_x, self.P_y, self.P_vx, self.P_vy]
         }
     }
-    /// The state between ticks: the mechanism's unknowns (only the kept blocks' are
-    /// solved), their rates up to the scene's order, the scene's points.
-    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 2, 1, 6>;
+    /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
+    /// their rates up to the scene's order, the scene's points, and the caches.
+    pub type Tick<T> = ::mechgen::__private::SceneTick<T, 1, 2, 1, 6>;
     /// Scene `coupler_curve` of mechanism `four_bar`: P_x, P_y, P_vx, P_vy to order 1; solves blocks [0] only.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct CouplerCurve<T = f64> {
@@ -11675,7 +11772,8 @@ pub mod coupler_curve {
         }
         /// The outputs of a tick state.
         pub fn outputs(t: &Tick<T>) -> Outputs<T> {
-            Self::outputs_of(&t.q, &t.qd, &t.qdd, &t.points)
+            let s = ::mechgen::__private::scene_tick_state(t);
+            Self::outputs_of(&s.q, &s.qd, &s.qdd, &s.points)
         }
     }
     impl<T: ::mechgen::__private::Real> ::mechgen::__private::Scene<T>

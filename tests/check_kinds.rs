@@ -1,6 +1,6 @@
 //! `mechgen check` names how each block is solved: the default file's mechanisms and the
 //! fixtures built from one-loop groups have no Newton block (issue 11), the dyad-driven six-bar
-//! keeps its one 4×4 Newton block.
+//! keeps its one 4×4 Newton block, and the scenes fixture's geared chain is Newton after a dyad.
 
 use std::process::Command;
 
@@ -88,6 +88,11 @@ fn fixture_block_kinds() {
                 "coupler_slider",
                 "2x2 [q2, q3] closed form (RRR) -> 1x1 [qc] closed form (one angle) \
                  -> 1x1 [sx] closed form (one length)",
+            ),
+            // The gear term e(2*q6) is no closed-form kind: Newton after a dyad.
+            (
+                "geared_chain",
+                "2x2 [q2, q3] closed form (RRR) -> 2x2 [q5, q6] newton",
             ),
         ],
     );

@@ -34,6 +34,7 @@ fn solve(kind: &str, v: &[f64], guess: f64) -> (f64, f64) {
             || 1.0,
             1e-12,
             &mut report,
+            true,
         ),
         "rpr" => solve_rpr(
             0,
@@ -46,6 +47,7 @@ fn solve(kind: &str, v: &[f64], guess: f64) -> (f64, f64) {
             || 1.0,
             1e-12,
             &mut report,
+            true,
         ),
         _ => solve_angle1(
             0,
@@ -56,6 +58,7 @@ fn solve(kind: &str, v: &[f64], guess: f64) -> (f64, f64) {
             || 1.0,
             1e-12,
             &mut report,
+            true,
         ),
     };
     r.unwrap_or_else(|e| panic!("{kind} {v:?}: {e}"));

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::scenes::check_compiled_in_scenes;
+use common::scenes::{check_compiled_in_scene_ticks, check_compiled_in_scenes};
 use common::{Table, compare};
 use mechgen::sweep::{Continuation, sweep};
 
@@ -70,6 +70,12 @@ fn compiled_in_mechanisms_match_their_references() {
             "expected {n} mechanisms compared, got {compared:?}"
         );
     }
+}
+
+#[test]
+fn compiled_in_scene_ticks_follow_their_sweeps() {
+    let fails = check_compiled_in_scene_ticks();
+    assert!(fails.is_empty(), "{}", fails.join("\n"));
 }
 
 #[test]

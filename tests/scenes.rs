@@ -4,8 +4,8 @@
 
 mod common;
 
-use common::scenes::{check_compiled_in_scenes, expected_columns, full_sweep};
-use mechgen::{InputMotion, Scene, SceneVisitor, SolveOptions};
+use common::scenes::{check_compiled_in_scene_ticks, check_compiled_in_scenes, expected_columns};
+use mechgen::{InputMotion, SolveOptions};
 
 #[test]
 fn scene_outputs_equal_the_full_solvers() {
@@ -14,68 +14,10 @@ fn scene_outputs_equal_the_full_solvers() {
     assert!(fails.is_empty(), "{}", fails.join("\n"));
 }
 
-/// Ticks a scene along its mechanism's sweep and compares each tick's outputs with the full
-/// solver at the same input (Newton blocks converge from different guesses: 1e-9 relative).
-struct Ticks {
-    fails: Vec<String>,
-    visited: Vec<&'static str>,
-}
-
-impl SceneVisitor<f64> for Ticks {
-    fn visit<S: Scene<f64> + 'static>(&mut self, scene: &S) {
-        self.visited.push(S::NAME);
-        let info = scene.info();
-        let full = mechgen::lookup::<f64>(info.mechanism).unwrap();
-        let rows = full_sweep(full.as_ref());
-        let options = SolveOptions::default();
-        let mut tick: Option<S::Tick> = None;
-        for r in rows.iter() {
-            let Ok(solved) = &r.result else { break };
-            let mut x = S::X::zeros();
-            let (mut xd, xdd) = (S::X::zeros(), S::X::zeros());
-            x.as_mut().copy_from_slice(&[r.input]);
-            xd.as_mut()[0] = 1.0;
-            let input = InputMotion::new(x, xd, xdd);
-            let outputs = match &mut tick {
-                None => {
-                    let mut q = S::Q::zeros();
-                    q.as_mut().copy_from_slice(&solved.q);
-                    let t = scene.tick_start(&input, &q, &options).unwrap();
-                    tick.insert(t)
-                }
-                Some(t) => {
-                    scene.tick(t, &input, &options).unwrap();
-                    t
-                }
-            };
-            let got = scene.outputs(outputs);
-            let mut q = S::Q::zeros();
-            q.as_mut().copy_from_slice(&solved.q);
-            let (want, _) = scene.solve(&input, &mut q, &options).unwrap();
-            for (c, (a, b)) in got.as_ref().iter().zip(want.as_ref()).enumerate() {
-                if (a - b).abs() > 1e-9 * b.abs().max(1.0) {
-                    self.fails.push(format!(
-                        "{} tick at {}: column {c}: {a} vs {b}",
-                        S::NAME,
-                        r.input
-                    ));
-                }
-            }
-        }
-    }
-}
-
-use mechgen::Array;
-
 #[test]
 fn scene_ticks_follow_the_sweep() {
-    let mut v = Ticks {
-        fails: Vec::new(),
-        visited: Vec::new(),
-    };
-    mechgen::visit_scenes(&mut v);
-    assert_eq!(v.visited, mechgen::SCENES);
-    assert!(v.fails.is_empty(), "{}", v.fails.join("\n"));
+    let fails = check_compiled_in_scene_ticks();
+    assert!(fails.is_empty(), "{}", fails.join("\n"));
 }
 
 #[test]
@@ -87,6 +29,9 @@ fn the_default_scenes_keep_what_the_issue_says() {
         ("sixbar", 0, &[0][..])
     );
     assert_eq!(e.columns, ["E_x", "E_y"]);
+    // E sits on the coupler: its tick needs q2's sine and cosine, not q2, and nothing of q3.
+    assert_eq!(e.angles_skipped, [0, 1]);
+    assert_eq!(info("shaper_ram").angles_skipped, [1, 2]);
     assert_eq!(info("sixbar_output").columns, ["q6", "q6_vel", "q6_acc"]);
     assert_eq!(info("shaper_ram").columns, ["sE", "sE_vel", "sE_acc"]);
     assert_eq!(
@@ -124,6 +69,62 @@ fn the_typed_scene_api() {
         )
         .unwrap();
     assert!(SixbarEPath::outputs(&t).E_x.is_finite());
+}
+
+/// A scene's tick skips the angles its outputs do not read (the dyads' turn series): it must
+/// still follow its mechanism when closed forms are switched off and on between ticks (Newton
+/// then predicts from those angles) and when params change, read ones (including `alpha`,
+/// whose sine and cosine the tick caches) and unread ones.
+#[test]
+fn scene_ticks_survive_option_switches_and_param_changes() {
+    use mechgen::sixbar::Sixbar;
+    use mechgen::sixbar_e_path::{Inputs, SixbarEPath};
+    let mut scene = SixbarEPath::<f64>::default();
+    let mut full = Sixbar::<f64>::default();
+    let (_, mut q) = SixbarEPath::<f64>::start();
+    let at = |q1: f64| InputMotion::new(Inputs { q1 }, Inputs { q1: 1.0 }, Inputs { q1: 0.0 });
+    let closed = SolveOptions::default();
+    let newton = SolveOptions {
+        closed_forms: false,
+        ..SolveOptions::default()
+    };
+    let mut t = scene.tick_start(&at(0.0), &q, &closed).unwrap();
+    let mut worst = 0.0f64;
+    for i in 1..=720 {
+        let x = i as f64 * 0.5f64.to_radians();
+        match i {
+            200 => {
+                scene.params.alpha = 0.9;
+                full.params.alpha = 0.9;
+            }
+            300 => {
+                scene.params.l2e = 70.0;
+                full.params.l2e = 70.0;
+            }
+            // Read by the dyad that the scene never solves: no effect on E.
+            400 => scene.params.l5 = f64::NAN,
+            _ => {}
+        }
+        // Closed forms off for three ticks out of every ten.
+        let options = if i % 10 < 3 { &newton } else { &closed };
+        scene.tick(&mut t, &at(x), options).unwrap();
+        // Newton starts from the last tick's configuration, 0.5° away: three iterations. (From
+        // the stale angle the tick skipped, it took four or five at resyncs and at the change of
+        // `alpha`, before the tick restored the angle from its sine and cosine.)
+        if i % 10 < 3 {
+            let iterations = t.report().iterations;
+            assert!(iterations <= 3, "tick {i}: {iterations} Newton iterations");
+        }
+        let e = SixbarEPath::outputs(&t);
+        let solved = full.solve(&at(x), &q, &closed).unwrap();
+        q = solved.q;
+        let want = solved.points.E.position;
+        for (a, b) in [e.E_x, e.E_y].into_iter().zip(want) {
+            worst = worst.max((a - b).abs() / b.abs().max(1.0));
+        }
+    }
+    // Newton stops at its tolerance (1e-12 relative by default); closed forms agree to rounding.
+    assert!(worst < 1e-11, "largest relative difference {worst:e}");
 }
 
 fn mechgen_bin(args: &[&str]) -> (bool, String, String) {
@@ -185,6 +186,7 @@ fn check_lists_each_scene_with_what_it_keeps() {
     assert!(e.contains("keeps:    0 [q2, q3]"), "{e}");
     assert!(e.contains("skipped:  1 [q5, q6]"), "{e}");
     assert!(e.contains("points:   E"), "{e}");
+    assert!(e.contains("sin/cos:  q2, q3 (read"), "{e}");
     for name in mechgen::SCENES {
         assert!(stdout.contains(&format!("scene {name} ")), "{name}");
     }

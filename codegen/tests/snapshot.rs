@@ -53,8 +53,13 @@ inputs = ["q1"]
 unknowns = ["q2", "s"]
 loops = ["l1*e(q1) + l2*e(q2) - s"]
 params = { l1 = 1.0, l2 = 3.0 }
-points = { B = "l1*e(q1)", C = "s + c(0, 0)" }
+points = { B = "l1*e(q1)", C = "s + c(0, 0)", M = "l1*e(q1) + 0.5*l2*e(q2)" }
 start = { q1 = 0.0, q2 = 0.0, s = 4.0 }
+
+[scene.rod_middle]
+mechanism = "slider"
+outputs = ["M"]
+order = 0
 
 [scene.rod]
 mechanism = "slider"
@@ -111,7 +116,30 @@ fn pruned_scene_snapshot() {
     assert!(!pin.contains("Block "), "{pin}");
     assert!(pin.contains("xd[0]") && !pin.contains("xdd[0]"), "{pin}");
     assert!(pin.contains("PointMotion<T>; 1]"), "one point: {pin}");
+    // `rod` reads q2 itself: its kernel computes the angle. `rod_middle` reads only q2's sine
+    // and cosine (M is on the rod): its tick skips the angle, its `solve` computes it.
+    assert!(!rod.contains("every_angle"), "{rod}");
+    let middle = between(
+        &code,
+        "fn scene_rod_middle_motion(",
+        "fn scene_rod_middle_solve(",
+    )
+    .join("\n");
+    let squeezed = |s: &str| s.split_whitespace().collect::<String>();
+    assert!(middle.contains("every_angle: bool"), "{middle}");
+    assert!(
+        squeezed(&middle).contains("report,every_angle,)?;"),
+        "{middle}"
+    );
+    let calls = between(
+        &code,
+        "fn scene_rod_middle_solve(",
+        "pub fn solve_position(",
+    )
+    .join("\n");
+    assert!(squeezed(&calls).contains("&mutreport,true,)?"), "{calls}");
+    assert!(squeezed(&calls).contains("&mutreport,false,)?"), "{calls}");
     let module = between(&code, "pub mod rod {", "pub mod crank_pin {").join("\n");
-    let snapshot = format!("{rod}\n\n{pin}\n\n{module}\n");
+    let snapshot = format!("{rod}\n\n{pin}\n\n{middle}\n\n{module}\n");
     expect_file!["snapshots/slider_scenes.rs"].assert_eq(&snapshot);
 }

@@ -77,13 +77,7 @@ pub(crate) fn near<T: Real>(q: T, e: (T, T), (c, s): (T, T), tolerance: T) -> T 
     }
 }
 
-/// Solves the dyad block `block` with unknowns `a` and `b` in place. `k` is `K`, `ma` and `mb` the
-/// `(p, r)` of `M_a` and `M_b`, all at the current state; `scale` gives the length scale (asked
-/// for only to report an error). The guess in
-/// `st` picks the branch. Past a dead point (the circles do not meet): `Unassemblable`. The new
-/// angles are the guess's plus the turn to the solution (so whole turns are kept), unless the
-/// guess is so large that f64 (or f32) cannot hold the answer to `tolerance` there: then the
-/// principal value in (−π, π].
+/// Solves the dyad block `block` with unknowns `a` and `b` in place (see [`solve_dyad_angles`]).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn solve_dyad<T: Real, const N: usize>(
@@ -97,6 +91,38 @@ pub fn solve_dyad<T: Real, const N: usize>(
     scale: impl FnOnce() -> T,
     tolerance: T,
     report: &mut NewtonReport<T>,
+) -> Result<(), SolveError> {
+    solve_dyad_angles(
+        block, st, a, b, k, ma, mb, scale, tolerance, report, [true; 2],
+    )
+}
+
+/// Solves the dyad block `block` with unknowns `a` and `b` in place. `k` is `K`, `ma` and `mb` the
+/// `(p, r)` of `M_a` and `M_b`, all at the current state; `scale` gives the length scale (asked
+/// for only to report an error). The guess in
+/// `st` picks the branch. Past a dead point (the circles do not meet): `Unassemblable`. The new
+/// angles are the guess's plus the turn to the solution (so whole turns are kept), unless the
+/// guess is so large that f64 (or f32) cannot hold the answer to `tolerance` there: then the
+/// principal value in (−π, π].
+///
+/// `values[i]` says whether the caller reads angle `i` itself (`a`, then `b`); where it does
+/// not, the angle is left as it was and only its sine and cosine are solved. Generated code
+/// passes constants, so an angle nobody reads costs nothing: a scene whose outputs read only the
+/// sines and cosines of a link (a point on it) skips the turn series (or `atan2`).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn solve_dyad_angles<T: Real, const N: usize>(
+    block: usize,
+    st: &mut TrigState<T, N>,
+    a: usize,
+    b: usize,
+    k: [T; 2],
+    ma: (T, T),
+    mb: (T, T),
+    scale: impl FnOnce() -> T,
+    tolerance: T,
+    report: &mut NewtonReport<T>,
+    values: [bool; 2],
 ) -> Result<(), SolveError> {
     let (ga, gb) = (st.sc[a], st.sc[b]);
     let (ea, eb) = ((ga.1, ga.0), (gb.1, gb.0));
@@ -180,12 +206,19 @@ pub fn solve_dyad<T: Real, const N: usize>(
     };
     let (ca, sa) = unapply(ma, pure_a, big_a);
     let (cb, sb) = unapply(mb, pure_b, big_b);
-    let (qa, qb) = near_pair(
-        (st.q[a], st.q[b]),
-        (ea, eb),
-        ((ca, sa), (cb, sb)),
-        tolerance,
-    );
+    // An angle not read stays as it was.
+    let (value_a, value_b) = (values[0], values[1]);
+    let (qa, qb) = match (value_a, value_b) {
+        (true, true) => near_pair(
+            (st.q[a], st.q[b]),
+            (ea, eb),
+            ((ca, sa), (cb, sb)),
+            tolerance,
+        ),
+        (true, false) => (near(st.q[a], ea, (ca, sa), tolerance), st.q[b]),
+        (false, true) => (st.q[a], near(st.q[b], eb, (cb, sb), tolerance)),
+        (false, false) => (st.q[a], st.q[b]),
+    };
     // The sines and cosines are at most 1 and the angles below tolerance / ε: the sum cannot
     // overflow, so it is finite exactly when all four are.
     if !(qa + qb + ca + sb).is_finite() {
@@ -296,5 +329,41 @@ mod tests {
             reach((0.0, 0.0), 0.1, -0.1),
             Err(SolveError::Singular { .. })
         ));
+    }
+
+    #[test]
+    fn an_angle_not_read_is_left_as_it_was() {
+        // Every combination gives the full solve's sines and cosines, and its angles where
+        // they are read; the others keep the guess.
+        let (k, ma, mb) = ([-0.7, -1.1], (0.6, 0.8), (1.1, 0.0));
+        let guess = TrigState::new([0.2, 2.0], [true, true]);
+        let solve = |values: [bool; 2]| {
+            let mut st = guess;
+            let mut report = NewtonReport::new();
+            solve_dyad_angles(
+                0,
+                &mut st,
+                0,
+                1,
+                k,
+                ma,
+                mb,
+                || 1.0,
+                1e-12,
+                &mut report,
+                values,
+            )
+            .expect("assembles");
+            st
+        };
+        let full = solve([true; 2]);
+        for values in [[false, false], [true, false], [false, true]] {
+            let st = solve(values);
+            assert_eq!(st.sc, full.sc);
+            for i in 0..2 {
+                let expect = if values[i] { full.q[i] } else { guess.q[i] };
+                assert_eq!(st.q[i], expect, "{values:?}");
+            }
+        }
     }
 }

@@ -30,6 +30,7 @@ pub mod info;
 pub mod mechanism;
 pub mod scalar;
 pub mod scene;
+pub mod scene_tick;
 pub mod solve;
 pub mod tick;
 pub mod trig;
@@ -43,6 +44,7 @@ pub use mechanism::{Array, InputMotion, RowMajor, Solved, StaticMechanism, Stati
 pub use nalgebra;
 pub use scalar::Real;
 pub use scene::{Scene, SceneDescription, SceneInfo, SceneKinematics, SceneVisitor};
+pub use scene_tick::SceneTick;
 pub use solve::{NewtonOptions, NewtonReport, SolveOptions};
 pub use tick::{Solution, Tick, TickState};
 
@@ -52,7 +54,7 @@ pub use tick::{Solution, Tick, TickState};
 #[doc(hidden)]
 pub mod __private {
     pub use crate::closed_form;
-    pub use crate::dyad::solve_dyad;
+    pub use crate::dyad::{solve_dyad, solve_dyad_angles};
     pub use crate::dynamic::DynMechanism;
     pub use crate::elimination::factor_block;
     pub use crate::error::{Quantity, SolveError, Stage};
@@ -60,7 +62,10 @@ pub mod __private {
     pub use crate::mechanism::{InputMotion, Solved, StaticMechanism, StaticVisitor};
     pub use crate::scalar::Real;
     pub use crate::scene::{Scene, SceneInfo, SceneKinematics, SceneVisitor};
-    pub use crate::solve::{NewtonOptions, NewtonReport, SolveOptions, check_finite, newton_block};
+    pub use crate::scene_tick::{SceneTick, scene_tick, scene_tick_state, scene_tick_state_mut};
+    pub use crate::solve::{
+        NewtonOptions, NewtonReport, SolveOptions, check_finite, check_finite_in, newton_block,
+    };
     pub use crate::tick::{Solution, Tick};
     pub use crate::trig::TrigState;
     pub use nalgebra;

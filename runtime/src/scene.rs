@@ -24,6 +24,9 @@ pub struct SceneInfo {
     pub blocks: &'static [usize],
     /// Unknowns the kept blocks solve (indices into the mechanism's unknowns).
     pub solved: &'static [usize],
+    /// Angles of kept closed-form blocks that no output reads itself (only through their sines
+    /// and cosines, as a point on the link does): a tick solves their sines and cosines only.
+    pub angles_skipped: &'static [usize],
     /// Output unknowns and points, by name.
     pub unknowns: &'static [&'static str],
     pub points: &'static [&'static str],
@@ -41,6 +44,7 @@ pub struct SceneDescription {
     pub order: u8,
     pub blocks: Vec<usize>,
     pub solved: Vec<usize>,
+    pub angles_skipped: Vec<usize>,
     pub unknowns: Vec<String>,
     pub points: Vec<String>,
     pub columns: Vec<String>,
@@ -55,6 +59,7 @@ impl From<&SceneInfo> for SceneDescription {
             order: s.order,
             blocks: s.blocks.to_vec(),
             solved: s.solved.to_vec(),
+            angles_skipped: s.angles_skipped.to_vec(),
             unknowns: strings(s.unknowns),
             points: strings(s.points),
             columns: strings(s.columns),

@@ -106,6 +106,18 @@ pub fn check_finite<T: Real>(quantity: Quantity, values: &[T]) -> Result<(), Sol
     }
 }
 
+/// [`check_finite`] over the values with `mask[i]` only (a scene checks the params it reads).
+pub fn check_finite_in<T: Real, const N: usize>(
+    quantity: Quantity,
+    values: &[T; N],
+    mask: [bool; N],
+) -> Result<(), SolveError> {
+    match (0..N).find(|&i| mask[i] && !values[i].is_finite()) {
+        Some(index) => Err(SolveError::NonFinite { quantity, index }),
+        None => Ok(()),
+    }
+}
+
 /// A step counts as progress when it is below this fraction of the smallest step so far. Newton
 /// converges quadratically at a regular solution and linearly (ratio 1/2) at a dead point, so a
 /// converging run makes progress at every iteration.

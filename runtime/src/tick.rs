@@ -147,10 +147,19 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
     /// tick checks params it has not seen). A NaN param is never the same.
     #[inline]
     pub fn same_params(&self, params: &[T; NPAR]) -> bool {
-        // Branch-free, so that it compiles to a few vector compares.
+        self.same_params_in(params, [true; NPAR])
+    }
+
+    /// [`Tick::same_params`] over the params with `read[i]` only: a scene compares the params its
+    /// code reads (the others cannot change its results, and its caches hold none of them).
+    #[inline(always)]
+    pub fn same_params_in(&self, params: &[T; NPAR], read: [bool; NPAR]) -> bool {
+        // Branch-free, so that it compiles to a few compares (none for a param not read).
         let mut same = true;
         for i in 0..NPAR {
-            same &= self.params[i] == params[i];
+            if read[i] {
+                same &= self.params[i] == params[i];
+            }
         }
         same
     }
@@ -183,6 +192,28 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
             }
         }
         tx
+    }
+
+    /// The last tick's unknowns with their sines and cosines, as the guess of a tick whose
+    /// blocks are all solved in closed form (nothing to predict: a closed form reads the guess
+    /// only for its branch and measures its turn from it, and its sines and cosines are exact,
+    /// so they need no resync and stay valid when the params change).
+    #[inline(always)]
+    pub fn carried(&self, angle: [bool; NU]) -> TrigState<T, NU> {
+        TrigState::from_parts(self.q, self.tq, angle)
+    }
+
+    /// Sets each unknown with `mask[k]` to the principal value of its cached sine and cosine. A
+    /// scene's tick leaves the angle of a closed-form block stale when it reads only its sine and
+    /// cosine; before a Newton solve predicts from it (closed forms off) it is made whole again
+    /// (its whole turns are lost, which nothing of that scene reads).
+    #[inline]
+    pub fn principal_angles(&mut self, mask: [bool; NU]) {
+        for k in 0..NU {
+            if mask[k] {
+                self.q[k] = self.tq[k].0.atan2(self.tq[k].1);
+            }
+        }
     }
 
     /// The guess for input `x`: q + q̇ dt + q̈ dt²/2, dt fitted to the change of the inputs over
@@ -222,14 +253,13 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         if !q.iter().all(|v| v.is_finite()) {
             q = self.q;
         }
-        if !same_params {
-            return TrigState::new(q, angle);
-        }
-        let resync = self.resync();
+        // Kept unknowns keep their sines and cosines (a closed form's are exact, and a scene
+        // may have left such an angle's value stale).
+        let fresh = !same_params || self.resync();
         let mut sc = self.tq;
         for k in 0..NU {
             if angle[k] && !keep[k] {
-                sc[k] = if resync {
+                sc[k] = if fresh {
                     sin_cos_cold(q[k])
                 } else {
                     rotate(self.tq[k], q[k], self.q[k] - q[k])
@@ -274,5 +304,65 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
             self.params = *params;
             self.tp = *tp;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A tick whose unknown 0 (a closed form's angle, true value 2.0) holds a stale value, as a
+    /// scene leaves it, with the exact sine and cosine; unknown 1 is predicted (rate 1).
+    fn stale_tick() -> Tick<f64, 1, 2, 0, 1> {
+        Tick::new(Solution {
+            x: [0.0],
+            xd: [1.0],
+            q: [0.0, 1.0],
+            qd: [0.0, 1.0],
+            qdd: [0.0, 0.0],
+            points: [],
+            report: NewtonReport::new(),
+            tx: [(0.0, 1.0)],
+            tq: [2.0f64.sin_cos(), 1.0f64.sin_cos()],
+            tp: [(0.0, 1.0)],
+            params: [1.0],
+        })
+    }
+
+    #[test]
+    fn kept_unknowns_keep_their_sines_and_cosines_when_the_params_change() {
+        let t = stale_tick();
+        assert!(t.same_params(&[1.0]) && !t.same_params(&[2.0]));
+        for same in [true, false] {
+            let st = t.predicted(&[0.1], [true, true], [true, false], same);
+            assert_eq!(
+                (st.q[0], st.sc[0]),
+                (0.0, 2.0f64.sin_cos()),
+                "same = {same}"
+            );
+            let (s, c) = 1.1f64.sin_cos();
+            assert!((st.q[1] - 1.1).abs() < 1e-15);
+            assert!((st.sc[1].0 - s).abs() < 1e-15 && (st.sc[1].1 - c).abs() < 1e-15);
+        }
+        assert_eq!(
+            t.carried([true, true]).sc,
+            [2.0f64.sin_cos(), 1.0f64.sin_cos()]
+        );
+    }
+
+    #[test]
+    fn principal_angles_come_from_the_cached_sines_and_cosines() {
+        let mut t = stale_tick();
+        t.principal_angles([true, false]);
+        assert!((t.q[0] - 2.0).abs() < 1e-15);
+        assert_eq!(t.q[1], 1.0);
+    }
+
+    #[test]
+    fn only_the_params_read_are_compared() {
+        let t = stale_tick();
+        assert!(t.same_params_in(&[5.0], [false]));
+        assert!(!t.same_params_in(&[5.0], [true]));
+        assert!(!t.same_params_in(&[f64::NAN], [true]));
     }
 }

@@ -108,5 +108,16 @@ fn print_scene(s: &SceneDescription, info: &MechanismInfo) {
     say!("  keeps:    {}", none(&kept));
     say!("  skipped:  {}", none(&skipped));
     say!("  points:   {}", none(&s.points));
+    if !s.angles_skipped.is_empty() {
+        let names: Vec<&str> = s
+            .angles_skipped
+            .iter()
+            .map(|&u| info.unknowns[u].name.as_str())
+            .collect();
+        say!(
+            "  sin/cos:  {} (read through their sines and cosines only: a tick skips the angles)",
+            names.join(", ")
+        );
+    }
     say!("  columns:  {}", s.columns.join(", "));
 }

@@ -69,6 +69,7 @@ pub(super) fn solve<T: Real>(
             sc,
             tolerance,
             report,
+            true,
         ),
         ClosedForm::Rpr { .. } => solve_rpr(
             block,
@@ -81,6 +82,7 @@ pub(super) fn solve<T: Real>(
             sc,
             tolerance,
             report,
+            true,
         ),
         ClosedForm::Linear2 { .. } => solve_linear2(
             block,
@@ -91,9 +93,17 @@ pub(super) fn solve<T: Real>(
             [v[4], v[5]],
             report,
         ),
-        ClosedForm::Angle1 { .. } => {
-            solve_angle1(block, &mut st, 0, v[0], (v[1], v[2]), sc, tolerance, report)
-        }
+        ClosedForm::Angle1 { .. } => solve_angle1(
+            block,
+            &mut st,
+            0,
+            v[0],
+            (v[1], v[2]),
+            sc,
+            tolerance,
+            report,
+            true,
+        ),
         ClosedForm::Length1 { .. } => solve_length1(block, &mut st, 0, v[0], v[1]),
     }
     .map_err(|e| match e {

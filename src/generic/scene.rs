@@ -44,6 +44,9 @@ impl SceneTapes {
                 order,
                 blocks: plan.blocks.clone(),
                 solved: plan.solved_unknowns(c),
+                // The generic engine computes every angle; what a generated tick skips is listed
+                // all the same, so that `check` describes the scene the same way.
+                angles_skipped: plan.angles_skipped(c),
                 unknowns: plan
                     .unknowns
                     .iter()

@@ -5,10 +5,10 @@
 
 use mechgen::generic::Generic;
 use mechgen::sweep::{Continuation, Row, sweep};
+use mechgen::{Array, Scene, SceneKinematics, SceneVisitor, lookup, lookup_scene};
 use mechgen::{
     DynMechanism, InputMotion, Kind, MechanismInfo, PointMotion, SceneDescription, SolveOptions,
 };
-use mechgen::{SceneKinematics, lookup, lookup_scene};
 
 /// The columns interfaces.md asks for: per unknown `u`, `u_vel`, `u_acc`; per point `P_x, P_y`,
 /// `P_vx, P_vy`, `P_ax, P_ay`; each up to the order; unknowns first, then points.
@@ -194,4 +194,78 @@ pub fn check_compiled_in_scenes() -> Vec<String> {
         }
     }
     fails
+}
+
+/// Ticks every compiled-in scene along its mechanism's sweep, closed forms switched off for three
+/// ticks out of every ten (a tick skips the angles its outputs do not read; Newton then predicts
+/// from them), and compares each tick's outputs with the scene's `solve` at the same input from
+/// the sweep's configuration (Newton stops at its tolerance: 1e-9 relative). Returns the failures.
+pub fn check_compiled_in_scene_ticks() -> Vec<String> {
+    let mut v = Ticks {
+        fails: Vec::new(),
+        visited: Vec::new(),
+    };
+    mechgen::visit_scenes(&mut v);
+    if v.visited != mechgen::SCENES {
+        v.fails.push(format!(
+            "visited {:?}, listed {:?}",
+            v.visited,
+            mechgen::SCENES
+        ));
+    }
+    v.fails
+}
+
+struct Ticks {
+    fails: Vec<String>,
+    visited: Vec<&'static str>,
+}
+
+impl SceneVisitor<f64> for Ticks {
+    fn visit<S: Scene<f64> + 'static>(&mut self, scene: &S) {
+        self.visited.push(S::NAME);
+        let full = lookup::<f64>(scene.info().mechanism).expect("its mechanism");
+        let rows = full_sweep(full.as_ref());
+        let closed = SolveOptions::default();
+        let newton = SolveOptions {
+            closed_forms: false,
+            ..SolveOptions::default()
+        };
+        let mut tick: Option<S::Tick> = None;
+        for (i, r) in rows.iter().enumerate() {
+            let Ok(solved) = &r.result else { break };
+            let (mut x, mut xd) = (S::X::zeros(), S::X::zeros());
+            x.as_mut().copy_from_slice(&[r.input]);
+            xd.as_mut()[0] = 1.0;
+            let input = InputMotion::new(x, xd, S::X::zeros());
+            let mut q = S::Q::zeros();
+            q.as_mut().copy_from_slice(&solved.q);
+            let options = if i % 10 < 3 { &newton } else { &closed };
+            let step = match &mut tick {
+                None => scene
+                    .tick_start(&input, &q, options)
+                    .map(|t| &*tick.insert(t)),
+                Some(t) => scene.tick(t, &input, options).map(|()| &*t),
+            };
+            let got = match step {
+                Ok(t) => scene.outputs(t),
+                Err(e) => {
+                    self.fails
+                        .push(format!("{} tick at {}: {e}", S::NAME, r.input));
+                    return;
+                }
+            };
+            let (want, _) = scene.solve(&input, &mut q, &closed).expect("solves");
+            for (c, (a, b)) in got.as_ref().iter().zip(want.as_ref()).enumerate() {
+                let close = (a - b).abs() <= 1e-9 * b.abs().max(1.0);
+                if !close {
+                    self.fails.push(format!(
+                        "{} tick at {}: column {c}: {a} vs {b}",
+                        S::NAME,
+                        r.input
+                    ));
+                }
+            }
+        }
+    }
 }

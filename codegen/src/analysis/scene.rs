@@ -8,7 +8,8 @@
 //! unknown an output point reads does too.
 
 use super::Compiled;
-use crate::ir::dag::Var;
+use super::closed_form::ClosedForm;
+use crate::ir::dag::{Node, NodeId, Var};
 use crate::sema::model::Scene;
 
 /// How far a scene differentiates.
@@ -56,6 +57,114 @@ impl ScenePlan {
             .iter()
             .flat_map(|&b| c.blocks[b].block.unknowns.iter().copied())
             .collect()
+    }
+}
+
+impl ScenePlan {
+    /// The params the scene's code reads (`read[i]` for base param `i`): those in its kept
+    /// blocks' equations and in its points' expressions. Derivatives read no other params, so
+    /// these are all a scene's results depend on (a Newton block's tolerance scale aside, which
+    /// reads every length param and changes no converged result); a tick compares only these.
+    pub fn params_read(&self, c: &Compiled) -> Vec<bool> {
+        let mut read = vec![false; c.model.params.len()];
+        let equations = self
+            .blocks
+            .iter()
+            .flat_map(|&b| c.blocks[b].block.equations.iter())
+            .map(|&e| c.system.residuals[e]);
+        let points = self.points.iter().flat_map(|&p| c.system.points[p]);
+        for root in equations.chain(points) {
+            for v in c.system.dag.vars_of(root) {
+                if let Var::P(i) = v {
+                    read[usize::from(i)] = true;
+                }
+            }
+        }
+        read
+    }
+}
+
+impl ScenePlan {
+    /// Per unknown: whether the scene reads its value itself, not only through its sine and
+    /// cosine (an output unknown; a point, Jacobian entry, right-hand side or closed-form root of
+    /// the scene's orders and kept blocks that reads it outside `sin`/`cos`; every unknown of a
+    /// kept Newton block). A closed-form block may skip an angle nobody reads (only its sine and
+    /// cosine are needed, to place a point on the link, say). Conservative: whole Jacobian rows of
+    /// the kept equations are counted.
+    pub fn values_read(&self, c: &Compiled) -> Vec<bool> {
+        let dag = &c.system.dag;
+        let d = &c.derivatives;
+        let order = self.order.as_number();
+        let mut read = vec![false; c.model.unknowns.len()];
+        let mut roots: Vec<NodeId> = Vec::new();
+        for &u in &self.unknowns {
+            read[u] = true;
+        }
+        for &b in &self.blocks {
+            let bf = &c.blocks[b];
+            match &bf.closed_form {
+                Some(cf) => roots.extend_from_slice(cf.roots()),
+                None => bf.block.unknowns.iter().for_each(|&u| read[u] = true),
+            }
+            for &e in &bf.block.equations {
+                roots.push(c.system.residuals[e]);
+                if order >= 1 {
+                    roots.extend(&d.jacobian[e]);
+                    roots.extend(&d.input_jacobian[e]);
+                    roots.push(d.velocity_rhs[e]);
+                }
+                if order >= 2 {
+                    roots.extend(&d.jacobian_dot[e]);
+                    roots.push(d.acceleration_rhs[e]);
+                }
+            }
+        }
+        for &p in &self.points {
+            roots.extend(c.system.points[p]);
+            if order >= 1 {
+                roots.extend(d.point_velocity[p]);
+            }
+            if order >= 2 {
+                roots.extend(d.point_acceleration[p]);
+            }
+        }
+        // A walk that does not step from a sine or cosine into its unknown.
+        let mut seen = vec![false; dag.len()];
+        while let Some(n) = roots.pop() {
+            if std::mem::replace(&mut seen[n.index()], true) {
+                continue;
+            }
+            match dag.node(n) {
+                Node::Var(Var::Q(k)) => read[usize::from(k)] = true,
+                Node::Sin(a) | Node::Cos(a) if matches!(dag.node(a), Node::Var(Var::Q(_))) => {}
+                node => roots.extend(node.children()),
+            }
+        }
+        read
+    }
+}
+
+impl ScenePlan {
+    /// The angles of kept closed-form blocks (RRR, RRP, RPR, one angle) whose value the scene does
+    /// not read ([`ScenePlan::values_read`]), in unknown order: its tick solves only their sines
+    /// and cosines.
+    pub fn angles_skipped(&self, c: &Compiled) -> Vec<usize> {
+        let read = self.values_read(c);
+        let mut skipped: Vec<usize> = self
+            .blocks
+            .iter()
+            .filter_map(|&b| c.blocks[b].closed_form.as_ref())
+            .flat_map(|cf| match *cf {
+                ClosedForm::Rrr(ref d) => vec![d.a, d.b],
+                ClosedForm::Rrp { q, .. }
+                | ClosedForm::Rpr { q, .. }
+                | ClosedForm::Angle1 { q, .. } => vec![q],
+                ClosedForm::Linear2 { .. } | ClosedForm::Length1 { .. } => vec![],
+            })
+            .filter(|&u| !read[u])
+            .collect();
+        skipped.sort_unstable();
+        skipped
     }
 }
 
@@ -219,6 +328,52 @@ order = 2
                 "q6", "q6_vel", "q6_acc", "F_x", "F_y", "F_vx", "F_vy", "F_ax", "F_ay"
             ]
         );
+    }
+
+    #[test]
+    fn params_read_are_those_of_the_kept_equations_and_points() {
+        let (c, plans) = plans();
+        let names = |p: &ScenePlan| -> Vec<String> {
+            let read = p.params_read(&c[0]);
+            (c[0].model.params.iter().zip(read))
+                .filter(|(_, r)| *r)
+                .map(|(p, _)| p.name.text.clone())
+                .collect()
+        };
+        // E reads l2e and alpha besides the four-bar loop's lengths; the dyad's are not read.
+        assert_eq!(names(&plans[0]), ["l1", "l2", "l3", "l4", "l2e", "alpha"]);
+        assert_eq!(names(&plans[1]), ["l1", "l2", "l3", "l4"]);
+        assert_eq!(names(&plans[2]).len(), 10);
+    }
+
+    #[test]
+    fn values_read_skip_angles_read_through_sin_and_cos_only() {
+        let (c, plans) = plans();
+        let read = |p: &ScenePlan| p.values_read(&c[0]);
+        // E reads q2 through its sine and cosine only, and nothing reads q3: the dyad skips both.
+        assert_eq!(read(&plans[0]), [false; 4]);
+        // q3 is an output; its rates read sines and cosines only.
+        assert_eq!(read(&plans[1]), [false, true, false, false]);
+        assert_eq!(read(&plans[2]), [false, false, false, true]);
+        let skipped = |p: &ScenePlan| p.angles_skipped(&c[0]);
+        assert_eq!(skipped(&plans[0]), [0, 1]);
+        assert_eq!(skipped(&plans[1]), [0]);
+        assert_eq!(skipped(&plans[2]), [0, 1, 2]);
+    }
+
+    #[test]
+    fn an_unknown_read_outside_sin_and_cos_is_read() {
+        // A point that reads q2 itself (a rolling contact's arc length, say).
+        let file = FILE
+            .replace(
+                r#"F = "c(xg, yg) + l6*e(q6)" }"#,
+                r#"F = "c(xg, yg) + l6*e(q6)", R = "c(l2*q2, 0)" }"#,
+            )
+            .replace(r#"outputs = ["E"]"#, r#"outputs = ["R"]"#);
+        let (c, diags) = analyze(&SourceFile::new("s.toml", &file));
+        assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
+        let plans = plan_scenes(&c);
+        assert_eq!(plans[0].values_read(&c[0]), [true, false, false, false]);
     }
 
     #[test]

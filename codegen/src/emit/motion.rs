@@ -9,6 +9,7 @@ use quote::{format_ident, quote};
 
 use crate::analysis::Compiled;
 use crate::emit::body::{Builder, VarSource};
+use crate::emit::closed::AngleValues;
 use crate::emit::comment;
 use crate::ir::dag::Var;
 use crate::sema::model::Kind;
@@ -52,6 +53,7 @@ fn position_steps(
     blocks: &[usize],
     b: &mut Builder,
     rt: &TokenStream,
+    values: AngleValues,
 ) -> TokenStream {
     let m = &c.model;
     let mut steps = TokenStream::new();
@@ -70,7 +72,7 @@ fn position_steps(
             Some(cf) => {
                 let seg = b.segment(cf.roots());
                 let stmts = &seg.stmts;
-                let call = crate::emit::closed::kernel_call(rt, bi, cf, &seg.roots);
+                let call = crate::emit::closed::kernel_call(rt, bi, cf, &seg.roots, values);
                 let kind = crate::emit::closed::kind_text(cf);
                 steps.extend(comment(&format!("Block {bi}: {kind}.")));
                 steps.extend(quote! {
@@ -170,7 +172,13 @@ pub(crate) fn stages(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
     let (ni, nu, _, npar) = crate::emit::sizes(&c.model);
     let fused = Fused(cached);
     let all: Vec<usize> = (0..c.blocks.len()).collect();
-    let position = position_steps(c, &all, &mut Builder::new(dag, &fused), rt);
+    let position = position_steps(
+        c,
+        &all,
+        &mut Builder::new(dag, &fused),
+        rt,
+        AngleValues::All,
+    );
     let velocity = rate_steps(
         c,
         &all,
@@ -227,6 +235,10 @@ pub(crate) struct Subset<'a> {
     /// The function's name and visibility (a scene's is called from its own module).
     pub name: Ident,
     pub vis: TokenStream,
+    /// Per unknown, whether its value is read (`ScenePlan::values_read`); `None`: all are. A
+    /// scene's body then takes an `every_angle: bool` argument, and its dyads compute the angles
+    /// nobody reads only when it is true (the scene's `solve` passes true, its `tick` false).
+    pub values_read: Option<&'a [bool]>,
 }
 
 /// `fn motion_cached(…) -> ::core::result::Result<(q̇, q̈, points), SolveError>`, inside the mechanism's impl.
@@ -239,6 +251,7 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
         points: &points,
         name: format_ident!("motion_cached"),
         vis: TokenStream::new(),
+        values_read: None,
     };
     motion_subset(c, cached, rt, &sub)
 }
@@ -258,7 +271,16 @@ pub(crate) fn motion_subset(
     let np = sub.points.len();
     let fused = Fused(cached);
     let mut b = Builder::new(dag, &fused);
-    let mut steps = position_steps(c, sub.blocks, &mut b, rt);
+    let every = quote!(every_angle);
+    let values = match sub.values_read {
+        Some(read) => AngleValues::Read {
+            read,
+            every: &every,
+        },
+        None => AngleValues::All,
+    };
+    let mut steps = position_steps(c, sub.blocks, &mut b, rt, values);
+    let every_arg = sub.values_read.map(|_| quote!(every_angle: bool,));
     let rates = [None, Some(Rates::Velocity), Some(Rates::Both)][usize::from(sub.order.min(2))];
     if let Some(rates) = rates {
         steps.extend(rate_steps(c, sub.blocks, &mut b, rt, gt, rates));
@@ -298,7 +320,7 @@ pub(crate) fn motion_subset(
         #[inline(always)]
         #vis fn #name(&self, x: &[#gt; #ni], st: &mut #rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
             tp: &[(#gt, #gt); #npar], xd: &[#gt; #ni], xdd: &[#gt; #ni], options: &#rt::SolveOptions<#gt>,
-            report: &mut #rt::NewtonReport<#gt>)
+            report: &mut #rt::NewtonReport<#gt>, #every_arg)
             -> ::core::result::Result<([#gt; #nu], [#gt; #nu], [#rt::PointMotion<#gt>; #np]), #rt::SolveError> {
             #qd_let
             #qdd_let

@@ -42,15 +42,43 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
         let plan = plan_scene(c, scene);
         let np = plan.points.len();
         let motion_fn = method(&plan, "motion");
+        let values_read = plan.values_read(c);
+        let angles_skipped = plan.angles_skipped(c);
+        let skipped: Vec<bool> = (0..c.model.unknowns.len())
+            .map(|k| angles_skipped.contains(&k))
+            .collect();
         let sub = Subset {
             blocks: &plan.blocks,
             order: plan.order.as_number(),
             points: &plan.points,
             name: motion_fn.clone(),
             vis: quote!(#[doc(hidden)] pub(super)),
+            // Only a body with an angle to skip takes `every_angle`.
+            values_read: skipped.iter().any(|&k| k).then_some(&values_read[..]),
         };
+        let every = |value: bool| sub.values_read.map(|_| quote!(, #value));
+        let (every_true, every_false) = (every(true), every(false));
         let body = motion_subset(c, cached, rt, &sub);
         let (angle, keep_closed, keep_newton) = masks(c, &plan);
+        let read = plan.params_read(c);
+        // Every kept block in closed form: with closed forms on, the guess is the last tick's
+        // state as it is (nothing to predict, no sines or cosines to rotate).
+        // Closed forms off: angles a tick left stale are made whole before Newton predicts.
+        let whole = skipped
+            .iter()
+            .any(|&k| k)
+            .then(|| quote!(if !options.closed_forms { t.principal_angles([#(#skipped),*]); }));
+        let guess = if keep_closed.iter().all(|&k| k) {
+            quote! {
+                if options.closed_forms { t.carried([#(#angle),*]) }
+                else { t.predicted(x, [#(#angle),*], [#(#keep_newton),*], same) }
+            }
+        } else {
+            quote! {
+                if options.closed_forms { t.predicted(x, [#(#angle),*], [#(#keep_closed),*], same) }
+                else { t.predicted(x, [#(#angle),*], [#(#keep_newton),*], same) }
+            }
+        };
         let (solve_fn, start_fn, tick_fn) = (
             method(&plan, "solve"),
             method(&plan, "tick_start"),
@@ -73,7 +101,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
             pub(super) fn #solve_fn(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], q: &mut [#gt; #nu],
                 options: &#rt::SolveOptions<#gt>)
                 -> ::core::result::Result<([#gt; #nu], [#gt; #nu], [#rt::PointMotion<#gt>; #np], #rt::NewtonReport<#gt>), #rt::SolveError> {
-                #rt::check_finite(#rt::Quantity::Param, &self.params.to_array())?;
+                #rt::check_finite_in(#rt::Quantity::Param, &self.params.to_array(), [#(#read),*])?;
                 #rt::check_finite(#rt::Quantity::Input, x)?;
                 #rt::check_finite(#rt::Quantity::Guess, q)?;
                 #rt::check_finite(#rt::Quantity::InputRate, xd)?;
@@ -81,33 +109,36 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
                 let (tx, tp) = self.trig_fixed(x);
                 let mut st = #rt::TrigState::new(*q, [#(#angle),*]);
                 let mut report = #rt::NewtonReport::new();
-                let (qd, qdd, points) = self.#motion_fn(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+                let (qd, qdd, points) = self.#motion_fn(x, &mut st, &tx, &tp, xd, xdd, options, &mut report #every_true)?;
                 *q = st.q;
                 Ok((qd, qdd, points, report))
             }
 
             #[doc(hidden)]
             pub(super) fn #start_fn(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], guess: &[#gt; #nu],
-                options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<#rt::Tick<#gt, #ni, #nu, #np, #npar>, #rt::SolveError> {
+                options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<#rt::SceneTick<#gt, #ni, #nu, #np, #npar>, #rt::SolveError> {
                 let mut q = *guess;
                 let (qd, qdd, points, report) = self.#solve_fn(x, xd, xdd, &mut q, options)?;
                 let (tx, tp) = self.trig_fixed(x);
                 let st = #rt::TrigState::new(q, [#(#angle),*]);
-                Ok(#rt::Tick::new(#rt::Solution { x: *x, xd: *xd, q, qd, qdd, points, report,
-                    tx, tq: st.sc, tp, params: self.params.to_array() }))
+                Ok(#rt::scene_tick(#rt::Tick::new(#rt::Solution { x: *x, xd: *xd, q, qd, qdd, points, report,
+                    tx, tq: st.sc, tp, params: self.params.to_array() })))
             }
 
             #[doc(hidden)]
-            pub(super) fn #tick_fn(&self, t: &mut #rt::Tick<#gt, #ni, #nu, #np, #npar>, x: &[#gt; #ni], xd: &[#gt; #ni],
+            pub(super) fn #tick_fn(&self, t: &mut #rt::SceneTick<#gt, #ni, #nu, #np, #npar>, x: &[#gt; #ni], xd: &[#gt; #ni],
                 xdd: &[#gt; #ni], options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
+                let t = #rt::scene_tick_state_mut(t);
                 let params = self.params.to_array();
-                let same = t.same_params(&params);
+                // Only the params the scene reads (its caches hold no other).
+                let same = t.same_params_in(&params, [#(#read),*]);
                 if !same {
-                    #rt::check_finite(#rt::Quantity::Param, &params)?;
+                    #rt::check_finite_in(#rt::Quantity::Param, &params, [#(#read),*])?;
                 }
                 #rt::check_finite(#rt::Quantity::Input, x)?;
                 #rt::check_finite(#rt::Quantity::InputRate, xd)?;
                 #rt::check_finite(#rt::Quantity::InputAcceleration, xdd)?;
+                #whole
                 let mut fresh_tp = None;
                 let (tx, tp) = if same {
                     (t.inputs_trig(x, [#(#x_trig),*]), t.params_trig())
@@ -115,10 +146,9 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
                     let (tx, tp) = self.trig_fixed(x);
                     (tx, &*fresh_tp.insert(tp))
                 };
-                let keep = if options.closed_forms { [#(#keep_closed),*] } else { [#(#keep_newton),*] };
-                let mut st = t.predicted(x, [#(#angle),*], keep, same);
+                let mut st = #guess;
                 let mut report = #rt::NewtonReport::new();
-                let (qd, qdd, points) = self.#motion_fn(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+                let (qd, qdd, points) = self.#motion_fn(x, &mut st, &tx, tp, xd, xdd, options, &mut report #every_false)?;
                 t.update(x, xd, &st, qd, qdd, points, report, tx, fresh_tp.as_ref().map(|tp| (&params, tp)));
                 Ok(())
             }
@@ -200,6 +230,7 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
     let order = proc_macro2::Literal::u8_unsuffixed(plan.order.as_number());
     let blocks = &plan.blocks;
     let solved = plan.solved_unknowns(c);
+    let skipped = plan.angles_skipped(c);
     let unknown_names = plan.unknowns.iter().map(|&u| &m.unknowns[u].name.text);
     let point_names = plan.points.iter().map(|&p| &m.points[p].0.text);
     let doc = format!(
@@ -241,6 +272,7 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
                 order: #order,
                 blocks: &[#(#blocks),*],
                 solved: &[#(#solved),*],
+                angles_skipped: &[#(#skipped),*],
                 unknowns: &[#(#unknown_names),*],
                 points: &[#(#point_names),*],
                 columns: &[#(#col_names),*],
@@ -255,9 +287,9 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
                 pub fn to_array(&self) -> [#gt; #ncols] { [#(self.#field_ids),*] }
             }
 
-            /// The state between ticks: the mechanism's unknowns (only the kept blocks' are
-            /// solved), their rates up to the scene's order, the scene's points.
-            pub type #tick_ty<#gt> = #rt::Tick<#gt, #ni, #nu, #np, #npar>;
+            /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
+            /// their rates up to the scene's order, the scene's points, and the caches.
+            pub type #tick_ty<#gt> = #rt::SceneTick<#gt, #ni, #nu, #np, #npar>;
 
             #[doc = #doc]
             #[derive(Clone, Copy, Debug, PartialEq)]
@@ -308,7 +340,10 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
                 }
 
                 /// The outputs of a tick state.
-                pub fn outputs(t: &#tick_ty<#gt>) -> #outputs_ty<#gt> { Self::outputs_of(&t.q, &t.qd, &t.qdd, &t.points) }
+                pub fn outputs(t: &#tick_ty<#gt>) -> #outputs_ty<#gt> {
+                    let s = #rt::scene_tick_state(t);
+                    Self::outputs_of(&s.q, &s.qd, &s.qdd, &s.points)
+                }
             }
 
             impl<#gt: #rt::Real> #rt::Scene<#gt> for #ty<#gt> {

@@ -159,6 +159,19 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
     let angle_mask = &qm;
     let closed_mask = crate::emit::closed::closed_mask(c);
     let input_mask = &xm;
+    // Every block in closed form: with closed forms on, the guess is the last tick's state as it
+    // is (nothing to predict, no sines or cosines to rotate).
+    let guess = if closed_mask.iter().all(|&k| k) {
+        quote! {
+            if options.closed_forms { t.carried([#(#angle_mask),*]) }
+            else { t.predicted(x, [#(#angle_mask),*], [false; #nu], same) }
+        }
+    } else {
+        quote! {
+            if options.closed_forms { t.predicted(x, [#(#angle_mask),*], [#(#closed_mask),*], same) }
+            else { t.predicted(x, [#(#angle_mask),*], [false; #nu], same) }
+        }
+    };
 
     quote! {
         #block_fns
@@ -280,8 +293,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms { [#(#closed_mask),*] } else { [false; #nu] };
-            let mut st = t.predicted(x, [#(#angle_mask),*], keep, same);
+            let mut st = #guess;
             let mut report = #rt::NewtonReport::new();
             let (qd, qdd, points) = self.motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
             t.update(x, xd, &st, qd, qdd, points, report, tx, fresh_tp.as_ref().map(|tp| (&params, tp)));

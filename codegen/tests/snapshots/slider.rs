@@ -509,6 +509,7 @@ pub mod slider {
                     || self.params.length_scale(),
                     options.newton.tolerance,
                     report,
+                    true,
                 )?;
             } else {
                 ::mechgen::__private::newton_block(
@@ -726,6 +727,7 @@ pub mod slider {
                     || self.params.length_scale(),
                     options.newton.tolerance,
                     report,
+                    true,
                 )?;
             } else {
                 ::mechgen::__private::newton_block(
@@ -1068,8 +1070,11 @@ pub mod slider {
                 let (tx, tp) = self.trig_fixed(x);
                 (tx, &*fresh_tp.insert(tp))
             };
-            let keep = if options.closed_forms { [true, true] } else { [false; 2] };
-            let mut st = t.predicted(x, [true, false], keep, same);
+            let mut st = if options.closed_forms {
+                t.carried([true, false])
+            } else {
+                t.predicted(x, [true, false], [false; 2], same)
+            };
             let mut report = ::mechgen::__private::NewtonReport::new();
             let (qd, qdd, points) = self
                 .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;

@@ -29,6 +29,7 @@
                     || self.params.length_scale(),
                     options.newton.tolerance,
                     report,
+                    true,
                 )?;
             } else {
                 ::mechgen::__private::newton_block(
@@ -90,6 +91,77 @@
         #[doc(hidden)]
         #[inline]
 
+        pub(super) fn scene_rod_middle_motion(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::SolveOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+            every_angle: bool,
+        ) -> ::core::result::Result<
+            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 1]),
+            ::mechgen::__private::SolveError,
+        > {
+            let qd = [T::zero(); 2];
+            let qdd = [T::zero(); 2];
+            // Block 0: closed form (one angle).
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let (s_v_q1, _) = tx[0];
+            let t0 = p_l1 * s_v_q1;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_angle1(
+                    0,
+                    st,
+                    0,
+                    t0,
+                    (T::zero(), p_l2),
+                    || self.params.length_scale(),
+                    options.newton.tolerance,
+                    report,
+                    every_angle,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0],
+                    [false],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Points.
+            let (_, c_v_q1) = tx[0];
+            let t1 = p_l1 * c_v_q1;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t2 = T::lit(0.5) * p_l2;
+            let t3 = c_v_q2 * t2;
+            let t4 = s_v_q2 * t2;
+            let t5 = t1 + t3;
+            let t6 = t0 + t4;
+            Ok((
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [t5, t6],
+                        velocity: [T::zero(), T::zero()],
+                        acceleration: [T::zero(), T::zero()],
+                    },
+                ],
+            ))
+        }
+        /// Scene `rod_middle`: its pruned solver.
+        #[doc(hidden)]
+        #[inline]
+
 pub mod rod {
     #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
     // Allowed above, and why:
@@ -106,6 +178,7 @@ pub mod rod {
         order: 0,
         blocks: &[0],
         solved: &[0],
+        angles_skipped: &[],
         unknowns: &["q2"],
         points: &[],
         columns: &["q2"],
@@ -124,9 +197,9 @@ pub mod rod {
             [self.q2]
         }
     }
-    /// The state between ticks: the mechanism's unknowns (only the kept blocks' are
-    /// solved), their rates up to the scene's order, the scene's points.
-    pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 2, 0, 2>;
+    /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
+    /// their rates up to the scene's order, the scene's points, and the caches.
+    pub type Tick<T> = ::mechgen::__private::SceneTick<T, 1, 2, 0, 2>;
     /// Scene `rod` of mechanism `slider`: q2 to order 0; solves blocks [0] only.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Rod<T = f64> {
@@ -224,7 +297,8 @@ pub mod rod {
         }
         /// The outputs of a tick state.
         pub fn outputs(t: &Tick<T>) -> Outputs<T> {
-            Self::outputs_of(&t.q, &t.qd, &t.qdd, &t.points)
+            let s = ::mechgen::__private::scene_tick_state(t);
+            Self::outputs_of(&s.q, &s.qd, &s.qdd, &s.points)
         }
     }
     impl<T: ::mechgen::__private::Real> ::mechgen::__private::Scene<T> for Rod<T> {

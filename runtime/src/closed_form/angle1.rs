@@ -106,6 +106,7 @@ pub fn solve_angle1<T: Real, const N: usize>(
     scale: impl FnOnce() -> T,
     tolerance: T,
     _report: &mut NewtonReport<T>,
+    value: bool,
 ) -> Result<(), SolveError> {
     super::check_guess(st, q)?;
     let red = match reduce(block, k, w)? {
@@ -128,7 +129,7 @@ pub fn solve_angle1<T: Real, const N: usize>(
     if !all_finite(&[e.0, e.1]) {
         return Err(super::overflow(block));
     }
-    super::set_angle(st, q, e, tolerance);
+    super::set_angle(st, q, e, tolerance, value);
     Ok(())
 }
 
@@ -141,7 +142,7 @@ mod tests {
     fn solve(k: f64, w: (f64, f64), guess: f64) -> Result<f64, SolveError> {
         let mut st = TrigState::new([guess], [true]);
         let mut report = NewtonReport::new();
-        solve_angle1(0, &mut st, 0, k, w, || 1.0, 1e-12, &mut report)?;
+        solve_angle1(0, &mut st, 0, k, w, || 1.0, 1e-12, &mut report, true)?;
         let (sn, cs) = st.q[0].sin_cos();
         // Exact to the rounding of q itself.
         let tol = 1e-15 + 2.0 * f64::EPSILON * st.q[0].abs();

@@ -13,6 +13,11 @@
 //! | one length | `K + a s = 0` | length s | [`solve_length1`], [`length1_modes`] | 1 |
 //!
 //! `M = [[p, −r], [r, p]]` and `N` are rotation-scalings given as `(p, r)`; `e(q) = (cos q, sin q)`.
+//!
+//! The kernels with an angle take `value` (the dyad: `crate::dyad::solve_dyad_angles`): whether
+//! the caller reads the angle itself. When it does not (a generated scene whose outputs read only
+//! the angle's sine and cosine), only they are solved and the angle keeps its old value, which
+//! saves the turn series (or `atan2`) on the way to it.
 
 mod angle1;
 mod linear;
@@ -114,11 +119,20 @@ fn all_finite<T: Real>(v: &[T]) -> bool {
 
 /// Writes angle `k` of `st` as the direction `(c, s)`: the guess's angle plus the turn to it
 /// (whole turns kept), or the principal value where the guess is too large to hold the answer to
-/// `tolerance` (as `crate::dyad` does).
+/// `tolerance` (as `crate::dyad` does). With `value` false only the sine and cosine are written
+/// and the angle keeps its old value (a caller that reads only them: see the kernels' `value`).
 #[inline(always)]
-fn set_angle<T: Real, const N: usize>(st: &mut TrigState<T, N>, k: usize, (c, s): (T, T), tol: T) {
-    let (sg, cg) = st.sc[k];
-    st.q[k] = crate::dyad::near(st.q[k], (cg, sg), (c, s), tol);
+fn set_angle<T: Real, const N: usize>(
+    st: &mut TrigState<T, N>,
+    k: usize,
+    (c, s): (T, T),
+    tol: T,
+    value: bool,
+) {
+    if value {
+        let (sg, cg) = st.sc[k];
+        st.q[k] = crate::dyad::near(st.q[k], (cg, sg), (c, s), tol);
+    }
     st.sc[k] = (s, c);
 }
 

@@ -136,6 +136,7 @@ pub fn solve_rpr<T: Real, const N: usize>(
     scale: impl FnOnce() -> T,
     tolerance: T,
     report: &mut NewtonReport<T>,
+    value: bool,
 ) -> Result<(), SolveError> {
     super::check_guess(st, q)?;
     let gd = match guide(block, k, m, n)? {
@@ -158,7 +159,7 @@ pub fn solve_rpr<T: Real, const N: usize>(
     if !all_finite(&[e.0, e.1, len]) {
         return Err(super::overflow(block));
     }
-    super::set_angle(st, q, e, tolerance);
+    super::set_angle(st, q, e, tolerance, value);
     st.q[s] = len;
     let ratio = gd.t / gd.r;
     if ratio < report.pivot_ratio {
@@ -194,7 +195,7 @@ mod tests {
     ) -> Result<(f64, f64), SolveError> {
         let mut st = TrigState::new([0.0, guess], [false, true]);
         let mut report = NewtonReport::new();
-        solve_rpr(0, &mut st, 1, 0, k, m, n, || 1.0, 1e-12, &mut report)?;
+        solve_rpr(0, &mut st, 1, 0, k, m, n, || 1.0, 1e-12, &mut report, true)?;
         let (sn, cs) = st.q[1].sin_cos();
         // Exact to the rounding of q itself.
         let tol = 1e-15 + 2.0 * f64::EPSILON * st.q[1].abs();

@@ -134,6 +134,7 @@ pub fn solve_rrp<T: Real, const N: usize>(
     scale: impl FnOnce() -> T,
     tolerance: T,
     report: &mut NewtonReport<T>,
+    value: bool,
 ) -> Result<(), SolveError> {
     super::check_guess(st, q)?;
     let c = match cut(block, k, m, u)? {
@@ -157,7 +158,7 @@ pub fn solve_rrp<T: Real, const N: usize>(
     if !all_finite(&[e.0, e.1, len]) {
         return Err(super::overflow(block));
     }
-    super::set_angle(st, q, e, tolerance);
+    super::set_angle(st, q, e, tolerance, value);
     st.q[s] = len;
     let ratio = c.half / c.l;
     if ratio < report.pivot_ratio {
@@ -190,7 +191,7 @@ mod tests {
     ) -> Result<(f64, f64), SolveError> {
         let mut st = TrigState::new([guess, 0.0], [true, false]);
         let mut report = NewtonReport::new();
-        solve_rrp(0, &mut st, 0, 1, k, m, u, || 1.0, 1e-12, &mut report)?;
+        solve_rrp(0, &mut st, 0, 1, k, m, u, || 1.0, 1e-12, &mut report, true)?;
         let (sn, cs) = st.q[0].sin_cos();
         // Exact to the rounding of q itself.
         let tol = 1e-15 + 2.0 * f64::EPSILON * st.q[0].abs();

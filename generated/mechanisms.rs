@@ -1823,13 +1823,13 @@ pub mod sixbar {
         #[doc(hidden)]
         pub(super) fn scene_sixbar_e_path_tick(
             &self,
-            t: &mut ::mechgen::__private::SceneTick<T, 1, 4, 1, 10>,
+            tick: &mut ::mechgen::__private::SceneTick<T, 1, 4, 1, 10>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            let t = ::mechgen::__private::scene_tick_state_mut(t);
+            let t = ::mechgen::__private::scene_tick_state_mut(tick);
             let params = self.params.to_array();
             let same = t
                 .same_params_in(
@@ -2256,13 +2256,13 @@ pub mod sixbar {
         #[doc(hidden)]
         pub(super) fn scene_sixbar_output_tick(
             &self,
-            t: &mut ::mechgen::__private::SceneTick<T, 1, 4, 0, 10>,
+            tick: &mut ::mechgen::__private::SceneTick<T, 1, 4, 0, 10>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            let t = ::mechgen::__private::scene_tick_state_mut(t);
+            let t = ::mechgen::__private::scene_tick_state_mut(tick);
             let params = self.params.to_array();
             let same = t
                 .same_params_in(
@@ -4385,13 +4385,13 @@ pub mod shaper {
         #[doc(hidden)]
         pub(super) fn scene_shaper_ram_tick(
             &self,
-            t: &mut ::mechgen::__private::SceneTick<T, 1, 4, 0, 5>,
+            tick: &mut ::mechgen::__private::SceneTick<T, 1, 4, 0, 5>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            let t = ::mechgen::__private::scene_tick_state_mut(t);
+            let t = ::mechgen::__private::scene_tick_state_mut(tick);
             let params = self.params.to_array();
             let same = t.same_params_in(&params, [true, true, true, true, true]);
             if !same {
@@ -6094,13 +6094,13 @@ pub mod four_bar {
         #[doc(hidden)]
         pub(super) fn scene_coupler_curve_tick(
             &self,
-            t: &mut ::mechgen::__private::SceneTick<T, 1, 2, 1, 6>,
+            tick: &mut ::mechgen::__private::SceneTick<T, 1, 2, 1, 6>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
-            let t = ::mechgen::__private::scene_tick_state_mut(t);
+            let t = ::mechgen::__private::scene_tick_state_mut(tick);
             let params = self.params.to_array();
             let same = t.same_params_in(&params, [true, true, true, true, true, true]);
             if !same {
@@ -11224,6 +11224,9 @@ pub mod sixbar_e_path {
         fn outputs(&self, t: &Self::Tick) -> Self::Out {
             SixbarEPath::outputs(t).to_array()
         }
+        fn report(&self, t: &Self::Tick) -> ::mechgen::__private::NewtonReport<T> {
+            *t.report()
+        }
     }
 }
 /// Scene `sixbar_output` of mechanism `sixbar`: q6, q6_vel, q6_acc to order 2; solves blocks [0, 1] only.
@@ -11423,6 +11426,9 @@ pub mod sixbar_output {
         fn outputs(&self, t: &Self::Tick) -> Self::Out {
             SixbarOutput::outputs(t).to_array()
         }
+        fn report(&self, t: &Self::Tick) -> ::mechgen::__private::NewtonReport<T> {
+            *t.report()
+        }
     }
 }
 /// Scene `shaper_ram` of mechanism `shaper`: sE, sE_vel, sE_acc to order 2; solves blocks [0, 1, 2] only.
@@ -11620,6 +11626,9 @@ pub mod shaper_ram {
         }
         fn outputs(&self, t: &Self::Tick) -> Self::Out {
             ShaperRam::outputs(t).to_array()
+        }
+        fn report(&self, t: &Self::Tick) -> ::mechgen::__private::NewtonReport<T> {
+            *t.report()
         }
     }
 }
@@ -11826,6 +11835,9 @@ pub mod coupler_curve {
         }
         fn outputs(&self, t: &Self::Tick) -> Self::Out {
             CouplerCurve::outputs(t).to_array()
+        }
+        fn report(&self, t: &Self::Tick) -> ::mechgen::__private::NewtonReport<T> {
+            *t.report()
         }
     }
 }

@@ -62,7 +62,9 @@ pub mod __private {
     pub use crate::mechanism::{InputMotion, Solved, StaticMechanism, StaticVisitor};
     pub use crate::scalar::Real;
     pub use crate::scene::{Scene, SceneInfo, SceneKinematics, SceneVisitor};
-    pub use crate::scene_tick::{SceneTick, scene_tick, scene_tick_state, scene_tick_state_mut};
+    pub use crate::scene_tick::{
+        SceneTick, scene_rates_estimated, scene_tick, scene_tick_state, scene_tick_state_mut,
+    };
     pub use crate::solve::{
         NewtonOptions, NewtonReport, SolveOptions, check_finite, check_finite_in, newton_block,
     };

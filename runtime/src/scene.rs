@@ -102,6 +102,8 @@ pub trait Scene<T: Real>: Send + Sync {
     ) -> Result<(), SolveError>;
     /// The outputs a tick state holds.
     fn outputs(&self, t: &Self::Tick) -> Self::Out;
+    /// The report of a tick state's last position solve (Newton iterations, residual, pivot).
+    fn report(&self, t: &Self::Tick) -> NewtonReport<T>;
 }
 
 /// Generic code over every compiled-in scene, statically typed (`visit_scenes`).

@@ -3,6 +3,7 @@
 //! through the hidden functions below (the `__private` ABI); users read it through their scene's
 //! `outputs` and the accessors here.
 
+use crate::scalar::Real;
 use crate::solve::NewtonReport;
 use crate::tick::Tick;
 
@@ -18,6 +19,10 @@ use crate::tick::Tick;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneTick<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> {
     state: Tick<T, NI, NU, NP, NPAR>,
+    /// The time step of the last tick, and how many ticks the rate estimates rest on (0 after
+    /// `tick_start`, at most 2): see [`scene_rates_estimated`].
+    last_step: T,
+    history: u8,
 }
 
 impl<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>
@@ -41,10 +46,74 @@ impl<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>
 
 /// A scene's tick state around a solved mechanism tick (what a scene's `tick_start` makes).
 #[doc(hidden)]
-pub fn scene_tick<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>(
+pub fn scene_tick<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>(
     state: Tick<T, NI, NU, NP, NPAR>,
 ) -> SceneTick<T, NI, NU, NP, NPAR> {
-    SceneTick { state }
+    SceneTick {
+        state,
+        last_step: T::zero(),
+        history: 0,
+    }
+}
+
+/// The rates a scene of order below 2 does not compute, estimated by differences for the
+/// unknowns with `estimate[k]`, so that its predictor is second order like the full tick's (a
+/// scene with Newton blocks calls this after a successful solve to `x`, with the solved `q` and
+/// the rates it computed, `qd` at order 1; the result is what its tick state stores).
+///
+/// With `h` the step to `x` ([`Tick::step_to`]) and the last tick's state: at order 0 the
+/// secant `s = Δq / h`, and with one more tick of history `q̈ ≈ 2 (s − s₀) / (h₀ + h)` (the
+/// parabola through the last three configurations, `s₀ = q̇₀ − h₀ q̈₀ / 2`) and `q̇ ≈ s + h q̈ / 2`;
+/// at order 1 `q̈ ≈ Δq̇ / h`. No motion (`h = 0`) keeps the last estimates; a non-finite estimate
+/// is dropped (0).
+#[doc(hidden)]
+#[allow(clippy::needless_range_loop)]
+pub fn scene_rates_estimated<
+    T: Real,
+    const NI: usize,
+    const NU: usize,
+    const NP: usize,
+    const NPAR: usize,
+>(
+    t: &mut SceneTick<T, NI, NU, NP, NPAR>,
+    x: &[T; NI],
+    q: &[T; NU],
+    qd: [T; NU],
+    order: u8,
+    estimate: [bool; NU],
+) -> ([T; NU], [T; NU]) {
+    let old = &t.state;
+    let h = old.step_to(x);
+    if !(h != T::zero() && h.is_finite()) {
+        let qd = if order == 0 { old.qd } else { qd };
+        return (qd, old.qdd);
+    }
+    let (h0, history) = (t.last_step, t.history);
+    let half = T::lit(0.5);
+    let (mut qd_out, mut qdd_out) = (qd, [T::zero(); NU]);
+    for k in 0..NU {
+        if !estimate[k] {
+            continue;
+        }
+        let (v, a) = if order == 0 {
+            let s = (q[k] - old.q[k]) / h;
+            if history >= 1 && h0 + h != T::zero() {
+                let s0 = old.qd[k] - half * h0 * old.qdd[k];
+                let a = T::lit(2.0) * (s - s0) / (h0 + h);
+                (s + half * h * a, a)
+            } else {
+                (s, T::zero())
+            }
+        } else {
+            (qd[k], (qd[k] - old.qd[k]) / h)
+        };
+        let finite = v.is_finite() && a.is_finite();
+        qd_out[k] = if finite { v } else { T::zero() };
+        qdd_out[k] = if finite { a } else { T::zero() };
+    }
+    t.last_step = h;
+    t.history = if history >= 2 { 2 } else { history + 1 };
+    (qd_out, qdd_out)
 }
 
 /// The mechanism tick inside (generated `outputs` read from it).
@@ -69,4 +138,80 @@ pub fn scene_tick_state_mut<
     t: &mut SceneTick<T, NI, NU, NP, NPAR>,
 ) -> &mut Tick<T, NI, NU, NP, NPAR> {
     &mut t.state
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::info::PointMotion;
+    use crate::tick::Solution;
+
+    /// q(t) = 0.3 + 1.7 t − 2.5 t²: a parabola, which the estimates must reproduce to rounding.
+    fn q(t: f64) -> f64 {
+        0.3 + 1.7 * t - 2.5 * t * t
+    }
+    fn qd(t: f64) -> f64 {
+        1.7 - 5.0 * t
+    }
+
+    fn start(t: f64, rate: f64) -> SceneTick<f64, 1, 1, 0, 0> {
+        let points: [PointMotion<f64>; 0] = [];
+        scene_tick(Tick::new(Solution {
+            x: [t],
+            xd: [1.0],
+            q: [q(t)],
+            qd: [rate],
+            qdd: [0.0],
+            points,
+            report: NewtonReport::new(),
+            tx: [(0.0, 1.0)],
+            tq: [(0.0, 1.0)],
+            tp: [],
+            params: [],
+        }))
+    }
+
+    /// One tick to `t` at `order`, stored as a scene's tick stores it.
+    fn tick(s: &mut SceneTick<f64, 1, 1, 0, 0>, t: f64, order: u8) -> (f64, f64) {
+        let rate = if order == 0 { 0.0 } else { qd(t) };
+        let (v, a) = scene_rates_estimated(s, &[t], &[q(t)], [rate], order, [true]);
+        let st = scene_tick_state_mut(s);
+        (st.x, st.q, st.qd, st.qdd) = ([t], [q(t)], v, a);
+        (v[0], a[0])
+    }
+
+    #[test]
+    fn order_0_rates_come_from_the_parabola_through_three_ticks() {
+        // Uneven steps: 0.1, then 0.25, then 0.05.
+        let mut s = start(0.0, 0.0);
+        let (v, a) = tick(&mut s, 0.1, 0);
+        // One step: the secant only.
+        assert!((v - (q(0.1) - q(0.0)) / 0.1).abs() < 1e-14 && a == 0.0);
+        for t in [0.35, 0.4] {
+            let (v, a) = tick(&mut s, t, 0);
+            assert!((v - qd(t)).abs() < 1e-13, "q̇({t}) = {v}");
+            assert!((a + 5.0).abs() < 1e-12, "q̈({t}) = {a}");
+        }
+    }
+
+    #[test]
+    fn order_1_accelerations_are_differences_of_the_rates() {
+        let mut s = start(0.0, qd(0.0));
+        for t in [0.1, 0.35] {
+            let (v, a) = tick(&mut s, t, 1);
+            assert_eq!(v, qd(t));
+            assert!((a + 5.0).abs() < 1e-13, "q̈({t}) = {a}");
+        }
+    }
+
+    #[test]
+    fn no_motion_keeps_the_estimates_and_unestimated_unknowns_get_none() {
+        let mut s = start(0.0, 0.0);
+        tick(&mut s, 0.1, 0);
+        let before = (s.state.qd, s.state.qdd);
+        let (v, a) = scene_rates_estimated(&mut s, &[0.1], &[q(0.1)], [0.0], 0, [true]);
+        assert_eq!((v, a), before);
+        let (v, a) = scene_rates_estimated(&mut s, &[0.2], &[q(0.2)], [0.0], 0, [false]);
+        assert_eq!((v, a), ([0.0], [0.0]));
+    }
 }

@@ -216,6 +216,22 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         }
     }
 
+    /// The time from the last tick to input `x`: the change of the inputs fitted over their last
+    /// rates, Σ Δx·ẋ / Σ ẋ² (0 when they were at rest).
+    #[inline(always)]
+    pub fn step_to(&self, x: &[T; NI]) -> T {
+        let (mut num, mut den) = (T::zero(), T::zero());
+        for i in 0..NI {
+            num += (x[i] - self.x[i]) * self.xd[i];
+            den += self.xd[i] * self.xd[i];
+        }
+        if den > T::zero() {
+            num / den
+        } else {
+            T::zero()
+        }
+    }
+
     /// The guess for input `x`: q + q̇ dt + q̈ dt²/2, dt fitted to the change of the inputs over
     /// their last rates (no prediction when they were at rest), with its sines and cosines
     /// rotated from the cached ones (recomputed when due, or all of them when the params are
@@ -234,16 +250,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
             // Nothing to predict: every unknown is solved in closed form.
             return TrigState::from_parts(self.q, self.tq, angle);
         }
-        let (mut num, mut den) = (T::zero(), T::zero());
-        for i in 0..NI {
-            num += (x[i] - self.x[i]) * self.xd[i];
-            den += self.xd[i] * self.xd[i];
-        }
-        let dt = if den > T::zero() {
-            num / den
-        } else {
-            T::zero()
-        };
+        let dt = self.step_to(x);
         let mut q = self.q;
         for k in 0..NU {
             if !keep[k] {

@@ -5,7 +5,10 @@
 
 use mechgen::generic::Generic;
 use mechgen::sweep::{Continuation, Row, sweep};
-use mechgen::{Array, Scene, SceneKinematics, SceneVisitor, lookup, lookup_scene};
+use mechgen::{
+    Array, Scene, SceneKinematics, SceneVisitor, StaticMechanism, StaticVisitor, TickState, lookup,
+    lookup_scene,
+};
 use mechgen::{
     DynMechanism, InputMotion, Kind, MechanismInfo, PointMotion, SceneDescription, SolveOptions,
 };
@@ -201,9 +204,12 @@ pub fn check_compiled_in_scenes() -> Vec<String> {
 /// from them), and compares each tick's outputs with the scene's `solve` at the same input from
 /// the sweep's configuration (Newton stops at its tolerance: 1e-9 relative). Returns the failures.
 pub fn check_compiled_in_scene_ticks() -> Vec<String> {
+    let mut mechanisms = MechanismTicks(Vec::new());
+    mechgen::visit_all(&mut mechanisms);
     let mut v = Ticks {
         fails: Vec::new(),
         visited: Vec::new(),
+        mechanisms: mechanisms.0,
     };
     mechgen::visit_scenes(&mut v);
     if v.visited != mechgen::SCENES {
@@ -219,53 +225,122 @@ pub fn check_compiled_in_scene_ticks() -> Vec<String> {
 struct Ticks {
     fails: Vec<String>,
     visited: Vec<&'static str>,
+    /// Each mechanism's Newton iterations per tick along the same walk (`MechanismTicks`).
+    mechanisms: Vec<(&'static str, f64)>,
+}
+
+/// The inputs of the ticks along a mechanism's sweep, and whether each runs closed forms (three
+/// ticks in ten do not).
+fn tick_walk(k: &dyn DynMechanism<f64>) -> Vec<(f64, Vec<f64>, bool)> {
+    full_sweep(k)
+        .into_iter()
+        .map_while(|r| r.result.ok().map(|s| (r.input, s.q)))
+        .enumerate()
+        .map(|(i, (x, q))| (x, q, i % 10 >= 3))
+        .collect()
+}
+
+fn options(closed_forms: bool) -> SolveOptions<f64> {
+    SolveOptions {
+        closed_forms,
+        ..SolveOptions::default()
+    }
+}
+
+/// Newton iterations per tick of every compiled-in mechanism along `tick_walk`, closed forms on
+/// (the ticks with them off are run, not counted).
+struct MechanismTicks(Vec<(&'static str, f64)>);
+
+impl StaticVisitor<f64> for MechanismTicks {
+    fn visit<M: StaticMechanism<f64> + 'static>(&mut self, m: &M) {
+        let mut tick: Option<M::Tick> = None;
+        let (mut iterations, mut counted) = (0u32, 0u32);
+        for (x, q, closed) in tick_walk(m) {
+            let (mut xs, mut xd, mut qa) = (M::X::zeros(), M::X::zeros(), M::Q::zeros());
+            xs.as_mut()[0] = x;
+            xd.as_mut()[0] = 1.0;
+            qa.as_mut().copy_from_slice(&q);
+            let input = InputMotion::new(xs, xd, M::X::zeros());
+            let t = match tick.as_mut() {
+                None => match m.tick_start(&input, &qa, &options(closed)) {
+                    Ok(t) => tick.insert(t),
+                    Err(_) => break,
+                },
+                Some(t) => match m.tick(t, &input, &options(closed)) {
+                    Ok(()) => t,
+                    Err(_) => break,
+                },
+            };
+            if closed {
+                iterations += TickState::report(t).iterations;
+                counted += 1;
+            }
+        }
+        let mean = f64::from(iterations) / f64::from(counted.max(1));
+        self.0.push((M::NAME, mean));
+    }
 }
 
 impl SceneVisitor<f64> for Ticks {
     fn visit<S: Scene<f64> + 'static>(&mut self, scene: &S) {
         self.visited.push(S::NAME);
-        let full = lookup::<f64>(scene.info().mechanism).expect("its mechanism");
-        let rows = full_sweep(full.as_ref());
-        let closed = SolveOptions::default();
-        let newton = SolveOptions {
-            closed_forms: false,
-            ..SolveOptions::default()
-        };
+        let mechanism = scene.info().mechanism;
+        let full = lookup::<f64>(mechanism).expect("its mechanism");
         let mut tick: Option<S::Tick> = None;
-        for (i, r) in rows.iter().enumerate() {
-            let Ok(solved) = &r.result else { break };
-            let (mut x, mut xd) = (S::X::zeros(), S::X::zeros());
-            x.as_mut().copy_from_slice(&[r.input]);
+        let (mut iterations, mut counted) = (0u32, 0u32);
+        for (x, q, closed) in tick_walk(full.as_ref()) {
+            let (mut xs, mut xd, mut qa) = (S::X::zeros(), S::X::zeros(), S::Q::zeros());
+            xs.as_mut()[0] = x;
             xd.as_mut()[0] = 1.0;
-            let input = InputMotion::new(x, xd, S::X::zeros());
-            let mut q = S::Q::zeros();
-            q.as_mut().copy_from_slice(&solved.q);
-            let options = if i % 10 < 3 { &newton } else { &closed };
-            let step = match &mut tick {
+            qa.as_mut().copy_from_slice(&q);
+            let input = InputMotion::new(xs, xd, S::X::zeros());
+            let step = match tick.as_mut() {
                 None => scene
-                    .tick_start(&input, &q, options)
+                    .tick_start(&input, &qa, &options(closed))
                     .map(|t| &*tick.insert(t)),
-                Some(t) => scene.tick(t, &input, options).map(|()| &*t),
+                Some(t) => scene.tick(t, &input, &options(closed)).map(|()| &*t),
             };
-            let got = match step {
-                Ok(t) => scene.outputs(t),
+            let t = match step {
+                Ok(t) => t,
                 Err(e) => {
-                    self.fails
-                        .push(format!("{} tick at {}: {e}", S::NAME, r.input));
+                    self.fails.push(format!("{} tick at {x}: {e}", S::NAME));
                     return;
                 }
             };
-            let (want, _) = scene.solve(&input, &mut q, &closed).expect("solves");
+            if closed {
+                iterations += scene.report(t).iterations;
+                counted += 1;
+            }
+            let got = scene.outputs(t);
+            let (want, _) = scene
+                .solve(&input, &mut qa, &options(true))
+                .expect("solves");
             for (c, (a, b)) in got.as_ref().iter().zip(want.as_ref()).enumerate() {
                 let close = (a - b).abs() <= 1e-9 * b.abs().max(1.0);
                 if !close {
-                    self.fails.push(format!(
-                        "{} tick at {}: column {c}: {a} vs {b}",
-                        S::NAME,
-                        r.input
-                    ));
+                    self.fails
+                        .push(format!("{} tick at {x}: column {c}: {a} vs {b}", S::NAME));
                 }
             }
+        }
+        // The same predictor as the full tick (estimated rates below order 2): a scene's Newton
+        // blocks are a subset of its mechanism's, so they iterate no more per tick.
+        let mean = f64::from(iterations) / f64::from(counted.max(1));
+        let full_mean = self
+            .mechanisms
+            .iter()
+            .find(|(n, _)| *n == mechanism)
+            .map_or(f64::NAN, |m| m.1);
+        eprintln!(
+            "{}: {mean:.3} Newton iterations per tick, {mechanism} {full_mean:.3}",
+            S::NAME
+        );
+        let no_more = mean <= full_mean + 1e-9;
+        if !no_more {
+            self.fails.push(format!(
+                "{}: {mean:.3} Newton iterations per tick, more than {mechanism}'s {full_mean:.3}",
+                S::NAME
+            ));
         }
     }
 }

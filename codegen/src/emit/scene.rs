@@ -68,6 +68,19 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
             .iter()
             .any(|&k| k)
             .then(|| quote!(if !options.closed_forms { t.principal_angles([#(#skipped),*]); }));
+        // Below order 2 with Newton blocks: the rates the scene does not compute, estimated by
+        // differences for its predictor (skipped angles are stale: not theirs).
+        let order = plan.order.as_number();
+        let solved = plan.solved_unknowns(c);
+        let estimate: Vec<bool> = (0..c.model.unknowns.len())
+            .map(|k| solved.contains(&k) && !skipped[k])
+            .collect();
+        let estimated = (order < 2 && keep_closed.iter().any(|&k| !k)).then(|| {
+            quote! {
+                let (qd, qdd) = #rt::scene_rates_estimated(tick, x, &st.q, qd, #order, [#(#estimate),*]);
+                let t = #rt::scene_tick_state_mut(tick);
+            }
+        });
         let guess = if keep_closed.iter().all(|&k| k) {
             quote! {
                 if options.closed_forms { t.carried([#(#angle),*]) }
@@ -126,9 +139,9 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
             }
 
             #[doc(hidden)]
-            pub(super) fn #tick_fn(&self, t: &mut #rt::SceneTick<#gt, #ni, #nu, #np, #npar>, x: &[#gt; #ni], xd: &[#gt; #ni],
+            pub(super) fn #tick_fn(&self, tick: &mut #rt::SceneTick<#gt, #ni, #nu, #np, #npar>, x: &[#gt; #ni], xd: &[#gt; #ni],
                 xdd: &[#gt; #ni], options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
-                let t = #rt::scene_tick_state_mut(t);
+                let t = #rt::scene_tick_state_mut(tick);
                 let params = self.params.to_array();
                 // Only the params the scene reads (its caches hold no other).
                 let same = t.same_params_in(&params, [#(#read),*]);
@@ -149,6 +162,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
                 let mut st = #guess;
                 let mut report = #rt::NewtonReport::new();
                 let (qd, qdd, points) = self.#motion_fn(x, &mut st, &tx, tp, xd, xdd, options, &mut report #every_false)?;
+                #estimated
                 t.update(x, xd, &st, qd, qdd, points, report, tx, fresh_tp.as_ref().map(|tp| (&params, tp)));
                 Ok(())
             }
@@ -367,6 +381,7 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
                     self.mechanism().#tick_fn(t, &input.x, &input.xd, &input.xdd, options)
                 }
                 fn outputs(&self, t: &Self::Tick) -> Self::Out { #ty::outputs(t).to_array() }
+                fn report(&self, t: &Self::Tick) -> #rt::NewtonReport<#gt> { *t.report() }
             }
         }
     }

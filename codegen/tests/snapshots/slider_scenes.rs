@@ -344,6 +344,9 @@ pub mod rod {
         fn outputs(&self, t: &Self::Tick) -> Self::Out {
             Rod::outputs(t).to_array()
         }
+        fn report(&self, t: &Self::Tick) -> ::mechgen::__private::NewtonReport<T> {
+            *t.report()
+        }
     }
 }
 /// Scene `crank_pin` of mechanism `slider`: B_x, B_y, B_vx, B_vy to order 1; solves blocks [] only.

@@ -11,6 +11,7 @@ mod branches;
 mod drawing;
 #[cfg(feature = "runtime")]
 mod frames;
+mod log_axis;
 mod motion;
 mod scatter;
 mod symbols;

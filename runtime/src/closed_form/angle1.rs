@@ -109,22 +109,9 @@ pub fn solve_angle1<T: Real, const N: usize>(
     value: bool,
 ) -> Result<(), SolveError> {
     super::check_guess(st, q)?;
-    let red = match reduce(block, k, w)? {
-        Ok(red) => red,
-        Err(gap) => {
-            return Err(SolveError::Unassemblable {
-                block,
-                residual: (gap / scale()).to_f64(),
-                iterations: 0,
-            });
-        }
-    };
+    let red = super::closes(block, reduce(block, k, w)?, scale)?;
     let (sg, cg) = st.sc[q];
-    let tau = if w.0 * sg - w.1 * cg < T::zero() {
-        -T::one()
-    } else {
-        T::one()
-    };
+    let tau = super::side(w.0 * sg - w.1 * cg);
     let e = direction(red, tau);
     if !all_finite(&[e.0, e.1]) {
         return Err(super::overflow(block));

@@ -100,6 +100,32 @@ fn overflow(block: usize) -> SolveError {
     }
 }
 
+/// The block's geometry when its loop can close (`Ok` from the kernel's geometry function), else
+/// `Unassemblable` with the gap relative to the length scale (`scale` is asked for only then).
+#[inline(always)]
+fn closes<G, T: Real>(
+    block: usize,
+    geometry: Result<G, T>,
+    scale: impl FnOnce() -> T,
+) -> Result<G, SolveError> {
+    geometry.map_err(|gap| SolveError::Unassemblable {
+        block,
+        residual: (gap / scale()).to_f64(),
+        iterations: 0,
+    })
+}
+
+/// The mode on the guess's side: −1 where `along` (the guess's component that tells the two
+/// modes apart) is negative, +1 otherwise.
+#[inline(always)]
+fn side<T: Real>(along: T) -> T {
+    if along < T::zero() {
+        -T::one()
+    } else {
+        T::one()
+    }
+}
+
 /// `NonFinite` for a non-finite guess of unknown `k`.
 fn check_guess<T: Real, const N: usize>(st: &TrigState<T, N>, k: usize) -> Result<(), SolveError> {
     if st.q[k].is_finite() {

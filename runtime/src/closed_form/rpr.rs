@@ -139,22 +139,9 @@ pub fn solve_rpr<T: Real, const N: usize>(
     value: bool,
 ) -> Result<(), SolveError> {
     super::check_guess(st, q)?;
-    let gd = match guide(block, k, m, n)? {
-        Ok(gd) => gd,
-        Err(gap) => {
-            return Err(SolveError::Unassemblable {
-                block,
-                residual: (gap / scale()).to_f64(),
-                iterations: 0,
-            });
-        }
-    };
+    let gd = super::closes(block, guide(block, k, m, n)?, scale)?;
     let (sg, cg) = st.sc[q];
-    let tau = if gd.g.0 * cg + gd.g.1 * sg < T::zero() {
-        -T::one()
-    } else {
-        T::one()
-    };
+    let tau = super::side(gd.g.0 * cg + gd.g.1 * sg);
     let (e, len) = gd.mode(tau);
     if !all_finite(&[e.0, e.1, len]) {
         return Err(super::overflow(block));

@@ -137,23 +137,10 @@ pub fn solve_rrp<T: Real, const N: usize>(
     value: bool,
 ) -> Result<(), SolveError> {
     super::check_guess(st, q)?;
-    let c = match cut(block, k, m, u)? {
-        Ok(c) => c,
-        Err(gap) => {
-            return Err(SolveError::Unassemblable {
-                block,
-                residual: (gap / scale()).to_f64(),
-                iterations: 0,
-            });
-        }
-    };
+    let c = super::closes(block, cut(block, k, m, u)?, scale)?;
     let (sg, cg) = st.sc[q];
     let a = apply(m, (cg, sg));
-    let tau = if a.0 * u[0] + a.1 * u[1] < T::zero() {
-        -T::one()
-    } else {
-        T::one()
-    };
+    let tau = super::side(a.0 * u[0] + a.1 * u[1]);
     let (e, len) = c.mode(m, tau);
     if !all_finite(&[e.0, e.1, len]) {
         return Err(super::overflow(block));

@@ -86,9 +86,7 @@ pub const SCENES: [&str; 4] = [
 /// A compiled-in scene by name, with its mechanism's default params, behind the object-safe trait.
 pub fn lookup_scene<T: ::mechgen::__private::Real>(
     name: &str,
-) -> ::core::option::Option<
-    ::std::boxed::Box<dyn ::mechgen::__private::SceneKinematics<T>>,
-> {
+) -> ::core::option::Option<::std::boxed::Box<dyn ::mechgen::__private::DynScene<T>>> {
     match name {
         "sixbar_e_path" => {
             ::core::option::Option::Some(

@@ -44,10 +44,10 @@ pub use mechgen_runtime::nalgebra;
 pub use mechgen_runtime::solve::{check_finite, newton_block, newton_in_place};
 pub use mechgen_runtime::trig::{NewtonState, TrigState};
 pub use mechgen_runtime::{
-    Array, CoordDesc, CoordInfo, DynMechanism, InputMotion, Kind, MechanismInfo, NewtonOptions,
-    NewtonReport, ParamDesc, ParamInfo, PointMotion, Quantity, Real, RowMajor, Scene,
-    SceneDescription, SceneInfo, SceneKinematics, SceneVisitor, Solution, SolveError, SolveOptions,
-    Solved, Stage, StaticInfo, StaticMechanism, StaticVisitor, Tick, TickState,
+    Array, CoordDesc, CoordInfo, DynMechanism, DynScene, InputMotion, Kind, MechanismInfo,
+    NewtonOptions, NewtonReport, ParamDesc, ParamInfo, PointMotion, Quantity, Real, RowMajor,
+    Scene, SceneDescription, SceneInfo, SceneVisitor, Solution, SolveError, SolveOptions, Solved,
+    Stage, StaticInfo, StaticMechanism, StaticVisitor, Tick, TickState,
 };
 
 #[cfg(feature = "runtime")]

@@ -43,7 +43,7 @@ pub use info::{
 pub use mechanism::{Array, InputMotion, RowMajor, Solved, StaticMechanism, StaticVisitor};
 pub use nalgebra;
 pub use scalar::Real;
-pub use scene::{Scene, SceneDescription, SceneInfo, SceneKinematics, SceneVisitor};
+pub use scene::{DynScene, Scene, SceneDescription, SceneInfo, SceneVisitor};
 pub use scene_tick::SceneTick;
 pub use solve::{NewtonOptions, NewtonReport, SolveOptions};
 pub use tick::{Solution, Tick, TickState};
@@ -61,7 +61,7 @@ pub mod __private {
     pub use crate::info::{CoordInfo, Kind, ParamInfo, PointMotion, StaticInfo};
     pub use crate::mechanism::{InputMotion, Solved, StaticMechanism, StaticVisitor};
     pub use crate::scalar::Real;
-    pub use crate::scene::{Scene, SceneInfo, SceneKinematics, SceneVisitor};
+    pub use crate::scene::{DynScene, Scene, SceneInfo, SceneVisitor};
     pub use crate::scene_tick::{
         SceneTick, scene_rates_estimated, scene_tick, scene_tick_state, scene_tick_state_mut,
     };

@@ -1,6 +1,6 @@
 //! Scenes: generated solvers that compute only what one use of a mechanism needs (the blocks its
 //! outputs depend on, derivatives up to its order, its points). Every generated scene implements
-//! [`Scene`] (static sizes, its own tick state); [`SceneKinematics`] is its object-safe face over
+//! [`Scene`] (static sizes, its own tick state); [`DynScene`] is its object-safe face over
 //! slices (blanket impl), which `lookup_scene` returns; [`SceneVisitor`] visits them statically.
 
 use alloc::string::{String, ToString};
@@ -36,7 +36,7 @@ pub struct SceneInfo {
 }
 
 /// The owned description of a scene, what run-time engines (the generic engine) share with
-/// generated scenes through [`SceneKinematics::info`].
+/// generated scenes through [`DynScene::info`].
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SceneDescription {
     pub name: String,
@@ -112,7 +112,7 @@ pub trait SceneVisitor<T: Real> {
 }
 
 /// The object-safe face of a [`Scene`] over slices (lengths checked: `SolveError::BadLength`).
-pub trait SceneKinematics<T: Real> {
+pub trait DynScene<T: Real> {
     fn info(&self) -> SceneDescription;
     /// As [`Scene::solve`]: `q` has the mechanism's unknowns, `out` one value per column.
     fn solve_outputs(
@@ -131,7 +131,7 @@ fn arr<T: Real, A: Array<T>>(s: &[T]) -> Result<A, SolveError> {
     Ok(a)
 }
 
-impl<T: Real, S: Scene<T>> SceneKinematics<T> for S {
+impl<T: Real, S: Scene<T>> DynScene<T> for S {
     fn info(&self) -> SceneDescription {
         Scene::info(self).into()
     }

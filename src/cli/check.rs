@@ -28,7 +28,7 @@ pub fn check(name: &str, text: &str) -> Result<(), String> {
             for m in &mechs {
                 let info = mechgen::DynMechanism::<f64>::info(m);
                 for s in m.scene_names().into_iter().filter_map(|n| m.scene(n)) {
-                    print_scene(&mechgen::SceneKinematics::<f64>::info(&s), &info);
+                    print_scene(&mechgen::DynScene::<f64>::info(&s), &info);
                 }
             }
             Ok(())

@@ -7,7 +7,7 @@ use std::path::Path;
 use mechgen::generic::Generic;
 use mechgen::sweep::Continuation;
 use mechgen::sweep::scene::{SceneRow, scene_csv, scene_rows, scene_table};
-use mechgen::{MechanismInfo, SceneDescription, SceneKinematics, report};
+use mechgen::{DynScene, MechanismInfo, SceneDescription, report};
 
 use super::args::{Engine, SweepArgs};
 use super::options::{Plan, Range, plan};
@@ -27,17 +27,17 @@ fn select_scene(
     name: &str,
     file: Option<&Path>,
     engine: Option<Engine>,
-) -> Result<Box<dyn SceneKinematics<f64>>, String> {
+) -> Result<Box<dyn DynScene<f64>>, String> {
     let default = if file.is_some() {
         Engine::Generic
     } else {
         Engine::Generated
     };
-    let scene: Option<Box<dyn SceneKinematics<f64>>> = match engine.unwrap_or(default) {
+    let scene: Option<Box<dyn DynScene<f64>>> = match engine.unwrap_or(default) {
         Engine::Generated => mechgen::lookup_scene::<f64>(name),
         Engine::Generic => mech
             .scene(name)
-            .map(|s| Box::new(s) as Box<dyn SceneKinematics<f64>>),
+            .map(|s| Box::new(s) as Box<dyn DynScene<f64>>),
     };
     scene.ok_or_else(|| format!("no compiled-in scene `{name}`"))
 }

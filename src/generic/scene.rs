@@ -8,7 +8,7 @@ use mechgen_runtime::dynamic::len;
 use mechgen_runtime::error::{Quantity, SolveError, Stage};
 use mechgen_runtime::mechanism::InputMotion;
 use mechgen_runtime::scalar::Real;
-use mechgen_runtime::scene::{SceneDescription, SceneKinematics};
+use mechgen_runtime::scene::{DynScene, SceneDescription};
 use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
 
 use super::Generic;
@@ -155,7 +155,7 @@ impl GenericScene {
 /// Implemented for f64 and f32, as `DynMechanism` is for [`Generic`].
 macro_rules! scene_kinematics {
     ($t:ty) => {
-        impl SceneKinematics<$t> for GenericScene {
+        impl DynScene<$t> for GenericScene {
             fn info(&self) -> SceneDescription {
                 self.mechanism.scenes[self.index].desc.clone()
             }

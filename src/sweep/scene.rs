@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use mechgen_runtime::error::SolveError;
 use mechgen_runtime::info::{Kind, MechanismInfo};
 use mechgen_runtime::mechanism::InputMotion;
-use mechgen_runtime::scene::{SceneDescription, SceneKinematics};
+use mechgen_runtime::scene::{DynScene, SceneDescription};
 use mechgen_runtime::solve::SolveOptions;
 
 use super::Row;
@@ -30,7 +30,7 @@ pub struct SceneRow {
 /// The scene's outputs along `rows` (a sweep of input `index` of its mechanism at `rate`, every
 /// other input at its value in `x`), each solved by `scene` from the row's configuration.
 pub fn scene_rows(
-    scene: &dyn SceneKinematics<f64>,
+    scene: &dyn DynScene<f64>,
     x: &[f64],
     index: usize,
     rows: &[Row],

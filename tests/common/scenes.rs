@@ -6,7 +6,7 @@
 use mechgen::generic::Generic;
 use mechgen::sweep::{Continuation, Row, sweep};
 use mechgen::{
-    Array, Scene, SceneKinematics, SceneVisitor, StaticMechanism, StaticVisitor, TickState, lookup,
+    Array, DynScene, Scene, SceneVisitor, StaticMechanism, StaticVisitor, TickState, lookup,
     lookup_scene,
 };
 use mechgen::{
@@ -86,7 +86,7 @@ fn close(a: f64, b: f64, scale: f64, tol: f64) -> bool {
 #[allow(clippy::type_complexity)]
 pub fn compare<T: mechgen::Real>(
     what: &str,
-    scene: &dyn SceneKinematics<T>,
+    scene: &dyn DynScene<T>,
     full: &dyn DynMechanism<T>,
     rows: &[Row],
     tol: f64,
@@ -186,7 +186,7 @@ pub fn check_compiled_in_scenes() -> Vec<String> {
             .find(|g| g.name() == s.mechanism)
             .expect("generic");
         let gs = g.scene(name).expect("generic scene");
-        if SceneKinematics::<f64>::info(&gs) != s {
+        if DynScene::<f64>::info(&gs) != s {
             fails.push(format!("{name}: the generic engine's plan differs"));
         }
         let (f, ng) = compare::<f64>(&format!("{name} generic"), &gs, g, &rows, 1e-14);

@@ -100,7 +100,7 @@ pub fn emit_with(mechs: &[Compiled], source_name: &str, runtime: &str) -> Result
         pub const SCENES: [&str; #scene_count] = [#(#scene_names),*];
 
         /// A compiled-in scene by name, with its mechanism's default params, behind the object-safe trait.
-        pub fn lookup_scene<#gt: #rt::Real>(name: &str) -> ::core::option::Option<::std::boxed::Box<dyn #rt::SceneKinematics<#gt>>> {
+        pub fn lookup_scene<#gt: #rt::Real>(name: &str) -> ::core::option::Option<::std::boxed::Box<dyn #rt::DynScene<#gt>>> {
             #scene_match
         }
 

@@ -32,9 +32,7 @@ pub const SCENES: [&str; 0] = [];
 /// A compiled-in scene by name, with its mechanism's default params, behind the object-safe trait.
 pub fn lookup_scene<T: ::mechgen::__private::Real>(
     name: &str,
-) -> ::core::option::Option<
-    ::std::boxed::Box<dyn ::mechgen::__private::SceneKinematics<T>>,
-> {
+) -> ::core::option::Option<::std::boxed::Box<dyn ::mechgen::__private::DynScene<T>>> {
     let _ = name;
     ::core::option::Option::None
 }

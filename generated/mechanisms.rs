@@ -1829,6 +1829,8 @@ pub mod sixbar {
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let t = ::mechgen::__private::scene_tick_state_mut(tick);
             let params = self.params.to_array();
+            // The params the scene reads, the only ones compared and checked: l1, l2, l3, l4,
+            // l2e, alpha.
             let same = t
                 .same_params_in(
                     &params,
@@ -1853,6 +1855,8 @@ pub mod sixbar {
                 ::mechgen::__private::Quantity::InputAcceleration,
                 xdd,
             )?;
+            // Angles this tick does not compute (read through their sine and cosine only): q2,
+            // q3.
             if !options.closed_forms {
                 t.principal_angles([true, true, false, false]);
             }
@@ -2262,6 +2266,8 @@ pub mod sixbar {
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let t = ::mechgen::__private::scene_tick_state_mut(tick);
             let params = self.params.to_array();
+            // The params the scene reads, the only ones compared and checked: l1, l2, l3, l4,
+            // l5, l6, l2e, xg, yg, alpha.
             let same = t
                 .same_params_in(
                     &params,
@@ -2286,6 +2292,8 @@ pub mod sixbar {
                 ::mechgen::__private::Quantity::InputAcceleration,
                 xdd,
             )?;
+            // Angles this tick does not compute (read through their sine and cosine only): q2,
+            // q3, q5.
             if !options.closed_forms {
                 t.principal_angles([true, true, true, false]);
             }
@@ -4391,6 +4399,8 @@ pub mod shaper {
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let t = ::mechgen::__private::scene_tick_state_mut(tick);
             let params = self.params.to_array();
+            // The params the scene reads, the only ones compared and checked: l1, l3, l4, lAC,
+            // yE.
             let same = t.same_params_in(&params, [true, true, true, true, true]);
             if !same {
                 ::mechgen::__private::check_finite_in(
@@ -4411,6 +4421,8 @@ pub mod shaper {
                 ::mechgen::__private::Quantity::InputAcceleration,
                 xdd,
             )?;
+            // Angles this tick does not compute (read through their sine and cosine only): q3,
+            // q4.
             if !options.closed_forms {
                 t.principal_angles([false, true, true, false]);
             }
@@ -6100,6 +6112,8 @@ pub mod four_bar {
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             let t = ::mechgen::__private::scene_tick_state_mut(tick);
             let params = self.params.to_array();
+            // The params the scene reads, the only ones compared and checked: l1, l2, l3, l4,
+            // lp, beta.
             let same = t.same_params_in(&params, [true, true, true, true, true, true]);
             if !same {
                 ::mechgen::__private::check_finite_in(
@@ -6120,6 +6134,8 @@ pub mod four_bar {
                 ::mechgen::__private::Quantity::InputAcceleration,
                 xdd,
             )?;
+            // Angles this tick does not compute (read through their sine and cosine only): q2,
+            // q3.
             if !options.closed_forms {
                 t.principal_angles([true, true]);
             }

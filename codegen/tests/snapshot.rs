@@ -143,3 +143,16 @@ fn pruned_scene_snapshot() {
     let snapshot = format!("{rod}\n\n{pin}\n\n{middle}\n\n{module}\n");
     expect_file!["snapshots/slider_scenes.rs"].assert_eq(&snapshot);
 }
+
+/// Names too long for a comment line (a scene's comment names it): every `__comment!` marker
+/// still becomes a `//` line, and the code parses.
+#[test]
+fn long_names_leave_no_comment_marker() {
+    let long = format!("a_{}", "very_long_scene_name_".repeat(6));
+    let file =
+        format!("{SLIDER}\n[scene.{long}]\nmechanism = \"slider\"\noutputs = [\"B\"]\norder = 1\n");
+    let (code, _) = generate_source(&SourceFile::new("long.toml", file)).expect("valid file");
+    assert!(!code.contains("__comment"), "a marker is left");
+    assert!(code.contains(&format!("// {long}:")), "the scene's comment");
+    syn::parse_file(&code).expect("the generated code parses");
+}

@@ -64,10 +64,29 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
         // Every kept block in closed form: with closed forms on, the guess is the last tick's
         // state as it is (nothing to predict, no sines or cosines to rotate).
         // Closed forms off: angles a tick left stale are made whole before Newton predicts.
-        let whole = skipped
-            .iter()
-            .any(|&k| k)
-            .then(|| quote!(if !options.closed_forms { t.principal_angles([#(#skipped),*]); }));
+        let whole = skipped.iter().any(|&k| k).then(|| {
+            let names: Vec<&str> = angles_skipped
+                .iter()
+                .map(|&k| c.model.unknowns[k].name.text.as_str())
+                .collect();
+            let note = comment(&format!(
+                "Angles this tick does not compute (read through their sine and cosine only): {}.",
+                names.join(", ")
+            ));
+            quote!(#note if !options.closed_forms { t.principal_angles([#(#skipped),*]); })
+        });
+        let read_names: Vec<&str> = (c.model.params.iter().zip(&read))
+            .filter(|(_, r)| **r)
+            .map(|(p, _)| p.name.text.as_str())
+            .collect();
+        let params_comment = comment(&format!(
+            "The params the scene reads, the only ones compared and checked: {}.",
+            if read_names.is_empty() {
+                "none".to_string()
+            } else {
+                read_names.join(", ")
+            }
+        ));
         // Below order 2 with Newton blocks: the rates the scene does not compute, estimated by
         // differences for its predictor (skipped angles are stale: not theirs).
         let order = plan.order.as_number();
@@ -143,7 +162,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
                 xdd: &[#gt; #ni], options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
                 let t = #rt::scene_tick_state_mut(tick);
                 let params = self.params.to_array();
-                // Only the params the scene reads (its caches hold no other).
+                #params_comment
                 let same = t.same_params_in(&params, [#(#read),*]);
                 if !same {
                     #rt::check_finite_in(#rt::Quantity::Param, &params, [#(#read),*])?;

@@ -79,3 +79,17 @@ fn scenes_named_like_items_follow_their_slider_crank() {
     assert_eq!(odd::other::tick::INFO.angles_skipped, [0]);
     assert!(odd::other::outputs::INFO.angles_skipped.is_empty());
 }
+
+/// A scene whose name no generated comment line can hold (its comments once broke the build).
+#[test]
+fn a_scene_with_a_very_long_name_builds_and_solves() {
+    use odd::generic::{Generic, Inputs};
+    use odd::a_scene_with_a_name_long_enough_that_no_generated_comment_line_can_hold_it_whole_and_prettyplease_splits_it::ASceneWithANameLongEnoughThatNoGeneratedCommentLineCanHoldItWholeAndPrettypleaseSplitsIt as Long;
+    let (scene, full) = (Long::<f64>::default(), Generic::<f64>::default());
+    let (_, q) = Long::<f64>::start();
+    let options = SolveOptions::default();
+    let input = InputMotion::new(Inputs { q1: 0.7 }, Inputs { q1: 1.0 }, Inputs { q1: 0.0 });
+    let (out, _, _) = scene.solve(&input, &q, &options).unwrap();
+    let want = full.solve(&input, &q, &options).unwrap();
+    assert!(close(out.q3, want.q.q3) && close(out.q3_vel, want.qd.q3));
+}

@@ -51,6 +51,35 @@ fn modes(block: usize, form: &ClosedForm, v: &[f64]) -> Result<Modes<f64>, Solve
     }
 }
 
+/// How far a closed form with roots `v` is from losing (positive) or gaining (negative) its pair
+/// of modes: the distance by which its circles and lines meet or miss, the gap its kernel reports
+/// past the dead point. `None` for the forms with one mode (linear) and non-finite roots.
+pub(super) fn margin(form: &ClosedForm, v: &[f64]) -> Option<f64> {
+    let m = match form {
+        ClosedForm::Rrr(_) => {
+            let (l, la, lb) = (v[0].hypot(v[1]), v[2].hypot(v[3]), v[4].hypot(v[5]));
+            (la + lb - l).min(l - la + lb).min(l + la - lb)
+        }
+        ClosedForm::Rrp { .. } => {
+            // The circle of radius |M| about −K against the line along u through the origin.
+            let ul = v[4].hypot(v[5]);
+            let h = (v[4] * -v[1] - v[5] * -v[0]) / ul;
+            v[2].hypot(v[3]) - h.abs()
+        }
+        ClosedForm::Rpr { .. } => {
+            // In the frame of N: |g| against |b|, scaled back by |N|.
+            let nn = v[4] * v[4] + v[5] * v[5];
+            let g = (-v[0] * v[4] - v[1] * v[5]) / nn;
+            let g1 = (-v[1] * v[4] + v[0] * v[5]) / nn;
+            let b = (v[3] * v[4] - v[2] * v[5]) / nn;
+            (g.hypot(g1) - b.abs()) * nn.sqrt()
+        }
+        ClosedForm::Angle1 { .. } => v[1].hypot(v[2]) - v[0].abs(),
+        ClosedForm::Linear2 { .. } | ClosedForm::Length1 { .. } => return None,
+    };
+    m.is_finite().then_some(m)
+}
+
 /// `q` with every mode of `f` written in: one configuration per mode.
 fn expand(
     block: usize,
@@ -86,12 +115,35 @@ impl Solver {
     /// cut roots ascending). An error only for a degenerate state (a block singular for every
     /// value of its unknowns, overflow).
     pub fn configurations(&self, x: &[f64]) -> Result<Vec<Vec<f64>>, SolveError> {
+        self.walk(x, None)
+    }
+
+    /// [`Solver::configurations`] and the closed-form blocks' margins met on the way (see
+    /// [`margin`]), in a fixed order: block by block, partial configuration by configuration.
+    pub(super) fn with_margins(&self, x: &[f64]) -> Result<(Vec<Vec<f64>>, Vec<f64>), SolveError> {
+        let mut margins = Vec::new();
+        let qs = self.walk(x, Some(&mut margins))?;
+        Ok((qs, margins))
+    }
+
+    fn walk(
+        &self,
+        x: &[f64],
+        mut margins: Option<&mut Vec<f64>>,
+    ) -> Result<Vec<Vec<f64>>, SolveError> {
         let mut all = vec![vec![0.0; self.unknowns]];
         for (b, step) in self.steps.iter().enumerate() {
             let mut next = Vec::new();
             for q in &all {
                 match step {
-                    Step::Closed(f) => next.extend(expand(b, f, x, q, &self.params)?),
+                    Step::Closed(f) => {
+                        if let Some(ms) = margins.as_deref_mut()
+                            && let Some(m) = margin(&f.form, &eval(&f.roots, x, q, &self.params))
+                        {
+                            ms.push(m);
+                        }
+                        next.extend(expand(b, f, x, q, &self.params)?)
+                    }
                     Step::Torn(t) => next.extend(self.torn(b, t, x, q)),
                 }
             }

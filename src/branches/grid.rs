@@ -57,6 +57,23 @@ enum Probe {
     Lost,
 }
 
+/// The margin searched in a cell: its index, its sign at the ends, the ends' count and number of
+/// margins, how fast it may change.
+struct Target {
+    i: usize,
+    sign: f64,
+    count: usize,
+    len: usize,
+    rate: f64,
+}
+
+/// The least a margin with these samples (sorted inputs, values) can reach between them.
+fn lower_bound(pts: &[(f64, f64)], rate: f64) -> f64 {
+    pts.windows(2)
+        .map(|w| 0.5 * (w[0].1 + w[1].1 - rate * (w[1].0 - w[0].0)))
+        .fold(f64::INFINITY, f64::min)
+}
+
 impl Setup {
     /// Inputs inside cells of `xs` whose ends have one count where the count differs.
     pub(super) fn hidden(&self, xs: &[f64]) -> Result<Vec<f64>, String> {
@@ -70,12 +87,19 @@ impl Setup {
                 continue;
             }
             for i in 0..ma.len() {
-                let s = ma[i].signum();
-                let near = s * ma[i] + s * mb[i] <= rate * (b - a);
-                if s == 0.0 || mb[i].signum() != s || !near {
+                let sign = ma[i].signum();
+                let ends = [(a, sign * ma[i]), (b, sign * mb[i])];
+                if sign == 0.0 || mb[i].signum() != sign || lower_bound(&ends, rate) > 0.0 {
                     continue;
                 }
-                if let Some(x) = self.search(a, b, i, s, qa.len(), ma.len())? {
+                let t = Target {
+                    i,
+                    sign,
+                    count: qa.len(),
+                    len: ma.len(),
+                    rate,
+                };
+                if let Some(x) = self.search(ends, &t)? {
                     found.push(x);
                     break;
                 }
@@ -84,60 +108,57 @@ impl Setup {
         Ok(found)
     }
 
-    /// The probe of the margin `i` (of `len`, sign `s` at the ends, count `count`) at `x`.
-    fn probe(&self, x: f64, i: usize, s: f64, count: usize, len: usize) -> Result<Probe, String> {
+    /// The probe of the margin `t` at `x`.
+    fn probe(&self, x: f64, t: &Target) -> Result<Probe, String> {
         let (q, m) = self.solved(x)?;
-        Ok(if q.len() != count {
+        Ok(if q.len() != t.count {
             Probe::Changed
-        } else if m.len() != len {
+        } else if m.len() != t.len {
             Probe::Lost
         } else {
-            Probe::Value(s * m[i])
+            Probe::Value(t.sign * m[t.i])
         })
     }
 
-    /// Golden-section search of `(a, b)` for the least of margin `i`: an input where the count
-    /// differs from the ends' `count`, or `None`.
-    fn search(
-        &self,
-        a: f64,
-        b: f64,
-        i: usize,
-        s: f64,
-        count: usize,
-        len: usize,
-    ) -> Result<Option<f64>, String> {
+    /// Golden-section search of the cell between `ends` (inputs, signed margins) for the least
+    /// of the margin `t`: an input where the count differs from the ends', or `None` (also as
+    /// soon as the margin cannot reach zero between the samples, given its rate).
+    fn search(&self, ends: [(f64, f64); 2], t: &Target) -> Result<Option<f64>, String> {
         let g = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut lo, mut hi) = (a, b);
+        let [(a, _), (b, _)] = ends;
         let tol = 1e-13 * (b - a).max(a.abs()).max(b.abs()).max(1.0);
-        let mut xs = [hi - g * (hi - lo), lo + g * (hi - lo)];
-        let mut vs = [0.0; 2];
-        for k in 0..2 {
-            match self.probe(xs[k], i, s, count, len)? {
-                Probe::Changed => return Ok(Some(xs[k])),
+        // The bracket's ends and two inner points, each `(input, value)`.
+        let mut p = [
+            ends[0],
+            (b - g * (b - a), 0.0),
+            (a + g * (b - a), 0.0),
+            ends[1],
+        ];
+        for k in [1, 2] {
+            match self.probe(p[k].0, t)? {
+                Probe::Changed => return Ok(Some(p[k].0)),
                 Probe::Lost => return Ok(None),
-                Probe::Value(v) => vs[k] = v,
+                Probe::Value(v) => p[k].1 = v,
             }
         }
-        while hi - lo > tol {
-            let k = if vs[0] < vs[1] {
-                hi = xs[1];
-                (xs[1], vs[1]) = (xs[0], vs[0]);
-                xs[0] = hi - g * (hi - lo);
-                0
-            } else {
-                lo = xs[0];
-                (xs[0], vs[0]) = (xs[1], vs[1]);
-                xs[1] = lo + g * (hi - lo);
+        while p[3].0 - p[0].0 > tol && lower_bound(&p, t.rate) <= 0.0 {
+            let (lo, hi) = (p[0].0, p[3].0);
+            let k = if p[1].1 < p[2].1 {
+                (p[3], p[2]) = (p[2], p[1]);
+                p[1].0 = p[3].0 - g * (p[3].0 - lo);
                 1
+            } else {
+                (p[0], p[1]) = (p[1], p[2]);
+                p[2].0 = p[0].0 + g * (hi - p[0].0);
+                2
             };
-            if !(xs[k] > lo && xs[k] < hi) {
+            if !(p[k].0 > p[k - 1].0 && p[k].0 < p[k + 1].0) {
                 break;
             }
-            match self.probe(xs[k], i, s, count, len)? {
-                Probe::Changed => return Ok(Some(xs[k])),
+            match self.probe(p[k].0, t)? {
+                Probe::Changed => return Ok(Some(p[k].0)),
                 Probe::Lost => return Ok(None),
-                Probe::Value(v) => vs[k] = v,
+                Probe::Value(v) => p[k].1 = v,
             }
         }
         Ok(None)

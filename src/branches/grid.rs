@@ -14,10 +14,20 @@ pub(super) const CELLS: usize = 720;
 /// Rounds of refining the grid when tracking meets a change of the count inside an interval.
 pub(super) const ROUNDS: usize = 8;
 
-/// How fast a margin may change, per radian of an angle input (times the length scale) or per
-/// unit of a length input: a bound with a safety factor (a length moves by at most its lever arm
-/// times the angle).
+/// How fast a margin may change over a cell, as a multiple of the fastest it changes over that
+/// cell and its two neighbours (a smooth margin's slope changes little from cell to cell; near a
+/// minimum inside the cell the neighbours' slopes are the larger).
 const RATE: f64 = 4.0;
+
+/// The largest slope of margin `i` over cell `k` of `xs` and its neighbours (those with the
+/// same count and margins).
+fn slope(xs: &[f64], margins: &[(usize, Vec<f64>)], k: usize, i: usize) -> f64 {
+    let same = |j: usize| margins[j].0 == margins[k].0 && margins[j].1.len() == margins[k].1.len();
+    (k.saturating_sub(1)..(k + 2).min(xs.len() - 1))
+        .filter(|&j| same(j) && same(j + 1))
+        .map(|j| ((margins[j + 1].1[i] - margins[j].1[i]) / (xs[j + 1] - xs[j])).abs())
+        .fold(0.0, f64::max)
+}
 
 /// The uniform grid: `CELLS + 1` inputs from `from` to `to` (both exact).
 pub(super) fn uniform(from: f64, to: f64) -> Vec<f64> {
@@ -77,17 +87,20 @@ fn lower_bound(pts: &[(f64, f64)], rate: f64) -> f64 {
 impl Setup {
     /// Inputs inside cells of `xs` whose ends have one count where the count differs.
     pub(super) fn hidden(&self, xs: &[f64]) -> Result<Vec<f64>, String> {
-        let rate = RATE * if self.input_is_angle { self.scale } else { 1.0 };
+        let margins = xs
+            .iter()
+            .map(|&x| self.solved(x).map(|(q, m)| (q.len(), m)))
+            .collect::<Result<Vec<_>, _>>()?;
         let mut found = Vec::new();
-        for w in xs.windows(2) {
-            let (a, b) = (w[0], w[1]);
-            let (qa, ma) = self.solved(a)?;
-            let (qb, mb) = self.solved(b)?;
-            if qa.len() != qb.len() || ma.len() != mb.len() {
+        for k in 0..xs.len() - 1 {
+            let (a, b) = (xs[k], xs[k + 1]);
+            let ((ca, ma), (cb, mb)) = (&margins[k], &margins[k + 1]);
+            if ca != cb || ma.len() != mb.len() {
                 continue;
             }
             for i in 0..ma.len() {
                 let sign = ma[i].signum();
+                let rate = RATE * slope(xs, &margins, k, i);
                 let ends = [(a, sign * ma[i]), (b, sign * mb[i])];
                 if sign == 0.0 || mb[i].signum() != sign || lower_bound(&ends, rate) > 0.0 {
                     continue;
@@ -95,7 +108,7 @@ impl Setup {
                 let t = Target {
                     i,
                     sign,
-                    count: qa.len(),
+                    count: *ca,
                     len: ma.len(),
                     rate,
                 };

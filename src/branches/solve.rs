@@ -1,7 +1,9 @@
 //! Branch identification, every assembly configuration at one input: block by block, a
 //! closed-form block multiplies the partial configurations by its modes (the runtime's `*_modes`
 //! kernels), a torn block by the roots of its scalar equation in the cut, one function per
-//! combination of its sub-blocks' modes (`roots::all_roots`), the other unknowns in closed form.
+//! combination of its sub-blocks' modes (`roots::roots_and_extrema`), the other unknowns in closed form.
+//! On request, each block's margins (how far it is from gaining or losing a pair of
+//! configurations) for the grid's search of hidden changes of the count.
 
 use mechgen_codegen::ClosedForm;
 use mechgen_runtime::closed_form::{
@@ -10,7 +12,7 @@ use mechgen_runtime::closed_form::{
 use mechgen_runtime::error::SolveError;
 
 use super::plan::{Form, Last, Step, Torn, slots};
-use super::roots::all_roots;
+use super::roots::roots_and_extrema;
 use crate::generic::tape::{Env, Tape};
 
 /// A mechanism's configuration enumerator.
@@ -144,7 +146,7 @@ impl Solver {
                         }
                         next.extend(expand(b, f, x, q, &self.params)?)
                     }
-                    Step::Torn(t) => next.extend(self.torn(b, t, x, q)),
+                    Step::Torn(t) => next.extend(self.torn(b, t, x, q, margins.as_deref_mut())),
                 }
             }
             all = next;
@@ -155,12 +157,20 @@ impl Solver {
         Ok(all)
     }
 
-    /// The configurations of a torn block at cut roots.
-    fn torn(&self, b: usize, t: &Torn, x: &[f64], q: &[f64]) -> Vec<Vec<f64>> {
+    /// The configurations of a torn block at cut roots; into `margins` (when given) the values
+    /// of its scalar equation at its extrema in the cut.
+    fn torn(
+        &self,
+        b: usize,
+        t: &Torn,
+        x: &[f64],
+        q: &[f64],
+        mut margins: Option<&mut Vec<f64>>,
+    ) -> Vec<Vec<f64>> {
         let mut out = Vec::new();
         for sigma in 0..1usize << t.subs.len() {
             let mut g = |c: f64| self.cut_value(b, t, sigma, x, q, c).map(|(v, _)| v);
-            for root in all_roots(&mut g) {
+            for root in roots_and_extrema(&mut g, margins.as_deref_mut()) {
                 if let Some((_, q)) = self.cut_value(b, t, sigma, x, q, root) {
                     out.push(q);
                 }
@@ -208,7 +218,8 @@ impl Solver {
                     return None;
                 }
                 q[*u] = (sn / det).atan2(cn / det);
-                cn.hypot(sn) - det.abs()
+                // In length (a link of length L has |det| = L²), as the margins are compared.
+                (cn.hypot(sn) - det.abs()) / det.abs().sqrt()
             }
             Last::Length { s, roots } => {
                 let v = eval(roots, x, &q, p);

@@ -307,3 +307,85 @@ fn fixtures_and_other_files() {
         }
     }
 }
+
+/// A four-bar `l1 e(q1) + l2 e(q2) = l4 e(gamma) + l3 e(q3)` from `tests/data/branches/`.
+fn four_bar_file(name: &str) -> Setup {
+    let path = format!(
+        "{}/tests/data/branches/{name}.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    setup_from(&std::fs::read_to_string(path).unwrap(), name)
+}
+
+/// Law of cosines: the inputs q1 where |l1 e(q1) − l4 e(gamma)| = d, ascending.
+fn cosine_dead_points(l1: f64, l4: f64, gamma: f64, d: f64) -> [f64; 2] {
+    let a = ((l1 * l1 + l4 * l4 - d * d) / (2.0 * l1 * l4)).acos();
+    [gamma - a, gamma + a]
+}
+
+fn dead_inputs(a: &Analysis) -> Vec<f64> {
+    let mut got: Vec<f64> = a.dead_points.iter().map(|d| d.input).collect();
+    got.sort_by(f64::total_cmp);
+    got
+}
+
+/// The links barely reach (l2 + l3 = 2.00001 against a least ground-to-crank-pin distance of 2):
+/// the crank moves over q1 ∈ [0.04°, 0.46°] only, a circuit inside one 0.5° cell of the grid.
+#[test]
+fn a_circuit_inside_one_grid_cell() {
+    let s = four_bar_file("narrow");
+    let (l1, l2, l3, l4, gamma) = (1.0f64, 1.0f64, 1.00001f64, 3.0f64, 0.25f64.to_radians());
+    let x = 0.25f64.to_radians();
+    for (from, to) in [(0.0, TAU), (-PI, PI)] {
+        let a = s.analyze(from, to, &[x]).unwrap();
+        assert_eq!(
+            (a.circuits, a.branches.len(), a.dead_points.len()),
+            (1, 2, 2),
+            "{a:?}"
+        );
+        let want = cosine_dead_points(l1, l4, gamma, l2 + l3);
+        for (g, w) in dead_inputs(&a).iter().zip(want) {
+            assert!((g - w).abs() <= 1e-9, "{g} vs {w}");
+        }
+        // At 0.25°: l2 e(q2) − l3 e(q3) = D = l4 e(gamma) − l1 e(q1), the two triangles on D.
+        let (dx, dy) = (
+            l4 * gamma.cos() - l1 * x.cos(),
+            l4 * gamma.sin() - l1 * x.sin(),
+        );
+        let (dl, phi) = (dx.hypot(dy), dy.atan2(dx));
+        let c = ((l2 * l2 + dl * dl - l3 * l3) / (2.0 * l2 * dl)).acos();
+        assert_eq!(a.at.len(), 2);
+        for sign in [1.0, -1.0] {
+            let q2 = phi + sign * c;
+            let q3 = (l2 * q2.sin() - dy).atan2(l2 * q2.cos() - dx);
+            let m = a.at.iter().find(|l| gap(l.q[0], q2) <= 1e-9);
+            let m = m.unwrap_or_else(|| panic!("q2 = {q2} not in {:?}", a.at));
+            assert!(gap(m.q[1], q3) <= 1e-9, "{:?} vs {q3}", m.q);
+            assert_eq!(m.circuit, 0);
+        }
+        assert_ne!(a.at[0].branch, a.at[1].branch);
+    }
+}
+
+/// |l3 − l2| = 2.00001 against a least distance of 2: no assembly over q1 ∈ [0.04°, 0.46°], two
+/// dead points inside one 0.5° cell whose ends both have two configurations (2 → 0 → 2).
+#[test]
+fn two_dead_points_inside_one_grid_cell() {
+    let s = four_bar_file("gap");
+    let (l1, l2, l3, l4, gamma) = (1.0f64, 1.0f64, 3.00001f64, 3.0f64, 0.25f64.to_radians());
+    let want = cosine_dead_points(l1, l4, gamma, l3 - l2);
+    let inside = 0.5 * (want[0] + want[1]);
+    for (from, to) in [(0.0, TAU), (-PI, PI)] {
+        let a = s.analyze(from, to, &[inside, 0.5f64.to_radians()]).unwrap();
+        assert_eq!(
+            (a.circuits, a.branches.len(), a.dead_points.len()),
+            (1, 2, 2),
+            "{a:?}"
+        );
+        for (g, w) in dead_inputs(&a).iter().zip(want) {
+            assert!((g - w).abs() <= 1e-9, "{g} vs {w}");
+        }
+        let count = |x: f64| a.at.iter().filter(|l| l.input == x).count();
+        assert_eq!((count(inside), count(0.5f64.to_radians())), (0, 2));
+    }
+}

@@ -115,3 +115,27 @@ fn length_input_through_file_and_errors() {
     };
     assert_eq!(strip(&a), strip(&b));
 }
+
+/// A four-bar that assembles over q1 ∈ [0.04°, 0.46°] only (inside one cell of the grid).
+#[test]
+fn narrow_circuit_through_the_cli() {
+    let f = format!(
+        "{}/tests/data/branches/narrow.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let out = mechgen(&["branches", "--file", &f, "narrow", "--at", "0.25"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("1 circuit(s), 2 branch(es), 2 dead point(s)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("at q1 = 0.2500000000 deg: 2 configuration(s)"),
+        "{text}"
+    );
+}

@@ -4,6 +4,7 @@
 //! cut angle: `plan`, `solve`, `roots`), the dead points, the circuits and the branches (`trace`),
 //! and the configurations at chosen inputs labelled with their circuit and branch.
 
+mod grid;
 mod plan;
 mod report;
 mod roots;
@@ -17,7 +18,10 @@ use std::f64::consts::TAU;
 use mechgen_codegen::{Compiled, Kind};
 
 pub use solve::Solver;
-use trace::{CELLS, Interval};
+use trace::{Dead, Interval, Traced};
+
+/// The configurations at an input and the closed-form blocks' margins met on the way.
+type Solved = (Vec<Vec<f64>>, Vec<f64>);
 
 /// A mechanism prepared for branch identification along one input (the others held).
 #[derive(Clone, Debug)]
@@ -35,7 +39,7 @@ pub struct Setup {
     pub input_name: String,
     pub unknown_names: Vec<String>,
     /// Configurations already computed in this analysis, by the input's bits.
-    cache: RefCell<HashMap<u64, Vec<Vec<f64>>>>,
+    cache: RefCell<HashMap<u64, Solved>>,
 }
 
 /// A dead point: the input where the configuration curve turns back, its configuration, circuit.
@@ -120,13 +124,18 @@ impl Setup {
 
     /// Every assembly configuration at input value `x` (radians or file units).
     pub fn configurations(&self, x: f64) -> Result<Vec<Vec<f64>>, String> {
+        self.solve_at(x).map(|r| r.0)
+    }
+
+    /// [`Setup::configurations`] with the closed-form blocks' margins.
+    fn solve_at(&self, x: f64) -> Result<Solved, String> {
         if !x.is_finite() {
             return Err(format!("input {x} is not finite"));
         }
         let mut inputs = self.inputs.clone();
         inputs[self.input] = x;
         self.solver
-            .configurations(&inputs)
+            .with_margins(&inputs)
             .map_err(|e| format!("`{}` at {} = {x}: {e}", self.name, self.input_name))
     }
 
@@ -164,62 +173,67 @@ impl Setup {
                 return Err(format!("--at {x} is outside the range {from} to {to}"));
             }
         }
-        let xs: Vec<f64> = (0..=CELLS)
-            .map(|i| {
-                if i == CELLS {
-                    to
-                } else {
-                    from + (to - from) * i as f64 / CELLS as f64
-                }
-            })
-            .collect();
-        let grid = xs
-            .iter()
-            .map(|&x| self.count(x))
-            .collect::<Result<Vec<_>, _>>()?;
-        let dead = self.dead_points(&xs, &grid)?;
-        let width = if self.input_is_angle { 1.0 } else { to - from };
-        let mut ivs: Vec<Interval> = Vec::new();
-        let iv = |lo: f64, hi: f64, a: Option<usize>, b: Option<usize>| Interval {
-            lo,
-            hi,
-            dead: [a, b],
-            tracks: Vec::new(),
+        // An angle's inputs taken into the range's turn (`at` reported as given).
+        let reduce = |x: f64| {
+            if circular {
+                from + (x - from).rem_euclid(TAU)
+            } else {
+                x
+            }
         };
-        let m = dead.len();
-        if circular && m > 0 {
-            for k in 0..m {
-                let hi = if k + 1 < m {
-                    dead[k + 1].input
-                } else {
-                    dead[0].input + TAU
-                };
-                ivs.push(iv(dead[k].input, hi, Some(k), Some((k + 1) % m)));
-            }
-        } else {
-            let mut lo = (from, None);
-            for (k, d) in dead.iter().enumerate() {
-                ivs.push(iv(lo.0, d.input, lo.1, Some(k)));
-                lo = (d.input, Some(k));
-            }
-            ivs.push(iv(lo.0, to, lo.1, None));
-        }
-        // An angle's `at` inputs taken into the range's turn (reported as given).
-        let reduced: Vec<f64> = at
-            .iter()
-            .map(|&x| {
-                if circular {
-                    from + (x - from).rem_euclid(TAU)
-                } else {
-                    x
+        let reduced: Vec<f64> = at.iter().map(|&x| reduce(x)).collect();
+        // The grid: uniform cells, the start input and the `at` inputs (each a point where the
+        // count is known), then the inputs where a cell hides a change of the count.
+        let start = reduce(self.inputs[self.input]);
+        let mut extra: Vec<f64> = reduced.iter().copied().chain([start]).collect();
+        let width = if self.input_is_angle { 1.0 } else { to - from };
+        let uniform = grid::uniform(from, to);
+        for _ in 0..grid::ROUNDS {
+            let xs = grid::merged(&uniform, &extra);
+            let xs = grid::merged(&xs, &self.hidden(&xs)?);
+            let counts = xs
+                .iter()
+                .map(|&x| self.count(x))
+                .collect::<Result<Vec<_>, _>>()?;
+            let dead = self.dead_points(&xs, &counts)?;
+            let mut ivs = intervals(&dead, circular, from, to);
+            let mut changes = None;
+            for v in &mut ivs {
+                let samples = trace::samples(v, &xs, &reduced, width, circular);
+                match self.track(&samples)? {
+                    Traced::Tracks(t) => v.tracks = t,
+                    Traced::Changes(x) => {
+                        changes = Some(x);
+                        break;
+                    }
                 }
-            })
-            .collect();
-        for v in &mut ivs {
-            let xs = trace::samples(v, &xs, &reduced, width, circular);
-            v.tracks = self.track(&xs)?;
+            }
+            if let Some(x) = changes {
+                // A dead point the grid did not see: that input joins the grid.
+                extra.push(reduce(x));
+                continue;
+            }
+            return self.finish(&ivs, dead, circular, (from, to), at, &reduced);
         }
-        let mut a = self.structure(&ivs, dead, circular, from, to, &reduced)?;
+        Err(format!(
+            "the number of configurations of `{}` still changes inside an interval after {} \
+             refinements of the grid: dead points too close to be told apart",
+            self.name,
+            grid::ROUNDS
+        ))
+    }
+
+    /// The analysis from the traced intervals, the `at` inputs reported as given.
+    fn finish(
+        &self,
+        ivs: &[Interval],
+        dead: Vec<Dead>,
+        circular: bool,
+        (from, to): (f64, f64),
+        at: &[f64],
+        reduced: &[f64],
+    ) -> Result<Analysis, String> {
+        let mut a = self.structure(ivs, dead, circular, from, to, reduced)?;
         a.at_inputs = at.to_vec();
         for l in &mut a.at {
             if let Some(k) = reduced
@@ -231,6 +245,36 @@ impl Setup {
         }
         Ok(a)
     }
+}
+
+/// The intervals between the dead points (or range ends); around the circle for a full turn.
+fn intervals(dead: &[Dead], circular: bool, from: f64, to: f64) -> Vec<Interval> {
+    let iv = |lo: f64, hi: f64, a: Option<usize>, b: Option<usize>| Interval {
+        lo,
+        hi,
+        dead: [a, b],
+        tracks: Vec::new(),
+    };
+    let m = dead.len();
+    let mut ivs = Vec::new();
+    if circular && m > 0 {
+        for k in 0..m {
+            let hi = if k + 1 < m {
+                dead[k + 1].input
+            } else {
+                dead[0].input + TAU
+            };
+            ivs.push(iv(dead[k].input, hi, Some(k), Some((k + 1) % m)));
+        }
+    } else {
+        let mut lo = (from, None);
+        for (k, d) in dead.iter().enumerate() {
+            ivs.push(iv(lo.0, d.input, lo.1, Some(k)));
+            lo = (d.input, Some(k));
+        }
+        ivs.push(iv(lo.0, to, lo.1, None));
+    }
+    ivs
 }
 
 mod structure;

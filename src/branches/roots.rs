@@ -4,6 +4,7 @@
 //! sampled too. Each sign change between samples is refined by the Illinois method with forced
 //! bisection steps (safeguarded, to rounding level); each local minimum of |f| without a sign
 //! change is searched by golden section for a hidden sign change (two roots closer than the grid).
+//! On request, the values at the local extrema of `f` (a torn block's margins along the input).
 
 use std::f64::consts::PI;
 
@@ -11,7 +12,18 @@ use std::f64::consts::PI;
 pub(super) const GRID: usize = 120;
 
 /// Every zero of `f` on (−π, π], sorted, each once.
+#[cfg(test)]
 pub(super) fn all_roots(f: &mut dyn FnMut(f64) -> Option<f64>) -> Vec<f64> {
+    roots_and_extrema(f, None)
+}
+
+/// [`all_roots`], and into `extrema` (when given) the values of `f` at its local extrema between
+/// samples (parabolic estimates, in the order of the cut): where one crosses zero as the input
+/// moves, a pair of roots appears or vanishes.
+pub(super) fn roots_and_extrema(
+    f: &mut dyn FnMut(f64) -> Option<f64>,
+    extrema: Option<&mut Vec<f64>>,
+) -> Vec<f64> {
     let h = 2.0 * PI / GRID as f64;
     let mut s: Vec<(f64, Option<f64>)> = Vec::with_capacity(GRID + 8);
     // One cell past π, so that the windows below see across the seam (−π and π are one angle).
@@ -38,6 +50,9 @@ pub(super) fn all_roots(f: &mut dyn FnMut(f64) -> Option<f64>) -> Vec<f64> {
             s.push((edge, f(edge).filter(|v| v.is_finite())));
         }
         s.push((t, v));
+    }
+    if let Some(out) = extrema {
+        out.extend(s.windows(3).filter_map(extremum));
     }
     let mut roots = Vec::new();
     for w in s.windows(2) {
@@ -76,6 +91,23 @@ pub(super) fn all_roots(f: &mut dyn FnMut(f64) -> Option<f64>) -> Vec<f64> {
         roots.pop();
     }
     roots
+}
+
+/// The value at the vertex of the parabola through three samples whose middle one is a strict
+/// local extremum, or `None`.
+fn extremum(w: &[(f64, Option<f64>)]) -> Option<f64> {
+    let [(x0, Some(y0)), (x1, Some(y1)), (x2, Some(y2))] = [w[0], w[1], w[2]] else {
+        return None;
+    };
+    if (y1 - y0) * (y2 - y1) >= 0.0 || !(x0 < x1 && x1 < x2) {
+        return None;
+    }
+    let (d1, d2) = ((y1 - y0) / (x1 - x0), (y2 - y1) / (x2 - x1));
+    let c = (d2 - d1) / (x2 - x0);
+    let b = d1 + c * (x1 - x0);
+    let v = if c != 0.0 { y1 - b * b / (4.0 * c) } else { y1 };
+    // The vertex lies between the outer samples; the estimate stays between the samples' values.
+    Some(if v.is_finite() { v } else { y1 })
 }
 
 /// The zero of `f` in the bracket `a`, `b` (values of opposite signs).
@@ -187,5 +219,22 @@ mod tests {
         assert_eq!(r.len(), 2, "{r:?}");
         assert!(r[0].abs() < 1e-300 && r[1] == PI, "{r:?}");
         assert!(all_roots(&mut |t| Some(t.cos() + 1.5)).is_empty());
+    }
+
+    #[test]
+    fn extrema_between_samples() {
+        // cos(t − 0.3) − 0.2: a maximum 0.8 at 0.3, a minimum −1.2 at 0.3 − π, off the grid.
+        let mut ext = Vec::new();
+        let r = roots_and_extrema(&mut |t| Some((t - 0.3).cos() - 0.2), Some(&mut ext));
+        assert_eq!(r.len(), 2);
+        assert_eq!(ext.len(), 2, "{ext:?}");
+        assert!(
+            (ext[0] + 1.2).abs() < 1e-6 && (ext[1] - 0.8).abs() < 1e-6,
+            "{ext:?}"
+        );
+        // No extremum of a monotonic piece; none where `f` is undefined.
+        let mut ext = Vec::new();
+        roots_and_extrema(&mut |t| (t.abs() < 1.0).then_some(t), Some(&mut ext));
+        assert!(ext.is_empty(), "{ext:?}");
     }
 }

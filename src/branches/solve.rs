@@ -1,7 +1,9 @@
 //! Branch identification, every assembly configuration at one input: block by block, a
 //! closed-form block multiplies the partial configurations by its modes (the runtime's `*_modes`
 //! kernels), a torn block by the roots of its scalar equation in the cut, one function per
-//! combination of its sub-blocks' modes (`roots::all_roots`), the other unknowns in closed form.
+//! combination of its sub-blocks' modes (`roots::roots_and_extrema`), the other unknowns in closed form.
+//! On request, each block's margins (how far it is from gaining or losing a pair of
+//! configurations) for the grid's search of hidden changes of the count.
 
 use mechgen_codegen::ClosedForm;
 use mechgen_runtime::closed_form::{
@@ -10,7 +12,7 @@ use mechgen_runtime::closed_form::{
 use mechgen_runtime::error::SolveError;
 
 use super::plan::{Form, Last, Step, Torn, slots};
-use super::roots::all_roots;
+use super::roots::roots_and_extrema;
 use crate::generic::tape::{Env, Tape};
 
 /// A mechanism's configuration enumerator.
@@ -51,6 +53,35 @@ fn modes(block: usize, form: &ClosedForm, v: &[f64]) -> Result<Modes<f64>, Solve
     }
 }
 
+/// How far a closed form with roots `v` is from losing (positive) or gaining (negative) its pair
+/// of modes: the distance by which its circles and lines meet or miss, the gap its kernel reports
+/// past the dead point. `None` for the forms with one mode (linear) and non-finite roots.
+pub(super) fn margin(form: &ClosedForm, v: &[f64]) -> Option<f64> {
+    let m = match form {
+        ClosedForm::Rrr(_) => {
+            let (l, la, lb) = (v[0].hypot(v[1]), v[2].hypot(v[3]), v[4].hypot(v[5]));
+            (la + lb - l).min(l - la + lb).min(l + la - lb)
+        }
+        ClosedForm::Rrp { .. } => {
+            // The circle of radius |M| about −K against the line along u through the origin.
+            let ul = v[4].hypot(v[5]);
+            let h = (v[4] * -v[1] - v[5] * -v[0]) / ul;
+            v[2].hypot(v[3]) - h.abs()
+        }
+        ClosedForm::Rpr { .. } => {
+            // In the frame of N: |g| against |b|, scaled back by |N|.
+            let nn = v[4] * v[4] + v[5] * v[5];
+            let g = (-v[0] * v[4] - v[1] * v[5]) / nn;
+            let g1 = (-v[1] * v[4] + v[0] * v[5]) / nn;
+            let b = (v[3] * v[4] - v[2] * v[5]) / nn;
+            (g.hypot(g1) - b.abs()) * nn.sqrt()
+        }
+        ClosedForm::Angle1 { .. } => v[1].hypot(v[2]) - v[0].abs(),
+        ClosedForm::Linear2 { .. } | ClosedForm::Length1 { .. } => return None,
+    };
+    m.is_finite().then_some(m)
+}
+
 /// `q` with every mode of `f` written in: one configuration per mode.
 fn expand(
     block: usize,
@@ -86,13 +117,36 @@ impl Solver {
     /// cut roots ascending). An error only for a degenerate state (a block singular for every
     /// value of its unknowns, overflow).
     pub fn configurations(&self, x: &[f64]) -> Result<Vec<Vec<f64>>, SolveError> {
+        self.walk(x, None)
+    }
+
+    /// [`Solver::configurations`] and the closed-form blocks' margins met on the way (see
+    /// [`margin`]), in a fixed order: block by block, partial configuration by configuration.
+    pub(super) fn with_margins(&self, x: &[f64]) -> Result<(Vec<Vec<f64>>, Vec<f64>), SolveError> {
+        let mut margins = Vec::new();
+        let qs = self.walk(x, Some(&mut margins))?;
+        Ok((qs, margins))
+    }
+
+    fn walk(
+        &self,
+        x: &[f64],
+        mut margins: Option<&mut Vec<f64>>,
+    ) -> Result<Vec<Vec<f64>>, SolveError> {
         let mut all = vec![vec![0.0; self.unknowns]];
         for (b, step) in self.steps.iter().enumerate() {
             let mut next = Vec::new();
             for q in &all {
                 match step {
-                    Step::Closed(f) => next.extend(expand(b, f, x, q, &self.params)?),
-                    Step::Torn(t) => next.extend(self.torn(b, t, x, q)),
+                    Step::Closed(f) => {
+                        if let Some(ms) = margins.as_deref_mut()
+                            && let Some(m) = margin(&f.form, &eval(&f.roots, x, q, &self.params))
+                        {
+                            ms.push(m);
+                        }
+                        next.extend(expand(b, f, x, q, &self.params)?)
+                    }
+                    Step::Torn(t) => next.extend(self.torn(b, t, x, q, margins.as_deref_mut())),
                 }
             }
             all = next;
@@ -103,12 +157,20 @@ impl Solver {
         Ok(all)
     }
 
-    /// The configurations of a torn block at cut roots.
-    fn torn(&self, b: usize, t: &Torn, x: &[f64], q: &[f64]) -> Vec<Vec<f64>> {
+    /// The configurations of a torn block at cut roots; into `margins` (when given) the values
+    /// of its scalar equation at its extrema in the cut.
+    fn torn(
+        &self,
+        b: usize,
+        t: &Torn,
+        x: &[f64],
+        q: &[f64],
+        mut margins: Option<&mut Vec<f64>>,
+    ) -> Vec<Vec<f64>> {
         let mut out = Vec::new();
         for sigma in 0..1usize << t.subs.len() {
             let mut g = |c: f64| self.cut_value(b, t, sigma, x, q, c).map(|(v, _)| v);
-            for root in all_roots(&mut g) {
+            for root in roots_and_extrema(&mut g, margins.as_deref_mut()) {
                 if let Some((_, q)) = self.cut_value(b, t, sigma, x, q, root) {
                     out.push(q);
                 }
@@ -156,7 +218,8 @@ impl Solver {
                     return None;
                 }
                 q[*u] = (sn / det).atan2(cn / det);
-                cn.hypot(sn) - det.abs()
+                // In length (a link of length L has |det| = L²), as the margins are compared.
+                (cn.hypot(sn) - det.abs()) / det.abs().sqrt()
             }
             Last::Length { s, roots } => {
                 let v = eval(roots, x, &q, p);

@@ -1,17 +1,15 @@
-//! Branch identification, tracing: the number of configurations on a grid of the input; each cell
-//! where it changes holds a dead point, bisected on the count to rounding level (its
+//! Branch identification, tracing: the number of configurations on the grid of the input (`grid`);
+//! each cell where it changes holds a dead point, bisected on the count to rounding level (its
 //! configuration: the midpoint of the two that merge). The dead points cut the range into
 //! intervals of constant count; on each, every configuration is followed from end to end (grid
 //! samples, geometric samples down to 1e-10 from a dead point, the `--at` inputs; a linear
 //! predictor and an unambiguous nearest match, halving the step otherwise). At a dead point the
-//! two tracks that merge are joined as a fold (one circuit, two branches), the others continue.
+//! two tracks that merge are joined as a fold (one circuit, two branches), the others continue. A
+//! change of the count met on the way is reported (the analysis adds that input to the grid).
 
 use std::f64::consts::TAU;
 
 use super::Setup;
-
-/// Grid cells over the range.
-pub(super) const CELLS: usize = 720;
 
 /// One traced configuration: its samples `(input, configuration)` in increasing input.
 pub(super) type Track = Vec<(f64, Vec<f64>)>;
@@ -27,6 +25,13 @@ pub(super) struct Interval {
     pub tracks: Vec<Track>,
 }
 
+/// What following the configurations across an interval gave.
+pub(super) enum Traced {
+    Tracks(Vec<Track>),
+    /// The count changes at this input: a dead point the grid did not see.
+    Changes(f64),
+}
+
 /// A dead point: its input and configuration.
 #[derive(Clone, Debug)]
 pub(super) struct Dead {
@@ -35,14 +40,19 @@ pub(super) struct Dead {
 }
 
 impl Setup {
+    /// [`Setup::configurations`] and the closed-form blocks' margins, remembered for the analysis.
+    pub(super) fn solved(&self, x: f64) -> Result<(Vec<Vec<f64>>, Vec<f64>), String> {
+        if let Some(r) = self.cache.borrow().get(&x.to_bits()) {
+            return Ok(r.clone());
+        }
+        let r = self.solve_at(x)?;
+        self.cache.borrow_mut().insert(x.to_bits(), r.clone());
+        Ok(r)
+    }
+
     /// [`Setup::configurations`], remembered for the analysis.
     pub(super) fn count(&self, x: f64) -> Result<Vec<Vec<f64>>, String> {
-        if let Some(qs) = self.cache.borrow().get(&x.to_bits()) {
-            return Ok(qs.clone());
-        }
-        let qs = self.configurations(x)?;
-        self.cache.borrow_mut().insert(x.to_bits(), qs.clone());
-        Ok(qs)
+        self.solved(x).map(|r| r.0)
     }
 
     /// Distance of two configurations: angles modulo 2π, lengths relative to the length scale
@@ -137,27 +147,23 @@ impl Setup {
     }
 
     /// Follows every configuration across `[lo, hi]` through `xs` (sorted, inside the interval).
-    pub(super) fn track(&self, xs: &[f64]) -> Result<Vec<Track>, String> {
+    pub(super) fn track(&self, xs: &[f64]) -> Result<Traced, String> {
         let Some(&x0) = xs.first() else {
-            return Ok(Vec::new());
+            return Ok(Traced::Tracks(Vec::new()));
         };
         let mut tracks: Vec<Vec<(f64, Vec<f64>)>> =
             self.count(x0)?.into_iter().map(|q| vec![(x0, q)]).collect();
         let m = tracks.len();
         if m == 0 {
             // Nothing to follow; the count is checked at the grid already.
-            return Ok(tracks);
+            return Ok(Traced::Tracks(tracks));
         }
         let mut pending: Vec<f64> = xs[1..].iter().rev().copied().collect();
         let mut depth = 0;
         while let Some(x) = pending.pop() {
             let qs = self.count(x)?;
             if qs.len() != m {
-                return Err(format!(
-                    "the number of configurations changes inside an interval near input {x} \
-                     ({m} then {}): two dead points closer than the grid",
-                    qs.len()
-                ));
+                return Ok(Traced::Changes(x));
             }
             let last = tracks[0].last().map_or(x0, |p| p.0);
             match self.assign(&tracks, x, &qs) {
@@ -179,7 +185,7 @@ impl Setup {
                 }
             }
         }
-        Ok(tracks)
+        Ok(Traced::Tracks(tracks))
     }
 
     /// The configuration of `qs` each track continues to, when the match is unambiguous.

@@ -1634,6 +1634,18 @@ pub mod sixbar {
             ))
         }
         // Scene sixbar_e_path: blocks [0], order 0, points [0].
+        /// The largest length param the scene reads (1 when there is none).
+        #[doc(hidden)]
+        #[inline]
+        pub(super) fn scene_sixbar_e_path_length_scale(&self) -> T {
+            let mut s = T::zero();
+            s = s.max(self.params.l1.abs());
+            s = s.max(self.params.l2.abs());
+            s = s.max(self.params.l3.abs());
+            s = s.max(self.params.l4.abs());
+            s = s.max(self.params.l2e.abs());
+            if s > T::zero() { s } else { T::one() }
+        }
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
@@ -1675,7 +1687,7 @@ pub mod sixbar {
                     [t3, t1],
                     (p_l2, T::zero()),
                     (t2, T::zero()),
-                    || self.params.length_scale(),
+                    || self.scene_sixbar_e_path_length_scale(),
                     options.newton.tolerance,
                     report,
                     [every_angle, every_angle],
@@ -1686,7 +1698,7 @@ pub mod sixbar {
                     st,
                     [0, 1],
                     [false, false],
-                    self.params.length_scale(),
+                    self.scene_sixbar_e_path_length_scale(),
                     &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -1819,6 +1831,7 @@ pub mod sixbar {
             )
         }
         #[doc(hidden)]
+        #[inline]
         pub(super) fn scene_sixbar_e_path_tick(
             &self,
             tick: &mut ::mechgen::__private::SceneTick<T, 1, 4, 1, 10>,
@@ -1904,6 +1917,22 @@ pub mod sixbar {
             Ok(())
         }
         // Scene sixbar_output: blocks [0, 1], order 2, points [].
+        /// The largest length param the scene reads (1 when there is none).
+        #[doc(hidden)]
+        #[inline]
+        pub(super) fn scene_sixbar_output_length_scale(&self) -> T {
+            let mut s = T::zero();
+            s = s.max(self.params.l1.abs());
+            s = s.max(self.params.l2.abs());
+            s = s.max(self.params.l3.abs());
+            s = s.max(self.params.l4.abs());
+            s = s.max(self.params.l5.abs());
+            s = s.max(self.params.l6.abs());
+            s = s.max(self.params.l2e.abs());
+            s = s.max(self.params.xg.abs());
+            s = s.max(self.params.yg.abs());
+            if s > T::zero() { s } else { T::one() }
+        }
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
@@ -1945,7 +1974,7 @@ pub mod sixbar {
                     [t3, t1],
                     (p_l2, T::zero()),
                     (t2, T::zero()),
-                    || self.params.length_scale(),
+                    || self.scene_sixbar_output_length_scale(),
                     options.newton.tolerance,
                     report,
                     [every_angle, every_angle],
@@ -1956,7 +1985,7 @@ pub mod sixbar {
                     st,
                     [0, 1],
                     [false, false],
-                    self.params.length_scale(),
+                    self.scene_sixbar_output_length_scale(),
                     &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -1997,7 +2026,7 @@ pub mod sixbar {
                     [t20, t21],
                     (t18, T::zero()),
                     (t19, T::zero()),
-                    || self.params.length_scale(),
+                    || self.scene_sixbar_output_length_scale(),
                     options.newton.tolerance,
                     report,
                     [every_angle, true],
@@ -2008,7 +2037,7 @@ pub mod sixbar {
                     st,
                     [2, 3],
                     [false, false],
-                    self.params.length_scale(),
+                    self.scene_sixbar_output_length_scale(),
                     &options.newton,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
@@ -2256,6 +2285,7 @@ pub mod sixbar {
             )
         }
         #[doc(hidden)]
+        #[inline]
         pub(super) fn scene_sixbar_output_tick(
             &self,
             tick: &mut ::mechgen::__private::SceneTick<T, 1, 4, 0, 10>,
@@ -4036,6 +4066,18 @@ pub mod shaper {
             ))
         }
         // Scene shaper_ram: blocks [0, 1, 2], order 2, points [].
+        /// The largest length param the scene reads (1 when there is none).
+        #[doc(hidden)]
+        #[inline]
+        pub(super) fn scene_shaper_ram_length_scale(&self) -> T {
+            let mut s = T::zero();
+            s = s.max(self.params.l1.abs());
+            s = s.max(self.params.l3.abs());
+            s = s.max(self.params.l4.abs());
+            s = s.max(self.params.lAC.abs());
+            s = s.max(self.params.yE.abs());
+            if s > T::zero() { s } else { T::one() }
+        }
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
@@ -4076,7 +4118,7 @@ pub mod shaper {
                     [t3, t4],
                     (T::zero(), T::zero()),
                     (T::one(), T::zero()),
-                    || self.params.length_scale(),
+                    || self.scene_shaper_ram_length_scale(),
                     options.newton.tolerance,
                     report,
                     every_angle,
@@ -4087,7 +4129,7 @@ pub mod shaper {
                     st,
                     [0, 1],
                     [true, false],
-                    self.params.length_scale(),
+                    self.scene_shaper_ram_length_scale(),
                     &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -4107,7 +4149,7 @@ pub mod shaper {
                     2,
                     t6,
                     (T::zero(), p_l4),
-                    || self.params.length_scale(),
+                    || self.scene_shaper_ram_length_scale(),
                     options.newton.tolerance,
                     report,
                     every_angle,
@@ -4118,7 +4160,7 @@ pub mod shaper {
                     st,
                     [2],
                     [false],
-                    self.params.length_scale(),
+                    self.scene_shaper_ram_length_scale(),
                     &options.newton,
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
@@ -4144,7 +4186,7 @@ pub mod shaper {
                     st,
                     [3],
                     [true],
-                    self.params.length_scale(),
+                    self.scene_shaper_ram_length_scale(),
                     &options.newton,
                     report,
                     |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
@@ -4389,6 +4431,7 @@ pub mod shaper {
             )
         }
         #[doc(hidden)]
+        #[inline]
         pub(super) fn scene_shaper_ram_tick(
             &self,
             tick: &mut ::mechgen::__private::SceneTick<T, 1, 4, 0, 5>,
@@ -5882,6 +5925,18 @@ pub mod four_bar {
             ))
         }
         // Scene coupler_curve: blocks [0], order 1, points [2].
+        /// The largest length param the scene reads (1 when there is none).
+        #[doc(hidden)]
+        #[inline]
+        pub(super) fn scene_coupler_curve_length_scale(&self) -> T {
+            let mut s = T::zero();
+            s = s.max(self.params.l1.abs());
+            s = s.max(self.params.l2.abs());
+            s = s.max(self.params.l3.abs());
+            s = s.max(self.params.l4.abs());
+            s = s.max(self.params.lp.abs());
+            if s > T::zero() { s } else { T::one() }
+        }
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
@@ -5923,7 +5978,7 @@ pub mod four_bar {
                     [t3, t1],
                     (p_l2, T::zero()),
                     (t2, T::zero()),
-                    || self.params.length_scale(),
+                    || self.scene_coupler_curve_length_scale(),
                     options.newton.tolerance,
                     report,
                     [every_angle, every_angle],
@@ -5934,7 +5989,7 @@ pub mod four_bar {
                     st,
                     [0, 1],
                     [false, false],
-                    self.params.length_scale(),
+                    self.scene_coupler_curve_length_scale(),
                     &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -6102,6 +6157,7 @@ pub mod four_bar {
             )
         }
         #[doc(hidden)]
+        #[inline]
         pub(super) fn scene_coupler_curve_tick(
             &self,
             tick: &mut ::mechgen::__private::SceneTick<T, 1, 2, 1, 6>,
@@ -11164,7 +11220,7 @@ pub mod sixbar_e_path {
         }
         /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
         /// and cosines, closed forms on the last branch) on the kept blocks only. On
-        /// error `t` is unchanged.
+        /// error `t` reads as before (its outputs, inputs and report are unchanged).
         #[inline]
         pub fn tick(
             &self,
@@ -11366,7 +11422,7 @@ pub mod sixbar_output {
         }
         /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
         /// and cosines, closed forms on the last branch) on the kept blocks only. On
-        /// error `t` is unchanged.
+        /// error `t` reads as before (its outputs, inputs and report are unchanged).
         #[inline]
         pub fn tick(
             &self,
@@ -11568,7 +11624,7 @@ pub mod shaper_ram {
         }
         /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
         /// and cosines, closed forms on the last branch) on the kept blocks only. On
-        /// error `t` is unchanged.
+        /// error `t` reads as before (its outputs, inputs and report are unchanged).
         #[inline]
         pub fn tick(
             &self,
@@ -11776,7 +11832,7 @@ pub mod coupler_curve {
         }
         /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
         /// and cosines, closed forms on the last branch) on the kept blocks only. On
-        /// error `t` is unchanged.
+        /// error `t` reads as before (its outputs, inputs and report are unchanged).
         #[inline]
         pub fn tick(
             &self,

@@ -19,8 +19,9 @@ use crate::tick::Tick;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneTick<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> {
     state: Tick<T, NI, NU, NP, NPAR>,
-    /// The time step of the last tick, and how many ticks the rate estimates rest on (0 after
-    /// `tick_start`, at most 2): see [`scene_rates_estimated`].
+    /// The time step of the last tick, and whether the stored estimates hold a secant the next
+    /// parabola can rest on (1) or not (0: after `tick_start`, a params change, a dropped
+    /// estimate): see [`scene_rates_estimated`].
     last_step: T,
     history: u8,
 }
@@ -58,16 +59,19 @@ pub fn scene_tick<T: Real, const NI: usize, const NU: usize, const NP: usize, co
 
 /// The rates a scene of order below 2 does not compute, estimated by differences for the
 /// unknowns with `estimate[k]`, so that its predictor is second order like the full tick's (a
-/// scene with Newton blocks calls this after a successful solve to `x`, with the solved `q` and
-/// the rates it computed, `qd` at order 1; the result is what its tick state stores).
+/// scene with Newton blocks calls this after a successful solve to `x` at input rates `xd`, with
+/// the solved `q` and the rates it computed, `qd` at order 1; the result is what its tick state
+/// stores).
 ///
-/// With `h` the step to `x` ([`Tick::step_to`]) and the last tick's state: at order 0 the
-/// secant `s = Δq / h`, and with one more tick of history `q̈ ≈ 2 (s − s₀) / (h₀ + h)` (the
-/// parabola through the last three configurations, `s₀ = q̇₀ − h₀ q̈₀ / 2`) and `q̇ ≈ s + h q̈ / 2`;
-/// at order 1 `q̈ ≈ Δq̇ / h`. No motion (`h = 0`) keeps the last estimates; a non-finite estimate
-/// is dropped (0).
+/// With `h` the time of the step to `x` at the rates `xd` (as [`Tick::step_to`] fits it): at
+/// order 0 the secant `s = Δq / h`, and when the last tick left one too (same input rates, steps
+/// not nearly opposite) the parabola through the last three configurations,
+/// `q̈ ≈ 2 (s − s₀) / (h₀ + h)` with `s₀ = q̇₀ − h₀ q̈₀ / 2`, and `q̇ ≈ s + h q̈ / 2`; at order 1
+/// `q̈ ≈ Δq̇ / h` (same input rates). A change of params (`same_params` false) makes the step a
+/// jump, not a motion: no estimate then (zero rates, history dropped). No motion (`h = 0`) keeps
+/// the last estimates; a non-finite estimate is dropped (0) with the history.
 #[doc(hidden)]
-#[allow(clippy::needless_range_loop)]
+#[allow(clippy::needless_range_loop, clippy::too_many_arguments)]
 pub fn scene_rates_estimated<
     T: Real,
     const NI: usize,
@@ -77,42 +81,73 @@ pub fn scene_rates_estimated<
 >(
     t: &mut SceneTick<T, NI, NU, NP, NPAR>,
     x: &[T; NI],
+    xd: &[T; NI],
     q: &[T; NU],
     qd: [T; NU],
     order: u8,
     estimate: [bool; NU],
+    same_params: bool,
 ) -> ([T; NU], [T; NU]) {
     let old = &t.state;
-    let h = old.step_to(x);
+    let (mut num, mut den) = (T::zero(), T::zero());
+    for i in 0..NI {
+        num += (x[i] - old.x[i]) * xd[i];
+        den += xd[i] * xd[i];
+    }
+    let h = if den > T::zero() {
+        num / den
+    } else {
+        T::zero()
+    };
+    if !same_params {
+        t.history = 0;
+        return (
+            if order == 0 { [T::zero(); NU] } else { qd },
+            [T::zero(); NU],
+        );
+    }
     if !(h != T::zero() && h.is_finite()) {
         let qd = if order == 0 { old.qd } else { qd };
         return (qd, old.qdd);
     }
-    let (h0, history) = (t.last_step, t.history);
+    let same_rates = (0..NI).all(|i| xd[i] == old.xd[i]);
+    let h0 = t.last_step;
+    // The parabola is well posed when the two steps are not nearly opposite.
+    let parabola = order == 0
+        && t.history >= 1
+        && same_rates
+        && (h0 + h).abs() >= T::lit(0.5) * h0.abs().max(h.abs());
     let half = T::lit(0.5);
     let (mut qd_out, mut qdd_out) = (qd, [T::zero(); NU]);
+    let mut dropped = false;
     for k in 0..NU {
         if !estimate[k] {
             continue;
         }
         let (v, a) = if order == 0 {
             let s = (q[k] - old.q[k]) / h;
-            if history >= 1 && h0 + h != T::zero() {
+            if parabola {
                 let s0 = old.qd[k] - half * h0 * old.qdd[k];
                 let a = T::lit(2.0) * (s - s0) / (h0 + h);
                 (s + half * h * a, a)
             } else {
                 (s, T::zero())
             }
-        } else {
+        } else if same_rates {
             (qd[k], (qd[k] - old.qd[k]) / h)
+        } else {
+            (qd[k], T::zero())
         };
-        let finite = v.is_finite() && a.is_finite();
-        qd_out[k] = if finite { v } else { T::zero() };
-        qdd_out[k] = if finite { a } else { T::zero() };
+        if v.is_finite() && a.is_finite() {
+            (qd_out[k], qdd_out[k]) = (v, a);
+        } else {
+            dropped = true;
+            qd_out[k] = if order == 0 { T::zero() } else { qd[k] };
+        }
     }
     t.last_step = h;
-    t.history = if history >= 2 { 2 } else { history + 1 };
+    // What the next tick's parabola rests on: a secant (and its parabola) were stored.
+    t.history = if dropped { 0 } else { 1 };
     (qd_out, qdd_out)
 }
 
@@ -174,7 +209,7 @@ mod tests {
     /// One tick to `t` at `order`, stored as a scene's tick stores it.
     fn tick(s: &mut SceneTick<f64, 1, 1, 0, 0>, t: f64, order: u8) -> (f64, f64) {
         let rate = if order == 0 { 0.0 } else { qd(t) };
-        let (v, a) = scene_rates_estimated(s, &[t], &[q(t)], [rate], order, [true]);
+        let (v, a) = scene_rates_estimated(s, &[t], &[1.0], &[q(t)], [rate], order, [true], true);
         let st = scene_tick_state_mut(s);
         (st.x, st.q, st.qd, st.qdd) = ([t], [q(t)], v, a);
         (v[0], a[0])
@@ -209,9 +244,33 @@ mod tests {
         let mut s = start(0.0, 0.0);
         tick(&mut s, 0.1, 0);
         let before = (s.state.qd, s.state.qdd);
-        let (v, a) = scene_rates_estimated(&mut s, &[0.1], &[q(0.1)], [0.0], 0, [true]);
+        let (v, a) =
+            scene_rates_estimated(&mut s, &[0.1], &[1.0], &[q(0.1)], [0.0], 0, [true], true);
         assert_eq!((v, a), before);
-        let (v, a) = scene_rates_estimated(&mut s, &[0.2], &[q(0.2)], [0.0], 0, [false]);
+        let (v, a) =
+            scene_rates_estimated(&mut s, &[0.2], &[1.0], &[q(0.2)], [0.0], 0, [false], true);
         assert_eq!((v, a), ([0.0], [0.0]));
+    }
+
+    #[test]
+    fn jumps_reversals_and_new_rates_are_not_differenced_into_a_parabola() {
+        // A change of params: the step is a jump, so no rates at all and no history.
+        let mut s = start(0.0, 0.0);
+        tick(&mut s, 0.1, 0);
+        let (v, a) =
+            scene_rates_estimated(&mut s, &[0.2], &[1.0], &[q(0.2)], [0.0], 0, [true], false);
+        assert_eq!((v, a, s.history), ([0.0], [0.0], 0));
+        // Steps out and nearly back (h₀ + h ≈ 0): the secant alone.
+        let mut s = start(0.0, 0.0);
+        tick(&mut s, 0.8, 0);
+        let back = 0.8 - 0.7999999;
+        let (v, a) = tick(&mut s, back, 0);
+        assert!((v - (q(back) - q(0.8)) / (back - 0.8)).abs() < 1e-9 && a == 0.0);
+        // New input rates: the step's time is measured with them, and no parabola.
+        let mut s = start(0.0, 0.0);
+        tick(&mut s, 0.1, 0);
+        let (v, a) =
+            scene_rates_estimated(&mut s, &[0.3], &[2.0], &[q(0.3)], [0.0], 0, [true], true);
+        assert!((v[0] - 2.0 * (q(0.3) - q(0.1)) / 0.2).abs() < 1e-12 && a[0] == 0.0);
     }
 }

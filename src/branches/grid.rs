@@ -14,6 +14,9 @@ pub(super) const CELLS: usize = 720;
 /// Rounds of refining the grid when tracking meets a change of the count inside an interval.
 pub(super) const ROUNDS: usize = 8;
 
+/// Passes of the hidden-change search per round: each searches the cells the last one split.
+pub(super) const PASSES: usize = 4;
+
 /// How fast a margin may change over a cell, as a multiple of the fastest it changes over that
 /// cell and its two neighbours (a smooth margin's slope changes little from cell to cell; near a
 /// minimum inside the cell the neighbours' slopes are the larger).

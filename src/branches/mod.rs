@@ -185,12 +185,18 @@ impl Setup {
         // The grid: uniform cells, the start input and the `at` inputs (each a point where the
         // count is known), then the inputs where a cell hides a change of the count.
         let start = reduce(self.inputs[self.input]);
-        let mut extra: Vec<f64> = reduced.iter().copied().chain([start]).collect();
+        let extra: Vec<f64> = reduced.iter().copied().chain([start]).collect();
         let width = if self.input_is_angle { 1.0 } else { to - from };
-        let uniform = grid::uniform(from, to);
+        let mut xs = grid::merged(&grid::uniform(from, to), &extra);
         for _ in 0..grid::ROUNDS {
-            let xs = grid::merged(&uniform, &extra);
-            let xs = grid::merged(&xs, &self.hidden(&xs)?);
+            // Hidden changes, again on the cells they split (a second one in the same cell).
+            for _ in 0..grid::PASSES {
+                let found = self.hidden(&xs)?;
+                if found.is_empty() {
+                    break;
+                }
+                xs = grid::merged(&xs, &found);
+            }
             let counts = xs
                 .iter()
                 .map(|&x| self.count(x))
@@ -210,7 +216,7 @@ impl Setup {
             }
             if let Some(x) = changes {
                 // A dead point the grid did not see: that input joins the grid.
-                extra.push(reduce(x));
+                xs = grid::merged(&xs, &[reduce(x)]);
                 continue;
             }
             return self.finish(&ivs, dead, circular, (from, to), at, &reduced);

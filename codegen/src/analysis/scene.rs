@@ -63,8 +63,8 @@ impl ScenePlan {
 impl ScenePlan {
     /// The params the scene's code reads (`read[i]` for base param `i`): those in its kept
     /// blocks' equations and in its points' expressions. Derivatives read no other params, so
-    /// these are all a scene's results depend on (a Newton block's tolerance scale aside, which
-    /// reads every length param and changes no converged result); a tick compares only these.
+    /// these are all a scene's results depend on (its Newton tolerances too: they are relative to
+    /// the largest length param it reads); a tick compares and checks only these.
     pub fn params_read(&self, c: &Compiled) -> Vec<bool> {
         let mut read = vec![false; c.model.params.len()];
         let equations = self

@@ -23,15 +23,17 @@ pub(crate) enum AngleValues<'a> {
 }
 
 /// `rt::…::solve_*(bi, st, …)?;` for the closed form `cf` of block `bi`, whose roots (in the
-/// kind's order, `ClosedForm::roots`) are the expressions `r`. Reads `self`, `options`, `report`.
+/// kind's order, `ClosedForm::roots`) are the expressions `r`; `scale` is the length scale's
+/// expression (asked for only to report a gap). Reads `self`, `options`, `report`.
 pub(crate) fn kernel_call(
     rt: &TokenStream,
     bi: usize,
     cf: &ClosedForm,
     r: &[TokenStream],
     values: AngleValues,
+    scale: &TokenStream,
 ) -> TokenStream {
-    let sc = quote!(|| self.params.length_scale());
+    let sc = quote!(|| #scale);
     let tol = quote!(options.newton.tolerance);
     // Whether the kernel computes angle `k`'s value: `true`, or `every_angle` where nothing reads it.
     let value = |k: usize| match values {

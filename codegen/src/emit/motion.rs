@@ -54,6 +54,7 @@ fn position_steps(
     b: &mut Builder,
     rt: &TokenStream,
     values: AngleValues,
+    scale: &TokenStream,
 ) -> TokenStream {
     let m = &c.model;
     let mut steps = TokenStream::new();
@@ -65,14 +66,14 @@ fn position_steps(
             .collect();
         let pos_fn = format_ident!("block{}_position", bi);
         let newton = quote! {
-            #rt::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], self.params.length_scale(), &options.newton, report,
+            #rt::newton_block(#bi, st, [#(#idx),*], [#(#lengths),*], #scale, &options.newton, report,
                 |st| self.#pos_fn(x, &st.q, tx, tp, &st.sc))?;
         };
         match &bf.closed_form {
             Some(cf) => {
                 let seg = b.segment(cf.roots());
                 let stmts = &seg.stmts;
-                let call = crate::emit::closed::kernel_call(rt, bi, cf, &seg.roots, values);
+                let call = crate::emit::closed::kernel_call(rt, bi, cf, &seg.roots, values, scale);
                 let kind = crate::emit::closed::kind_text(cf);
                 steps.extend(comment(&format!("Block {bi}: {kind}.")));
                 steps.extend(quote! {
@@ -178,6 +179,7 @@ pub(crate) fn stages(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
         &mut Builder::new(dag, &fused),
         rt,
         AngleValues::All,
+        &quote!(self.params.length_scale()),
     );
     let velocity = rate_steps(
         c,
@@ -239,6 +241,9 @@ pub(crate) struct Subset<'a> {
     /// scene's body then takes an `every_angle: bool` argument, and its dyads compute the angles
     /// nobody reads only when it is true (the scene's `solve` passes true, its `tick` false).
     pub values_read: Option<&'a [bool]>,
+    /// The length scale Newton's tolerance and a gap's report are relative to: the params'
+    /// `length_scale()`, or a scene's own over the params it reads.
+    pub length_scale: TokenStream,
 }
 
 /// `fn motion_cached(…) -> ::core::result::Result<(q̇, q̈, points), SolveError>`, inside the mechanism's impl.
@@ -252,6 +257,7 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
         name: format_ident!("motion_cached"),
         vis: TokenStream::new(),
         values_read: None,
+        length_scale: quote!(self.params.length_scale()),
     };
     motion_subset(c, cached, rt, &sub)
 }
@@ -279,7 +285,7 @@ pub(crate) fn motion_subset(
         },
         None => AngleValues::All,
     };
-    let mut steps = position_steps(c, sub.blocks, &mut b, rt, values);
+    let mut steps = position_steps(c, sub.blocks, &mut b, rt, values, &sub.length_scale);
     let every_arg = sub.values_read.map(|_| quote!(every_angle: bool,));
     let rates = [None, Some(Rates::Velocity), Some(Rates::Both)][usize::from(sub.order.min(2))];
     if let Some(rates) = rates {

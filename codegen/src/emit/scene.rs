@@ -43,6 +43,23 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
         let np = plan.points.len();
         let motion_fn = method(&plan, "motion");
         let values_read = plan.values_read(c);
+        let read = plan.params_read(c);
+        // The scene's length scale: the largest length param it reads (its results depend on no
+        // other param, not even through Newton's tolerance).
+        let scale_fn = method(&plan, "length_scale");
+        let read_lengths: Vec<Ident> = (c.model.params.iter().zip(&read))
+            .filter(|(p, r)| **r && p.kind == crate::sema::model::Kind::Length)
+            .map(|(p, _)| format_ident!("{}", p.name.text))
+            .collect();
+        let scale_body = if read_lengths.is_empty() {
+            quote!(#gt::one())
+        } else {
+            quote! {
+                let mut s = #gt::zero();
+                #( s = s.max(self.params.#read_lengths.abs()); )*
+                if s > #gt::zero() { s } else { #gt::one() }
+            }
+        };
         let angles_skipped = plan.angles_skipped(c);
         let skipped: Vec<bool> = (0..c.model.unknowns.len())
             .map(|k| angles_skipped.contains(&k))
@@ -55,12 +72,13 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
             vis: quote!(#[doc(hidden)] pub(super)),
             // Only a body with an angle to skip takes `every_angle`.
             values_read: skipped.iter().any(|&k| k).then_some(&values_read[..]),
+            length_scale: quote!(self.#scale_fn()),
         };
         let every = |value: bool| sub.values_read.map(|_| quote!(, #value));
         let (every_true, every_false) = (every(true), every(false));
         let body = motion_subset(c, cached, rt, &sub);
         let (angle, keep_closed, keep_newton) = masks(c, &plan);
-        let read = plan.params_read(c);
+
         // Every kept block in closed form: with closed forms on, the guess is the last tick's
         // state as it is (nothing to predict, no sines or cosines to rotate).
         // Closed forms off: angles a tick left stale are made whole before Newton predicts.
@@ -96,7 +114,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
             .collect();
         let estimated = (order < 2 && keep_closed.iter().any(|&k| !k)).then(|| {
             quote! {
-                let (qd, qdd) = #rt::scene_rates_estimated(tick, x, &st.q, qd, #order, [#(#estimate),*]);
+                let (qd, qdd) = #rt::scene_rates_estimated(tick, x, xd, &st.q, qd, #order, [#(#estimate),*], same);
                 let t = #rt::scene_tick_state_mut(tick);
             }
         });
@@ -125,6 +143,13 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
             plan.points
         )));
         out.extend(quote! {
+            /// The largest length param the scene reads (1 when there is none).
+            #[doc(hidden)]
+            #[inline]
+            pub(super) fn #scale_fn(&self) -> #gt {
+                #scale_body
+            }
+
             #body
 
             #[doc = #doc]
@@ -158,6 +183,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
             }
 
             #[doc(hidden)]
+            #[inline]
             pub(super) fn #tick_fn(&self, tick: &mut #rt::SceneTick<#gt, #ni, #nu, #np, #npar>, x: &[#gt; #ni], xd: &[#gt; #ni],
                 xdd: &[#gt; #ni], options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
                 let t = #rt::scene_tick_state_mut(tick);
@@ -365,7 +391,7 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
 
                 /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
                 /// and cosines, closed forms on the last branch) on the kept blocks only. On
-                /// error `t` is unchanged.
+                /// error `t` reads as before (its outputs, inputs and report are unchanged).
                 #[inline]
                 pub fn tick(&self, t: &mut #tick_ty<#gt>, input: &#rt::InputMotion<#inputs_ty<#gt>>,
                     options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {

@@ -26,7 +26,7 @@
                     0,
                     t0,
                     (T::zero(), p_l2),
-                    || self.params.length_scale(),
+                    || self.scene_rod_length_scale(),
                     options.newton.tolerance,
                     report,
                     true,
@@ -37,7 +37,7 @@
                     st,
                     [0],
                     [false],
-                    self.params.length_scale(),
+                    self.scene_rod_length_scale(),
                     &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -120,7 +120,7 @@
                     0,
                     t0,
                     (T::zero(), p_l2),
-                    || self.params.length_scale(),
+                    || self.scene_rod_middle_length_scale(),
                     options.newton.tolerance,
                     report,
                     every_angle,
@@ -131,7 +131,7 @@
                     st,
                     [0],
                     [false],
-                    self.params.length_scale(),
+                    self.scene_rod_middle_length_scale(),
                     &options.newton,
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
@@ -278,7 +278,7 @@ pub mod rod {
         }
         /// One simulator tick to `input`: the mechanism's tick (predictor, cached sines
         /// and cosines, closed forms on the last branch) on the kept blocks only. On
-        /// error `t` is unchanged.
+        /// error `t` reads as before (its outputs, inputs and report are unchanged).
         #[inline]
         pub fn tick(
             &self,

@@ -240,6 +240,15 @@ fn tick_walk(k: &dyn DynMechanism<f64>) -> Vec<(f64, Vec<f64>, bool)> {
         .collect()
 }
 
+/// The input motion of a tick at `x` (rate 1 along the first input) and the configuration `q`.
+fn tick_state<X: Array<f64>, Q: Array<f64>>(x: f64, q: &[f64]) -> (InputMotion<X>, Q) {
+    let (mut xs, mut xd, mut qa) = (X::zeros(), X::zeros(), Q::zeros());
+    xs.as_mut()[0] = x;
+    xd.as_mut()[0] = 1.0;
+    qa.as_mut().copy_from_slice(q);
+    (InputMotion::new(xs, xd, X::zeros()), qa)
+}
+
 fn options(closed_forms: bool) -> SolveOptions<f64> {
     SolveOptions {
         closed_forms,
@@ -256,11 +265,7 @@ impl StaticVisitor<f64> for MechanismTicks {
         let mut tick: Option<M::Tick> = None;
         let (mut iterations, mut counted) = (0u32, 0u32);
         for (x, q, closed) in tick_walk(m) {
-            let (mut xs, mut xd, mut qa) = (M::X::zeros(), M::X::zeros(), M::Q::zeros());
-            xs.as_mut()[0] = x;
-            xd.as_mut()[0] = 1.0;
-            qa.as_mut().copy_from_slice(&q);
-            let input = InputMotion::new(xs, xd, M::X::zeros());
+            let (input, qa): (InputMotion<M::X>, M::Q) = tick_state(x, &q);
             let t = match tick.as_mut() {
                 None => match m.tick_start(&input, &qa, &options(closed)) {
                     Ok(t) => tick.insert(t),
@@ -289,11 +294,7 @@ impl SceneVisitor<f64> for Ticks {
         let mut tick: Option<S::Tick> = None;
         let (mut iterations, mut counted) = (0u32, 0u32);
         for (x, q, closed) in tick_walk(full.as_ref()) {
-            let (mut xs, mut xd, mut qa) = (S::X::zeros(), S::X::zeros(), S::Q::zeros());
-            xs.as_mut()[0] = x;
-            xd.as_mut()[0] = 1.0;
-            qa.as_mut().copy_from_slice(&q);
-            let input = InputMotion::new(xs, xd, S::X::zeros());
+            let (input, mut qa): (InputMotion<S::X>, S::Q) = tick_state(x, &q);
             let step = match tick.as_mut() {
                 None => scene
                     .tick_start(&input, &qa, &options(closed))

@@ -160,6 +160,19 @@ pub(crate) fn comment(text: &str) -> TokenStream {
         .collect()
 }
 
+/// The body of a length scale: the largest `|value|` of `lengths` (expressions), or 1 when there
+/// is none or all are zero (a mechanism's `length_scale`, a scene's over the params it reads).
+pub(crate) fn largest_length(gt: &Ident, lengths: &[TokenStream]) -> TokenStream {
+    if lengths.is_empty() {
+        return quote!(#gt::one());
+    }
+    quote! {
+        let mut s = #gt::zero();
+        #( s = s.max(#lengths.abs()); )*
+        if s > #gt::zero() { s } else { #gt::one() }
+    }
+}
+
 /// Characters per generated comment line.
 const COMMENT_WIDTH: usize = 80;
 

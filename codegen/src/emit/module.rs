@@ -91,21 +91,16 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     let (params_marker, params_marker_init) = (marker(npar), marker_init(npar));
     let (points_marker, points_marker_init) = (marker(np), marker_init(np));
     let param_idx = 0..npar;
-    let length_params: Vec<Ident> = m
+    let length_params: Vec<TokenStream> = m
         .params
         .iter()
         .filter(|p| p.kind == Kind::Length)
-        .map(|p| format_ident!("{}", p.name.text))
+        .map(|p| {
+            let p = format_ident!("{}", p.name.text);
+            quote!(self.#p)
+        })
         .collect();
-    let length_scale = if length_params.is_empty() {
-        quote!(#gt::one())
-    } else {
-        quote! {
-            let mut s = #gt::zero();
-            #( s = s.max(self.#length_params.abs()); )*
-            if s > #gt::zero() { s } else { #gt::one() }
-        }
-    };
+    let length_scale = crate::emit::largest_length(gt, &length_params);
 
     let coords = |cs: &[crate::sema::model::Coord], ty: &Ident, what: &str| {
         let fields: Vec<Ident> = cs

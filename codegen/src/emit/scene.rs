@@ -47,19 +47,14 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
         // The scene's length scale: the largest length param it reads (its results depend on no
         // other param, not even through Newton's tolerance).
         let scale_fn = method(&plan, "length_scale");
-        let read_lengths: Vec<Ident> = (c.model.params.iter().zip(&read))
+        let read_lengths: Vec<TokenStream> = (c.model.params.iter().zip(&read))
             .filter(|(p, r)| **r && p.kind == crate::sema::model::Kind::Length)
-            .map(|(p, _)| format_ident!("{}", p.name.text))
+            .map(|(p, _)| {
+                let p = format_ident!("{}", p.name.text);
+                quote!(self.params.#p)
+            })
             .collect();
-        let scale_body = if read_lengths.is_empty() {
-            quote!(#gt::one())
-        } else {
-            quote! {
-                let mut s = #gt::zero();
-                #( s = s.max(self.params.#read_lengths.abs()); )*
-                if s > #gt::zero() { s } else { #gt::one() }
-            }
-        };
+        let scale_body = crate::emit::largest_length(gt, &read_lengths);
         let angles_skipped = plan.angles_skipped(c);
         let skipped: Vec<bool> = (0..c.model.unknowns.len())
             .map(|k| angles_skipped.contains(&k))

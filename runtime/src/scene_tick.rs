@@ -63,7 +63,7 @@ pub fn scene_tick<T: Real, const NI: usize, const NU: usize, const NP: usize, co
 /// the solved `q` and the rates it computed, `qd` at order 1; the result is what its tick state
 /// stores).
 ///
-/// With `h` the time of the step to `x` at the rates `xd` (as [`Tick::step_to`] fits it): at
+/// With `h` the time of the step to `x` at the rates `xd` ([`Tick::step_to`]): at
 /// order 0 the secant `s = Δq / h`, and when the last tick left one too (same input rates, steps
 /// not nearly opposite) the parabola through the last three configurations,
 /// `q̈ ≈ 2 (s − s₀) / (h₀ + h)` with `s₀ = q̇₀ − h₀ q̈₀ / 2`, and `q̇ ≈ s + h q̈ / 2`; at order 1
@@ -89,16 +89,7 @@ pub fn scene_rates_estimated<
     same_params: bool,
 ) -> ([T; NU], [T; NU]) {
     let old = &t.state;
-    let (mut num, mut den) = (T::zero(), T::zero());
-    for i in 0..NI {
-        num += (x[i] - old.x[i]) * xd[i];
-        den += xd[i] * xd[i];
-    }
-    let h = if den > T::zero() {
-        num / den
-    } else {
-        T::zero()
-    };
+    let h = old.step_to(x, xd);
     if !same_params {
         t.history = 0;
         return (

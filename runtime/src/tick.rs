@@ -216,14 +216,15 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         }
     }
 
-    /// The time from the last tick to input `x`: the change of the inputs fitted over their last
-    /// rates, Σ Δx·ẋ / Σ ẋ² (0 when they were at rest).
+    /// The time from the last tick to input `x` at the input rates `xd`: the change of the
+    /// inputs fitted over those rates, Σ Δx·ẋ / Σ ẋ² (0 when they are at rest). The predictor
+    /// takes the last tick's rates; a scene's rate estimates the current ones.
     #[inline(always)]
-    pub fn step_to(&self, x: &[T; NI]) -> T {
+    pub fn step_to(&self, x: &[T; NI], xd: &[T; NI]) -> T {
         let (mut num, mut den) = (T::zero(), T::zero());
         for i in 0..NI {
-            num += (x[i] - self.x[i]) * self.xd[i];
-            den += self.xd[i] * self.xd[i];
+            num += (x[i] - self.x[i]) * xd[i];
+            den += xd[i] * xd[i];
         }
         if den > T::zero() {
             num / den
@@ -250,7 +251,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
             // Nothing to predict: every unknown is solved in closed form.
             return TrigState::from_parts(self.q, self.tq, angle);
         }
-        let dt = self.step_to(x);
+        let dt = self.step_to(x, &self.xd);
         let mut q = self.q;
         for k in 0..NU {
             if !keep[k] {

@@ -56,7 +56,11 @@ fn print_structure(info: &MechanismInfo, kinds: &[String]) {
             )
             .collect::<Vec<_>>()
     };
-    say!("mechanism {}: {}", info.name, info.description);
+    if info.description.is_empty() {
+        say!("mechanism {}:", info.name);
+    } else {
+        say!("mechanism {}: {}", info.name, info.description);
+    }
     say!("  inputs:   {}", names(&info.inputs).join(", "));
     say!("  unknowns: {}", names(&info.unknowns).join(", "));
     say!("  params:   {}", info.params.len());

@@ -236,19 +236,14 @@ pub fn table(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
     out
 }
 
-/// A solved row's numbers in table units: angles in [0, 360) degrees, angular rates in degrees.
+/// A solved row's numbers in table units: angles in degrees (the same continuous angle as the
+/// CSV, not folded into a turn), angular rates in degrees.
 fn scaled(info: &MechanismInfo, s: &Solved) -> Vec<f64> {
     let kinds = info.unknowns.iter().map(|u| u.kind);
     let mut v: Vec<f64> =
         s.q.iter()
             .zip(kinds.clone())
-            .map(|(v, k)| {
-                if k == Kind::Angle {
-                    wrap_deg(v * deg(k))
-                } else {
-                    *v
-                }
-            })
+            .map(|(v, k)| v * deg(k))
             .chain(s.qd.iter().zip(kinds.clone()).map(|(v, k)| v * deg(k)))
             .chain(s.qdd.iter().zip(kinds).map(|(v, k)| v * deg(k)))
             .collect();
@@ -276,12 +271,6 @@ fn unit(k: Kind, per: &str) -> String {
         Kind::Angle => format!("[deg{per}]"),
         _ => format!("[u{per}]"),
     }
-}
-
-/// Degrees folded into [0, 360).
-fn wrap_deg(d: f64) -> f64 {
-    let w = d.rem_euclid(360.0);
-    if w >= 360.0 { 0.0 } else { w }
 }
 
 #[cfg(test)]

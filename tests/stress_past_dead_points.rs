@@ -337,16 +337,17 @@ fn a_sweep_stops_at_the_dead_point_and_says_so() {
     let direct = sweep_rows(name, &full[14..24]);
     check_same(&rows[14..24], &direct);
 
-    // From 0 deg: the start is first moved by a whole turn to -79.3 deg, the representative
-    // nearest 0 deg, and its branch (-115.5 to -15.9 deg) ends at the upper dead point before 0.
+    // From 0 deg (the default range): the sweep first reaches the row nearest the start (280 deg,
+    // the start needs no whole turn), then goes up to 360 deg and down to 0 deg from there: 250 to
+    // 340 deg are solved, with the same values as above, and each side stops at its dead point.
     let from_zero: Vec<f64> = (0..=36).map(|d| f64::from(d * 10).to_radians()).collect();
-    for r in sweep_rows(name, &from_zero) {
-        let stop = r.stopped.expect("every row stops");
-        assert!(r.result.is_err(), "{r:?}");
-        let dead = upper - std::f64::consts::TAU;
-        assert!(
-            (stop.input - dead).abs() < 1e-9 && stop.at_dead_point(),
-            "{stop:?}"
-        );
-    }
+    let rows = sweep_rows(name, &from_zero);
+    check_stops(name, &rows, |x| {
+        if x < lower {
+            Some(lower)
+        } else {
+            (x > upper).then_some(upper)
+        }
+    });
+    check_same(&rows[25..35], &direct);
 }

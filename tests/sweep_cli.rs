@@ -344,3 +344,59 @@ fn animate_is_an_option_of_sweep_and_the_main_job() {
     let out = mechgen(&["--animate", dir.to_str().expect("utf-8"), "--help"]);
     assert!(out.status.success());
 }
+
+/// Issue 18 item 1 (interfaces.md `sweep`, "Branch"): the sweep reaches the row nearest the start
+/// first, then goes towards each end. `sixbar_g` starts at q6 = 280.67 deg on a branch between its
+/// dead points at 244.53 and 344.13 deg: the default range (0 to 360 deg) has every row from 250
+/// to 340 deg solved (the old rule moved the start to -79.33 deg and lost every row), the rows
+/// outside stop at the dead point on their side, and tables print the same continuous angles as
+/// the CSV (q1 goes from -21.09 to 19.55 deg, never folded to 338.9 deg).
+#[test]
+fn the_sweep_starts_at_the_row_nearest_the_start_and_goes_both_ways() {
+    let csv = temp("sixbar_g.csv");
+    let out = mechgen(&["sweep", "sixbar_g", "--csv", csv.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let table = text(&out.stdout);
+    let rows = std::fs::read_to_string(&csv).expect("csv");
+    let mut lines = rows.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let q1 = header.iter().position(|h| *h == "q1").expect("q1 column");
+    let mut previous: Option<f64> = None;
+    for line in lines {
+        let cells: Vec<&str> = line.split(',').collect();
+        let input = cells[0].parse::<f64>().unwrap().to_degrees();
+        let status = *cells.last().unwrap();
+        let on_branch = (249.0..341.0).contains(&input);
+        assert_eq!(status == "ok", on_branch, "q6 = {input} deg: {line}");
+        if on_branch {
+            let q1_deg = cells[q1].parse::<f64>().unwrap().to_degrees();
+            // Continuous along the branch (rows 10 deg apart move q1 by less than 15 deg) ...
+            if let Some(p) = previous {
+                assert!((q1_deg - p).abs() < 15.0, "{p} -> {q1_deg}");
+            }
+            previous = Some(q1_deg);
+            // ... and the table prints the CSV's angle, not one folded into [0, 360).
+            let row = table
+                .lines()
+                .find(|l| l.split_whitespace().next() == Some(&format!("{input:.4}")[..]))
+                .unwrap_or_else(|| panic!("table row {input:.4}:\n{table}"));
+            let printed: f64 = row.split_whitespace().nth(1).unwrap().parse().unwrap();
+            assert!((printed - q1_deg).abs() < 1e-4 * q1_deg.abs().max(1.0), "{row}");
+        } else {
+            assert!(line.contains("unassemblable"), "{line}");
+        }
+    }
+    assert!(table.contains("-21.09482"), "{table}");
+
+    // A start between two rows: 280.67 deg lies between 275 and 285; both sides are reached, and
+    // so are rows on both sides further away, whichever order the range is given in.
+    for (from, to) in [("255", "335"), ("335", "255")] {
+        let csv = temp(&format!("between-{from}.csv"));
+        let args = ["sweep", "sixbar_g", "--from", from, "--to", to, "--step", "10"];
+        let out = mechgen(&[&args[..], &["--csv", csv.to_str().unwrap()]].concat());
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let rows = std::fs::read_to_string(&csv).expect("csv");
+        let statuses: Vec<&str> = rows.lines().skip(1).map(|l| l.rsplit(',').next().unwrap()).collect();
+        assert_eq!(statuses, vec!["ok"; 9], "{rows}");
+    }
+}

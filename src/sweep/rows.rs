@@ -1,5 +1,5 @@
-//! Sweeps, the rows (`mechgen::sweep::sweep`): settle the start, move it by whole turns, move
-//! held inputs to their values, then one continuation and one rate solve per row. Part of
+//! Sweeps, the rows (`mechgen::sweep::sweep`): settle the start, move held inputs to their values,
+//! reach the row nearest the start, then one continuation and one rate solve per row each way. Part of
 //! [`crate::sweep`].
 
 use super::{
@@ -23,9 +23,11 @@ pub fn sweep(
 }
 
 /// Sweeps input `index` over `values` from the file's start configuration, first moving each
-/// input of `held` (index, value) from its start value to that value along the branch. An angle
-/// input's start (swept or held) is first moved by whole turns to the representative nearest its
-/// first value. Failed rows keep the sweep going from the last state reached and record it in
+/// input of `held` (index, value) from its start value to that value along the branch. The sweep
+/// then continues from the start to the row nearest it ([`nearest_row`]; an angle input's start,
+/// swept or held, is first moved by whole turns to the representative nearest that value), and
+/// from that row through the rows after it and, again from that row, through the rows before it;
+/// the rows are returned in the order of `values`. Failed rows keep the sweep going from the last state reached and record it in
 /// [`Row::stopped`]: a branch that ends at a dead point stays there (the rows past it fail)
 /// instead of jumping to another branch. Every continuation is bounded, and the whole sweep uses
 /// at most [`sweep_budget`]`(values.len())` substeps (three solves each) and four more solves per
@@ -93,45 +95,75 @@ pub fn sweep_holding(
             );
         }
     }
-    if let (Kind::Angle, Some(first)) = (info.inputs[index].kind, values.first()) {
-        x[index] = nearest_turn(x[index], *first);
+    let Some(nearest) = nearest_row(info.inputs[index].kind, x[index], values) else {
+        return Vec::new();
+    };
+    if info.inputs[index].kind == Kind::Angle {
+        x[index] = nearest_turn(x[index], values[nearest]);
     }
-    values
-        .iter()
-        .map(|&target| {
-            let mut reason = StopReason::Solver;
-            let result = continue_within(k, &mut x, &mut q, index, target, c, &mut allowance)
-                .map_err(|Stop { error, reason: r }| {
-                    reason = r;
-                    error
+    let mut solve_row = |x: &mut [f64], q: &mut [f64], target: f64| {
+        let mut reason = StopReason::Solver;
+        let result = continue_within(k, x, q, index, target, c, &mut allowance)
+            .map_err(|Stop { error, reason: r }| {
+                reason = r;
+                error
+            })
+            .and_then(|condition| {
+                let mut qd = vec![0.0; nu];
+                let mut qdd = vec![0.0; nu];
+                let mut points = vec![PointMotion::default(); np];
+                k.solve_velocity(x, q, &xd, &mut qd)?;
+                let input = InputMotion::new(&x[..], &xd[..], &xdd[..]);
+                k.solve_acceleration(input, q, &qd, &mut qdd)?;
+                k.points(input, q, &qd, &qdd, &mut points)?;
+                Ok(Solved {
+                    q: q.to_vec(),
+                    qd,
+                    qdd,
+                    points,
+                    condition,
                 })
-                .and_then(|condition| {
-                    let mut qd = vec![0.0; nu];
-                    let mut qdd = vec![0.0; nu];
-                    let mut points = vec![PointMotion::default(); np];
-                    k.solve_velocity(&x, &q, &xd, &mut qd)?;
-                    let input = InputMotion::new(&x[..], &xd[..], &xdd[..]);
-                    k.solve_acceleration(input, &q, &qd, &mut qdd)?;
-                    k.points(input, &q, &qd, &qdd, &mut points)?;
-                    Ok(Solved {
-                        q: q.clone(),
-                        qd,
-                        qdd,
-                        points,
-                        condition,
-                    })
-                });
-            // The state is a converged solution: one more solve gives its condition estimate.
-            let stopped = result
-                .is_err()
-                .then(|| stopped(x[index], condition_at(k, &x, &q, c), reason));
-            Row {
-                input: target,
-                result,
-                stopped,
-            }
-        })
-        .collect()
+            });
+        // The state is a converged solution: one more solve gives its condition estimate.
+        let stopped = result
+            .is_err()
+            .then(|| stopped(x[index], condition_at(k, x, q, c), reason));
+        Row {
+            input: target,
+            result,
+            stopped,
+        }
+    };
+    // The row nearest the start first, then from it towards each end of the range.
+    let mut rows: Vec<Option<Row>> = vec![None; values.len()];
+    rows[nearest] = Some(solve_row(&mut x, &mut q, values[nearest]));
+    let (x_mid, q_mid) = (x.clone(), q.clone());
+    for i in nearest + 1..values.len() {
+        rows[i] = Some(solve_row(&mut x, &mut q, values[i]));
+    }
+    let (mut x, mut q) = (x_mid, q_mid);
+    for i in (0..nearest).rev() {
+        rows[i] = Some(solve_row(&mut x, &mut q, values[i]));
+    }
+    rows.into_iter().flatten().collect()
+}
+
+/// The index of the row a sweep reaches first: the value nearest the start input `x0` (for an
+/// angle input, nearest modulo a turn); the first of equally near values. `None` for no values.
+pub fn nearest_row(kind: Kind, x0: f64, values: &[f64]) -> Option<usize> {
+    let distance = |v: f64| match kind {
+        Kind::Angle => (nearest_turn(x0, v) - v).abs(),
+        _ => (x0 - v).abs(),
+    };
+    let mut best: Option<(usize, f64)> = None;
+    for (i, &v) in values.iter().enumerate() {
+        let d = distance(v);
+        // A NaN distance (non-finite value) is never nearer than a finite one.
+        if best.is_none_or(|(_, b)| d < b || (b.is_nan() && !d.is_nan())) {
+            best = Some((i, d));
+        }
+    }
+    best.map(|(i, _)| i)
 }
 
 fn stopped(input: f64, condition: f64, reason: StopReason) -> Stopped {

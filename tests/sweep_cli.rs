@@ -188,6 +188,28 @@ fn the_main_job_takes_a_file() {
     }
 }
 
+/// `--out DIR` (interfaces.md: the main job writes into `--out DIR`, default `./mechgen-out/`):
+/// the files go there, created with its parents, and nothing into `./mechgen-out/`.
+#[test]
+fn the_main_job_writes_into_out() {
+    let dir = temp("main-out");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let file = support::data("stephenson.toml");
+    let out = Command::new(env!("CARGO_BIN_EXE_mechgen"))
+        .args(["--file", file.to_str().expect("utf-8"), "--out", "a/b"])
+        .current_dir(&dir)
+        .output()
+        .expect("runs");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("written to a/b/"), "{}", text(&out.stdout));
+    for name in ["stephenson_a", "stephenson_b"] {
+        for f in [format!("{name}.csv"), format!("{name}-drawing.svg")] {
+            assert!(dir.join("a/b").join(&f).exists(), "{f}");
+        }
+    }
+    assert!(!dir.join("mechgen-out").exists());
+}
+
 #[test]
 fn tables_have_units_and_significant_digits_and_the_csv_full_precision() {
     let csv = temp("shaper.csv");

@@ -8,7 +8,8 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 /// Planar linkage kinematics from loop equations: sweeps, tables, CSVs and plots.
 ///
 /// With no command, runs the main job: every mechanism of the compiled-in mechanism.toml (or of
-/// --file) swept over a full turn, tables printed, CSVs and SVG plots written to ./mechgen-out/.
+/// --file) swept over a full turn, tables printed, CSVs and SVG plots written to --out DIR
+/// (default ./mechgen-out/).
 #[derive(Debug, Parser)]
 #[command(name = "mechgen", version, args_conflicts_with_subcommands = true)]
 pub struct Cli {
@@ -28,6 +29,9 @@ pub struct MainArgs {
     /// Also write an animated SVG of each mechanism over its sweep into DIR.
     #[arg(long, value_name = "DIR")]
     pub animate: Option<PathBuf>,
+    /// Write the CSVs and plots of the main job into DIR (created if missing).
+    #[arg(long, value_name = "DIR", default_value = "mechgen-out")]
+    pub out: PathBuf,
 }
 
 #[derive(Debug, Subcommand)]

@@ -281,9 +281,10 @@ pub(super) fn main_job_range(info: &MechanismInfo) -> Range {
 }
 
 /// The main job: every mechanism of the compiled-in file (generated engine) or of `--file`
-/// (generic engine) over its default range; tables, CSVs and plots into `mechgen-out/`.
+/// (generic engine) over its default range; tables, CSVs and plots into `--out` (default
+/// `mechgen-out/`).
 pub fn main_job(args: &MainArgs) -> Result<(), String> {
-    let dir = Path::new("mechgen-out");
+    let dir = args.out.as_path();
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let file = args.file.as_deref();
     let loaded = Loaded::read(file)?;

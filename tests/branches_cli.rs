@@ -6,7 +6,7 @@ mod common;
 
 use std::process::Output;
 
-use common::cli::mechgen;
+use common::cli::{mechgen, text};
 
 fn dir(name: &str) -> std::path::PathBuf {
     let d = std::env::temp_dir().join(format!("mechgen-branches-{}-{name}", std::process::id()));
@@ -138,4 +138,21 @@ fn narrow_circuit_through_the_cli() {
         text.contains("at q1 = 0.2500000000 deg: 2 configuration(s)"),
         "{text}"
     );
+}
+
+/// Issue 18 item 7: `branches SCENE` names the scene's mechanism and the command to run, instead
+/// of "no mechanism"; an unknown name still lists the file's mechanisms.
+#[test]
+fn a_scene_is_named_as_a_scene_of_its_mechanism() {
+    let out = mechgen(&["branches", "sixbar_e_path"]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("`sixbar_e_path` is a scene of mechanism `sixbar`")
+            && err.contains("mechgen branches sixbar"),
+        "{err}"
+    );
+    let out = mechgen(&["branches", "nosuch"]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("no mechanism `nosuch` (the file has: sixbar"));
 }

@@ -83,6 +83,20 @@ pub fn run(args: &BranchesArgs) -> Result<(), String> {
         .iter()
         .find(|c| c.model.name.text == args.name)
         .ok_or_else(|| {
+            // A scene's configuration space is its mechanism's: say so and name the command.
+            let scene_of = compiled.iter().find(|c| {
+                c.model
+                    .scenes
+                    .iter()
+                    .any(|s| s.name.text == args.name)
+            });
+            if let Some(m) = scene_of {
+                let m = &m.model.name.text;
+                return format!(
+                    "`{}` is a scene of mechanism `{m}`: a scene has its mechanism's branches and dead points; run `mechgen branches {m}`",
+                    args.name
+                );
+            }
             let names: Vec<&str> = compiled
                 .iter()
                 .map(|c| c.model.name.text.as_str())

@@ -1817,6 +1817,7 @@ pub mod sixbar {
                     ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                         x: *x,
                         xd: *xd,
+                        xdd: *xdd,
                         q,
                         qd,
                         qdd,
@@ -1906,6 +1907,7 @@ pub mod sixbar {
             t.update(
                 x,
                 xd,
+                xdd,
                 &st,
                 qd,
                 qdd,
@@ -2271,6 +2273,7 @@ pub mod sixbar {
                     ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                         x: *x,
                         xd: *xd,
+                        xdd: *xdd,
                         q,
                         qd,
                         qdd,
@@ -2360,6 +2363,7 @@ pub mod sixbar {
             t.update(
                 x,
                 xd,
+                xdd,
                 &st,
                 qd,
                 qdd,
@@ -2532,6 +2536,7 @@ pub mod sixbar {
                 ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                     x: *x,
                     xd: *xd,
+                    xdd: *xdd,
                     q,
                     qd,
                     qdd,
@@ -2595,6 +2600,7 @@ pub mod sixbar {
             t.update(
                 x,
                 xd,
+                xdd,
                 &st,
                 qd,
                 qdd,
@@ -2648,6 +2654,21 @@ pub mod sixbar {
                 &guess.to_array(),
                 options,
             )
+        }
+        /// The state a tick keeps, with the named access of [`Self::solve`]'s result
+        /// (`Sixbar::motion(&t).points.E`): the last tick's inputs and their rates, the
+        /// unknowns with their rates, the points and the report.
+        pub fn motion(t: &Tick<T>) -> Motion<T> {
+            Motion {
+                x: Inputs::from_array(t.x),
+                xd: Inputs::from_array(t.xd),
+                xdd: Inputs::from_array(t.xdd),
+                q: Unknowns::from_array(t.q),
+                qd: Unknowns::from_array(t.qd),
+                qdd: Unknowns::from_array(t.qdd),
+                points: Points::from_array(t.points),
+                report: t.report,
+            }
         }
         /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
         /// second-order step from the last tick, their sines and cosines rotated from the
@@ -4417,6 +4438,7 @@ pub mod shaper {
                     ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                         x: *x,
                         xd: *xd,
+                        xdd: *xdd,
                         q,
                         qd,
                         qdd,
@@ -4502,6 +4524,7 @@ pub mod shaper {
             t.update(
                 x,
                 xd,
+                xdd,
                 &st,
                 qd,
                 qdd,
@@ -4674,6 +4697,7 @@ pub mod shaper {
                 ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                     x: *x,
                     xd: *xd,
+                    xdd: *xdd,
                     q,
                     qd,
                     qdd,
@@ -4737,6 +4761,7 @@ pub mod shaper {
             t.update(
                 x,
                 xd,
+                xdd,
                 &st,
                 qd,
                 qdd,
@@ -4790,6 +4815,21 @@ pub mod shaper {
                 &guess.to_array(),
                 options,
             )
+        }
+        /// The state a tick keeps, with the named access of [`Self::solve`]'s result
+        /// (`Sixbar::motion(&t).points.E`): the last tick's inputs and their rates, the
+        /// unknowns with their rates, the points and the report.
+        pub fn motion(t: &Tick<T>) -> Motion<T> {
+            Motion {
+                x: Inputs::from_array(t.x),
+                xd: Inputs::from_array(t.xd),
+                xdd: Inputs::from_array(t.xdd),
+                q: Unknowns::from_array(t.q),
+                qd: Unknowns::from_array(t.qd),
+                qdd: Unknowns::from_array(t.qdd),
+                points: Points::from_array(t.points),
+                report: t.report,
+            }
         }
         /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
         /// second-order step from the last tick, their sines and cosines rotated from the
@@ -6143,6 +6183,7 @@ pub mod four_bar {
                     ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                         x: *x,
                         xd: *xd,
+                        xdd: *xdd,
                         q,
                         qd,
                         qdd,
@@ -6223,6 +6264,7 @@ pub mod four_bar {
             t.update(
                 x,
                 xd,
+                xdd,
                 &st,
                 qd,
                 qdd,
@@ -6395,6 +6437,7 @@ pub mod four_bar {
                 ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                     x: *x,
                     xd: *xd,
+                    xdd: *xdd,
                     q,
                     qd,
                     qdd,
@@ -6458,6 +6501,7 @@ pub mod four_bar {
             t.update(
                 x,
                 xd,
+                xdd,
                 &st,
                 qd,
                 qdd,
@@ -6511,6 +6555,21 @@ pub mod four_bar {
                 &guess.to_array(),
                 options,
             )
+        }
+        /// The state a tick keeps, with the named access of [`Self::solve`]'s result
+        /// (`Sixbar::motion(&t).points.E`): the last tick's inputs and their rates, the
+        /// unknowns with their rates, the points and the report.
+        pub fn motion(t: &Tick<T>) -> Motion<T> {
+            Motion {
+                x: Inputs::from_array(t.x),
+                xd: Inputs::from_array(t.xd),
+                xdd: Inputs::from_array(t.xdd),
+                q: Unknowns::from_array(t.q),
+                qd: Unknowns::from_array(t.qd),
+                qdd: Unknowns::from_array(t.qdd),
+                points: Points::from_array(t.points),
+                report: t.report,
+            }
         }
         /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
         /// second-order step from the last tick, their sines and cosines rotated from the
@@ -7750,6 +7809,7 @@ pub mod slider_crank {
                 ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                     x: *x,
                     xd: *xd,
+                    xdd: *xdd,
                     q,
                     qd,
                     qdd,
@@ -7813,6 +7873,7 @@ pub mod slider_crank {
             t.update(
                 x,
                 xd,
+                xdd,
                 &st,
                 qd,
                 qdd,
@@ -7866,6 +7927,21 @@ pub mod slider_crank {
                 &guess.to_array(),
                 options,
             )
+        }
+        /// The state a tick keeps, with the named access of [`Self::solve`]'s result
+        /// (`Sixbar::motion(&t).points.E`): the last tick's inputs and their rates, the
+        /// unknowns with their rates, the points and the report.
+        pub fn motion(t: &Tick<T>) -> Motion<T> {
+            Motion {
+                x: Inputs::from_array(t.x),
+                xd: Inputs::from_array(t.xd),
+                xdd: Inputs::from_array(t.xdd),
+                q: Unknowns::from_array(t.q),
+                qd: Unknowns::from_array(t.qd),
+                qdd: Unknowns::from_array(t.qdd),
+                points: Points::from_array(t.points),
+                report: t.report,
+            }
         }
         /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
         /// second-order step from the last tick, their sines and cosines rotated from the
@@ -9041,6 +9117,7 @@ pub mod rocker_four_bar {
                 ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                     x: *x,
                     xd: *xd,
+                    xdd: *xdd,
                     q,
                     qd,
                     qdd,
@@ -9104,6 +9181,7 @@ pub mod rocker_four_bar {
             t.update(
                 x,
                 xd,
+                xdd,
                 &st,
                 qd,
                 qdd,
@@ -9157,6 +9235,21 @@ pub mod rocker_four_bar {
                 &guess.to_array(),
                 options,
             )
+        }
+        /// The state a tick keeps, with the named access of [`Self::solve`]'s result
+        /// (`Sixbar::motion(&t).points.E`): the last tick's inputs and their rates, the
+        /// unknowns with their rates, the points and the report.
+        pub fn motion(t: &Tick<T>) -> Motion<T> {
+            Motion {
+                x: Inputs::from_array(t.x),
+                xd: Inputs::from_array(t.xd),
+                xdd: Inputs::from_array(t.xdd),
+                q: Unknowns::from_array(t.q),
+                qd: Unknowns::from_array(t.qd),
+                qdd: Unknowns::from_array(t.qdd),
+                points: Points::from_array(t.points),
+                report: t.report,
+            }
         }
         /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
         /// second-order step from the last tick, their sines and cosines rotated from the
@@ -10825,6 +10918,7 @@ pub mod sixbar_g {
                 ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                     x: *x,
                     xd: *xd,
+                    xdd: *xdd,
                     q,
                     qd,
                     qdd,
@@ -10893,6 +10987,7 @@ pub mod sixbar_g {
             t.update(
                 x,
                 xd,
+                xdd,
                 &st,
                 qd,
                 qdd,
@@ -10946,6 +11041,21 @@ pub mod sixbar_g {
                 &guess.to_array(),
                 options,
             )
+        }
+        /// The state a tick keeps, with the named access of [`Self::solve`]'s result
+        /// (`Sixbar::motion(&t).points.E`): the last tick's inputs and their rates, the
+        /// unknowns with their rates, the points and the report.
+        pub fn motion(t: &Tick<T>) -> Motion<T> {
+            Motion {
+                x: Inputs::from_array(t.x),
+                xd: Inputs::from_array(t.xd),
+                xdd: Inputs::from_array(t.xdd),
+                q: Unknowns::from_array(t.q),
+                qd: Unknowns::from_array(t.qd),
+                qdd: Unknowns::from_array(t.qdd),
+                points: Points::from_array(t.points),
+                report: t.report,
+            }
         }
         /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
         /// second-order step from the last tick, their sines and cosines rotated from the

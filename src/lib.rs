@@ -89,3 +89,10 @@ pub mod source {
 }
 #[cfg(feature = "runtime")]
 pub mod branches;
+
+/// The README's Rust blocks, compiled (and run, but for `no_run`) as doctests of this crate, so
+/// that they cannot rot; `tests/readme.rs` holds the one `ignore` block, a downstream crate's
+/// `src/main.rs`, to the file CI builds and runs.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

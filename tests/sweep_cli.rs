@@ -201,7 +201,11 @@ fn the_main_job_writes_into_out() {
         .output()
         .expect("runs");
     assert!(out.status.success(), "{}", text(&out.stderr));
-    assert!(text(&out.stdout).contains("written to a/b/"), "{}", text(&out.stdout));
+    assert!(
+        text(&out.stdout).contains("written to a/b/"),
+        "{}",
+        text(&out.stdout)
+    );
     for name in ["stephenson_a", "stephenson_b"] {
         for f in [format!("{name}.csv"), format!("{name}-drawing.svg")] {
             assert!(dir.join("a/b").join(&f).exists(), "{f}");
@@ -403,7 +407,10 @@ fn the_sweep_starts_at_the_row_nearest_the_start_and_goes_both_ways() {
                 .find(|l| l.split_whitespace().next() == Some(&format!("{input:.4}")[..]))
                 .unwrap_or_else(|| panic!("table row {input:.4}:\n{table}"));
             let printed: f64 = row.split_whitespace().nth(1).unwrap().parse().unwrap();
-            assert!((printed - q1_deg).abs() < 1e-4 * q1_deg.abs().max(1.0), "{row}");
+            assert!(
+                (printed - q1_deg).abs() < 1e-4 * q1_deg.abs().max(1.0),
+                "{row}"
+            );
         } else {
             assert!(line.contains("unassemblable"), "{line}");
         }
@@ -414,11 +421,17 @@ fn the_sweep_starts_at_the_row_nearest_the_start_and_goes_both_ways() {
     // so are rows on both sides further away, whichever order the range is given in.
     for (from, to) in [("255", "335"), ("335", "255")] {
         let csv = temp(&format!("between-{from}.csv"));
-        let args = ["sweep", "sixbar_g", "--from", from, "--to", to, "--step", "10"];
+        let args = [
+            "sweep", "sixbar_g", "--from", from, "--to", to, "--step", "10",
+        ];
         let out = mechgen(&[&args[..], &["--csv", csv.to_str().unwrap()]].concat());
         assert!(out.status.success(), "{}", text(&out.stderr));
         let rows = std::fs::read_to_string(&csv).expect("csv");
-        let statuses: Vec<&str> = rows.lines().skip(1).map(|l| l.rsplit(',').next().unwrap()).collect();
+        let statuses: Vec<&str> = rows
+            .lines()
+            .skip(1)
+            .map(|l| l.rsplit(',').next().unwrap())
+            .collect();
         assert_eq!(statuses, vec!["ok"; 9], "{rows}");
     }
 }

@@ -185,6 +185,7 @@ mod tests {
         scene_tick(Tick::new(Solution {
             x: [t],
             xd: [1.0],
+            xdd: [0.0],
             q: [q(t)],
             qd: [rate],
             qdd: [0.0],

@@ -34,6 +34,7 @@ pub const RESYNC_TICKS: u32 = 64;
 pub struct Tick<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> {
     pub x: [T; NI],
     pub xd: [T; NI],
+    pub xdd: [T; NI],
     pub q: [T; NU],
     pub qd: [T; NU],
     pub qdd: [T; NU],
@@ -110,6 +111,7 @@ pub type NewParams<'a, T, const NPAR: usize> = (&'a [T; NPAR], &'a [(T, T); NPAR
 pub struct Solution<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> {
     pub x: [T; NI],
     pub xd: [T; NI],
+    pub xdd: [T; NI],
     pub q: [T; NU],
     pub qd: [T; NU],
     pub qdd: [T; NU],
@@ -130,6 +132,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         Tick {
             x: s.x,
             xd: s.xd,
+            xdd: s.xdd,
             q: s.q,
             qd: s.qd,
             qdd: s.qdd,
@@ -286,6 +289,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         &mut self,
         x: &[T; NI],
         xd: &[T; NI],
+        xdd: &[T; NI],
         st: &TrigState<T, NU>,
         qd: [T; NU],
         qdd: [T; NU],
@@ -296,6 +300,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
     ) {
         self.x = *x;
         self.xd = *xd;
+        self.xdd = *xdd;
         self.q = st.q;
         self.tq = st.sc;
         self.qd = qd;
@@ -325,6 +330,7 @@ mod tests {
         Tick::new(Solution {
             x: [0.0],
             xd: [1.0],
+            xdd: [0.0],
             q: [0.0, 1.0],
             qd: [0.0, 1.0],
             qdd: [0.0, 0.0],

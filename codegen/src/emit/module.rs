@@ -256,6 +256,15 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                     self.tick_start_arrays(&input.x.to_array(), &input.xd.to_array(), &input.xdd.to_array(), &guess.to_array(), options)
                 }
 
+                /// The state a tick keeps, with the named access of [`Self::solve`]'s result
+                /// (`Sixbar::motion(&t).points.E`): the last tick's inputs and their rates, the
+                /// unknowns with their rates, the points and the report.
+                pub fn motion(t: &#tick_ty<#gt>) -> #motion_ty<#gt> {
+                    #motion_ty { x: #inputs_ty::from_array(t.x), xd: #inputs_ty::from_array(t.xd), xdd: #inputs_ty::from_array(t.xdd),
+                        q: #unknowns_ty::from_array(t.q), qd: #unknowns_ty::from_array(t.qd), qdd: #unknowns_ty::from_array(t.qdd),
+                        points: #points_ty::from_array(t.points), report: t.report }
+                }
+
                 /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
                 /// second-order step from the last tick, their sines and cosines rotated from the
                 /// cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or when

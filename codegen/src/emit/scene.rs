@@ -173,7 +173,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
                 let (qd, qdd, points, report) = self.#solve_fn(x, xd, xdd, &mut q, options)?;
                 let (tx, tp) = self.trig_fixed(x);
                 let st = #rt::TrigState::new(q, [#(#angle),*]);
-                Ok(#rt::scene_tick(#rt::Tick::new(#rt::Solution { x: *x, xd: *xd, q, qd, qdd, points, report,
+                Ok(#rt::scene_tick(#rt::Tick::new(#rt::Solution { x: *x, xd: *xd, xdd: *xdd, q, qd, qdd, points, report,
                     tx, tq: st.sc, tp, params: self.params.to_array() })))
             }
 
@@ -203,7 +203,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
                 let mut report = #rt::NewtonReport::new();
                 let (qd, qdd, points) = self.#motion_fn(x, &mut st, &tx, tp, xd, xdd, options, &mut report #every_false)?;
                 #estimated
-                t.update(x, xd, &st, qd, qdd, points, report, tx, fresh_tp.as_ref().map(|tp| (&params, tp)));
+                t.update(x, xd, xdd, &st, qd, qdd, points, report, tx, fresh_tp.as_ref().map(|tp| (&params, tp)));
                 Ok(())
             }
         });

@@ -267,7 +267,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             let (qd, qdd, points, report) = self.solve_arrays(x, xd, xdd, &mut q, options)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(q);
-            Ok(#rt::Tick::new(#rt::Solution { x: *x, xd: *xd, q, qd, qdd, points, report,
+            Ok(#rt::Tick::new(#rt::Solution { x: *x, xd: *xd, xdd: *xdd, q, qd, qdd, points, report,
                 tx, tq: st.sc, tp, params: self.params.to_array() }))
         }
 
@@ -296,7 +296,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             let mut st = #guess;
             let mut report = #rt::NewtonReport::new();
             let (qd, qdd, points) = self.motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
-            t.update(x, xd, &st, qd, qdd, points, report, tx, fresh_tp.as_ref().map(|tp| (&params, tp)));
+            t.update(x, xd, xdd, &st, qd, qdd, points, report, tx, fresh_tp.as_ref().map(|tp| (&params, tp)));
             Ok(())
         }
     }

@@ -1016,6 +1016,7 @@ pub mod slider {
                 ::mechgen::__private::Tick::new(::mechgen::__private::Solution {
                     x: *x,
                     xd: *xd,
+                    xdd: *xdd,
                     q,
                     qd,
                     qdd,
@@ -1079,6 +1080,7 @@ pub mod slider {
             t.update(
                 x,
                 xd,
+                xdd,
                 &st,
                 qd,
                 qdd,
@@ -1132,6 +1134,21 @@ pub mod slider {
                 &guess.to_array(),
                 options,
             )
+        }
+        /// The state a tick keeps, with the named access of [`Self::solve`]'s result
+        /// (`Sixbar::motion(&t).points.E`): the last tick's inputs and their rates, the
+        /// unknowns with their rates, the points and the report.
+        pub fn motion(t: &Tick<T>) -> Motion<T> {
+            Motion {
+                x: Inputs::from_array(t.x),
+                xd: Inputs::from_array(t.xd),
+                xdd: Inputs::from_array(t.xdd),
+                q: Unknowns::from_array(t.q),
+                qd: Unknowns::from_array(t.qd),
+                qdd: Unknowns::from_array(t.qdd),
+                points: Points::from_array(t.points),
+                report: t.report,
+            }
         }
         /// One simulator tick to `input`: the unknowns of Newton blocks predicted by a
         /// second-order step from the last tick, their sines and cosines rotated from the

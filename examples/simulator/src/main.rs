@@ -31,16 +31,18 @@ fn main() -> Result<(), mechgen::SolveError> {
         if i > 0 {
             mech.tick(&mut state, &crank(t), &options)?;
         }
-        let tip = state.points[0];
+        // The tick state with the named access of `solve`'s result.
+        let m = InvertedSlider::motion(&state);
+        let tip = m.points.Tip;
         let cells = [
             t,
-            state.x[0],
-            state.q[0],
-            state.q[1],
-            state.qd[0],
-            state.qd[1],
-            state.qdd[0],
-            state.qdd[1],
+            m.x.q1,
+            m.q.th,
+            m.q.s,
+            m.qd.th,
+            m.qd.s,
+            m.qdd.th,
+            m.qdd.s,
             tip.position[0],
             tip.position[1],
             tip.velocity[0],

@@ -519,42 +519,43 @@ pub mod sixbar {
             let t9 = s_v_q2 * c_p_alpha;
             let t10 = c_v_q2 * s_p_alpha;
             let t11 = t7 + t8;
-            let t12 = p_l2e * t11;
+            let t12 = t9 - t10;
+            let t13 = p_l2e * t11;
+            let t14 = p_l2e * t12;
             let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t14 = p_l5 * c_v_q5;
-            let t15 = p_l5 * s_v_q5;
+            let t16 = p_l5 * c_v_q5;
+            let t17 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t17 = p_l6 * c_v_q6;
-            let t18 = p_l6 * s_v_q6;
-            let t19 = -t2;
-            let t20 = -t4;
-            let t21 = t10 - t9;
-            let t22 = p_l2e * t21;
-            let t23 = t22 - t2;
-            let t24 = t1 + t12;
-            let t25 = -t14;
-            let t26 = -t17;
+            let t19 = p_l6 * c_v_q6;
+            let t20 = p_l6 * s_v_q6;
+            let t21 = -t2;
+            let t22 = -t4;
+            let t23 = t2 + t14;
+            let t24 = -t23;
+            let t25 = t1 + t13;
+            let t26 = -t16;
+            let t27 = -t19;
             let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
-            m[(0, 0)] = t19;
+            m[(0, 0)] = t21;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
             m[(0, 1)] = t5;
             // [1][0] = ∂Φ1/∂q2 (loop 1, y)
             m[(1, 0)] = t1;
             // [1][1] = ∂Φ1/∂q3 (loop 1, y)
-            m[(1, 1)] = t20;
+            m[(1, 1)] = t22;
             // [2][0] = ∂Φ2/∂q2 (loop 2, x)
-            m[(2, 0)] = t23;
+            m[(2, 0)] = t24;
             // [2][2] = ∂Φ2/∂q5 (loop 2, x)
-            m[(2, 2)] = t15;
+            m[(2, 2)] = t17;
             // [2][3] = ∂Φ2/∂q6 (loop 2, x)
-            m[(2, 3)] = t18;
+            m[(2, 3)] = t20;
             // [3][0] = ∂Φ3/∂q2 (loop 2, y)
-            m[(3, 0)] = t24;
+            m[(3, 0)] = t25;
             // [3][2] = ∂Φ3/∂q5 (loop 2, y)
-            m[(3, 2)] = t25;
+            m[(3, 2)] = t26;
             // [3][3] = ∂Φ3/∂q6 (loop 2, y)
-            m[(3, 3)] = t26;
+            m[(3, 3)] = t27;
             m
         }
         /// Φx = ∂Φ/∂x at (x, q).
@@ -613,40 +614,41 @@ pub mod sixbar {
             let t8 = s_v_q2 * s_p_alpha;
             let t9 = s_v_q2 * c_p_alpha;
             let t10 = c_v_q2 * s_p_alpha;
+            let t11 = t7 + t8;
+            let t12 = t9 - t10;
+            let t13 = p_l2e * t11;
+            let t14 = p_l2e * t12;
             let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t12 = p_l5 * c_v_q5;
-            let t13 = p_l5 * s_v_q5;
+            let t16 = p_l5 * c_v_q5;
+            let t17 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t15 = p_l6 * c_v_q6;
-            let t16 = p_l6 * s_v_q6;
-            let t17 = t10 - t9;
-            let t18 = p_l2e * t17;
-            let t19 = t18 - t2;
-            let t20 = -t8;
-            let t21 = t1 * v_q2_d;
-            let t22 = -t21;
-            let t23 = t4 * v_q3_d;
-            let t24 = t2 * v_q2_d;
-            let t25 = -t24;
-            let t26 = t5 * v_q3_d;
-            let t27 = t20 - t7;
-            let t28 = p_l2e * t27;
-            let t29 = t28 - t1;
-            let t30 = v_q2_d * t29;
-            let t31 = t12 * v_q5_d;
-            let t32 = t15 * v_q6_d;
-            let t33 = t19 * v_q2_d;
-            let t34 = t13 * v_q5_d;
-            let t35 = t16 * v_q6_d;
+            let t19 = p_l6 * c_v_q6;
+            let t20 = p_l6 * s_v_q6;
+            let t21 = t2 + t14;
+            let t22 = t1 + t13;
+            let t23 = t1 * v_q2_d;
+            let t24 = -t23;
+            let t25 = t4 * v_q3_d;
+            let t26 = t2 * v_q2_d;
+            let t27 = -t26;
+            let t28 = t5 * v_q3_d;
+            let t29 = t22 * v_q2_d;
+            let t30 = -t29;
+            let t31 = t16 * v_q5_d;
+            let t32 = t19 * v_q6_d;
+            let t33 = t21 * v_q2_d;
+            let t34 = -t33;
+            let t35 = t17 * v_q5_d;
+            let t36 = t20 * v_q6_d;
             let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q2 (loop 1, x)
-            m[(0, 0)] = t22;
+            m[(0, 0)] = t24;
             // [0][1] = ∂Φ0/∂q3 (loop 1, x)
-            m[(0, 1)] = t23;
+            m[(0, 1)] = t25;
             // [1][0] = ∂Φ1/∂q2 (loop 1, y)
-            m[(1, 0)] = t25;
+            m[(1, 0)] = t27;
             // [1][1] = ∂Φ1/∂q3 (loop 1, y)
-            m[(1, 1)] = t26;
+            m[(1, 1)] = t28;
             // [2][0] = ∂Φ2/∂q2 (loop 2, x)
             m[(2, 0)] = t30;
             // [2][2] = ∂Φ2/∂q5 (loop 2, x)
@@ -654,11 +656,11 @@ pub mod sixbar {
             // [2][3] = ∂Φ2/∂q6 (loop 2, x)
             m[(2, 3)] = t32;
             // [3][0] = ∂Φ3/∂q2 (loop 2, y)
-            m[(3, 0)] = t33;
+            m[(3, 0)] = t34;
             // [3][2] = ∂Φ3/∂q5 (loop 2, y)
-            m[(3, 2)] = t34;
+            m[(3, 2)] = t35;
             // [3][3] = ∂Φ3/∂q6 (loop 2, y)
-            m[(3, 3)] = t35;
+            m[(3, 3)] = t36;
             m
         }
         /// −Φx ẋ: the right-hand side of J q̇ = −Φx ẋ.
@@ -720,64 +722,60 @@ pub mod sixbar {
             let t11 = s_v_q2 * s_p_alpha;
             let t12 = s_v_q2 * c_p_alpha;
             let t13 = c_v_q2 * s_p_alpha;
+            let t14 = t10 + t11;
+            let t15 = t12 - t13;
+            let t16 = p_l2e * t14;
+            let t17 = p_l2e * t15;
             let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t15 = p_l5 * c_v_q5;
-            let t16 = p_l5 * s_v_q5;
+            let t19 = p_l5 * c_v_q5;
+            let t20 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t18 = p_l6 * c_v_q6;
-            let t19 = p_l6 * s_v_q6;
-            let t20 = t13 - t12;
-            let t21 = p_l2e * t20;
-            let t22 = t21 - t5;
-            let t23 = -t11;
-            let t24 = t4 * v_q2_d;
-            let t25 = t7 * v_q3_d;
-            let t26 = t5 * v_q2_d;
-            let t27 = t8 * v_q3_d;
-            let t28 = t23 - t10;
-            let t29 = p_l2e * t28;
-            let t30 = t29 - t4;
-            let t31 = v_q2_d * t30;
-            let t32 = t15 * v_q5_d;
-            let t33 = t18 * v_q6_d;
-            let t34 = t22 * v_q2_d;
-            let t35 = t16 * v_q5_d;
-            let t36 = t19 * v_q6_d;
-            let t37 = t2 * v_q1_d;
-            let t38 = t1 * v_q1_d;
-            let t39 = v_q1_d * t38;
-            let t40 = -t39;
-            let t41 = v_q2_d * t24;
+            let t22 = p_l6 * c_v_q6;
+            let t23 = p_l6 * s_v_q6;
+            let t24 = t5 + t17;
+            let t25 = t4 + t16;
+            let t26 = t4 * v_q2_d;
+            let t27 = t7 * v_q3_d;
+            let t28 = t5 * v_q2_d;
+            let t29 = t8 * v_q3_d;
+            let t30 = t25 * v_q2_d;
+            let t31 = t19 * v_q5_d;
+            let t32 = t22 * v_q6_d;
+            let t33 = t24 * v_q2_d;
+            let t34 = t20 * v_q5_d;
+            let t35 = t23 * v_q6_d;
+            let t36 = t2 * v_q1_d;
+            let t37 = t1 * v_q1_d;
+            let t38 = v_q1_d * t37;
+            let t39 = v_q2_d * t26;
+            let t40 = t38 + t39;
+            let t41 = v_q3_d * t27;
             let t42 = t40 - t41;
-            let t43 = v_q3_d * t25;
+            let t43 = t2 * v_q1_dd;
             let t44 = t42 + t43;
-            let t45 = t2 * v_q1_dd;
-            let t46 = t45 - t44;
-            let t47 = v_q1_d * t37;
-            let t48 = -t47;
-            let t49 = v_q2_d * t26;
-            let t50 = t48 - t49;
-            let t51 = v_q3_d * t27;
-            let t52 = t50 + t51;
-            let t53 = t1 * v_q1_dd;
-            let t54 = t52 + t53;
-            let t55 = -t54;
-            let t56 = v_q2_d * t31;
-            let t57 = t56 - t39;
-            let t58 = v_q5_d * t32;
-            let t59 = t57 + t58;
-            let t60 = v_q6_d * t33;
-            let t61 = t59 + t60;
-            let t62 = t45 - t61;
-            let t63 = v_q2_d * t34;
-            let t64 = t63 - t47;
-            let t65 = v_q5_d * t35;
-            let t66 = t64 + t65;
-            let t67 = v_q6_d * t36;
-            let t68 = t66 + t67;
-            let t69 = t53 + t68;
-            let t70 = -t69;
-            ::mechgen::__private::nalgebra::SVector::from([t46, t55, t62, t70])
+            let t45 = v_q1_d * t36;
+            let t46 = v_q2_d * t28;
+            let t47 = t45 + t46;
+            let t48 = v_q3_d * t29;
+            let t49 = t47 - t48;
+            let t50 = t1 * v_q1_dd;
+            let t51 = t49 - t50;
+            let t52 = v_q2_d * t30;
+            let t53 = t38 + t52;
+            let t54 = v_q5_d * t31;
+            let t55 = t53 - t54;
+            let t56 = v_q6_d * t32;
+            let t57 = t55 - t56;
+            let t58 = t43 + t57;
+            let t59 = v_q2_d * t33;
+            let t60 = t45 + t59;
+            let t61 = v_q5_d * t34;
+            let t62 = t60 - t61;
+            let t63 = v_q6_d * t35;
+            let t64 = t62 - t63;
+            let t65 = t50 - t64;
+            let t66 = -t65;
+            ::mechgen::__private::nalgebra::SVector::from([t44, t51, t58, t66])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(&self, x: &[T; 1], q: &[T; 4]) -> [[T; 2]; 1] {
@@ -847,40 +845,35 @@ pub mod sixbar {
             let t16 = p_l2e * t14;
             let t17 = t6 + t15;
             let t18 = t7 + t16;
-            let t19 = t12 - t11;
-            let t20 = p_l2e * t19;
-            let t21 = t20 - t5;
-            let t22 = -t10;
-            let t23 = t4 + t15;
-            let t24 = t22 - t9;
-            let t25 = p_l2e * t24;
-            let t26 = t25 - t4;
-            let t27 = v_q2_d * t26;
-            let t28 = t21 * v_q2_d;
-            let t29 = t2 * v_q1_d;
-            let t30 = t1 * v_q1_d;
-            let t31 = v_q1_d * t30;
-            let t32 = t2 * v_q1_dd;
-            let t33 = v_q1_d * t29;
-            let t34 = t1 * v_q1_dd;
-            let t35 = t28 - t29;
-            let t36 = v_q2_d * t27;
-            let t37 = t36 - t31;
-            let t38 = t23 * v_q2_d;
-            let t39 = t30 + t38;
-            let t40 = v_q2_d * t28;
-            let t41 = t40 - t33;
-            let t42 = t37 - t32;
-            let t43 = t21 * v_q2_dd;
-            let t44 = t42 + t43;
-            let t45 = t34 + t41;
-            let t46 = t23 * v_q2_dd;
-            let t47 = t45 + t46;
+            let t19 = t5 + t16;
+            let t20 = t4 + t15;
+            let t21 = t20 * v_q2_d;
+            let t22 = t19 * v_q2_d;
+            let t23 = t2 * v_q1_d;
+            let t24 = t1 * v_q1_d;
+            let t25 = v_q1_d * t24;
+            let t26 = t2 * v_q1_dd;
+            let t27 = v_q1_d * t23;
+            let t28 = t1 * v_q1_dd;
+            let t29 = t22 + t23;
+            let t30 = -t29;
+            let t31 = v_q2_d * t21;
+            let t32 = t25 + t31;
+            let t33 = t21 + t24;
+            let t34 = v_q2_d * t22;
+            let t35 = t27 + t34;
+            let t36 = t26 + t32;
+            let t37 = t19 * v_q2_dd;
+            let t38 = t36 + t37;
+            let t39 = -t38;
+            let t40 = t28 - t35;
+            let t41 = t20 * v_q2_dd;
+            let t42 = t40 + t41;
             [
                 ::mechgen::__private::PointMotion {
                     position: [t17, t18],
-                    velocity: [t35, t39],
-                    acceleration: [t44, t47],
+                    velocity: [t30, t33],
+                    acceleration: [t39, t42],
                 },
             ]
         }
@@ -1169,28 +1162,29 @@ pub mod sixbar {
             let t13 = s_v_q2 * c_p_alpha;
             let t14 = c_v_q2 * s_p_alpha;
             let t15 = t11 + t12;
-            let t16 = p_l2e * t15;
+            let t16 = t13 - t14;
+            let t17 = p_l2e * t15;
+            let t18 = p_l2e * t16;
             let (s_v_q5, c_v_q5) = st.sc[2];
-            let t17 = p_l5 * c_v_q5;
-            let t18 = p_l5 * s_v_q5;
+            let t19 = p_l5 * c_v_q5;
+            let t20 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = st.sc[3];
-            let t19 = p_l6 * c_v_q6;
-            let t20 = p_l6 * s_v_q6;
-            let t21 = t14 - t13;
-            let t22 = p_l2e * t21;
-            let t23 = t22 - t3;
-            let t24 = t2 + t16;
-            let t25 = -t17;
-            let t26 = -t19;
-            let t27 = t23 * v_q2_d;
-            let t28 = t24 * v_q2_d;
-            let t29 = t8 - t27;
-            let t30 = t10 - t28;
+            let t21 = p_l6 * c_v_q6;
+            let t22 = p_l6 * s_v_q6;
+            let t23 = t3 + t18;
+            let t24 = t2 + t17;
+            let t25 = -t19;
+            let t26 = -t21;
+            let t27 = t24 * v_q2_d;
+            let t28 = t23 * v_q2_d;
+            let t29 = t28 + t8;
+            let t30 = t27 + t9;
+            let t31 = -t30;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[2][2] = ∂Φ2/∂q5
-            jac[(0, 0)] = t18;
+            jac[(0, 0)] = t20;
             // J[2][3] = ∂Φ2/∂q6
-            jac[(0, 1)] = t20;
+            jac[(0, 1)] = t22;
             // J[3][2] = ∂Φ3/∂q5
             jac[(1, 0)] = t25;
             // J[3][3] = ∂Φ3/∂q6
@@ -1204,7 +1198,7 @@ pub mod sixbar {
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t29, t30]),
+                    ::mechgen::__private::nalgebra::SVector::from([t29, t31]),
                 )?;
             qd[2] = z[0];
             qd[3] = z[1];
@@ -1263,27 +1257,24 @@ pub mod sixbar {
             let t12 = t7 * v_q1_d;
             let t13 = t6 * v_q1_d;
             let t14 = v_q1_d * t13;
-            let t15 = -t14;
-            let t16 = v_q2_d * t8;
-            let t17 = t15 - t16;
-            let t18 = v_q3_d * t9;
-            let t19 = t17 + t18;
-            let t20 = t7 * v_q1_dd;
-            let t21 = t20 - t19;
-            let t22 = v_q1_d * t12;
-            let t23 = -t22;
-            let t24 = v_q2_d * t10;
+            let t15 = v_q2_d * t8;
+            let t16 = t14 + t15;
+            let t17 = v_q3_d * t9;
+            let t18 = t16 - t17;
+            let t19 = t7 * v_q1_dd;
+            let t20 = t18 + t19;
+            let t21 = v_q1_d * t12;
+            let t22 = v_q2_d * t10;
+            let t23 = t21 + t22;
+            let t24 = v_q3_d * t11;
             let t25 = t23 - t24;
-            let t26 = v_q3_d * t11;
-            let t27 = t25 + t26;
-            let t28 = t6 * v_q1_dd;
-            let t29 = t27 + t28;
-            let t30 = -t29;
+            let t26 = t6 * v_q1_dd;
+            let t27 = t25 - t26;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t21, t30]),
+                    ::mechgen::__private::nalgebra::SVector::from([t20, t27]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -1291,22 +1282,22 @@ pub mod sixbar {
             let p_l5 = self.params.l5;
             let p_l6 = self.params.l6;
             let (s_v_q5, c_v_q5) = st.sc[2];
-            let t31 = p_l5 * c_v_q5;
-            let t32 = p_l5 * s_v_q5;
+            let t28 = p_l5 * c_v_q5;
+            let t29 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = st.sc[3];
-            let t33 = p_l6 * c_v_q6;
-            let t34 = p_l6 * s_v_q6;
-            let t35 = -t31;
-            let t36 = -t33;
+            let t30 = p_l6 * c_v_q6;
+            let t31 = p_l6 * s_v_q6;
+            let t32 = -t28;
+            let t33 = -t30;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[2][2] = ∂Φ2/∂q5
-            jac[(0, 0)] = t32;
+            jac[(0, 0)] = t29;
             // J[2][3] = ∂Φ2/∂q6
-            jac[(0, 1)] = t34;
+            jac[(0, 1)] = t31;
             // J[3][2] = ∂Φ3/∂q5
-            jac[(1, 0)] = t35;
+            jac[(1, 0)] = t32;
             // J[3][3] = ∂Φ3/∂q6
-            jac[(1, 1)] = t36;
+            jac[(1, 1)] = t33;
             let lu = ::mechgen::__private::factor_block(
                 1,
                 ::mechgen::__private::Stage::Acceleration,
@@ -1317,50 +1308,46 @@ pub mod sixbar {
             let v_q6_d = qd[3];
             let v_q2_dd = qdd[0];
             let (s_p_alpha, c_p_alpha) = tp[9];
-            let t37 = c_v_q2 * c_p_alpha;
-            let t38 = s_v_q2 * s_p_alpha;
-            let t39 = s_v_q2 * c_p_alpha;
-            let t40 = c_v_q2 * s_p_alpha;
-            let t41 = t37 + t38;
-            let t42 = p_l2e * t41;
-            let t43 = t40 - t39;
-            let t44 = p_l2e * t43;
-            let t45 = t44 - t1;
-            let t46 = -t38;
-            let t47 = t0 + t42;
-            let t48 = t46 - t37;
-            let t49 = p_l2e * t48;
-            let t50 = t49 - t0;
-            let t51 = v_q2_d * t50;
-            let t52 = t31 * v_q5_d;
-            let t53 = t33 * v_q6_d;
-            let t54 = t45 * v_q2_d;
-            let t55 = t32 * v_q5_d;
-            let t56 = t34 * v_q6_d;
-            let t57 = v_q2_d * t51;
-            let t58 = t57 - t14;
-            let t59 = v_q5_d * t52;
-            let t60 = t58 + t59;
-            let t61 = v_q6_d * t53;
-            let t62 = t60 + t61;
-            let t63 = t20 - t62;
-            let t64 = v_q2_d * t54;
-            let t65 = t64 - t22;
-            let t66 = v_q5_d * t55;
-            let t67 = t65 + t66;
-            let t68 = v_q6_d * t56;
-            let t69 = t67 + t68;
-            let t70 = t28 + t69;
-            let t71 = -t70;
-            let t72 = t45 * v_q2_dd;
-            let t73 = t47 * v_q2_dd;
-            let t74 = t63 - t72;
-            let t75 = t71 - t73;
+            let t34 = c_v_q2 * c_p_alpha;
+            let t35 = s_v_q2 * s_p_alpha;
+            let t36 = s_v_q2 * c_p_alpha;
+            let t37 = c_v_q2 * s_p_alpha;
+            let t38 = t34 + t35;
+            let t39 = t36 - t37;
+            let t40 = p_l2e * t38;
+            let t41 = p_l2e * t39;
+            let t42 = t1 + t41;
+            let t43 = t0 + t40;
+            let t44 = t43 * v_q2_d;
+            let t45 = t28 * v_q5_d;
+            let t46 = t30 * v_q6_d;
+            let t47 = t42 * v_q2_d;
+            let t48 = t29 * v_q5_d;
+            let t49 = t31 * v_q6_d;
+            let t50 = v_q2_d * t44;
+            let t51 = t14 + t50;
+            let t52 = v_q5_d * t45;
+            let t53 = t51 - t52;
+            let t54 = v_q6_d * t46;
+            let t55 = t53 - t54;
+            let t56 = t19 + t55;
+            let t57 = v_q2_d * t47;
+            let t58 = t21 + t57;
+            let t59 = v_q5_d * t48;
+            let t60 = t58 - t59;
+            let t61 = v_q6_d * t49;
+            let t62 = t60 - t61;
+            let t63 = t26 - t62;
+            let t64 = t42 * v_q2_dd;
+            let t65 = t43 * v_q2_dd;
+            let t66 = t56 + t64;
+            let t67 = t63 + t65;
+            let t68 = -t67;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t74, t75]),
+                    ::mechgen::__private::nalgebra::SVector::from([t66, t68]),
                 )?;
             qdd[2] = z[0];
             qdd[3] = z[1];
@@ -1512,56 +1499,52 @@ pub mod sixbar {
             let t31 = t5 * v_q2_d;
             let t32 = t23 * v_q3_d;
             let t33 = v_q1_d * t27;
-            let t34 = -t33;
-            let t35 = v_q2_d * t29;
-            let t36 = t34 - t35;
-            let t37 = v_q3_d * t30;
-            let t38 = t36 + t37;
-            let t39 = t1 * v_q1_dd;
-            let t40 = t39 - t38;
-            let t41 = v_q1_d * t26;
-            let t42 = -t41;
-            let t43 = v_q2_d * t31;
+            let t34 = v_q2_d * t29;
+            let t35 = t33 + t34;
+            let t36 = v_q3_d * t30;
+            let t37 = t35 - t36;
+            let t38 = t1 * v_q1_dd;
+            let t39 = t37 + t38;
+            let t40 = v_q1_d * t26;
+            let t41 = v_q2_d * t31;
+            let t42 = t40 + t41;
+            let t43 = v_q3_d * t32;
             let t44 = t42 - t43;
-            let t45 = v_q3_d * t32;
-            let t46 = t44 + t45;
-            let t47 = t0 * v_q1_dd;
-            let t48 = t46 + t47;
-            let t49 = -t48;
+            let t45 = t0 * v_q1_dd;
+            let t46 = t44 - t45;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t40, t49]),
+                    ::mechgen::__private::nalgebra::SVector::from([t39, t46]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
             // Block 1: velocities and accelerations.
             let (s_v_q5, c_v_q5) = st.sc[2];
-            let t50 = p_l5 * c_v_q5;
-            let t51 = p_l5 * s_v_q5;
+            let t47 = p_l5 * c_v_q5;
+            let t48 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = st.sc[3];
-            let t52 = p_l6 * c_v_q6;
-            let t53 = p_l6 * s_v_q6;
-            let t54 = t11 - t10;
-            let t55 = p_l2e * t54;
-            let t56 = t55 - t5;
-            let t57 = t4 + t14;
-            let t58 = -t50;
-            let t59 = -t52;
-            let t60 = t56 * v_q2_d;
-            let t61 = t57 * v_q2_d;
-            let t62 = t26 - t60;
-            let t63 = t28 - t61;
+            let t49 = p_l6 * c_v_q6;
+            let t50 = p_l6 * s_v_q6;
+            let t51 = t5 + t15;
+            let t52 = t4 + t14;
+            let t53 = -t47;
+            let t54 = -t49;
+            let t55 = t52 * v_q2_d;
+            let t56 = t51 * v_q2_d;
+            let t57 = t56 + t26;
+            let t58 = t55 + t27;
+            let t59 = -t58;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[2][2] = ∂Φ2/∂q5
-            jac[(0, 0)] = t51;
+            jac[(0, 0)] = t48;
             // J[2][3] = ∂Φ2/∂q6
-            jac[(0, 1)] = t53;
+            jac[(0, 1)] = t50;
             // J[3][2] = ∂Φ3/∂q5
-            jac[(1, 0)] = t58;
+            jac[(1, 0)] = t53;
             // J[3][3] = ∂Φ3/∂q6
-            jac[(1, 1)] = t59;
+            jac[(1, 1)] = t54;
             let lu = ::mechgen::__private::factor_block(
                 1,
                 ::mechgen::__private::Stage::Velocity,
@@ -1571,64 +1554,59 @@ pub mod sixbar {
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t62, t63]),
+                    ::mechgen::__private::nalgebra::SVector::from([t57, t59]),
                 )?;
             qd[2] = z[0];
             qd[3] = z[1];
             let v_q5_d = qd[2];
             let v_q6_d = qd[3];
             let v_q2_dd = qdd[0];
-            let t64 = -t9;
-            let t65 = t64 - t8;
-            let t66 = p_l2e * t65;
-            let t67 = t66 - t4;
-            let t68 = v_q2_d * t67;
-            let t69 = t50 * v_q5_d;
-            let t70 = t52 * v_q6_d;
-            let t71 = t51 * v_q5_d;
-            let t72 = t53 * v_q6_d;
-            let t73 = v_q2_d * t68;
-            let t74 = t73 - t33;
-            let t75 = v_q5_d * t69;
-            let t76 = t74 + t75;
-            let t77 = v_q6_d * t70;
-            let t78 = t76 + t77;
-            let t79 = t39 - t78;
-            let t80 = v_q2_d * t60;
-            let t81 = t80 - t41;
-            let t82 = v_q5_d * t71;
-            let t83 = t81 + t82;
-            let t84 = v_q6_d * t72;
-            let t85 = t83 + t84;
-            let t86 = t47 + t85;
-            let t87 = -t86;
-            let t88 = t56 * v_q2_dd;
-            let t89 = t57 * v_q2_dd;
-            let t90 = t79 - t88;
-            let t91 = t87 - t89;
+            let t60 = t47 * v_q5_d;
+            let t61 = t49 * v_q6_d;
+            let t62 = t48 * v_q5_d;
+            let t63 = t50 * v_q6_d;
+            let t64 = v_q2_d * t55;
+            let t65 = t33 + t64;
+            let t66 = v_q5_d * t60;
+            let t67 = t65 - t66;
+            let t68 = v_q6_d * t61;
+            let t69 = t67 - t68;
+            let t70 = t38 + t69;
+            let t71 = v_q2_d * t56;
+            let t72 = t40 + t71;
+            let t73 = v_q5_d * t62;
+            let t74 = t72 - t73;
+            let t75 = v_q6_d * t63;
+            let t76 = t74 - t75;
+            let t77 = t45 - t76;
+            let t78 = t51 * v_q2_dd;
+            let t79 = t52 * v_q2_dd;
+            let t80 = t70 + t78;
+            let t81 = t77 + t79;
+            let t82 = -t81;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t90, t91]),
+                    ::mechgen::__private::nalgebra::SVector::from([t80, t82]),
                 )?;
             qdd[2] = z[0];
             qdd[3] = z[1];
             // Points.
-            let t92 = t60 - t26;
-            let t93 = t27 + t61;
-            let t94 = t74 - t39;
-            let t95 = t94 + t88;
-            let t96 = t47 + t81;
-            let t97 = t96 + t89;
+            let t83 = -t57;
+            let t84 = t38 + t65;
+            let t85 = t84 + t78;
+            let t86 = -t85;
+            let t87 = t45 - t72;
+            let t88 = t87 + t79;
             Ok((
                 qd,
                 qdd,
                 [
                     ::mechgen::__private::PointMotion {
                         position: [t16, t17],
-                        velocity: [t92, t93],
-                        acceleration: [t95, t97],
+                        velocity: [t83, t58],
+                        acceleration: [t86, t88],
                     },
                 ],
             ))
@@ -2085,56 +2063,52 @@ pub mod sixbar {
             let t31 = t5 * v_q2_d;
             let t32 = t23 * v_q3_d;
             let t33 = v_q1_d * t27;
-            let t34 = -t33;
-            let t35 = v_q2_d * t29;
-            let t36 = t34 - t35;
-            let t37 = v_q3_d * t30;
-            let t38 = t36 + t37;
-            let t39 = t1 * v_q1_dd;
-            let t40 = t39 - t38;
-            let t41 = v_q1_d * t26;
-            let t42 = -t41;
-            let t43 = v_q2_d * t31;
+            let t34 = v_q2_d * t29;
+            let t35 = t33 + t34;
+            let t36 = v_q3_d * t30;
+            let t37 = t35 - t36;
+            let t38 = t1 * v_q1_dd;
+            let t39 = t37 + t38;
+            let t40 = v_q1_d * t26;
+            let t41 = v_q2_d * t31;
+            let t42 = t40 + t41;
+            let t43 = v_q3_d * t32;
             let t44 = t42 - t43;
-            let t45 = v_q3_d * t32;
-            let t46 = t44 + t45;
-            let t47 = t0 * v_q1_dd;
-            let t48 = t46 + t47;
-            let t49 = -t48;
+            let t45 = t0 * v_q1_dd;
+            let t46 = t44 - t45;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t40, t49]),
+                    ::mechgen::__private::nalgebra::SVector::from([t39, t46]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
             // Block 1: velocities and accelerations.
             let (s_v_q5, c_v_q5) = st.sc[2];
-            let t50 = p_l5 * c_v_q5;
-            let t51 = p_l5 * s_v_q5;
+            let t47 = p_l5 * c_v_q5;
+            let t48 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = st.sc[3];
-            let t52 = p_l6 * c_v_q6;
-            let t53 = p_l6 * s_v_q6;
-            let t54 = t11 - t10;
-            let t55 = p_l2e * t54;
-            let t56 = t55 - t5;
-            let t57 = t4 + t14;
-            let t58 = -t50;
-            let t59 = -t52;
-            let t60 = t56 * v_q2_d;
-            let t61 = t57 * v_q2_d;
-            let t62 = t26 - t60;
-            let t63 = t28 - t61;
+            let t49 = p_l6 * c_v_q6;
+            let t50 = p_l6 * s_v_q6;
+            let t51 = t5 + t15;
+            let t52 = t4 + t14;
+            let t53 = -t47;
+            let t54 = -t49;
+            let t55 = t52 * v_q2_d;
+            let t56 = t51 * v_q2_d;
+            let t57 = t56 + t26;
+            let t58 = t55 + t27;
+            let t59 = -t58;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
             // J[2][2] = ∂Φ2/∂q5
-            jac[(0, 0)] = t51;
+            jac[(0, 0)] = t48;
             // J[2][3] = ∂Φ2/∂q6
-            jac[(0, 1)] = t53;
+            jac[(0, 1)] = t50;
             // J[3][2] = ∂Φ3/∂q5
-            jac[(1, 0)] = t58;
+            jac[(1, 0)] = t53;
             // J[3][3] = ∂Φ3/∂q6
-            jac[(1, 1)] = t59;
+            jac[(1, 1)] = t54;
             let lu = ::mechgen::__private::factor_block(
                 1,
                 ::mechgen::__private::Stage::Velocity,
@@ -2144,46 +2118,41 @@ pub mod sixbar {
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t62, t63]),
+                    ::mechgen::__private::nalgebra::SVector::from([t57, t59]),
                 )?;
             qd[2] = z[0];
             qd[3] = z[1];
             let v_q5_d = qd[2];
             let v_q6_d = qd[3];
             let v_q2_dd = qdd[0];
-            let t64 = -t9;
-            let t65 = t64 - t8;
-            let t66 = p_l2e * t65;
-            let t67 = t66 - t4;
-            let t68 = v_q2_d * t67;
-            let t69 = t50 * v_q5_d;
-            let t70 = t52 * v_q6_d;
-            let t71 = t51 * v_q5_d;
-            let t72 = t53 * v_q6_d;
-            let t73 = v_q2_d * t68;
-            let t74 = t73 - t33;
-            let t75 = v_q5_d * t69;
-            let t76 = t74 + t75;
-            let t77 = v_q6_d * t70;
-            let t78 = t76 + t77;
-            let t79 = t39 - t78;
-            let t80 = v_q2_d * t60;
-            let t81 = t80 - t41;
-            let t82 = v_q5_d * t71;
-            let t83 = t81 + t82;
-            let t84 = v_q6_d * t72;
-            let t85 = t83 + t84;
-            let t86 = t47 + t85;
-            let t87 = -t86;
-            let t88 = t56 * v_q2_dd;
-            let t89 = t57 * v_q2_dd;
-            let t90 = t79 - t88;
-            let t91 = t87 - t89;
+            let t60 = t47 * v_q5_d;
+            let t61 = t49 * v_q6_d;
+            let t62 = t48 * v_q5_d;
+            let t63 = t50 * v_q6_d;
+            let t64 = v_q2_d * t55;
+            let t65 = t33 + t64;
+            let t66 = v_q5_d * t60;
+            let t67 = t65 - t66;
+            let t68 = v_q6_d * t61;
+            let t69 = t67 - t68;
+            let t70 = t38 + t69;
+            let t71 = v_q2_d * t56;
+            let t72 = t40 + t71;
+            let t73 = v_q5_d * t62;
+            let t74 = t72 - t73;
+            let t75 = v_q6_d * t63;
+            let t76 = t74 - t75;
+            let t77 = t45 - t76;
+            let t78 = t51 * v_q2_dd;
+            let t79 = t52 * v_q2_dd;
+            let t80 = t70 + t78;
+            let t81 = t77 + t79;
+            let t82 = -t81;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t90, t91]),
+                    ::mechgen::__private::nalgebra::SVector::from([t80, t82]),
                 )?;
             qdd[2] = z[0];
             qdd[3] = z[1];
@@ -3187,9 +3156,9 @@ pub mod shaper {
             let t8 = s_v_q3 * v_q3_d;
             let t9 = -t8;
             let t10 = s_v_q3 * v_s3_d;
-            let t11 = -t10;
-            let t12 = t1 * v_q3_d;
-            let t13 = t11 - t12;
+            let t11 = t1 * v_q3_d;
+            let t12 = t10 + t11;
+            let t13 = -t12;
             let t14 = c_v_q3 * v_q3_d;
             let t15 = c_v_q3 * v_s3_d;
             let t16 = t2 * v_q3_d;
@@ -3273,43 +3242,41 @@ pub mod shaper {
             let t10 = p_l4 * s_v_q4;
             let t11 = s_v_q3 * v_q3_d;
             let t12 = s_v_q3 * v_s3_d;
-            let t13 = -t12;
-            let t14 = t1 * v_q3_d;
-            let t15 = t13 - t14;
-            let t16 = c_v_q3 * v_q3_d;
-            let t17 = c_v_q3 * v_s3_d;
-            let t18 = t2 * v_q3_d;
-            let t19 = t17 - t18;
-            let t20 = t6 * v_q3_d;
-            let t21 = t9 * v_q4_d;
-            let t22 = t7 * v_q3_d;
-            let t23 = t10 * v_q4_d;
-            let t24 = t5 * v_q1_d;
-            let t25 = t4 * v_q1_d;
-            let t26 = v_q1_d * t25;
-            let t27 = t11 * v_s3_d;
-            let t28 = t26 - t27;
-            let t29 = v_q3_d * t15;
-            let t30 = t28 + t29;
-            let t31 = t5 * v_q1_dd;
-            let t32 = t30 + t31;
-            let t33 = -t32;
-            let t34 = v_q1_d * t24;
-            let t35 = v_s3_d * t16;
-            let t36 = t34 + t35;
-            let t37 = v_q3_d * t19;
-            let t38 = t36 + t37;
-            let t39 = t4 * v_q1_dd;
-            let t40 = t39 - t38;
-            let t41 = v_q3_d * t20;
-            let t42 = -t41;
-            let t43 = v_q4_d * t21;
-            let t44 = t43 - t42;
-            let t45 = v_q3_d * t22;
-            let t46 = -t45;
-            let t47 = v_q4_d * t23;
-            let t48 = t47 - t46;
-            ::mechgen::__private::nalgebra::SVector::from([t33, t40, t44, t48])
+            let t13 = t1 * v_q3_d;
+            let t14 = t12 + t13;
+            let t15 = c_v_q3 * v_q3_d;
+            let t16 = c_v_q3 * v_s3_d;
+            let t17 = t2 * v_q3_d;
+            let t18 = t16 - t17;
+            let t19 = t6 * v_q3_d;
+            let t20 = t9 * v_q4_d;
+            let t21 = t7 * v_q3_d;
+            let t22 = t10 * v_q4_d;
+            let t23 = t5 * v_q1_d;
+            let t24 = t4 * v_q1_d;
+            let t25 = v_q1_d * t24;
+            let t26 = t11 * v_s3_d;
+            let t27 = t25 - t26;
+            let t28 = v_q3_d * t14;
+            let t29 = t27 - t28;
+            let t30 = t5 * v_q1_dd;
+            let t31 = t29 + t30;
+            let t32 = -t31;
+            let t33 = v_q1_d * t23;
+            let t34 = v_s3_d * t15;
+            let t35 = t33 + t34;
+            let t36 = v_q3_d * t18;
+            let t37 = t35 + t36;
+            let t38 = t4 * v_q1_dd;
+            let t39 = t37 - t38;
+            let t40 = -t39;
+            let t41 = v_q3_d * t19;
+            let t42 = v_q4_d * t20;
+            let t43 = t41 + t42;
+            let t44 = v_q3_d * t21;
+            let t45 = v_q4_d * t22;
+            let t46 = t44 + t45;
+            ::mechgen::__private::nalgebra::SVector::from([t32, t40, t43, t46])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(&self, x: &[T; 1], q: &[T; 4]) -> [[T; 2]; 2] {
@@ -3347,12 +3314,13 @@ pub mod shaper {
             let t4 = t2 * v_q3_d;
             let t5 = -t4;
             let t6 = v_q3_d * t3;
-            let t7 = -t6;
-            let t8 = v_q3_d * t4;
-            let t9 = t2 * v_q3_dd;
-            let t10 = t7 - t9;
+            let t7 = v_q3_d * t4;
+            let t8 = t2 * v_q3_dd;
+            let t9 = t6 + t8;
+            let t10 = -t9;
             let t11 = t1 * v_q3_dd;
-            let t12 = t11 - t8;
+            let t12 = t7 - t11;
+            let t13 = -t12;
             [
                 ::mechgen::__private::PointMotion {
                     position: [v_sE, p_yE],
@@ -3362,7 +3330,7 @@ pub mod shaper {
                 ::mechgen::__private::PointMotion {
                     position: [t1, t2],
                     velocity: [t5, t3],
-                    acceleration: [t10, t12],
+                    acceleration: [t10, t13],
                 },
             ]
         }
@@ -3488,16 +3456,16 @@ pub mod shaper {
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let t2 = -t1;
-            let t3 = -t0;
-            let t4 = t2 - p_lAC;
+            let t2 = -t0;
+            let t3 = t1 + p_lAC;
+            let t4 = -t3;
             if options.closed_forms {
                 ::mechgen::__private::closed_form::solve_rpr(
                     0,
                     st,
                     1,
                     0,
-                    [t3, t4],
+                    [t2, t4],
                     (T::zero(), T::zero()),
                     (T::one(), T::zero()),
                     || self.params.length_scale(),
@@ -3653,9 +3621,8 @@ pub mod shaper {
             let (s_v_q4, _) = st.sc[2];
             let t13 = p_l4 * s_v_q4;
             let t14 = t12 * v_q3_d;
-            let t15 = -t14;
-            let t16 = t13 * v_q4_d;
-            let t17 = t16 - t15;
+            let t15 = t13 * v_q4_d;
+            let t16 = t14 + t15;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
@@ -3668,7 +3635,7 @@ pub mod shaper {
                 .solve(
                     2,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t17]),
+                    ::mechgen::__private::nalgebra::SVector::from([t16]),
                 )?;
             qd[3] = z[0];
             Ok(qd)
@@ -3716,35 +3683,35 @@ pub mod shaper {
             let t4 = p_l1 * s_v_q1;
             let t5 = s_v_q3 * v_q3_d;
             let t6 = s_v_q3 * v_s3_d;
-            let t7 = -t6;
-            let t8 = t0 * v_q3_d;
-            let t9 = t7 - t8;
-            let t10 = c_v_q3 * v_q3_d;
-            let t11 = c_v_q3 * v_s3_d;
-            let t12 = t1 * v_q3_d;
-            let t13 = t11 - t12;
-            let t14 = t4 * v_q1_d;
-            let t15 = t3 * v_q1_d;
-            let t16 = v_q1_d * t15;
-            let t17 = t5 * v_s3_d;
-            let t18 = t16 - t17;
-            let t19 = v_q3_d * t9;
-            let t20 = t18 + t19;
-            let t21 = t4 * v_q1_dd;
-            let t22 = t20 + t21;
-            let t23 = -t22;
-            let t24 = v_q1_d * t14;
-            let t25 = v_s3_d * t10;
-            let t26 = t24 + t25;
-            let t27 = v_q3_d * t13;
-            let t28 = t26 + t27;
-            let t29 = t3 * v_q1_dd;
-            let t30 = t29 - t28;
+            let t7 = t0 * v_q3_d;
+            let t8 = t6 + t7;
+            let t9 = c_v_q3 * v_q3_d;
+            let t10 = c_v_q3 * v_s3_d;
+            let t11 = t1 * v_q3_d;
+            let t12 = t10 - t11;
+            let t13 = t4 * v_q1_d;
+            let t14 = t3 * v_q1_d;
+            let t15 = v_q1_d * t14;
+            let t16 = t5 * v_s3_d;
+            let t17 = t15 - t16;
+            let t18 = v_q3_d * t8;
+            let t19 = t17 - t18;
+            let t20 = t4 * v_q1_dd;
+            let t21 = t19 + t20;
+            let t22 = -t21;
+            let t23 = v_q1_d * t13;
+            let t24 = v_s3_d * t9;
+            let t25 = t23 + t24;
+            let t26 = v_q3_d * t12;
+            let t27 = t25 + t26;
+            let t28 = t3 * v_q1_dd;
+            let t29 = t27 - t28;
+            let t30 = -t29;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t23, t30]),
+                    ::mechgen::__private::nalgebra::SVector::from([t22, t30]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -3770,16 +3737,15 @@ pub mod shaper {
             let t35 = t33 * v_q3_d;
             let t36 = t34 * v_q4_d;
             let t37 = v_q3_d * t35;
-            let t38 = -t37;
-            let t39 = v_q4_d * t36;
-            let t40 = t39 - t38;
-            let t41 = t32 * v_q3_dd;
-            let t42 = t40 - t41;
+            let t38 = v_q4_d * t36;
+            let t39 = t37 + t38;
+            let t40 = t32 * v_q3_dd;
+            let t41 = t39 - t40;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t42]),
+                    ::mechgen::__private::nalgebra::SVector::from([t41]),
                 )?;
             qdd[2] = z[0];
             // Block 2: accelerations.
@@ -3792,22 +3758,20 @@ pub mod shaper {
                 jac,
             )?;
             let v_q4_dd = qdd[2];
-            let t43 = t32 * v_q3_d;
-            let t44 = t31 * v_q4_d;
-            let t45 = v_q3_d * t43;
-            let t46 = -t45;
-            let t47 = v_q4_d * t44;
-            let t48 = t47 - t46;
-            let t49 = t33 * v_q3_dd;
-            let t50 = -t49;
-            let t51 = t34 * v_q4_dd;
-            let t52 = t50 - t51;
-            let t53 = t48 - t52;
+            let t42 = t32 * v_q3_d;
+            let t43 = t31 * v_q4_d;
+            let t44 = v_q3_d * t42;
+            let t45 = v_q4_d * t43;
+            let t46 = t44 + t45;
+            let t47 = t33 * v_q3_dd;
+            let t48 = t34 * v_q4_dd;
+            let t49 = t47 + t48;
+            let t50 = t46 + t49;
             let z = lu
                 .solve(
                     2,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t53]),
+                    ::mechgen::__private::nalgebra::SVector::from([t50]),
                 )?;
             qdd[3] = z[0];
             Ok(qdd)
@@ -3838,16 +3802,16 @@ pub mod shaper {
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let t2 = -t1;
-            let t3 = -t0;
-            let t4 = t2 - p_lAC;
+            let t2 = -t0;
+            let t3 = t1 + p_lAC;
+            let t4 = -t3;
             if options.closed_forms {
                 ::mechgen::__private::closed_form::solve_rpr(
                     0,
                     st,
                     1,
                     0,
-                    [t3, t4],
+                    [t2, t4],
                     (T::zero(), T::zero()),
                     (T::one(), T::zero()),
                     || self.params.length_scale(),
@@ -3960,33 +3924,33 @@ pub mod shaper {
             let v_q1_dd = xdd[0];
             let t16 = s_v_q3 * v_q3_d;
             let t17 = s_v_q3 * v_s3_d;
-            let t18 = -t17;
-            let t19 = t10 * v_q3_d;
-            let t20 = t18 - t19;
-            let t21 = c_v_q3 * v_q3_d;
-            let t22 = c_v_q3 * v_s3_d;
-            let t23 = t11 * v_q3_d;
-            let t24 = t22 - t23;
-            let t25 = v_q1_d * t15;
-            let t26 = t16 * v_s3_d;
-            let t27 = t25 - t26;
-            let t28 = v_q3_d * t20;
-            let t29 = t27 + t28;
-            let t30 = t1 * v_q1_dd;
-            let t31 = t29 + t30;
-            let t32 = -t31;
-            let t33 = v_q1_d * t13;
-            let t34 = v_s3_d * t21;
-            let t35 = t33 + t34;
-            let t36 = v_q3_d * t24;
-            let t37 = t35 + t36;
-            let t38 = t0 * v_q1_dd;
-            let t39 = t38 - t37;
+            let t18 = t10 * v_q3_d;
+            let t19 = t17 + t18;
+            let t20 = c_v_q3 * v_q3_d;
+            let t21 = c_v_q3 * v_s3_d;
+            let t22 = t11 * v_q3_d;
+            let t23 = t21 - t22;
+            let t24 = v_q1_d * t15;
+            let t25 = t16 * v_s3_d;
+            let t26 = t24 - t25;
+            let t27 = v_q3_d * t19;
+            let t28 = t26 - t27;
+            let t29 = t1 * v_q1_dd;
+            let t30 = t28 + t29;
+            let t31 = -t30;
+            let t32 = v_q1_d * t13;
+            let t33 = v_s3_d * t20;
+            let t34 = t32 + t33;
+            let t35 = v_q3_d * t23;
+            let t36 = t34 + t35;
+            let t37 = t0 * v_q1_dd;
+            let t38 = t36 - t37;
+            let t39 = -t38;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t32, t39]),
+                    ::mechgen::__private::nalgebra::SVector::from([t31, t39]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -4015,21 +3979,19 @@ pub mod shaper {
             let t43 = t5 * v_q3_d;
             let t44 = t42 * v_q4_d;
             let t45 = v_q3_d * t43;
-            let t46 = -t45;
-            let t47 = v_q4_d * t44;
-            let t48 = t47 - t46;
-            let t49 = t7 * v_q3_dd;
-            let t50 = t48 - t49;
+            let t46 = v_q4_d * t44;
+            let t47 = t45 + t46;
+            let t48 = t7 * v_q3_dd;
+            let t49 = t47 - t48;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t50]),
+                    ::mechgen::__private::nalgebra::SVector::from([t49]),
                 )?;
             qdd[2] = z[0];
             // Block 2: velocities and accelerations.
-            let t51 = -t43;
-            let t52 = t44 - t51;
+            let t50 = t43 + t44;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
@@ -4042,33 +4004,34 @@ pub mod shaper {
                 .solve(
                     2,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t52]),
+                    ::mechgen::__private::nalgebra::SVector::from([t50]),
                 )?;
             qd[3] = z[0];
             let v_q4_dd = qdd[2];
-            let t53 = t8 * v_q4_d;
-            let t54 = v_q3_d * t40;
-            let t55 = -t54;
-            let t56 = v_q4_d * t53;
-            let t57 = t56 - t55;
-            let t58 = t5 * v_q3_dd;
-            let t59 = -t58;
-            let t60 = t42 * v_q4_dd;
-            let t61 = t59 - t60;
-            let t62 = t57 - t61;
+            let t51 = t8 * v_q4_d;
+            let t52 = v_q3_d * t40;
+            let t53 = v_q4_d * t51;
+            let t54 = t52 + t53;
+            let t55 = t5 * v_q3_dd;
+            let t56 = t42 * v_q4_dd;
+            let t57 = t55 + t56;
+            let t58 = t54 + t57;
             let z = lu
                 .solve(
                     2,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t62]),
+                    ::mechgen::__private::nalgebra::SVector::from([t58]),
                 )?;
             qdd[3] = z[0];
             // Points.
             let v_sE = st.q[3];
             let v_sE_d = qd[3];
             let v_sE_dd = qdd[3];
-            let t63 = t55 - t58;
-            let t64 = t49 - t45;
+            let t59 = -t43;
+            let t60 = t52 + t55;
+            let t61 = -t60;
+            let t62 = t45 - t48;
+            let t63 = -t62;
             Ok((
                 qd,
                 qdd,
@@ -4080,8 +4043,8 @@ pub mod shaper {
                     },
                     ::mechgen::__private::PointMotion {
                         position: [t7, t5],
-                        velocity: [t51, t40],
-                        acceleration: [t63, t64],
+                        velocity: [t59, t40],
+                        acceleration: [t61, t63],
                     },
                 ],
             ))
@@ -4127,16 +4090,16 @@ pub mod shaper {
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let t2 = -t1;
-            let t3 = -t0;
-            let t4 = t2 - p_lAC;
+            let t2 = -t0;
+            let t3 = t1 + p_lAC;
+            let t4 = -t3;
             if options.closed_forms {
                 ::mechgen::__private::closed_form::solve_rpr(
                     0,
                     st,
                     1,
                     0,
-                    [t3, t4],
+                    [t2, t4],
                     (T::zero(), T::zero()),
                     (T::one(), T::zero()),
                     || self.scene_shaper_ram_length_scale(),
@@ -4249,33 +4212,33 @@ pub mod shaper {
             let v_q1_dd = xdd[0];
             let t16 = s_v_q3 * v_q3_d;
             let t17 = s_v_q3 * v_s3_d;
-            let t18 = -t17;
-            let t19 = t10 * v_q3_d;
-            let t20 = t18 - t19;
-            let t21 = c_v_q3 * v_q3_d;
-            let t22 = c_v_q3 * v_s3_d;
-            let t23 = t11 * v_q3_d;
-            let t24 = t22 - t23;
-            let t25 = v_q1_d * t15;
-            let t26 = t16 * v_s3_d;
-            let t27 = t25 - t26;
-            let t28 = v_q3_d * t20;
-            let t29 = t27 + t28;
-            let t30 = t1 * v_q1_dd;
-            let t31 = t29 + t30;
-            let t32 = -t31;
-            let t33 = v_q1_d * t13;
-            let t34 = v_s3_d * t21;
-            let t35 = t33 + t34;
-            let t36 = v_q3_d * t24;
-            let t37 = t35 + t36;
-            let t38 = t0 * v_q1_dd;
-            let t39 = t38 - t37;
+            let t18 = t10 * v_q3_d;
+            let t19 = t17 + t18;
+            let t20 = c_v_q3 * v_q3_d;
+            let t21 = c_v_q3 * v_s3_d;
+            let t22 = t11 * v_q3_d;
+            let t23 = t21 - t22;
+            let t24 = v_q1_d * t15;
+            let t25 = t16 * v_s3_d;
+            let t26 = t24 - t25;
+            let t27 = v_q3_d * t19;
+            let t28 = t26 - t27;
+            let t29 = t1 * v_q1_dd;
+            let t30 = t28 + t29;
+            let t31 = -t30;
+            let t32 = v_q1_d * t13;
+            let t33 = v_s3_d * t20;
+            let t34 = t32 + t33;
+            let t35 = v_q3_d * t23;
+            let t36 = t34 + t35;
+            let t37 = t0 * v_q1_dd;
+            let t38 = t36 - t37;
+            let t39 = -t38;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t32, t39]),
+                    ::mechgen::__private::nalgebra::SVector::from([t31, t39]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -4304,21 +4267,19 @@ pub mod shaper {
             let t43 = t5 * v_q3_d;
             let t44 = t42 * v_q4_d;
             let t45 = v_q3_d * t43;
-            let t46 = -t45;
-            let t47 = v_q4_d * t44;
-            let t48 = t47 - t46;
-            let t49 = t7 * v_q3_dd;
-            let t50 = t48 - t49;
+            let t46 = v_q4_d * t44;
+            let t47 = t45 + t46;
+            let t48 = t7 * v_q3_dd;
+            let t49 = t47 - t48;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t50]),
+                    ::mechgen::__private::nalgebra::SVector::from([t49]),
                 )?;
             qdd[2] = z[0];
             // Block 2: velocities and accelerations.
-            let t51 = -t43;
-            let t52 = t44 - t51;
+            let t50 = t43 + t44;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[2][3] = ∂Φ2/∂sE
             jac[(0, 0)] = T::lit(-1.0);
@@ -4331,25 +4292,23 @@ pub mod shaper {
                 .solve(
                     2,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t52]),
+                    ::mechgen::__private::nalgebra::SVector::from([t50]),
                 )?;
             qd[3] = z[0];
             let v_q4_dd = qdd[2];
-            let t53 = t8 * v_q4_d;
-            let t54 = v_q3_d * t40;
-            let t55 = -t54;
-            let t56 = v_q4_d * t53;
-            let t57 = t56 - t55;
-            let t58 = t5 * v_q3_dd;
-            let t59 = -t58;
-            let t60 = t42 * v_q4_dd;
-            let t61 = t59 - t60;
-            let t62 = t57 - t61;
+            let t51 = t8 * v_q4_d;
+            let t52 = v_q3_d * t40;
+            let t53 = v_q4_d * t51;
+            let t54 = t52 + t53;
+            let t55 = t5 * v_q3_dd;
+            let t56 = t42 * v_q4_dd;
+            let t57 = t55 + t56;
+            let t58 = t54 + t57;
             let z = lu
                 .solve(
                     2,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t62]),
+                    ::mechgen::__private::nalgebra::SVector::from([t58]),
                 )?;
             qdd[3] = z[0];
             // Points.
@@ -5385,23 +5344,20 @@ pub mod four_bar {
             let t13 = t2 * v_q1_d;
             let t14 = t1 * v_q1_d;
             let t15 = v_q1_d * t14;
-            let t16 = -t15;
-            let t17 = v_q2_d * t9;
-            let t18 = t16 - t17;
-            let t19 = v_q3_d * t10;
-            let t20 = t18 + t19;
-            let t21 = t2 * v_q1_dd;
-            let t22 = t21 - t20;
-            let t23 = v_q1_d * t13;
-            let t24 = -t23;
-            let t25 = v_q2_d * t11;
+            let t16 = v_q2_d * t9;
+            let t17 = t15 + t16;
+            let t18 = v_q3_d * t10;
+            let t19 = t17 - t18;
+            let t20 = t2 * v_q1_dd;
+            let t21 = t19 + t20;
+            let t22 = v_q1_d * t13;
+            let t23 = v_q2_d * t11;
+            let t24 = t22 + t23;
+            let t25 = v_q3_d * t12;
             let t26 = t24 - t25;
-            let t27 = v_q3_d * t12;
-            let t28 = t26 + t27;
-            let t29 = t1 * v_q1_dd;
-            let t30 = t28 + t29;
-            let t31 = -t30;
-            ::mechgen::__private::nalgebra::SVector::from([t22, t31])
+            let t27 = t1 * v_q1_dd;
+            let t28 = t26 - t27;
+            ::mechgen::__private::nalgebra::SVector::from([t21, t28])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(&self, x: &[T; 1], q: &[T; 2]) -> [[T; 2]; 3] {
@@ -5483,55 +5439,53 @@ pub mod four_bar {
             let t22 = -t21;
             let t23 = t1 * v_q1_d;
             let t24 = v_q1_d * t23;
-            let t25 = -t24;
-            let t26 = v_q3_d * t19;
-            let t27 = t2 * v_q1_dd;
-            let t28 = v_q1_d * t21;
-            let t29 = -t20;
-            let t30 = v_q3_d * t20;
-            let t31 = t1 * v_q1_dd;
-            let t32 = -t11;
-            let t33 = t32 - t12;
-            let t34 = p_lp * t33;
-            let t35 = v_q2_d * t34;
-            let t36 = t35 - t21;
-            let t37 = t15 * v_q2_d;
-            let t38 = t23 + t37;
-            let t39 = t25 - t27;
-            let t40 = t31 - t28;
-            let t41 = -t26;
-            let t42 = t6 * v_q3_dd;
-            let t43 = t41 - t42;
-            let t44 = t5 * v_q3_dd;
-            let t45 = t44 - t30;
-            let t46 = t10 - t9;
-            let t47 = p_lp * t46;
-            let t48 = v_q2_d * t47;
-            let t49 = v_q2_d * t48;
-            let t50 = t49 - t24;
-            let t51 = t50 - t27;
-            let t52 = t34 * v_q2_dd;
-            let t53 = t51 + t52;
-            let t54 = v_q2_d * t35;
-            let t55 = t54 - t28;
-            let t56 = t31 + t55;
-            let t57 = t15 * v_q2_dd;
-            let t58 = t56 + t57;
+            let t25 = v_q3_d * t19;
+            let t26 = t2 * v_q1_dd;
+            let t27 = v_q1_d * t21;
+            let t28 = -t20;
+            let t29 = v_q3_d * t20;
+            let t30 = t1 * v_q1_dd;
+            let t31 = t16 * v_q2_d;
+            let t32 = t21 + t31;
+            let t33 = -t32;
+            let t34 = t15 * v_q2_d;
+            let t35 = t23 + t34;
+            let t36 = t24 + t26;
+            let t37 = -t36;
+            let t38 = t27 - t30;
+            let t39 = -t38;
+            let t40 = t6 * v_q3_dd;
+            let t41 = t25 + t40;
+            let t42 = -t41;
+            let t43 = t5 * v_q3_dd;
+            let t44 = t29 - t43;
+            let t45 = -t44;
+            let t46 = v_q2_d * t34;
+            let t47 = t24 + t46;
+            let t48 = t26 + t47;
+            let t49 = t16 * v_q2_dd;
+            let t50 = t48 + t49;
+            let t51 = -t50;
+            let t52 = v_q2_d * t31;
+            let t53 = t27 + t52;
+            let t54 = t30 - t53;
+            let t55 = t15 * v_q2_dd;
+            let t56 = t54 + t55;
             [
                 ::mechgen::__private::PointMotion {
                     position: [t1, t2],
                     velocity: [t22, t23],
-                    acceleration: [t39, t40],
+                    acceleration: [t37, t39],
                 },
                 ::mechgen::__private::PointMotion {
                     position: [t7, t6],
-                    velocity: [t29, t19],
-                    acceleration: [t43, t45],
+                    velocity: [t28, t19],
+                    acceleration: [t42, t45],
                 },
                 ::mechgen::__private::PointMotion {
                     position: [t17, t18],
-                    velocity: [t36, t38],
-                    acceleration: [t53, t58],
+                    velocity: [t33, t35],
+                    acceleration: [t51, t56],
                 },
             ]
         }
@@ -5749,27 +5703,24 @@ pub mod four_bar {
             let t12 = t7 * v_q1_d;
             let t13 = t6 * v_q1_d;
             let t14 = v_q1_d * t13;
-            let t15 = -t14;
-            let t16 = v_q2_d * t8;
-            let t17 = t15 - t16;
-            let t18 = v_q3_d * t9;
-            let t19 = t17 + t18;
-            let t20 = t7 * v_q1_dd;
-            let t21 = t20 - t19;
-            let t22 = v_q1_d * t12;
-            let t23 = -t22;
-            let t24 = v_q2_d * t10;
+            let t15 = v_q2_d * t8;
+            let t16 = t14 + t15;
+            let t17 = v_q3_d * t9;
+            let t18 = t16 - t17;
+            let t19 = t7 * v_q1_dd;
+            let t20 = t18 + t19;
+            let t21 = v_q1_d * t12;
+            let t22 = v_q2_d * t10;
+            let t23 = t21 + t22;
+            let t24 = v_q3_d * t11;
             let t25 = t23 - t24;
-            let t26 = v_q3_d * t11;
-            let t27 = t25 + t26;
-            let t28 = t6 * v_q1_dd;
-            let t29 = t27 + t28;
-            let t30 = -t29;
+            let t26 = t6 * v_q1_dd;
+            let t27 = t25 - t26;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t21, t30]),
+                    ::mechgen::__private::nalgebra::SVector::from([t20, t27]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -5873,27 +5824,24 @@ pub mod four_bar {
             let t15 = t5 * v_q2_d;
             let t16 = t7 * v_q3_d;
             let t17 = v_q1_d * t11;
-            let t18 = -t17;
-            let t19 = v_q2_d * t13;
-            let t20 = t18 - t19;
-            let t21 = v_q3_d * t14;
-            let t22 = t20 + t21;
-            let t23 = t1 * v_q1_dd;
-            let t24 = t23 - t22;
-            let t25 = v_q1_d * t10;
-            let t26 = -t25;
-            let t27 = v_q2_d * t15;
+            let t18 = v_q2_d * t13;
+            let t19 = t17 + t18;
+            let t20 = v_q3_d * t14;
+            let t21 = t19 - t20;
+            let t22 = t1 * v_q1_dd;
+            let t23 = t21 + t22;
+            let t24 = v_q1_d * t10;
+            let t25 = v_q2_d * t15;
+            let t26 = t24 + t25;
+            let t27 = v_q3_d * t16;
             let t28 = t26 - t27;
-            let t29 = v_q3_d * t16;
-            let t30 = t28 + t29;
-            let t31 = t0 * v_q1_dd;
-            let t32 = t30 + t31;
-            let t33 = -t32;
+            let t29 = t0 * v_q1_dd;
+            let t30 = t28 - t29;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t24, t33]),
+                    ::mechgen::__private::nalgebra::SVector::from([t23, t30]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -5901,65 +5849,64 @@ pub mod four_bar {
             let p_lp = self.params.lp;
             let v_q2_dd = qdd[0];
             let v_q3_dd = qdd[1];
-            let t34 = p_l4 + t6;
+            let t31 = p_l4 + t6;
             let (s_p_beta, c_p_beta) = tp[5];
-            let t35 = c_v_q2 * c_p_beta;
-            let t36 = s_v_q2 * s_p_beta;
-            let t37 = s_v_q2 * c_p_beta;
-            let t38 = c_v_q2 * s_p_beta;
-            let t39 = t35 - t36;
-            let t40 = t37 + t38;
-            let t41 = p_lp * t39;
-            let t42 = p_lp * t40;
-            let t43 = t0 + t41;
-            let t44 = t1 + t42;
-            let t45 = -t10;
-            let t46 = -t16;
-            let t47 = -t37;
-            let t48 = t47 - t38;
-            let t49 = p_lp * t48;
-            let t50 = v_q2_d * t49;
-            let t51 = t50 - t10;
-            let t52 = t41 * v_q2_d;
-            let t53 = t11 + t52;
-            let t54 = t18 - t23;
-            let t55 = t31 - t25;
-            let t56 = -t21;
-            let t57 = t7 * v_q3_dd;
-            let t58 = t56 - t57;
-            let t59 = t6 * v_q3_dd;
-            let t60 = t59 - t29;
-            let t61 = t36 - t35;
-            let t62 = p_lp * t61;
-            let t63 = v_q2_d * t62;
-            let t64 = v_q2_d * t63;
-            let t65 = t64 - t17;
-            let t66 = t65 - t23;
-            let t67 = t49 * v_q2_dd;
-            let t68 = t66 + t67;
-            let t69 = v_q2_d * t50;
-            let t70 = t69 - t25;
-            let t71 = t31 + t70;
-            let t72 = t41 * v_q2_dd;
-            let t73 = t71 + t72;
+            let t32 = c_v_q2 * c_p_beta;
+            let t33 = s_v_q2 * s_p_beta;
+            let t34 = s_v_q2 * c_p_beta;
+            let t35 = c_v_q2 * s_p_beta;
+            let t36 = t32 - t33;
+            let t37 = t34 + t35;
+            let t38 = p_lp * t36;
+            let t39 = p_lp * t37;
+            let t40 = t0 + t38;
+            let t41 = t1 + t39;
+            let t42 = -t10;
+            let t43 = -t16;
+            let t44 = t39 * v_q2_d;
+            let t45 = t10 + t44;
+            let t46 = -t45;
+            let t47 = t38 * v_q2_d;
+            let t48 = t11 + t47;
+            let t49 = t17 + t22;
+            let t50 = -t49;
+            let t51 = t24 - t29;
+            let t52 = -t51;
+            let t53 = t7 * v_q3_dd;
+            let t54 = t20 + t53;
+            let t55 = -t54;
+            let t56 = t6 * v_q3_dd;
+            let t57 = t27 - t56;
+            let t58 = -t57;
+            let t59 = v_q2_d * t47;
+            let t60 = t17 + t59;
+            let t61 = t22 + t60;
+            let t62 = t39 * v_q2_dd;
+            let t63 = t61 + t62;
+            let t64 = -t63;
+            let t65 = v_q2_d * t44;
+            let t66 = t24 + t65;
+            let t67 = t29 - t66;
+            let t68 = t38 * v_q2_dd;
+            let t69 = t67 + t68;
             Ok((
                 qd,
                 qdd,
                 [
                     ::mechgen::__private::PointMotion {
                         position: [t0, t1],
-                        velocity: [t45, t11],
-                        acceleration: [t54, t55],
+                        velocity: [t42, t11],
+                        acceleration: [t50, t52],
                     },
                     ::mechgen::__private::PointMotion {
-                        position: [t34, t7],
-                        velocity: [t46, t14],
-                        acceleration: [t58, t60],
+                        position: [t31, t7],
+                        velocity: [t43, t14],
+                        acceleration: [t55, t58],
                     },
                     ::mechgen::__private::PointMotion {
-                        position: [t43, t44],
-                        velocity: [t51, t53],
-                        acceleration: [t68, t73],
+                        position: [t40, t41],
+                        velocity: [t46, t48],
+                        acceleration: [t64, t69],
                     },
                 ],
             ))
@@ -6084,20 +6031,18 @@ pub mod four_bar {
             let t20 = p_lp * t18;
             let t21 = t0 + t19;
             let t22 = t1 + t20;
-            let t23 = -t15;
-            let t24 = t23 - t16;
-            let t25 = p_lp * t24;
-            let t26 = v_q2_d * t25;
-            let t27 = t26 - t10;
-            let t28 = t19 * v_q2_d;
-            let t29 = t11 + t28;
+            let t23 = t20 * v_q2_d;
+            let t24 = t10 + t23;
+            let t25 = -t24;
+            let t26 = t19 * v_q2_d;
+            let t27 = t11 + t26;
             Ok((
                 qd,
                 qdd,
                 [
                     ::mechgen::__private::PointMotion {
                         position: [t21, t22],
-                        velocity: [t27, t29],
+                        velocity: [t25, t27],
                         acceleration: [T::zero(), T::zero()],
                     },
                 ],
@@ -7063,19 +7008,16 @@ pub mod slider_crank {
             let t8 = t2 * v_q1_d;
             let t9 = t1 * v_q1_d;
             let t10 = v_q1_d * t9;
-            let t11 = -t10;
-            let t12 = v_q2_d * t6;
-            let t13 = t11 - t12;
-            let t14 = t2 * v_q1_dd;
-            let t15 = t14 - t13;
-            let t16 = v_q1_d * t8;
-            let t17 = -t16;
-            let t18 = v_q2_d * t7;
+            let t11 = v_q2_d * t6;
+            let t12 = t10 + t11;
+            let t13 = t2 * v_q1_dd;
+            let t14 = t12 + t13;
+            let t15 = v_q1_d * t8;
+            let t16 = v_q2_d * t7;
+            let t17 = t15 + t16;
+            let t18 = t1 * v_q1_dd;
             let t19 = t17 - t18;
-            let t20 = t1 * v_q1_dd;
-            let t21 = t19 + t20;
-            let t22 = -t21;
-            ::mechgen::__private::nalgebra::SVector::from([t15, t22])
+            ::mechgen::__private::nalgebra::SVector::from([t14, t19])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(&self, x: &[T; 1], q: &[T; 2]) -> [[T; 2]; 3] {
@@ -7131,32 +7073,34 @@ pub mod slider_crank {
             let t10 = -t9;
             let t11 = t1 * v_q1_d;
             let t12 = v_q1_d * t11;
-            let t13 = -t12;
-            let t14 = t2 * v_q1_dd;
-            let t15 = v_q1_d * t9;
-            let t16 = -t15;
-            let t17 = t1 * v_q1_dd;
-            let t18 = t6 * v_q2_d;
-            let t19 = t10 - t18;
-            let t20 = t5 * v_q2_d;
-            let t21 = t11 + t20;
-            let t22 = t13 - t14;
-            let t23 = t17 - t15;
-            let t24 = v_q2_d * t20;
-            let t25 = t13 - t24;
-            let t26 = t25 - t14;
-            let t27 = t6 * v_q2_dd;
-            let t28 = t26 - t27;
-            let t29 = v_q2_d * t18;
-            let t30 = t16 - t29;
-            let t31 = t17 + t30;
-            let t32 = t5 * v_q2_dd;
-            let t33 = t31 + t32;
+            let t13 = t2 * v_q1_dd;
+            let t14 = v_q1_d * t9;
+            let t15 = t1 * v_q1_dd;
+            let t16 = t6 * v_q2_d;
+            let t17 = t9 + t16;
+            let t18 = -t17;
+            let t19 = t5 * v_q2_d;
+            let t20 = t11 + t19;
+            let t21 = t12 + t13;
+            let t22 = -t21;
+            let t23 = t14 - t15;
+            let t24 = -t23;
+            let t25 = v_q2_d * t19;
+            let t26 = t12 + t25;
+            let t27 = t13 + t26;
+            let t28 = t6 * v_q2_dd;
+            let t29 = t27 + t28;
+            let t30 = -t29;
+            let t31 = v_q2_d * t16;
+            let t32 = t14 + t31;
+            let t33 = t15 - t32;
+            let t34 = t5 * v_q2_dd;
+            let t35 = t33 + t34;
             [
                 ::mechgen::__private::PointMotion {
                     position: [t1, t2],
                     velocity: [t10, t11],
-                    acceleration: [t22, t23],
+                    acceleration: [t22, t24],
                 },
                 ::mechgen::__private::PointMotion {
                     position: [v_sC, p_off],
@@ -7165,8 +7109,8 @@ pub mod slider_crank {
                 },
                 ::mechgen::__private::PointMotion {
                     position: [t7, t8],
-                    velocity: [t19, t21],
-                    acceleration: [t28, t33],
+                    velocity: [t18, t20],
+                    acceleration: [t30, t35],
                 },
             ]
         }
@@ -7407,17 +7351,15 @@ pub mod slider_crank {
             let t4 = t3 * v_q2_d;
             let t5 = t2 * v_q1_d;
             let t6 = v_q1_d * t5;
-            let t7 = -t6;
-            let t8 = v_q2_d * t4;
-            let t9 = t7 - t8;
-            let t10 = t1 * v_q1_dd;
-            let t11 = t9 + t10;
-            let t12 = -t11;
+            let t7 = v_q2_d * t4;
+            let t8 = t6 + t7;
+            let t9 = t1 * v_q1_dd;
+            let t10 = t8 - t9;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t12]),
+                    ::mechgen::__private::nalgebra::SVector::from([t10]),
                 )?;
             qdd[0] = z[0];
             // Block 1: accelerations.
@@ -7430,21 +7372,20 @@ pub mod slider_crank {
                 jac,
             )?;
             let v_q2_dd = qdd[0];
-            let t13 = t0 * v_q2_d;
-            let t14 = t1 * v_q1_d;
-            let t15 = v_q1_d * t14;
-            let t16 = -t15;
-            let t17 = v_q2_d * t13;
-            let t18 = t16 - t17;
-            let t19 = t2 * v_q1_dd;
-            let t20 = t19 - t18;
-            let t21 = t3 * v_q2_dd;
-            let t22 = t20 + t21;
+            let t11 = t0 * v_q2_d;
+            let t12 = t1 * v_q1_d;
+            let t13 = v_q1_d * t12;
+            let t14 = v_q2_d * t11;
+            let t15 = t13 + t14;
+            let t16 = t2 * v_q1_dd;
+            let t17 = t15 + t16;
+            let t18 = t3 * v_q2_dd;
+            let t19 = t17 + t18;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t22]),
+                    ::mechgen::__private::nalgebra::SVector::from([t19]),
                 )?;
             qdd[1] = z[0];
             Ok(qdd)
@@ -7552,21 +7493,19 @@ pub mod slider_crank {
             let t8 = t7 * v_q2_d;
             let t9 = t0 * v_q1_d;
             let t10 = v_q1_d * t9;
-            let t11 = -t10;
-            let t12 = v_q2_d * t8;
-            let t13 = t11 - t12;
-            let t14 = t2 * v_q1_dd;
-            let t15 = t13 + t14;
-            let t16 = -t15;
+            let t11 = v_q2_d * t8;
+            let t12 = t10 + t11;
+            let t13 = t2 * v_q1_dd;
+            let t14 = t12 - t13;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t16]),
+                    ::mechgen::__private::nalgebra::SVector::from([t14]),
                 )?;
             qdd[0] = z[0];
             // Block 1: velocities and accelerations.
-            let t17 = t8 + t9;
+            let t15 = t8 + t9;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂sC
             jac[(0, 0)] = T::lit(-1.0);
@@ -7579,60 +7518,63 @@ pub mod slider_crank {
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t17]),
+                    ::mechgen::__private::nalgebra::SVector::from([t15]),
                 )?;
             qd[1] = z[0];
             let v_q2_dd = qdd[0];
-            let t18 = t3 * v_q2_d;
-            let t19 = v_q1_d * t5;
-            let t20 = -t19;
-            let t21 = v_q2_d * t18;
-            let t22 = t20 - t21;
-            let t23 = t0 * v_q1_dd;
-            let t24 = t23 - t22;
-            let t25 = t7 * v_q2_dd;
-            let t26 = t24 + t25;
+            let t16 = t3 * v_q2_d;
+            let t17 = v_q1_d * t5;
+            let t18 = v_q2_d * t16;
+            let t19 = t17 + t18;
+            let t20 = t0 * v_q1_dd;
+            let t21 = t19 + t20;
+            let t22 = t7 * v_q2_dd;
+            let t23 = t21 + t22;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t26]),
+                    ::mechgen::__private::nalgebra::SVector::from([t23]),
                 )?;
             qdd[1] = z[0];
             // Points.
             let v_sC = st.q[1];
             let v_sC_d = qd[1];
             let v_sC_dd = qdd[1];
-            let t27 = p_l / T::lit(2.0);
-            let t28 = c_v_q2 * t27;
-            let t29 = s_v_q2 * t27;
-            let t30 = t2 + t28;
-            let t31 = t0 + t29;
-            let t32 = -t9;
-            let t33 = t29 * v_q2_d;
-            let t34 = t32 - t33;
-            let t35 = t28 * v_q2_d;
-            let t36 = t5 + t35;
-            let t37 = t20 - t23;
-            let t38 = t14 - t10;
-            let t39 = v_q2_d * t35;
-            let t40 = t20 - t39;
-            let t41 = t40 - t23;
-            let t42 = t29 * v_q2_dd;
-            let t43 = t41 - t42;
-            let t44 = v_q2_d * t33;
-            let t45 = t11 - t44;
-            let t46 = t14 + t45;
-            let t47 = t28 * v_q2_dd;
-            let t48 = t46 + t47;
+            let t24 = p_l / T::lit(2.0);
+            let t25 = c_v_q2 * t24;
+            let t26 = s_v_q2 * t24;
+            let t27 = t2 + t25;
+            let t28 = t0 + t26;
+            let t29 = -t9;
+            let t30 = t26 * v_q2_d;
+            let t31 = t9 + t30;
+            let t32 = -t31;
+            let t33 = t25 * v_q2_d;
+            let t34 = t5 + t33;
+            let t35 = t17 + t20;
+            let t36 = -t35;
+            let t37 = t10 - t13;
+            let t38 = -t37;
+            let t39 = v_q2_d * t33;
+            let t40 = t17 + t39;
+            let t41 = t20 + t40;
+            let t42 = t26 * v_q2_dd;
+            let t43 = t41 + t42;
+            let t44 = -t43;
+            let t45 = v_q2_d * t30;
+            let t46 = t10 + t45;
+            let t47 = t13 - t46;
+            let t48 = t25 * v_q2_dd;
+            let t49 = t47 + t48;
             Ok((
                 qd,
                 qdd,
                 [
                     ::mechgen::__private::PointMotion {
                         position: [t2, t0],
-                        velocity: [t32, t5],
-                        acceleration: [t37, t38],
+                        velocity: [t29, t5],
+                        acceleration: [t36, t38],
                     },
                     ::mechgen::__private::PointMotion {
                         position: [v_sC, p_off],
@@ -7640,9 +7582,9 @@ pub mod slider_crank {
                         acceleration: [v_sC_dd, T::zero()],
                     },
                     ::mechgen::__private::PointMotion {
-                        position: [t30, t31],
-                        velocity: [t34, t36],
-                        acceleration: [t43, t48],
+                        position: [t27, t28],
+                        velocity: [t32, t34],
+                        acceleration: [t44, t49],
                     },
                 ],
             ))
@@ -8473,23 +8415,20 @@ pub mod rocker_four_bar {
             let t13 = t2 * v_q1_d;
             let t14 = t1 * v_q1_d;
             let t15 = v_q1_d * t14;
-            let t16 = -t15;
-            let t17 = v_q2_d * t9;
-            let t18 = t16 - t17;
-            let t19 = v_q3_d * t10;
-            let t20 = t18 + t19;
-            let t21 = t2 * v_q1_dd;
-            let t22 = t21 - t20;
-            let t23 = v_q1_d * t13;
-            let t24 = -t23;
-            let t25 = v_q2_d * t11;
+            let t16 = v_q2_d * t9;
+            let t17 = t15 + t16;
+            let t18 = v_q3_d * t10;
+            let t19 = t17 - t18;
+            let t20 = t2 * v_q1_dd;
+            let t21 = t19 + t20;
+            let t22 = v_q1_d * t13;
+            let t23 = v_q2_d * t11;
+            let t24 = t22 + t23;
+            let t25 = v_q3_d * t12;
             let t26 = t24 - t25;
-            let t27 = v_q3_d * t12;
-            let t28 = t26 + t27;
-            let t29 = t1 * v_q1_dd;
-            let t30 = t28 + t29;
-            let t31 = -t30;
-            ::mechgen::__private::nalgebra::SVector::from([t22, t31])
+            let t27 = t1 * v_q1_dd;
+            let t28 = t26 - t27;
+            ::mechgen::__private::nalgebra::SVector::from([t21, t28])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(&self, x: &[T; 1], q: &[T; 2]) -> [[T; 2]; 2] {
@@ -8539,30 +8478,32 @@ pub mod rocker_four_bar {
             let t10 = -t9;
             let t11 = t1 * v_q1_d;
             let t12 = v_q1_d * t11;
-            let t13 = -t12;
-            let t14 = v_q3_d * t7;
-            let t15 = t2 * v_q1_dd;
-            let t16 = v_q1_d * t9;
-            let t17 = -t8;
-            let t18 = v_q3_d * t8;
-            let t19 = t1 * v_q1_dd;
-            let t20 = t13 - t15;
-            let t21 = t19 - t16;
-            let t22 = -t14;
+            let t13 = v_q3_d * t7;
+            let t14 = t2 * v_q1_dd;
+            let t15 = v_q1_d * t9;
+            let t16 = -t8;
+            let t17 = v_q3_d * t8;
+            let t18 = t1 * v_q1_dd;
+            let t19 = t12 + t14;
+            let t20 = -t19;
+            let t21 = t15 - t18;
+            let t22 = -t21;
             let t23 = t5 * v_q3_dd;
-            let t24 = t22 - t23;
-            let t25 = t4 * v_q3_dd;
-            let t26 = t25 - t18;
+            let t24 = t13 + t23;
+            let t25 = -t24;
+            let t26 = t4 * v_q3_dd;
+            let t27 = t17 - t26;
+            let t28 = -t27;
             [
                 ::mechgen::__private::PointMotion {
                     position: [t1, t2],
                     velocity: [t10, t11],
-                    acceleration: [t20, t21],
+                    acceleration: [t20, t22],
                 },
                 ::mechgen::__private::PointMotion {
                     position: [t6, t5],
-                    velocity: [t17, t7],
-                    acceleration: [t24, t26],
+                    velocity: [t16, t7],
+                    acceleration: [t25, t28],
                 },
             ]
         }
@@ -8778,27 +8719,24 @@ pub mod rocker_four_bar {
             let t12 = t7 * v_q1_d;
             let t13 = t6 * v_q1_d;
             let t14 = v_q1_d * t13;
-            let t15 = -t14;
-            let t16 = v_q2_d * t8;
-            let t17 = t15 - t16;
-            let t18 = v_q3_d * t9;
-            let t19 = t17 + t18;
-            let t20 = t7 * v_q1_dd;
-            let t21 = t20 - t19;
-            let t22 = v_q1_d * t12;
-            let t23 = -t22;
-            let t24 = v_q2_d * t10;
+            let t15 = v_q2_d * t8;
+            let t16 = t14 + t15;
+            let t17 = v_q3_d * t9;
+            let t18 = t16 - t17;
+            let t19 = t7 * v_q1_dd;
+            let t20 = t18 + t19;
+            let t21 = v_q1_d * t12;
+            let t22 = v_q2_d * t10;
+            let t23 = t21 + t22;
+            let t24 = v_q3_d * t11;
             let t25 = t23 - t24;
-            let t26 = v_q3_d * t11;
-            let t27 = t25 + t26;
-            let t28 = t6 * v_q1_dd;
-            let t29 = t27 + t28;
-            let t30 = -t29;
+            let t26 = t6 * v_q1_dd;
+            let t27 = t25 - t26;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t21, t30]),
+                    ::mechgen::__private::nalgebra::SVector::from([t20, t27]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -8902,55 +8840,55 @@ pub mod rocker_four_bar {
             let t15 = t5 * v_q2_d;
             let t16 = t7 * v_q3_d;
             let t17 = v_q1_d * t11;
-            let t18 = -t17;
-            let t19 = v_q2_d * t13;
-            let t20 = t18 - t19;
-            let t21 = v_q3_d * t14;
-            let t22 = t20 + t21;
-            let t23 = t1 * v_q1_dd;
-            let t24 = t23 - t22;
-            let t25 = v_q1_d * t10;
-            let t26 = -t25;
-            let t27 = v_q2_d * t15;
+            let t18 = v_q2_d * t13;
+            let t19 = t17 + t18;
+            let t20 = v_q3_d * t14;
+            let t21 = t19 - t20;
+            let t22 = t1 * v_q1_dd;
+            let t23 = t21 + t22;
+            let t24 = v_q1_d * t10;
+            let t25 = v_q2_d * t15;
+            let t26 = t24 + t25;
+            let t27 = v_q3_d * t16;
             let t28 = t26 - t27;
-            let t29 = v_q3_d * t16;
-            let t30 = t28 + t29;
-            let t31 = t0 * v_q1_dd;
-            let t32 = t30 + t31;
-            let t33 = -t32;
+            let t29 = t0 * v_q1_dd;
+            let t30 = t28 - t29;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t24, t33]),
+                    ::mechgen::__private::nalgebra::SVector::from([t23, t30]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
             // Points.
             let v_q3_dd = qdd[1];
-            let t34 = p_l4 + t6;
-            let t35 = -t10;
-            let t36 = -t16;
-            let t37 = t18 - t23;
-            let t38 = t31 - t25;
-            let t39 = -t21;
-            let t40 = t7 * v_q3_dd;
-            let t41 = t39 - t40;
-            let t42 = t6 * v_q3_dd;
-            let t43 = t42 - t29;
+            let t31 = p_l4 + t6;
+            let t32 = -t10;
+            let t33 = -t16;
+            let t34 = t17 + t22;
+            let t35 = -t34;
+            let t36 = t24 - t29;
+            let t37 = -t36;
+            let t38 = t7 * v_q3_dd;
+            let t39 = t20 + t38;
+            let t40 = -t39;
+            let t41 = t6 * v_q3_dd;
+            let t42 = t27 - t41;
+            let t43 = -t42;
             Ok((
                 qd,
                 qdd,
                 [
                     ::mechgen::__private::PointMotion {
                         position: [t0, t1],
-                        velocity: [t35, t11],
-                        acceleration: [t37, t38],
+                        velocity: [t32, t11],
+                        acceleration: [t35, t37],
                     },
                     ::mechgen::__private::PointMotion {
-                        position: [t34, t7],
-                        velocity: [t36, t14],
-                        acceleration: [t41, t43],
+                        position: [t31, t7],
+                        velocity: [t33, t14],
+                        acceleration: [t40, t43],
                     },
                 ],
             ))
@@ -9801,23 +9739,24 @@ pub mod sixbar_g {
             let t12 = s_v_q2 * c_p_alpha;
             let t13 = c_v_q2 * s_p_alpha;
             let t14 = t10 + t11;
-            let t15 = p_l2e * t14;
+            let t15 = t12 - t13;
+            let t16 = p_l2e * t14;
+            let t17 = p_l2e * t15;
             let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t17 = p_l5 * c_v_q5;
-            let t18 = p_l5 * s_v_q5;
-            let t19 = -t2;
-            let t20 = -t5;
-            let t21 = -t7;
-            let t22 = t13 - t12;
-            let t23 = p_l2e * t22;
-            let t24 = t23 - t5;
-            let t25 = t4 + t15;
-            let t26 = -t17;
+            let t19 = p_l5 * c_v_q5;
+            let t20 = p_l5 * s_v_q5;
+            let t21 = -t2;
+            let t22 = -t5;
+            let t23 = -t7;
+            let t24 = t5 + t17;
+            let t25 = -t24;
+            let t26 = t4 + t16;
+            let t27 = -t19;
             let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
-            m[(0, 0)] = t19;
+            m[(0, 0)] = t21;
             // [0][1] = ∂Φ0/∂q2 (loop 1, x)
-            m[(0, 1)] = t20;
+            m[(0, 1)] = t22;
             // [0][2] = ∂Φ0/∂q3 (loop 1, x)
             m[(0, 2)] = t8;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
@@ -9825,19 +9764,19 @@ pub mod sixbar_g {
             // [1][1] = ∂Φ1/∂q2 (loop 1, y)
             m[(1, 1)] = t4;
             // [1][2] = ∂Φ1/∂q3 (loop 1, y)
-            m[(1, 2)] = t21;
+            m[(1, 2)] = t23;
             // [2][0] = ∂Φ2/∂q1 (loop 2, x)
-            m[(2, 0)] = t19;
+            m[(2, 0)] = t21;
             // [2][1] = ∂Φ2/∂q2 (loop 2, x)
-            m[(2, 1)] = t24;
+            m[(2, 1)] = t25;
             // [2][3] = ∂Φ2/∂q5 (loop 2, x)
-            m[(2, 3)] = t18;
+            m[(2, 3)] = t20;
             // [3][0] = ∂Φ3/∂q1 (loop 2, y)
             m[(3, 0)] = t1;
             // [3][1] = ∂Φ3/∂q2 (loop 2, y)
-            m[(3, 1)] = t25;
+            m[(3, 1)] = t26;
             // [3][3] = ∂Φ3/∂q5 (loop 2, y)
-            m[(3, 3)] = t26;
+            m[(3, 3)] = t27;
             m
         }
         /// Φx = ∂Φ/∂x at (x, q).
@@ -9895,55 +9834,56 @@ pub mod sixbar_g {
             let t11 = s_v_q2 * s_p_alpha;
             let t12 = s_v_q2 * c_p_alpha;
             let t13 = c_v_q2 * s_p_alpha;
+            let t14 = t10 + t11;
+            let t15 = t12 - t13;
+            let t16 = p_l2e * t14;
+            let t17 = p_l2e * t15;
             let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t15 = p_l5 * c_v_q5;
-            let t16 = p_l5 * s_v_q5;
-            let t17 = t13 - t12;
-            let t18 = p_l2e * t17;
-            let t19 = t18 - t5;
-            let t20 = -t11;
-            let t21 = t1 * v_q1_d;
-            let t22 = -t21;
-            let t23 = t4 * v_q2_d;
+            let t19 = p_l5 * c_v_q5;
+            let t20 = p_l5 * s_v_q5;
+            let t21 = t5 + t17;
+            let t22 = t4 + t16;
+            let t23 = t1 * v_q1_d;
             let t24 = -t23;
-            let t25 = t7 * v_q3_d;
-            let t26 = t2 * v_q1_d;
-            let t27 = -t26;
-            let t28 = t5 * v_q2_d;
+            let t25 = t4 * v_q2_d;
+            let t26 = -t25;
+            let t27 = t7 * v_q3_d;
+            let t28 = t2 * v_q1_d;
             let t29 = -t28;
-            let t30 = t8 * v_q3_d;
-            let t31 = t20 - t10;
-            let t32 = p_l2e * t31;
-            let t33 = t32 - t4;
-            let t34 = v_q2_d * t33;
-            let t35 = t15 * v_q5_d;
-            let t36 = t19 * v_q2_d;
-            let t37 = t16 * v_q5_d;
+            let t30 = t5 * v_q2_d;
+            let t31 = -t30;
+            let t32 = t8 * v_q3_d;
+            let t33 = t22 * v_q2_d;
+            let t34 = -t33;
+            let t35 = t19 * v_q5_d;
+            let t36 = t21 * v_q2_d;
+            let t37 = -t36;
+            let t38 = t20 * v_q5_d;
             let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // [0][0] = ∂Φ0/∂q1 (loop 1, x)
-            m[(0, 0)] = t22;
+            m[(0, 0)] = t24;
             // [0][1] = ∂Φ0/∂q2 (loop 1, x)
-            m[(0, 1)] = t24;
+            m[(0, 1)] = t26;
             // [0][2] = ∂Φ0/∂q3 (loop 1, x)
-            m[(0, 2)] = t25;
+            m[(0, 2)] = t27;
             // [1][0] = ∂Φ1/∂q1 (loop 1, y)
-            m[(1, 0)] = t27;
+            m[(1, 0)] = t29;
             // [1][1] = ∂Φ1/∂q2 (loop 1, y)
-            m[(1, 1)] = t29;
+            m[(1, 1)] = t31;
             // [1][2] = ∂Φ1/∂q3 (loop 1, y)
-            m[(1, 2)] = t30;
+            m[(1, 2)] = t32;
             // [2][0] = ∂Φ2/∂q1 (loop 2, x)
-            m[(2, 0)] = t22;
+            m[(2, 0)] = t24;
             // [2][1] = ∂Φ2/∂q2 (loop 2, x)
             m[(2, 1)] = t34;
             // [2][3] = ∂Φ2/∂q5 (loop 2, x)
             m[(2, 3)] = t35;
             // [3][0] = ∂Φ3/∂q1 (loop 2, y)
-            m[(3, 0)] = t27;
+            m[(3, 0)] = t29;
             // [3][1] = ∂Φ3/∂q2 (loop 2, y)
-            m[(3, 1)] = t36;
+            m[(3, 1)] = t37;
             // [3][3] = ∂Φ3/∂q5 (loop 2, y)
-            m[(3, 3)] = t37;
+            m[(3, 3)] = t38;
             m
         }
         /// −Φx ẋ: the right-hand side of J q̇ = −Φx ẋ.
@@ -10005,63 +9945,57 @@ pub mod sixbar_g {
             let t11 = s_v_q2 * s_p_alpha;
             let t12 = s_v_q2 * c_p_alpha;
             let t13 = c_v_q2 * s_p_alpha;
+            let t14 = t10 + t11;
+            let t15 = t12 - t13;
+            let t16 = p_l2e * t14;
+            let t17 = p_l2e * t15;
             let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let t15 = p_l5 * c_v_q5;
-            let t16 = p_l5 * s_v_q5;
+            let t19 = p_l5 * c_v_q5;
+            let t20 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t18 = p_l6 * c_v_q6;
-            let t19 = p_l6 * s_v_q6;
-            let t20 = t13 - t12;
-            let t21 = p_l2e * t20;
-            let t22 = t21 - t5;
-            let t23 = -t11;
-            let t24 = t1 * v_q1_d;
-            let t25 = t4 * v_q2_d;
-            let t26 = t7 * v_q3_d;
-            let t27 = t2 * v_q1_d;
-            let t28 = t5 * v_q2_d;
-            let t29 = t8 * v_q3_d;
-            let t30 = t23 - t10;
-            let t31 = p_l2e * t30;
-            let t32 = t31 - t4;
-            let t33 = v_q2_d * t32;
-            let t34 = t15 * v_q5_d;
-            let t35 = t22 * v_q2_d;
-            let t36 = t16 * v_q5_d;
-            let t37 = t19 * v_q6_d;
-            let t38 = t18 * v_q6_d;
-            let t39 = v_q1_d * t24;
-            let t40 = -t39;
-            let t41 = v_q2_d * t25;
+            let t22 = p_l6 * c_v_q6;
+            let t23 = p_l6 * s_v_q6;
+            let t24 = t5 + t17;
+            let t25 = t4 + t16;
+            let t26 = t1 * v_q1_d;
+            let t27 = t4 * v_q2_d;
+            let t28 = t7 * v_q3_d;
+            let t29 = t2 * v_q1_d;
+            let t30 = t5 * v_q2_d;
+            let t31 = t8 * v_q3_d;
+            let t32 = t25 * v_q2_d;
+            let t33 = t19 * v_q5_d;
+            let t34 = t24 * v_q2_d;
+            let t35 = t20 * v_q5_d;
+            let t36 = t23 * v_q6_d;
+            let t37 = t22 * v_q6_d;
+            let t38 = v_q1_d * t26;
+            let t39 = v_q2_d * t27;
+            let t40 = t38 + t39;
+            let t41 = v_q3_d * t28;
             let t42 = t40 - t41;
-            let t43 = v_q3_d * t26;
-            let t44 = t42 + t43;
-            let t45 = -t44;
-            let t46 = v_q1_d * t27;
-            let t47 = -t46;
-            let t48 = v_q2_d * t28;
-            let t49 = t47 - t48;
-            let t50 = v_q3_d * t29;
+            let t43 = v_q1_d * t29;
+            let t44 = v_q2_d * t30;
+            let t45 = t43 + t44;
+            let t46 = v_q3_d * t31;
+            let t47 = t45 - t46;
+            let t48 = v_q6_d * t37;
+            let t49 = t38 - t48;
+            let t50 = v_q2_d * t32;
             let t51 = t49 + t50;
-            let t52 = -t51;
-            let t53 = v_q6_d * t38;
-            let t54 = t53 - t39;
-            let t55 = v_q2_d * t33;
-            let t56 = t54 + t55;
-            let t57 = v_q5_d * t34;
-            let t58 = t56 + t57;
-            let t59 = t19 * v_q6_dd;
-            let t60 = t58 + t59;
-            let t61 = -t60;
-            let t62 = v_q6_d * t37;
-            let t63 = t62 - t46;
-            let t64 = v_q2_d * t35;
-            let t65 = t63 + t64;
-            let t66 = v_q5_d * t36;
-            let t67 = t65 + t66;
-            let t68 = t18 * v_q6_dd;
-            let t69 = t68 - t67;
-            ::mechgen::__private::nalgebra::SVector::from([t45, t52, t61, t69])
+            let t52 = v_q5_d * t33;
+            let t53 = t51 - t52;
+            let t54 = t23 * v_q6_dd;
+            let t55 = t53 - t54;
+            let t56 = v_q6_d * t36;
+            let t57 = t43 - t56;
+            let t58 = v_q2_d * t34;
+            let t59 = t57 + t58;
+            let t60 = v_q5_d * t35;
+            let t61 = t59 - t60;
+            let t62 = t22 * v_q6_dd;
+            let t63 = t61 + t62;
+            ::mechgen::__private::nalgebra::SVector::from([t42, t47, t55, t63])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(&self, x: &[T; 1], q: &[T; 4]) -> [[T; 2]; 1] {
@@ -10131,40 +10065,36 @@ pub mod sixbar_g {
             let t16 = p_l2e * t14;
             let t17 = t6 + t15;
             let t18 = t7 + t16;
-            let t19 = t12 - t11;
-            let t20 = p_l2e * t19;
-            let t21 = t20 - t5;
-            let t22 = -t10;
-            let t23 = t4 + t15;
-            let t24 = t1 * v_q1_d;
-            let t25 = t2 * v_q1_d;
-            let t26 = t22 - t9;
-            let t27 = p_l2e * t26;
-            let t28 = t27 - t4;
-            let t29 = v_q2_d * t28;
-            let t30 = t21 * v_q2_d;
-            let t31 = v_q1_d * t24;
-            let t32 = v_q1_d * t25;
-            let t33 = v_q2_d * t29;
-            let t34 = t23 * v_q2_d;
-            let t35 = v_q2_d * t30;
-            let t36 = t30 - t25;
-            let t37 = t24 + t34;
-            let t38 = t33 - t31;
-            let t39 = t2 * v_q1_dd;
+            let t19 = t5 + t16;
+            let t20 = t4 + t15;
+            let t21 = t1 * v_q1_d;
+            let t22 = t2 * v_q1_d;
+            let t23 = t20 * v_q2_d;
+            let t24 = t19 * v_q2_d;
+            let t25 = v_q1_d * t21;
+            let t26 = v_q1_d * t22;
+            let t27 = v_q2_d * t23;
+            let t28 = v_q2_d * t24;
+            let t29 = t22 + t24;
+            let t30 = -t29;
+            let t31 = t21 + t23;
+            let t32 = t25 + t27;
+            let t33 = t2 * v_q1_dd;
+            let t34 = t32 + t33;
+            let t35 = t19 * v_q2_dd;
+            let t36 = t34 + t35;
+            let t37 = -t36;
+            let t38 = t26 + t28;
+            let t39 = t1 * v_q1_dd;
             let t40 = t38 - t39;
-            let t41 = t21 * v_q2_dd;
-            let t42 = t40 + t41;
-            let t43 = t35 - t32;
-            let t44 = t1 * v_q1_dd;
-            let t45 = t43 + t44;
-            let t46 = t23 * v_q2_dd;
-            let t47 = t45 + t46;
+            let t41 = t20 * v_q2_dd;
+            let t42 = t40 - t41;
+            let t43 = -t42;
             [
                 ::mechgen::__private::PointMotion {
                     position: [t17, t18],
-                    velocity: [t36, t37],
-                    acceleration: [t42, t47],
+                    velocity: [t30, t31],
+                    acceleration: [t37, t43],
                 },
             ]
         }
@@ -10230,11 +10160,10 @@ pub mod sixbar_g {
             let t31 = -t1;
             let t32 = -t3;
             let t33 = -t7;
-            let t34 = t14 - t13;
-            let t35 = p_l2e * t34;
-            let t36 = t35 - t3;
-            let t37 = t2 + t17;
-            let t38 = -t21;
+            let t34 = t3 + t18;
+            let t35 = -t34;
+            let t36 = t2 + t17;
+            let t37 = -t21;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // J[0][0] = ∂Φ0/∂q1
             jac[(0, 0)] = t31;
@@ -10251,15 +10180,15 @@ pub mod sixbar_g {
             // J[2][0] = ∂Φ2/∂q1
             jac[(2, 0)] = t31;
             // J[2][1] = ∂Φ2/∂q2
-            jac[(2, 1)] = t36;
+            jac[(2, 1)] = t35;
             // J[2][3] = ∂Φ2/∂q5
             jac[(2, 3)] = t22;
             // J[3][0] = ∂Φ3/∂q1
             jac[(3, 0)] = t0;
             // J[3][1] = ∂Φ3/∂q2
-            jac[(3, 1)] = t37;
+            jac[(3, 1)] = t36;
             // J[3][3] = ∂Φ3/∂q5
-            jac[(3, 3)] = t38;
+            jac[(3, 3)] = t37;
             (::mechgen::__private::nalgebra::SVector::from([t9, t10, t29, t30]), jac)
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
@@ -10335,29 +10264,30 @@ pub mod sixbar_g {
             let t8 = s_v_q2 * c_p_alpha;
             let t9 = c_v_q2 * s_p_alpha;
             let t10 = t6 + t7;
-            let t11 = p_l2e * t10;
+            let t11 = t8 - t9;
+            let t12 = p_l2e * t10;
+            let t13 = p_l2e * t11;
             let (s_v_q5, c_v_q5) = st.sc[3];
-            let t12 = p_l5 * c_v_q5;
-            let t13 = p_l5 * s_v_q5;
+            let t14 = p_l5 * c_v_q5;
+            let t15 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = tx[0];
-            let t14 = p_l6 * c_v_q6;
-            let t15 = p_l6 * s_v_q6;
-            let t16 = -t1;
-            let t17 = -t3;
-            let t18 = -t4;
-            let t19 = t9 - t8;
-            let t20 = p_l2e * t19;
-            let t21 = t20 - t3;
-            let t22 = t2 + t11;
-            let t23 = -t12;
-            let t24 = t15 * v_q6_d;
-            let t25 = -t24;
-            let t26 = t14 * v_q6_d;
+            let t16 = p_l6 * c_v_q6;
+            let t17 = p_l6 * s_v_q6;
+            let t18 = -t1;
+            let t19 = -t3;
+            let t20 = -t4;
+            let t21 = t3 + t13;
+            let t22 = -t21;
+            let t23 = t2 + t12;
+            let t24 = -t14;
+            let t25 = t17 * v_q6_d;
+            let t26 = -t25;
+            let t27 = t16 * v_q6_d;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // J[0][0] = ∂Φ0/∂q1
-            jac[(0, 0)] = t16;
+            jac[(0, 0)] = t18;
             // J[0][1] = ∂Φ0/∂q2
-            jac[(0, 1)] = t17;
+            jac[(0, 1)] = t19;
             // J[0][2] = ∂Φ0/∂q3
             jac[(0, 2)] = t5;
             // J[1][0] = ∂Φ1/∂q1
@@ -10365,19 +10295,19 @@ pub mod sixbar_g {
             // J[1][1] = ∂Φ1/∂q2
             jac[(1, 1)] = t2;
             // J[1][2] = ∂Φ1/∂q3
-            jac[(1, 2)] = t18;
+            jac[(1, 2)] = t20;
             // J[2][0] = ∂Φ2/∂q1
-            jac[(2, 0)] = t16;
+            jac[(2, 0)] = t18;
             // J[2][1] = ∂Φ2/∂q2
-            jac[(2, 1)] = t21;
+            jac[(2, 1)] = t22;
             // J[2][3] = ∂Φ2/∂q5
-            jac[(2, 3)] = t13;
+            jac[(2, 3)] = t15;
             // J[3][0] = ∂Φ3/∂q1
             jac[(3, 0)] = t0;
             // J[3][1] = ∂Φ3/∂q2
-            jac[(3, 1)] = t22;
+            jac[(3, 1)] = t23;
             // J[3][3] = ∂Φ3/∂q5
-            jac[(3, 3)] = t23;
+            jac[(3, 3)] = t24;
             let lu = ::mechgen::__private::factor_block(
                 0,
                 ::mechgen::__private::Stage::Velocity,
@@ -10390,8 +10320,8 @@ pub mod sixbar_g {
                     ::mechgen::__private::nalgebra::SVector::from([
                         T::zero(),
                         T::zero(),
-                        t25,
                         t26,
+                        t27,
                     ]),
                 )?;
             qd[0] = z[0];
@@ -10434,23 +10364,24 @@ pub mod sixbar_g {
             let t8 = s_v_q2 * c_p_alpha;
             let t9 = c_v_q2 * s_p_alpha;
             let t10 = t6 + t7;
-            let t11 = p_l2e * t10;
+            let t11 = t8 - t9;
+            let t12 = p_l2e * t10;
+            let t13 = p_l2e * t11;
             let (s_v_q5, c_v_q5) = st.sc[3];
-            let t12 = p_l5 * c_v_q5;
-            let t13 = p_l5 * s_v_q5;
-            let t14 = -t1;
-            let t15 = -t3;
-            let t16 = -t4;
-            let t17 = t9 - t8;
-            let t18 = p_l2e * t17;
-            let t19 = t18 - t3;
-            let t20 = t2 + t11;
-            let t21 = -t12;
+            let t14 = p_l5 * c_v_q5;
+            let t15 = p_l5 * s_v_q5;
+            let t16 = -t1;
+            let t17 = -t3;
+            let t18 = -t4;
+            let t19 = t3 + t13;
+            let t20 = -t19;
+            let t21 = t2 + t12;
+            let t22 = -t14;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // J[0][0] = ∂Φ0/∂q1
-            jac[(0, 0)] = t14;
+            jac[(0, 0)] = t16;
             // J[0][1] = ∂Φ0/∂q2
-            jac[(0, 1)] = t15;
+            jac[(0, 1)] = t17;
             // J[0][2] = ∂Φ0/∂q3
             jac[(0, 2)] = t5;
             // J[1][0] = ∂Φ1/∂q1
@@ -10458,19 +10389,19 @@ pub mod sixbar_g {
             // J[1][1] = ∂Φ1/∂q2
             jac[(1, 1)] = t2;
             // J[1][2] = ∂Φ1/∂q3
-            jac[(1, 2)] = t16;
+            jac[(1, 2)] = t18;
             // J[2][0] = ∂Φ2/∂q1
-            jac[(2, 0)] = t14;
+            jac[(2, 0)] = t16;
             // J[2][1] = ∂Φ2/∂q2
-            jac[(2, 1)] = t19;
+            jac[(2, 1)] = t20;
             // J[2][3] = ∂Φ2/∂q5
-            jac[(2, 3)] = t13;
+            jac[(2, 3)] = t15;
             // J[3][0] = ∂Φ3/∂q1
             jac[(3, 0)] = t0;
             // J[3][1] = ∂Φ3/∂q2
-            jac[(3, 1)] = t20;
+            jac[(3, 1)] = t21;
             // J[3][3] = ∂Φ3/∂q5
-            jac[(3, 3)] = t21;
+            jac[(3, 3)] = t22;
             let lu = ::mechgen::__private::factor_block(
                 0,
                 ::mechgen::__private::Stage::Acceleration,
@@ -10484,60 +10415,51 @@ pub mod sixbar_g {
             let v_q5_d = qd[3];
             let v_q6_dd = xdd[0];
             let (s_v_q6, c_v_q6) = tx[0];
-            let t22 = p_l6 * c_v_q6;
-            let t23 = p_l6 * s_v_q6;
-            let t24 = -t7;
+            let t23 = p_l6 * c_v_q6;
+            let t24 = p_l6 * s_v_q6;
             let t25 = t0 * v_q1_d;
             let t26 = t2 * v_q2_d;
             let t27 = t4 * v_q3_d;
             let t28 = t1 * v_q1_d;
             let t29 = t3 * v_q2_d;
             let t30 = t5 * v_q3_d;
-            let t31 = t24 - t6;
-            let t32 = p_l2e * t31;
-            let t33 = t32 - t2;
-            let t34 = v_q2_d * t33;
-            let t35 = t12 * v_q5_d;
-            let t36 = t19 * v_q2_d;
-            let t37 = t13 * v_q5_d;
-            let t38 = t23 * v_q6_d;
-            let t39 = t22 * v_q6_d;
-            let t40 = v_q1_d * t25;
-            let t41 = -t40;
-            let t42 = v_q2_d * t26;
-            let t43 = t41 - t42;
-            let t44 = v_q3_d * t27;
-            let t45 = t43 + t44;
-            let t46 = -t45;
-            let t47 = v_q1_d * t28;
-            let t48 = -t47;
-            let t49 = v_q2_d * t29;
-            let t50 = t48 - t49;
-            let t51 = v_q3_d * t30;
-            let t52 = t50 + t51;
-            let t53 = -t52;
-            let t54 = v_q6_d * t39;
-            let t55 = t54 - t40;
-            let t56 = v_q2_d * t34;
-            let t57 = t55 + t56;
-            let t58 = v_q5_d * t35;
-            let t59 = t57 + t58;
-            let t60 = t23 * v_q6_dd;
-            let t61 = t59 + t60;
-            let t62 = -t61;
-            let t63 = v_q6_d * t38;
-            let t64 = t63 - t47;
-            let t65 = v_q2_d * t36;
-            let t66 = t64 + t65;
-            let t67 = v_q5_d * t37;
-            let t68 = t66 + t67;
-            let t69 = t22 * v_q6_dd;
-            let t70 = t69 - t68;
+            let t31 = t21 * v_q2_d;
+            let t32 = t14 * v_q5_d;
+            let t33 = t19 * v_q2_d;
+            let t34 = t15 * v_q5_d;
+            let t35 = t24 * v_q6_d;
+            let t36 = t23 * v_q6_d;
+            let t37 = v_q1_d * t25;
+            let t38 = v_q2_d * t26;
+            let t39 = t37 + t38;
+            let t40 = v_q3_d * t27;
+            let t41 = t39 - t40;
+            let t42 = v_q1_d * t28;
+            let t43 = v_q2_d * t29;
+            let t44 = t42 + t43;
+            let t45 = v_q3_d * t30;
+            let t46 = t44 - t45;
+            let t47 = v_q6_d * t36;
+            let t48 = t37 - t47;
+            let t49 = v_q2_d * t31;
+            let t50 = t48 + t49;
+            let t51 = v_q5_d * t32;
+            let t52 = t50 - t51;
+            let t53 = t24 * v_q6_dd;
+            let t54 = t52 - t53;
+            let t55 = v_q6_d * t35;
+            let t56 = t42 - t55;
+            let t57 = v_q2_d * t33;
+            let t58 = t56 + t57;
+            let t59 = v_q5_d * t34;
+            let t60 = t58 - t59;
+            let t61 = t23 * v_q6_dd;
+            let t62 = t60 + t61;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t46, t53, t62, t70]),
+                    ::mechgen::__private::nalgebra::SVector::from([t41, t46, t54, t62]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -10599,29 +10521,30 @@ pub mod sixbar_g {
             let t8 = s_v_q2 * c_p_alpha;
             let t9 = c_v_q2 * s_p_alpha;
             let t10 = t6 + t7;
-            let t11 = p_l2e * t10;
+            let t11 = t8 - t9;
+            let t12 = p_l2e * t10;
+            let t13 = p_l2e * t11;
             let (s_v_q5, c_v_q5) = st.sc[3];
-            let t12 = p_l5 * c_v_q5;
-            let t13 = p_l5 * s_v_q5;
+            let t14 = p_l5 * c_v_q5;
+            let t15 = p_l5 * s_v_q5;
             let (s_v_q6, c_v_q6) = tx[0];
-            let t14 = p_l6 * c_v_q6;
-            let t15 = p_l6 * s_v_q6;
-            let t16 = -t1;
-            let t17 = -t3;
-            let t18 = -t4;
-            let t19 = t9 - t8;
-            let t20 = p_l2e * t19;
-            let t21 = t20 - t3;
-            let t22 = t2 + t11;
-            let t23 = -t12;
-            let t24 = t15 * v_q6_d;
-            let t25 = -t24;
-            let t26 = t14 * v_q6_d;
+            let t16 = p_l6 * c_v_q6;
+            let t17 = p_l6 * s_v_q6;
+            let t18 = -t1;
+            let t19 = -t3;
+            let t20 = -t4;
+            let t21 = t3 + t13;
+            let t22 = -t21;
+            let t23 = t2 + t12;
+            let t24 = -t14;
+            let t25 = t17 * v_q6_d;
+            let t26 = -t25;
+            let t27 = t16 * v_q6_d;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
             // J[0][0] = ∂Φ0/∂q1
-            jac[(0, 0)] = t16;
+            jac[(0, 0)] = t18;
             // J[0][1] = ∂Φ0/∂q2
-            jac[(0, 1)] = t17;
+            jac[(0, 1)] = t19;
             // J[0][2] = ∂Φ0/∂q3
             jac[(0, 2)] = t5;
             // J[1][0] = ∂Φ1/∂q1
@@ -10629,19 +10552,19 @@ pub mod sixbar_g {
             // J[1][1] = ∂Φ1/∂q2
             jac[(1, 1)] = t2;
             // J[1][2] = ∂Φ1/∂q3
-            jac[(1, 2)] = t18;
+            jac[(1, 2)] = t20;
             // J[2][0] = ∂Φ2/∂q1
-            jac[(2, 0)] = t16;
+            jac[(2, 0)] = t18;
             // J[2][1] = ∂Φ2/∂q2
-            jac[(2, 1)] = t21;
+            jac[(2, 1)] = t22;
             // J[2][3] = ∂Φ2/∂q5
-            jac[(2, 3)] = t13;
+            jac[(2, 3)] = t15;
             // J[3][0] = ∂Φ3/∂q1
             jac[(3, 0)] = t0;
             // J[3][1] = ∂Φ3/∂q2
-            jac[(3, 1)] = t22;
+            jac[(3, 1)] = t23;
             // J[3][3] = ∂Φ3/∂q5
-            jac[(3, 3)] = t23;
+            jac[(3, 3)] = t24;
             let lu = ::mechgen::__private::factor_block(
                 0,
                 ::mechgen::__private::Stage::Velocity,
@@ -10654,8 +10577,8 @@ pub mod sixbar_g {
                     ::mechgen::__private::nalgebra::SVector::from([
                         T::zero(),
                         T::zero(),
-                        t25,
                         t26,
+                        t27,
                     ]),
                 )?;
             qd[0] = z[0];
@@ -10667,56 +10590,47 @@ pub mod sixbar_g {
             let v_q3_d = qd[2];
             let v_q5_d = qd[3];
             let v_q6_dd = xdd[0];
-            let t27 = -t7;
             let t28 = t0 * v_q1_d;
             let t29 = t2 * v_q2_d;
             let t30 = t4 * v_q3_d;
             let t31 = t1 * v_q1_d;
             let t32 = t3 * v_q2_d;
             let t33 = t5 * v_q3_d;
-            let t34 = t27 - t6;
-            let t35 = p_l2e * t34;
-            let t36 = t35 - t2;
-            let t37 = v_q2_d * t36;
-            let t38 = t12 * v_q5_d;
-            let t39 = t21 * v_q2_d;
-            let t40 = t13 * v_q5_d;
-            let t41 = v_q1_d * t28;
-            let t42 = -t41;
-            let t43 = v_q2_d * t29;
-            let t44 = t42 - t43;
-            let t45 = v_q3_d * t30;
-            let t46 = t44 + t45;
-            let t47 = -t46;
-            let t48 = v_q1_d * t31;
-            let t49 = -t48;
-            let t50 = v_q2_d * t32;
-            let t51 = t49 - t50;
-            let t52 = v_q3_d * t33;
-            let t53 = t51 + t52;
-            let t54 = -t53;
-            let t55 = v_q6_d * t26;
-            let t56 = t55 - t41;
-            let t57 = v_q2_d * t37;
-            let t58 = t56 + t57;
-            let t59 = v_q5_d * t38;
-            let t60 = t58 + t59;
-            let t61 = t15 * v_q6_dd;
-            let t62 = t60 + t61;
-            let t63 = -t62;
-            let t64 = v_q6_d * t24;
-            let t65 = t64 - t48;
-            let t66 = v_q2_d * t39;
-            let t67 = t65 + t66;
-            let t68 = v_q5_d * t40;
-            let t69 = t67 + t68;
-            let t70 = t14 * v_q6_dd;
-            let t71 = t70 - t69;
+            let t34 = t23 * v_q2_d;
+            let t35 = t14 * v_q5_d;
+            let t36 = t21 * v_q2_d;
+            let t37 = t15 * v_q5_d;
+            let t38 = v_q1_d * t28;
+            let t39 = v_q2_d * t29;
+            let t40 = t38 + t39;
+            let t41 = v_q3_d * t30;
+            let t42 = t40 - t41;
+            let t43 = v_q1_d * t31;
+            let t44 = v_q2_d * t32;
+            let t45 = t43 + t44;
+            let t46 = v_q3_d * t33;
+            let t47 = t45 - t46;
+            let t48 = v_q6_d * t27;
+            let t49 = t38 - t48;
+            let t50 = v_q2_d * t34;
+            let t51 = t49 + t50;
+            let t52 = v_q5_d * t35;
+            let t53 = t51 - t52;
+            let t54 = t17 * v_q6_dd;
+            let t55 = t53 - t54;
+            let t56 = v_q6_d * t25;
+            let t57 = t43 - t56;
+            let t58 = v_q2_d * t36;
+            let t59 = t57 + t58;
+            let t60 = v_q5_d * t37;
+            let t61 = t59 - t60;
+            let t62 = t16 * v_q6_dd;
+            let t63 = t61 + t62;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t47, t54, t63, t71]),
+                    ::mechgen::__private::nalgebra::SVector::from([t42, t47, t55, t63]),
                 )?;
             qdd[0] = z[0];
             qdd[1] = z[1];
@@ -10725,33 +10639,33 @@ pub mod sixbar_g {
             // Points.
             let v_q1_dd = qdd[0];
             let v_q2_dd = qdd[1];
-            let t72 = t0 + t2;
-            let t73 = t1 + t3;
-            let t74 = t8 - t9;
-            let t75 = p_l2e * t74;
-            let t76 = t72 + t11;
-            let t77 = t73 + t75;
-            let t78 = t22 * v_q2_d;
-            let t79 = t39 - t31;
-            let t80 = t28 + t78;
-            let t81 = t57 - t41;
-            let t82 = t1 * v_q1_dd;
-            let t83 = t81 - t82;
-            let t84 = t21 * v_q2_dd;
-            let t85 = t83 + t84;
-            let t86 = t66 - t48;
-            let t87 = t0 * v_q1_dd;
-            let t88 = t86 + t87;
-            let t89 = t22 * v_q2_dd;
-            let t90 = t88 + t89;
+            let t64 = t0 + t2;
+            let t65 = t1 + t3;
+            let t66 = t64 + t12;
+            let t67 = t65 + t13;
+            let t68 = t31 + t36;
+            let t69 = -t68;
+            let t70 = t28 + t34;
+            let t71 = t38 + t50;
+            let t72 = t1 * v_q1_dd;
+            let t73 = t71 + t72;
+            let t74 = t21 * v_q2_dd;
+            let t75 = t73 + t74;
+            let t76 = -t75;
+            let t77 = t43 + t58;
+            let t78 = t0 * v_q1_dd;
+            let t79 = t77 - t78;
+            let t80 = t23 * v_q2_dd;
+            let t81 = t79 - t80;
+            let t82 = -t81;
             Ok((
                 qd,
                 qdd,
                 [
                     ::mechgen::__private::PointMotion {
-                        position: [t76, t77],
-                        velocity: [t79, t80],
-                        acceleration: [t85, t90],
+                        position: [t66, t67],
+                        velocity: [t69, t70],
+                        acceleration: [t76, t82],
                     },
                 ],
             ))

@@ -1,6 +1,8 @@
 //! Stage 3 data structure: a hash-consed expression DAG (egg's `RecExpr` + memo idea). Children are
 //! always inserted before parents and equal nodes are stored once, so node order is a valid
-//! evaluation order and sharing (CSE) falls out of insertion. Constructors simplify as they go.
+//! evaluation order and sharing (CSE) falls out of insertion. Constructors simplify as they go, to
+//! one canonical form up to sign: operands of `+` and `*` by id, a difference `a - b` with a < b
+//! (its negative is `-(a - b)`), negations pulled out of products and sums of negatives.
 
 use std::collections::HashMap;
 
@@ -219,6 +221,17 @@ impl Dag {
         if let Node::Neg(nb) = self.node(b) {
             return self.add(a, nb);
         }
+        // -x - b = -(x + b)
+        if let Node::Neg(na) = self.node(a) {
+            let s = self.add(na, b);
+            return self.neg(s);
+        }
+        // One node for a difference and its negative: `a - b` with a < b, else `-(b - a)`, so
+        // that no function computes both `a - b` and `b - a`.
+        if a > b {
+            let d = self.insert(Node::Sub(b, a));
+            return self.insert(Node::Neg(d));
+        }
         self.insert(Node::Sub(a, b))
     }
 
@@ -231,6 +244,20 @@ impl Dag {
             (_, Some(y)) if y == 1.0 => return a,
             (Some(x), _) if x == -1.0 => return self.neg(b),
             (_, Some(y)) if y == -1.0 => return self.neg(a),
+            _ => {}
+        }
+        // A negative constant factor is a negation: `-2 * x` is `-(2 * x)`.
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), None) if x < 0.0 => {
+                let (c, m) = (self.constant(-x), b);
+                let p = self.mul(c, m);
+                return self.neg(p);
+            }
+            (None, Some(y)) if y < 0.0 => {
+                let (c, m) = (self.constant(-y), a);
+                let p = self.mul(m, c);
+                return self.neg(p);
+            }
             _ => {}
         }
         // Pull negations out so that a product and its negative share one node.
@@ -275,7 +302,6 @@ impl Dag {
         match self.node(a) {
             Node::Const(b) => self.constant(-f64::from_bits(b)),
             Node::Neg(x) => x,
-            Node::Sub(x, y) => self.insert(Node::Sub(y, x)),
             _ => self.insert(Node::Neg(a)),
         }
     }

@@ -357,19 +357,16 @@ pub mod slider {
             let t8 = t2 * v_q1_d;
             let t9 = t1 * v_q1_d;
             let t10 = v_q1_d * t9;
-            let t11 = -t10;
-            let t12 = v_q2_d * t6;
-            let t13 = t11 - t12;
-            let t14 = t2 * v_q1_dd;
-            let t15 = t14 - t13;
-            let t16 = v_q1_d * t8;
-            let t17 = -t16;
-            let t18 = v_q2_d * t7;
+            let t11 = v_q2_d * t6;
+            let t12 = t10 + t11;
+            let t13 = t2 * v_q1_dd;
+            let t14 = t12 + t13;
+            let t15 = v_q1_d * t8;
+            let t16 = v_q2_d * t7;
+            let t17 = t15 + t16;
+            let t18 = t1 * v_q1_dd;
             let t19 = t17 - t18;
-            let t20 = t1 * v_q1_dd;
-            let t21 = t19 + t20;
-            let t22 = -t21;
-            ::mechgen::__private::nalgebra::SVector::from([t15, t22])
+            ::mechgen::__private::nalgebra::SVector::from([t14, t19])
         }
         /// Positions of the points, in `POINT_NAMES` order.
         pub fn point_positions(&self, x: &[T; 1], q: &[T; 2]) -> [[T; 2]; 1] {
@@ -401,17 +398,18 @@ pub mod slider {
             let t4 = -t3;
             let t5 = t1 * v_q1_d;
             let t6 = v_q1_d * t5;
-            let t7 = -t6;
-            let t8 = t2 * v_q1_dd;
-            let t9 = v_q1_d * t3;
-            let t10 = t1 * v_q1_dd;
-            let t11 = t7 - t8;
-            let t12 = t10 - t9;
+            let t7 = t2 * v_q1_dd;
+            let t8 = v_q1_d * t3;
+            let t9 = t1 * v_q1_dd;
+            let t10 = t6 + t7;
+            let t11 = -t10;
+            let t12 = t8 - t9;
+            let t13 = -t12;
             [
                 ::mechgen::__private::PointMotion {
                     position: [t1, t2],
                     velocity: [t4, t5],
-                    acceleration: [t11, t12],
+                    acceleration: [t11, t13],
                 },
             ]
         }
@@ -648,17 +646,15 @@ pub mod slider {
             let t4 = t3 * v_q2_d;
             let t5 = t2 * v_q1_d;
             let t6 = v_q1_d * t5;
-            let t7 = -t6;
-            let t8 = v_q2_d * t4;
-            let t9 = t7 - t8;
-            let t10 = t1 * v_q1_dd;
-            let t11 = t9 + t10;
-            let t12 = -t11;
+            let t7 = v_q2_d * t4;
+            let t8 = t6 + t7;
+            let t9 = t1 * v_q1_dd;
+            let t10 = t8 - t9;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t12]),
+                    ::mechgen::__private::nalgebra::SVector::from([t10]),
                 )?;
             qdd[0] = z[0];
             // Block 1: accelerations.
@@ -671,21 +667,20 @@ pub mod slider {
                 jac,
             )?;
             let v_q2_dd = qdd[0];
-            let t13 = t0 * v_q2_d;
-            let t14 = t1 * v_q1_d;
-            let t15 = v_q1_d * t14;
-            let t16 = -t15;
-            let t17 = v_q2_d * t13;
-            let t18 = t16 - t17;
-            let t19 = t2 * v_q1_dd;
-            let t20 = t19 - t18;
-            let t21 = t3 * v_q2_dd;
-            let t22 = t20 + t21;
+            let t11 = t0 * v_q2_d;
+            let t12 = t1 * v_q1_d;
+            let t13 = v_q1_d * t12;
+            let t14 = v_q2_d * t11;
+            let t15 = t13 + t14;
+            let t16 = t2 * v_q1_dd;
+            let t17 = t15 + t16;
+            let t18 = t3 * v_q2_dd;
+            let t19 = t17 + t18;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t22]),
+                    ::mechgen::__private::nalgebra::SVector::from([t19]),
                 )?;
             qdd[1] = z[0];
             Ok(qdd)
@@ -791,21 +786,19 @@ pub mod slider {
             let t7 = t6 * v_q2_d;
             let t8 = t0 * v_q1_d;
             let t9 = v_q1_d * t8;
-            let t10 = -t9;
-            let t11 = v_q2_d * t7;
-            let t12 = t10 - t11;
-            let t13 = t1 * v_q1_dd;
-            let t14 = t12 + t13;
-            let t15 = -t14;
+            let t10 = v_q2_d * t7;
+            let t11 = t9 + t10;
+            let t12 = t1 * v_q1_dd;
+            let t13 = t11 - t12;
             let z = lu
                 .solve(
                     0,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t15]),
+                    ::mechgen::__private::nalgebra::SVector::from([t13]),
                 )?;
             qdd[0] = z[0];
             // Block 1: velocities and accelerations.
-            let t16 = t7 + t8;
+            let t14 = t7 + t8;
             let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
             // J[0][1] = ∂Φ0/∂s
             jac[(0, 0)] = T::lit(-1.0);
@@ -818,38 +811,39 @@ pub mod slider {
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Velocity,
-                    ::mechgen::__private::nalgebra::SVector::from([t16]),
+                    ::mechgen::__private::nalgebra::SVector::from([t14]),
                 )?;
             qd[1] = z[0];
             let v_q2_dd = qdd[0];
-            let t17 = t2 * v_q2_d;
-            let t18 = v_q1_d * t4;
-            let t19 = -t18;
-            let t20 = v_q2_d * t17;
-            let t21 = t19 - t20;
-            let t22 = t0 * v_q1_dd;
-            let t23 = t22 - t21;
-            let t24 = t6 * v_q2_dd;
-            let t25 = t23 + t24;
+            let t15 = t2 * v_q2_d;
+            let t16 = v_q1_d * t4;
+            let t17 = v_q2_d * t15;
+            let t18 = t16 + t17;
+            let t19 = t0 * v_q1_dd;
+            let t20 = t18 + t19;
+            let t21 = t6 * v_q2_dd;
+            let t22 = t20 + t21;
             let z = lu
                 .solve(
                     1,
                     ::mechgen::__private::Stage::Acceleration,
-                    ::mechgen::__private::nalgebra::SVector::from([t25]),
+                    ::mechgen::__private::nalgebra::SVector::from([t22]),
                 )?;
             qdd[1] = z[0];
             // Points.
-            let t26 = -t8;
-            let t27 = t19 - t22;
-            let t28 = t13 - t9;
+            let t23 = -t8;
+            let t24 = t16 + t19;
+            let t25 = -t24;
+            let t26 = t9 - t12;
+            let t27 = -t26;
             Ok((
                 qd,
                 qdd,
                 [
                     ::mechgen::__private::PointMotion {
                         position: [t1, t0],
-                        velocity: [t26, t4],
-                        acceleration: [t27, t28],
+                        velocity: [t23, t4],
+                        acceleration: [t25, t27],
                     },
                 ],
             ))

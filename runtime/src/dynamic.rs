@@ -82,18 +82,7 @@ pub trait DynMechanism<T: Real> {
     }
 }
 
-/// `Ok` when the slice has `expected` elements, else `SolveError::BadLength` (the object-safe
-/// trait's length check, shared with run-time engines).
-pub fn len<T>(s: &[T], expected: usize) -> Result<(), SolveError> {
-    if s.len() == expected {
-        Ok(())
-    } else {
-        Err(SolveError::BadLength {
-            expected,
-            got: s.len(),
-        })
-    }
-}
+pub use crate::error::len;
 
 fn arr<T: Real, A: Array<T>>(s: &[T]) -> Result<A, SolveError> {
     let mut a = A::zeros();

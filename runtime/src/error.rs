@@ -121,3 +121,16 @@ impl fmt::Display for SolveError {
 }
 
 impl core::error::Error for SolveError {}
+
+/// `Ok` when the slice has `expected` elements, else `SolveError::BadLength` (the object-safe
+/// trait's length check, shared with run-time engines).
+pub fn len<T>(s: &[T], expected: usize) -> Result<(), SolveError> {
+    if s.len() == expected {
+        Ok(())
+    } else {
+        Err(SolveError::BadLength {
+            expected,
+            got: s.len(),
+        })
+    }
+}

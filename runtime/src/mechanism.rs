@@ -68,7 +68,7 @@ pub trait RowMajor<T>: Copy + core::fmt::Debug {
 
 impl<T: Real, const R: usize, const C: usize> RowMajor<T> for SMatrix<T, R, C> {
     fn write_row_major(&self, out: &mut [T]) -> Result<(), SolveError> {
-        crate::dynamic::len(out, R * C)?;
+        crate::error::len(out, R * C)?;
         for (i, row) in out.chunks_exact_mut(C.max(1)).enumerate().take(R) {
             for (j, o) in row.iter_mut().enumerate() {
                 *o = self[(i, j)];

@@ -20,6 +20,7 @@ macro_rules! say_raw {
 pub mod args;
 pub mod branches;
 pub mod check;
+pub mod load;
 pub mod options;
 pub mod plots;
 pub mod run;

@@ -10,8 +10,8 @@ use mechgen::sweep::scene::{SceneRow, scene_csv, scene_rows, scene_table};
 use mechgen::{DynScene, MechanismInfo, SceneDescription, report};
 
 use super::args::{Engine, SweepArgs};
+use super::load::{Loaded, Selected, Swept, run_plan, select, write_plots};
 use super::options::{Plan, Range, plan};
-use super::run::{Loaded, Selected, Swept, run_plan, select, write_plots};
 
 /// The mechanism that scene `name` of `loaded` runs on, if `name` is a scene.
 pub fn scene_mechanism<'a>(loaded: &'a Loaded, name: &str) -> Option<&'a Generic> {

@@ -6,8 +6,8 @@
 
 use std::fmt::Write as _;
 
-use super::drawing::{Frame, Slider};
 use super::symbols::axes;
+use super::symbols::{Frame, Slider};
 use super::{PlotError, color, finite_runs, padded_range};
 
 const WIDTH: f64 = 800.0;

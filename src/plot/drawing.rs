@@ -9,7 +9,9 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use crate::sweep::Row;
 use mechgen_runtime::MechanismInfo;
 
-use super::symbols::{axes, block, draw_legend, draw_shape, guide, pivot};
+use super::symbols::{
+    FADED, FADED_ALPHA, Frame, INK, Slider, axes, block, draw_legend, draw_shape, guide, pivot,
+};
 use super::{
     FAMILY, PlotError, Ticked, color, drawing_error, ensure_font, finite_runs, padded_range,
     tick_text, ticks,
@@ -19,39 +21,8 @@ type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 
 const WIDTH: u32 = 1000;
 const LEGEND: u32 = 230;
-pub(super) const INK: RGBColor = RGBColor(35, 35, 35);
-pub(super) const FADED: RGBColor = RGBColor(140, 140, 140);
-pub(super) const FADED_ALPHA: f64 = 0.6;
 /// The fill of a body with three or more joints (first frame).
 const BODY: RGBColor = RGBColor(214, 226, 240);
-
-/// One frame of the mechanism drawing, in file units.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Frame {
-    /// The input value this frame shows (shown in the legend for the first frame, as given).
-    pub input: f64,
-    /// Links as polylines: each inner `Vec` a chain of joints (a closed body repeats its first
-    /// joint at the end).
-    pub links: Vec<Vec<[f64; 2]>>,
-    /// Ground pivots.
-    pub ground: Vec<[f64; 2]>,
-    /// Named points, labelled in the first frame.
-    pub points: Vec<(String, [f64; 2])>,
-    /// Sliders: blocks on their guides.
-    pub sliders: Vec<Slider>,
-}
-
-/// A slider block on its guide, in file units.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Slider {
-    /// The stretch of guide drawn, from end to end (the block is oriented along it). A guide fixed
-    /// to the ground is drawn as a rail on its right, looking from the first end to the second.
-    pub guide: [[f64; 2]; 2],
-    /// The centre of the block (a joint).
-    pub block: [f64; 2],
-    /// The guide is fixed to the ground (a hatched rail), not part of a moving body.
-    pub ground: bool,
-}
 
 fn finite(p: &[f64; 2]) -> bool {
     p[0].is_finite() && p[1].is_finite()

@@ -11,7 +11,8 @@ use crate::sweep::Row;
 use mechgen_runtime::{CoordDesc, DynMechanism, Kind};
 
 use super::animation::short;
-use super::drawing::{Frame, Slider, point_paths};
+use super::drawing::point_paths;
+use super::symbols::{Frame, Slider};
 use super::{PlotError, animation_svg};
 
 /// How far a guide runs past its block's travel, as a share of the mechanism's size.

@@ -26,11 +26,12 @@ use axis::{Ticked, tick_text, ticks};
 pub use animation::animation_svg;
 #[cfg(feature = "runtime")]
 pub use branches::branches_svg;
-pub use drawing::{Frame, Slider, drawing_svg, point_paths};
+pub use drawing::{drawing_svg, point_paths};
 #[cfg(feature = "runtime")]
 pub use frames::{sweep_frames, write_animation};
 pub use motion::motion_svg;
 pub use scatter::{Marker, ScatterLayout, log_log_scatter_svg};
+pub use symbols::{Frame, Slider};
 
 /// The family name text is registered under and written into the SVG: a generic CSS family, so a
 /// viewer without DejaVu Sans still shows a sans-serif face.

@@ -1,13 +1,45 @@
 //! Drawing symbols in pixels, shared by `drawing_svg` and its legend: the ground pivot (a hatched
 //! triangle), the slider block on its guide (a guide fixed to the ground is a hatched rail the
-//! block rests on), the joint; and the legend beside the drawing.
+//! block rests on), the joint; and the legend beside the drawing. Also what a drawing is made of:
+//! its frames (links, pivots, points, sliders in file units) and its inks.
 
 use plotters::coord::CoordTranslate;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::drawing::{FADED, FADED_ALPHA, Frame, INK};
 use super::{FAMILY, PlotError, color, drawing_error, tick_text};
+
+pub(super) const INK: RGBColor = RGBColor(35, 35, 35);
+pub(super) const FADED: RGBColor = RGBColor(140, 140, 140);
+pub(super) const FADED_ALPHA: f64 = 0.6;
+
+/// One frame of the mechanism drawing, in file units.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Frame {
+    /// The input value this frame shows (shown in the legend for the first frame, as given).
+    pub input: f64,
+    /// Links as polylines: each inner `Vec` a chain of joints (a closed body repeats its first
+    /// joint at the end).
+    pub links: Vec<Vec<[f64; 2]>>,
+    /// Ground pivots.
+    pub ground: Vec<[f64; 2]>,
+    /// Named points, labelled in the first frame.
+    pub points: Vec<(String, [f64; 2])>,
+    /// Sliders: blocks on their guides.
+    pub sliders: Vec<Slider>,
+}
+
+/// A slider block on its guide, in file units.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Slider {
+    /// The stretch of guide drawn, from end to end (the block is oriented along it). A guide fixed
+    /// to the ground is drawn as a rail on its right, looking from the first end to the second.
+    pub guide: [[f64; 2]; 2],
+    /// The centre of the block (a joint).
+    pub block: [f64; 2],
+    /// The guide is fixed to the ground (a hatched rail), not part of a moving body.
+    pub ground: bool,
+}
 
 /// Pixel polygons (filled) and polylines, relative to an anchor point.
 #[derive(Default)]

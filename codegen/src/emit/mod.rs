@@ -8,6 +8,7 @@ use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
 mod body;
+mod cache;
 mod closed;
 mod module;
 mod motion;

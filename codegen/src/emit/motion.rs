@@ -132,7 +132,7 @@ fn rate_steps(
         roots.extend(bf.jacobian.iter().flatten());
         let seg = b.segment(&roots);
         let (stmts, rhs) = (&seg.stmts, &seg.roots[..nv]);
-        let sets = crate::emit::solve::jacobian_sets(c, bi, &seg.roots[nv..]);
+        let sets = jacobian_sets(c, bi, &seg.roots[nv..]);
         let what = match rates {
             Rates::Velocity => "velocities",
             Rates::Acceleration => "accelerations",
@@ -335,4 +335,27 @@ pub(crate) fn motion_subset(
             Ok((qd, qdd, [#(#items),*]))
         }
     }
+}
+
+/// `jac[(r, c)] = …;` for the structurally non-zero entries of block `bi`'s Jacobian, each under a
+/// comment naming the J entry; `roots` holds the entries' expressions row by row.
+pub(crate) fn jacobian_sets(c: &Compiled, bi: usize, roots: &[TokenStream]) -> TokenStream {
+    let (m, dag, bf) = (&c.model, &c.system.dag, &c.blocks[bi]);
+    let k = bf.block.unknowns.len();
+    let mut sets = TokenStream::new();
+    for r in 0..k {
+        for cc in 0..k {
+            if dag.is_zero(bf.jacobian[r][cc]) {
+                continue;
+            }
+            let v = &roots[r * k + cc];
+            let (eq, un) = (bf.block.equations[r], bf.block.unknowns[cc]);
+            sets.extend(comment(&format!(
+                "J[{eq}][{un}] = ∂Φ{eq}/∂{}",
+                m.unknowns[un].name.text
+            )));
+            sets.extend(quote!(jac[(#r, #cc)] = #v;));
+        }
+    }
+    sets
 }

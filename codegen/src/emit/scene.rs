@@ -23,7 +23,7 @@ fn method(plan: &ScenePlan, what: &str) -> Ident {
 /// blocks, which is carried unchanged).
 fn masks(c: &Compiled, plan: &ScenePlan) -> (Vec<bool>, Vec<bool>, Vec<bool>) {
     let nu = c.model.unknowns.len();
-    let (_, q_trig, _) = crate::emit::solve::trig_masks(c);
+    let (_, q_trig, _) = crate::emit::cache::trig_masks(c);
     let solved = plan.solved_unknowns(c);
     let angle: Vec<bool> = (0..nu).map(|k| q_trig[k] && solved.contains(&k)).collect();
     let closed = crate::emit::closed::closed_mask(c);
@@ -36,7 +36,7 @@ fn masks(c: &Compiled, plan: &ScenePlan) -> (Vec<bool>, Vec<bool>, Vec<bool>) {
 pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> TokenStream {
     let (rt, gt) = (&args.rt, &args.items.scalar);
     let (ni, nu, _, npar) = crate::emit::sizes(&c.model);
-    let (x_trig, _, _) = crate::emit::solve::trig_masks(c);
+    let (x_trig, _, _) = crate::emit::cache::trig_masks(c);
     let mut out = TokenStream::new();
     for scene in &c.model.scenes {
         let plan = plan_scene(c, scene);

@@ -4,87 +4,14 @@
 //! velocities, accelerations, the full state, ticks), which run the steps of the fused body
 //! (`emit_motion`): each quantity is written once per function that needs it.
 
-use proc_macro2::{Ident, TokenStream};
+use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
 use crate::analysis::Compiled;
-use crate::emit::body::{VarSource, body};
-use crate::emit::{Args, comment};
-use crate::ir::dag::{Node, Var};
-
-/// Variables whose sine and cosine come from caches.
-pub(crate) struct Cached<'a> {
-    args: &'a Args<'a>,
-    /// Inputs, unknowns and params that appear as the argument of a sin or cos.
-    x: Vec<bool>,
-    q: Vec<bool>,
-    p: Vec<bool>,
-}
-
-impl VarSource for Cached<'_> {
-    fn read(&self, v: Var) -> TokenStream {
-        self.args.read(v)
-    }
-    fn hint(&self, v: Var) -> String {
-        self.args.hint(v)
-    }
-    fn scalar(&self) -> &Ident {
-        self.args.scalar()
-    }
-    fn trig(&self, v: Var) -> Option<TokenStream> {
-        let (mask, arr, i) = match v {
-            Var::X(i) => (&self.x, quote!(tx), i as usize),
-            Var::Q(i) => (&self.q, quote!(tq), i as usize),
-            Var::P(i) => (&self.p, quote!(tp), i as usize),
-            _ => return None,
-        };
-        mask[i].then(|| quote!(#arr[#i]))
-    }
-}
-
-pub(crate) fn trig_masks(c: &Compiled) -> (Vec<bool>, Vec<bool>, Vec<bool>) {
-    let m = &c.model;
-    let (mut x, mut q, mut p) = (
-        vec![false; m.inputs.len()],
-        vec![false; m.unknowns.len()],
-        vec![false; m.params.len()],
-    );
-    let dag = &c.system.dag;
-    for n in dag.nodes() {
-        if let Node::Sin(a) | Node::Cos(a) = *n {
-            match dag.node(a) {
-                Node::Var(Var::X(i)) => x[i as usize] = true,
-                Node::Var(Var::Q(i)) => q[i as usize] = true,
-                Node::Var(Var::P(i)) => p[i as usize] = true,
-                _ => {}
-            }
-        }
-    }
-    (x, q, p)
-}
-
-/// `jac[(r, c)] = …;` for the structurally non-zero entries of block `bi`'s Jacobian, each under a
-/// comment naming the J entry; `roots` holds the entries' expressions row by row.
-pub(crate) fn jacobian_sets(c: &Compiled, bi: usize, roots: &[TokenStream]) -> TokenStream {
-    let (m, dag, bf) = (&c.model, &c.system.dag, &c.blocks[bi]);
-    let k = bf.block.unknowns.len();
-    let mut sets = TokenStream::new();
-    for r in 0..k {
-        for cc in 0..k {
-            if dag.is_zero(bf.jacobian[r][cc]) {
-                continue;
-            }
-            let v = &roots[r * k + cc];
-            let (eq, un) = (bf.block.equations[r], bf.block.unknowns[cc]);
-            sets.extend(comment(&format!(
-                "J[{eq}][{un}] = ∂Φ{eq}/∂{}",
-                m.unknowns[un].name.text
-            )));
-            sets.extend(quote!(jac[(#r, #cc)] = #v;));
-        }
-    }
-    sets
-}
+use crate::emit::Args;
+use crate::emit::body::body;
+use crate::emit::cache::{Cached, trig_masks};
+use crate::emit::motion::jacobian_sets;
 
 /// The solver methods of a mechanism's type (inside its `impl<T: Real>` block).
 pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {

@@ -1,0 +1,194 @@
+//! CLI, what running a command needs first: loading a file (with its start warnings), choosing
+//! the engine for a mechanism, running a sweep plan, and the plots a sweep asked for. `run` (sweeps
+//! and the main job) and `scene` (scene sweeps) both sit on it.
+
+use std::path::{Path, PathBuf};
+
+use mechgen::generic::Generic;
+use mechgen::sweep::{Continuation, Row, check_start, sweep_holding};
+use mechgen::{DynMechanism, MechanismInfo, report};
+use mechgen_codegen::diagnostic::{Diagnostic, Severity, SourceFile, render};
+
+use super::args::Engine;
+use super::options::Plan;
+
+/// A mechanism file, analysed: every mechanism for the generic engine and the file's warnings.
+pub struct Loaded {
+    pub mechs: Vec<Generic>,
+    file: SourceFile,
+    warnings: Vec<Diagnostic>,
+}
+
+impl Loaded {
+    /// The file at `path`, or the compiled-in file (`mechgen::source`).
+    pub fn read(path: Option<&Path>) -> Result<Loaded, String> {
+        let (name, text) = match path {
+            Some(p) => (
+                p.display().to_string(),
+                std::fs::read_to_string(p)
+                    .map_err(|e| format!("cannot read {}: {e}", p.display()))?,
+            ),
+            None => (
+                mechgen::source::SOURCE_NAME.to_string(),
+                mechgen::source::SOURCE.to_string(),
+            ),
+        };
+        let file = SourceFile::new(name, text);
+        let (compiled, diagnostics) = mechgen_codegen::analyze(&file);
+        if diagnostics.iter().any(Diagnostic::is_error) {
+            let n = diagnostics.iter().filter(|d| d.is_error()).count();
+            let rendered = render(&file, &diagnostics);
+            return Err(format!(
+                "{}\n{}: {n} error(s)",
+                rendered.trim_end(),
+                file.name
+            ));
+        }
+        Ok(Loaded {
+            mechs: compiled.iter().map(Generic::new).collect(),
+            file,
+            warnings: diagnostics
+                .into_iter()
+                .filter(|d| d.severity == Severity::Warning)
+                .collect(),
+        })
+    }
+
+    /// The start check's warning for mechanism `name` (as `mechgen check` prints it), if any:
+    /// its start did not close the loops and Newton converged somewhere, maybe on another branch.
+    pub fn start_warning(&self, name: &str) -> Option<String> {
+        let prefix = format!("start configuration of `{name}`");
+        let mine: Vec<Diagnostic> = self
+            .warnings
+            .iter()
+            .filter(|d| d.message.starts_with(&prefix))
+            .cloned()
+            .collect();
+        (!mine.is_empty()).then(|| render(&self.file, &mine))
+    }
+}
+
+/// The mechanism to sweep: its solvers, and the generic engine of the same file (for drawings).
+pub struct Selected {
+    pub solver: Box<dyn DynMechanism<f64>>,
+    pub model: Generic,
+}
+
+/// Mechanism `name` of `loaded` with the engine asked for (generated only for the compiled-in file).
+pub(super) fn select(
+    loaded: &Loaded,
+    name: &str,
+    file: Option<&Path>,
+    engine: Option<Engine>,
+) -> Result<Selected, String> {
+    let engine = engine.unwrap_or(if file.is_some() {
+        Engine::Generic
+    } else {
+        Engine::Generated
+    });
+    if file.is_some() && engine == Engine::Generated {
+        return Err(
+            "--engine generated exists only for compiled-in mechanisms; use --engine generic with --file"
+                .into(),
+        );
+    }
+    let model = loaded
+        .mechs
+        .iter()
+        .find(|m| m.name() == name)
+        .cloned()
+        .ok_or_else(|| {
+            let names: Vec<&str> = loaded.mechs.iter().map(Generic::name).collect();
+            format!(
+                "no mechanism `{name}` in {} (it has: {})",
+                loaded.file.name,
+                names.join(", ")
+            )
+        })?;
+    let solver: Box<dyn DynMechanism<f64>> = match engine {
+        Engine::Generic => Box::new(model.clone()),
+        Engine::Generated => mechgen::lookup::<f64>(name)
+            .ok_or_else(|| format!("no compiled-in mechanism `{name}`"))?,
+    };
+    Ok(Selected { solver, model })
+}
+
+/// A finished sweep: the plan it ran and its rows.
+pub(super) struct Swept {
+    pub(super) plan: Plan,
+    pub(super) rate: f64,
+    pub(super) rows: Vec<Row>,
+}
+
+impl Swept {
+    /// Every input's value during the sweep (the swept one at its start value).
+    pub(super) fn inputs(&self, info: &MechanismInfo) -> Vec<f64> {
+        let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+        for &(i, v) in &self.plan.held {
+            x[i] = v;
+        }
+        x
+    }
+
+    /// The table with its preamble (units, rate, held inputs, a note on the last row).
+    pub(super) fn table(&self, info: &MechanismInfo) -> String {
+        let mut out = report::preamble(info, self.plan.index, self.rate, &self.inputs(info));
+        if let Some(note) = &self.plan.note {
+            out.push_str(note);
+            out.push('\n');
+        }
+        out + &report::table(info, self.plan.index, &self.rows)
+    }
+}
+
+/// Runs the sweep that `plan` describes on `k`, after the start checks.
+pub(super) fn run_plan(
+    k: &dyn DynMechanism<f64>,
+    info: &MechanismInfo,
+    plan: Plan,
+    rate: f64,
+) -> Result<Swept, String> {
+    check_start(info).map_err(|e| format!("{}: {e}", info.name))?;
+    let kind = info.inputs[plan.index].kind;
+    let continuation = Continuation::for_input(kind, plan.span);
+    let rows = sweep_holding(k, plan.index, &plan.values, rate, &plan.held, &continuation);
+    Ok(Swept { plan, rate, rows })
+}
+
+/// The plots and animation a sweep asked for; `report` says what was written on stderr.
+pub(super) fn write_plots(
+    sel: &Selected,
+    info: &MechanismInfo,
+    swept: &Swept,
+    plot: Option<&Path>,
+    animate: Option<&Path>,
+    report: bool,
+) -> Result<(), String> {
+    let x = swept.inputs(info);
+    let mut written: Vec<PathBuf> = Vec::new();
+    if let Some(dir) = plot {
+        written.extend(super::plots::write(
+            dir,
+            &sel.model,
+            info,
+            swept.plan.index,
+            &x,
+            &swept.rows,
+        )?);
+    }
+    if let Some(dir) = animate {
+        written.extend(super::plots::write_animation(
+            dir,
+            &sel.model,
+            swept.plan.index,
+            &x,
+            &swept.rows,
+        )?);
+    }
+    if report {
+        for p in written {
+            eprintln!("wrote {}", p.display());
+        }
+    }
+    Ok(())
+}

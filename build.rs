@@ -4,6 +4,7 @@
 //! (`mechgen::source`, for the generic engine and `mechgen check`).
 fn main() {
     mechgen_codegen::Config::new()
+        .runtime_path("::mechgen")
         .env_override("MECHGEN_MECHANISM")
         .source_file("mechanism_source.rs")
         .compile("mechanism.toml");

@@ -1,7 +1,8 @@
 //! One fixture per error kind in `tests/diagnostics/`, each with the snapshot of its messages
 //! (`NAME.stderr`, refresh with `UPDATE_EXPECT=1 cargo test --test diagnostics`). Each fixture is
 //! run through `mechgen check --file` (the snapshot is its stderr) and through the build's entry
-//! point, `mechgen_codegen::build_script::generate`, which must report exactly the same text.
+//! point, `mechgen_codegen::Config` as mechgen's `build.rs` sets it, which must report exactly the
+//! same text.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -181,11 +182,12 @@ fn build(name: &str, expect: Expect) {
     let snapshot = root().join(format!("{DIR}/{name}.stderr"));
     let snapshot = std::fs::read_to_string(snapshot).expect("snapshot (run the check test first)");
     let dir = out_dir(name);
-    let result = mechgen_codegen::build_script::generate(
-        &root().join(relative(name)),
-        &relative(name),
-        &dir,
-    );
+    // The configuration of mechgen's own `build.rs`.
+    let result = mechgen_codegen::Config::new()
+        .runtime_path("::mechgen")
+        .env_override("MECHGEN_MECHANISM")
+        .source_file("mechanism_source.rs")
+        .generate_into(&root().join(relative(name)), &relative(name), &dir);
     let _ = std::fs::remove_dir_all(&dir);
     let text = match (result, expect) {
         (Err(rendered), Error(_)) => rendered,

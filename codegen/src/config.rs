@@ -1,7 +1,8 @@
 //! The build library (stage driver for a `build.rs`, prost-build style): [`compile`] generates the
 //! solvers of a crate's own mechanism file into `OUT_DIR`, [`Config`] does the same with options
 //! (runtime path, output file name, an environment override, the source-text file). Diagnostics
-//! become `cargo::error=` / `cargo::warning=` lines with FILE:LINE:COLUMN; nothing panics.
+//! become `cargo::error=` / `cargo::warning=` lines with FILE:LINE:COLUMN; nothing panics and
+//! nothing ends the process.
 
 use std::path::{Path, PathBuf};
 
@@ -16,8 +17,8 @@ use crate::emit::{DEFAULT_RUNTIME, emit_with};
 /// fn main() { mechgen_codegen::compile("mechanism.toml"); }
 /// ```
 ///
-/// An edit to the file regenerates; a bad file prints every diagnostic as a cargo error
-/// (`FILE:LINE:COLUMN: error: …`) and fails the build; warnings become cargo warnings.
+/// An edit to the file regenerates; a bad file prints every diagnostic once, as a cargo error
+/// (`FILE:LINE:COLUMN: error: …`), and fails the build; warnings become cargo warnings.
 // The doctest shows the whole `build.rs`, `fn main` included.
 #[allow(clippy::needless_doctest_main)]
 pub fn compile(path: impl AsRef<Path>) {
@@ -33,7 +34,8 @@ pub fn generate_source(file: &SourceFile) -> Result<(String, Vec<Diagnostic>), V
 /// Options of [`compile`]: `Config::new().runtime_path("::mechgen").compile("mechanism.toml")`.
 #[derive(Clone, Debug)]
 pub struct Config {
-    runtime: String,
+    /// `None`: the runtime the crate depends on (see [`Config::runtime_path`]).
+    runtime: Option<String>,
     out_file: String,
     source_file: Option<String>,
     env_override: Option<String>,
@@ -56,7 +58,7 @@ impl Config {
     /// Runtime `::mechgen`, output `mechanisms.rs`, no source-text file, no override.
     pub fn new() -> Self {
         Config {
-            runtime: DEFAULT_RUNTIME.to_string(),
+            runtime: None,
             out_file: "mechanisms.rs".to_string(),
             source_file: None,
             env_override: None,
@@ -64,10 +66,13 @@ impl Config {
     }
 
     /// The path generated code reaches the runtime through (`{path}::__private::…`): `::mechgen`
-    /// (the default, for crates that depend on `mechgen`) or `::mechgen_runtime`, or a re-export
-    /// of either in the user's crate (`crate::rt`).
+    /// or `::mechgen_runtime`, or a re-export of either in the user's crate (`crate::rt`). By
+    /// default [`Config::compile`] reads the crate's `Cargo.toml` and takes the crate it depends
+    /// on (`mechgen`, else `mechgen-runtime`, under whatever name the manifest gives it), so that
+    /// the one-call `compile` works for a crate that depends on either; `::mechgen` when it names
+    /// neither and for [`Config::generate`].
     pub fn runtime_path(&mut self, path: &str) -> &mut Self {
-        self.runtime = path.to_string();
+        self.runtime = Some(path.to_string());
         self
     }
 
@@ -103,7 +108,8 @@ impl Config {
         if diags.iter().any(Diagnostic::is_error) {
             return Err(diags);
         }
-        match emit_with(&mechs, &file.name, &self.runtime) {
+        let runtime = self.runtime.as_deref().unwrap_or(DEFAULT_RUNTIME);
+        match emit_with(&mechs, &file.name, runtime) {
             Ok(code) => Ok((code, diags)),
             Err(msg) => Err(vec![Diagnostic::error(Default::default(), msg)]),
         }
@@ -141,22 +147,34 @@ impl Config {
 
     /// The whole build step, for `build.rs`: `path` is relative to `CARGO_MANIFEST_DIR`. Prints
     /// `cargo::rerun-if-changed` (and `rerun-if-env-changed` for an override), warnings as
-    /// `cargo::warning=` lines; on errors prints them as `cargo::error=` lines (and on stderr)
-    /// and exits with status 1, which fails the build.
+    /// `cargo::warning=` lines, and errors once, as `cargo::error=` lines: cargo shows each as
+    /// `error: CRATE@VERSION: FILE:LINE:COLUMN: …` and fails the build (the script itself returns
+    /// normally, so cargo does not print its output a second time). [`Config::try_compile`]
+    /// returns the rendered errors instead.
     pub fn compile(&self, path: impl AsRef<Path>) {
         if let Err(rendered) = self.try_compile(path.as_ref()) {
             for line in rendered.lines() {
                 println!("cargo::error={line}");
             }
-            eprintln!("{rendered}");
-            std::process::exit(1);
         }
     }
 
-    fn try_compile(&self, path: &Path) -> Result<(), String> {
+    /// [`Config::compile`] that returns instead of ending the process: `Ok` with what it wrote
+    /// (warnings already printed as `cargo::warning=` lines), or `Err` with every diagnostic
+    /// rendered (FILE:LINE:COLUMN), printed nowhere, for the caller to report.
+    pub fn try_compile(&self, path: impl AsRef<Path>) -> Result<Generated, String> {
+        let path = path.as_ref();
         let manifest = std::env::var_os("CARGO_MANIFEST_DIR")
             .map(PathBuf::from)
             .unwrap_or_default();
+        let mut config = self.clone();
+        if config.runtime.is_none() {
+            let toml = manifest.join("Cargo.toml");
+            if let Ok(text) = std::fs::read_to_string(&toml) {
+                println!("cargo::rerun-if-changed={}", toml.display());
+                config.runtime = runtime_of_manifest(&text);
+            }
+        }
         if let Some(var) = &self.env_override {
             println!("cargo::rerun-if-env-changed={var}");
         }
@@ -177,12 +195,44 @@ impl Config {
         let out_dir = std::env::var_os("OUT_DIR")
             .map(PathBuf::from)
             .ok_or_else(|| "OUT_DIR is not set: call this from a build script".to_string())?;
-        let generated = self.generate_into(&input, &display, &out_dir)?;
+        let generated = config.generate_into(&input, &display, &out_dir)?;
         for line in generated.warnings.lines().filter(|l| !l.trim().is_empty()) {
             println!("cargo::warning={line}");
         }
-        Ok(())
+        Ok(generated)
     }
+}
+
+/// The runtime path for a crate whose manifest is `text`: `::NAME` of its dependency on
+/// `mechgen` (by package, under any key: `rt = { package = "mechgen", … }` gives `::rt`), else
+/// of its dependency on `mechgen-runtime`; `None` when it has neither (or the text is no TOML).
+/// Normal dependencies only, target-specific ones included.
+pub fn runtime_of_manifest(text: &str) -> Option<String> {
+    let table: toml::Table = text.parse().ok()?;
+    let mut tables: Vec<&toml::Table> = Vec::new();
+    if let Some(d) = table.get("dependencies").and_then(toml::Value::as_table) {
+        tables.push(d);
+    }
+    if let Some(targets) = table.get("target").and_then(toml::Value::as_table) {
+        for t in targets.values().filter_map(toml::Value::as_table) {
+            if let Some(d) = t.get("dependencies").and_then(toml::Value::as_table) {
+                tables.push(d);
+            }
+        }
+    }
+    let find = |package: &str| {
+        tables
+            .iter()
+            .flat_map(|t| t.iter())
+            .find_map(|(key, value)| {
+                let named = value
+                    .get("package")
+                    .and_then(toml::Value::as_str)
+                    .unwrap_or(key);
+                (named == package).then(|| format!("::{}", key.replace('-', "_")))
+            })
+    };
+    find("mechgen").or_else(|| find("mechgen-runtime"))
 }
 
 /// Writes only on change, so an unchanged file does not rebuild dependents.

@@ -1,5 +1,5 @@
 //! mechgen-codegen: mechanism.toml → Rust kinematics solvers, as a library for build scripts
-//! ([`build_script`]) and for run-time engines ([`analyze`] and the types it returns).
+//! ([`compile`], [`Config`]) and for run-time engines ([`analyze`] and the types it returns).
 //!
 //! Stages, one folder each, chained by the short driver in `compile.rs`:
 //! `front` (TOML + syn → syntax tree with spans) → `sema` (names, types, angles, values →
@@ -10,13 +10,13 @@
 //!
 //! The build library: [`compile`]`("mechanism.toml")` in any crate's `build.rs` (or [`Config`] for
 //! options) writes the solvers to `OUT_DIR`, for `mechgen::include_mechanisms!()`;
-//! [`generate_source`] gives the code as a string. [`build_script`] is mechgen's own build.
+//! [`Config::try_compile`] returns the diagnostics instead of ending the build;
+//! [`generate_source`] gives the code as a string.
 
 // Float guards read better than float patterns.
 #![allow(clippy::redundant_guards, clippy::needless_range_loop)]
 
 mod analysis;
-pub mod build_script;
 mod compile;
 mod config;
 pub mod diagnostic;
@@ -33,7 +33,7 @@ pub use analysis::plan::BlockForms;
 pub use analysis::scene::{Order, ScenePlan, plan_scene, plan_scenes};
 pub use analysis::structure::Block;
 pub use compile::analyze;
-pub use config::{Config, Generated, compile, generate_source};
+pub use config::{Config, Generated, compile, generate_source, runtime_of_manifest};
 pub use diagnostic::{Diagnostic, Severity, SourceFile, Span};
 pub use front::ast::{BinOp, Expr, ExprKind, Name};
 pub use ir::dag::{Dag, Func, Node, NodeId, Var};

@@ -88,3 +88,29 @@ fn bad_inputs_are_rendered_errors() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The one-call `compile` generates for the runtime crate the user's crate depends on: `mechgen`
+/// (preferred, under whatever key), else `mechgen-runtime`; neither: the default.
+#[test]
+fn the_runtime_path_follows_the_crates_dependencies() {
+    use mechgen_codegen::runtime_of_manifest;
+    let runtime_only = "[package]\nname = \"sim\"\n[dependencies]\nmechgen-runtime = { path = \"../runtime\" }\n[build-dependencies]\nmechgen-codegen = \"0.1\"\n";
+    assert_eq!(
+        runtime_of_manifest(runtime_only).as_deref(),
+        Some("::mechgen_runtime")
+    );
+    let app = "[dependencies]\nmechgen = { path = \"..\", default-features = false }\nmechgen-runtime = \"0.1\"\n";
+    assert_eq!(runtime_of_manifest(app).as_deref(), Some("::mechgen"));
+    let renamed = "[dependencies]\nrt = { package = \"mechgen-runtime\", version = \"0.1\" }\n";
+    assert_eq!(runtime_of_manifest(renamed).as_deref(), Some("::rt"));
+    let target = "[target.'cfg(unix)'.dependencies]\nmechgen-runtime = \"0.1\"\n";
+    assert_eq!(
+        runtime_of_manifest(target).as_deref(),
+        Some("::mechgen_runtime")
+    );
+    // A build-dependency or a dev-dependency is not what generated code can name.
+    let build_only =
+        "[build-dependencies]\nmechgen = \"0.1\"\n[dev-dependencies]\nmechgen-runtime = \"0.1\"\n";
+    assert_eq!(runtime_of_manifest(build_only), None);
+    assert_eq!(runtime_of_manifest("not toml ["), None);
+}

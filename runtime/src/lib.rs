@@ -4,8 +4,10 @@
 //! [`Tick`], [`SolveOptions`]); the functions generated code calls are its ABI,
 //! re-exported under the hidden [`__private`] module, which is the only path generated code uses.
 //!
-//! Applications depend on `mechgen` (which re-exports this crate); this crate depends on nalgebra
-//! and num-traits only and is `no_std` (with `alloc` for the owned `MechanismInfo`): the one use of std is the
+//! A crate that embeds generated solvers depends on this crate alone (with `mechgen-codegen` as a
+//! build-dependency: `mechgen_codegen::compile("mechanism.toml")` in `build.rs`, then
+//! [`include_mechanisms!`]); applications depend on `mechgen`, which re-exports it. This crate
+//! depends on nalgebra and num-traits only and is `no_std` (with `alloc` for the owned `MechanismInfo`): the one use of std is the
 //! float functions (`sin`, `cos`, `sqrt`, …), which num-traits takes from std.
 
 #![no_std]
@@ -47,6 +49,19 @@ pub use scene::{DynScene, Scene, SceneDescription, SceneInfo, SceneVisitor};
 pub use scene_tick::SceneTick;
 pub use solve::{NewtonOptions, NewtonReport, SolveOptions};
 pub use tick::{Solution, Tick, TickState};
+
+/// Includes the solvers `mechgen_codegen::compile` (or `Config::compile`) generated in this
+/// crate's build: one module per mechanism and scene of the file, named as in the file. With a
+/// file name, the file a `Config::out_file` named (`include_mechanisms!("other.rs")`).
+#[macro_export]
+macro_rules! include_mechanisms {
+    () => {
+        include!(concat!(env!("OUT_DIR"), "/mechanisms.rs"));
+    };
+    ($file:literal) => {
+        include!(concat!(env!("OUT_DIR"), "/", $file));
+    };
+}
 
 /// The ABI of generated code: every item the generated solvers name, reached by them as
 /// `<runtime path>::__private::…` (`::mechgen::__private::…` by default). Not a public API: it

@@ -23,12 +23,26 @@ fn main() -> ExitCode {
         Some(Command::Check(args)) => cli::check::run(args.file.as_deref()),
         Some(Command::Branches(args)) => cli::branches::run(&args),
     };
+    report_peak_memory();
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(msg) => {
             eprintln!("mechgen: {msg}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// With `MECHGEN_PEAK_MEMORY` set, prints the process's peak resident memory as the kernel counts
+/// it (`VmHWM` of `/proc/self/status`, Linux) on stderr: how the tests hold a long sweep's memory
+/// flat. Prints nothing where the file does not exist.
+fn report_peak_memory() {
+    if std::env::var_os("MECHGEN_PEAK_MEMORY").is_none() {
+        return;
+    }
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    if let Some(line) = status.lines().find(|l| l.starts_with("VmHWM:")) {
+        eprintln!("mechgen: peak memory {}", line["VmHWM:".len()..].trim());
     }
 }
 

@@ -35,40 +35,50 @@ fn numbers(s: &Solved) -> Vec<f64> {
 
 /// The sweep as CSV text.
 pub fn csv(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
-    let header = csv_header(info, index);
-    let mut out = header.join(",");
-    out.push('\n');
-    let blanks = header.len() - 2;
+    let mut out = csv_header_line(info, index);
     for r in rows {
-        let _ = write!(out, "{:?}", r.input);
-        match &r.result {
-            Ok(s) => {
-                let nums = numbers(s);
-                if nums.iter().all(|v| v.is_finite()) {
-                    for v in nums {
-                        let _ = write!(out, ",{v:?}");
-                    }
-                    // A condition number can be infinite exactly at a dead point: leave it empty then.
-                    if s.condition.is_finite() {
-                        let _ = write!(out, ",{:?}", s.condition);
-                    } else {
-                        out.push(',');
-                    }
-                    out.push_str(",ok\n");
-                } else {
-                    out.push_str(&",".repeat(blanks));
-                    out.push_str(",non-finite\n");
-                }
-            }
-            Err(_) => {
-                out.push_str(&",".repeat(blanks));
-                out.push(',');
-                out.push_str(r.status());
-                out.push('\n');
-            }
-        }
+        csv_row(&mut out, info, r);
     }
     out
+}
+
+/// The CSV's header line (with its newline).
+pub fn csv_header_line(info: &MechanismInfo, index: usize) -> String {
+    let mut out = csv_header(info, index).join(",");
+    out.push('\n');
+    out
+}
+
+/// One row of the CSV (with its newline), appended to `out`.
+pub fn csv_row(out: &mut String, info: &MechanismInfo, r: &Row) {
+    let blanks = 3 * info.unknowns.len() + 6 * info.points.len() + 1;
+    let _ = write!(out, "{:?}", r.input);
+    match &r.result {
+        Ok(s) => {
+            let nums = numbers(s);
+            if nums.iter().all(|v| v.is_finite()) {
+                for v in nums {
+                    let _ = write!(out, ",{v:?}");
+                }
+                // A condition number can be infinite exactly at a dead point: leave it empty then.
+                if s.condition.is_finite() {
+                    let _ = write!(out, ",{:?}", s.condition);
+                } else {
+                    out.push(',');
+                }
+                out.push_str(",ok\n");
+            } else {
+                out.push_str(&",".repeat(blanks));
+                out.push_str(",non-finite\n");
+            }
+        }
+        Err(_) => {
+            out.push_str(&",".repeat(blanks));
+            out.push(',');
+            out.push_str(r.status());
+            out.push('\n');
+        }
+    }
 }
 
 /// Significant digits of the table's numbers.
@@ -144,6 +154,15 @@ pub fn preamble(info: &MechanismInfo, index: usize, rate: f64, x: &[f64]) -> Str
 /// The seed-style table: angles in degrees (and degrees per second, per second squared), lengths
 /// in file units `[u]`, numbers to [`DIGITS`] significant digits.
 pub fn table(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
+    let (mut out, width) = table_header(info, index);
+    for r in rows {
+        out.push_str(&table_row(info, index, width, r));
+    }
+    out
+}
+
+/// The table's header line (with its newline) and its column width.
+pub fn table_header(info: &MechanismInfo, index: usize) -> (String, usize) {
     let input_kind = info.inputs[index].kind;
     let mut head = vec![format!(
         "{}{}",
@@ -175,64 +194,69 @@ pub fn table(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
         let _ = write!(out, "{h:>width$}");
     }
     out.push('\n');
-    for r in rows {
-        let _ = write!(out, "{:>width$}", significant(r.input * deg(input_kind)));
-        match &r.result {
-            Ok(s) => {
-                for v in scaled(info, s) {
-                    let _ = write!(out, "{:>width$}", significant(v));
-                }
+    (out, width)
+}
+
+/// One line of the table (with its newline), for columns of `width`.
+pub fn table_row(info: &MechanismInfo, index: usize, width: usize, r: &Row) -> String {
+    let input_kind = info.inputs[index].kind;
+    let mut out = String::new();
+    let _ = write!(out, "{:>width$}", significant(r.input * deg(input_kind)));
+    match &r.result {
+        Ok(s) => {
+            for v in scaled(info, s) {
+                let _ = write!(out, "{:>width$}", significant(v));
             }
-            Err(e) => {
-                let name = &info.inputs[index].name;
-                let at = |input: f64| {
-                    format!(
-                        "{name} = {}{}",
-                        significant(input * deg(input_kind)),
-                        unit_word(input_kind)
-                    )
-                };
-                let status = r.status();
-                let _ = match r.stopped {
-                    Some(s) if s.at_dead_point() => write!(
+        }
+        Err(e) => {
+            let name = &info.inputs[index].name;
+            let at = |input: f64| {
+                format!(
+                    "{name} = {}{}",
+                    significant(input * deg(input_kind)),
+                    unit_word(input_kind)
+                )
+            };
+            let status = r.status();
+            let _ = match r.stopped {
+                Some(s) if s.at_dead_point() => write!(
+                    out,
+                    "  {status}: dead point near {} (cond {:.1e}), the branch cannot be continued past it",
+                    at(s.input),
+                    s.condition
+                ),
+                Some(s) => match s.reason {
+                    StopReason::SubstepLimit => write!(
                         out,
-                        "  {status}: dead point near {} (cond {:.1e}), the branch cannot be continued past it",
+                        "  {status}: the continuation used up its substeps; branch stopped at {} (cond {:.1e})",
                         at(s.input),
                         s.condition
                     ),
-                    Some(s) => match s.reason {
-                        StopReason::SubstepLimit => write!(
-                            out,
-                            "  {status}: the continuation used up its substeps; branch stopped at {} (cond {:.1e})",
-                            at(s.input),
-                            s.condition
-                        ),
-                        StopReason::UnusableStart => {
-                            write!(out, "  {status}: the start configuration is not usable")
-                        }
-                        StopReason::HeldInput => write!(
-                            out,
-                            "  {status}: a held input could not be moved to its value: {e}"
-                        ),
-                        StopReason::Refused => write!(
-                            out,
-                            "  {status}: the branch could not be followed past {} (cond {:.1e})",
-                            at(s.input),
-                            s.condition
-                        ),
-                        StopReason::Solver => write!(
-                            out,
-                            "  {status}: {e}; branch stopped at {} (cond {:.1e})",
-                            at(s.input),
-                            s.condition
-                        ),
-                    },
-                    None => write!(out, "  {status}: {e}"),
-                };
-            }
+                    StopReason::UnusableStart => {
+                        write!(out, "  {status}: the start configuration is not usable")
+                    }
+                    StopReason::HeldInput => write!(
+                        out,
+                        "  {status}: a held input could not be moved to its value: {e}"
+                    ),
+                    StopReason::Refused => write!(
+                        out,
+                        "  {status}: the branch could not be followed past {} (cond {:.1e})",
+                        at(s.input),
+                        s.condition
+                    ),
+                    StopReason::Solver => write!(
+                        out,
+                        "  {status}: {e}; branch stopped at {} (cond {:.1e})",
+                        at(s.input),
+                        s.condition
+                    ),
+                },
+                None => write!(out, "  {status}: {e}"),
+            };
         }
-        out.push('\n');
     }
+    out.push('\n');
     out
 }
 

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use mechgen::generic::Generic;
-use mechgen::sweep::{Continuation, Row, check_start, sweep_holding};
+use mechgen::sweep::{Continuation, Row, check_start, sweep_each, sweep_holding};
 use mechgen::{DynMechanism, MechanismInfo, report};
 use mechgen_codegen::diagnostic::{Diagnostic, Severity, SourceFile, render};
 
@@ -123,22 +123,33 @@ pub(super) struct Swept {
 impl Swept {
     /// Every input's value during the sweep (the swept one at its start value).
     pub(super) fn inputs(&self, info: &MechanismInfo) -> Vec<f64> {
-        let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
-        for &(i, v) in &self.plan.held {
-            x[i] = v;
-        }
-        x
+        held_inputs(info, &self.plan)
     }
 
     /// The table with its preamble (units, rate, held inputs, a note on the last row).
     pub(super) fn table(&self, info: &MechanismInfo) -> String {
-        let mut out = report::preamble(info, self.plan.index, self.rate, &self.inputs(info));
-        if let Some(note) = &self.plan.note {
-            out.push_str(note);
-            out.push('\n');
-        }
-        out + &report::table(info, self.plan.index, &self.rows)
+        table_preamble(info, &self.plan, self.rate)
+            + &report::table(info, self.plan.index, &self.rows)
     }
+}
+
+/// Every input's value during a sweep of `plan` (the swept one at its start value).
+fn held_inputs(info: &MechanismInfo, plan: &Plan) -> Vec<f64> {
+    let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+    for &(i, v) in &plan.held {
+        x[i] = v;
+    }
+    x
+}
+
+/// The lines above a sweep's table: units, rate, held inputs, a note on the last row.
+pub(super) fn table_preamble(info: &MechanismInfo, plan: &Plan, rate: f64) -> String {
+    let mut out = report::preamble(info, plan.index, rate, &held_inputs(info, plan));
+    if let Some(note) = &plan.note {
+        out.push_str(note);
+        out.push('\n');
+    }
+    out
 }
 
 /// Runs the sweep that `plan` describes on `k`, after the start checks.
@@ -153,6 +164,58 @@ pub(super) fn run_plan(
     let continuation = Continuation::for_input(kind, plan.span);
     let rows = sweep_holding(k, plan.index, &plan.values, rate, &plan.held, &continuation);
     Ok(Swept { plan, rate, rows })
+}
+
+/// Rows kept of a streamed sweep for what reads rows afterwards (plots, the branch note): at
+/// most about [`KEPT_ROWS`] evenly spaced rows, the last row, and both rows of every change of
+/// status (where a branch stops or resumes).
+pub(super) const KEPT_ROWS: usize = 2000;
+
+/// Runs the sweep that `plan` describes on `k` like [`run_plan`], handing every row to `each` as
+/// it is solved (in input order) and keeping only the rows [`KEPT_ROWS`] describes, so that
+/// memory does not grow with the number of rows.
+pub(super) fn stream_plan(
+    k: &dyn DynMechanism<f64>,
+    info: &MechanismInfo,
+    plan: Plan,
+    rate: f64,
+    each: &mut dyn FnMut(&Row),
+) -> Result<Swept, String> {
+    check_start(info).map_err(|e| format!("{}: {e}", info.name))?;
+    let kind = info.inputs[plan.index].kind;
+    let continuation = Continuation::for_input(kind, plan.span);
+    let n = plan.values.len();
+    let stride = n.div_ceil(KEPT_ROWS).max(1);
+    let mut kept: Vec<Row> = Vec::new();
+    let mut previous: Option<Row> = None;
+    let mut i = 0;
+    sweep_each(
+        k,
+        plan.index,
+        &plan.values,
+        rate,
+        &plan.held,
+        &continuation,
+        &mut |r| {
+            each(&r);
+            let changed = previous.as_ref().is_some_and(|p| p.status() != r.status());
+            if changed && let Some(p) = previous.take() {
+                kept.push(p);
+            }
+            if changed || i % stride == 0 || i + 1 == n {
+                kept.push(r);
+                previous = None;
+            } else {
+                previous = Some(r);
+            }
+            i += 1;
+        },
+    );
+    Ok(Swept {
+        plan,
+        rate,
+        rows: kept,
+    })
 }
 
 /// The plots and animation a sweep asked for; `report` says what was written on stderr.

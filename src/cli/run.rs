@@ -1,12 +1,13 @@
 //! CLI, running things: `sweep` (table, CSV, plots; a scene's through [`super::scene`]) and the
 //! main job, on what [`super::load`] loads. Sits between [`super::args`] and [`mechgen::sweep`].
 
+use std::io::Write as _;
 use std::path::Path;
 
 use mechgen::{CoordDesc, Kind, MechanismInfo, report};
 
 use super::args::{MainArgs, SweepArgs};
-use super::load::{Loaded, run_plan, select, write_plots};
+use super::load::{Loaded, run_plan, select, stream_plan, table_preamble, write_plots};
 use super::options::{Range, plan};
 
 /// `mechgen sweep NAME [options]`.
@@ -27,22 +28,54 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
         step: args.step,
     };
     let plan = plan(&info, args.input.as_deref(), &args.set, range)?;
-    let swept = run_plan(sel.solver.as_ref(), &info, plan, args.rate)?;
+    // Rows are printed and written as they are solved; only what plots and the branch note read
+    // is kept.
     say_raw!(
         "{} ({} rows)\n{}",
         info.name,
-        swept.rows.len(),
-        swept.table(&info)
+        plan.values.len(),
+        table_preamble(&info, &plan, args.rate)
     );
+    let (header, width) = report::table_header(&info, plan.index);
+    let stdout = std::io::stdout();
+    let mut table = std::io::BufWriter::new(stdout.lock());
+    let _ = table.write_all(header.as_bytes());
+    let mut csv = match &args.csv {
+        Some(path) => {
+            let file = std::fs::File::create(path)
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            let mut w = std::io::BufWriter::new(file);
+            let _ = w.write_all(report::csv_header_line(&info, plan.index).as_bytes());
+            Some((path, w))
+        }
+        None => None,
+    };
+    let mut csv_error: Option<std::io::Error> = None;
+    let mut line = String::new();
+    let index = plan.index;
+    let swept = stream_plan(sel.solver.as_ref(), &info, plan, args.rate, &mut |r| {
+        // A closed stdout (`mechgen sweep … | head`) ends the table, not the sweep or its CSV.
+        let _ = table.write_all(report::table_row(&info, index, width, r).as_bytes());
+        if let Some((_, w)) = &mut csv
+            && csv_error.is_none()
+        {
+            line.clear();
+            report::csv_row(&mut line, &info, r);
+            csv_error = w.write_all(line.as_bytes()).err();
+        }
+    })?;
+    let _ = table.flush();
+    drop(table);
+    if let Some((path, mut w)) = csv
+        && let Some(e) = csv_error.or_else(|| w.flush().err())
+    {
+        return Err(format!("cannot write {}: {e}", path.display()));
+    }
     let held = !swept.plan.held.is_empty();
     if let Some(note) =
         super::branches::sweep_note(file, &args.name, swept.plan.index, held, &swept.rows)
     {
         say!("{note}");
-    }
-    if let Some(path) = &args.csv {
-        std::fs::write(path, report::csv(&info, swept.plan.index, &swept.rows))
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     }
     write_plots(
         &sel,

@@ -193,4 +193,4 @@ pub fn sweep_budget(rows: usize) -> usize {
 
 mod rows;
 
-pub use rows::{nearest_row, sweep, sweep_holding};
+pub use rows::{SEGMENT, nearest_row, sweep, sweep_each, sweep_holding};

@@ -11,7 +11,7 @@ use mechgen_runtime::{DynMechanism, InputMotion, Kind, MechanismInfo, PointMotio
 
 /// Sweeps input `index` over `values` (radians or file units) from the file's start configuration,
 /// with input rate `rate` and zero input acceleration; the other inputs stay at their start
-/// values. See [`sweep_holding`].
+/// values. See [`sweep_each`].
 pub fn sweep(
     k: &dyn DynMechanism<f64>,
     index: usize,
@@ -23,15 +23,8 @@ pub fn sweep(
 }
 
 /// Sweeps input `index` over `values` from the file's start configuration, first moving each
-/// input of `held` (index, value) from its start value to that value along the branch. The sweep
-/// then continues from the start to the row nearest it ([`nearest_row`]; an angle input's start,
-/// swept or held, is first moved by whole turns to the representative nearest that value), and
-/// from that row through the rows after it and, again from that row, through the rows before it;
-/// the rows are returned in the order of `values`. Failed rows keep the sweep going from the last state reached and record it in
-/// [`Row::stopped`]: a branch that ends at a dead point stays there (the rows past it fail)
-/// instead of jumping to another branch. Every continuation is bounded, and the whole sweep uses
-/// at most [`sweep_budget`]`(values.len())` substeps (three solves each) and four more solves per
-/// row: once they are used up, the remaining rows get `substep-limit` without any work.
+/// input of `held` (index, value) from its start value to that value along the branch: the rows
+/// of [`sweep_each`], collected.
 pub fn sweep_holding(
     k: &dyn DynMechanism<f64>,
     index: usize,
@@ -40,19 +33,50 @@ pub fn sweep_holding(
     held: &[(usize, f64)],
     c: &Continuation,
 ) -> Vec<Row> {
+    let mut rows = Vec::with_capacity(values.len());
+    sweep_each(k, index, values, rate, held, c, &mut |r| rows.push(r));
+    rows
+}
+
+/// Rows solved below the start row between two checkpoints of the continuation's state: the
+/// rows below the start row are solved downward but handed out upward, a segment at a time.
+pub const SEGMENT: usize = 4096;
+
+/// The sweep of [`sweep_holding`], handing each row to `emit` in the order of `values` as soon as
+/// it can, so that memory does not grow with the number of rows: the held inputs are moved to
+/// their values, then the sweep continues from the start to the row nearest it ([`nearest_row`];
+/// an angle input's start, swept or held, is first moved by whole turns to the representative
+/// nearest that value), from that row through the rows before it (down to the first value) and,
+/// again from that row, through the rows after it. The rows before it are solved downward twice:
+/// once keeping the continuation's state every [`SEGMENT`] rows, then segment by segment from
+/// those states (the same steps, so the same numbers), each segment handed out upward.
+///
+/// Failed rows keep the sweep going from the last state reached and record it in
+/// [`Row::stopped`]: a branch that ends at a dead point stays there (the rows past it fail)
+/// instead of jumping to another branch. Every continuation is bounded, and the whole sweep uses
+/// at most [`sweep_budget`]`(values.len())` substeps (three solves each) and four more solves per
+/// row: once they are used up, the remaining rows get `substep-limit` without any work.
+pub fn sweep_each(
+    k: &dyn DynMechanism<f64>,
+    index: usize,
+    values: &[f64],
+    rate: f64,
+    held: &[(usize, f64)],
+    c: &Continuation,
+    emit: &mut dyn FnMut(Row),
+) {
     let info: MechanismInfo = k.info();
     let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
     let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
     let (ni, nu, np) = (x.len(), q.len(), info.points.len());
-    let fail_all = |error: SolveError, stopped: Stopped| -> Vec<Row> {
-        values
-            .iter()
-            .map(|&input| Row {
+    let mut fail_all = |error: SolveError, stopped: Stopped| {
+        for &input in values {
+            emit(Row {
                 input,
                 result: Err(error),
                 stopped: Some(stopped),
-            })
-            .collect()
+            });
+        }
     };
     if index >= ni {
         let error = SolveError::BadLength {
@@ -96,14 +120,16 @@ pub fn sweep_holding(
         }
     }
     let Some(nearest) = nearest_row(info.inputs[index].kind, x[index], values) else {
-        return Vec::new();
+        return;
     };
     if info.inputs[index].kind == Kind::Angle {
         x[index] = nearest_turn(x[index], values[nearest]);
     }
-    let mut solve_row = |x: &mut [f64], q: &mut [f64], target: f64| {
+    // One row: the continuation to it, then its rates and points.
+    let solve_row = |s: &mut State, target: f64| {
+        let State { x, q, allowance } = s;
         let mut reason = StopReason::Solver;
-        let result = continue_within(k, x, q, index, target, c, &mut allowance)
+        let result = continue_within(k, x, q, index, target, c, allowance)
             .map_err(|Stop { error, reason: r }| {
                 reason = r;
                 error
@@ -134,18 +160,44 @@ pub fn sweep_holding(
             stopped,
         }
     };
-    // The row nearest the start first, then from it towards each end of the range.
-    let mut rows: Vec<Option<Row>> = vec![None; values.len()];
-    rows[nearest] = Some(solve_row(&mut x, &mut q, values[nearest]));
-    let (x_mid, q_mid) = (x.clone(), q.clone());
-    for i in nearest + 1..values.len() {
-        rows[i] = Some(solve_row(&mut x, &mut q, values[i]));
-    }
-    let (mut x, mut q) = (x_mid, q_mid);
+    let mut state = State { x, q, allowance };
+    let first = solve_row(&mut state, values[nearest]);
+    let at_first = state.clone();
+    // Down to the first value: the continuation alone (it is all that moves the state), keeping
+    // the state at the top of every segment.
+    let mut checkpoints = Vec::new();
     for i in (0..nearest).rev() {
-        rows[i] = Some(solve_row(&mut x, &mut q, values[i]));
+        if (nearest - 1 - i) % SEGMENT == 0 {
+            checkpoints.push((i, state.clone()));
+        }
+        let State { x, q, allowance } = &mut state;
+        let _ = continue_within(k, x, q, index, values[i], c, allowance);
     }
-    rows.into_iter().flatten().collect()
+    let after_down = state.allowance;
+    // Then each segment again from its checkpoint, with rates and points, handed out upward.
+    let mut segment = Vec::with_capacity(SEGMENT.min(nearest));
+    for (top, mut s) in checkpoints.into_iter().rev() {
+        let bottom = (top + 1).saturating_sub(SEGMENT);
+        segment.extend((bottom..=top).rev().map(|i| solve_row(&mut s, values[i])));
+        segment.drain(..).rev().for_each(&mut *emit);
+    }
+    emit(first);
+    // Up from the start row, with what the rows below left of the budget.
+    let mut state = State {
+        allowance: after_down,
+        ..at_first
+    };
+    for &target in &values[nearest + 1..] {
+        emit(solve_row(&mut state, target));
+    }
+}
+
+/// The continuation's state between rows: inputs, unknowns and the substeps left.
+#[derive(Clone)]
+struct State {
+    x: Vec<f64>,
+    q: Vec<f64>,
+    allowance: usize,
 }
 
 /// The index of the row a sweep reaches first: the value nearest the start input `x0` (for an

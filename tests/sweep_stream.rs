@@ -7,8 +7,8 @@
 mod common;
 
 use common::cli::text;
-use mechgen::sweep::{Continuation, SEGMENT, nearest_row, sweep};
 use mechgen::Kind;
+use mechgen::sweep::{Continuation, SEGMENT, nearest_row, sweep};
 
 /// `sixbar_g` starts at q6 = 280.67 deg; 250 to 340 deg in steps of 0.004 deg puts about 7700
 /// rows below the start row, more than one segment. The same rows swept in descending order from

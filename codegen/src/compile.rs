@@ -45,6 +45,8 @@ fn analyze_mechanism(model: Model, diags: &mut Vec<Diagnostic>) -> Option<Compil
         diags.push(d);
         return None;
     }
+    diags.extend(start::degrees(&model));
+    diags.extend(lints::magnitudes(&model));
     let start = start::check(&model, &system, &derivatives);
     let failed = start.as_ref().is_some_and(Diagnostic::is_error);
     diags.extend(start);

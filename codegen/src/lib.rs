@@ -25,6 +25,7 @@ mod front;
 mod ir;
 mod lints;
 mod sema;
+mod suggest;
 
 pub use analysis::Compiled;
 pub use analysis::closed_form::{ClosedForm, closed_form as classify_closed_form};

@@ -77,7 +77,9 @@ pub fn parse(file: &SourceFile) -> (File, Vec<Diagnostic>) {
                     }
                 }
             }
-            other => p.unknown_key(key, other, "top level", "`mechanism` or `scene`"),
+            other => {
+                p.unknown_key(key, other, "top level", &["mechanism", "scene"]);
+            }
         }
     }
     (out, p.diags)
@@ -112,17 +114,30 @@ impl Parser<'_> {
         self.diags.push(Diagnostic::error(span, msg));
     }
 
-    fn unknown_key(
+    /// Reports an unknown key, with the nearest of `keys` when it is a likely misspelling, which
+    /// it returns.
+    fn unknown_key<'k>(
         &mut self,
         key: &Spanned<Cow<'_, str>>,
         name: &str,
         place: &str,
-        expected: &str,
-    ) {
+        keys: &[&'k str],
+    ) -> Option<&'k str> {
+        let guess = crate::suggest::nearest(name, keys.iter().copied());
+        let label = match guess {
+            Some(g) => format!("not a key of the format: did you mean `{g}`?"),
+            None => "not a key of the format".to_string(),
+        };
+        let expected = match keys {
+            [] => String::new(),
+            [one] => format!("`{one}`"),
+            [init @ .., last] => format!("{} or {last}", init.join(", ")),
+        };
         let d = Diagnostic::error(span_of(key), format!("unknown key `{name}` in {place}"))
-            .with_label("not a key of the format")
+            .with_label(label)
             .with_note(format!("expected {expected}"));
         self.diags.push(d);
+        guess
     }
 
     fn table<'a>(&mut self, v: &'a Spanned<DeValue<'a>>, what: &str) -> Option<&'a DeTable<'a>> {
@@ -160,8 +175,27 @@ impl Parser<'_> {
             start: vec![],
         };
         let mut seen = [false; 3];
+        const KEYS: [&str; 7] = [
+            "description",
+            "inputs",
+            "unknowns",
+            "loops",
+            "params",
+            "points",
+            "start",
+        ];
         for (k, v) in sorted(table) {
-            match k.get_ref().as_ref() {
+            let mut key = k.get_ref().as_ref();
+            if !KEYS.contains(&key) {
+                let place = format!("mechanism `{}`", m.name.text);
+                // A misspelt key that no other entry spells right is read as the key it misspells,
+                // so that one typo gives one error (not a missing key and every name undefined).
+                match self.unknown_key(k, key, &place, &KEYS) {
+                    Some(g) if !table.contains_key(g) => key = g,
+                    _ => continue,
+                }
+            }
+            match key {
                 "description" => match v.get_ref() {
                     DeValue::String(s) => m.description = Some(s.to_string()),
                     _ => self.error(span_of(v), "`description` must be a string"),
@@ -177,12 +211,7 @@ impl Parser<'_> {
                 "params" => m.params = self.assignments(v, "params", true),
                 "points" => m.points = self.assignments(v, "points", false),
                 "start" => m.start = self.assignments(v, "start", true),
-                other => self.unknown_key(
-                    k,
-                    other,
-                    &format!("mechanism `{}`", m.name.text),
-                    "description, inputs, unknowns, loops, params, points or start",
-                ),
+                _ => {}
             }
         }
         for (i, key) in ["inputs", "unknowns", "loops"].iter().enumerate() {
@@ -246,12 +275,10 @@ impl Parser<'_> {
                     },
                     _ => self.error(span_of(v), "`order` must be 0, 1 or 2"),
                 },
-                other => self.unknown_key(
-                    k,
-                    other,
-                    &format!("scene `{}`", s.name.text),
-                    "mechanism, outputs or order",
-                ),
+                other => {
+                    let place = format!("scene `{}`", s.name.text);
+                    self.unknown_key(k, other, &place, &["mechanism", "outputs", "order"]);
+                }
             }
         }
         if s.mechanism.is_none() {

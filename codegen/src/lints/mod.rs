@@ -8,6 +8,6 @@ pub mod start;
 mod structure;
 mod usage;
 
-pub use overflow::overflow;
+pub use overflow::{magnitudes, overflow};
 pub use structure::structure_diagnostics;
 pub use usage::usage;

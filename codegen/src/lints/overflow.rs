@@ -51,3 +51,46 @@ fn non_finite_constant(dag: &Dag, roots: &[NodeId]) -> bool {
     }
     false
 }
+
+/// Largest length magnitude whose square (a dyad's or a Jacobian's product of two lengths) stays
+/// finite in f64 with room to spare, and the smallest whose square stays normal.
+pub const LARGEST_LENGTH: f64 = 1e150;
+pub const SMALLEST_LENGTH: f64 = 1e-150;
+
+/// A warning for length params so large or so small that products of two lengths overflow or
+/// underflow f64: the file is valid, but the solvers cannot assemble it (every row would fail).
+pub fn magnitudes(model: &Model) -> Option<Diagnostic> {
+    let bad: Vec<_> = model
+        .params
+        .iter()
+        .chain(&model.derived)
+        .filter(|p| {
+            let a = p.value.abs();
+            p.kind == crate::sema::model::Kind::Length
+                && a.is_finite()
+                && (a > LARGEST_LENGTH || (a > 0.0 && a < SMALLEST_LENGTH))
+        })
+        .collect();
+    let first = bad.first()?;
+    let list: Vec<String> = bad
+        .iter()
+        .map(|p| format!("`{}` = {:e}", p.name.text, p.value))
+        .collect();
+    let mut d = Diagnostic::warning(
+        first.name.span,
+        format!(
+            "length params of `{}` whose squares overflow or underflow f64: {}",
+            model.name.text,
+            list.join(", ")
+        ),
+    )
+    .with_label("squared by the solvers")
+    .with_note(format!(
+        "lengths between {SMALLEST_LENGTH:e} and {LARGEST_LENGTH:e} in the file's unit solve; \
+         choose a unit that brings them there"
+    ));
+    for p in &bad[1..] {
+        d = d.with_related(p.name.span, "here too");
+    }
+    Some(d)
+}

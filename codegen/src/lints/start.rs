@@ -142,6 +142,7 @@ pub fn check(model: &Model, system: &System, derivatives: &Derivatives) -> Optio
         Outcome::Closed(_) => None,
         Outcome::Converged(r, _) if r <= WARN => None,
         Outcome::Converged(r, q) => {
+            let moved = moved_angles(model, &q);
             let values: Vec<String> = model
                 .inputs
                 .iter()
@@ -172,7 +173,14 @@ pub fn check(model: &Model, system: &System, derivatives: &Derivatives) -> Optio
                     "converged start: start = {{ {} }}",
                     values.join(", ")
                 ))
-                .with_note("check that this is the wanted assembly branch"),
+                .with_note(match moved.is_empty() {
+                    true => "check that this is the wanted assembly branch".to_string(),
+                    false => format!(
+                        "Newton moved {}: check that this is the wanted assembly branch (a start \
+                         value in degrees is written `deg(…)`)",
+                        moved.join(", ")
+                    ),
+                }),
             )
         }
         Outcome::Failed(r, why) => Some(
@@ -190,6 +198,58 @@ pub fn check(model: &Model, system: &System, derivatives: &Derivatives) -> Optio
             ),
         ),
     }
+}
+
+/// Angle unknowns that Newton moved by more than [`MOVED_DEGREES`] from their start values
+/// (modulo whole turns), as `` `q2` by 33.1° ``.
+fn moved_angles(model: &Model, converged: &[f64]) -> Vec<String> {
+    let tau = std::f64::consts::TAU;
+    model
+        .unknowns
+        .iter()
+        .zip(converged)
+        .filter(|(c, _)| c.kind == Kind::Angle)
+        .filter_map(|(c, &v)| {
+            let d = (v - c.start).rem_euclid(tau);
+            let d = d.min(tau - d).to_degrees();
+            (d > MOVED_DEGREES).then(|| format!("`{}` by {d:.1}°", c.name.text))
+        })
+        .collect()
+}
+
+/// How far (degrees) Newton may move a start angle before the warning names it.
+const MOVED_DEGREES: f64 = 3.0;
+
+/// A warning when start values of angles are more than a turn in radians (`q1 = 90`): almost
+/// always degrees written where the format reads radians.
+pub fn degrees(model: &Model) -> Option<Diagnostic> {
+    let tau = std::f64::consts::TAU;
+    let big: Vec<_> = model
+        .inputs
+        .iter()
+        .chain(&model.unknowns)
+        .filter(|c| c.kind == Kind::Angle && c.start.abs() > tau)
+        .collect();
+    let first = big.first()?;
+    let list: Vec<String> = big
+        .iter()
+        .map(|c| format!("`{} = {}`", c.name.text, c.start))
+        .collect();
+    Some(
+        Diagnostic::warning(
+            model.start_span,
+            format!(
+                "start values of `{}` are more than a turn in radians: {}",
+                model.name.text,
+                list.join(", ")
+            ),
+        )
+        .with_label("angles are in radians")
+        .with_note(format!(
+            "for degrees write `{} = deg({})`",
+            first.name.text, first.start
+        )),
+    )
 }
 
 #[cfg(test)]

@@ -86,8 +86,17 @@ pub fn check(file: &ast::File, diags: &mut Vec<Diagnostic>) -> Vec<Model> {
 
 fn reserved(name: &Name) -> Diagnostic {
     let all: Vec<_> = Builtin::ALL.iter().map(|b| b.name()).collect();
-    Diagnostic::error(name.span, format!("`{}` is a reserved name", name.text))
+    let n = &name.text;
+    Diagnostic::error(name.span, format!("`{n}` is a reserved name"))
+        .with_label(format!(
+            "the built-in `{n}`: a file cannot give it another meaning"
+        ))
         .with_note(format!("built in: {}", all.join(", ")))
+        .with_note(match n.as_str() {
+            "c" => "name it otherwise: a link `c` as `lc` or `l3` (`c(x, y)` is the vector (x, y))"
+                .to_string(),
+            _ => format!("name it otherwise, e.g. `{n}1` or `l_{n}`"),
+        })
 }
 
 fn duplicate(name: &Name, prev: Span, what: &str) -> Diagnostic {
@@ -100,6 +109,7 @@ fn duplicate(name: &Name, prev: Span, what: &str) -> Diagnostic {
 }
 
 fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
+    let before = diags.len();
     if !is_snake_case(&m.name.text) {
         diags.push(
             Diagnostic::error(
@@ -116,7 +126,9 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         // Still declared: its uses are not undefined.
         diags.extend(keyword(name, "name"));
         if Builtin::is_reserved(&name.text) {
+            // Declared all the same, so that its uses are not also undefined names.
             diags.push(reserved(name));
+            symbols.entry(name.text.clone()).or_insert(sym);
         } else if let Some(prev) = first.get(&name.text) {
             diags.push(duplicate(name, *prev, "name"));
         } else {
@@ -207,24 +219,52 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         p.kind = kind_of(Symbol::Derived(j));
     }
 
+    // The unknowns no loop names, by name (whatever else is wrong with the loops).
+    let mut named = Vec::new();
+    for e in &m.loops {
+        super::typing::collect_names(e, &symbols, &mut named);
+    }
+    // Only when every loop parsed: a loop that did not may name the others.
+    let in_no_loop: Vec<&Name> = m
+        .unknowns
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !m.parse_errors && !named.contains(&Symbol::Unknown(*i)))
+        .map(|(_, n)| n)
+        .collect();
     // Equations vs unknowns (a missing `loops` key is reported by the parser).
+    let square = m
+        .loop_count
+        .is_none_or(|loops| 2 * loops == m.unknowns.len());
     if let Some(loops) = m.loop_count
-        && 2 * loops != m.unknowns.len()
+        && !square
     {
         let span = m.loops.first().map_or(m.name.span, |l| l.span);
         let (s, es) = if loops == 1 { ("", "s") } else { ("s", "") };
-        diags.push(
-            Diagnostic::error(
-                span,
-                format!(
-                    "mechanism `{}` is not square: {loops} loop{s} give{es} {} equations for {} unknowns",
-                    m.name.text,
-                    2 * loops,
-                    m.unknowns.len()
-                ),
-            )
-            .with_note("each loop gives two scalar equations; list two unknowns per loop"),
-        );
+        let unknowns = match m.unknowns.len() {
+            1 => "1 unknown".to_string(),
+            n => format!("{n} unknowns"),
+        };
+        let unused: Vec<String> = in_no_loop.iter().map(|n| format!("`{}`", n.text)).collect();
+        let unused = match unused.len() {
+            0 => String::new(),
+            1 => format!(" ({} appears in no loop)", unused[0]),
+            _ => format!(" ({} appear in no loop)", unused.join(", ")),
+        };
+        let mut d = Diagnostic::error(
+            span,
+            format!(
+                "mechanism `{}` is not square: {loops} loop{s} give{es} {} equations for \
+                 {unknowns}{unused}",
+                m.name.text,
+                2 * loops,
+            ),
+        )
+        .with_note("each loop gives two scalar equations; list two unknowns per loop");
+        for n in &in_no_loop {
+            d = d.with_related(n.span, format!("`{}` appears in no loop", n.text));
+        }
+        diags.push(d);
     }
     if m.inputs.is_empty() {
         diags.push(Diagnostic::error(
@@ -250,13 +290,20 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
                     name.text
                 ),
             )),
-            None => diags.push(
-                Diagnostic::error(
-                    name.span,
-                    format!("`{}` in `start` is not an input or unknown", name.text),
+            None => {
+                let coords = m.inputs.iter().chain(&m.unknowns).map(|c| c.text.as_str());
+                let label = match crate::suggest::nearest(&name.text, coords) {
+                    Some(g) => format!("undefined name: did you mean `{g}`?"),
+                    None => "undefined name".to_string(),
+                };
+                diags.push(
+                    Diagnostic::error(
+                        name.span,
+                        format!("`{}` in `start` is not an input or unknown", name.text),
+                    )
+                    .with_label(label),
                 )
-                .with_label("undefined name"),
-            ),
+            }
         }
     }
     let coords = |names: &[Name], make: fn(usize) -> Symbol, diags: &mut Vec<Diagnostic>| {
@@ -286,6 +333,16 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
     };
     let inputs = coords(&m.inputs, Symbol::Input, diags);
     let unknowns = coords(&m.unknowns, Symbol::Unknown, diags);
+    // A square file without other errors has its unknowns in no equation told by the structural
+    // lint (on the DAG); after an error (an undefined name, say) it never runs, so say it here.
+    if square && diags[before..].iter().any(Diagnostic::is_error) {
+        for n in &in_no_loop {
+            diags.push(
+                Diagnostic::error(n.span, format!("unknown `{}` appears in no loop", n.text))
+                    .with_label("no loop names it"),
+            );
+        }
+    }
     Model {
         name: m.name.clone(),
         description: m.description.clone().unwrap_or_default(),

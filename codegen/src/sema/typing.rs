@@ -16,9 +16,15 @@ pub enum Ty {
     Vector,
 }
 
-fn undefined(name: &str, span: Span) -> Diagnostic {
-    Diagnostic::error(span, format!("undefined name `{name}`"))
-        .with_label("not an input, unknown or param")
+fn undefined(name: &str, span: Span, symbols: &HashMap<String, Symbol>) -> Diagnostic {
+    // The nearest defined name, first in sorted order among equally near ones (deterministic).
+    let mut known: Vec<&str> = symbols.keys().map(String::as_str).collect();
+    known.sort_unstable();
+    let label = match crate::suggest::nearest(name, known) {
+        Some(g) => format!("not an input, unknown or param: did you mean `{g}`?"),
+        None => "not an input, unknown or param".to_string(),
+    };
+    Diagnostic::error(span, format!("undefined name `{name}`")).with_label(label)
 }
 
 /// Type of an expression; `None` after an error was reported. `params_only`: param expressions may
@@ -51,7 +57,7 @@ pub fn type_of(
             None => {
                 // Param expressions report their own undefined names during evaluation.
                 if !params_only {
-                    diags.push(undefined(n, e.span));
+                    diags.push(undefined(n, e.span, symbols));
                 }
                 None
             }
@@ -146,7 +152,8 @@ pub fn type_of(
     }
 }
 
-fn collect_names(e: &Expr, symbols: &HashMap<String, Symbol>, out: &mut Vec<Symbol>) {
+/// The symbols `e` names, each once, in order of first use.
+pub(crate) fn collect_names(e: &Expr, symbols: &HashMap<String, Symbol>, out: &mut Vec<Symbol>) {
     match &e.kind {
         ExprKind::Name(n) => {
             if let Some(s) = symbols.get(n)

@@ -85,7 +85,12 @@ impl Tape {
         let mut stack: Vec<NodeId> = roots.to_vec();
         while let Some(n) = stack.pop() {
             if !std::mem::replace(&mut needed[n.index()], true) {
-                stack.extend(nodes[n.index()].children());
+                match nodes[n.index()] {
+                    // `-(a - b)` is computed as `b - a` (the same value): the difference itself
+                    // only when something else reads it.
+                    Node::Neg(d) if let Node::Sub(a, b) = nodes[d.index()] => stack.extend([a, b]),
+                    node => stack.extend(node.children()),
+                }
             }
         }
         // Arguments of both a needed sin and a needed cos.
@@ -114,7 +119,10 @@ impl Tape {
                 Node::Sub(a, b) => Op::Sub(r(a), r(b)),
                 Node::Mul(a, b) => Op::Mul(r(a), r(b)),
                 Node::Div(a, b) => Op::Div(r(a), r(b)),
-                Node::Neg(a) => Op::Neg(r(a)),
+                Node::Neg(d) => match nodes[d.index()] {
+                    Node::Sub(a, b) => Op::Sub(r(b), r(a)),
+                    _ => Op::Neg(r(d)),
+                },
                 Node::Sin(a) | Node::Cos(a) if has_sin[a.index()] && has_cos[a.index()] => {
                     let at = a.index();
                     if sincos[at] == u32::MAX {

@@ -1,7 +1,7 @@
 //! Stage 6 (shared by the block solvers and the fused body): the call of a closed-form block's
 //! runtime kernel (`solve_dyad`, `closed_form::solve_*`) on its roots, and which unknowns the
 //! closed forms solve (they skip a tick's predictor). The table of kinds and calls is the
-//! analysis section of ARCHITECTURE.md.
+//! closed-form section of docs/internals.md.
 
 use proc_macro2::TokenStream;
 use quote::quote;

@@ -435,3 +435,35 @@ fn the_sweep_starts_at_the_row_nearest_the_start_and_goes_both_ways() {
         assert_eq!(statuses, vec!["ok"; 9], "{rows}");
     }
 }
+
+/// Issue 18 item 7: the main job sweeps a length input over the start's branch between its dead
+/// points (from the branch analysis), not start ± a quarter of the length scale. The trammel's
+/// dead points are at sx = ±L/sin(30°) = ±0.52 (law of sines, independent of the code): its rows
+/// run from just above -0.52 to just below 0.52, every one solved.
+#[test]
+fn the_main_job_sweeps_a_length_input_between_its_dead_points() {
+    let dir = temp("main-length");
+    std::fs::create_dir_all(&dir).expect("dir");
+    let file = support::data("trammel.toml");
+    let out = Command::new(env!("CARGO_BIN_EXE_mechgen"))
+        .args(["--file", file.to_str().expect("utf-8")])
+        .current_dir(&dir)
+        .output()
+        .expect("runs");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let t = Table::read(dir.join("mechgen-out/trammel.csv").to_str().unwrap());
+    let dead = 0.26 / 30f64.to_radians().sin();
+    let inputs: Vec<f64> = t.rows.iter().map(|r| r[0].parse().unwrap()).collect();
+    assert_eq!(inputs.len(), 37);
+    assert!(
+        (inputs[0] + dead).abs() < 1e-5 && inputs[0] > -dead,
+        "{}",
+        inputs[0]
+    );
+    assert!(
+        (inputs[36] - dead).abs() < 1e-5 && inputs[36] < dead,
+        "{}",
+        inputs[36]
+    );
+    assert!(t.rows.iter().all(|r| r.last().is_some_and(|s| s == "ok")));
+}

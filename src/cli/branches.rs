@@ -31,6 +31,28 @@ fn compile(path: Option<&Path>) -> Result<Vec<Compiled>, String> {
     Ok(compiled)
 }
 
+/// The input range of the start's branch of mechanism `name` when its first input is a length:
+/// between the dead points that bound it (the branch analysis over the start ± four length
+/// scales, at least ± 1), or that window's end where no dead point bounds it. `None` for an angle
+/// input or when the analysis has no answer.
+pub(super) fn start_branch(path: Option<&Path>, name: &str) -> Option<(f64, f64)> {
+    let compiled = compile(path).ok()?;
+    let c = compiled.iter().find(|c| c.model.name.text == name)?;
+    let setup = Setup::new(c, 0).ok()?;
+    if setup.input_is_angle {
+        return None;
+    }
+    let x0 = c.model.inputs.first()?.start;
+    let q0: Vec<f64> = c.model.unknowns.iter().map(|u| u.start).collect();
+    let w = 4.0 * setup.scale.max(x0.abs()).max(1.0);
+    let a = setup.analyze(x0 - w, x0 + w, &[x0]).ok()?;
+    let mine =
+        a.at.iter()
+            .min_by(|x, y| setup.dist(&x.q, &q0).total_cmp(&setup.dist(&y.q, &q0)))?;
+    let b = a.branches.get(mine.branch)?;
+    (b.from.is_finite() && b.to.is_finite() && b.from < b.to).then_some((b.from, b.to))
+}
+
 /// The analysis of one mechanism over a range given in the CLI's units (degrees for an angle).
 fn analyse(
     c: &Compiled,

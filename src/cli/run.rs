@@ -91,9 +91,11 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
 /// The main job's range: a full turn for an angle input, from its start value rounded down to
 /// 10° (so that the start's branch is swept from where it is, not from a dead point it would have
 /// to cross to reach 0°; a start of 0 gives the `sweep` defaults); for a length input, which has no
-/// default range, its start value ± a quarter of the mechanism's length scale (or of the start
-/// value, if larger), in 36 steps.
-pub(super) fn main_job_range(info: &MechanismInfo) -> Range {
+/// default range, the start's branch between its dead points from the branch analysis
+/// ([`super::branches::start_branch`], each end moved inside by 1e-6 of the span), in 36 steps;
+/// where that analysis has no answer, the start value ± a quarter of the mechanism's length scale
+/// (or of the start value, if larger).
+pub(super) fn main_job_range(info: &MechanismInfo, file: Option<&Path>) -> Range {
     match info.inputs.first() {
         Some(CoordDesc {
             kind: Kind::Angle,
@@ -110,6 +112,14 @@ pub(super) fn main_job_range(info: &MechanismInfo) -> Range {
         }
         // A length input.
         Some(CoordDesc { start, .. }) => {
+            if let Some((a, b)) = super::branches::start_branch(file, &info.name) {
+                let inset = (b - a) * 1e-6;
+                return Range {
+                    from: Some(a + inset),
+                    to: Some(b - inset),
+                    step: Some((b - a - 2.0 * inset) / 36.0),
+                };
+            }
             let scale = info
                 .params
                 .iter()
@@ -153,7 +163,9 @@ pub fn main_job(args: &MainArgs) -> Result<(), String> {
         .map(str::to_string)
         .collect();
     for name in &scenes {
-        if let Err(e) = super::scene::main_job_scene(&loaded, name, file, dir, main_job_range) {
+        if let Err(e) = super::scene::main_job_scene(&loaded, name, file, dir, |info| {
+            main_job_range(info, file)
+        }) {
             eprintln!("mechgen: {name}: {e}");
             failed.push(name.as_str());
         }
@@ -182,11 +194,11 @@ fn main_job_one(
         eprint!("{w}");
     }
     let info = sel.solver.info();
-    let plan = plan(&info, None, &[], main_job_range(&info))?;
+    let range = main_job_range(&info, file);
+    let plan = plan(&info, None, &[], range)?;
     let swept = run_plan(sel.solver.as_ref(), &info, plan, 1.0)?;
     say!("{} — {}", info.name, info.description);
     say!("{}", swept.table(&info));
-    let range = main_job_range(&info);
     let lengths = (range.from.unwrap_or(-1.0), range.to.unwrap_or(1.0));
     say_raw!("{}", super::branches::summary(file, name, lengths));
     let path = dir.join(format!("{name}.csv"));

@@ -219,7 +219,7 @@ pub fn table_row(info: &MechanismInfo, index: usize, width: usize, r: &Row) -> S
             };
             let status = r.status();
             let _ = match r.stopped {
-                Some(s) if s.at_dead_point() => write!(
+                Some(s) if r.dead_point().is_some() => write!(
                     out,
                     "  {status}: dead point near {} (cond {:.1e}), the branch cannot be continued past it",
                     at(s.input),

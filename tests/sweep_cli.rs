@@ -467,3 +467,30 @@ fn the_main_job_sweeps_a_length_input_between_its_dead_points() {
     );
     assert!(t.rows.iter().all(|r| r.last().is_some_and(|s| s == "ok")));
 }
+
+/// Issue 18 item 7: lengths whose squares overflow (1e299; `check` warns about them) give rows
+/// with the status `overflow`, not a dead point with an infinite condition estimate.
+#[test]
+fn rows_of_lengths_whose_squares_overflow_say_overflow() {
+    let csv = temp("huge.csv");
+    let out = mechgen(&[
+        "sweep",
+        "four_bar",
+        "--file",
+        "tests/diagnostics/huge_lengths.toml",
+        "--to",
+        "30",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let table = text(&out.stdout);
+    assert!(!table.contains("dead point"), "{table}");
+    let rows = std::fs::read_to_string(&csv).expect("csv");
+    let statuses: Vec<&str> = rows
+        .lines()
+        .skip(1)
+        .map(|l| l.rsplit(',').next().unwrap())
+        .collect();
+    assert_eq!(statuses, ["overflow"; 4], "{rows}");
+}

@@ -146,10 +146,9 @@ pub fn solve_dyad_angles<T: Real, const N: usize>(
     };
     // One test for all three (each is a sum of squares, so none is negative).
     if !(l2 + la2 + lb2).is_finite() {
-        return Err(SolveError::Unassemblable {
+        return Err(SolveError::Overflow {
             block,
-            residual: f64::INFINITY,
-            iterations: 0,
+            stage: Stage::Position,
         });
     }
     if !(l2 > T::zero() && la2 > T::zero() && lb2 > T::zero()) {
@@ -222,10 +221,9 @@ pub fn solve_dyad_angles<T: Real, const N: usize>(
     // The sines and cosines are at most 1 and the angles below tolerance / ε: the sum cannot
     // overflow, so it is finite exactly when all four are.
     if !(qa + qb + ca + sb).is_finite() {
-        return Err(SolveError::Unassemblable {
+        return Err(SolveError::Overflow {
             block,
-            residual: f64::INFINITY,
-            iterations: 0,
+            stage: Stage::Position,
         });
     }
     st.q[a] = qa;

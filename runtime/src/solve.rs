@@ -234,10 +234,9 @@ where
             residual = residual.max(v.abs() * inv_scale);
         }
         if !finite || !residual.is_finite() {
-            return Err(SolveError::Unassemblable {
+            return Err(SolveError::Overflow {
                 block,
-                residual: f64::INFINITY,
-                iterations: it,
+                stage: Stage::Position,
             });
         }
         best_residual = best_residual.min(residual);

@@ -197,9 +197,7 @@ pub fn sweep_note(
     if index != 0 || held {
         return None;
     }
-    let stop = rows
-        .iter()
-        .find_map(|r| r.stopped.filter(|s| s.at_dead_point()))?;
+    let stop = rows.iter().find_map(mechgen::sweep::Row::dead_point)?;
     let compiled = compile(path).ok()?;
     let c = compiled.iter().find(|c| c.model.name.text == name)?;
     // The solved row nearest the stop (or, when none was solved, the start): its configuration

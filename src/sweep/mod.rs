@@ -62,6 +62,15 @@ pub struct Row {
 }
 
 impl Row {
+    /// Where the branch stopped at a dead point, for a failed row whose branch ends at one (not
+    /// for an overflow, whose condition estimate is infinite too).
+    pub fn dead_point(&self) -> Option<Stopped> {
+        match self.result {
+            Err(SolveError::Overflow { .. }) => None,
+            _ => self.stopped.filter(Stopped::at_dead_point),
+        }
+    }
+
     /// The CSV status: `ok`, the solver error's status, or `substep-limit` (the continuation used
     /// up its substeps before reaching the row) or `unusable-start`.
     pub fn status(&self) -> &'static str {

@@ -208,7 +208,7 @@ mod tests {
         ));
         assert!(matches!(
             solve(f64::NAN, (1.0, 0.0), 0.0),
-            Err(SolveError::Unassemblable { .. })
+            Err(SolveError::Overflow { .. })
         ));
         assert!(matches!(
             solve(0.5, (1.0, 0.0), f64::NEG_INFINITY),

@@ -196,7 +196,7 @@ mod tests {
             [0.0, 1.0],
             &mut report,
         );
-        assert!(matches!(r, Err(SolveError::Unassemblable { .. })));
+        assert!(matches!(r, Err(SolveError::Overflow { .. })));
         assert_eq!(st.q, [0.0, 0.0]);
     }
 
@@ -215,11 +215,11 @@ mod tests {
         ));
         assert!(matches!(
             solve_length1(0, &mut st, 0, 1e300, 1e-300),
-            Err(SolveError::Unassemblable { .. })
+            Err(SolveError::Overflow { .. })
         ));
         assert!(matches!(
             solve_length1(0, &mut st, 0, f64::INFINITY, 1.0),
-            Err(SolveError::Unassemblable { .. })
+            Err(SolveError::Overflow { .. })
         ));
         assert_eq!(st.q[0], 1.5);
     }

@@ -31,7 +31,7 @@ pub use rpr::{rpr_modes, solve_rpr};
 pub use rrp::{rrp_modes, solve_rrp};
 pub use rrr::rrr_modes;
 
-use crate::error::SolveError;
+use crate::error::{SolveError, Stage};
 use crate::scalar::Real;
 use crate::solve::TrigState;
 
@@ -91,12 +91,11 @@ fn dead_point_slack<T: Real>() -> T {
     T::EPSILON * T::lit(128.0)
 }
 
-/// The overflow of finite arguments (or non-finite coefficients) as the dyad and Newton report it.
+/// The overflow of finite arguments (or non-finite coefficients), as the dyad and Newton report it.
 fn overflow(block: usize) -> SolveError {
-    SolveError::Unassemblable {
+    SolveError::Overflow {
         block,
-        residual: f64::INFINITY,
-        iterations: 0,
+        stage: Stage::Position,
     }
 }
 

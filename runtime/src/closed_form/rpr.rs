@@ -276,7 +276,7 @@ mod tests {
         ));
         assert!(matches!(
             solve([0.1, f64::INFINITY], (1.0, 0.0), (1.0, 0.0), 0.0),
-            Err(SolveError::Unassemblable { .. })
+            Err(SolveError::Overflow { .. })
         ));
         assert!(matches!(
             solve([0.1, 0.2], (0.0, 0.0), (1.0, 0.0), f64::NAN),

@@ -268,7 +268,7 @@ mod tests {
         assert!(singular(solve([0.1, 0.2], (0.0, 0.0), [1.0, 0.0], 0.0)));
         assert!(matches!(
             solve([f64::NAN, 0.2], (1.0, 0.0), [1.0, 0.0], 0.0),
-            Err(SolveError::Unassemblable { .. })
+            Err(SolveError::Overflow { .. })
         ));
         assert!(matches!(
             solve([0.1, 0.2], (1.0, 0.0), [1.0, 0.0], f64::INFINITY),
@@ -276,7 +276,7 @@ mod tests {
         ));
         assert!(matches!(
             solve([1e300, 1e300], (1e300, 0.0), [1e300, 0.0], 0.0),
-            Err(SolveError::Unassemblable { .. })
+            Err(SolveError::Overflow { .. })
         ));
     }
 }

@@ -130,7 +130,7 @@ mod tests {
         ));
         assert!(matches!(
             rrr_modes(0, [f64::NAN, 0.0], one, one),
-            Err(SolveError::Unassemblable { .. })
+            Err(SolveError::Overflow { .. })
         ));
     }
 }

@@ -63,16 +63,8 @@ pub mod sweep;
 /// (`NAME::TypeName`, `NAME::Params`, …) and `MECHANISMS`, `lookup`, `visit_all`, from the file
 /// that the crate's `build.rs` compiled with `mechgen_codegen::compile` (`OUT_DIR/mechanisms.rs`).
 /// `include_mechanisms!("other.rs")` includes another output file of the build library
-/// (`mechgen_codegen::Config::out_file`).
-#[macro_export]
-macro_rules! include_mechanisms {
-    () => {
-        include!(concat!(env!("OUT_DIR"), "/mechanisms.rs"));
-    };
-    ($file:literal) => {
-        include!(concat!(env!("OUT_DIR"), "/", $file));
-    };
-}
+/// (`mechgen_codegen::Config::out_file`). The runtime's macro, re-exported.
+pub use mechgen_runtime::include_mechanisms;
 
 /// The solvers generated from the build's mechanism file (`mechanism.toml`, or `MECHGEN_MECHANISM`).
 pub mod generated {

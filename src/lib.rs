@@ -36,13 +36,9 @@ pub use mechgen_runtime as runtime;
 
 #[doc(hidden)]
 pub use mechgen_runtime::__private;
-pub use mechgen_runtime::dyad::solve_dyad;
-pub use mechgen_runtime::elimination::{
-    Factored, factor_block, gauss, gauss_in_place, lu_in_place, lu_solve, solve_block,
-};
+// The kernels (`dyad`, `closed_form`, `elimination`, `solve`, `trig`) are reached through
+// `mechgen::runtime::…`; generated code reaches what it calls through `__private`.
 pub use mechgen_runtime::nalgebra;
-pub use mechgen_runtime::solve::{check_finite, newton_block, newton_in_place};
-pub use mechgen_runtime::trig::{NewtonState, TrigState};
 pub use mechgen_runtime::{
     Array, CoordDesc, CoordInfo, DynMechanism, DynScene, InputMotion, Kind, MechanismInfo,
     NewtonOptions, NewtonReport, ParamDesc, ParamInfo, PointMotion, Quantity, Real, RowMajor,

@@ -4,10 +4,11 @@
 //! `make_dead_points.py` beside it): both modes, by the solve from each mode's side and by the
 //! `*_modes` lists, to within a few ε/√δ (angles in radians, lengths of order 1).
 
+use mechgen::NewtonReport;
 use mechgen::runtime::closed_form::{
     Modes, angle1_modes, rpr_modes, rrp_modes, solve_angle1, solve_rpr, solve_rrp,
 };
-use mechgen::{NewtonReport, TrigState};
+use mechgen::runtime::trig::TrigState;
 
 /// Errors in units of ε/√δ at most this.
 const BOUND: f64 = 4.0;

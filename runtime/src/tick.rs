@@ -124,10 +124,14 @@ pub struct Solution<T, const NI: usize, const NU: usize, const NP: usize, const 
     pub params: [T; NPAR],
 }
 
+// What generated code calls on a tick (it lives in the user's crate, so these are `pub`): part
+// of the generator's ABI like `__private`, hidden from the documentation; users read a tick
+// through its fields, `TickState` or the generated `NAME::motion`.
 impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>
     Tick<T, NI, NU, NP, NPAR>
 {
     /// A tick from a solution whose trigonometry was just computed with `sin_cos`.
+    #[doc(hidden)]
     pub fn new(s: Solution<T, NI, NU, NP, NPAR>) -> Self {
         Tick {
             x: s.x,
@@ -149,6 +153,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
     /// Whether `params` are the ones the caches were made with (then they are finite too: a
     /// tick checks params it has not seen). A NaN param is never the same.
     #[inline]
+    #[doc(hidden)]
     pub fn same_params(&self, params: &[T; NPAR]) -> bool {
         self.same_params_in(params, [true; NPAR])
     }
@@ -156,6 +161,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
     /// [`Tick::same_params`] over the params with `read[i]` only: a scene compares the params its
     /// code reads (the others cannot change its results, and its caches hold none of them).
     #[inline(always)]
+    #[doc(hidden)]
     pub fn same_params_in(&self, params: &[T; NPAR], read: [bool; NPAR]) -> bool {
         // Branch-free, so that it compiles to a few compares (none for a param not read).
         let mut same = true;
@@ -175,6 +181,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
 
     /// The params' cached sines and cosines (valid when [`Tick::same_params`]).
     #[inline]
+    #[doc(hidden)]
     pub fn params_trig(&self) -> &[(T, T); NPAR] {
         &self.tp
     }
@@ -182,6 +189,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
     /// The inputs' sines and cosines at `x` (`angle[i]`: input `i` appears in a sin or cos),
     /// rotated from the cached ones, or recomputed when they are due.
     #[inline]
+    #[doc(hidden)]
     pub fn inputs_trig(&self, x: &[T; NI], angle: [bool; NI]) -> [(T, T); NI] {
         let mut tx = self.tx;
         let resync = self.resync();
@@ -202,6 +210,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
     /// only for its branch and measures its turn from it, and its sines and cosines are exact,
     /// so they need no resync and stay valid when the params change).
     #[inline(always)]
+    #[doc(hidden)]
     pub fn carried(&self, angle: [bool; NU]) -> TrigState<T, NU> {
         TrigState::from_parts(self.q, self.tq, angle)
     }
@@ -211,6 +220,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
     /// cosine; before a Newton solve predicts from it (closed forms off) it is made whole again
     /// (its whole turns are lost, which nothing of that scene reads).
     #[inline]
+    #[doc(hidden)]
     pub fn principal_angles(&mut self, mask: [bool; NU]) {
         for k in 0..NU {
             if mask[k] {
@@ -223,6 +233,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
     /// inputs fitted over those rates, Σ Δx·ẋ / Σ ẋ² (0 when they are at rest). The predictor
     /// takes the last tick's rates; a scene's rate estimates the current ones.
     #[inline(always)]
+    #[doc(hidden)]
     pub fn step_to(&self, x: &[T; NI], xd: &[T; NI]) -> T {
         let (mut num, mut den) = (T::zero(), T::zero());
         for i in 0..NI {
@@ -243,6 +254,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
     /// only for its branch and measures its turn from it, and leaves exact sines and cosines)
     /// stay at the last tick's values.
     #[inline(always)]
+    #[doc(hidden)]
     pub fn predicted(
         &self,
         x: &[T; NI],
@@ -285,6 +297,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
     /// afresh).
     #[allow(clippy::too_many_arguments)]
     #[inline]
+    #[doc(hidden)]
     pub fn update(
         &mut self,
         x: &[T; NI],

@@ -269,12 +269,19 @@ impl Generic {
 
     /// Largest length param (or 1): what relative length tolerances are relative to.
     pub fn length_scale(&self) -> f64 {
+        self.length_scale_of(None)
+    }
+
+    /// Largest length param among those `read` marks (all of them for `None`), or 1: a scene's
+    /// tolerances are relative to the length params it reads, as its generated code's are.
+    pub(super) fn length_scale_of(&self, read: Option<&[bool]>) -> f64 {
         let s = self
             .params
             .iter()
             .zip(&self.length_param)
-            .filter(|(_, l)| **l)
-            .fold(0.0f64, |m, (p, _)| m.max(p.abs()));
+            .enumerate()
+            .filter(|(i, (_, l))| **l && read.is_none_or(|r| r.get(*i).copied().unwrap_or(false)))
+            .fold(0.0f64, |m, (_, (p, _))| m.max(p.abs()));
         if s > 0.0 { s } else { 1.0 }
     }
 
@@ -287,7 +294,7 @@ impl Generic {
         q: &mut [T],
         options: &crate::SolveOptions<T>,
     ) -> Result<crate::NewtonReport<T>, SolveError> {
-        self.newton_blocks(&self.all_blocks(), x, q, options)
+        self.newton_blocks(&self.all_blocks(), self.length_scale(), x, q, options)
     }
 
     /// Every block index, in solve order.
@@ -295,10 +302,12 @@ impl Generic {
         (0..self.blocks.len()).collect()
     }
 
-    /// [`Generic::newton`] on the blocks `which` only (a scene's kept blocks, in solve order).
+    /// [`Generic::newton`] on the blocks `which` only (a scene's kept blocks, in solve order),
+    /// with tolerances relative to the length `scale`.
     pub(super) fn newton_blocks<T: Real>(
         &self,
         which: &[usize],
+        scale: f64,
         x: &[T],
         q: &mut [T],
         options: &crate::SolveOptions<T>,
@@ -306,7 +315,7 @@ impl Generic {
         check_finite(Quantity::Param, &self.params)?;
         check_finite(Quantity::Input, x)?;
         check_finite(Quantity::Guess, q)?;
-        let scale = T::lit(self.length_scale());
+        let scale = T::lit(scale);
         let mut report = crate::NewtonReport::new();
         let mut trial = q.to_vec();
         let mut regs = Vec::new();

@@ -21,6 +21,9 @@ pub(super) struct SceneTapes {
     unknowns: Vec<usize>,
     points: Tape,
     point_values: usize,
+    /// The base params the scene's code reads: its tolerances are relative to the largest
+    /// length among them (`ScenePlan::params_read`, as the generated scene's).
+    params_read: Vec<bool>,
 }
 
 impl SceneTapes {
@@ -62,6 +65,7 @@ impl SceneTapes {
             unknowns: plan.unknowns.clone(),
             points: Tape::new(dag, &roots),
             point_values: roots.len(),
+            params_read: plan.params_read(c),
         }
     }
 }
@@ -110,7 +114,8 @@ impl GenericScene {
         check_finite(Quantity::Guess, q)?;
         check_finite(Quantity::InputRate, xd)?;
         check_finite(Quantity::InputAcceleration, xdd)?;
-        let report = g.newton_blocks(&s.desc.blocks, x, q, options)?;
+        let scale = g.length_scale_of(Some(&s.params_read));
+        let report = g.newton_blocks(&s.desc.blocks, scale, x, q, options)?;
         let (mut qd, mut qdd) = (vec![T::zero(); nu], vec![T::zero(); nu]);
         let order = s.desc.order;
         if order >= 1 {

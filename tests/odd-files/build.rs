@@ -12,4 +12,7 @@ fn main() {
     mechgen_codegen::Config::new()
         .out_file("closed.rs")
         .compile("closed.toml");
+    mechgen_codegen::Config::new()
+        .out_file("unread.rs")
+        .compile("unread.toml");
 }

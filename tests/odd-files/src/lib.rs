@@ -22,3 +22,9 @@ pub mod derived {
 pub mod closed {
     ::mechgen::include_mechanisms!("closed.rs");
 }
+
+/// `unread.toml`: a scene whose mechanism has a length param (1e12) the scene does not read
+/// (`tests/unread.rs`).
+pub mod unread {
+    ::mechgen::include_mechanisms!("unread.rs");
+}

@@ -48,6 +48,8 @@ pub use mechgen_runtime::{
 
 #[cfg(feature = "runtime")]
 pub mod generic;
+#[cfg(feature = "runtime")]
+pub mod metrics;
 #[cfg(feature = "plot")]
 pub mod plot;
 #[cfg(feature = "sweep")]

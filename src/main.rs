@@ -22,6 +22,7 @@ fn main() -> ExitCode {
         Some(Command::Sweep(args)) => cli::run::sweep(&args),
         Some(Command::Check(args)) => cli::check::run(args.file.as_deref()),
         Some(Command::Branches(args)) => cli::branches::run(&args),
+        Some(Command::Metrics(args)) => cli::metrics::run(&args),
     };
     report_peak_memory();
     match result {

@@ -45,6 +45,38 @@ pub enum Command {
     /// Every circuit, branch and dead point of a mechanism along its first input, and every
     /// assembly configuration at chosen inputs.
     Branches(BranchesArgs),
+    /// What a designer reads first, on the start's branch: each output's min and max (stroke,
+    /// rocker swing) with the inputs where they occur, time ratios, transmission angles.
+    Metrics(MetricsArgs),
+}
+
+/// `mechgen metrics NAME [options]`.
+#[derive(Debug, Args)]
+pub struct MetricsArgs {
+    /// The mechanism, as named in the file ([mechanism.NAME]).
+    pub name: String,
+    /// Load the mechanism from this file at run time (generic engine).
+    #[arg(long, value_name = "PATH")]
+    pub file: Option<PathBuf>,
+    /// Which solvers to use [default: generated when compiled in, else generic].
+    #[arg(long, value_enum)]
+    pub engine: Option<Engine>,
+    /// Start of the input range: degrees for an angle input, file units for a length input
+    /// [default: a full turn of an angle input from its start; required for a length].
+    #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
+    pub from: Option<f64>,
+    /// End of the input range [default: a full turn after --from].
+    #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
+    pub to: Option<f64>,
+    /// Also write the metrics as CSV (radians; interfaces.md).
+    #[arg(long, value_name = "PATH")]
+    pub csv: Option<PathBuf>,
+    /// Which input to move, for a mechanism with several [default: the first].
+    #[arg(long, value_name = "NAME")]
+    pub input: Option<String>,
+    /// The value of an input that is not moved (degrees for an angle); repeatable.
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = assignment)]
+    pub set: Vec<(String, f64)>,
 }
 
 /// `mechgen branches NAME [options]`.

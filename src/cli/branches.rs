@@ -12,7 +12,7 @@ use mechgen_codegen::{Compiled, Kind};
 use super::args::{BranchesArgs, Engine};
 
 /// The analysed file's mechanisms.
-fn compile(path: Option<&Path>) -> Result<Vec<Compiled>, String> {
+pub(super) fn compile(path: Option<&Path>) -> Result<Vec<Compiled>, String> {
     let (name, text) = match path {
         Some(p) => (
             p.display().to_string(),

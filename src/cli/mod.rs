@@ -21,6 +21,7 @@ pub mod args;
 pub mod branches;
 pub mod check;
 pub mod load;
+pub mod metrics;
 pub mod options;
 pub mod plots;
 pub mod run;

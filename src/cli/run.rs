@@ -201,6 +201,17 @@ fn main_job_one(
     say!("{}", swept.table(&info));
     let lengths = (range.from.unwrap_or(-1.0), range.to.unwrap_or(1.0));
     say_raw!("{}", super::branches::summary(file, name, lengths));
+    // The metrics over the same range (an angle input: a full turn from its start).
+    let span = match info.inputs.first().map(|i| (i.kind, i.start)) {
+        Some((Kind::Angle, start)) => Some((start.to_degrees(), start.to_degrees() + 360.0)),
+        _ => range.from.zip(range.to),
+    };
+    if let Some(span) = span {
+        match super::metrics::main_job_table(sel.solver.as_ref(), &info, file, span) {
+            Ok(t) => say_raw!("{t}"),
+            Err(e) => eprintln!("mechgen: {name}: metrics: {e}"),
+        }
+    }
     let path = dir.join(format!("{name}.csv"));
     std::fs::write(&path, report::csv(&info, swept.plan.index, &swept.rows))
         .map_err(|e| format!("cannot write {}: {e}", path.display()))?;

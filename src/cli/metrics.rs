@@ -1,0 +1,160 @@
+//! CLI, `mechgen metrics NAME`: loads the file (compiled-in or `--file`), picks the engine, sweeps
+//! the start's branch over a full turn of an angle input (or `--from/--to`) in 0.5° steps (720
+//! rows of a length input's range) and prints [`mechgen::metrics`]: a table with units and the
+//! CSV of interfaces.md.
+
+use std::fmt::Write as _;
+
+use mechgen::metrics::{OutputMetrics, metrics, rrr_links};
+use mechgen::{Kind, MechanismInfo};
+
+use super::args::MetricsArgs;
+use super::load::{Loaded, select};
+use super::options::{Range, plan};
+
+/// Rows of the sweep the extremes are refined between.
+const ROWS: f64 = 720.0;
+
+pub fn run(args: &MetricsArgs) -> Result<(), String> {
+    let file = args.file.as_deref();
+    let loaded = Loaded::read(file)?;
+    let sel = select(&loaded, &args.name, file, args.engine)?;
+    let info = sel.solver.info();
+    let index = match &args.input {
+        Some(n) => info
+            .inputs
+            .iter()
+            .position(|i| &i.name == n)
+            .ok_or_else(|| format!("`{}` has no input `{n}`", info.name))?,
+        None => 0,
+    };
+    let angle = info.inputs.get(index).map(|i| i.kind) == Some(Kind::Angle);
+    let (from, to) = match (angle, args.from, args.to) {
+        (true, from, to) => {
+            let from = from.unwrap_or_else(|| info.inputs[index].start.to_degrees());
+            (from, to.unwrap_or(from + 360.0))
+        }
+        (false, Some(f), Some(t)) => (f, t),
+        (false, _, _) => {
+            return Err(format!(
+                "`{}` has a length input ({}): --from and --to are required",
+                info.name, info.inputs[index].name
+            ));
+        }
+    };
+    let plan = plan(&info, args.input.as_deref(), &args.set, range_of(from, to))?;
+    let full_turn = angle && ((to - from).abs() - 360.0).abs() < 1e-9;
+    let rows = compute(sel.solver.as_ref(), file, &args.name, &plan, full_turn)?;
+    say_raw!("{}", table(&info, plan.index, &rows));
+    if let Some(path) = &args.csv {
+        std::fs::write(path, csv(&rows))
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// The range in [`ROWS`] steps (degrees or file units).
+fn range_of(from: f64, to: f64) -> Range {
+    Range {
+        from: Some(from),
+        to: Some(to),
+        step: Some(((to - from) / ROWS).abs()),
+    }
+}
+
+/// The metrics of `plan`'s sweep, with the RRR blocks of the file's analysis.
+fn compute(
+    k: &dyn mechgen::DynMechanism<f64>,
+    file: Option<&std::path::Path>,
+    name: &str,
+    plan: &super::options::Plan,
+    full_turn: bool,
+) -> Result<Vec<OutputMetrics>, String> {
+    let compiled = super::branches::compile(file)?;
+    let rrr = compiled
+        .iter()
+        .find(|c| c.model.name.text == name)
+        .map(rrr_links)
+        .unwrap_or_default();
+    Ok(metrics(
+        k,
+        plan.index,
+        &plan.values,
+        &plan.held,
+        full_turn,
+        &rrr,
+    ))
+}
+
+/// The main job's metrics of one mechanism, over its range (`from`, `to` in CLI units; a full
+/// turn of an angle input from its start, a length input's start branch).
+pub(super) fn main_job_table(
+    k: &dyn mechgen::DynMechanism<f64>,
+    info: &MechanismInfo,
+    file: Option<&std::path::Path>,
+    (from, to): (f64, f64),
+) -> Result<String, String> {
+    let plan = plan(info, None, &[], range_of(from, to))?;
+    let angle = info.inputs.first().map(|i| i.kind) == Some(Kind::Angle);
+    let full_turn = angle && ((to - from).abs() - 360.0).abs() < 1e-9;
+    let rows = compute(k, file, &info.name, &plan, full_turn)?;
+    Ok(table(info, plan.index, &rows))
+}
+
+/// The metrics table: degrees for angles, file units for lengths.
+pub fn table(info: &MechanismInfo, index: usize, rows: &[OutputMetrics]) -> String {
+    let input = &info.inputs[index];
+    let (iu, ik) = unit(input.kind);
+    let mut out = format!(
+        "{}: metrics on the start's branch along {} [{iu}]\n{:<24}{:>16}{:>16}{:>16}{:>16}{:>12}\n",
+        info.name, input.name, "output", "min", "max", "at min", "at max", "time ratio"
+    );
+    for r in rows {
+        let (u, k) = unit(r.kind);
+        let at = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{:.6}", x * ik));
+        let _ = writeln!(
+            out,
+            "{:<24}{:>16}{:>16}{:>16}{:>16}{:>12}",
+            format!("{} [{u}]", r.name),
+            format!("{:.8}", r.min * k),
+            format!("{:.8}", r.max * k),
+            at(r.input_at_min),
+            at(r.input_at_max),
+            r.time_ratio.map_or("-".to_string(), |t| format!("{t:.6}")),
+        );
+    }
+    out
+}
+
+fn unit(k: Kind) -> (&'static str, f64) {
+    match k {
+        Kind::Angle => ("deg", 180.0 / std::f64::consts::PI),
+        _ => ("u", 1.0),
+    }
+}
+
+/// `output,min,max,input_at_min,input_at_max,time_ratio` (radians; empty where undefined; a
+/// name with a comma quoted).
+pub fn csv(rows: &[OutputMetrics]) -> String {
+    let mut out = String::from("output,min,max,input_at_min,input_at_max,time_ratio\n");
+    let opt = |x: Option<f64>| x.map_or(String::new(), |x| format!("{x:?}"));
+    for r in rows {
+        // `transmission(qa,qb)` holds a comma: quoted, as CSV quotes such a field.
+        let name = if r.name.contains(',') {
+            format!("\"{}\"", r.name)
+        } else {
+            r.name.clone()
+        };
+        let _ = writeln!(
+            out,
+            "{},{:?},{:?},{},{},{}",
+            name,
+            r.min,
+            r.max,
+            opt(r.input_at_min),
+            opt(r.input_at_max),
+            opt(r.time_ratio)
+        );
+    }
+    out
+}

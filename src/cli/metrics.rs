@@ -19,6 +19,9 @@ pub fn run(args: &MetricsArgs) -> Result<(), String> {
     let file = args.file.as_deref();
     let loaded = Loaded::read(file)?;
     let sel = select(&loaded, &args.name, file, args.engine)?;
+    if let Some(w) = loaded.start_warning(&args.name) {
+        eprint!("{w}");
+    }
     let info = sel.solver.info();
     let index = match &args.input {
         Some(n) => info

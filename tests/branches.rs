@@ -95,7 +95,7 @@ fn against_oracle(name: &str) -> Analysis {
         }
     }
     assert!(checked > 0 || name == "never");
-    // Dead points: inputs to 1e-10 rad, configurations, circuits.
+    // Dead points: inputs and configurations to 1e-12 (rad or file units), circuits.
     let (_, dead) = csv(&format!("{name}-dead-points.csv"));
     assert_eq!(a.dead_points.len(), dead.len(), "{name}: dead points");
     for r in &dead {
@@ -104,15 +104,17 @@ fn against_oracle(name: &str) -> Analysis {
         let d = a
             .dead_points
             .iter()
-            .find(|d| gap(d.input, x) <= 1e-10)
+            .find(|d| gap(d.input, x) <= 1e-12)
             .unwrap_or_else(|| panic!("{name}: dead point {x} not found"));
         let err =
             d.q.iter()
                 .zip(&q)
-                .map(|(a, b)| gap(*a, *b))
+                .zip(&angle)
+                .map(|((a, b), &ang)| if ang { gap(*a, *b) } else { (a - b).abs() })
                 .fold(0.0, f64::max);
+        eprintln!("{name}: dead point {x}: configuration off by {err:.2e}");
         assert!(
-            err <= 1e-6,
+            err <= 1e-12,
             "{name}: dead point {x}: configuration off by {err}"
         );
         circuits.add(r[n + 1].parse().unwrap(), d.circuit, "dead point circuit");
@@ -387,5 +389,31 @@ fn two_dead_points_inside_one_grid_cell() {
         }
         let count = |x: f64| a.at.iter().filter(|l| l.input == x).count();
         assert_eq!((count(inside), count(0.5f64.to_radians())), (0, 2));
+    }
+}
+
+/// The inclined double slider driven by a length input: both dead points, input and
+/// configuration, within 1e-12 of the 50-digit geometry of `make_singular.py` (the bordered
+/// system, not the bisection on the count, gives the configuration).
+#[test]
+fn double_slider_dead_points_to_full_precision() {
+    let dir = format!("{}/tests/data/branches", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(format!("{dir}/double_slider.toml")).unwrap();
+    let s = setup_from(&text, "double_slider");
+    let a = s.analyze(-2.0, 2.0, &[]).unwrap();
+    let (_, want) = csv("double_slider-dead-points.csv");
+    assert_eq!(
+        (a.circuits, a.branches.len(), a.dead_points.len()),
+        (1, 2, 2)
+    );
+    for (d, r) in a.dead_points.iter().zip(&want) {
+        let w: Vec<f64> = r.iter().map(|v| v.parse().unwrap()).collect();
+        let errs = [
+            (d.input - w[0]).abs(),
+            gap(d.q[0], w[1]),
+            (d.q[1] - w[2]).abs(),
+        ];
+        eprintln!("double slider dead point {}: errors {errs:?}", w[0]);
+        assert!(errs.iter().all(|&e| e <= 1e-12), "{errs:?} at {}", w[0]);
     }
 }

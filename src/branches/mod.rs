@@ -8,6 +8,7 @@ mod grid;
 mod plan;
 mod report;
 mod roots;
+mod singular;
 mod solve;
 mod trace;
 
@@ -27,6 +28,8 @@ type Solved = (Vec<Vec<f64>>, Vec<f64>);
 #[derive(Clone, Debug)]
 pub struct Setup {
     solver: Solver,
+    /// The whole mechanism's residuals and Jacobians (for singular configurations).
+    tapes: singular::Tapes,
     inputs: Vec<f64>,
     /// Index of the analysed input.
     pub input: usize,
@@ -110,6 +113,7 @@ impl Setup {
                 params: m.params.iter().map(|p| p.value).collect(),
                 unknowns: m.unknowns.len(),
             },
+            tapes: singular::Tapes::new(c),
             inputs: m.inputs.iter().map(|i| i.start).collect(),
             input,
             input_is_angle: m.inputs[input].kind == Kind::Angle,

@@ -23,7 +23,7 @@ impl Setup {
             .zip(&self.angle)
             .map(|((v, n), &a)| {
                 if a {
-                    format!("{n} = {:.8} deg", v.to_degrees())
+                    format!("{n} = {:.10} deg", v.to_degrees())
                 } else {
                     format!("{n} = {v:.10}")
                 }

@@ -138,10 +138,8 @@ impl Setup {
             if dead.last().is_some_and(|d| (d.input - input).abs() <= 1e-9) {
                 continue;
             }
-            dead.push(Dead {
-                input,
-                q: self.midpoint(&more[a], &more[b]),
-            });
+            let (input, q) = self.refine_fold(input, self.midpoint(&more[a], &more[b]));
+            dead.push(Dead { input, q });
         }
         Ok(dead)
     }

@@ -1,5 +1,5 @@
-//! `mechgen branches NAME` (interfaces.md): the summary, the three CSV files with their exact
-//! columns and consistent labels, the plot, `--file` with a length input, and the errors.
+//! `mechgen branches NAME` (interfaces.md): the summary, the four CSV files with their exact
+//! columns and consistent labels, crossings, the plot, `--file` with a length input, and the errors.
 #![cfg(feature = "cli")]
 
 mod common;
@@ -43,6 +43,11 @@ fn sixbar_g_summary_csv_and_plot() {
     let branches = read("sixbar_g-branches.csv");
     assert!(branches.starts_with("branch,circuit,input_from,input_to,full_turn\n"));
     assert_eq!(branches.lines().count(), 7);
+    // No crossing: the header alone.
+    assert_eq!(
+        read("sixbar_g-crossings.csv"),
+        "input,q1,q2,q3,q5,branches\n"
+    );
     let at = read("sixbar_g-at.csv");
     assert!(at.starts_with("input,q1,q2,q3,q5,circuit,branch\n"));
     // 2 configurations at 280.67°, 4 at −100°, none at 0°.
@@ -155,4 +160,41 @@ fn a_scene_is_named_as_a_scene_of_its_mechanism() {
     let out = mechgen(&["branches", "nosuch"]);
     assert!(!out.status.success());
     assert!(text(&out.stderr).contains("no mechanism `nosuch` (the file has: sixbar"));
+}
+
+/// The toggle press of `tests/data/branches/crossings.toml`: its two crossings are printed and
+/// written as crossings (not dead points), with the two branches that meet at each.
+#[test]
+fn toggle_press_crossings_csv() {
+    let d = dir("press");
+    let ds = d.to_str().unwrap();
+    let file = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/branches/crossings.toml"
+    );
+    let out = mechgen(&["branches", "press", "--file", file, "--csv", ds]);
+    let text = format!("{}{}", text(&out.stdout), text(&out.stderr));
+    assert!(out.status.success(), "{text}");
+    assert!(
+        text.contains("3 circuit(s), 4 branch(es), 0 dead point(s), 2 crossing(s)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("crossing 0 (circuit 0): q1 = 76.33508"),
+        "{text}"
+    );
+    let read = |f: &str| std::fs::read_to_string(d.join(f)).unwrap();
+    assert_eq!(read("press-dead-points.csv").lines().count(), 1);
+    let crossings = read("press-crossings.csv");
+    let rows: Vec<Vec<&str>> = crossings.lines().map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows[0], ["input", "q2", "q3", "q4", "s", "branches"]);
+    assert_eq!(rows.len(), 3, "{crossings}");
+    for r in &rows[1..] {
+        assert_eq!(r[5], "0;1", "{crossings}");
+        // The knee B = (0, l): q3 = 90°, q4 = −90°, the slider at s = 0.
+        let v: Vec<f64> = r[1..5].iter().map(|x| x.parse().unwrap()).collect();
+        assert!((v[1] - std::f64::consts::FRAC_PI_2).abs() < 1e-9, "{r:?}");
+        assert!((v[2] + std::f64::consts::FRAC_PI_2).abs() < 1e-9, "{r:?}");
+        assert!(v[3].abs() < 1e-9, "{r:?}");
+    }
 }

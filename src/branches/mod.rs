@@ -4,6 +4,7 @@
 //! cut angle: `plan`, `solve`, `roots`), the dead points, the circuits and the branches (`trace`),
 //! and the configurations at chosen inputs labelled with their circuit and branch.
 
+mod crossing;
 mod grid;
 mod plan;
 mod report;
@@ -53,6 +54,17 @@ pub struct DeadPoint {
     pub circuit: usize,
 }
 
+/// A crossing: a singular configuration where two branches of different assembly modes meet
+/// and both go on (the curve does not turn back there, unlike at a dead point).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Crossing {
+    pub input: f64,
+    pub q: Vec<f64>,
+    pub circuit: usize,
+    /// The branches that meet there (their indices in [`Analysis::branches`], ascending).
+    pub branches: Vec<usize>,
+}
+
 /// A branch: a circuit's piece between dead points (or range ends) along which the input drives
 /// the motion one way. It covers the inputs from `from` going up to `to` (`to` may pass a full
 /// turn), or the whole turn (`full_turn`, no dead point on it).
@@ -87,6 +99,8 @@ pub struct Analysis {
     pub circuits: usize,
     pub branches: Vec<Branch>,
     pub dead_points: Vec<DeadPoint>,
+    /// Crossings, by input.
+    pub crossings: Vec<Crossing>,
     /// The `at` inputs, as asked.
     pub at_inputs: Vec<f64>,
     /// Every configuration at each `at` input, in the order asked, then by circuit and branch.
@@ -206,10 +220,21 @@ impl Setup {
                 .map(|&x| self.count(x))
                 .collect::<Result<Vec<_>, _>>()?;
             let dead = self.dead_points(&xs, &counts)?;
-            let mut ivs = intervals(&dead, circular, from, to);
+            let (dead, zones) = crossing::zones(dead, circular, width);
+            // A whole turn without dead points starts away from any crossing's zone.
+            let mut lo = from;
+            while circular && crossing::near_zone(&zones, lo, 2.0 * crossing::GUARD * width, true) {
+                lo += 3.0 * crossing::GUARD * width;
+            }
+            let mut ivs = intervals(
+                &dead,
+                circular,
+                lo,
+                if dead.is_empty() { lo + to - from } else { to },
+            );
             let mut changes = None;
             for v in &mut ivs {
-                let samples = trace::samples(v, &xs, &reduced, width, circular);
+                let samples = trace::samples(v, &xs, &reduced, width, circular, &zones);
                 match self.track(&samples)? {
                     Traced::Tracks(t) => v.tracks = t,
                     Traced::Changes(x) => {
@@ -223,7 +248,12 @@ impl Setup {
                 xs = grid::merged(&xs, &[reduce(x)]);
                 continue;
             }
-            return self.finish(&ivs, dead, circular, (from, to), at, &reduced);
+            let crossings = ivs
+                .iter()
+                .enumerate()
+                .flat_map(|(i, v)| self.crossings(i, v, width))
+                .collect();
+            return self.finish(&ivs, dead, crossings, circular, (from, to), at, &reduced);
         }
         Err(format!(
             "the number of configurations of `{}` still changes inside an interval after {} \
@@ -234,17 +264,27 @@ impl Setup {
     }
 
     /// The analysis from the traced intervals, the `at` inputs reported as given.
+    #[allow(clippy::too_many_arguments)]
     fn finish(
         &self,
         ivs: &[Interval],
         dead: Vec<Dead>,
+        crossings: Vec<crossing::Found>,
         circular: bool,
         (from, to): (f64, f64),
         at: &[f64],
         reduced: &[f64],
     ) -> Result<Analysis, String> {
-        let mut a = self.structure(ivs, dead, circular, from, to, reduced)?;
+        let mut a = self.structure(ivs, dead, &crossings, circular, (from, to), reduced)?;
         a.at_inputs = at.to_vec();
+        if circular {
+            for c in &mut a.crossings {
+                // Into the range's turn; within rounding of its end, at its start.
+                let r = (c.input - from).rem_euclid(TAU);
+                c.input = from + if TAU - r <= 1e-9 { r - TAU } else { r };
+            }
+            a.crossings.sort_by(|x, y| x.input.total_cmp(&y.input));
+        }
         for l in &mut a.at {
             if let Some(k) = reduced
                 .iter()

@@ -1,6 +1,7 @@
 //! Branch identification, output: the summary the CLI prints (circuits, branches with their input
-//! ranges, dead points with their configurations, the configurations at each `--at` input; angles
-//! in degrees) and the three CSV files of the interface spec (radians, shortest round-trip).
+//! ranges, dead points and crossings with their configurations, the configurations at each `--at`
+//! input; angles in degrees) and the four CSV files of the interface spec (radians, shortest
+//! round-trip).
 
 use std::fmt::Write as _;
 
@@ -42,12 +43,14 @@ impl Setup {
         };
         let _ = writeln!(
             s,
-            "{}: branches along {} over {range}: {} circuit(s), {} branch(es), {} dead point(s)",
+            "{}: branches along {} over {range}: {} circuit(s), {} branch(es), {} dead point(s), \
+             {} crossing(s)",
             self.name,
             self.input_name,
             a.circuits,
             a.branches.len(),
-            a.dead_points.len()
+            a.dead_points.len(),
+            a.crossings.len()
         );
         for (i, b) in a.branches.iter().enumerate() {
             let what = if b.full_turn {
@@ -74,6 +77,21 @@ impl Setup {
                 self.input_name,
                 self.show_input(d.input),
                 self.show_q(&d.q)
+            );
+        }
+        for (i, c) in a.crossings.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "  crossing {i} (circuit {}): {} = {}: {} (branches {} meet)",
+                c.circuit,
+                self.input_name,
+                self.show_input(c.input),
+                self.show_q(&c.q),
+                c.branches
+                    .iter()
+                    .map(usize::to_string)
+                    .collect::<Vec<_>>()
+                    .join(", ")
             );
         }
         for &x in &a.at_inputs {
@@ -106,6 +124,16 @@ impl Setup {
         let mut s = format!("input,{},circuit\n", self.unknown_names.join(","));
         for d in &a.dead_points {
             let _ = writeln!(s, "{},{},{}", d.input, join(&d.q), d.circuit);
+        }
+        s
+    }
+
+    /// `NAME-crossings.csv`: `input`, each unknown, `branches` (labels joined by `;`).
+    pub fn crossings_csv(&self, a: &Analysis) -> String {
+        let mut s = format!("input,{},branches\n", self.unknown_names.join(","));
+        for c in &a.crossings {
+            let labels: Vec<String> = c.branches.iter().map(usize::to_string).collect();
+            let _ = writeln!(s, "{},{},{}", c.input, join(&c.q), labels.join(";"));
         }
         s
     }

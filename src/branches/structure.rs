@@ -6,8 +6,9 @@
 
 use std::f64::consts::TAU;
 
+use super::crossing::{Found, GUARD};
 use super::trace::{Dead, Interval};
-use super::{Analysis, Branch, DeadPoint, Labelled, Setup};
+use super::{Analysis, Branch, Crossing, DeadPoint, Labelled, Setup};
 
 /// Union-find over track nodes.
 struct Sets(Vec<usize>);
@@ -32,9 +33,9 @@ impl Setup {
         &self,
         ivs: &[Interval],
         dead: Vec<Dead>,
+        crossings: &[Found],
         circular: bool,
-        from: f64,
-        to: f64,
+        (from, to): (f64, f64),
         at: &[f64],
     ) -> Result<Analysis, String> {
         let offset: Vec<usize> = ivs
@@ -96,6 +97,11 @@ impl Setup {
                 circuit.join(na, nb);
                 next[na] = Some(nb);
             }
+        }
+        // A crossing joins the circuits of the two tracks that meet there.
+        for c in crossings {
+            let [a, b] = c.tracks.map(|k| offset[c.iv] + k);
+            circuit.join(a, b);
         }
         // Branches: walk each continuation component from its lower end.
         let mut seen = vec![false; nodes];
@@ -194,6 +200,27 @@ impl Setup {
             .collect();
         let labels: Vec<usize> = branches.iter().map(|(r, _)| *r).collect();
         let circuits_of: Vec<usize> = branches.iter().map(|(_, b)| b.circuit).collect();
+        let branch_of =
+            |branch: &mut Sets, node: usize| labels.iter().position(|&l| l == branch.find(node));
+        let mut crossing_list: Vec<(Crossing, [Vec<f64>; 2])> = Vec::new();
+        for c in crossings {
+            let mut meet = Vec::new();
+            for (k, s) in c.tracks.iter().zip(&c.slopes) {
+                let b = branch_of(&mut branch, offset[c.iv] + k).ok_or("crossing off a branch")?;
+                meet.push((b, s.clone()));
+            }
+            meet.sort_by_key(|m| m.0);
+            crossing_list.push((
+                Crossing {
+                    input: c.input,
+                    q: c.q.clone(),
+                    circuit: circuits_of[meet[0].0],
+                    branches: meet.iter().map(|m| m.0).collect(),
+                },
+                [meet[0].1.clone(), meet[1].1.clone()],
+            ));
+        }
+        crossing_list.sort_by(|a, b| a.0.input.total_cmp(&b.0.input));
         let labelled = self.label(
             ivs,
             &offset,
@@ -202,6 +229,7 @@ impl Setup {
             &mut branch,
             circular,
             at,
+            &crossing_list,
         )?;
         Ok(Analysis {
             from,
@@ -210,6 +238,7 @@ impl Setup {
             circuits: roots.len(),
             branches: branches.into_iter().map(|(_, b)| b).collect(),
             dead_points,
+            crossings: crossing_list.into_iter().map(|c| c.0).collect(),
             at_inputs: at.to_vec(),
             at: labelled,
         })
@@ -237,6 +266,7 @@ impl Setup {
         branch: &mut Sets,
         circular: bool,
         at: &[f64],
+        crossings: &[(Crossing, [Vec<f64>; 2])],
     ) -> Result<Vec<Labelled>, String> {
         let shifts: &[f64] = if circular {
             &[-TAU, 0.0, TAU, 2.0 * TAU]
@@ -247,7 +277,34 @@ impl Setup {
         let mut out = Vec::new();
         for &x in at {
             let mut here: Vec<Labelled> = Vec::new();
-            for q in self.configurations(x)? {
+            let mut qs = self.configurations(x)?;
+            // At (or within the guard of) a crossing: its configuration once per branch through
+            // it, each on its own track's tangent; the solver's configurations there are dropped.
+            let away = GUARD * if self.input_is_angle { 1.0 } else { width };
+            for (c, slopes) in crossings {
+                let Some(dx) = shifts
+                    .iter()
+                    .map(|s| x + s - c.input)
+                    .find(|d| d.abs() <= away)
+                else {
+                    continue;
+                };
+                let along: Vec<Vec<f64>> = slopes
+                    .iter()
+                    .map(|s| c.q.iter().zip(s).map(|(q, s)| q + s * dx).collect())
+                    .collect();
+                let reach = 2.0 * self.dist(&along[0], &along[1]) + 1e-7;
+                qs.retain(|q| self.dist(q, &c.q) > reach);
+                for (b, q) in c.branches.iter().zip(along) {
+                    here.push(Labelled {
+                        input: x,
+                        q,
+                        circuit: c.circuit,
+                        branch: *b,
+                    });
+                }
+            }
+            for q in qs {
                 let mut best: Option<(f64, f64, usize)> = None;
                 for (i, v) in ivs.iter().enumerate() {
                     for (j, t) in v.tracks.iter().enumerate() {
@@ -256,7 +313,7 @@ impl Setup {
                                 .iter()
                                 .map(|s| (xt - (x + s)).abs())
                                 .fold(f64::INFINITY, f64::min);
-                            if dx > 1e-6 * width.max(1.0) {
+                            if dx > 10.0 * GUARD * width.max(1.0) {
                                 continue;
                             }
                             let d = self.dist(&q, qt);

@@ -10,6 +10,7 @@
 use std::f64::consts::TAU;
 
 use super::Setup;
+use super::crossing::{GUARD, Zone, near_zone};
 
 /// One traced configuration: its samples `(input, configuration)` in increasing input.
 pub(super) type Track = Vec<(f64, Vec<f64>)>;
@@ -32,11 +33,12 @@ pub(super) enum Traced {
     Changes(f64),
 }
 
-/// A dead point: its input and configuration.
+/// A dead point: its input, configuration, and the count below and above it.
 #[derive(Clone, Debug)]
 pub(super) struct Dead {
     pub input: f64,
     pub q: Vec<f64>,
+    pub counts: [usize; 2],
 }
 
 impl Setup {
@@ -139,7 +141,11 @@ impl Setup {
                 continue;
             }
             let (input, q) = self.refine_fold(input, self.midpoint(&more[a], &more[b]));
-            dead.push(Dead { input, q });
+            dead.push(Dead {
+                input,
+                q,
+                counts: [c0, c1],
+            });
         }
         Ok(dead)
     }
@@ -162,6 +168,13 @@ impl Setup {
             let qs = self.count(x)?;
             if qs.len() != m {
                 return Ok(Traced::Changes(x));
+            }
+            if self
+                .closest_pair(&qs)
+                .is_some_and(|(a, b)| self.dist(&qs[a], &qs[b]) <= 1e-7)
+            {
+                // A sample on a crossing: two tracks there cannot be told apart; skip it.
+                continue;
             }
             let last = tracks[0].last().map_or(x0, |p| p.0);
             match self.assign(&tracks, x, &qs) {
@@ -241,6 +254,7 @@ pub(super) fn samples(
     at: &[f64],
     width: f64,
     circular: bool,
+    zones: &[Zone],
 ) -> Vec<f64> {
     let (lo, hi) = (iv.lo, iv.hi);
     let span = hi - lo;
@@ -248,13 +262,20 @@ pub(super) fn samples(
     // Closer to a dead end than the nearest geometric sample, a sample is left out (the count
     // there may be the dead point's own); an `at` input there is labelled by its nearest sample.
     let guard = 0.5e-10 * width.abs();
+    // Near a crossing's zone only its two edge samples.
+    let away = GUARD * width.abs();
+    let edges: Vec<f64> = zones
+        .iter()
+        .flat_map(|z| [z.lo - away, z.hi + away])
+        .collect();
     let inside = |x: f64| {
         x > lo
             && x < hi
             && (iv.dead[0].is_none() || x > lo + guard)
             && (iv.dead[1].is_none() || x < hi - guard)
+            && !near_zone(zones, x, 0.999 * away, circular)
     };
-    for &g in grid.iter().chain(at) {
+    for &g in grid.iter().chain(at).chain(&edges) {
         for k in [-1.0, 0.0, 1.0, 2.0] {
             let x = g + k * if circular { TAU } else { 0.0 };
             if inside(x) || (x == lo && iv.dead[0].is_none()) || (x == hi && iv.dead[1].is_none()) {

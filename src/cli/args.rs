@@ -100,7 +100,7 @@ pub struct BranchesArgs {
     /// An input at which to list every assembly configuration (repeatable).
     #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
     pub at: Vec<f64>,
-    /// Write NAME-dead-points.csv, NAME-branches.csv and NAME-at.csv into DIR.
+    /// Write NAME-dead-points.csv, NAME-branches.csv, NAME-at.csv and NAME-crossings.csv into DIR.
     #[arg(long, value_name = "DIR")]
     pub csv: Option<PathBuf>,
     /// Write DIR/NAME-branches.svg: every unknown against the input, one colour per branch.

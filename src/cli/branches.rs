@@ -153,6 +153,11 @@ pub fn run(args: &BranchesArgs) -> Result<(), String> {
             &setup.branches_csv(&analysis),
         )?;
         write(dir, format!("{n}-at.csv"), &setup.at_csv(&analysis))?;
+        write(
+            dir,
+            format!("{n}-crossings.csv"),
+            &setup.crossings_csv(&analysis),
+        )?;
     }
     if let Some(dir) = &args.plot {
         let svg = mechgen::plot::branches_svg(&setup, &analysis).map_err(|e| e.to_string())?;

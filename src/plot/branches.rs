@@ -26,11 +26,12 @@ pub fn branches_svg(setup: &Setup, a: &Analysis) -> Result<String, PlotError> {
         root.fill(&WHITE).map_err(drawing_error)?;
         let (header, body) = root.split_vertically(HEADER);
         let title = format!(
-            "{}: {} circuit(s), {} branch(es), {} dead point(s) along {}",
+            "{}: {} circuit(s), {} branch(es), {} dead point(s) (x), {} crossing(s) (o) along {}",
             setup.name,
             a.circuits,
             a.branches.len(),
             a.dead_points.len(),
+            a.crossings.len(),
             setup.input_name
         );
         header
@@ -118,6 +119,15 @@ pub fn branches_svg(setup: &Setup, a: &Analysis) -> Result<String, PlotError> {
                 Cross::new((x, yv(d.q[k])), 6, BLACK.stroke_width(2))
             });
             chart.draw_series(crosses).map_err(drawing_error)?;
+            // Crossings: an open circle where two branches meet and go on.
+            let meets = a.crossings.iter().map(|c| {
+                let mut x = xv(c.input);
+                if deg_in && a.full_turn {
+                    x = x0 + (x - x0).rem_euclid(360.0);
+                }
+                Circle::new((x, yv(c.q[k])), 5, BLACK.stroke_width(2))
+            });
+            chart.draw_series(meets).map_err(drawing_error)?;
         }
         root.present().map_err(drawing_error)?;
     }

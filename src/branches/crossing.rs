@@ -1,0 +1,256 @@
+//! Branch identification, crossings: singular configurations where two tracks of different
+//! assembly modes meet and go on (a toggle or a parallelogram with equal links), as opposed to
+//! dead points, where one track turns back. Rounding can make the count drop on a tiny window
+//! around a crossing (the discriminant that touches zero dips below it): such a pair of count
+//! changes is a `Zone`, not two dead points, and no track is sampled inside it. A crossing is
+//! found where the difference of two tracks of one interval reverses between two samples, then
+//! located by secants on that difference, closer and closer, to about 1e-10.
+
+use std::f64::consts::TAU;
+
+use super::Setup;
+use super::trace::{Dead, Interval};
+
+/// Widest window (in radians, or in units of the range for a length input) of a count drop that
+/// is rounding at a crossing rather than two dead points.
+const ZONE: f64 = 1e-6;
+
+/// How far from a crossing (same units) tracks are sampled at least: there the configurations are
+/// still good to about 1e-11, and the two tracks are told apart.
+pub(super) const GUARD: f64 = 1e-5;
+
+/// A window of inputs around a crossing where rounding drops the count.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Zone {
+    pub lo: f64,
+    pub hi: f64,
+}
+
+/// A crossing found on the tracks of an interval.
+#[derive(Clone, Debug)]
+pub(super) struct Found {
+    pub input: f64,
+    pub q: Vec<f64>,
+    /// The interval and its two tracks that meet.
+    pub iv: usize,
+    pub tracks: [usize; 2],
+    /// dq/dx of each track there.
+    pub slopes: [Vec<f64>; 2],
+}
+
+/// The dead points less those that bound a zone, and the zones: runs of dead points each within
+/// `ZONE` of the next, with the same count on both outer sides and fewer configurations inside
+/// (at the crossing the kernels give one configuration where the discriminant is within rounding
+/// of zero, none where rounding made it negative).
+pub(super) fn zones(dead: Vec<Dead>, circular: bool, unit: f64) -> (Vec<Dead>, Vec<Zone>) {
+    let m = dead.len();
+    if m < 2 {
+        return (dead, Vec::new());
+    }
+    // Runs as index ranges `start..start + len` (indices modulo m for a whole turn).
+    let close = |k: usize| {
+        let (j, shift) = if k + 1 < m { (k + 1, 0.0) } else { (0, TAU) };
+        (k + 1 < m || circular) && dead[j].input + shift - dead[k].input <= ZONE * unit
+    };
+    // A run starts after a wide gap (on a whole turn, after the first wide gap found).
+    let Some(first) = (0..m).find(|&k| !close(k)) else {
+        return (dead, Vec::new());
+    };
+    let start0 = if circular { (first + 1) % m } else { 0 };
+    let mut gone = vec![false; m];
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < m {
+        let s = (start0 + k) % m;
+        let mut len = 1;
+        while k + len < m && close((s + len - 1) % m) {
+            len += 1;
+        }
+        let (a, b) = (&dead[s], &dead[(s + len - 1) % m]);
+        let outer = a.counts[0];
+        let inner_lower = (0..len).all(|i| dead[(s + i) % m].counts[1] < outer || i + 1 == len);
+        if len >= 2 && b.counts[1] == outer && inner_lower {
+            let hi = b.input + if (s + len - 1) % m < s { TAU } else { 0.0 };
+            out.push(Zone { lo: a.input, hi });
+            for i in 0..len {
+                gone[(s + i) % m] = true;
+            }
+        }
+        k += len;
+    }
+    let kept = dead
+        .into_iter()
+        .zip(gone)
+        .filter(|(_, g)| !g)
+        .map(|(d, _)| d)
+        .collect();
+    (kept, out)
+}
+
+/// Whether `x` (or `x` ± a turn) lies within `guard` of a zone.
+pub(super) fn near_zone(zones: &[Zone], x: f64, guard: f64, circular: bool) -> bool {
+    let shifts: &[f64] = if circular { &[-TAU, 0.0, TAU] } else { &[0.0] };
+    zones.iter().any(|z| {
+        shifts
+            .iter()
+            .any(|s| x + s > z.lo - guard && x + s < z.hi + guard)
+    })
+}
+
+impl Setup {
+    /// The difference of two configurations, angles through their short arc, lengths relative to
+    /// the length scale.
+    fn diff(&self, a: &[f64], b: &[f64]) -> Vec<f64> {
+        a.iter()
+            .zip(b)
+            .zip(&self.angle)
+            .map(|((x, y), &ang)| {
+                if ang {
+                    (x - y + TAU / 2.0).rem_euclid(TAU) - TAU / 2.0
+                } else {
+                    (x - y) / self.scale
+                }
+            })
+            .collect()
+    }
+
+    /// `a + t (b − a)` (angles through their short arc).
+    fn lerp(&self, a: &[f64], b: &[f64], t: f64) -> Vec<f64> {
+        let d = self.diff(b, a);
+        a.iter()
+            .zip(d)
+            .zip(&self.angle)
+            .map(|((x, d), &ang)| x + t * if ang { d } else { d * self.scale })
+            .collect()
+    }
+
+    /// The crossings of the tracks of interval `iv`: every pair whose difference reverses between
+    /// two samples and vanishes there.
+    pub(super) fn crossings(&self, iv: usize, v: &Interval, unit: f64) -> Vec<Found> {
+        let mut out = Vec::new();
+        let n = v.tracks.len();
+        for a in 0..n {
+            for b in a + 1..n {
+                let (ta, tb) = (&v.tracks[a], &v.tracks[b]);
+                for i in 1..ta.len().min(tb.len()) {
+                    let d0 = self.diff(&ta[i - 1].1, &tb[i - 1].1);
+                    let d1 = self.diff(&ta[i].1, &tb[i].1);
+                    let dot: f64 = d0.iter().zip(&d1).map(|(x, y)| x * y).sum();
+                    let small = |d: &[f64]| d.iter().all(|x| x.abs() < 1.0);
+                    if dot >= 0.0 || !small(&d0) || !small(&d1) {
+                        continue;
+                    }
+                    let ends = [
+                        (ta[i - 1].clone(), tb[i - 1].clone()),
+                        (ta[i].clone(), tb[i].clone()),
+                    ];
+                    if let Some((input, q, slopes)) = self.locate(ends, unit) {
+                        out.push(Found {
+                            input,
+                            q,
+                            iv,
+                            tracks: [a, b],
+                            slopes,
+                        });
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The configurations at `x` nearest to the predictions `pa`, `pb` (each its own, and the
+    /// nearest by a clear margin), or `None`.
+    fn pick(&self, x: f64, pa: &[f64], pb: &[f64]) -> Option<(Vec<f64>, Vec<f64>)> {
+        let qs = self.count(x).ok()?;
+        let nearest = |p: &[f64]| {
+            let mut d: Vec<(f64, usize)> = qs
+                .iter()
+                .enumerate()
+                .map(|(k, q)| (self.dist(p, q), k))
+                .collect();
+            d.sort_by(|a, b| a.0.total_cmp(&b.0));
+            match d.as_slice() {
+                [] => None,
+                [one] => Some(one.1),
+                [first, second, ..] => (first.0 <= 0.5 * second.0).then_some(first.1),
+            }
+        };
+        let (ka, kb) = (nearest(pa)?, nearest(pb)?);
+        (ka != kb).then(|| (qs[ka].clone(), qs[kb].clone()))
+    }
+
+    /// The crossing between two samples `ends` (input, track a's and b's configurations, as
+    /// `((x, qa), (x, qb))`), when the two tracks meet there: its input, configuration and the
+    /// two tracks' slopes.
+    #[allow(clippy::type_complexity)]
+    fn locate(
+        &self,
+        ends: [((f64, Vec<f64>), (f64, Vec<f64>)); 2],
+        unit: f64,
+    ) -> Option<(f64, Vec<f64>, [Vec<f64>; 2])> {
+        let [
+            ((mut xl, mut al), (_, mut bl)),
+            ((mut xr, mut ar), (_, mut br)),
+        ] = ends;
+        let u = self.diff(&al, &bl);
+        let proj = |a: &[f64], b: &[f64]| -> f64 {
+            self.diff(a, b).iter().zip(&u).map(|(x, y)| x * y).sum()
+        };
+        // Secant steps on the projected difference while the bracket is wide.
+        for _ in 0..60 {
+            if xr - xl <= 1e-3 * unit {
+                break;
+            }
+            let (fl, fr) = (proj(&al, &bl), proj(&ar, &br));
+            let t = (fl / (fl - fr)).clamp(0.1, 0.9);
+            let x = xl + t * (xr - xl);
+            let (pa, pb) = (self.lerp(&al, &ar, t), self.lerp(&bl, &br, t));
+            let (qa, qb) = self.pick(x, &pa, &pb)?;
+            if proj(&qa, &qb) > 0.0 {
+                (xl, al, bl) = (x, qa, qb);
+            } else {
+                (xr, ar, br) = (x, qa, qb);
+            }
+        }
+        // Symmetric probes about the secant's root, closer each time.
+        let (fl, fr) = (proj(&al, &bl), proj(&ar, &br));
+        let mut x = xl + (xr - xl) * fl / (fl - fr);
+        let (mut lo, mut hi) = ((xl, al, bl), (xr, ar, br));
+        for h in [1e-4 * unit, GUARD * unit] {
+            if 2.0 * h >= hi.0 - lo.0 || x - h <= lo.0 || x + h >= hi.0 {
+                continue;
+            }
+            let at = |y: f64| {
+                let t = (y - lo.0) / (hi.0 - lo.0);
+                self.pick(y, &self.lerp(&lo.1, &hi.1, t), &self.lerp(&lo.2, &hi.2, t))
+            };
+            let (a0, b0) = at(x - h)?;
+            let (a1, b1) = at(x + h)?;
+            let (f0, f1) = (proj(&a0, &b0), proj(&a1, &b1));
+            if !(f0 > 0.0 && f1 < 0.0) {
+                return None;
+            }
+            let root = (x - h) + 2.0 * h * f0 / (f0 - f1);
+            lo = (x - h, a0, b0);
+            hi = (x + h, a1, b1);
+            x = root;
+        }
+        // The configuration: both tracks interpolated to the root, which must meet.
+        let span = hi.0 - lo.0;
+        let t = (x - lo.0) / span;
+        let (qa, qb) = (self.lerp(&lo.1, &hi.1, t), self.lerp(&lo.2, &hi.2, t));
+        if self.dist(&qa, &qb) > 1e-7 {
+            return None;
+        }
+        let slope = |a: &[f64], b: &[f64]| -> Vec<f64> {
+            self.diff(b, a)
+                .iter()
+                .zip(&self.angle)
+                .map(|(d, &ang)| d * if ang { 1.0 } else { self.scale } / span)
+                .collect()
+        };
+        let slopes = [slope(&lo.1, &hi.1), slope(&lo.2, &hi.2)];
+        Some((x, self.lerp(&qa, &qb, 0.5), slopes))
+    }
+}

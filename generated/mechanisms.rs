@@ -985,6 +985,96 @@ pub mod sixbar {
             jac[(1, 1)] = t27;
             (::mechgen::__private::nalgebra::SVector::from([t24, t25]), jac)
         }
+        /// Block 0's residuals in double-word arithmetic (refinement near a dead point).
+        #[cold]
+        #[inline(never)]
+        fn block0_residual_twofold(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
+            let w0 = ::mechgen::__private::Twofold::from(self.params.l1.to_f64());
+            let w1 = ::mechgen::__private::Twofold::from(x[0].to_f64());
+            let (s1, c1) = w1.sin_cos();
+            let w2 = w0 * c1;
+            let w3 = w0 * s1;
+            let w4 = ::mechgen::__private::Twofold::from(self.params.l2.to_f64());
+            let w5 = ::mechgen::__private::Twofold::from(q[0].to_f64());
+            let (s5, c5) = w5.sin_cos();
+            let w6 = w4 * c5;
+            let w7 = w4 * s5;
+            let w8 = w2 + w6;
+            let w9 = w3 + w7;
+            let w10 = ::mechgen::__private::Twofold::from(self.params.l4.to_f64());
+            let w11 = w8 - w10;
+            let w12 = ::mechgen::__private::Twofold::from(self.params.l3.to_f64());
+            let w13 = ::mechgen::__private::Twofold::from(q[1].to_f64());
+            let (s13, c13) = w13.sin_cos();
+            let w14 = w12 * c13;
+            let w15 = w12 * s13;
+            let w16 = w11 - w14;
+            let w17 = w9 - w15;
+            ::mechgen::__private::nalgebra::SVector::from([
+                T::lit(w16.value()),
+                T::lit(w17.value()),
+            ])
+        }
+        /// Block 1's residuals in double-word arithmetic (refinement near a dead point).
+        #[cold]
+        #[inline(never)]
+        fn block1_residual_twofold(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
+            let w0 = ::mechgen::__private::Twofold::from(self.params.l1.to_f64());
+            let w1 = ::mechgen::__private::Twofold::from(x[0].to_f64());
+            let (s1, c1) = w1.sin_cos();
+            let w2 = w0 * c1;
+            let w3 = w0 * s1;
+            let w4 = ::mechgen::__private::Twofold::from(self.params.l2.to_f64());
+            let w5 = ::mechgen::__private::Twofold::from(q[0].to_f64());
+            let (s5, c5) = w5.sin_cos();
+            let w6 = w4 * c5;
+            let w7 = w4 * s5;
+            let w8 = w2 + w6;
+            let w9 = w3 + w7;
+            let w10 = ::mechgen::__private::Twofold::from(self.params.l2e.to_f64());
+            let w11 = ::mechgen::__private::Twofold::from(self.params.alpha.to_f64());
+            let (s11, c11) = w11.sin_cos();
+            let w12 = c5 * c11;
+            let w13 = s5 * s11;
+            let w14 = s5 * c11;
+            let w15 = c5 * s11;
+            let w16 = w12 + w13;
+            let w17 = w14 - w15;
+            let w18 = w10 * w16;
+            let w19 = w10 * w17;
+            let w20 = w8 + w18;
+            let w21 = w9 + w19;
+            let w22 = ::mechgen::__private::Twofold::from(self.params.l5.to_f64());
+            let w23 = ::mechgen::__private::Twofold::from(q[2].to_f64());
+            let (s23, c23) = w23.sin_cos();
+            let w24 = w22 * c23;
+            let w25 = w22 * s23;
+            let w26 = w20 - w24;
+            let w27 = w21 - w25;
+            let w28 = ::mechgen::__private::Twofold::from(self.params.l6.to_f64());
+            let w29 = ::mechgen::__private::Twofold::from(q[3].to_f64());
+            let (s29, c29) = w29.sin_cos();
+            let w30 = w28 * c29;
+            let w31 = w28 * s29;
+            let w32 = w26 - w30;
+            let w33 = w27 - w31;
+            let w34 = ::mechgen::__private::Twofold::from(self.params.xg.to_f64());
+            let w35 = ::mechgen::__private::Twofold::from(self.params.yg.to_f64());
+            let w36 = w32 - w34;
+            let w37 = w33 - w35;
+            ::mechgen::__private::nalgebra::SVector::from([
+                T::lit(w36.value()),
+                T::lit(w37.value()),
+            ])
+        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 10]) {
@@ -1096,6 +1186,23 @@ pub mod sixbar {
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0, 1],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
+                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [2, 3],
+                    jac,
+                    self.block1_residual_twofold(x, &st.q),
+                );
             }
             Ok(())
         }
@@ -1459,6 +1566,23 @@ pub mod sixbar {
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0, 1],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
+                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [2, 3],
+                    jac,
+                    self.block1_residual_twofold(x, &st.q),
+                );
+            }
             // Block 0: velocities and accelerations.
             let v_q1_d = xd[0];
             let (s_v_q3, c_v_q3) = st.sc[1];
@@ -1681,6 +1805,16 @@ pub mod sixbar {
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0, 1],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
             }
             // Points.
             let p_l2e = self.params.l2e;
@@ -2022,6 +2156,23 @@ pub mod sixbar {
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0, 1],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
+                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [2, 3],
+                    jac,
+                    self.block1_residual_twofold(x, &st.q),
+                );
             }
             // Block 0: velocities and accelerations.
             let v_q1_d = xd[0];
@@ -3426,6 +3577,75 @@ pub mod shaper {
             jac[(0, 0)] = T::lit(-1.0);
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
         }
+        /// Block 0's residuals in double-word arithmetic (refinement near a dead point).
+        #[cold]
+        #[inline(never)]
+        fn block0_residual_twofold(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
+            let w0 = ::mechgen::__private::Twofold::from(q[0].to_f64());
+            let w1 = ::mechgen::__private::Twofold::from(q[1].to_f64());
+            let (s1, c1) = w1.sin_cos();
+            let w2 = w0 * c1;
+            let w3 = w0 * s1;
+            let w4 = ::mechgen::__private::Twofold::from(self.params.l1.to_f64());
+            let w5 = ::mechgen::__private::Twofold::from(x[0].to_f64());
+            let (s5, c5) = w5.sin_cos();
+            let w6 = w4 * c5;
+            let w7 = w4 * s5;
+            let w8 = w2 - w6;
+            let w9 = w3 - w7;
+            let w10 = ::mechgen::__private::Twofold::from(self.params.lAC.to_f64());
+            let w11 = w9 - w10;
+            ::mechgen::__private::nalgebra::SVector::from([
+                T::lit(w8.value()),
+                T::lit(w11.value()),
+            ])
+        }
+        /// Block 1's residuals in double-word arithmetic (refinement near a dead point).
+        #[cold]
+        #[inline(never)]
+        fn block1_residual_twofold(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
+            let w0 = ::mechgen::__private::Twofold::from(q[1].to_f64());
+            let (s0, _) = w0.sin_cos();
+            let w1 = ::mechgen::__private::Twofold::from(self.params.l3.to_f64());
+            let w2 = s0 * w1;
+            let w3 = ::mechgen::__private::Twofold::from(self.params.l4.to_f64());
+            let w4 = ::mechgen::__private::Twofold::from(q[2].to_f64());
+            let (s4, _) = w4.sin_cos();
+            let w5 = w3 * s4;
+            let w6 = w2 + w5;
+            let w7 = ::mechgen::__private::Twofold::from(self.params.yE.to_f64());
+            let w8 = w6 - w7;
+            ::mechgen::__private::nalgebra::SVector::from([T::lit(w8.value())])
+        }
+        /// Block 2's residuals in double-word arithmetic (refinement near a dead point).
+        #[cold]
+        #[inline(never)]
+        fn block2_residual_twofold(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
+            let w0 = ::mechgen::__private::Twofold::from(q[1].to_f64());
+            let (_, c0) = w0.sin_cos();
+            let w1 = ::mechgen::__private::Twofold::from(self.params.l3.to_f64());
+            let w2 = c0 * w1;
+            let w3 = ::mechgen::__private::Twofold::from(self.params.l4.to_f64());
+            let w4 = ::mechgen::__private::Twofold::from(q[2].to_f64());
+            let (_, c4) = w4.sin_cos();
+            let w5 = w3 * c4;
+            let w6 = w2 + w5;
+            let w7 = ::mechgen::__private::Twofold::from(q[3].to_f64());
+            let w8 = w6 - w7;
+            ::mechgen::__private::nalgebra::SVector::from([T::lit(w8.value())])
+        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 5]) {
@@ -3541,6 +3761,30 @@ pub mod shaper {
                     report,
                     |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
                 )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0, 1],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
+                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [2],
+                    jac,
+                    self.block1_residual_twofold(x, &st.q),
+                );
+                let (_, jac) = self.block2_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [3],
+                    jac,
+                    self.block2_residual_twofold(x, &st.q),
+                );
             }
             Ok(())
         }
@@ -3888,6 +4132,30 @@ pub mod shaper {
                     |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0, 1],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
+                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [2],
+                    jac,
+                    self.block1_residual_twofold(x, &st.q),
+                );
+                let (_, jac) = self.block2_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [3],
+                    jac,
+                    self.block2_residual_twofold(x, &st.q),
+                );
+            }
             // Block 0: velocities and accelerations.
             let v_s3 = st.q[0];
             let v_q1_d = xd[0];
@@ -4175,6 +4443,30 @@ pub mod shaper {
                     report,
                     |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
                 )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0, 1],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
+                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [2],
+                    jac,
+                    self.block1_residual_twofold(x, &st.q),
+                );
+                let (_, jac) = self.block2_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [3],
+                    jac,
+                    self.block2_residual_twofold(x, &st.q),
+                );
             }
             // Block 0: velocities and accelerations.
             let v_s3 = st.q[0];
@@ -5533,6 +5825,40 @@ pub mod four_bar {
             jac[(1, 1)] = t12;
             (::mechgen::__private::nalgebra::SVector::from([t9, t10]), jac)
         }
+        /// Block 0's residuals in double-word arithmetic (refinement near a dead point).
+        #[cold]
+        #[inline(never)]
+        fn block0_residual_twofold(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
+            let w0 = ::mechgen::__private::Twofold::from(self.params.l1.to_f64());
+            let w1 = ::mechgen::__private::Twofold::from(x[0].to_f64());
+            let (s1, c1) = w1.sin_cos();
+            let w2 = w0 * c1;
+            let w3 = w0 * s1;
+            let w4 = ::mechgen::__private::Twofold::from(self.params.l2.to_f64());
+            let w5 = ::mechgen::__private::Twofold::from(q[0].to_f64());
+            let (s5, c5) = w5.sin_cos();
+            let w6 = w4 * c5;
+            let w7 = w4 * s5;
+            let w8 = w2 + w6;
+            let w9 = w3 + w7;
+            let w10 = ::mechgen::__private::Twofold::from(self.params.l4.to_f64());
+            let w11 = w8 - w10;
+            let w12 = ::mechgen::__private::Twofold::from(self.params.l3.to_f64());
+            let w13 = ::mechgen::__private::Twofold::from(q[1].to_f64());
+            let (s13, c13) = w13.sin_cos();
+            let w14 = w12 * c13;
+            let w15 = w12 * s13;
+            let w16 = w11 - w14;
+            let w17 = w9 - w15;
+            ::mechgen::__private::nalgebra::SVector::from([
+                T::lit(w16.value()),
+                T::lit(w17.value()),
+            ])
+        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 6]) {
@@ -5593,6 +5919,16 @@ pub mod four_bar {
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0, 1],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
             }
             Ok(())
         }
@@ -5780,6 +6116,16 @@ pub mod four_bar {
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0, 1],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
             }
             // Block 0: velocities and accelerations.
             let v_q1_d = xd[0];
@@ -5981,6 +6327,16 @@ pub mod four_bar {
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0, 1],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
             }
             // Block 0: velocities.
             let v_q1_d = xd[0];
@@ -7169,6 +7525,48 @@ pub mod slider_crank {
             jac[(0, 0)] = T::lit(-1.0);
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
         }
+        /// Block 0's residuals in double-word arithmetic (refinement near a dead point).
+        #[cold]
+        #[inline(never)]
+        fn block0_residual_twofold(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
+            let w0 = ::mechgen::__private::Twofold::from(self.params.r.to_f64());
+            let w1 = ::mechgen::__private::Twofold::from(x[0].to_f64());
+            let (s1, _) = w1.sin_cos();
+            let w2 = w0 * s1;
+            let w3 = ::mechgen::__private::Twofold::from(self.params.l.to_f64());
+            let w4 = ::mechgen::__private::Twofold::from(q[0].to_f64());
+            let (s4, _) = w4.sin_cos();
+            let w5 = w3 * s4;
+            let w6 = w2 + w5;
+            let w7 = ::mechgen::__private::Twofold::from(self.params.off.to_f64());
+            let w8 = w6 - w7;
+            ::mechgen::__private::nalgebra::SVector::from([T::lit(w8.value())])
+        }
+        /// Block 1's residuals in double-word arithmetic (refinement near a dead point).
+        #[cold]
+        #[inline(never)]
+        fn block1_residual_twofold(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
+            let w0 = ::mechgen::__private::Twofold::from(self.params.r.to_f64());
+            let w1 = ::mechgen::__private::Twofold::from(x[0].to_f64());
+            let (_, c1) = w1.sin_cos();
+            let w2 = w0 * c1;
+            let w3 = ::mechgen::__private::Twofold::from(self.params.l.to_f64());
+            let w4 = ::mechgen::__private::Twofold::from(q[0].to_f64());
+            let (_, c4) = w4.sin_cos();
+            let w5 = w3 * c4;
+            let w6 = w2 + w5;
+            let w7 = ::mechgen::__private::Twofold::from(q[1].to_f64());
+            let w8 = w6 - w7;
+            ::mechgen::__private::nalgebra::SVector::from([T::lit(w8.value())])
+        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 3]) {
@@ -7249,6 +7647,23 @@ pub mod slider_crank {
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
+                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [1],
+                    jac,
+                    self.block1_residual_twofold(x, &st.q),
+                );
             }
             Ok(())
         }
@@ -7466,6 +7881,23 @@ pub mod slider_crank {
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
+                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [1],
+                    jac,
+                    self.block1_residual_twofold(x, &st.q),
+                );
             }
             // Block 0: velocities and accelerations.
             let v_q1_d = xd[0];
@@ -8551,6 +8983,40 @@ pub mod rocker_four_bar {
             jac[(1, 1)] = t12;
             (::mechgen::__private::nalgebra::SVector::from([t9, t10]), jac)
         }
+        /// Block 0's residuals in double-word arithmetic (refinement near a dead point).
+        #[cold]
+        #[inline(never)]
+        fn block0_residual_twofold(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
+            let w0 = ::mechgen::__private::Twofold::from(self.params.l1.to_f64());
+            let w1 = ::mechgen::__private::Twofold::from(x[0].to_f64());
+            let (s1, c1) = w1.sin_cos();
+            let w2 = w0 * c1;
+            let w3 = w0 * s1;
+            let w4 = ::mechgen::__private::Twofold::from(self.params.l2.to_f64());
+            let w5 = ::mechgen::__private::Twofold::from(q[0].to_f64());
+            let (s5, c5) = w5.sin_cos();
+            let w6 = w4 * c5;
+            let w7 = w4 * s5;
+            let w8 = w2 + w6;
+            let w9 = w3 + w7;
+            let w10 = ::mechgen::__private::Twofold::from(self.params.l4.to_f64());
+            let w11 = w8 - w10;
+            let w12 = ::mechgen::__private::Twofold::from(self.params.l3.to_f64());
+            let w13 = ::mechgen::__private::Twofold::from(q[1].to_f64());
+            let (s13, c13) = w13.sin_cos();
+            let w14 = w12 * c13;
+            let w15 = w12 * s13;
+            let w16 = w11 - w14;
+            let w17 = w9 - w15;
+            ::mechgen::__private::nalgebra::SVector::from([
+                T::lit(w16.value()),
+                T::lit(w17.value()),
+            ])
+        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 4]) {
@@ -8609,6 +9075,16 @@ pub mod rocker_four_bar {
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0, 1],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
             }
             Ok(())
         }
@@ -8796,6 +9272,16 @@ pub mod rocker_four_bar {
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0, 1],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
             }
             // Block 0: velocities and accelerations.
             let v_q1_d = xd[0];
@@ -10191,6 +10677,73 @@ pub mod sixbar_g {
             jac[(3, 3)] = t37;
             (::mechgen::__private::nalgebra::SVector::from([t9, t10, t29, t30]), jac)
         }
+        /// Block 0's residuals in double-word arithmetic (refinement near a dead point).
+        #[cold]
+        #[inline(never)]
+        fn block0_residual_twofold(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
+            let w0 = ::mechgen::__private::Twofold::from(self.params.l1.to_f64());
+            let w1 = ::mechgen::__private::Twofold::from(q[0].to_f64());
+            let (s1, c1) = w1.sin_cos();
+            let w2 = w0 * c1;
+            let w3 = w0 * s1;
+            let w4 = ::mechgen::__private::Twofold::from(self.params.l2.to_f64());
+            let w5 = ::mechgen::__private::Twofold::from(q[1].to_f64());
+            let (s5, c5) = w5.sin_cos();
+            let w6 = w4 * c5;
+            let w7 = w4 * s5;
+            let w8 = w2 + w6;
+            let w9 = w3 + w7;
+            let w10 = ::mechgen::__private::Twofold::from(self.params.l4.to_f64());
+            let w11 = w8 - w10;
+            let w12 = ::mechgen::__private::Twofold::from(self.params.l3.to_f64());
+            let w13 = ::mechgen::__private::Twofold::from(q[2].to_f64());
+            let (s13, c13) = w13.sin_cos();
+            let w14 = w12 * c13;
+            let w15 = w12 * s13;
+            let w16 = w11 - w14;
+            let w17 = w9 - w15;
+            let w18 = ::mechgen::__private::Twofold::from(self.params.l2e.to_f64());
+            let w19 = ::mechgen::__private::Twofold::from(self.params.alpha.to_f64());
+            let (s19, c19) = w19.sin_cos();
+            let w20 = c5 * c19;
+            let w21 = s5 * s19;
+            let w22 = s5 * c19;
+            let w23 = c5 * s19;
+            let w24 = w20 + w21;
+            let w25 = w22 - w23;
+            let w26 = w18 * w24;
+            let w27 = w18 * w25;
+            let w28 = w8 + w26;
+            let w29 = w9 + w27;
+            let w30 = ::mechgen::__private::Twofold::from(self.params.l5.to_f64());
+            let w31 = ::mechgen::__private::Twofold::from(q[3].to_f64());
+            let (s31, c31) = w31.sin_cos();
+            let w32 = w30 * c31;
+            let w33 = w30 * s31;
+            let w34 = w28 - w32;
+            let w35 = w29 - w33;
+            let w36 = ::mechgen::__private::Twofold::from(self.params.l6.to_f64());
+            let w37 = ::mechgen::__private::Twofold::from(x[0].to_f64());
+            let (s37, c37) = w37.sin_cos();
+            let w38 = w36 * c37;
+            let w39 = w36 * s37;
+            let w40 = w34 - w38;
+            let w41 = w35 - w39;
+            let w42 = ::mechgen::__private::Twofold::from(self.params.xg.to_f64());
+            let w43 = ::mechgen::__private::Twofold::from(self.params.yg.to_f64());
+            let w44 = w40 - w42;
+            let w45 = w41 - w43;
+            ::mechgen::__private::nalgebra::SVector::from([
+                T::lit(w16.value()),
+                T::lit(w17.value()),
+                T::lit(w44.value()),
+                T::lit(w45.value()),
+            ])
+        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 10]) {
@@ -10228,6 +10781,16 @@ pub mod sixbar_g {
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0, 1, 2, 3],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
+            }
             Ok(())
         }
         /// Velocities block by block at the solved position in `st`.
@@ -10498,6 +11061,16 @@ pub mod sixbar_g {
                 report,
                 |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
             )?;
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0, 1, 2, 3],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
+            }
             // Block 0: velocities and accelerations.
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;

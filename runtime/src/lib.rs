@@ -36,6 +36,7 @@ pub mod scene_tick;
 pub mod solve;
 pub mod tick;
 pub mod trig;
+pub mod twofold;
 
 pub use dynamic::DynMechanism;
 pub use error::{Quantity, SolveError, Stage};
@@ -85,5 +86,6 @@ pub mod __private {
     };
     pub use crate::tick::{Solution, Tick};
     pub use crate::trig::TrigState;
+    pub use crate::twofold::{REFINE_BELOW, Twofold, refine_block};
     pub use nalgebra;
 }

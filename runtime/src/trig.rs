@@ -57,6 +57,15 @@ impl<T: Real, const N: usize> TrigState<T, N> {
         TrigState { q, sc, angle }
     }
 
+    /// Sets unknown `k` to `value`, an angle's sine and cosine computed afresh.
+    #[inline]
+    pub fn set(&mut self, k: usize, value: T) {
+        self.q[k] = value;
+        if self.angle[k] {
+            self.sc[k] = sin_cos_cold(value);
+        }
+    }
+
     /// From unknowns and sines and cosines already known (`sc[k]` = (sin, cos) of `q[k]` where
     /// `angle[k]`).
     #[inline]

@@ -6,6 +6,7 @@
 use mechgen_codegen::Kind as CodegenKind;
 use mechgen_codegen::{Compiled, Diagnostic, SourceFile};
 use mechgen_runtime::nalgebra::{DMatrix, DVector, Dyn};
+use mechgen_runtime::twofold::{REFINE_BELOW, refinement_in_place};
 
 use super::closed::{self, ClosedTape};
 use super::tape::{Env, Tape};
@@ -37,6 +38,8 @@ pub(super) struct BlockTapes {
     pub length: Vec<bool>,
     /// k residuals, then the k×k Jacobian row-major.
     pub position: Tape,
+    /// The k residuals alone (evaluated in double-word arithmetic to refine positions).
+    pub residual: Tape,
     /// k right-hand sides, then the Jacobian.
     pub velocity: Tape,
     pub acceleration: Tape,
@@ -157,6 +160,7 @@ impl Generic {
                         .map(|&k| m.unknowns[k].kind == CodegenKind::Length)
                         .collect(),
                     position: with_jac(&b.residual),
+                    residual: Tape::new(&dag, &b.residual),
                     velocity: with_jac(&b.velocity_rhs),
                     acceleration: with_jac(&b.acceleration_rhs),
                     closed: b.closed_form.as_ref().map(|f| ClosedTape {
@@ -359,8 +363,37 @@ impl Generic {
                 },
             )?;
         }
+        if report.pivot_ratio < T::lit(REFINE_BELOW) {
+            self.refine(which, x, &mut trial);
+        }
         q.copy_from_slice(&trial);
         Ok(report)
+    }
+
+    /// Near a dead point: per block in order, one Newton step with the residual in double-word
+    /// arithmetic (the runtime's `refinement_in_place`, as generated code's `refine_block`).
+    fn refine<T: Real>(&self, which: &[usize], x: &[T], q: &mut [T]) {
+        let x64: Vec<f64> = x.iter().map(|v| v.to_f64()).collect();
+        let mut regs = Vec::new();
+        for b in which.iter().map(|&bi| &self.blocks[bi]) {
+            let k = b.unknowns.len();
+            let q64: Vec<f64> = q.iter().map(|v| v.to_f64()).collect();
+            let exact = b.residual.eval_twofold(&x64, &q64, &self.params);
+            let mut out = vec![T::zero(); k + k * k];
+            b.position
+                .eval(&Env::position(x, q, &self.params), &mut regs, &mut out);
+            let (mut r, mut jac, mut scale) =
+                (DVector::zeros(k), DMatrix::zeros(k, k), DVector::zeros(k));
+            fill(&out, k, &mut r, &mut jac);
+            for (ri, e) in r.iter_mut().zip(&exact) {
+                *ri = T::lit(e.value());
+            }
+            if refinement_in_place(&mut jac, &mut r, &mut scale, |k| q[b.unknowns[k]]) {
+                for (&u, d) in b.unknowns.iter().zip(r.iter()) {
+                    q[u] -= *d;
+                }
+            }
+        }
     }
 
     /// Velocity or acceleration: one linear solve per block, earlier blocks' rates known.

@@ -5,6 +5,7 @@
 use mechgen_codegen::{Dag, Func, Node, NodeId, Var};
 
 use mechgen_runtime::scalar::Real;
+use mechgen_runtime::twofold::Twofold;
 
 /// One instruction; operands are register numbers (every instruction writes the next register).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -202,5 +203,42 @@ impl Tape {
         for (o, &r) in out.iter_mut().zip(&self.outputs) {
             *o = regs[r as usize];
         }
+    }
+
+    /// Runs the program in double-word arithmetic at positions `(x, q)` (rates read as zero):
+    /// the root values to about 1e-32 relative of the terms (a params-only function in f64).
+    pub fn eval_twofold(&self, x: &[f64], q: &[f64], p: &[f64]) -> Vec<Twofold> {
+        let env = Env::position(x, q, p);
+        let mut regs = vec![Twofold::default(); self.ops.len()];
+        for i in 0..self.ops.len() {
+            let g = |k: u32| regs[k as usize];
+            let v = match self.ops[i] {
+                Op::Const(c) => Twofold::from(c),
+                Op::Var(v) => Twofold::from(env.get(v)),
+                Op::Add(a, b) => g(a) + g(b),
+                Op::Sub(a, b) => g(a) - g(b),
+                Op::Mul(a, b) => g(a) * g(b),
+                Op::Div(a, b) => g(a) / g(b),
+                Op::Neg(a) => -g(a),
+                Op::SinCos(a) => {
+                    let (s, c) = g(a).sin_cos();
+                    if let Some(next) = regs.get_mut(i + 1) {
+                        *next = c;
+                    }
+                    s
+                }
+                Op::Cos2 => continue,
+                Op::Sin(a) => g(a).sin_cos().0,
+                Op::Cos(a) => g(a).sin_cos().1,
+                Op::Tan(a) => {
+                    let (s, c) = g(a).sin_cos();
+                    s / c
+                }
+                Op::Sqrt(a) => g(a).sqrt(),
+                Op::Func(f, a, b) => Twofold::from(f.eval(g(a).value(), g(b).value())),
+            };
+            regs[i] = v;
+        }
+        self.outputs.iter().map(|&r| regs[r as usize]).collect()
     }
 }

@@ -17,6 +17,7 @@ pub(crate) mod names;
 mod scene;
 mod solve;
 mod system;
+mod twofold;
 
 use crate::analysis::Compiled;
 use crate::ir::dag::Var;

@@ -52,7 +52,7 @@ fn position_steps(
     c: &Compiled,
     blocks: &[usize],
     b: &mut Builder,
-    rt: &TokenStream,
+    (rt, gt): (&TokenStream, &Ident),
     values: AngleValues,
     scale: &TokenStream,
 ) -> TokenStream {
@@ -91,6 +91,10 @@ fn position_steps(
             }
         }
     }
+    steps.extend(comment(
+        "Near a dead point: one Newton step per block with its residual in double words.",
+    ));
+    steps.extend(crate::emit::twofold::refine_step(c, blocks, rt, gt));
     steps
 }
 
@@ -177,7 +181,7 @@ pub(crate) fn stages(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
         c,
         &all,
         &mut Builder::new(dag, &fused),
-        rt,
+        (rt, gt),
         AngleValues::All,
         &quote!(self.params.length_scale()),
     );
@@ -285,7 +289,7 @@ pub(crate) fn motion_subset(
         },
         None => AngleValues::All,
     };
-    let mut steps = position_steps(c, sub.blocks, &mut b, rt, values, &sub.length_scale);
+    let mut steps = position_steps(c, sub.blocks, &mut b, (rt, gt), values, &sub.length_scale);
     let every_arg = sub.values_read.map(|_| quote!(every_angle: bool,));
     let rates = [None, Some(Rates::Velocity), Some(Rates::Both)][usize::from(sub.order.min(2))];
     if let Some(rates) = rates {

@@ -80,6 +80,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         });
     }
 
+    block_fns.extend(crate::emit::twofold::residual_fns(c, args));
     let motion = crate::emit::motion::motion(c, &cached, rt);
     let stages = crate::emit::motion::stages(c, &cached, rt);
     let scene_methods = crate::emit::scene::methods(c, &cached, args);

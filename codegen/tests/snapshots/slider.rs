@@ -466,6 +466,46 @@ pub mod slider {
             jac[(0, 0)] = T::lit(-1.0);
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
         }
+        /// Block 0's residuals in double-word arithmetic (refinement near a dead point).
+        #[cold]
+        #[inline(never)]
+        fn block0_residual_twofold(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
+            let w0 = ::mechgen::__private::Twofold::from(self.params.l1.to_f64());
+            let w1 = ::mechgen::__private::Twofold::from(x[0].to_f64());
+            let (s1, _) = w1.sin_cos();
+            let w2 = w0 * s1;
+            let w3 = ::mechgen::__private::Twofold::from(self.params.l2.to_f64());
+            let w4 = ::mechgen::__private::Twofold::from(q[0].to_f64());
+            let (s4, _) = w4.sin_cos();
+            let w5 = w3 * s4;
+            let w6 = w2 + w5;
+            ::mechgen::__private::nalgebra::SVector::from([T::lit(w6.value())])
+        }
+        /// Block 1's residuals in double-word arithmetic (refinement near a dead point).
+        #[cold]
+        #[inline(never)]
+        fn block1_residual_twofold(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
+            let w0 = ::mechgen::__private::Twofold::from(self.params.l1.to_f64());
+            let w1 = ::mechgen::__private::Twofold::from(x[0].to_f64());
+            let (_, c1) = w1.sin_cos();
+            let w2 = w0 * c1;
+            let w3 = ::mechgen::__private::Twofold::from(self.params.l2.to_f64());
+            let w4 = ::mechgen::__private::Twofold::from(q[0].to_f64());
+            let (_, c4) = w4.sin_cos();
+            let w5 = w3 * c4;
+            let w6 = w2 + w5;
+            let w7 = ::mechgen::__private::Twofold::from(q[1].to_f64());
+            let w8 = w6 - w7;
+            ::mechgen::__private::nalgebra::SVector::from([T::lit(w8.value())])
+        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 2]) {
@@ -544,6 +584,23 @@ pub mod slider {
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
+                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [1],
+                    jac,
+                    self.block1_residual_twofold(x, &st.q),
+                );
             }
             Ok(())
         }
@@ -759,6 +816,23 @@ pub mod slider {
                     report,
                     |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
                 )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
+                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [1],
+                    jac,
+                    self.block1_residual_twofold(x, &st.q),
+                );
             }
             // Block 0: velocities and accelerations.
             let v_q1_d = xd[0];

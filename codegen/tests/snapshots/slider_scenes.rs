@@ -43,6 +43,16 @@
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
             }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
+            }
             // Points.
             Ok((qd, qdd, []))
         }
@@ -66,6 +76,8 @@
         > {
             let mut qd = [T::zero(); 2];
             let qdd = [T::zero(); 2];
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {}
             // Points.
             let p_l1 = self.params.l1;
             let v_q1_d = xd[0];
@@ -136,6 +148,16 @@
                     report,
                     |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
                 )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+                ::mechgen::__private::refine_block(
+                    st,
+                    [0],
+                    jac,
+                    self.block0_residual_twofold(x, &st.q),
+                );
             }
             // Points.
             let (_, c_v_q1) = tx[0];

@@ -986,8 +986,7 @@ pub mod sixbar {
             (::mechgen::__private::nalgebra::SVector::from([t24, t25]), jac)
         }
         /// Block 0's residuals in double-word arithmetic (refinement near a dead point).
-        #[cold]
-        #[inline(never)]
+        #[inline]
         fn block0_residual_twofold(
             &self,
             x: &[T; 1],
@@ -1019,9 +1018,26 @@ pub mod sixbar {
                 T::lit(w17.value()),
             ])
         }
-        /// Block 1's residuals in double-word arithmetic (refinement near a dead point).
+        /// Block 0: one Newton step with its double-word residual.
         #[cold]
         #[inline(never)]
+        fn block0_refine(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+        ) {
+            let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+            ::mechgen::__private::refine_block(
+                st,
+                [0, 1],
+                jac,
+                self.block0_residual_twofold(x, &st.q),
+            );
+        }
+        /// Block 1's residuals in double-word arithmetic (refinement near a dead point).
+        #[inline]
         fn block1_residual_twofold(
             &self,
             x: &[T; 1],
@@ -1074,6 +1090,24 @@ pub mod sixbar {
                 T::lit(w36.value()),
                 T::lit(w37.value()),
             ])
+        }
+        /// Block 1: one Newton step with its double-word residual.
+        #[cold]
+        #[inline(never)]
+        fn block1_refine(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+        ) {
+            let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
+            ::mechgen::__private::refine_block(
+                st,
+                [2, 3],
+                jac,
+                self.block1_residual_twofold(x, &st.q),
+            );
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
@@ -1189,20 +1223,8 @@ pub mod sixbar {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0, 1],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
-                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [2, 3],
-                    jac,
-                    self.block1_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
+                self.block1_refine(x, st, tx, tp);
             }
             Ok(())
         }
@@ -1568,20 +1590,8 @@ pub mod sixbar {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0, 1],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
-                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [2, 3],
-                    jac,
-                    self.block1_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
+                self.block1_refine(x, st, tx, tp);
             }
             // Block 0: velocities and accelerations.
             let v_q1_d = xd[0];
@@ -1808,13 +1818,7 @@ pub mod sixbar {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0, 1],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
             }
             // Points.
             let p_l2e = self.params.l2e;
@@ -2159,20 +2163,8 @@ pub mod sixbar {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0, 1],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
-                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [2, 3],
-                    jac,
-                    self.block1_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
+                self.block1_refine(x, st, tx, tp);
             }
             // Block 0: velocities and accelerations.
             let v_q1_d = xd[0];
@@ -3578,8 +3570,7 @@ pub mod shaper {
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
         }
         /// Block 0's residuals in double-word arithmetic (refinement near a dead point).
-        #[cold]
-        #[inline(never)]
+        #[inline]
         fn block0_residual_twofold(
             &self,
             x: &[T; 1],
@@ -3604,9 +3595,26 @@ pub mod shaper {
                 T::lit(w11.value()),
             ])
         }
-        /// Block 1's residuals in double-word arithmetic (refinement near a dead point).
+        /// Block 0: one Newton step with its double-word residual.
         #[cold]
         #[inline(never)]
+        fn block0_refine(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+        ) {
+            let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+            ::mechgen::__private::refine_block(
+                st,
+                [0, 1],
+                jac,
+                self.block0_residual_twofold(x, &st.q),
+            );
+        }
+        /// Block 1's residuals in double-word arithmetic (refinement near a dead point).
+        #[inline]
         fn block1_residual_twofold(
             &self,
             x: &[T; 1],
@@ -3625,9 +3633,26 @@ pub mod shaper {
             let w8 = w6 - w7;
             ::mechgen::__private::nalgebra::SVector::from([T::lit(w8.value())])
         }
-        /// Block 2's residuals in double-word arithmetic (refinement near a dead point).
+        /// Block 1: one Newton step with its double-word residual.
         #[cold]
         #[inline(never)]
+        fn block1_refine(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+        ) {
+            let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
+            ::mechgen::__private::refine_block(
+                st,
+                [2],
+                jac,
+                self.block1_residual_twofold(x, &st.q),
+            );
+        }
+        /// Block 2's residuals in double-word arithmetic (refinement near a dead point).
+        #[inline]
         fn block2_residual_twofold(
             &self,
             x: &[T; 1],
@@ -3645,6 +3670,24 @@ pub mod shaper {
             let w7 = ::mechgen::__private::Twofold::from(q[3].to_f64());
             let w8 = w6 - w7;
             ::mechgen::__private::nalgebra::SVector::from([T::lit(w8.value())])
+        }
+        /// Block 2: one Newton step with its double-word residual.
+        #[cold]
+        #[inline(never)]
+        fn block2_refine(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 5],
+        ) {
+            let (_, jac) = self.block2_position(x, &st.q, tx, tp, &st.sc);
+            ::mechgen::__private::refine_block(
+                st,
+                [3],
+                jac,
+                self.block2_residual_twofold(x, &st.q),
+            );
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
@@ -3764,27 +3807,9 @@ pub mod shaper {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0, 1],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
-                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [2],
-                    jac,
-                    self.block1_residual_twofold(x, &st.q),
-                );
-                let (_, jac) = self.block2_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [3],
-                    jac,
-                    self.block2_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
+                self.block1_refine(x, st, tx, tp);
+                self.block2_refine(x, st, tx, tp);
             }
             Ok(())
         }
@@ -4134,27 +4159,9 @@ pub mod shaper {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0, 1],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
-                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [2],
-                    jac,
-                    self.block1_residual_twofold(x, &st.q),
-                );
-                let (_, jac) = self.block2_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [3],
-                    jac,
-                    self.block2_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
+                self.block1_refine(x, st, tx, tp);
+                self.block2_refine(x, st, tx, tp);
             }
             // Block 0: velocities and accelerations.
             let v_s3 = st.q[0];
@@ -4446,27 +4453,9 @@ pub mod shaper {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0, 1],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
-                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [2],
-                    jac,
-                    self.block1_residual_twofold(x, &st.q),
-                );
-                let (_, jac) = self.block2_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [3],
-                    jac,
-                    self.block2_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
+                self.block1_refine(x, st, tx, tp);
+                self.block2_refine(x, st, tx, tp);
             }
             // Block 0: velocities and accelerations.
             let v_s3 = st.q[0];
@@ -5826,8 +5815,7 @@ pub mod four_bar {
             (::mechgen::__private::nalgebra::SVector::from([t9, t10]), jac)
         }
         /// Block 0's residuals in double-word arithmetic (refinement near a dead point).
-        #[cold]
-        #[inline(never)]
+        #[inline]
         fn block0_residual_twofold(
             &self,
             x: &[T; 1],
@@ -5858,6 +5846,24 @@ pub mod four_bar {
                 T::lit(w16.value()),
                 T::lit(w17.value()),
             ])
+        }
+        /// Block 0: one Newton step with its double-word residual.
+        #[cold]
+        #[inline(never)]
+        fn block0_refine(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 6],
+        ) {
+            let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+            ::mechgen::__private::refine_block(
+                st,
+                [0, 1],
+                jac,
+                self.block0_residual_twofold(x, &st.q),
+            );
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
@@ -5922,13 +5928,7 @@ pub mod four_bar {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0, 1],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
             }
             Ok(())
         }
@@ -6119,13 +6119,7 @@ pub mod four_bar {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0, 1],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
             }
             // Block 0: velocities and accelerations.
             let v_q1_d = xd[0];
@@ -6330,13 +6324,7 @@ pub mod four_bar {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0, 1],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
             }
             // Block 0: velocities.
             let v_q1_d = xd[0];
@@ -7526,8 +7514,7 @@ pub mod slider_crank {
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
         }
         /// Block 0's residuals in double-word arithmetic (refinement near a dead point).
-        #[cold]
-        #[inline(never)]
+        #[inline]
         fn block0_residual_twofold(
             &self,
             x: &[T; 1],
@@ -7546,9 +7533,26 @@ pub mod slider_crank {
             let w8 = w6 - w7;
             ::mechgen::__private::nalgebra::SVector::from([T::lit(w8.value())])
         }
-        /// Block 1's residuals in double-word arithmetic (refinement near a dead point).
+        /// Block 0: one Newton step with its double-word residual.
         #[cold]
         #[inline(never)]
+        fn block0_refine(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+        ) {
+            let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+            ::mechgen::__private::refine_block(
+                st,
+                [0],
+                jac,
+                self.block0_residual_twofold(x, &st.q),
+            );
+        }
+        /// Block 1's residuals in double-word arithmetic (refinement near a dead point).
+        #[inline]
         fn block1_residual_twofold(
             &self,
             x: &[T; 1],
@@ -7566,6 +7570,24 @@ pub mod slider_crank {
             let w7 = ::mechgen::__private::Twofold::from(q[1].to_f64());
             let w8 = w6 - w7;
             ::mechgen::__private::nalgebra::SVector::from([T::lit(w8.value())])
+        }
+        /// Block 1: one Newton step with its double-word residual.
+        #[cold]
+        #[inline(never)]
+        fn block1_refine(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 3],
+        ) {
+            let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
+            ::mechgen::__private::refine_block(
+                st,
+                [1],
+                jac,
+                self.block1_residual_twofold(x, &st.q),
+            );
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
@@ -7650,20 +7672,8 @@ pub mod slider_crank {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
-                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [1],
-                    jac,
-                    self.block1_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
+                self.block1_refine(x, st, tx, tp);
             }
             Ok(())
         }
@@ -7884,20 +7894,8 @@ pub mod slider_crank {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
-                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [1],
-                    jac,
-                    self.block1_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
+                self.block1_refine(x, st, tx, tp);
             }
             // Block 0: velocities and accelerations.
             let v_q1_d = xd[0];
@@ -8984,8 +8982,7 @@ pub mod rocker_four_bar {
             (::mechgen::__private::nalgebra::SVector::from([t9, t10]), jac)
         }
         /// Block 0's residuals in double-word arithmetic (refinement near a dead point).
-        #[cold]
-        #[inline(never)]
+        #[inline]
         fn block0_residual_twofold(
             &self,
             x: &[T; 1],
@@ -9016,6 +9013,24 @@ pub mod rocker_four_bar {
                 T::lit(w16.value()),
                 T::lit(w17.value()),
             ])
+        }
+        /// Block 0: one Newton step with its double-word residual.
+        #[cold]
+        #[inline(never)]
+        fn block0_refine(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 4],
+        ) {
+            let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+            ::mechgen::__private::refine_block(
+                st,
+                [0, 1],
+                jac,
+                self.block0_residual_twofold(x, &st.q),
+            );
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
@@ -9078,13 +9093,7 @@ pub mod rocker_four_bar {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0, 1],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
             }
             Ok(())
         }
@@ -9275,13 +9284,7 @@ pub mod rocker_four_bar {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0, 1],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
             }
             // Block 0: velocities and accelerations.
             let v_q1_d = xd[0];
@@ -10678,8 +10681,7 @@ pub mod sixbar_g {
             (::mechgen::__private::nalgebra::SVector::from([t9, t10, t29, t30]), jac)
         }
         /// Block 0's residuals in double-word arithmetic (refinement near a dead point).
-        #[cold]
-        #[inline(never)]
+        #[inline]
         fn block0_residual_twofold(
             &self,
             x: &[T; 1],
@@ -10744,6 +10746,24 @@ pub mod sixbar_g {
                 T::lit(w45.value()),
             ])
         }
+        /// Block 0: one Newton step with its double-word residual.
+        #[cold]
+        #[inline(never)]
+        fn block0_refine(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 10],
+        ) {
+            let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+            ::mechgen::__private::refine_block(
+                st,
+                [0, 1, 2, 3],
+                jac,
+                self.block0_residual_twofold(x, &st.q),
+            );
+        }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
         fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 10]) {
@@ -10783,13 +10803,7 @@ pub mod sixbar_g {
             )?;
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0, 1, 2, 3],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
             }
             Ok(())
         }
@@ -11063,13 +11077,7 @@ pub mod sixbar_g {
             )?;
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0, 1, 2, 3],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
             }
             // Block 0: velocities and accelerations.
             let p_l1 = self.params.l1;

@@ -94,7 +94,7 @@ fn position_steps(
     steps.extend(comment(
         "Near a dead point: one Newton step per block with its residual in double words.",
     ));
-    steps.extend(crate::emit::twofold::refine_step(c, blocks, rt, gt));
+    steps.extend(crate::emit::twofold::refine_step(blocks, rt, gt));
     steps
 }
 

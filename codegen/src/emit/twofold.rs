@@ -33,7 +33,7 @@ fn cone(c: &Compiled, roots: &[NodeId]) -> Vec<NodeId> {
 pub(crate) fn residual_fns(c: &Compiled, args: &Args) -> TokenStream {
     let (rt, gt, m) = (&args.rt, &args.items.scalar, &c.model);
     let dag = &c.system.dag;
-    let (ni, nu, _, _) = crate::emit::sizes(m);
+    let (ni, nu, _, npar) = crate::emit::sizes(m);
     let tw = quote!(#rt::Twofold);
     let mut out = TokenStream::new();
     for (bi, bf) in c.blocks.iter().enumerate() {
@@ -153,17 +153,31 @@ pub(crate) fn residual_fns(c: &Compiled, args: &Args) -> TokenStream {
             let r = w(r);
             quote!(#gt::lit(#r.value()))
         });
+        let idx = &bf.block.unknowns;
+        let (refine, pos) = (
+            format_ident!("block{}_refine", bi),
+            format_ident!("block{}_position", bi),
+        );
+        let refine_doc = format!(" Block {bi}: one Newton step with its double-word residual.");
         let fname = format_ident!("block{}_residual_twofold", bi);
         let doc = format!(
             " Block {bi}'s residuals in double-word arithmetic (refinement near a dead point)."
         );
         out.extend(quote! {
             #[doc = #doc]
-            #[cold]
-            #[inline(never)]
+            #[inline]
             fn #fname(&self, x: &[#gt; #ni], q: &[#gt; #nu]) -> #rt::nalgebra::SVector<#gt, #k> {
                 #stmts
                 #rt::nalgebra::SVector::from([#(#roots),*])
+            }
+
+            #[doc = #refine_doc]
+            #[cold]
+            #[inline(never)]
+            fn #refine(&self, x: &[#gt; #ni], st: &mut #rt::TrigState<#gt, #nu>,
+                tx: &[(#gt, #gt); #ni], tp: &[(#gt, #gt); #npar]) {
+                let (_, jac) = self.#pos(x, &st.q, tx, tp, &st.sc);
+                #rt::refine_block(st, [#(#idx),*], jac, self.#fname(x, &st.q));
             }
         });
     }
@@ -173,21 +187,13 @@ pub(crate) fn residual_fns(c: &Compiled, args: &Args) -> TokenStream {
 /// The refinement after the position steps of `blocks`: when the solve's pivot ratio says the
 /// state is near a dead point, one Newton step per block with its double-word residual.
 pub(crate) fn refine_step(
-    c: &Compiled,
     blocks: &[usize],
     rt: &TokenStream,
     gt: &proc_macro2::Ident,
 ) -> TokenStream {
     let steps = blocks.iter().map(|&bi| {
-        let idx = &c.blocks[bi].block.unknowns;
-        let (pos, res) = (
-            format_ident!("block{}_position", bi),
-            format_ident!("block{}_residual_twofold", bi),
-        );
-        quote! {
-            let (_, jac) = self.#pos(x, &st.q, tx, tp, &st.sc);
-            #rt::refine_block(st, [#(#idx),*], jac, self.#res(x, &st.q));
-        }
+        let refine = format_ident!("block{}_refine", bi);
+        quote!(self.#refine(x, st, tx, tp);)
     });
     quote! {
         if report.pivot_ratio < #gt::lit(#rt::REFINE_BELOW) {

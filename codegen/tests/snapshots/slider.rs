@@ -467,8 +467,7 @@ pub mod slider {
             (::mechgen::__private::nalgebra::SVector::from([t3]), jac)
         }
         /// Block 0's residuals in double-word arithmetic (refinement near a dead point).
-        #[cold]
-        #[inline(never)]
+        #[inline]
         fn block0_residual_twofold(
             &self,
             x: &[T; 1],
@@ -485,9 +484,26 @@ pub mod slider {
             let w6 = w2 + w5;
             ::mechgen::__private::nalgebra::SVector::from([T::lit(w6.value())])
         }
-        /// Block 1's residuals in double-word arithmetic (refinement near a dead point).
+        /// Block 0: one Newton step with its double-word residual.
         #[cold]
         #[inline(never)]
+        fn block0_refine(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+        ) {
+            let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
+            ::mechgen::__private::refine_block(
+                st,
+                [0],
+                jac,
+                self.block0_residual_twofold(x, &st.q),
+            );
+        }
+        /// Block 1's residuals in double-word arithmetic (refinement near a dead point).
+        #[inline]
         fn block1_residual_twofold(
             &self,
             x: &[T; 1],
@@ -505,6 +521,24 @@ pub mod slider {
             let w7 = ::mechgen::__private::Twofold::from(q[1].to_f64());
             let w8 = w6 - w7;
             ::mechgen::__private::nalgebra::SVector::from([T::lit(w8.value())])
+        }
+        /// Block 1: one Newton step with its double-word residual.
+        #[cold]
+        #[inline(never)]
+        fn block1_refine(
+            &self,
+            x: &[T; 1],
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
+            tx: &[(T, T); 1],
+            tp: &[(T, T); 2],
+        ) {
+            let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
+            ::mechgen::__private::refine_block(
+                st,
+                [1],
+                jac,
+                self.block1_residual_twofold(x, &st.q),
+            );
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
@@ -587,20 +621,8 @@ pub mod slider {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
-                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [1],
-                    jac,
-                    self.block1_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
+                self.block1_refine(x, st, tx, tp);
             }
             Ok(())
         }
@@ -819,20 +841,8 @@ pub mod slider {
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
-                let (_, jac) = self.block1_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [1],
-                    jac,
-                    self.block1_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
+                self.block1_refine(x, st, tx, tp);
             }
             // Block 0: velocities and accelerations.
             let v_q1_d = xd[0];

@@ -45,13 +45,7 @@
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
             }
             // Points.
             Ok((qd, qdd, []))
@@ -151,13 +145,7 @@
             }
             // Near a dead point: one Newton step per block with its residual in double words.
             if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
-                let (_, jac) = self.block0_position(x, &st.q, tx, tp, &st.sc);
-                ::mechgen::__private::refine_block(
-                    st,
-                    [0],
-                    jac,
-                    self.block0_residual_twofold(x, &st.q),
-                );
+                self.block0_refine(x, st, tx, tp);
             }
             // Points.
             let (_, c_v_q1) = tx[0];

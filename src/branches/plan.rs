@@ -159,11 +159,13 @@ fn tear(c: &Compiled, dag: &mut Dag, block: &Block, cut: usize) -> Option<Torn> 
             equations: vec![e],
             unknowns: vec![u],
         };
-        match classify_closed_form(dag, &c.model, res, &one)? {
-            ClosedForm::Angle1 { roots: r, .. } => roots.extend(r),
-            ClosedForm::Length1 { roots: r, .. } => roots.extend(r),
-            _ => return None,
+        // One unknown in one loop: the one-angle or one-length kind, whose roots are the
+        // equation's coefficients.
+        let form = classify_closed_form(dag, &c.model, res, &one)?;
+        if form.kind().unknowns() != 1 {
+            return None;
         }
+        roots.extend(form.roots());
     }
     let roots = Tape::new(dag, &roots);
     let last = match c.model.unknowns[u].kind {
@@ -171,15 +173,4 @@ fn tear(c: &Compiled, dag: &mut Dag, block: &Block, cut: usize) -> Option<Torn> 
         Kind::Length => Last::Length { s: u, roots },
     };
     Some(Torn { cut, subs, last })
-}
-
-/// The unknowns a closed form sets, in its kernel's order, and how many.
-pub(super) fn slots(form: &ClosedForm) -> ([usize; 2], usize) {
-    match *form {
-        ClosedForm::Rrr(ref d) => ([d.a, d.b], 2),
-        ClosedForm::Rrp { q, s, .. } | ClosedForm::Rpr { q, s, .. } => ([q, s], 2),
-        ClosedForm::Linear2 { s1, s2, .. } => ([s1, s2], 2),
-        ClosedForm::Angle1 { q, .. } => ([q, q], 1),
-        ClosedForm::Length1 { s, .. } => ([s, s], 1),
-    }
 }

@@ -5,13 +5,9 @@
 //! On request, each block's margins (how far it is from gaining or losing a pair of
 //! configurations) for the grid's search of hidden changes of the count.
 
-use mechgen_codegen::ClosedForm;
-use mechgen_runtime::closed_form::{
-    Modes, angle1_modes, length1_modes, linear2_modes, rpr_modes, rrp_modes, rrr_modes,
-};
 use mechgen_runtime::error::SolveError;
 
-use super::plan::{Form, Last, Step, Torn, slots};
+use super::plan::{Form, Last, Step, Torn};
 use super::roots::roots_and_extrema;
 use crate::generic::tape::{Env, Tape};
 
@@ -39,49 +35,6 @@ fn eval(tape: &Tape, x: &[f64], q: &[f64], p: &[f64]) -> Vec<f64> {
     out[..tape.outputs().min(6)].to_vec()
 }
 
-/// All modes of a closed form whose roots are `v`.
-fn modes(block: usize, form: &ClosedForm, v: &[f64]) -> Result<Modes<f64>, SolveError> {
-    match form {
-        ClosedForm::Rrr(_) => rrr_modes(block, [v[0], v[1]], (v[2], v[3]), (v[4], v[5])),
-        ClosedForm::Rrp { .. } => rrp_modes(block, [v[0], v[1]], (v[2], v[3]), [v[4], v[5]]),
-        ClosedForm::Rpr { .. } => rpr_modes(block, [v[0], v[1]], (v[2], v[3]), (v[4], v[5])),
-        ClosedForm::Linear2 { .. } => {
-            linear2_modes(block, [v[0], v[1]], [v[2], v[3]], [v[4], v[5]])
-        }
-        ClosedForm::Angle1 { .. } => angle1_modes(block, v[0], (v[1], v[2])),
-        ClosedForm::Length1 { .. } => length1_modes(block, v[0], v[1]),
-    }
-}
-
-/// How far a closed form with roots `v` is from losing (positive) or gaining (negative) its pair
-/// of modes: the distance by which its circles and lines meet or miss, the gap its kernel reports
-/// past the dead point. `None` for the forms with one mode (linear) and non-finite roots.
-pub(super) fn margin(form: &ClosedForm, v: &[f64]) -> Option<f64> {
-    let m = match form {
-        ClosedForm::Rrr(_) => {
-            let (l, la, lb) = (v[0].hypot(v[1]), v[2].hypot(v[3]), v[4].hypot(v[5]));
-            (la + lb - l).min(l - la + lb).min(l + la - lb)
-        }
-        ClosedForm::Rrp { .. } => {
-            // The circle of radius |M| about −K against the line along u through the origin.
-            let ul = v[4].hypot(v[5]);
-            let h = (v[4] * -v[1] - v[5] * -v[0]) / ul;
-            v[2].hypot(v[3]) - h.abs()
-        }
-        ClosedForm::Rpr { .. } => {
-            // In the frame of N: |g| against |b|, scaled back by |N|.
-            let nn = v[4] * v[4] + v[5] * v[5];
-            let g = (-v[0] * v[4] - v[1] * v[5]) / nn;
-            let g1 = (-v[1] * v[4] + v[0] * v[5]) / nn;
-            let b = (v[3] * v[4] - v[2] * v[5]) / nn;
-            (g.hypot(g1) - b.abs()) * nn.sqrt()
-        }
-        ClosedForm::Angle1 { .. } => v[1].hypot(v[2]) - v[0].abs(),
-        ClosedForm::Linear2 { .. } | ClosedForm::Length1 { .. } => return None,
-    };
-    m.is_finite().then_some(m)
-}
-
 /// `q` with every mode of `f` written in: one configuration per mode.
 fn expand(
     block: usize,
@@ -98,8 +51,10 @@ fn expand(
             iterations: 0,
         });
     }
-    let (idx, n) = slots(&f.form);
-    Ok(modes(block, &f.form, &v)?
+    let (idx, n) = (f.form.slots(), f.form.kind().unknowns());
+    Ok(f.form
+        .kind()
+        .modes(block, &v)?
         .as_slice()
         .iter()
         .map(|m| {
@@ -140,7 +95,8 @@ impl Solver {
                 match step {
                     Step::Closed(f) => {
                         if let Some(ms) = margins.as_deref_mut()
-                            && let Some(m) = margin(&f.form, &eval(&f.roots, x, q, &self.params))
+                            && let Some(m) =
+                                f.form.kind().margin(&eval(&f.roots, x, q, &self.params))
                         {
                             ms.push(m);
                         }
@@ -200,9 +156,9 @@ impl Solver {
             if v.iter().any(|x| !x.is_finite()) {
                 return None;
             }
-            let ms = modes(b, &sub.form, &v).ok()?;
+            let ms = sub.form.kind().modes(b, &v).ok()?;
             let m = ms.as_slice().get((sigma >> j) & 1)?;
-            let (idx, n) = slots(&sub.form);
+            let (idx, n) = (sub.form.slots(), sub.form.kind().unknowns());
             for s in 0..n {
                 q[idx[s]] = m.values[s];
             }

@@ -13,6 +13,7 @@
 //! | `Angle1` | `K + P cos q + Q sin q = 0` | `K P Q` |
 //! | `Length1` | `K + a s = 0` | `K a` |
 
+use mechgen_runtime::closed_form::ClosedKind;
 use std::collections::HashMap;
 
 use crate::analysis::dyad::{Dyad, coefficient, zeroed};
@@ -63,6 +64,29 @@ impl ClosedForm {
             | ClosedForm::Linear2 { roots, .. } => roots,
             ClosedForm::Angle1 { roots, .. } => roots,
             ClosedForm::Length1 { roots, .. } => roots,
+        }
+    }
+
+    /// Its kind, as the runtime knows it (kernel, modes, margin).
+    pub fn kind(&self) -> ClosedKind {
+        match self {
+            ClosedForm::Rrr(_) => ClosedKind::Rrr,
+            ClosedForm::Rrp { .. } => ClosedKind::Rrp,
+            ClosedForm::Rpr { .. } => ClosedKind::Rpr,
+            ClosedForm::Linear2 { .. } => ClosedKind::Linear2,
+            ClosedForm::Angle1 { .. } => ClosedKind::Angle1,
+            ClosedForm::Length1 { .. } => ClosedKind::Length1,
+        }
+    }
+
+    /// The unknowns it solves, in the kernel's order (a one-unknown kind repeats its unknown).
+    pub fn slots(&self) -> [usize; 2] {
+        match *self {
+            ClosedForm::Rrr(ref d) => [d.a, d.b],
+            ClosedForm::Rrp { q, s, .. } | ClosedForm::Rpr { q, s, .. } => [q, s],
+            ClosedForm::Linear2 { s1, s2, .. } => [s1, s2],
+            ClosedForm::Angle1 { q, .. } => [q, q],
+            ClosedForm::Length1 { s, .. } => [s, s],
         }
     }
 

@@ -80,23 +80,12 @@ pub(crate) fn kernel_call(
     }
 }
 
-/// The block's unknowns a closed form solves.
-fn unknowns(cf: &ClosedForm) -> Vec<usize> {
-    match *cf {
-        ClosedForm::Rrr(ref d) => vec![d.a, d.b],
-        ClosedForm::Rrp { q, s, .. } | ClosedForm::Rpr { q, s, .. } => vec![q, s],
-        ClosedForm::Linear2 { s1, s2, .. } => vec![s1, s2],
-        ClosedForm::Angle1 { q, .. } => vec![q],
-        ClosedForm::Length1 { s, .. } => vec![s],
-    }
-}
-
 /// Per unknown: whether a closed-form block solves it (a tick keeps it from the last tick
 /// instead of predicting it).
 pub(crate) fn closed_mask(c: &Compiled) -> Vec<bool> {
     let mut mask = vec![false; c.model.unknowns.len()];
     for cf in c.blocks.iter().filter_map(|b| b.closed_form.as_ref()) {
-        for u in unknowns(cf) {
+        for &u in &cf.slots()[..cf.kind().unknowns()] {
             mask[u] = true;
         }
     }

@@ -20,12 +20,14 @@
 //! saves the turn series (or `atan2`) on the way to it.
 
 mod angle1;
+mod kind;
 mod linear;
 mod rpr;
 mod rrp;
 mod rrr;
 
 pub use angle1::{angle1_modes, solve_angle1};
+pub use kind::ClosedKind;
 pub use linear::{length1_modes, linear2_modes, solve_length1, solve_linear2};
 pub use rpr::{rpr_modes, solve_rpr};
 pub use rrp::{rrp_modes, solve_rrp};

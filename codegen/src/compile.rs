@@ -59,10 +59,18 @@ fn analyze_mechanism(model: Model, diags: &mut Vec<Diagnostic>) -> Option<Compil
         diags.push(d);
         return None;
     }
-    Some(Compiled {
+    let mut c = Compiled {
         model,
         system,
         derivatives,
         blocks,
-    })
+        scenes: Vec::new(),
+    };
+    c.scenes = c
+        .model
+        .scenes
+        .iter()
+        .map(|s| analysis::scene::plan_scene(&c, s))
+        .collect();
+    Some(c)
 }

@@ -197,10 +197,10 @@ impl Generic {
                 .map(|ch| (ch.vertices.len(), ch.ground_segments))
                 .collect(),
             linkage: super::Linkage::new(m),
-            scenes: m
+            scenes: c
                 .scenes
                 .iter()
-                .map(|s| super::scene::SceneTapes::new(c, &dag, &mechgen_codegen::plan_scene(c, s)))
+                .map(|plan| super::scene::SceneTapes::new(c, &dag, plan))
                 .collect(),
             info,
             model: m.clone(),

@@ -46,10 +46,10 @@ impl SceneTapes {
                 mechanism: plan.mechanism.clone(),
                 order,
                 blocks: plan.blocks.clone(),
-                solved: plan.solved_unknowns(c),
+                solved: plan.solved.clone(),
                 // The generic engine computes every angle; what a generated tick skips is listed
                 // all the same, so that `check` describes the scene the same way.
-                angles_skipped: plan.angles_skipped(c),
+                angles_skipped: plan.angles_skipped.clone(),
                 unknowns: plan
                     .unknowns
                     .iter()
@@ -60,12 +60,12 @@ impl SceneTapes {
                     .iter()
                     .map(|&p| m.points[p].0.text.clone())
                     .collect(),
-                columns: plan.columns(c),
+                columns: plan.columns.clone(),
             },
             unknowns: plan.unknowns.clone(),
             points: Tape::new(dag, &roots),
             point_values: roots.len(),
-            params_read: plan.params_read(c),
+            params_read: plan.params_read.clone(),
         }
     }
 }

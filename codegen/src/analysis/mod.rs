@@ -23,6 +23,8 @@ pub struct Compiled {
     pub derivatives: Derivatives,
     /// The diagonal blocks in solve order, each with its forms and position solver.
     pub blocks: Vec<plan::BlockForms>,
+    /// The plan of each of the mechanism's scenes, in file order (computed once, here).
+    pub scenes: Vec<scene::ScenePlan>,
 }
 
 /// The block structure of a lowered system: which unknowns each equation's row of J touches.

@@ -48,11 +48,21 @@ pub struct ScenePlan {
     pub unknowns: Vec<usize>,
     /// Output points, in the order the scene lists them.
     pub points: Vec<usize>,
+    /// Every unknown a kept block solves, in block order: what the scene's solver keeps as state.
+    pub solved: Vec<usize>,
+    /// The base params the scene's code reads (its length scale is over these).
+    pub params_read: Vec<bool>,
+    /// Per unknown, whether the scene reads its value (not only its sine and cosine).
+    pub values_read: Vec<bool>,
+    /// Angles whose value the scene's tick skips.
+    pub angles_skipped: Vec<usize>,
+    /// The scene's CSV columns after the input.
+    pub columns: Vec<String>,
 }
 
 impl ScenePlan {
     /// Every unknown a kept block solves, in block order: what the scene's solver keeps as state.
-    pub fn solved_unknowns(&self, c: &Compiled) -> Vec<usize> {
+    fn find_solved_unknowns(&self, c: &Compiled) -> Vec<usize> {
         self.blocks
             .iter()
             .flat_map(|&b| c.blocks[b].block.unknowns.iter().copied())
@@ -65,7 +75,7 @@ impl ScenePlan {
     /// blocks' equations and in its points' expressions. Derivatives read no other params, so
     /// these are all a scene's results depend on (its Newton tolerances too: they are relative to
     /// the largest length param it reads); a tick compares and checks only these.
-    pub fn params_read(&self, c: &Compiled) -> Vec<bool> {
+    fn find_params_read(&self, c: &Compiled) -> Vec<bool> {
         let mut read = vec![false; c.model.params.len()];
         let equations = self
             .blocks
@@ -91,7 +101,7 @@ impl ScenePlan {
     /// kept Newton block). A closed-form block may skip an angle nobody reads (only its sine and
     /// cosine are needed, to place a point on the link, say). Conservative: whole Jacobian rows of
     /// the kept equations are counted.
-    pub fn values_read(&self, c: &Compiled) -> Vec<bool> {
+    fn find_values_read(&self, c: &Compiled) -> Vec<bool> {
         let dag = &c.system.dag;
         let d = &c.derivatives;
         let order = self.order.as_number();
@@ -148,8 +158,8 @@ impl ScenePlan {
     /// The angles of kept closed-form blocks (RRR, RRP, RPR, one angle) whose value the scene does
     /// not read ([`ScenePlan::values_read`]), in unknown order: its tick solves only their sines
     /// and cosines.
-    pub fn angles_skipped(&self, c: &Compiled) -> Vec<usize> {
-        let read = self.values_read(c);
+    fn find_angles_skipped(&self, c: &Compiled) -> Vec<usize> {
+        let read = self.find_values_read(c);
         let mut skipped: Vec<usize> = self
             .blocks
             .iter()
@@ -177,7 +187,7 @@ impl ScenePlan {
     /// The output columns (interfaces.md, "Scenes on the command line"): each output unknown up
     /// to the order (`u`, `u_vel`, `u_acc`), then each point (`P_x, P_y`, `P_vx, P_vy`,
     /// `P_ax, P_ay`).
-    pub fn columns(&self, c: &Compiled) -> Vec<String> {
+    fn find_columns(&self, c: &Compiled) -> Vec<String> {
         let orders = 0..=usize::from(self.order.as_number());
         let mut cols = Vec::new();
         for &u in &self.unknowns {
@@ -199,7 +209,7 @@ impl ScenePlan {
 }
 
 /// The plan of `scene` on the compiled mechanism `c`.
-pub fn plan_scene(c: &Compiled, scene: &Scene) -> ScenePlan {
+pub(crate) fn plan_scene(c: &Compiled, scene: &Scene) -> ScenePlan {
     let dag = &c.system.dag;
     let block_of = |k: usize| {
         c.blocks
@@ -233,21 +243,33 @@ pub fn plan_scene(c: &Compiled, scene: &Scene) -> ScenePlan {
             }
         }
     }
-    ScenePlan {
+    let mut plan = ScenePlan {
         name: scene.name.text.clone(),
         mechanism: c.model.name.text.clone(),
         order: Order::from_file(scene.order),
         blocks: (0..c.blocks.len()).filter(|&b| needed[b]).collect(),
         unknowns: scene.unknowns.clone(),
         points: scene.points.clone(),
-    }
+        solved: Vec::new(),
+        params_read: Vec::new(),
+        values_read: Vec::new(),
+        angles_skipped: Vec::new(),
+        columns: Vec::new(),
+    };
+    plan.solved = plan.find_solved_unknowns(c);
+    plan.params_read = plan.find_params_read(c);
+    plan.values_read = plan.find_values_read(c);
+    plan.angles_skipped = plan.find_angles_skipped(c);
+    plan.columns = plan.find_columns(c);
+    plan
 }
 
-/// The plans of every scene of the file, mechanism by mechanism, in file order.
+/// The plans of every scene of the file, mechanism by mechanism, in file order (as each
+/// [`Compiled`] carries them).
 pub fn plan_scenes(compiled: &[Compiled]) -> Vec<ScenePlan> {
     compiled
         .iter()
-        .flat_map(|c| c.model.scenes.iter().map(move |s| plan_scene(c, s)))
+        .flat_map(|c| c.scenes.iter().cloned())
         .collect()
 }
 
@@ -301,29 +323,29 @@ order = 2
         assert_eq!((e.name.as_str(), e.order), ("e_path", Order::Positions));
         assert_eq!(e.blocks, vec![0]);
         assert_eq!(e.points, vec![0]);
-        assert_eq!(e.solved_unknowns(&c[0]), vec![0, 1]);
+        assert_eq!(e.solved, vec![0, 1]);
         assert_eq!(plans[1].blocks, vec![0]);
         assert_eq!(plans[1].order, Order::Velocities);
     }
 
     #[test]
     fn an_output_of_a_later_block_keeps_the_blocks_it_depends_on() {
-        let (c, plans) = plans();
+        let (_, plans) = plans();
         let out = &plans[2];
         assert_eq!(out.blocks, vec![0, 1]);
         assert_eq!(out.unknowns, vec![3]);
         assert_eq!(out.points, vec![1]);
         assert_eq!(out.order, Order::Accelerations);
-        assert_eq!(out.solved_unknowns(&c[0]).len(), 4);
+        assert_eq!(out.solved.len(), 4);
     }
 
     #[test]
     fn columns_follow_the_order() {
-        let (c, plans) = plans();
-        assert_eq!(plans[0].columns(&c[0]), ["E_x", "E_y"]);
-        assert_eq!(plans[1].columns(&c[0]), ["q3", "q3_vel"]);
+        let (_, plans) = plans();
+        assert_eq!(plans[0].columns, ["E_x", "E_y"]);
+        assert_eq!(plans[1].columns, ["q3", "q3_vel"]);
         assert_eq!(
-            plans[2].columns(&c[0]),
+            plans[2].columns,
             [
                 "q6", "q6_vel", "q6_acc", "F_x", "F_y", "F_vx", "F_vy", "F_ax", "F_ay"
             ]
@@ -334,7 +356,7 @@ order = 2
     fn params_read_are_those_of_the_kept_equations_and_points() {
         let (c, plans) = plans();
         let names = |p: &ScenePlan| -> Vec<String> {
-            let read = p.params_read(&c[0]);
+            let read = p.params_read.clone();
             (c[0].model.params.iter().zip(read))
                 .filter(|(_, r)| *r)
                 .map(|(p, _)| p.name.text.clone())
@@ -348,14 +370,14 @@ order = 2
 
     #[test]
     fn values_read_skip_angles_read_through_sin_and_cos_only() {
-        let (c, plans) = plans();
-        let read = |p: &ScenePlan| p.values_read(&c[0]);
+        let (_, plans) = plans();
+        let read = |p: &ScenePlan| p.values_read.clone();
         // E reads q2 through its sine and cosine only, and nothing reads q3: the dyad skips both.
         assert_eq!(read(&plans[0]), [false; 4]);
         // q3 is an output; its rates read sines and cosines only.
         assert_eq!(read(&plans[1]), [false, true, false, false]);
         assert_eq!(read(&plans[2]), [false, false, false, true]);
-        let skipped = |p: &ScenePlan| p.angles_skipped(&c[0]);
+        let skipped = |p: &ScenePlan| p.angles_skipped.clone();
         assert_eq!(skipped(&plans[0]), [0, 1]);
         assert_eq!(skipped(&plans[1]), [0]);
         assert_eq!(skipped(&plans[2]), [0, 1, 2]);
@@ -373,7 +395,7 @@ order = 2
         let (c, diags) = analyze(&SourceFile::new("s.toml", &file));
         assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
         let plans = plan_scenes(&c);
-        assert_eq!(plans[0].values_read(&c[0]), [true, false, false, false]);
+        assert_eq!(plans[0].values_read.clone(), [true, false, false, false]);
     }
 
     #[test]
@@ -384,7 +406,7 @@ order = 2
                 for &e in &c[0].blocks[b].block.equations {
                     for (k, &d) in c[0].derivatives.jacobian[e].iter().enumerate() {
                         if !c[0].system.dag.is_zero(d) {
-                            assert!(p.solved_unknowns(&c[0]).contains(&k), "{p:?} needs {k}");
+                            assert!(p.solved.contains(&k), "{p:?} needs {k}");
                         }
                     }
                 }

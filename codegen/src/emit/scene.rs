@@ -8,7 +8,7 @@ use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
 use crate::analysis::Compiled;
-use crate::analysis::scene::{ScenePlan, plan_scene};
+use crate::analysis::scene::ScenePlan;
 use crate::emit::body::VarSource;
 use crate::emit::motion::{Subset, motion_subset};
 use crate::emit::names::{ModuleItems, Names};
@@ -24,7 +24,7 @@ fn method(plan: &ScenePlan, what: &str) -> Ident {
 fn masks(c: &Compiled, plan: &ScenePlan) -> (Vec<bool>, Vec<bool>, Vec<bool>) {
     let nu = c.model.unknowns.len();
     let (_, q_trig, _) = crate::emit::cache::trig_masks(c);
-    let solved = plan.solved_unknowns(c);
+    let solved = plan.solved.clone();
     let angle: Vec<bool> = (0..nu).map(|k| q_trig[k] && solved.contains(&k)).collect();
     let closed = crate::emit::closed::closed_mask(c);
     let keep_closed: Vec<bool> = (0..nu).map(|k| closed[k] || !solved.contains(&k)).collect();
@@ -38,15 +38,14 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
     let (ni, nu, _, npar) = crate::emit::sizes(&c.model);
     let (x_trig, _, _) = crate::emit::cache::trig_masks(c);
     let mut out = TokenStream::new();
-    for scene in &c.model.scenes {
-        let plan = plan_scene(c, scene);
+    for plan in &c.scenes {
         let np = plan.points.len();
-        let motion_fn = method(&plan, "motion");
-        let values_read = plan.values_read(c);
-        let read = plan.params_read(c);
+        let motion_fn = method(plan, "motion");
+        let values_read = plan.values_read.clone();
+        let read = plan.params_read.clone();
         // The scene's length scale: the largest length param it reads (its results depend on no
         // other param, not even through Newton's tolerance).
-        let scale_fn = method(&plan, "length_scale");
+        let scale_fn = method(plan, "length_scale");
         let read_lengths: Vec<TokenStream> = (c.model.params.iter().zip(&read))
             .filter(|(p, r)| **r && p.kind == crate::sema::model::Kind::Length)
             .map(|(p, _)| {
@@ -55,7 +54,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
             })
             .collect();
         let scale_body = crate::emit::largest_length(gt, &read_lengths);
-        let angles_skipped = plan.angles_skipped(c);
+        let angles_skipped = plan.angles_skipped.clone();
         let skipped: Vec<bool> = (0..c.model.unknowns.len())
             .map(|k| angles_skipped.contains(&k))
             .collect();
@@ -72,7 +71,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
         let every = |value: bool| sub.values_read.map(|_| quote!(, #value));
         let (every_true, every_false) = (every(true), every(false));
         let body = motion_subset(c, cached, rt, &sub);
-        let (angle, keep_closed, keep_newton) = masks(c, &plan);
+        let (angle, keep_closed, keep_newton) = masks(c, plan);
 
         // Every kept block in closed form: with closed forms on, the guess is the last tick's
         // state as it is (nothing to predict, no sines or cosines to rotate).
@@ -103,7 +102,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
         // Below order 2 with Newton blocks: the rates the scene does not compute, estimated by
         // differences for its predictor (skipped angles are stale: not theirs).
         let order = plan.order.as_number();
-        let solved = plan.solved_unknowns(c);
+        let solved = plan.solved.clone();
         let estimate: Vec<bool> = (0..c.model.unknowns.len())
             .map(|k| solved.contains(&k) && !skipped[k])
             .collect();
@@ -125,9 +124,9 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
             }
         };
         let (solve_fn, start_fn, tick_fn) = (
-            method(&plan, "solve"),
-            method(&plan, "tick_start"),
-            method(&plan, "tick"),
+            method(plan, "solve"),
+            method(plan, "tick_start"),
+            method(plan, "tick"),
         );
         let doc = format!(" Scene `{}`: its pruned solver.", plan.name);
         out.extend(comment(&format!(
@@ -283,8 +282,8 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
     let (name, mech_name) = (&plan.name, &m.name.text);
     let order = proc_macro2::Literal::u8_unsuffixed(plan.order.as_number());
     let blocks = &plan.blocks;
-    let solved = plan.solved_unknowns(c);
-    let skipped = plan.angles_skipped(c);
+    let solved = plan.solved.clone();
+    let skipped = plan.angles_skipped.clone();
     let unknown_names = plan.unknowns.iter().map(|&u| &m.unknowns[u].name.text);
     let point_names = plan.points.iter().map(|&p| &m.points[p].0.text);
     let doc = format!(
@@ -431,6 +430,6 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
 pub(crate) fn all(mechs: &[Compiled]) -> Vec<(&Compiled, ScenePlan)> {
     mechs
         .iter()
-        .flat_map(|c| c.model.scenes.iter().map(move |s| (c, plan_scene(c, s))))
+        .flat_map(|c| c.scenes.iter().map(move |s| (c, s.clone())))
         .collect()
 }

@@ -63,6 +63,77 @@ pub fn lookup<T: ::mechgen::__private::Real>(
         _ => ::core::option::Option::None,
     }
 }
+/// A compiled-in mechanism by name with the given base params (file order, as its
+/// `Params::to_array`; derived params follow from them); `None` for an unknown name or a
+/// slice of the wrong length.
+pub fn lookup_with_params<T: ::mechgen::__private::Real>(
+    name: &str,
+    params: &[T],
+) -> ::core::option::Option<
+    ::std::boxed::Box<dyn ::mechgen::__private::DynMechanism<T>>,
+> {
+    match name {
+        "sixbar" => {
+            <[T; _]>::try_from(params)
+                .ok()
+                .map(|a| {
+                    ::std::boxed::Box::new(
+                        sixbar::Sixbar::<T>::new(sixbar::Params::from_array(a)),
+                    ) as ::std::boxed::Box<dyn ::mechgen::__private::DynMechanism<T>>
+                })
+        }
+        "shaper" => {
+            <[T; _]>::try_from(params)
+                .ok()
+                .map(|a| {
+                    ::std::boxed::Box::new(
+                        shaper::Shaper::<T>::new(shaper::Params::from_array(a)),
+                    ) as ::std::boxed::Box<dyn ::mechgen::__private::DynMechanism<T>>
+                })
+        }
+        "four_bar" => {
+            <[T; _]>::try_from(params)
+                .ok()
+                .map(|a| {
+                    ::std::boxed::Box::new(
+                        four_bar::FourBar::<T>::new(four_bar::Params::from_array(a)),
+                    ) as ::std::boxed::Box<dyn ::mechgen::__private::DynMechanism<T>>
+                })
+        }
+        "slider_crank" => {
+            <[T; _]>::try_from(params)
+                .ok()
+                .map(|a| {
+                    ::std::boxed::Box::new(
+                        slider_crank::SliderCrank::<
+                            T,
+                        >::new(slider_crank::Params::from_array(a)),
+                    ) as ::std::boxed::Box<dyn ::mechgen::__private::DynMechanism<T>>
+                })
+        }
+        "rocker_four_bar" => {
+            <[T; _]>::try_from(params)
+                .ok()
+                .map(|a| {
+                    ::std::boxed::Box::new(
+                        rocker_four_bar::RockerFourBar::<
+                            T,
+                        >::new(rocker_four_bar::Params::from_array(a)),
+                    ) as ::std::boxed::Box<dyn ::mechgen::__private::DynMechanism<T>>
+                })
+        }
+        "sixbar_g" => {
+            <[T; _]>::try_from(params)
+                .ok()
+                .map(|a| {
+                    ::std::boxed::Box::new(
+                        sixbar_g::SixbarG::<T>::new(sixbar_g::Params::from_array(a)),
+                    ) as ::std::boxed::Box<dyn ::mechgen::__private::DynMechanism<T>>
+                })
+        }
+        _ => ::core::option::Option::None,
+    }
+}
 /// Calls `v.visit` with every compiled-in mechanism (default params), statically typed, in
 /// file order: generic code over whatever the build compiled in, without dynamic dispatch.
 pub fn visit_all<

@@ -46,6 +46,8 @@ pub use mechgen_runtime::{
     Stage, StaticInfo, StaticMechanism, StaticVisitor, Tick, TickState,
 };
 
+#[cfg(feature = "sweep")]
+pub mod batch;
 #[cfg(feature = "runtime")]
 pub mod generic;
 #[cfg(feature = "runtime")]

@@ -23,6 +23,7 @@ fn main() -> ExitCode {
         Some(Command::Check(args)) => cli::check::run(args.file.as_deref()),
         Some(Command::Branches(args)) => cli::branches::run(&args),
         Some(Command::Metrics(args)) => cli::metrics::run(&args),
+        Some(Command::Batch(args)) => cli::batch::run(&args),
     };
     report_peak_memory();
     match result {

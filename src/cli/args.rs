@@ -48,6 +48,61 @@ pub enum Command {
     /// What a designer reads first, on the start's branch: each output's min and max (stroke,
     /// rocker swing) with the inputs where they occur, time ratios, transmission angles.
     Metrics(MetricsArgs),
+    /// Sweep a mechanism for every param set of a CSV (one row per set), across every core:
+    /// every row of every set as CSV, a summary per set.
+    Batch(Box<BatchArgs>),
+}
+
+/// `mechgen batch NAME --params SETS.csv [options]`.
+#[derive(Debug, Args)]
+pub struct BatchArgs {
+    /// The param sets: a header of param names (any of the mechanism's), one row per set; the
+    /// params it does not name keep the file's values.
+    #[arg(long, value_name = "PATH")]
+    pub params: PathBuf,
+    /// Every row of every set as CSV: `set`, then the columns of sweep's CSV.
+    #[arg(long, value_name = "PATH")]
+    pub csv: Option<PathBuf>,
+    /// One row per set: ok_rows, failed_rows, first_failure, each output's min and max.
+    #[arg(long, value_name = "PATH")]
+    pub summary: Option<PathBuf>,
+    /// Worker threads [default: every core].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    pub threads: Option<u16>,
+    /// The sweep of each set, with sweep's options (except its outputs).
+    #[command(flatten)]
+    pub sweep: BatchSweep,
+}
+
+/// The options a batch shares with `sweep`.
+#[derive(Debug, Args)]
+pub struct BatchSweep {
+    /// The mechanism, as named in the file ([mechanism.NAME]).
+    pub name: String,
+    /// Load the mechanism from this file at run time (generic engine).
+    #[arg(long, value_name = "PATH")]
+    pub file: Option<PathBuf>,
+    /// Which solvers to use [default: generated when compiled in, else generic].
+    #[arg(long, value_enum)]
+    pub engine: Option<Engine>,
+    /// First input value, as for sweep.
+    #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
+    pub from: Option<f64>,
+    /// Last input value, as for sweep.
+    #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
+    pub to: Option<f64>,
+    /// Distance between rows, as for sweep.
+    #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
+    pub step: Option<f64>,
+    /// Input velocity, as for sweep.
+    #[arg(long, value_name = "V", default_value_t = 1.0, allow_negative_numbers = true, value_parser = finite)]
+    pub rate: f64,
+    /// Which input to sweep [default: the first].
+    #[arg(long, value_name = "NAME")]
+    pub input: Option<String>,
+    /// The value of an input that is not swept; repeatable.
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = assignment)]
+    pub set: Vec<(String, f64)>,
 }
 
 /// `mechgen metrics NAME [options]`.

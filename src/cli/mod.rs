@@ -18,6 +18,7 @@ macro_rules! say_raw {
 }
 
 pub mod args;
+pub mod batch;
 pub mod branches;
 pub mod check;
 pub mod load;

@@ -48,6 +48,16 @@ pub fn emit_with(mechs: &[Compiled], source_name: &str, runtime: &str) -> Result
         quote!(#name => ::core::option::Option::Some(::std::boxed::Box::new(
             <#module::#ty::<#gt> as ::core::default::Default>::default())),)
     });
+    // With params: the base params in file order (`Params::to_array`'s), checked for length.
+    let param_arms = mechs.iter().map(|m| {
+        let name = &m.model.name.text;
+        let items = ModuleItems::new(name);
+        let (module, ty, params_ty) = (format_ident!("{}", name), &items.ty, &items.params);
+        quote!(#name => <[#gt; _]>::try_from(params).ok().map(|a| {
+            ::std::boxed::Box::new(#module::#ty::<#gt>::new(#module::#params_ty::from_array(a)))
+                as ::std::boxed::Box<dyn #rt::DynMechanism<#gt>>
+        }),)
+    });
     let visits = mechs.iter().map(|m| {
         let (module, ty) = (format_ident!("{}", m.model.name.text), type_ident(&m.model));
         quote!(v.visit(&<#module::#ty::<#gt> as ::core::default::Default>::default());)
@@ -90,6 +100,16 @@ pub fn emit_with(mechs: &[Compiled], source_name: &str, runtime: &str) -> Result
         pub fn lookup<#gt: #rt::Real>(name: &str) -> ::core::option::Option<::std::boxed::Box<dyn #rt::DynMechanism<#gt>>> {
             match name {
                 #(#arms)*
+                _ => ::core::option::Option::None,
+            }
+        }
+
+        /// A compiled-in mechanism by name with the given base params (file order, as its
+        /// `Params::to_array`; derived params follow from them); `None` for an unknown name or a
+        /// slice of the wrong length.
+        pub fn lookup_with_params<#gt: #rt::Real>(name: &str, params: &[#gt]) -> ::core::option::Option<::std::boxed::Box<dyn #rt::DynMechanism<#gt>>> {
+            match name {
+                #(#param_arms)*
                 _ => ::core::option::Option::None,
             }
         }

@@ -19,6 +19,28 @@ pub fn lookup<T: ::mechgen::__private::Real>(
         _ => ::core::option::Option::None,
     }
 }
+/// A compiled-in mechanism by name with the given base params (file order, as its
+/// `Params::to_array`; derived params follow from them); `None` for an unknown name or a
+/// slice of the wrong length.
+pub fn lookup_with_params<T: ::mechgen::__private::Real>(
+    name: &str,
+    params: &[T],
+) -> ::core::option::Option<
+    ::std::boxed::Box<dyn ::mechgen::__private::DynMechanism<T>>,
+> {
+    match name {
+        "slider" => {
+            <[T; _]>::try_from(params)
+                .ok()
+                .map(|a| {
+                    ::std::boxed::Box::new(
+                        slider::Slider::<T>::new(slider::Params::from_array(a)),
+                    ) as ::std::boxed::Box<dyn ::mechgen::__private::DynMechanism<T>>
+                })
+        }
+        _ => ::core::option::Option::None,
+    }
+}
 /// Calls `v.visit` with every compiled-in mechanism (default params), statically typed, in
 /// file order: generic code over whatever the build compiled in, without dynamic dispatch.
 pub fn visit_all<

@@ -71,38 +71,7 @@ pub struct BatchArgs {
     pub threads: Option<u16>,
     /// The sweep of each set, with sweep's options (except its outputs).
     #[command(flatten)]
-    pub sweep: BatchSweep,
-}
-
-/// The options a batch shares with `sweep`.
-#[derive(Debug, Args)]
-pub struct BatchSweep {
-    /// The mechanism, as named in the file ([mechanism.NAME]).
-    pub name: String,
-    /// Load the mechanism from this file at run time (generic engine).
-    #[arg(long, value_name = "PATH")]
-    pub file: Option<PathBuf>,
-    /// Which solvers to use [default: generated when compiled in, else generic].
-    #[arg(long, value_enum)]
-    pub engine: Option<Engine>,
-    /// First input value, as for sweep.
-    #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
-    pub from: Option<f64>,
-    /// Last input value, as for sweep.
-    #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
-    pub to: Option<f64>,
-    /// Distance between rows, as for sweep.
-    #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
-    pub step: Option<f64>,
-    /// Input velocity, as for sweep.
-    #[arg(long, value_name = "V", default_value_t = 1.0, allow_negative_numbers = true, value_parser = finite)]
-    pub rate: f64,
-    /// Which input to sweep [default: the first].
-    #[arg(long, value_name = "NAME")]
-    pub input: Option<String>,
-    /// The value of an input that is not swept; repeatable.
-    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = assignment)]
-    pub set: Vec<(String, f64)>,
+    pub sweep: SweepOptions,
 }
 
 /// `mechgen metrics NAME [options]`.
@@ -172,9 +141,33 @@ pub enum Engine {
     Generic,
 }
 
-/// `mechgen sweep NAME [options]`.
+/// `mechgen sweep NAME [options]`: the sweep, and what it writes.
 #[derive(Debug, Args)]
 pub struct SweepArgs {
+    #[command(flatten)]
+    pub sweep: SweepOptions,
+    /// Also write the rows as CSV (radians, full precision) to PATH.
+    #[arg(long, value_name = "PATH")]
+    pub csv: Option<PathBuf>,
+    /// Also write DIR/NAME-motion.svg and DIR/NAME-drawing.svg.
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
+    /// Also write an animated SVG of the mechanism over the sweep into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub animate: Option<PathBuf>,
+}
+
+impl std::ops::Deref for SweepArgs {
+    type Target = SweepOptions;
+    fn deref(&self) -> &SweepOptions {
+        &self.sweep
+    }
+}
+
+/// What a sweep is: the mechanism, the engine, the range, the rate and the held inputs (`sweep`'s
+/// options, and each set's sweep in `batch`).
+#[derive(Debug, Args)]
+pub struct SweepOptions {
     /// The mechanism to sweep, as named in the file ([mechanism.NAME]).
     pub name: String,
     /// Load the mechanism from this file at run time (generic engine) instead of the
@@ -201,15 +194,6 @@ pub struct SweepArgs {
     /// for a length input; the input acceleration is zero.
     #[arg(long, value_name = "V", default_value_t = 1.0, allow_negative_numbers = true, value_parser = finite)]
     pub rate: f64,
-    /// Also write the rows as CSV (radians, full precision) to PATH.
-    #[arg(long, value_name = "PATH")]
-    pub csv: Option<PathBuf>,
-    /// Also write DIR/NAME-motion.svg and DIR/NAME-drawing.svg.
-    #[arg(long, value_name = "DIR")]
-    pub plot: Option<PathBuf>,
-    /// Also write an animated SVG of the mechanism over the sweep into DIR.
-    #[arg(long, value_name = "DIR")]
-    pub animate: Option<PathBuf>,
     /// Which input to sweep, for a mechanism with several [default: the first].
     #[arg(long, value_name = "NAME")]
     pub input: Option<String>,

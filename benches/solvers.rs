@@ -12,6 +12,9 @@
 //!   a `Tick`, also holds the sines and cosines, and it predicts itself), the generic engine with
 //!   the same prediction as its guess for `DynMechanism::solve`.
 //!
+//! - `step/batch`: 4096 instances of the generated tick, each walking the branch from its own
+//!   place, ticked once per iteration through `mechgen::batch::for_each_mut` on every core; the
+//!   time per instance.
 //! - `<scene>/step/generated`: one tick of each compiled-in scene along its mechanism's walk (the
 //!   same states), right after its mechanism's benches, so a scene's saving reads off against
 //!   `<mechanism>/step/generated` under the same load.
@@ -108,6 +111,9 @@ fn states(k: &dyn DynMechanism<f64>) -> (Vec<State>, f64) {
 }
 
 /// Indices 0, 1, …, n−1, n−2, …, 0, 1, …: a state walking along the solved inputs and back.
+/// Instances in a `step/batch` fleet (interfaces.md).
+const BATCH: usize = 4096;
+
 struct Walk {
     at: usize,
     n: usize,
@@ -117,6 +123,11 @@ struct Walk {
 impl Walk {
     fn new(n: usize) -> Self {
         Walk { at: 0, n, up: true }
+    }
+
+    /// A walk that stands at `at`.
+    fn at(n: usize, at: usize) -> Self {
+        Walk { at, n, up: true }
     }
 
     fn next(&mut self) -> usize {
@@ -216,6 +227,34 @@ impl StaticVisitor<f64> for Generated<'_> {
                         tick = m.tick_start(&inputs[j], &typed[j].1, &opts).ok();
                     }
                     black_box(&tick);
+                })
+            });
+            // `step/batch`: a fleet of BATCH instances, each its own tick walking the branch from
+            // its own place, all ticked once per iteration through the batch API on every core;
+            // the time per instance.
+            let mut fleet: Vec<(M::Tick, Walk)> = (0..BATCH)
+                .filter_map(|k| {
+                    let j = (k * 7919) % n;
+                    let t = m.tick_start(&inputs[j], &typed[j].1, &opts).ok()?;
+                    Some((t, Walk::at(n, j)))
+                })
+                .collect();
+            let size = fleet.len() as u32;
+            g.bench_function("step/batch", |b| {
+                b.iter_custom(|iters| {
+                    let start = std::time::Instant::now();
+                    for _ in 0..iters {
+                        mechgen::batch::for_each_mut(&mut fleet, |_, (t, w)| {
+                            let j = w.next();
+                            if m.tick(t, &inputs[j], &opts).is_err()
+                                && let Ok(fresh) = m.tick_start(&inputs[j], &typed[j].1, &opts)
+                            {
+                                *t = fresh;
+                            }
+                        });
+                    }
+                    black_box(&fleet);
+                    start.elapsed() / size.max(1)
                 })
             });
         }

@@ -3,7 +3,8 @@
 //! mechanism with those params would be, and summarised ([`SetSummary`]). [`for_each_ordered`]
 //! runs the sets in chunks, each chunk across every core with the `parallel` feature (rayon),
 //! handing the results back in set order: the output is the same whatever the threads, and memory
-//! holds one chunk, however many sets.
+//! holds one chunk, however many sets. [`for_each_mut`] is the same for many instances held in
+//! memory (a fleet of mechanisms each ticked once, say).
 
 use crate::MechanismInfo;
 use crate::sweep::Row;
@@ -208,5 +209,24 @@ pub fn for_each_ordered<T: Send>(
             emit(s, solve(s));
         }
         Ok(())
+    }
+}
+
+/// Calls `f(i, &mut items[i])` for every item, across every core with the `parallel` feature
+/// (rayon's pool, at least 64 items per task), in order on one thread without it. Each call sees
+/// its own item only, so the results do not depend on the threads.
+pub fn for_each_mut<S: Send>(items: &mut [S], f: impl Fn(usize, &mut S) + Sync) {
+    #[cfg(feature = "parallel")]
+    {
+        use rayon::prelude::*;
+        items
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(64)
+            .for_each(|(i, s)| f(i, s));
+    }
+    #[cfg(not(feature = "parallel"))]
+    for (i, s) in items.iter_mut().enumerate() {
+        f(i, s);
     }
 }

@@ -164,6 +164,82 @@ impl core::ops::Div for Twofold {
     }
 }
 
+/// What an interpreter of expressions computes in: the solvers' scalars ([`Real`]) and
+/// [`Twofold`], with one name for each operation (the generic engine's tapes run on either).
+pub trait Arith:
+    Copy
+    + core::ops::Add<Output = Self>
+    + core::ops::Sub<Output = Self>
+    + core::ops::Mul<Output = Self>
+    + core::ops::Div<Output = Self>
+    + core::ops::Neg<Output = Self>
+{
+    /// An f64 constant.
+    fn constant(c: f64) -> Self;
+    fn sin_cos_of(self) -> (Self, Self);
+    fn sin_of(self) -> Self {
+        self.sin_cos_of().0
+    }
+    fn cos_of(self) -> Self {
+        self.sin_cos_of().1
+    }
+    fn tan_of(self) -> Self {
+        let (s, c) = self.sin_cos_of();
+        s / c
+    }
+    fn sqrt_of(self) -> Self;
+    /// `asin`, `abs`, `atan2(a, b)`, … by name (`b` unused by one-argument functions).
+    fn func(name: &str, a: Self, b: Self) -> Self;
+}
+
+impl<T: Real> Arith for T {
+    fn constant(c: f64) -> T {
+        T::lit(c)
+    }
+    fn sin_cos_of(self) -> (T, T) {
+        self.sin_cos()
+    }
+    fn sin_of(self) -> T {
+        self.sin()
+    }
+    fn cos_of(self) -> T {
+        self.cos()
+    }
+    fn tan_of(self) -> T {
+        self.tan()
+    }
+    fn sqrt_of(self) -> T {
+        self.sqrt()
+    }
+    fn func(name: &str, a: T, b: T) -> T {
+        match name {
+            "asin" => a.asin(),
+            "acos" => a.acos(),
+            "atan" => a.atan(),
+            "abs" => a.abs(),
+            "atan2" => a.atan2(b),
+            "hypot" => a.hypot(b),
+            _ => T::lit(f64::NAN),
+        }
+    }
+}
+
+impl Arith for Twofold {
+    fn constant(c: f64) -> Twofold {
+        Twofold::from(c)
+    }
+    fn sin_cos_of(self) -> (Twofold, Twofold) {
+        self.sin_cos()
+    }
+    fn sqrt_of(self) -> Twofold {
+        self.sqrt()
+    }
+    /// In f64 (a params-only function: the params are given in f64).
+    fn func(name: &str, a: Twofold, b: Twofold) -> Twofold {
+        Twofold::from(f64::func(name, a.value(), b.value()))
+    }
+}
+
 /// Positions are refined ([`refine_block`]) when the solve's pivot ratio is below this (a
 /// condition estimate above 100: within about 0.01° of a typical dead point), where the rates'
 /// error from a residual known only to rounding starts to exceed 1e-11.

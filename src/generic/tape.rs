@@ -5,7 +5,7 @@
 use mechgen_codegen::{Dag, Func, Node, NodeId, Var};
 
 use mechgen_runtime::scalar::Real;
-use mechgen_runtime::twofold::Twofold;
+use mechgen_runtime::twofold::{Arith, Twofold};
 
 /// One instruction; operands are register numbers (every instruction writes the next register).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -165,41 +165,7 @@ impl Tape {
     /// Runs the program; `regs` is workspace (resized as needed). Returns the root values through
     /// `out` (as many as fit).
     pub fn eval<T: Real>(&self, env: &Env<'_, T>, regs: &mut Vec<T>, out: &mut [T]) {
-        regs.clear();
-        regs.resize(self.ops.len(), T::zero());
-        for i in 0..self.ops.len() {
-            let g = |k: u32| regs[k as usize];
-            let v = match self.ops[i] {
-                Op::Const(c) => T::lit(c),
-                Op::Var(v) => env.get(v),
-                Op::Add(a, b) => g(a) + g(b),
-                Op::Sub(a, b) => g(a) - g(b),
-                Op::Mul(a, b) => g(a) * g(b),
-                Op::Div(a, b) => g(a) / g(b),
-                Op::Neg(a) => -g(a),
-                Op::SinCos(a) => {
-                    let (s, c) = g(a).sin_cos();
-                    if let Some(next) = regs.get_mut(i + 1) {
-                        *next = c;
-                    }
-                    s
-                }
-                Op::Cos2 => continue,
-                Op::Sin(a) => g(a).sin(),
-                Op::Cos(a) => g(a).cos(),
-                Op::Tan(a) => g(a).tan(),
-                Op::Sqrt(a) => g(a).sqrt(),
-                Op::Func(f, a, b) => match f {
-                    Func::Asin => g(a).asin(),
-                    Func::Acos => g(a).acos(),
-                    Func::Atan => g(a).atan(),
-                    Func::Abs => g(a).abs(),
-                    Func::Atan2 => g(a).atan2(g(b)),
-                    Func::Hypot => g(a).hypot(g(b)),
-                },
-            };
-            regs[i] = v;
-        }
+        self.run(|v| env.get(v), regs);
         for (o, &r) in out.iter_mut().zip(&self.outputs) {
             *o = regs[r as usize];
         }
@@ -209,36 +175,40 @@ impl Tape {
     /// the root values to about 1e-32 relative of the terms (a params-only function in f64).
     pub fn eval_twofold(&self, x: &[f64], q: &[f64], p: &[f64]) -> Vec<Twofold> {
         let env = Env::position(x, q, p);
-        let mut regs = vec![Twofold::default(); self.ops.len()];
+        let mut regs = Vec::new();
+        self.run(|v| Twofold::from(env.get(v)), &mut regs);
+        self.outputs.iter().map(|&r| regs[r as usize]).collect()
+    }
+
+    /// The interpreter: every instruction in order, in the arithmetic `A`, into `regs`.
+    fn run<A: Arith>(&self, var: impl Fn(Var) -> A, regs: &mut Vec<A>) {
+        regs.clear();
+        regs.resize(self.ops.len(), A::constant(0.0));
         for i in 0..self.ops.len() {
             let g = |k: u32| regs[k as usize];
             let v = match self.ops[i] {
-                Op::Const(c) => Twofold::from(c),
-                Op::Var(v) => Twofold::from(env.get(v)),
+                Op::Const(c) => A::constant(c),
+                Op::Var(v) => var(v),
                 Op::Add(a, b) => g(a) + g(b),
                 Op::Sub(a, b) => g(a) - g(b),
                 Op::Mul(a, b) => g(a) * g(b),
                 Op::Div(a, b) => g(a) / g(b),
                 Op::Neg(a) => -g(a),
                 Op::SinCos(a) => {
-                    let (s, c) = g(a).sin_cos();
+                    let (s, c) = g(a).sin_cos_of();
                     if let Some(next) = regs.get_mut(i + 1) {
                         *next = c;
                     }
                     s
                 }
                 Op::Cos2 => continue,
-                Op::Sin(a) => g(a).sin_cos().0,
-                Op::Cos(a) => g(a).sin_cos().1,
-                Op::Tan(a) => {
-                    let (s, c) = g(a).sin_cos();
-                    s / c
-                }
-                Op::Sqrt(a) => g(a).sqrt(),
-                Op::Func(f, a, b) => Twofold::from(f.eval(g(a).value(), g(b).value())),
+                Op::Sin(a) => g(a).sin_of(),
+                Op::Cos(a) => g(a).cos_of(),
+                Op::Tan(a) => g(a).tan_of(),
+                Op::Sqrt(a) => g(a).sqrt_of(),
+                Op::Func(f, a, b) => A::func(f.method(), g(a), g(b)),
             };
             regs[i] = v;
         }
-        self.outputs.iter().map(|&r| regs[r as usize]).collect()
     }
 }

@@ -208,19 +208,9 @@ pub fn visit_scenes<
 }
 /// Six-bar linkage: crank-rocker four-bar ABCD plus the RRR dyad E-F-G on the coupler point E
 pub mod sixbar {
-    #![allow(
-        non_snake_case,
-        unused_variables,
-        clippy::too_many_arguments,
-        clippy::type_complexity
-    )]
+    #![allow(non_snake_case)]
     // Allowed above, and why:
     // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
-    // unused_variables: block functions share one signature (inputs,
-    // unknowns, their sines and cosines) and a block reads only some of
-    // them; no local is bound without being read.
-    // too_many_arguments, type_complexity: those private signatures, and
-    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "sixbar",
@@ -565,7 +555,7 @@ pub mod sixbar {
         /// J = ∂Φ/∂q at (x, q).
         pub fn jacobian(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
             let v_q2 = q[0];
@@ -633,7 +623,7 @@ pub mod sixbar {
         pub fn input_jacobian(
             &self,
             x: &[T; 1],
-            q: &[T; 4],
+            _q: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 1> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
@@ -655,9 +645,9 @@ pub mod sixbar {
         /// J̇ = dJ/dt at (x, q, ẋ, q̇).
         pub fn jacobian_dot(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 4],
-            xd: &[T; 1],
+            _xd: &[T; 1],
             qd: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
             let v_q2 = q[0];
@@ -738,7 +728,7 @@ pub mod sixbar {
         pub fn velocity_rhs(
             &self,
             x: &[T; 1],
-            q: &[T; 4],
+            _q: &[T; 4],
             xd: &[T; 1],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
             let v_q1 = x[0];
@@ -952,10 +942,10 @@ pub mod sixbar {
         #[inline]
         fn block0_position(
             &self,
-            x: &[T; 1],
-            q: &[T; 4],
+            _x: &[T; 1],
+            _q: &[T; 4],
             tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
+            _tp: &[(T, T); 10],
             tq: &[(T, T); 4],
         ) -> (
             ::mechgen::__private::nalgebra::SVector<T, 2>,
@@ -996,8 +986,8 @@ pub mod sixbar {
         #[inline]
         fn block1_position(
             &self,
-            x: &[T; 1],
-            q: &[T; 4],
+            _x: &[T; 1],
+            _q: &[T; 4],
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
@@ -1182,7 +1172,7 @@ pub mod sixbar {
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
-        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 10]) {
+        fn trig_fixed(&self, x: &[T; 1]) -> ::mechgen::__private::TrigFixed<T, 1, 10> {
             let params = self.params.to_array();
             let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
             let mut tp: [(T, T); 10] = [(T::zero(), T::one()); 10];
@@ -1303,7 +1293,7 @@ pub mod sixbar {
         #[inline]
         fn velocity_cached(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             st: &::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
@@ -1405,10 +1395,11 @@ pub mod sixbar {
             Ok(qd)
         }
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
+        #[allow(clippy::too_many_arguments)]
         #[inline]
         fn acceleration_cached(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             st: &::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
@@ -1556,6 +1547,7 @@ pub mod sixbar {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
+        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         fn motion_cached(
             &self,
@@ -1568,7 +1560,7 @@ pub mod sixbar {
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
-            ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 1]),
+            ::mechgen::__private::Rates<T, 4, 1>,
             ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 4];
@@ -1832,6 +1824,7 @@ pub mod sixbar {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
+        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         #[doc(hidden)]
         pub(super) fn scene_sixbar_e_path_motion(
@@ -1840,13 +1833,13 @@ pub mod sixbar {
             st: &mut ::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
-            xd: &[T; 1],
-            xdd: &[T; 1],
+            _xd: &[T; 1],
+            _xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
             every_angle: bool,
         ) -> ::core::result::Result<
-            ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 1]),
+            ::mechgen::__private::Rates<T, 4, 1>,
             ::mechgen::__private::SolveError,
         > {
             let qd = [T::zero(); 4];
@@ -1932,12 +1925,7 @@ pub mod sixbar {
             q: &mut [T; 4],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (
-                [T; 4],
-                [T; 4],
-                [::mechgen::__private::PointMotion<T>; 1],
-                ::mechgen::__private::NewtonReport<T>,
-            ),
+            ::mechgen::__private::RatesReport<T, 4, 1>,
             ::mechgen::__private::SolveError,
         > {
             ::mechgen::__private::check_finite_in(
@@ -2125,6 +2113,7 @@ pub mod sixbar {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
+        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         #[doc(hidden)]
         pub(super) fn scene_sixbar_output_motion(
@@ -2139,7 +2128,7 @@ pub mod sixbar {
             report: &mut ::mechgen::__private::NewtonReport<T>,
             every_angle: bool,
         ) -> ::core::result::Result<
-            ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 0]),
+            ::mechgen::__private::Rates<T, 4, 0>,
             ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 4];
@@ -2384,12 +2373,7 @@ pub mod sixbar {
             q: &mut [T; 4],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (
-                [T; 4],
-                [T; 4],
-                [::mechgen::__private::PointMotion<T>; 0],
-                ::mechgen::__private::NewtonReport<T>,
-            ),
+            ::mechgen::__private::RatesReport<T, 4, 0>,
             ::mechgen::__private::SolveError,
         > {
             ::mechgen::__private::check_finite_in(
@@ -2664,12 +2648,7 @@ pub mod sixbar {
             q: &mut [T; 4],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (
-                [T; 4],
-                [T; 4],
-                [::mechgen::__private::PointMotion<T>; 1],
-                ::mechgen::__private::NewtonReport<T>,
-            ),
+            ::mechgen::__private::RatesReport<T, 4, 1>,
             ::mechgen::__private::SolveError,
         > {
             ::mechgen::__private::check_finite(
@@ -3010,19 +2989,9 @@ pub mod sixbar {
 }
 /// Shaper (crank and slotted guide bar): crank AB drives slider B on guide bar CD, link DE drives the ram E
 pub mod shaper {
-    #![allow(
-        non_snake_case,
-        unused_variables,
-        clippy::too_many_arguments,
-        clippy::type_complexity
-    )]
+    #![allow(non_snake_case)]
     // Allowed above, and why:
     // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
-    // unused_variables: block functions share one signature (inputs,
-    // unknowns, their sines and cosines) and a block reads only some of
-    // them; no local is bound without being read.
-    // too_many_arguments, type_complexity: those private signatures, and
-    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "shaper",
@@ -3284,7 +3253,7 @@ pub mod shaper {
         /// J = ∂Φ/∂q at (x, q).
         pub fn jacobian(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
             let v_s3 = q[0];
@@ -3328,7 +3297,7 @@ pub mod shaper {
         pub fn input_jacobian(
             &self,
             x: &[T; 1],
-            q: &[T; 4],
+            _q: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 1> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
@@ -3346,9 +3315,9 @@ pub mod shaper {
         /// J̇ = dJ/dt at (x, q, ẋ, q̇).
         pub fn jacobian_dot(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 4],
-            xd: &[T; 1],
+            _xd: &[T; 1],
             qd: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
             let v_s3 = q[0];
@@ -3408,7 +3377,7 @@ pub mod shaper {
         pub fn velocity_rhs(
             &self,
             x: &[T; 1],
-            q: &[T; 4],
+            _q: &[T; 4],
             xd: &[T; 1],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
             let v_q1 = x[0];
@@ -3493,7 +3462,7 @@ pub mod shaper {
             ::mechgen::__private::nalgebra::SVector::from([t32, t40, t43, t46])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(&self, x: &[T; 1], q: &[T; 4]) -> [[T; 2]; 2] {
+        pub fn point_positions(&self, _x: &[T; 1], q: &[T; 4]) -> [[T; 2]; 2] {
             let v_q3 = q[1];
             let v_sE = q[3];
             let p_l3 = self.params.l3;
@@ -3506,11 +3475,11 @@ pub mod shaper {
         /// Position, velocity and acceleration of every point, in `POINT_NAMES` order.
         pub fn point_motion(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 4],
-            xd: &[T; 1],
+            _xd: &[T; 1],
             qd: &[T; 4],
-            xdd: &[T; 1],
+            _xdd: &[T; 1],
             qdd: &[T; 4],
         ) -> [::mechgen::__private::PointMotion<T>; 2] {
             let v_q3 = q[1];
@@ -3552,10 +3521,10 @@ pub mod shaper {
         #[inline]
         fn block0_position(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 4],
             tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
+            _tp: &[(T, T); 5],
             tq: &[(T, T); 4],
         ) -> (
             ::mechgen::__private::nalgebra::SVector<T, 2>,
@@ -3589,10 +3558,10 @@ pub mod shaper {
         #[inline]
         fn block1_position(
             &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
+            _x: &[T; 1],
+            _q: &[T; 4],
+            _tx: &[(T, T); 1],
+            _tp: &[(T, T); 5],
             tq: &[(T, T); 4],
         ) -> (
             ::mechgen::__private::nalgebra::SVector<T, 1>,
@@ -3617,10 +3586,10 @@ pub mod shaper {
         #[inline]
         fn block2_position(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 4],
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
+            _tx: &[(T, T); 1],
+            _tp: &[(T, T); 5],
             tq: &[(T, T); 4],
         ) -> (
             ::mechgen::__private::nalgebra::SVector<T, 1>,
@@ -3688,7 +3657,7 @@ pub mod shaper {
         #[inline]
         fn block1_residual_twofold(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
             let w0 = ::mechgen::__private::Twofold::from(q[1].to_f64());
@@ -3726,7 +3695,7 @@ pub mod shaper {
         #[inline]
         fn block2_residual_twofold(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 1> {
             let w0 = ::mechgen::__private::Twofold::from(q[1].to_f64());
@@ -3762,7 +3731,7 @@ pub mod shaper {
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
-        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 5]) {
+        fn trig_fixed(&self, x: &[T; 1]) -> ::mechgen::__private::TrigFixed<T, 1, 5> {
             let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
             let tp: [(T, T); 5] = [(T::zero(), T::one()); 5];
             tx[0] = x[0].sin_cos();
@@ -3888,10 +3857,10 @@ pub mod shaper {
         #[inline]
         fn velocity_cached(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             st: &::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
+            _tp: &[(T, T); 5],
             xd: &[T; 1],
         ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 4];
@@ -3981,13 +3950,14 @@ pub mod shaper {
             Ok(qd)
         }
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
+        #[allow(clippy::too_many_arguments)]
         #[inline]
         fn acceleration_cached(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             st: &::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
+            _tp: &[(T, T); 5],
             xd: &[T; 1],
             qd: &[T; 4],
             xdd: &[T; 1],
@@ -4119,6 +4089,7 @@ pub mod shaper {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
+        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         fn motion_cached(
             &self,
@@ -4131,7 +4102,7 @@ pub mod shaper {
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
-            ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 2]),
+            ::mechgen::__private::Rates<T, 4, 2>,
             ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 4];
@@ -4411,6 +4382,7 @@ pub mod shaper {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
+        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         #[doc(hidden)]
         pub(super) fn scene_shaper_ram_motion(
@@ -4425,7 +4397,7 @@ pub mod shaper {
             report: &mut ::mechgen::__private::NewtonReport<T>,
             every_angle: bool,
         ) -> ::core::result::Result<
-            ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 0]),
+            ::mechgen::__private::Rates<T, 4, 0>,
             ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 4];
@@ -4677,12 +4649,7 @@ pub mod shaper {
             q: &mut [T; 4],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (
-                [T; 4],
-                [T; 4],
-                [::mechgen::__private::PointMotion<T>; 0],
-                ::mechgen::__private::NewtonReport<T>,
-            ),
+            ::mechgen::__private::RatesReport<T, 4, 0>,
             ::mechgen::__private::SolveError,
         > {
             ::mechgen::__private::check_finite_in(
@@ -4953,12 +4920,7 @@ pub mod shaper {
             q: &mut [T; 4],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (
-                [T; 4],
-                [T; 4],
-                [::mechgen::__private::PointMotion<T>; 2],
-                ::mechgen::__private::NewtonReport<T>,
-            ),
+            ::mechgen::__private::RatesReport<T, 4, 2>,
             ::mechgen::__private::SolveError,
         > {
             ::mechgen::__private::check_finite(
@@ -5299,19 +5261,9 @@ pub mod shaper {
 }
 /// Crank-rocker four-bar (Grashof): crank AB, coupler BC with coupler point P, rocker DC
 pub mod four_bar {
-    #![allow(
-        non_snake_case,
-        unused_variables,
-        clippy::too_many_arguments,
-        clippy::type_complexity
-    )]
+    #![allow(non_snake_case)]
     // Allowed above, and why:
     // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
-    // unused_variables: block functions share one signature (inputs,
-    // unknowns, their sines and cosines) and a block reads only some of
-    // them; no local is bound without being read.
-    // too_many_arguments, type_complexity: those private signatures, and
-    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "four_bar",
@@ -5561,7 +5513,7 @@ pub mod four_bar {
         /// J = ∂Φ/∂q at (x, q).
         pub fn jacobian(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
@@ -5591,7 +5543,7 @@ pub mod four_bar {
         pub fn input_jacobian(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            _q: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 1> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
@@ -5609,9 +5561,9 @@ pub mod four_bar {
         /// J̇ = dJ/dt at (x, q, ẋ, q̇).
         pub fn jacobian_dot(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 2],
-            xd: &[T; 1],
+            _xd: &[T; 1],
             qd: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
@@ -5647,7 +5599,7 @@ pub mod four_bar {
         pub fn velocity_rhs(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            _q: &[T; 2],
             xd: &[T; 1],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
@@ -5845,10 +5797,10 @@ pub mod four_bar {
         #[inline]
         fn block0_position(
             &self,
-            x: &[T; 1],
-            q: &[T; 2],
+            _x: &[T; 1],
+            _q: &[T; 2],
             tx: &[(T, T); 1],
-            tp: &[(T, T); 6],
+            _tp: &[(T, T); 6],
             tq: &[(T, T); 2],
         ) -> (
             ::mechgen::__private::nalgebra::SVector<T, 2>,
@@ -5938,7 +5890,7 @@ pub mod four_bar {
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
-        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 6]) {
+        fn trig_fixed(&self, x: &[T; 1]) -> ::mechgen::__private::TrigFixed<T, 1, 6> {
             let params = self.params.to_array();
             let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
             let mut tp: [(T, T); 6] = [(T::zero(), T::one()); 6];
@@ -6007,10 +5959,10 @@ pub mod four_bar {
         #[inline]
         fn velocity_cached(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             st: &::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
-            tp: &[(T, T); 6],
+            _tp: &[(T, T); 6],
             xd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
@@ -6058,13 +6010,14 @@ pub mod four_bar {
             Ok(qd)
         }
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
+        #[allow(clippy::too_many_arguments)]
         #[inline]
         fn acceleration_cached(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             st: &::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
-            tp: &[(T, T); 6],
+            _tp: &[(T, T); 6],
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
@@ -6136,6 +6089,7 @@ pub mod four_bar {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
+        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         fn motion_cached(
             &self,
@@ -6148,7 +6102,7 @@ pub mod four_bar {
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
-            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 3]),
+            ::mechgen::__private::Rates<T, 2, 3>,
             ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 2];
@@ -6338,6 +6292,7 @@ pub mod four_bar {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
+        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         #[doc(hidden)]
         pub(super) fn scene_coupler_curve_motion(
@@ -6347,12 +6302,12 @@ pub mod four_bar {
             tx: &[(T, T); 1],
             tp: &[(T, T); 6],
             xd: &[T; 1],
-            xdd: &[T; 1],
+            _xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
             every_angle: bool,
         ) -> ::core::result::Result<
-            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 1]),
+            ::mechgen::__private::Rates<T, 2, 1>,
             ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 2];
@@ -6474,12 +6429,7 @@ pub mod four_bar {
             q: &mut [T; 2],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (
-                [T; 2],
-                [T; 2],
-                [::mechgen::__private::PointMotion<T>; 1],
-                ::mechgen::__private::NewtonReport<T>,
-            ),
+            ::mechgen::__private::RatesReport<T, 2, 1>,
             ::mechgen::__private::SolveError,
         > {
             ::mechgen::__private::check_finite_in(
@@ -6742,12 +6692,7 @@ pub mod four_bar {
             q: &mut [T; 2],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (
-                [T; 2],
-                [T; 2],
-                [::mechgen::__private::PointMotion<T>; 3],
-                ::mechgen::__private::NewtonReport<T>,
-            ),
+            ::mechgen::__private::RatesReport<T, 2, 3>,
             ::mechgen::__private::SolveError,
         > {
             ::mechgen::__private::check_finite(
@@ -7088,19 +7033,9 @@ pub mod four_bar {
 }
 /// Offset slider-crank: crank AB, connecting rod BC, slider C on the line y = off
 pub mod slider_crank {
-    #![allow(
-        non_snake_case,
-        unused_variables,
-        clippy::too_many_arguments,
-        clippy::type_complexity
-    )]
+    #![allow(non_snake_case)]
     // Allowed above, and why:
     // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
-    // unused_variables: block functions share one signature (inputs,
-    // unknowns, their sines and cosines) and a block reads only some of
-    // them; no local is bound without being read.
-    // too_many_arguments, type_complexity: those private signatures, and
-    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "slider_crank",
@@ -7316,7 +7251,7 @@ pub mod slider_crank {
         /// J = ∂Φ/∂q at (x, q).
         pub fn jacobian(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
@@ -7338,7 +7273,7 @@ pub mod slider_crank {
         pub fn input_jacobian(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            _q: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 1> {
             let v_q1 = x[0];
             let p_r = self.params.r;
@@ -7356,9 +7291,9 @@ pub mod slider_crank {
         /// J̇ = dJ/dt at (x, q, ẋ, q̇).
         pub fn jacobian_dot(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 2],
-            xd: &[T; 1],
+            _xd: &[T; 1],
             qd: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
@@ -7382,7 +7317,7 @@ pub mod slider_crank {
         pub fn velocity_rhs(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            _q: &[T; 2],
             xd: &[T; 1],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
@@ -7533,10 +7468,10 @@ pub mod slider_crank {
         #[inline]
         fn block0_position(
             &self,
-            x: &[T; 1],
-            q: &[T; 2],
+            _x: &[T; 1],
+            _q: &[T; 2],
             tx: &[(T, T); 1],
-            tp: &[(T, T); 3],
+            _tp: &[(T, T); 3],
             tq: &[(T, T); 2],
         ) -> (
             ::mechgen::__private::nalgebra::SVector<T, 1>,
@@ -7561,10 +7496,10 @@ pub mod slider_crank {
         #[inline]
         fn block1_position(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 2],
             tx: &[(T, T); 1],
-            tp: &[(T, T); 3],
+            _tp: &[(T, T); 3],
             tq: &[(T, T); 2],
         ) -> (
             ::mechgen::__private::nalgebra::SVector<T, 1>,
@@ -7662,7 +7597,7 @@ pub mod slider_crank {
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
-        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 3]) {
+        fn trig_fixed(&self, x: &[T; 1]) -> ::mechgen::__private::TrigFixed<T, 1, 3> {
             let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
             let tp: [(T, T); 3] = [(T::zero(), T::one()); 3];
             tx[0] = x[0].sin_cos();
@@ -7752,10 +7687,10 @@ pub mod slider_crank {
         #[inline]
         fn velocity_cached(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             st: &::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
-            tp: &[(T, T); 3],
+            _tp: &[(T, T); 3],
             xd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
@@ -7811,13 +7746,14 @@ pub mod slider_crank {
             Ok(qd)
         }
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
+        #[allow(clippy::too_many_arguments)]
         #[inline]
         fn acceleration_cached(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             st: &::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
-            tp: &[(T, T); 3],
+            _tp: &[(T, T); 3],
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
@@ -7889,6 +7825,7 @@ pub mod slider_crank {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
+        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         fn motion_cached(
             &self,
@@ -7901,7 +7838,7 @@ pub mod slider_crank {
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
-            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 3]),
+            ::mechgen::__private::Rates<T, 2, 3>,
             ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 2];
@@ -8197,12 +8134,7 @@ pub mod slider_crank {
             q: &mut [T; 2],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (
-                [T; 2],
-                [T; 2],
-                [::mechgen::__private::PointMotion<T>; 3],
-                ::mechgen::__private::NewtonReport<T>,
-            ),
+            ::mechgen::__private::RatesReport<T, 2, 3>,
             ::mechgen::__private::SolveError,
         > {
             ::mechgen::__private::check_finite(
@@ -8543,19 +8475,9 @@ pub mod slider_crank {
 }
 /// Non-Grashof (triple-rocker) four-bar: input rocker AB, coupler BC, rocker DC; dead points at q1 = ±135.95 deg
 pub mod rocker_four_bar {
-    #![allow(
-        non_snake_case,
-        unused_variables,
-        clippy::too_many_arguments,
-        clippy::type_complexity
-    )]
+    #![allow(non_snake_case)]
     // Allowed above, and why:
     // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
-    // unused_variables: block functions share one signature (inputs,
-    // unknowns, their sines and cosines) and a block reads only some of
-    // them; no local is bound without being read.
-    // too_many_arguments, type_complexity: those private signatures, and
-    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "rocker_four_bar",
@@ -8781,7 +8703,7 @@ pub mod rocker_four_bar {
         /// J = ∂Φ/∂q at (x, q).
         pub fn jacobian(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
@@ -8811,7 +8733,7 @@ pub mod rocker_four_bar {
         pub fn input_jacobian(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            _q: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 1> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
@@ -8829,9 +8751,9 @@ pub mod rocker_four_bar {
         /// J̇ = dJ/dt at (x, q, ẋ, q̇).
         pub fn jacobian_dot(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 2],
-            xd: &[T; 1],
+            _xd: &[T; 1],
             qd: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
@@ -8867,7 +8789,7 @@ pub mod rocker_four_bar {
         pub fn velocity_rhs(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            _q: &[T; 2],
             xd: &[T; 1],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
@@ -9012,10 +8934,10 @@ pub mod rocker_four_bar {
         #[inline]
         fn block0_position(
             &self,
-            x: &[T; 1],
-            q: &[T; 2],
+            _x: &[T; 1],
+            _q: &[T; 2],
             tx: &[(T, T); 1],
-            tp: &[(T, T); 4],
+            _tp: &[(T, T); 4],
             tq: &[(T, T); 2],
         ) -> (
             ::mechgen::__private::nalgebra::SVector<T, 2>,
@@ -9105,7 +9027,7 @@ pub mod rocker_four_bar {
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
-        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 4]) {
+        fn trig_fixed(&self, x: &[T; 1]) -> ::mechgen::__private::TrigFixed<T, 1, 4> {
             let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
             let tp: [(T, T); 4] = [(T::zero(), T::one()); 4];
             tx[0] = x[0].sin_cos();
@@ -9172,10 +9094,10 @@ pub mod rocker_four_bar {
         #[inline]
         fn velocity_cached(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             st: &::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
-            tp: &[(T, T); 4],
+            _tp: &[(T, T); 4],
             xd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
@@ -9223,13 +9145,14 @@ pub mod rocker_four_bar {
             Ok(qd)
         }
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
+        #[allow(clippy::too_many_arguments)]
         #[inline]
         fn acceleration_cached(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             st: &::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
-            tp: &[(T, T); 4],
+            _tp: &[(T, T); 4],
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
@@ -9301,6 +9224,7 @@ pub mod rocker_four_bar {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
+        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         fn motion_cached(
             &self,
@@ -9313,7 +9237,7 @@ pub mod rocker_four_bar {
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
-            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 2]),
+            ::mechgen::__private::Rates<T, 2, 2>,
             ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 2];
@@ -9560,12 +9484,7 @@ pub mod rocker_four_bar {
             q: &mut [T; 2],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (
-                [T; 2],
-                [T; 2],
-                [::mechgen::__private::PointMotion<T>; 2],
-                ::mechgen::__private::NewtonReport<T>,
-            ),
+            ::mechgen::__private::RatesReport<T, 2, 2>,
             ::mechgen::__private::SolveError,
         > {
             ::mechgen::__private::check_finite(
@@ -9914,19 +9833,9 @@ pub mod rocker_four_bar {
 }
 /// Seed six-bar driven from the dyad angle q6 at G (one 4x4 block; dead points at q6 = 244.53 and 344.13 deg)
 pub mod sixbar_g {
-    #![allow(
-        non_snake_case,
-        unused_variables,
-        clippy::too_many_arguments,
-        clippy::type_complexity
-    )]
+    #![allow(non_snake_case)]
     // Allowed above, and why:
     // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
-    // unused_variables: block functions share one signature (inputs,
-    // unknowns, their sines and cosines) and a block reads only some of
-    // them; no local is bound without being read.
-    // too_many_arguments, type_complexity: those private signatures, and
-    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "sixbar_g",
@@ -10271,7 +10180,7 @@ pub mod sixbar_g {
         /// J = ∂Φ/∂q at (x, q).
         pub fn jacobian(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
             let v_q1 = q[0];
@@ -10343,7 +10252,7 @@ pub mod sixbar_g {
         pub fn input_jacobian(
             &self,
             x: &[T; 1],
-            q: &[T; 4],
+            _q: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 1> {
             let v_q6 = x[0];
             let p_l6 = self.params.l6;
@@ -10361,9 +10270,9 @@ pub mod sixbar_g {
         /// J̇ = dJ/dt at (x, q, ẋ, q̇).
         pub fn jacobian_dot(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 4],
-            xd: &[T; 1],
+            _xd: &[T; 1],
             qd: &[T; 4],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
             let v_q1 = q[0];
@@ -10450,7 +10359,7 @@ pub mod sixbar_g {
         pub fn velocity_rhs(
             &self,
             x: &[T; 1],
-            q: &[T; 4],
+            _q: &[T; 4],
             xd: &[T; 1],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 4> {
             let v_q6 = x[0];
@@ -10558,7 +10467,7 @@ pub mod sixbar_g {
             ::mechgen::__private::nalgebra::SVector::from([t42, t47, t55, t63])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(&self, x: &[T; 1], q: &[T; 4]) -> [[T; 2]; 1] {
+        pub fn point_positions(&self, _x: &[T; 1], q: &[T; 4]) -> [[T; 2]; 1] {
             let v_q1 = q[0];
             let v_q2 = q[1];
             let p_l1 = self.params.l1;
@@ -10589,11 +10498,11 @@ pub mod sixbar_g {
         /// Position, velocity and acceleration of every point, in `POINT_NAMES` order.
         pub fn point_motion(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 4],
-            xd: &[T; 1],
+            _xd: &[T; 1],
             qd: &[T; 4],
-            xdd: &[T; 1],
+            _xdd: &[T; 1],
             qdd: &[T; 4],
         ) -> [::mechgen::__private::PointMotion<T>; 1] {
             let v_q1 = q[0];
@@ -10662,8 +10571,8 @@ pub mod sixbar_g {
         #[inline]
         fn block0_position(
             &self,
-            x: &[T; 1],
-            q: &[T; 4],
+            _x: &[T; 1],
+            _q: &[T; 4],
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
             tq: &[(T, T); 4],
@@ -10837,7 +10746,7 @@ pub mod sixbar_g {
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
-        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 10]) {
+        fn trig_fixed(&self, x: &[T; 1]) -> ::mechgen::__private::TrigFixed<T, 1, 10> {
             let params = self.params.to_array();
             let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
             let mut tp: [(T, T); 10] = [(T::zero(), T::one()); 10];
@@ -10882,7 +10791,7 @@ pub mod sixbar_g {
         #[inline]
         fn velocity_cached(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             st: &::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
@@ -10979,10 +10888,11 @@ pub mod sixbar_g {
             Ok(qd)
         }
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
+        #[allow(clippy::too_many_arguments)]
         #[inline]
         fn acceleration_cached(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             st: &::mechgen::__private::TrigState<T, 4>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 10],
@@ -11118,6 +11028,7 @@ pub mod sixbar_g {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
+        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         fn motion_cached(
             &self,
@@ -11130,7 +11041,7 @@ pub mod sixbar_g {
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
-            ([T; 4], [T; 4], [::mechgen::__private::PointMotion<T>; 1]),
+            ::mechgen::__private::Rates<T, 4, 1>,
             ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 4];
@@ -11429,12 +11340,7 @@ pub mod sixbar_g {
             q: &mut [T; 4],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (
-                [T; 4],
-                [T; 4],
-                [::mechgen::__private::PointMotion<T>; 1],
-                ::mechgen::__private::NewtonReport<T>,
-            ),
+            ::mechgen::__private::RatesReport<T, 4, 1>,
             ::mechgen::__private::SolveError,
         > {
             ::mechgen::__private::check_finite(
@@ -11780,13 +11686,9 @@ pub mod sixbar_g {
 }
 /// Scene `sixbar_e_path` of mechanism `sixbar`: E_x, E_y to order 0; solves blocks [0] only.
 pub mod sixbar_e_path {
-    #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+    #![allow(non_snake_case)]
     // Allowed above, and why:
     // non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).
-    // unused_variables: `outputs_of` takes the whole state and a scene
-    // reads only its columns of it.
-    // type_complexity: `solve` returns outputs, unknowns and report as one
-    // tuple.
     pub use super::sixbar::{Params as Params, Inputs as Inputs, Unknowns as Unknowns};
     /// What the scene keeps of its mechanism, and its output columns.
     pub const INFO: ::mechgen::__private::SceneInfo = ::mechgen::__private::SceneInfo {
@@ -11807,6 +11709,12 @@ pub mod sixbar_e_path {
         pub E_x: T,
         pub E_y: T,
     }
+    /// What `solve` returns: the outputs, the solved unknowns and the Newton report.
+    pub type Solved<T> = (
+        Outputs<T>,
+        Unknowns<T>,
+        ::mechgen::__private::NewtonReport<T>,
+    );
     impl<T: ::core::marker::Copy> Outputs<T> {
         pub fn from_array(a: [T; 2]) -> Self {
             Outputs { E_x: a[0], E_y: a[1] }
@@ -11844,9 +11752,9 @@ pub mod sixbar_e_path {
         }
         #[inline]
         fn outputs_of(
-            q: &[T; 4],
-            qd: &[T; 4],
-            qdd: &[T; 4],
+            _q: &[T; 4],
+            _qd: &[T; 4],
+            _qdd: &[T; 4],
             points: &[::mechgen::__private::PointMotion<T>; 1],
         ) -> Outputs<T> {
             Outputs::from_array([points[0].position[0], points[0].position[1]])
@@ -11858,10 +11766,7 @@ pub mod sixbar_e_path {
             input: &::mechgen::__private::InputMotion<Inputs<T>>,
             guess: &Unknowns<T>,
             options: &::mechgen::__private::SolveOptions<T>,
-        ) -> ::core::result::Result<
-            (Outputs<T>, Unknowns<T>, ::mechgen::__private::NewtonReport<T>),
-            ::mechgen::__private::SolveError,
-        > {
+        ) -> ::core::result::Result<Solved<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .mechanism()
@@ -11977,13 +11882,9 @@ pub mod sixbar_e_path {
 }
 /// Scene `sixbar_output` of mechanism `sixbar`: q6, q6_vel, q6_acc to order 2; solves blocks [0, 1] only.
 pub mod sixbar_output {
-    #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+    #![allow(non_snake_case)]
     // Allowed above, and why:
     // non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).
-    // unused_variables: `outputs_of` takes the whole state and a scene
-    // reads only its columns of it.
-    // type_complexity: `solve` returns outputs, unknowns and report as one
-    // tuple.
     pub use super::sixbar::{Params as Params, Inputs as Inputs, Unknowns as Unknowns};
     /// What the scene keeps of its mechanism, and its output columns.
     pub const INFO: ::mechgen::__private::SceneInfo = ::mechgen::__private::SceneInfo {
@@ -12005,6 +11906,12 @@ pub mod sixbar_output {
         pub q6_vel: T,
         pub q6_acc: T,
     }
+    /// What `solve` returns: the outputs, the solved unknowns and the Newton report.
+    pub type Solved<T> = (
+        Outputs<T>,
+        Unknowns<T>,
+        ::mechgen::__private::NewtonReport<T>,
+    );
     impl<T: ::core::marker::Copy> Outputs<T> {
         pub fn from_array(a: [T; 3]) -> Self {
             Outputs {
@@ -12049,7 +11956,7 @@ pub mod sixbar_output {
             q: &[T; 4],
             qd: &[T; 4],
             qdd: &[T; 4],
-            points: &[::mechgen::__private::PointMotion<T>; 0],
+            _points: &[::mechgen::__private::PointMotion<T>; 0],
         ) -> Outputs<T> {
             Outputs::from_array([q[3], qd[3], qdd[3]])
         }
@@ -12060,10 +11967,7 @@ pub mod sixbar_output {
             input: &::mechgen::__private::InputMotion<Inputs<T>>,
             guess: &Unknowns<T>,
             options: &::mechgen::__private::SolveOptions<T>,
-        ) -> ::core::result::Result<
-            (Outputs<T>, Unknowns<T>, ::mechgen::__private::NewtonReport<T>),
-            ::mechgen::__private::SolveError,
-        > {
+        ) -> ::core::result::Result<Solved<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .mechanism()
@@ -12179,13 +12083,9 @@ pub mod sixbar_output {
 }
 /// Scene `shaper_ram` of mechanism `shaper`: sE, sE_vel, sE_acc to order 2; solves blocks [0, 1, 2] only.
 pub mod shaper_ram {
-    #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+    #![allow(non_snake_case)]
     // Allowed above, and why:
     // non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).
-    // unused_variables: `outputs_of` takes the whole state and a scene
-    // reads only its columns of it.
-    // type_complexity: `solve` returns outputs, unknowns and report as one
-    // tuple.
     pub use super::shaper::{Params as Params, Inputs as Inputs, Unknowns as Unknowns};
     /// What the scene keeps of its mechanism, and its output columns.
     pub const INFO: ::mechgen::__private::SceneInfo = ::mechgen::__private::SceneInfo {
@@ -12207,6 +12107,12 @@ pub mod shaper_ram {
         pub sE_vel: T,
         pub sE_acc: T,
     }
+    /// What `solve` returns: the outputs, the solved unknowns and the Newton report.
+    pub type Solved<T> = (
+        Outputs<T>,
+        Unknowns<T>,
+        ::mechgen::__private::NewtonReport<T>,
+    );
     impl<T: ::core::marker::Copy> Outputs<T> {
         pub fn from_array(a: [T; 3]) -> Self {
             Outputs {
@@ -12251,7 +12157,7 @@ pub mod shaper_ram {
             q: &[T; 4],
             qd: &[T; 4],
             qdd: &[T; 4],
-            points: &[::mechgen::__private::PointMotion<T>; 0],
+            _points: &[::mechgen::__private::PointMotion<T>; 0],
         ) -> Outputs<T> {
             Outputs::from_array([q[3], qd[3], qdd[3]])
         }
@@ -12262,10 +12168,7 @@ pub mod shaper_ram {
             input: &::mechgen::__private::InputMotion<Inputs<T>>,
             guess: &Unknowns<T>,
             options: &::mechgen::__private::SolveOptions<T>,
-        ) -> ::core::result::Result<
-            (Outputs<T>, Unknowns<T>, ::mechgen::__private::NewtonReport<T>),
-            ::mechgen::__private::SolveError,
-        > {
+        ) -> ::core::result::Result<Solved<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .mechanism()
@@ -12380,13 +12283,9 @@ pub mod shaper_ram {
 }
 /// Scene `coupler_curve` of mechanism `four_bar`: P_x, P_y, P_vx, P_vy to order 1; solves blocks [0] only.
 pub mod coupler_curve {
-    #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+    #![allow(non_snake_case)]
     // Allowed above, and why:
     // non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).
-    // unused_variables: `outputs_of` takes the whole state and a scene
-    // reads only its columns of it.
-    // type_complexity: `solve` returns outputs, unknowns and report as one
-    // tuple.
     pub use super::four_bar::{Params as Params, Inputs as Inputs, Unknowns as Unknowns};
     /// What the scene keeps of its mechanism, and its output columns.
     pub const INFO: ::mechgen::__private::SceneInfo = ::mechgen::__private::SceneInfo {
@@ -12409,6 +12308,12 @@ pub mod coupler_curve {
         pub P_vx: T,
         pub P_vy: T,
     }
+    /// What `solve` returns: the outputs, the solved unknowns and the Newton report.
+    pub type Solved<T> = (
+        Outputs<T>,
+        Unknowns<T>,
+        ::mechgen::__private::NewtonReport<T>,
+    );
     impl<T: ::core::marker::Copy> Outputs<T> {
         pub fn from_array(a: [T; 4]) -> Self {
             Outputs {
@@ -12451,9 +12356,9 @@ pub mod coupler_curve {
         }
         #[inline]
         fn outputs_of(
-            q: &[T; 2],
-            qd: &[T; 2],
-            qdd: &[T; 2],
+            _q: &[T; 2],
+            _qd: &[T; 2],
+            _qdd: &[T; 2],
             points: &[::mechgen::__private::PointMotion<T>; 1],
         ) -> Outputs<T> {
             Outputs::from_array([
@@ -12470,10 +12375,7 @@ pub mod coupler_curve {
             input: &::mechgen::__private::InputMotion<Inputs<T>>,
             guess: &Unknowns<T>,
             options: &::mechgen::__private::SolveOptions<T>,
-        ) -> ::core::result::Result<
-            (Outputs<T>, Unknowns<T>, ::mechgen::__private::NewtonReport<T>),
-            ::mechgen::__private::SolveError,
-        > {
+        ) -> ::core::result::Result<Solved<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .mechanism()

@@ -110,12 +110,12 @@ fn pruned_scene_snapshot() {
         "{rod}"
     );
     assert!(!rod.contains("v_q1_d") && !rod.contains("xd[0]"), "{rod}");
-    assert!(rod.contains("PointMotion<T>; 0]"), "no point: {rod}");
+    assert!(rod.contains("Rates<T, 2, 0>"), "no point: {rod}");
     assert!(!rod.contains("PointMotion {"), "no point: {rod}");
     // `crank_pin`: B reads only the input, so no block at all; velocities but no accelerations.
     assert!(!pin.contains("Block "), "{pin}");
     assert!(pin.contains("xd[0]") && !pin.contains("xdd[0]"), "{pin}");
-    assert!(pin.contains("PointMotion<T>; 1]"), "one point: {pin}");
+    assert!(pin.contains("Rates<T, 2, 1>"), "one point: {pin}");
     // `rod` reads q2 itself: its kernel computes the angle. `rod_middle` reads only q2's sine
     // and cosine (M is on the rod): its tick skips the angle, its `solve` computes it.
     assert!(!rod.contains("every_angle"), "{rod}");

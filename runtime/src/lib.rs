@@ -88,4 +88,12 @@ pub mod __private {
     pub use crate::trig::TrigState;
     pub use crate::twofold::{REFINE_BELOW, Twofold, refine_block};
     pub use nalgebra;
+
+    /// A solve's rates and points: `(q̇, q̈, points)`.
+    pub type Rates<T, const NU: usize, const NP: usize> = ([T; NU], [T; NU], [PointMotion<T>; NP]);
+    /// [`Rates`] with the Newton report of the positions.
+    pub type RatesReport<T, const NU: usize, const NP: usize> =
+        ([T; NU], [T; NU], [PointMotion<T>; NP], NewtonReport<T>);
+    /// The sines and cosines of the inputs and of the params: `(tx, tp)`.
+    pub type TrigFixed<T, const NI: usize, const NP: usize> = ([(T, T); NI], [(T, T); NP]);
 }

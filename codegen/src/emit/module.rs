@@ -143,11 +143,6 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     let allow_reasons: TokenStream = [
         "Allowed above, and why:",
         "non_snake_case: fields and locals keep the file's names (`E`, `sE`).",
-        "unused_variables: block functions share one signature (inputs,",
-        "unknowns, their sines and cosines) and a block reads only some of",
-        "them; no local is bound without being read.",
-        "too_many_arguments, type_complexity: those private signatures, and",
-        "whole-tick results as tuples of fixed arrays.",
     ]
     .iter()
     .map(|t| crate::emit::comment(t))
@@ -159,7 +154,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     quote! {
         #[doc = #doc]
         pub mod #mod_name {
-            #![allow(non_snake_case, unused_variables, clippy::too_many_arguments, clippy::type_complexity)]
+            #![allow(non_snake_case)]
             #allow_reasons
 
             /// Static description: names, kinds, start configuration, blocks.

@@ -221,6 +221,7 @@ pub(crate) fn stages(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
         }
 
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
+        #[allow(clippy::too_many_arguments)]
         #[inline]
         fn acceleration_cached(&self, x: &[#gt; #ni], st: &#rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
             tp: &[(#gt, #gt); #npar], xd: &[#gt; #ni], qd: &[#gt; #nu], xdd: &[#gt; #ni])
@@ -327,11 +328,14 @@ pub(crate) fn motion_subset(
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
+        // The fixed inputs, caches, rates, options and report of one solve, positional: a
+        // context struct for them is still to come (issue 17).
+        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         #vis fn #name(&self, x: &[#gt; #ni], st: &mut #rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
             tp: &[(#gt, #gt); #npar], xd: &[#gt; #ni], xdd: &[#gt; #ni], options: &#rt::SolveOptions<#gt>,
             report: &mut #rt::NewtonReport<#gt>, #every_arg)
-            -> ::core::result::Result<([#gt; #nu], [#gt; #nu], [#rt::PointMotion<#gt>; #np]), #rt::SolveError> {
+            -> ::core::result::Result<#rt::Rates<#gt, #nu, #np>, #rt::SolveError> {
             #qd_let
             #qdd_let
             #steps

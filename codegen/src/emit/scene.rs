@@ -151,7 +151,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
             #[inline]
             pub(super) fn #solve_fn(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], q: &mut [#gt; #nu],
                 options: &#rt::SolveOptions<#gt>)
-                -> ::core::result::Result<([#gt; #nu], [#gt; #nu], [#rt::PointMotion<#gt>; #np], #rt::NewtonReport<#gt>), #rt::SolveError> {
+                -> ::core::result::Result<#rt::RatesReport<#gt, #nu, #np>, #rt::SolveError> {
                 #rt::check_finite_in(#rt::Quantity::Param, &self.params.to_array(), [#(#read),*])?;
                 #rt::check_finite(#rt::Quantity::Input, x)?;
                 #rt::check_finite(#rt::Quantity::Guess, q)?;
@@ -302,10 +302,6 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
     let allow_reasons: TokenStream = [
         "Allowed above, and why:",
         "non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).",
-        "unused_variables: `outputs_of` takes the whole state and a scene",
-        "reads only its columns of it.",
-        "type_complexity: `solve` returns outputs, unknowns and report as one",
-        "tuple.",
     ]
     .iter()
     .map(|t| comment(t))
@@ -313,7 +309,7 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
     quote! {
         #[doc = #doc]
         pub mod #mod_name {
-            #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+            #![allow(non_snake_case)]
             #allow_reasons
 
             pub use super::#mech_mod::{#m_params as #params_ty, #m_inputs as #inputs_ty, #m_unknowns as #unknowns_ty};
@@ -335,6 +331,9 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
             /// coordinates as `P_x`, `P_y`, rates as `u_vel`, `P_vx`, …).
             #[derive(Clone, Copy, Debug, Default, PartialEq)]
             pub struct #outputs_ty<#gt> { #( pub #field_ids: #gt, )* #marker }
+
+            /// What `solve` returns: the outputs, the solved unknowns and the Newton report.
+            pub type Solved<#gt> = (#outputs_ty<#gt>, #unknowns_ty<#gt>, #rt::NewtonReport<#gt>);
             impl<#gt: ::core::marker::Copy> #outputs_ty<#gt> {
                 pub fn from_array(a: [#gt; #ncols]) -> Self { #outputs_ty { #( #field_ids: a[#col_idx], )* #marker_init } }
                 pub fn to_array(&self) -> [#gt; #ncols] { [#(self.#field_ids),*] }
@@ -369,7 +368,7 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
                 /// outputs; the returned unknowns hold the kept blocks' solution.
                 pub fn solve(&self, input: &#rt::InputMotion<#inputs_ty<#gt>>, guess: &#unknowns_ty<#gt>,
                     options: &#rt::SolveOptions<#gt>)
-                    -> ::core::result::Result<(#outputs_ty<#gt>, #unknowns_ty<#gt>, #rt::NewtonReport<#gt>), #rt::SolveError> {
+                    -> ::core::result::Result<Solved<#gt>, #rt::SolveError> {
                     let mut q = guess.to_array();
                     let (qd, qdd, points, report) = self.mechanism().#solve_fn(&input.x.to_array(), &input.xd.to_array(),
                         &input.xdd.to_array(), &mut q, options)?;

@@ -106,7 +106,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
 
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
-        fn trig_fixed(&self, x: &[#gt; #ni]) -> ([(#gt, #gt); #ni], [(#gt, #gt); #npar]) {
+        fn trig_fixed(&self, x: &[#gt; #ni]) -> #rt::TrigFixed<#gt, #ni, #npar> {
             #params_let
             let #tx_mut tx: [(#gt, #gt); #ni] = #tx_init;
             let #tp_mut tp: [(#gt, #gt); #npar] = #tp_init;
@@ -173,7 +173,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         #[inline]
         fn solve_arrays(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], q: &mut [#gt; #nu],
             options: &#rt::SolveOptions<#gt>)
-            -> ::core::result::Result<([#gt; #nu], [#gt; #nu], [#rt::PointMotion<#gt>; #np], #rt::NewtonReport<#gt>), #rt::SolveError> {
+            -> ::core::result::Result<#rt::RatesReport<#gt, #nu, #np>, #rt::SolveError> {
             #rt::check_finite(#rt::Quantity::Param, &self.params.to_array())?;
             #rt::check_finite(#rt::Quantity::Input, x)?;
             #rt::check_finite(#rt::Quantity::Guess, q)?;

@@ -65,19 +65,9 @@ pub fn visit_scenes<
 >(_v: &mut V) {}
 /// Centred slider-crank: crank l1, rod l2, slider s on the x axis
 pub mod slider {
-    #![allow(
-        non_snake_case,
-        unused_variables,
-        clippy::too_many_arguments,
-        clippy::type_complexity
-    )]
+    #![allow(non_snake_case)]
     // Allowed above, and why:
     // non_snake_case: fields and locals keep the file's names (`E`, `sE`).
-    // unused_variables: block functions share one signature (inputs,
-    // unknowns, their sines and cosines) and a block reads only some of
-    // them; no local is bound without being read.
-    // too_many_arguments, type_complexity: those private signatures, and
-    // whole-tick results as tuples of fixed arrays.
     /// Static description: names, kinds, start configuration, blocks.
     pub const INFO: ::mechgen::__private::StaticInfo = ::mechgen::__private::StaticInfo {
         name: "slider",
@@ -272,7 +262,7 @@ pub mod slider {
         /// J = ∂Φ/∂q at (x, q).
         pub fn jacobian(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
@@ -294,7 +284,7 @@ pub mod slider {
         pub fn input_jacobian(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            _q: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 1> {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
@@ -312,9 +302,9 @@ pub mod slider {
         /// J̇ = dJ/dt at (x, q, ẋ, q̇).
         pub fn jacobian_dot(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 2],
-            xd: &[T; 1],
+            _xd: &[T; 1],
             qd: &[T; 2],
         ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
             let v_q2 = q[0];
@@ -338,7 +328,7 @@ pub mod slider {
         pub fn velocity_rhs(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            _q: &[T; 2],
             xd: &[T; 1],
         ) -> ::mechgen::__private::nalgebra::SVector<T, 2> {
             let v_q1 = x[0];
@@ -391,7 +381,7 @@ pub mod slider {
             ::mechgen::__private::nalgebra::SVector::from([t14, t19])
         }
         /// Positions of the points, in `POINT_NAMES` order.
-        pub fn point_positions(&self, x: &[T; 1], q: &[T; 2]) -> [[T; 2]; 1] {
+        pub fn point_positions(&self, x: &[T; 1], _q: &[T; 2]) -> [[T; 2]; 1] {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
             let (s_v_q1, c_v_q1) = v_q1.sin_cos();
@@ -403,11 +393,11 @@ pub mod slider {
         pub fn point_motion(
             &self,
             x: &[T; 1],
-            q: &[T; 2],
+            _q: &[T; 2],
             xd: &[T; 1],
-            qd: &[T; 2],
+            _qd: &[T; 2],
             xdd: &[T; 1],
-            qdd: &[T; 2],
+            _qdd: &[T; 2],
         ) -> [::mechgen::__private::PointMotion<T>; 1] {
             let v_q1 = x[0];
             let p_l1 = self.params.l1;
@@ -439,10 +429,10 @@ pub mod slider {
         #[inline]
         fn block0_position(
             &self,
-            x: &[T; 1],
-            q: &[T; 2],
+            _x: &[T; 1],
+            _q: &[T; 2],
             tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
+            _tp: &[(T, T); 2],
             tq: &[(T, T); 2],
         ) -> (
             ::mechgen::__private::nalgebra::SVector<T, 1>,
@@ -465,10 +455,10 @@ pub mod slider {
         #[inline]
         fn block1_position(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             q: &[T; 2],
             tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
+            _tp: &[(T, T); 2],
             tq: &[(T, T); 2],
         ) -> (
             ::mechgen::__private::nalgebra::SVector<T, 1>,
@@ -564,7 +554,7 @@ pub mod slider {
         }
         /// Sines and cosines of the inputs and params that appear in a sin or cos.
         #[inline]
-        fn trig_fixed(&self, x: &[T; 1]) -> ([(T, T); 1], [(T, T); 2]) {
+        fn trig_fixed(&self, x: &[T; 1]) -> ::mechgen::__private::TrigFixed<T, 1, 2> {
             let mut tx: [(T, T); 1] = [(T::zero(), T::one()); 1];
             let tp: [(T, T); 2] = [(T::zero(), T::one()); 2];
             tx[0] = x[0].sin_cos();
@@ -652,10 +642,10 @@ pub mod slider {
         #[inline]
         fn velocity_cached(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             st: &::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
+            _tp: &[(T, T); 2],
             xd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
             let mut qd = [T::zero(); 2];
@@ -711,13 +701,14 @@ pub mod slider {
             Ok(qd)
         }
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
+        #[allow(clippy::too_many_arguments)]
         #[inline]
         fn acceleration_cached(
             &self,
-            x: &[T; 1],
+            _x: &[T; 1],
             st: &::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
+            _tp: &[(T, T); 2],
             xd: &[T; 1],
             qd: &[T; 2],
             xdd: &[T; 1],
@@ -789,6 +780,7 @@ pub mod slider {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
+        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         fn motion_cached(
             &self,
@@ -801,7 +793,7 @@ pub mod slider {
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
-            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 1]),
+            ::mechgen::__private::Rates<T, 2, 1>,
             ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 2];
@@ -1061,12 +1053,7 @@ pub mod slider {
             q: &mut [T; 2],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (
-                [T; 2],
-                [T; 2],
-                [::mechgen::__private::PointMotion<T>; 1],
-                ::mechgen::__private::NewtonReport<T>,
-            ),
+            ::mechgen::__private::RatesReport<T, 2, 1>,
             ::mechgen::__private::SolveError,
         > {
             ::mechgen::__private::check_finite(

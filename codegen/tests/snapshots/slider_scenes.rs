@@ -4,12 +4,12 @@
             st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 2],
-            xd: &[T; 1],
-            xdd: &[T; 1],
+            _xd: &[T; 1],
+            _xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
-            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 0]),
+            ::mechgen::__private::Rates<T, 2, 0>,
             ::mechgen::__private::SolveError,
         > {
             let qd = [T::zero(); 2];
@@ -56,16 +56,16 @@
 
         pub(super) fn scene_crank_pin_motion(
             &self,
-            x: &[T; 1],
-            st: &mut ::mechgen::__private::TrigState<T, 2>,
+            _x: &[T; 1],
+            _st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
+            _tp: &[(T, T); 2],
             xd: &[T; 1],
-            xdd: &[T; 1],
-            options: &::mechgen::__private::SolveOptions<T>,
+            _xdd: &[T; 1],
+            _options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
-            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 1]),
+            ::mechgen::__private::Rates<T, 2, 1>,
             ::mechgen::__private::SolveError,
         > {
             let mut qd = [T::zero(); 2];
@@ -103,13 +103,13 @@
             st: &mut ::mechgen::__private::TrigState<T, 2>,
             tx: &[(T, T); 1],
             tp: &[(T, T); 2],
-            xd: &[T; 1],
-            xdd: &[T; 1],
+            _xd: &[T; 1],
+            _xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
             every_angle: bool,
         ) -> ::core::result::Result<
-            ([T; 2], [T; 2], [::mechgen::__private::PointMotion<T>; 1]),
+            ::mechgen::__private::Rates<T, 2, 1>,
             ::mechgen::__private::SolveError,
         > {
             let qd = [T::zero(); 2];
@@ -173,13 +173,9 @@
         #[inline]
 
 pub mod rod {
-    #![allow(non_snake_case, unused_variables, clippy::type_complexity)]
+    #![allow(non_snake_case)]
     // Allowed above, and why:
     // non_snake_case: output fields keep the file's names (`P_x`, `u_vel`).
-    // unused_variables: `outputs_of` takes the whole state and a scene
-    // reads only its columns of it.
-    // type_complexity: `solve` returns outputs, unknowns and report as one
-    // tuple.
     pub use super::slider::{Params as Params, Inputs as Inputs, Unknowns as Unknowns};
     /// What the scene keeps of its mechanism, and its output columns.
     pub const INFO: ::mechgen::__private::SceneInfo = ::mechgen::__private::SceneInfo {
@@ -199,6 +195,12 @@ pub mod rod {
     pub struct Outputs<T> {
         pub q2: T,
     }
+    /// What `solve` returns: the outputs, the solved unknowns and the Newton report.
+    pub type Solved<T> = (
+        Outputs<T>,
+        Unknowns<T>,
+        ::mechgen::__private::NewtonReport<T>,
+    );
     impl<T: ::core::marker::Copy> Outputs<T> {
         pub fn from_array(a: [T; 1]) -> Self {
             Outputs { q2: a[0] }
@@ -237,9 +239,9 @@ pub mod rod {
         #[inline]
         fn outputs_of(
             q: &[T; 2],
-            qd: &[T; 2],
-            qdd: &[T; 2],
-            points: &[::mechgen::__private::PointMotion<T>; 0],
+            _qd: &[T; 2],
+            _qdd: &[T; 2],
+            _points: &[::mechgen::__private::PointMotion<T>; 0],
         ) -> Outputs<T> {
             Outputs::from_array([q[0]])
         }
@@ -250,10 +252,7 @@ pub mod rod {
             input: &::mechgen::__private::InputMotion<Inputs<T>>,
             guess: &Unknowns<T>,
             options: &::mechgen::__private::SolveOptions<T>,
-        ) -> ::core::result::Result<
-            (Outputs<T>, Unknowns<T>, ::mechgen::__private::NewtonReport<T>),
-            ::mechgen::__private::SolveError,
-        > {
+        ) -> ::core::result::Result<Solved<T>, ::mechgen::__private::SolveError> {
             let mut q = guess.to_array();
             let (qd, qdd, points, report) = self
                 .mechanism()

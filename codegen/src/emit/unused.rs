@@ -1,0 +1,76 @@
+//! Stage 6, unused parameters: generated functions of one family share a signature (a block's
+//! functions take every input, unknown and cache) and each reads only some of it. Before
+//! printing, every function's parameter that its body never names is renamed `_name`, so the
+//! generated code needs no `unused_variables` allow.
+
+use std::collections::HashSet;
+
+use proc_macro2::{TokenStream, TokenTree};
+use quote::ToTokens;
+use syn::visit_mut::VisitMut;
+
+/// Every identifier in `tokens`, at any depth.
+fn idents(tokens: TokenStream, out: &mut HashSet<String>) {
+    for t in tokens {
+        match t {
+            TokenTree::Ident(i) => {
+                out.insert(i.to_string());
+            }
+            TokenTree::Group(g) => idents(g.stream(), out),
+            _ => {}
+        }
+    }
+}
+
+/// Renames the parameters of `sig` that `body` does not name.
+fn mark(sig: &mut syn::Signature, body: &syn::Block) {
+    let mut used = HashSet::new();
+    idents(body.to_token_stream(), &mut used);
+    for arg in &mut sig.inputs {
+        if let syn::FnArg::Typed(pt) = arg
+            && let syn::Pat::Ident(pi) = pt.pat.as_mut()
+        {
+            let name = pi.ident.to_string();
+            if !name.starts_with('_') && !used.contains(&name) {
+                pi.ident = syn::Ident::new(&format!("_{name}"), pi.ident.span());
+                pi.mutability = None;
+            }
+        }
+    }
+}
+
+/// The pass ([`VisitMut`]): free functions and methods alike.
+pub(crate) struct Unused;
+
+impl VisitMut for Unused {
+    fn visit_item_fn_mut(&mut self, f: &mut syn::ItemFn) {
+        mark(&mut f.sig, &f.block);
+        syn::visit_mut::visit_item_fn_mut(self, f);
+    }
+    fn visit_impl_item_fn_mut(&mut self, f: &mut syn::ImplItemFn) {
+        mark(&mut f.sig, &f.block);
+        syn::visit_mut::visit_impl_item_fn_mut(self, f);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use quote::quote;
+
+    #[test]
+    fn renames_only_what_the_body_never_names() {
+        let mut file: syn::File = syn::parse2(quote! {
+            fn f(x: &[f64; 1], q: &[f64; 2], tp: u8) -> f64 { q[0] + g(|| x[0]) }
+            impl S { fn m(&self, a: u8, mut b: u8) -> u8 { a } }
+        })
+        .unwrap();
+        Unused.visit_file_mut(&mut file);
+        let text = prettyplease::unparse(&file);
+        assert!(
+            text.contains("fn f(x: &[f64; 1], q: &[f64; 2], _tp: u8)"),
+            "{text}"
+        );
+        assert!(text.contains("fn m(&self, a: u8, _b: u8)"), "{text}");
+    }
+}

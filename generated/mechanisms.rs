@@ -1189,13 +1189,12 @@ pub mod sixbar {
         #[inline]
         fn position_cached(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 10>,
             st: &mut ::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { x, tx, tp, .. } = fixed;
             // Block 0: closed form (a dyad).
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
@@ -1293,12 +1292,10 @@ pub mod sixbar {
         #[inline]
         fn velocity_cached(
             &self,
-            _x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 10>,
             st: &::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            xd: &[T; 1],
         ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { xd, tx, tp, .. } = fixed;
             let mut qd = [T::zero(); 4];
             // Block 0: velocities.
             let p_l1 = self.params.l1;
@@ -1395,18 +1392,14 @@ pub mod sixbar {
             Ok(qd)
         }
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
-        #[allow(clippy::too_many_arguments)]
         #[inline]
         fn acceleration_cached(
             &self,
-            _x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 10>,
             st: &::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            xd: &[T; 1],
             qd: &[T; 4],
-            xdd: &[T; 1],
         ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { xd, xdd, tx, tp, .. } = fixed;
             let mut qdd = [T::zero(); 4];
             // Block 0: accelerations.
             let p_l2 = self.params.l2;
@@ -1547,22 +1540,18 @@ pub mod sixbar {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         fn motion_cached(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 10>,
             st: &mut ::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            xd: &[T; 1],
-            xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::Rates<T, 4, 1>,
             ::mechgen::__private::SolveError,
         > {
+            let ::mechgen::__private::Fixed { x, xd, xdd, tx, tp } = fixed;
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
             // Block 0: closed form (a dyad).
@@ -1824,17 +1813,12 @@ pub mod sixbar {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         #[doc(hidden)]
         pub(super) fn scene_sixbar_e_path_motion(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 10>,
             st: &mut ::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            _xd: &[T; 1],
-            _xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
             every_angle: bool,
@@ -1842,6 +1826,7 @@ pub mod sixbar {
             ::mechgen::__private::Rates<T, 4, 1>,
             ::mechgen::__private::SolveError,
         > {
+            let ::mechgen::__private::Fixed { x, tx, tp, .. } = fixed;
             let qd = [T::zero(); 4];
             let qdd = [T::zero(); 4];
             // Block 0: closed form (a dyad).
@@ -1955,18 +1940,15 @@ pub mod sixbar {
                 [true, true, false, false],
             );
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp: &tp,
+            };
             let (qd, qdd, points) = self
-                .scene_sixbar_e_path_motion(
-                    x,
-                    &mut st,
-                    &tx,
-                    &tp,
-                    xd,
-                    xdd,
-                    options,
-                    &mut report,
-                    true,
-                )?;
+                .scene_sixbar_e_path_motion(fixed, &mut st, options, &mut report, true)?;
             *q = st.q;
             Ok((qd, qdd, points, report))
         }
@@ -2067,14 +2049,17 @@ pub mod sixbar {
                 )
             };
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp,
+            };
             let (qd, qdd, points) = self
                 .scene_sixbar_e_path_motion(
-                    x,
+                    fixed,
                     &mut st,
-                    &tx,
-                    tp,
-                    xd,
-                    xdd,
                     options,
                     &mut report,
                     false,
@@ -2113,17 +2098,12 @@ pub mod sixbar {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         #[doc(hidden)]
         pub(super) fn scene_sixbar_output_motion(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 10>,
             st: &mut ::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            xd: &[T; 1],
-            xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
             every_angle: bool,
@@ -2131,6 +2111,7 @@ pub mod sixbar {
             ::mechgen::__private::Rates<T, 4, 0>,
             ::mechgen::__private::SolveError,
         > {
+            let ::mechgen::__private::Fixed { x, xd, xdd, tx, tp } = fixed;
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
             // Block 0: closed form (a dyad).
@@ -2403,18 +2384,15 @@ pub mod sixbar {
                 [true, true, true, true],
             );
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp: &tp,
+            };
             let (qd, qdd, points) = self
-                .scene_sixbar_output_motion(
-                    x,
-                    &mut st,
-                    &tx,
-                    &tp,
-                    xd,
-                    xdd,
-                    options,
-                    &mut report,
-                    true,
-                )?;
+                .scene_sixbar_output_motion(fixed, &mut st, options, &mut report, true)?;
             *q = st.q;
             Ok((qd, qdd, points, report))
         }
@@ -2515,14 +2493,17 @@ pub mod sixbar {
                 )
             };
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp,
+            };
             let (qd, qdd, points) = self
                 .scene_sixbar_output_motion(
-                    x,
+                    fixed,
                     &mut st,
-                    &tx,
-                    tp,
-                    xd,
-                    xdd,
                     options,
                     &mut report,
                     false,
@@ -2567,7 +2548,15 @@ pub mod sixbar {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::__private::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let zero = [T::zero(); 1];
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd: &zero,
+                xdd: &zero,
+                tx: &tx,
+                tp: &tp,
+            };
+            self.position_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok(report)
         }
@@ -2597,7 +2586,17 @@ pub mod sixbar {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, &st, &tx, &tp, xd)
+            let zero = [T::zero(); 1];
+            self.velocity_cached(
+                ::mechgen::__private::Fixed {
+                    x,
+                    xd,
+                    xdd: &zero,
+                    tx: &tx,
+                    tp: &tp,
+                },
+                &st,
+            )
         }
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
         /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
@@ -2635,7 +2634,17 @@ pub mod sixbar {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
+            self.acceleration_cached(
+                ::mechgen::__private::Fixed {
+                    x,
+                    xd,
+                    xdd,
+                    tx: &tx,
+                    tp: &tp,
+                },
+                &st,
+                qd,
+            )
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
@@ -2674,8 +2683,15 @@ pub mod sixbar {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp: &tp,
+            };
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+                .motion_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok((qd, qdd, points, report))
         }
@@ -2757,8 +2773,15 @@ pub mod sixbar {
                 t.predicted(x, [true, true, true, true], [false; 4], same)
             };
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp,
+            };
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+                .motion_cached(fixed, &mut st, options, &mut report)?;
             t.update(
                 x,
                 xd,
@@ -3746,13 +3769,12 @@ pub mod shaper {
         #[inline]
         fn position_cached(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 5>,
             st: &mut ::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { x, tx, tp, .. } = fixed;
             // Block 0: closed form (RPR).
             let p_l1 = self.params.l1;
             let p_lAC = self.params.lAC;
@@ -3857,12 +3879,10 @@ pub mod shaper {
         #[inline]
         fn velocity_cached(
             &self,
-            _x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 5>,
             st: &::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            _tp: &[(T, T); 5],
-            xd: &[T; 1],
         ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { xd, tx, .. } = fixed;
             let mut qd = [T::zero(); 4];
             // Block 0: velocities.
             let v_s3 = st.q[0];
@@ -3950,18 +3970,14 @@ pub mod shaper {
             Ok(qd)
         }
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
-        #[allow(clippy::too_many_arguments)]
         #[inline]
         fn acceleration_cached(
             &self,
-            _x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 5>,
             st: &::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            _tp: &[(T, T); 5],
-            xd: &[T; 1],
             qd: &[T; 4],
-            xdd: &[T; 1],
         ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { xd, xdd, tx, .. } = fixed;
             let mut qdd = [T::zero(); 4];
             // Block 0: accelerations.
             let v_s3 = st.q[0];
@@ -4089,22 +4105,18 @@ pub mod shaper {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         fn motion_cached(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 5>,
             st: &mut ::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
-            xd: &[T; 1],
-            xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::Rates<T, 4, 2>,
             ::mechgen::__private::SolveError,
         > {
+            let ::mechgen::__private::Fixed { x, xd, xdd, tx, tp } = fixed;
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
             // Block 0: closed form (RPR).
@@ -4382,17 +4394,12 @@ pub mod shaper {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         #[doc(hidden)]
         pub(super) fn scene_shaper_ram_motion(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 5>,
             st: &mut ::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 5],
-            xd: &[T; 1],
-            xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
             every_angle: bool,
@@ -4400,6 +4407,7 @@ pub mod shaper {
             ::mechgen::__private::Rates<T, 4, 0>,
             ::mechgen::__private::SolveError,
         > {
+            let ::mechgen::__private::Fixed { x, xd, xdd, tx, tp } = fixed;
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
             // Block 0: closed form (RPR).
@@ -4679,18 +4687,15 @@ pub mod shaper {
                 [false, true, true, false],
             );
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp: &tp,
+            };
             let (qd, qdd, points) = self
-                .scene_shaper_ram_motion(
-                    x,
-                    &mut st,
-                    &tx,
-                    &tp,
-                    xd,
-                    xdd,
-                    options,
-                    &mut report,
-                    true,
-                )?;
+                .scene_shaper_ram_motion(fixed, &mut st, options, &mut report, true)?;
             *q = st.q;
             Ok((qd, qdd, points, report))
         }
@@ -4787,18 +4792,15 @@ pub mod shaper {
                 )
             };
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp,
+            };
             let (qd, qdd, points) = self
-                .scene_shaper_ram_motion(
-                    x,
-                    &mut st,
-                    &tx,
-                    tp,
-                    xd,
-                    xdd,
-                    options,
-                    &mut report,
-                    false,
-                )?;
+                .scene_shaper_ram_motion(fixed, &mut st, options, &mut report, false)?;
             t.update(
                 x,
                 xd,
@@ -4839,7 +4841,15 @@ pub mod shaper {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::__private::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let zero = [T::zero(); 1];
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd: &zero,
+                xdd: &zero,
+                tx: &tx,
+                tp: &tp,
+            };
+            self.position_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok(report)
         }
@@ -4869,7 +4879,17 @@ pub mod shaper {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, &st, &tx, &tp, xd)
+            let zero = [T::zero(); 1];
+            self.velocity_cached(
+                ::mechgen::__private::Fixed {
+                    x,
+                    xd,
+                    xdd: &zero,
+                    tx: &tx,
+                    tp: &tp,
+                },
+                &st,
+            )
         }
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
         /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
@@ -4907,7 +4927,17 @@ pub mod shaper {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
+            self.acceleration_cached(
+                ::mechgen::__private::Fixed {
+                    x,
+                    xd,
+                    xdd,
+                    tx: &tx,
+                    tp: &tp,
+                },
+                &st,
+                qd,
+            )
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
@@ -4946,8 +4976,15 @@ pub mod shaper {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp: &tp,
+            };
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+                .motion_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok((qd, qdd, points, report))
         }
@@ -5029,8 +5066,15 @@ pub mod shaper {
                 t.predicted(x, [false, true, true, false], [false; 4], same)
             };
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp,
+            };
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+                .motion_cached(fixed, &mut st, options, &mut report)?;
             t.update(
                 x,
                 xd,
@@ -5907,13 +5951,12 @@ pub mod four_bar {
         #[inline]
         fn position_cached(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 6>,
             st: &mut ::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 6],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { x, tx, tp, .. } = fixed;
             // Block 0: closed form (a dyad).
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
@@ -5959,12 +6002,10 @@ pub mod four_bar {
         #[inline]
         fn velocity_cached(
             &self,
-            _x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 6>,
             st: &::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            _tp: &[(T, T); 6],
-            xd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { xd, tx, .. } = fixed;
             let mut qd = [T::zero(); 2];
             // Block 0: velocities.
             let p_l1 = self.params.l1;
@@ -6010,18 +6051,14 @@ pub mod four_bar {
             Ok(qd)
         }
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
-        #[allow(clippy::too_many_arguments)]
         #[inline]
         fn acceleration_cached(
             &self,
-            _x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 6>,
             st: &::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            _tp: &[(T, T); 6],
-            xd: &[T; 1],
             qd: &[T; 2],
-            xdd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { xd, xdd, tx, .. } = fixed;
             let mut qdd = [T::zero(); 2];
             // Block 0: accelerations.
             let p_l2 = self.params.l2;
@@ -6089,22 +6126,18 @@ pub mod four_bar {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         fn motion_cached(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 6>,
             st: &mut ::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 6],
-            xd: &[T; 1],
-            xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::Rates<T, 2, 3>,
             ::mechgen::__private::SolveError,
         > {
+            let ::mechgen::__private::Fixed { x, xd, xdd, tx, tp } = fixed;
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: closed form (a dyad).
@@ -6292,17 +6325,12 @@ pub mod four_bar {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         #[doc(hidden)]
         pub(super) fn scene_coupler_curve_motion(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 6>,
             st: &mut ::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 6],
-            xd: &[T; 1],
-            _xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
             every_angle: bool,
@@ -6310,6 +6338,7 @@ pub mod four_bar {
             ::mechgen::__private::Rates<T, 2, 1>,
             ::mechgen::__private::SolveError,
         > {
+            let ::mechgen::__private::Fixed { x, xd, tx, tp, .. } = fixed;
             let mut qd = [T::zero(); 2];
             let qdd = [T::zero(); 2];
             // Block 0: closed form (a dyad).
@@ -6456,18 +6485,15 @@ pub mod four_bar {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = ::mechgen::__private::TrigState::new(*q, [true, true]);
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp: &tp,
+            };
             let (qd, qdd, points) = self
-                .scene_coupler_curve_motion(
-                    x,
-                    &mut st,
-                    &tx,
-                    &tp,
-                    xd,
-                    xdd,
-                    options,
-                    &mut report,
-                    true,
-                )?;
+                .scene_coupler_curve_motion(fixed, &mut st, options, &mut report, true)?;
             *q = st.q;
             Ok((qd, qdd, points, report))
         }
@@ -6559,14 +6585,17 @@ pub mod four_bar {
                 t.predicted(x, [true, true], [false, false], same)
             };
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp,
+            };
             let (qd, qdd, points) = self
                 .scene_coupler_curve_motion(
-                    x,
+                    fixed,
                     &mut st,
-                    &tx,
-                    tp,
-                    xd,
-                    xdd,
                     options,
                     &mut report,
                     false,
@@ -6611,7 +6640,15 @@ pub mod four_bar {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::__private::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let zero = [T::zero(); 1];
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd: &zero,
+                xdd: &zero,
+                tx: &tx,
+                tp: &tp,
+            };
+            self.position_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok(report)
         }
@@ -6641,7 +6678,17 @@ pub mod four_bar {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, &st, &tx, &tp, xd)
+            let zero = [T::zero(); 1];
+            self.velocity_cached(
+                ::mechgen::__private::Fixed {
+                    x,
+                    xd,
+                    xdd: &zero,
+                    tx: &tx,
+                    tp: &tp,
+                },
+                &st,
+            )
         }
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
         /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
@@ -6679,7 +6726,17 @@ pub mod four_bar {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
+            self.acceleration_cached(
+                ::mechgen::__private::Fixed {
+                    x,
+                    xd,
+                    xdd,
+                    tx: &tx,
+                    tp: &tp,
+                },
+                &st,
+                qd,
+            )
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
@@ -6718,8 +6775,15 @@ pub mod four_bar {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp: &tp,
+            };
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+                .motion_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok((qd, qdd, points, report))
         }
@@ -6801,8 +6865,15 @@ pub mod four_bar {
                 t.predicted(x, [true, true], [false; 2], same)
             };
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp,
+            };
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+                .motion_cached(fixed, &mut st, options, &mut report)?;
             t.update(
                 x,
                 xd,
@@ -7612,13 +7683,12 @@ pub mod slider_crank {
         #[inline]
         fn position_cached(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 3>,
             st: &mut ::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 3],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { x, tx, tp, .. } = fixed;
             // Block 0: closed form (one angle).
             let p_r = self.params.r;
             let p_l = self.params.l;
@@ -7687,12 +7757,10 @@ pub mod slider_crank {
         #[inline]
         fn velocity_cached(
             &self,
-            _x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 3>,
             st: &::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            _tp: &[(T, T); 3],
-            xd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { xd, tx, .. } = fixed;
             let mut qd = [T::zero(); 2];
             // Block 0: velocities.
             let p_r = self.params.r;
@@ -7746,18 +7814,14 @@ pub mod slider_crank {
             Ok(qd)
         }
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
-        #[allow(clippy::too_many_arguments)]
         #[inline]
         fn acceleration_cached(
             &self,
-            _x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 3>,
             st: &::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            _tp: &[(T, T); 3],
-            xd: &[T; 1],
             qd: &[T; 2],
-            xdd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { xd, xdd, tx, .. } = fixed;
             let mut qdd = [T::zero(); 2];
             // Block 0: accelerations.
             let p_l = self.params.l;
@@ -7825,22 +7889,18 @@ pub mod slider_crank {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         fn motion_cached(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 3>,
             st: &mut ::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 3],
-            xd: &[T; 1],
-            xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::Rates<T, 2, 3>,
             ::mechgen::__private::SolveError,
         > {
+            let ::mechgen::__private::Fixed { x, xd, xdd, tx, tp } = fixed;
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: closed form (one angle).
@@ -8053,7 +8113,15 @@ pub mod slider_crank {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::__private::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let zero = [T::zero(); 1];
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd: &zero,
+                xdd: &zero,
+                tx: &tx,
+                tp: &tp,
+            };
+            self.position_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok(report)
         }
@@ -8083,7 +8151,17 @@ pub mod slider_crank {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, &st, &tx, &tp, xd)
+            let zero = [T::zero(); 1];
+            self.velocity_cached(
+                ::mechgen::__private::Fixed {
+                    x,
+                    xd,
+                    xdd: &zero,
+                    tx: &tx,
+                    tp: &tp,
+                },
+                &st,
+            )
         }
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
         /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
@@ -8121,7 +8199,17 @@ pub mod slider_crank {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
+            self.acceleration_cached(
+                ::mechgen::__private::Fixed {
+                    x,
+                    xd,
+                    xdd,
+                    tx: &tx,
+                    tp: &tp,
+                },
+                &st,
+                qd,
+            )
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
@@ -8160,8 +8248,15 @@ pub mod slider_crank {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp: &tp,
+            };
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+                .motion_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok((qd, qdd, points, report))
         }
@@ -8243,8 +8338,15 @@ pub mod slider_crank {
                 t.predicted(x, [true, false], [false; 2], same)
             };
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp,
+            };
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+                .motion_cached(fixed, &mut st, options, &mut report)?;
             t.update(
                 x,
                 xd,
@@ -9042,13 +9144,12 @@ pub mod rocker_four_bar {
         #[inline]
         fn position_cached(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 4>,
             st: &mut ::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 4],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { x, tx, tp, .. } = fixed;
             // Block 0: closed form (a dyad).
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
@@ -9094,12 +9195,10 @@ pub mod rocker_four_bar {
         #[inline]
         fn velocity_cached(
             &self,
-            _x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 4>,
             st: &::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            _tp: &[(T, T); 4],
-            xd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { xd, tx, .. } = fixed;
             let mut qd = [T::zero(); 2];
             // Block 0: velocities.
             let p_l1 = self.params.l1;
@@ -9145,18 +9244,14 @@ pub mod rocker_four_bar {
             Ok(qd)
         }
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
-        #[allow(clippy::too_many_arguments)]
         #[inline]
         fn acceleration_cached(
             &self,
-            _x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 4>,
             st: &::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            _tp: &[(T, T); 4],
-            xd: &[T; 1],
             qd: &[T; 2],
-            xdd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { xd, xdd, tx, .. } = fixed;
             let mut qdd = [T::zero(); 2];
             // Block 0: accelerations.
             let p_l2 = self.params.l2;
@@ -9224,22 +9319,18 @@ pub mod rocker_four_bar {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         fn motion_cached(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 4>,
             st: &mut ::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 4],
-            xd: &[T; 1],
-            xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::Rates<T, 2, 2>,
             ::mechgen::__private::SolveError,
         > {
+            let ::mechgen::__private::Fixed { x, xd, xdd, tx, tp } = fixed;
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: closed form (a dyad).
@@ -9403,7 +9494,15 @@ pub mod rocker_four_bar {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::__private::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let zero = [T::zero(); 1];
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd: &zero,
+                xdd: &zero,
+                tx: &tx,
+                tp: &tp,
+            };
+            self.position_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok(report)
         }
@@ -9433,7 +9532,17 @@ pub mod rocker_four_bar {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, &st, &tx, &tp, xd)
+            let zero = [T::zero(); 1];
+            self.velocity_cached(
+                ::mechgen::__private::Fixed {
+                    x,
+                    xd,
+                    xdd: &zero,
+                    tx: &tx,
+                    tp: &tp,
+                },
+                &st,
+            )
         }
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
         /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
@@ -9471,7 +9580,17 @@ pub mod rocker_four_bar {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
+            self.acceleration_cached(
+                ::mechgen::__private::Fixed {
+                    x,
+                    xd,
+                    xdd,
+                    tx: &tx,
+                    tp: &tp,
+                },
+                &st,
+                qd,
+            )
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
@@ -9510,8 +9629,15 @@ pub mod rocker_four_bar {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp: &tp,
+            };
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+                .motion_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok((qd, qdd, points, report))
         }
@@ -9593,8 +9719,15 @@ pub mod rocker_four_bar {
                 t.predicted(x, [true, true], [false; 2], same)
             };
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp,
+            };
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+                .motion_cached(fixed, &mut st, options, &mut report)?;
             t.update(
                 x,
                 xd,
@@ -10763,13 +10896,12 @@ pub mod sixbar_g {
         #[inline]
         fn position_cached(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 10>,
             st: &mut ::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { x, tx, tp, .. } = fixed;
             // Block 0: Newton.
             ::mechgen::__private::newton_block(
                 0,
@@ -10791,12 +10923,10 @@ pub mod sixbar_g {
         #[inline]
         fn velocity_cached(
             &self,
-            _x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 10>,
             st: &::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            xd: &[T; 1],
         ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { xd, tx, tp, .. } = fixed;
             let mut qd = [T::zero(); 4];
             // Block 0: velocities.
             let p_l1 = self.params.l1;
@@ -10888,18 +11018,14 @@ pub mod sixbar_g {
             Ok(qd)
         }
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
-        #[allow(clippy::too_many_arguments)]
         #[inline]
         fn acceleration_cached(
             &self,
-            _x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 10>,
             st: &::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            xd: &[T; 1],
             qd: &[T; 4],
-            xdd: &[T; 1],
         ) -> ::core::result::Result<[T; 4], ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { xd, xdd, tx, tp, .. } = fixed;
             let mut qdd = [T::zero(); 4];
             // Block 0: accelerations.
             let p_l1 = self.params.l1;
@@ -11028,22 +11154,18 @@ pub mod sixbar_g {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         fn motion_cached(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 10>,
             st: &mut ::mechgen::__private::TrigState<T, 4>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 10],
-            xd: &[T; 1],
-            xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::Rates<T, 4, 1>,
             ::mechgen::__private::SolveError,
         > {
+            let ::mechgen::__private::Fixed { x, xd, xdd, tx, tp } = fixed;
             let mut qd = [T::zero(); 4];
             let mut qdd = [T::zero(); 4];
             // Block 0: Newton.
@@ -11259,7 +11381,15 @@ pub mod sixbar_g {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::__private::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let zero = [T::zero(); 1];
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd: &zero,
+                xdd: &zero,
+                tx: &tx,
+                tp: &tp,
+            };
+            self.position_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok(report)
         }
@@ -11289,7 +11419,17 @@ pub mod sixbar_g {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, &st, &tx, &tp, xd)
+            let zero = [T::zero(); 1];
+            self.velocity_cached(
+                ::mechgen::__private::Fixed {
+                    x,
+                    xd,
+                    xdd: &zero,
+                    tx: &tx,
+                    tp: &tp,
+                },
+                &st,
+            )
         }
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
         /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
@@ -11327,7 +11467,17 @@ pub mod sixbar_g {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
+            self.acceleration_cached(
+                ::mechgen::__private::Fixed {
+                    x,
+                    xd,
+                    xdd,
+                    tx: &tx,
+                    tp: &tp,
+                },
+                &st,
+                qd,
+            )
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
@@ -11366,8 +11516,15 @@ pub mod sixbar_g {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp: &tp,
+            };
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+                .motion_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok((qd, qdd, points, report))
         }
@@ -11454,8 +11611,15 @@ pub mod sixbar_g {
                 t.predicted(x, [true, true, true, true], [false; 4], same)
             };
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp,
+            };
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+                .motion_cached(fixed, &mut st, options, &mut report)?;
             t.update(
                 x,
                 xd,

@@ -137,8 +137,8 @@ fn pruned_scene_snapshot() {
         "pub fn solve_position(",
     )
     .join("\n");
-    assert!(squeezed(&calls).contains("&mutreport,true,)?"), "{calls}");
-    assert!(squeezed(&calls).contains("&mutreport,false,)?"), "{calls}");
+    assert!(squeezed(&calls).contains("&mutreport,true)?"), "{calls}");
+    assert!(squeezed(&calls).contains("&mutreport,false)?"), "{calls}");
     let module = between(&code, "pub mod rod {", "pub mod crank_pin {").join("\n");
     let snapshot = format!("{rod}\n\n{pin}\n\n{middle}\n\n{module}\n");
     expect_file!["snapshots/slider_scenes.rs"].assert_eq(&snapshot);

@@ -94,6 +94,17 @@ pub mod __private {
     /// [`Rates`] with the Newton report of the positions.
     pub type RatesReport<T, const NU: usize, const NP: usize> =
         ([T; NU], [T; NU], [PointMotion<T>; NP], NewtonReport<T>);
+    /// What one generated solve reads besides the unknowns: the inputs, their rates (zero where
+    /// a solve has none) and the sines and cosines of the inputs and params.
+    #[derive(Clone, Copy, Debug)]
+    pub struct Fixed<'a, T, const NI: usize, const NP: usize> {
+        pub x: &'a [T; NI],
+        pub xd: &'a [T; NI],
+        pub xdd: &'a [T; NI],
+        pub tx: &'a [(T, T); NI],
+        pub tp: &'a [(T, T); NP],
+    }
+
     /// The sines and cosines of the inputs and of the params: `(tx, tp)`.
     pub type TrigFixed<T, const NI: usize, const NP: usize> = ([(T, T); NI], [(T, T); NP]);
 }

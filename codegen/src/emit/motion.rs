@@ -204,28 +204,29 @@ pub(crate) fn stages(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
     quote! {
         /// Positions block by block from the guess in `st`.
         #[inline]
-        fn position_cached(&self, x: &[#gt; #ni], st: &mut #rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
-            tp: &[(#gt, #gt); #npar], options: &#rt::SolveOptions<#gt>, report: &mut #rt::NewtonReport<#gt>)
+        fn position_cached(&self, fixed: #rt::Fixed<'_, #gt, #ni, #npar>, st: &mut #rt::TrigState<#gt, #nu>,
+            options: &#rt::SolveOptions<#gt>, report: &mut #rt::NewtonReport<#gt>)
             -> ::core::result::Result<(), #rt::SolveError> {
+            let #rt::Fixed { x, xd, xdd, tx, tp } = fixed;
             #position
             Ok(())
         }
 
         /// Velocities block by block at the solved position in `st`.
         #[inline]
-        fn velocity_cached(&self, x: &[#gt; #ni], st: &#rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
-            tp: &[(#gt, #gt); #npar], xd: &[#gt; #ni]) -> ::core::result::Result<[#gt; #nu], #rt::SolveError> {
+        fn velocity_cached(&self, fixed: #rt::Fixed<'_, #gt, #ni, #npar>, st: &#rt::TrigState<#gt, #nu>)
+            -> ::core::result::Result<[#gt; #nu], #rt::SolveError> {
+            let #rt::Fixed { x, xd, xdd, tx, tp } = fixed;
             let mut qd = [#gt::zero(); #nu];
             #velocity
             Ok(qd)
         }
 
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
-        #[allow(clippy::too_many_arguments)]
         #[inline]
-        fn acceleration_cached(&self, x: &[#gt; #ni], st: &#rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
-            tp: &[(#gt, #gt); #npar], xd: &[#gt; #ni], qd: &[#gt; #nu], xdd: &[#gt; #ni])
-            -> ::core::result::Result<[#gt; #nu], #rt::SolveError> {
+        fn acceleration_cached(&self, fixed: #rt::Fixed<'_, #gt, #ni, #npar>, st: &#rt::TrigState<#gt, #nu>,
+            qd: &[#gt; #nu]) -> ::core::result::Result<[#gt; #nu], #rt::SolveError> {
+            let #rt::Fixed { x, xd, xdd, tx, tp } = fixed;
             let mut qdd = [#gt::zero(); #nu];
             #acceleration
             Ok(qdd)
@@ -328,14 +329,11 @@ pub(crate) fn motion_subset(
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        // The fixed inputs, caches, rates, options and report of one solve, positional: a
-        // context struct for them is still to come (issue 17).
-        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
-        #vis fn #name(&self, x: &[#gt; #ni], st: &mut #rt::TrigState<#gt, #nu>, tx: &[(#gt, #gt); #ni],
-            tp: &[(#gt, #gt); #npar], xd: &[#gt; #ni], xdd: &[#gt; #ni], options: &#rt::SolveOptions<#gt>,
-            report: &mut #rt::NewtonReport<#gt>, #every_arg)
+        #vis fn #name(&self, fixed: #rt::Fixed<'_, #gt, #ni, #npar>, st: &mut #rt::TrigState<#gt, #nu>,
+            options: &#rt::SolveOptions<#gt>, report: &mut #rt::NewtonReport<#gt>, #every_arg)
             -> ::core::result::Result<#rt::Rates<#gt, #nu, #np>, #rt::SolveError> {
+            let #rt::Fixed { x, xd, xdd, tx, tp } = fixed;
             #qd_let
             #qdd_let
             #steps

@@ -160,7 +160,8 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
                 let (tx, tp) = self.trig_fixed(x);
                 let mut st = #rt::TrigState::new(*q, [#(#angle),*]);
                 let mut report = #rt::NewtonReport::new();
-                let (qd, qdd, points) = self.#motion_fn(x, &mut st, &tx, &tp, xd, xdd, options, &mut report #every_true)?;
+                let fixed = #rt::Fixed { x, xd, xdd, tx: &tx, tp: &tp };
+                let (qd, qdd, points) = self.#motion_fn(fixed, &mut st, options, &mut report #every_true)?;
                 *q = st.q;
                 Ok((qd, qdd, points, report))
             }
@@ -200,7 +201,8 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
                 };
                 let mut st = #guess;
                 let mut report = #rt::NewtonReport::new();
-                let (qd, qdd, points) = self.#motion_fn(x, &mut st, &tx, tp, xd, xdd, options, &mut report #every_false)?;
+                let fixed = #rt::Fixed { x, xd, xdd, tx: &tx, tp };
+                let (qd, qdd, points) = self.#motion_fn(fixed, &mut st, options, &mut report #every_false)?;
                 #estimated
                 t.update(x, xd, xdd, &st, qd, qdd, points, report, tx, fresh_tp.as_ref().map(|tp| (&params, tp)));
                 Ok(())

@@ -136,7 +136,9 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = #rt::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let zero = [#gt::zero(); #ni];
+            let fixed = #rt::Fixed { x, xd: &zero, xdd: &zero, tx: &tx, tp: &tp };
+            self.position_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok(report)
         }
@@ -150,7 +152,8 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             #rt::check_finite(#rt::Quantity::InputRate, xd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, &st, &tx, &tp, xd)
+            let zero = [#gt::zero(); #ni];
+            self.velocity_cached(#rt::Fixed { x, xd, xdd: &zero, tx: &tx, tp: &tp }, &st)
         }
 
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
@@ -165,7 +168,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             #rt::check_finite(#rt::Quantity::InputAcceleration, xdd)?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
+            self.acceleration_cached(#rt::Fixed { x, xd, xdd, tx: &tx, tp: &tp }, &st, qd)
         }
 
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
@@ -182,7 +185,8 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = #rt::NewtonReport::new();
-            let (qd, qdd, points) = self.motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+            let fixed = #rt::Fixed { x, xd, xdd, tx: &tx, tp: &tp };
+            let (qd, qdd, points) = self.motion_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok((qd, qdd, points, report))
         }
@@ -223,7 +227,8 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             };
             let mut st = #guess;
             let mut report = #rt::NewtonReport::new();
-            let (qd, qdd, points) = self.motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+            let fixed = #rt::Fixed { x, xd, xdd, tx: &tx, tp };
+            let (qd, qdd, points) = self.motion_cached(fixed, &mut st, options, &mut report)?;
             t.update(x, xd, xdd, &st, qd, qdd, points, report, tx, fresh_tp.as_ref().map(|tp| (&params, tp)));
             Ok(())
         }

@@ -569,13 +569,12 @@ pub mod slider {
         #[inline]
         fn position_cached(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 2>,
             st: &mut ::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { x, tx, tp, .. } = fixed;
             // Block 0: closed form (one angle).
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
@@ -642,12 +641,10 @@ pub mod slider {
         #[inline]
         fn velocity_cached(
             &self,
-            _x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 2>,
             st: &::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            _tp: &[(T, T); 2],
-            xd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { xd, tx, .. } = fixed;
             let mut qd = [T::zero(); 2];
             // Block 0: velocities.
             let p_l1 = self.params.l1;
@@ -701,18 +698,14 @@ pub mod slider {
             Ok(qd)
         }
         /// Accelerations block by block at the solved position in `st` and the rates `qd`.
-        #[allow(clippy::too_many_arguments)]
         #[inline]
         fn acceleration_cached(
             &self,
-            _x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 2>,
             st: &::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            _tp: &[(T, T); 2],
-            xd: &[T; 1],
             qd: &[T; 2],
-            xdd: &[T; 1],
         ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let ::mechgen::__private::Fixed { xd, xdd, tx, .. } = fixed;
             let mut qdd = [T::zero(); 2];
             // Block 0: accelerations.
             let p_l2 = self.params.l2;
@@ -780,22 +773,18 @@ pub mod slider {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
-        #[allow(clippy::too_many_arguments)]
         #[inline(always)]
         fn motion_cached(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 2>,
             st: &mut ::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
-            xd: &[T; 1],
-            xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::Rates<T, 2, 1>,
             ::mechgen::__private::SolveError,
         > {
+            let ::mechgen::__private::Fixed { x, xd, xdd, tx, tp } = fixed;
             let mut qd = [T::zero(); 2];
             let mut qdd = [T::zero(); 2];
             // Block 0: closed form (one angle).
@@ -972,7 +961,15 @@ pub mod slider {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::__private::NewtonReport::new();
-            self.position_cached(x, &mut st, &tx, &tp, options, &mut report)?;
+            let zero = [T::zero(); 1];
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd: &zero,
+                xdd: &zero,
+                tx: &tx,
+                tp: &tp,
+            };
+            self.position_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok(report)
         }
@@ -1002,7 +999,17 @@ pub mod slider {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.velocity_cached(x, &st, &tx, &tp, xd)
+            let zero = [T::zero(); 1];
+            self.velocity_cached(
+                ::mechgen::__private::Fixed {
+                    x,
+                    xd,
+                    xdd: &zero,
+                    tx: &tx,
+                    tp: &tp,
+                },
+                &st,
+            )
         }
         /// q̈ from J q̈ = γ at a solved position and velocity. Non-finite arguments: `NonFinite`
         /// (params, inputs, positions, input rates, rates, input accelerations, in that order).
@@ -1040,7 +1047,17 @@ pub mod slider {
             )?;
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            self.acceleration_cached(x, &st, &tx, &tp, xd, qd, xdd)
+            self.acceleration_cached(
+                ::mechgen::__private::Fixed {
+                    x,
+                    xd,
+                    xdd,
+                    tx: &tx,
+                    tp: &tp,
+                },
+                &st,
+                qd,
+            )
         }
         /// Positions from the guess in `q`, then velocities, accelerations and points, sharing one
         /// set of sines and cosines: the fastest way to a full state (one simulator tick).
@@ -1079,8 +1096,15 @@ pub mod slider {
             let (tx, tp) = self.trig_fixed(x);
             let mut st = Self::trig_state(*q);
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp: &tp,
+            };
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, &tp, xd, xdd, options, &mut report)?;
+                .motion_cached(fixed, &mut st, options, &mut report)?;
             *q = st.q;
             Ok((qd, qdd, points, report))
         }
@@ -1162,8 +1186,15 @@ pub mod slider {
                 t.predicted(x, [true, false], [false; 2], same)
             };
             let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp,
+            };
             let (qd, qdd, points) = self
-                .motion_cached(x, &mut st, &tx, tp, xd, xdd, options, &mut report)?;
+                .motion_cached(fixed, &mut st, options, &mut report)?;
             t.update(
                 x,
                 xd,

@@ -1,17 +1,14 @@
         pub(super) fn scene_rod_motion(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 2>,
             st: &mut ::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
-            _xd: &[T; 1],
-            _xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::Rates<T, 2, 0>,
             ::mechgen::__private::SolveError,
         > {
+            let ::mechgen::__private::Fixed { x, tx, tp, .. } = fixed;
             let qd = [T::zero(); 2];
             let qdd = [T::zero(); 2];
             // Block 0: closed form (one angle).
@@ -56,18 +53,15 @@
 
         pub(super) fn scene_crank_pin_motion(
             &self,
-            _x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 2>,
             _st: &mut ::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            _tp: &[(T, T); 2],
-            xd: &[T; 1],
-            _xdd: &[T; 1],
             _options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
         ) -> ::core::result::Result<
             ::mechgen::__private::Rates<T, 2, 1>,
             ::mechgen::__private::SolveError,
         > {
+            let ::mechgen::__private::Fixed { xd, tx, .. } = fixed;
             let mut qd = [T::zero(); 2];
             let qdd = [T::zero(); 2];
             // Near a dead point: one Newton step per block with its residual in double words.
@@ -99,12 +93,8 @@
 
         pub(super) fn scene_rod_middle_motion(
             &self,
-            x: &[T; 1],
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 2>,
             st: &mut ::mechgen::__private::TrigState<T, 2>,
-            tx: &[(T, T); 1],
-            tp: &[(T, T); 2],
-            _xd: &[T; 1],
-            _xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
             every_angle: bool,
@@ -112,6 +102,7 @@
             ::mechgen::__private::Rates<T, 2, 1>,
             ::mechgen::__private::SolveError,
         > {
+            let ::mechgen::__private::Fixed { x, tx, tp, .. } = fixed;
             let qd = [T::zero(); 2];
             let qdd = [T::zero(); 2];
             // Block 0: closed form (one angle).

@@ -6,6 +6,7 @@
 
 mod common;
 
+use common::engines::check_engines_agree;
 use common::scenes::{check_compiled_in_scene_ticks, check_compiled_in_scenes};
 use common::{Table, compare};
 use mechgen::sweep::{Continuation, sweep};
@@ -81,5 +82,11 @@ fn compiled_in_scene_ticks_follow_their_sweeps() {
 #[test]
 fn compiled_in_scenes_equal_their_mechanisms() {
     let fails = check_compiled_in_scenes();
+    assert!(fails.is_empty(), "{}", fails.join("\n"));
+}
+
+#[test]
+fn compiled_in_mechanisms_alike_on_both_engines() {
+    let fails = check_engines_agree();
     assert!(fails.is_empty(), "{}", fails.join("\n"));
 }

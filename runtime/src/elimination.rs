@@ -245,28 +245,75 @@ pub fn factor_block<T: Real, const K: usize>(
         }
         // Entries too large or too small for m₀ m₁: the equilibrated path below.
     }
-    match lu_in_place(&mut jac, &mut scale, |c, p| swaps[c] = p) {
-        Ok(pivot_ratio) => {
-            if K == 2 {
-                // The inverse of A S is S⁻¹ A⁻¹: fold the column scales into the rows.
-                for i in 0..K {
-                    for j in 0..K {
-                        jac[(i, j)] *= scale[i];
-                    }
-                }
+    let pivot_ratio = factor_in_place(block, stage, &mut jac, &mut scale, &mut swaps)?;
+    if K == 2 {
+        // The inverse of A S is S⁻¹ A⁻¹: fold the column scales into the rows.
+        for i in 0..K {
+            for j in 0..K {
+                jac[(i, j)] *= scale[i];
             }
-            Ok(Factored {
-                lu: jac,
-                scale,
-                swaps,
-                pivot_ratio,
-            })
         }
-        Err(ratio) => Err(SolveError::Singular {
-            block,
-            stage,
-            pivot_ratio: ratio.to_f64(),
-        }),
+    }
+    Ok(Factored {
+        lu: jac,
+        scale,
+        swaps,
+        pivot_ratio,
+    })
+}
+
+/// [`factor_block`]'s elimination for a Jacobian of any dimension (the generic engine's
+/// `DMatrix`): `a` is factored in place by [`lu_in_place`], its column scales into `scale` and its
+/// row swaps into `swaps` (one per column); the pivot ratio, or `Singular` for `stage`.
+#[inline(always)]
+pub fn factor_in_place<T: Real, D: Dim>(
+    block: usize,
+    stage: Stage,
+    a: &mut OMatrix<T, D, D>,
+    scale: &mut OVector<T, D>,
+    swaps: &mut [usize],
+) -> Result<T, SolveError>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    for (c, s) in swaps.iter_mut().enumerate() {
+        *s = c;
+    }
+    lu_in_place(a, scale, |c, p| swaps[c] = p).map_err(|ratio| SolveError::Singular {
+        block,
+        stage,
+        pivot_ratio: ratio.to_f64(),
+    })
+}
+
+/// Solves with the factors of [`factor_in_place`] (a 2×2 one's scales not folded): `rhs`
+/// becomes the solution, or `Overflow` when it is not finite.
+#[inline(always)]
+pub fn solve_factored<T: Real, D: Dim>(
+    block: usize,
+    stage: Stage,
+    a: &OMatrix<T, D, D>,
+    scale: &OVector<T, D>,
+    swaps: &[usize],
+    rhs: &mut OVector<T, D>,
+) -> Result<(), SolveError>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    for (c, &p) in swaps.iter().enumerate() {
+        rhs.swap_rows(c, p);
+    }
+    lu_solve(a, scale, rhs);
+    finite(block, stage, rhs.as_slice())
+}
+
+/// `Overflow` for `stage` unless every value of a block's solution is finite.
+#[inline(always)]
+fn finite<T: Real>(block: usize, stage: Stage, z: &[T]) -> Result<(), SolveError> {
+    if z.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(SolveError::Overflow { block, stage })
     }
 }
 
@@ -293,11 +340,8 @@ impl<T: Real, const K: usize> Factored<T, K> {
             }
             lu_solve(&self.lu, &self.scale, &mut rhs);
         }
-        if rhs.iter().all(|v| v.is_finite()) {
-            Ok(rhs)
-        } else {
-            Err(SolveError::Overflow { block, stage })
-        }
+        finite(block, stage, rhs.as_slice())?;
+        Ok(rhs)
     }
 }
 

@@ -77,20 +77,71 @@ impl<T: Real, const N: usize> TrigState<T, N> {
 impl<T: Real, const N: usize> NewtonState<T> for TrigState<T, N> {
     #[inline]
     fn apply(&mut self, k: usize, dz: T) {
-        let old = self.q[k];
-        self.q[k] -= dz;
-        if self.angle[k] {
-            // Rotated by the whole step: the sines and cosines keep what the rounding of q drops
-            // near convergence (they, not q, enter the residual), which helps most in f32 at a
-            // dead point. Only where q is too large to resolve a milliradian is the rotation the
-            // change q actually took, so that they stay the sines and cosines of q.
-            let turn = if T::EPSILON * old.abs() > T::lit(1e-3) {
-                old - self.q[k]
+        step(&mut self.q[k], &mut self.sc[k], self.angle[k], dz);
+    }
+    #[inline]
+    fn get(&self, k: usize) -> T {
+        self.q[k]
+    }
+}
+
+/// One Newton step `q −= dz` of one unknown, an angle's sine and cosine kept in step: rotated by
+/// the whole step, so they keep what the rounding of q drops near convergence (they, not q, enter
+/// the residual), which helps most in f32 at a dead point. Only where q is too large to resolve a
+/// milliradian is the rotation the change q actually took, so that they stay those of q.
+#[inline]
+fn step<T: Real>(q: &mut T, sc: &mut (T, T), angle: bool, dz: T) {
+    let old = *q;
+    *q -= dz;
+    if angle {
+        let turn = if T::EPSILON * old.abs() > T::lit(1e-3) {
+            old - *q
+        } else {
+            dz
+        };
+        *sc = rotate(*sc, *q, turn);
+    }
+}
+
+/// [`TrigState`] over borrowed slices of any length (the run-time engines' state): the same
+/// steps, so an engine that reads its sines and cosines from `sc` computes what generated code
+/// computes.
+#[derive(Debug)]
+pub struct TrigSlices<'a, T> {
+    pub q: &'a mut [T],
+    /// (sin, cos) of `q[k]` where `angle[k]`; (0, 1) elsewhere.
+    pub sc: &'a mut [(T, T)],
+    pub angle: &'a [bool],
+}
+
+impl<T: Real> TrigSlices<'_, T> {
+    /// Every angle's sine and cosine afresh (as [`TrigState::new`]); (0, 1) elsewhere.
+    #[inline]
+    pub fn init(&mut self) {
+        for ((q, sc), &angle) in self.q.iter().zip(self.sc.iter_mut()).zip(self.angle) {
+            *sc = if angle {
+                q.sin_cos()
             } else {
-                dz
+                (T::zero(), T::one())
             };
-            self.sc[k] = rotate(self.sc[k], self.q[k], turn);
         }
+    }
+
+    /// Sets unknown `k` to `value`, an angle's sine and cosine computed afresh (as
+    /// [`TrigState::set`]).
+    #[inline]
+    pub fn set(&mut self, k: usize, value: T) {
+        self.q[k] = value;
+        if self.angle[k] {
+            self.sc[k] = sin_cos_cold(value);
+        }
+    }
+}
+
+impl<T: Real> NewtonState<T> for TrigSlices<'_, T> {
+    #[inline]
+    fn apply(&mut self, k: usize, dz: T) {
+        step(&mut self.q[k], &mut self.sc[k], self.angle[k], dz);
     }
     #[inline]
     fn get(&self, k: usize) -> T {

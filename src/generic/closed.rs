@@ -8,6 +8,7 @@ use super::tape::Tape;
 use mechgen_runtime::error::SolveError;
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::solve::{NewtonReport, TrigState};
+use mechgen_runtime::trig::TrigSlices;
 
 /// A closed-form block: its kind and the tape of its roots (in the kind's order).
 #[derive(Clone, Debug)]
@@ -16,19 +17,21 @@ pub(super) struct ClosedTape {
     pub roots: Tape,
 }
 
-/// Solves block `block` in closed form: `v` are its roots at the current state, `q` holds the
-/// guess (which picks the assembly mode) and receives the block's unknowns on success.
+/// Solves block `block` in closed form: `v` are its roots at the current state, `st` holds the
+/// guess (which picks the assembly mode) and receives the block's unknowns (and their sines and
+/// cosines, as the kernel sets them) on success.
 pub(super) fn solve<T: Real>(
     block: usize,
     form: &ClosedForm,
     v: &[T],
-    q: &mut [T],
+    q: &mut TrigSlices<'_, T>,
     scale: T,
     tolerance: T,
     report: &mut NewtonReport<T>,
 ) -> Result<(), SolveError> {
     let (kind, idx) = (form.kind(), form.slots());
-    let mut st = TrigState::new([q[idx[0]], q[idx[1]]], kind.angles());
+    let (a, b) = (idx[0], idx[1]);
+    let mut st = TrigState::from_parts([q.q[a], q.q[b]], [q.sc[a], q.sc[b]], kind.angles());
     kind.solve(block, &mut st, [0, 1], v, scale, tolerance, report)
         .map_err(|e| match e {
             // The kernel's index is into the local state: report the mechanism's unknown.
@@ -39,7 +42,8 @@ pub(super) fn solve<T: Real>(
             e => e,
         })?;
     for (slot, &k) in idx.iter().enumerate().take(kind.unknowns()) {
-        q[k] = st.q[slot];
+        q.q[k] = st.q[slot];
+        q.sc[k] = st.sc[slot];
     }
     Ok(())
 }

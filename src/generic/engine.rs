@@ -1,19 +1,12 @@
 //! Generic engine, solvers: a mechanism loaded at run time (through mechgen-codegen's parser,
-//! checker, lowering and derivatives), its DAG compiled to tapes per diagonal block, solved with
-//! the same block Newton and elimination as the generated code on nalgebra `DMatrix`/`DVector`.
-//! Implements [`DynMechanism`] with the generated solvers' semantics and error values.
+//! checker, lowering and derivatives), its DAG compiled to tapes per diagonal block; `driver.rs`
+//! solves them with the same block Newton, kernels and elimination as the generated code.
 
 use mechgen_codegen::Kind as CodegenKind;
 use mechgen_codegen::{Compiled, Diagnostic, SourceFile};
-use mechgen_runtime::nalgebra::{DMatrix, DVector, Dyn};
-use mechgen_runtime::twofold::{REFINE_BELOW, refinement_in_place};
 
-use super::closed::{self, ClosedTape};
-use super::tape::{Env, Tape};
-use mechgen_runtime::elimination::gauss_in_place;
-use mechgen_runtime::error::{Quantity, SolveError, Stage};
-use mechgen_runtime::scalar::Real;
-use mechgen_runtime::solve::{NewtonWork, check_finite};
+use super::closed::ClosedTape;
+use super::tape::Tape;
 use mechgen_runtime::{CoordDesc, Kind, MechanismInfo, ParamDesc};
 
 /// A mechanism file that could not be loaded: every diagnostic, rendered as FILE:LINE:COLUMN.
@@ -40,8 +33,9 @@ pub(super) struct BlockTapes {
     pub position: Tape,
     /// The k residuals alone (evaluated in double-word arithmetic to refine positions).
     pub residual: Tape,
-    /// k right-hand sides, then the Jacobian.
+    /// k velocity right-hand sides, then the Jacobian (factored once for both rates).
     pub velocity: Tape,
+    /// k acceleration right-hand sides.
     pub acceleration: Tape,
     /// The kind and roots of a closed-form block (solved by its kernel); `None`: Newton.
     pub closed: Option<ClosedTape>,
@@ -56,6 +50,10 @@ pub struct Generic {
     /// The checked model, for recomputing derived params when a base param changes.
     pub(super) model: mechgen_codegen::Model,
     pub(super) blocks: Vec<BlockTapes>,
+    /// Every block index, in solve order (the whole mechanism's plan).
+    pub(super) order: Vec<usize>,
+    /// Which unknowns are angles (their sines and cosines are kept in step through a solve).
+    pub(super) angle: Vec<bool>,
     pub(super) residual: Tape,
     pub(super) jacobian: Tape,
     pub(super) input_jacobian: Tape,
@@ -142,7 +140,7 @@ impl Generic {
             points: m.points.iter().map(|p| p.0.text.clone()).collect(),
             blocks: c.blocks.iter().map(|b| b.block.unknowns.clone()).collect(),
         };
-        let blocks = c
+        let blocks: Vec<BlockTapes> = c
             .blocks
             .iter()
             .map(|b| {
@@ -162,7 +160,7 @@ impl Generic {
                     position: with_jac(&b.residual),
                     residual: Tape::new(&dag, &b.residual),
                     velocity: with_jac(&b.velocity_rhs),
-                    acceleration: with_jac(&b.acceleration_rhs),
+                    acceleration: Tape::new(&dag, &b.acceleration_rhs),
                     closed: b.closed_form.as_ref().map(|f| ClosedTape {
                         form: f.clone(),
                         roots: Tape::new(&dag, f.roots()),
@@ -183,6 +181,12 @@ impl Generic {
                 .params
                 .iter()
                 .map(|p| p.kind == CodegenKind::Length)
+                .collect(),
+            order: (0..blocks.len()).collect(),
+            angle: m
+                .unknowns
+                .iter()
+                .map(|u| u.kind == CodegenKind::Angle)
                 .collect(),
             blocks,
             residual: Tape::new(&dag, &c.system.residuals),
@@ -287,173 +291,5 @@ impl Generic {
             .filter(|(i, (_, l))| **l && read.is_none_or(|r| r.get(*i).copied().unwrap_or(false)))
             .fold(0.0f64, |m, (_, (p, _))| m.max(p.abs()));
         if s > 0.0 { s } else { 1.0 }
-    }
-
-    /// Every block in order, from the guess in `q`: closed-form blocks by their kernels (unless
-    /// `options.closed_forms` is off), the others by Newton; `q` is written only on success (as
-    /// the generated solvers do).
-    pub(super) fn newton<T: Real>(
-        &self,
-        x: &[T],
-        q: &mut [T],
-        options: &crate::SolveOptions<T>,
-    ) -> Result<crate::NewtonReport<T>, SolveError> {
-        self.newton_blocks(&self.all_blocks(), self.length_scale(), x, q, options)
-    }
-
-    /// Every block index, in solve order.
-    pub(super) fn all_blocks(&self) -> Vec<usize> {
-        (0..self.blocks.len()).collect()
-    }
-
-    /// [`Generic::newton`] on the blocks `which` only (a scene's kept blocks, in solve order),
-    /// with tolerances relative to the length `scale`.
-    pub(super) fn newton_blocks<T: Real>(
-        &self,
-        which: &[usize],
-        scale: f64,
-        x: &[T],
-        q: &mut [T],
-        options: &crate::SolveOptions<T>,
-    ) -> Result<crate::NewtonReport<T>, SolveError> {
-        check_finite(Quantity::Param, &self.params)?;
-        check_finite(Quantity::Input, x)?;
-        check_finite(Quantity::Guess, q)?;
-        let scale = T::lit(scale);
-        let mut report = crate::NewtonReport::new();
-        let mut trial = q.to_vec();
-        let mut regs = Vec::new();
-        let mut out = Vec::new();
-        for (bi, b) in which.iter().map(|&bi| (bi, &self.blocks[bi])) {
-            let k = b.unknowns.len();
-            if let Some(c) = b.closed.as_ref().filter(|_| options.closed_forms) {
-                out.resize(c.form.roots().len(), T::zero());
-                c.roots
-                    .eval(&Env::position(x, &trial, &self.params), &mut regs, &mut out);
-                closed::solve(
-                    bi,
-                    &c.form,
-                    &out,
-                    &mut trial,
-                    scale,
-                    options.newton.tolerance,
-                    &mut report,
-                )?;
-                continue;
-            }
-            let mut work: NewtonWork<T, Dyn> = NewtonWork {
-                residual: DVector::zeros(k),
-                jacobian: DMatrix::zeros(k, k),
-                scale: DVector::zeros(k),
-            };
-            out.resize(k + k * k, T::zero());
-            mechgen_runtime::solve::newton_in_place(
-                bi,
-                trial.as_mut_slice(),
-                &b.unknowns,
-                &b.length,
-                scale,
-                &options.newton,
-                &mut report,
-                &mut work,
-                |q, r, j| {
-                    b.position
-                        .eval(&Env::position(x, q, &self.params), &mut regs, &mut out);
-                    fill(&out, k, r, j);
-                },
-            )?;
-        }
-        if report.pivot_ratio < T::lit(REFINE_BELOW) {
-            self.refine(which, x, &mut trial);
-        }
-        q.copy_from_slice(&trial);
-        Ok(report)
-    }
-
-    /// Near a dead point: per block in order, one Newton step with the residual in double-word
-    /// arithmetic (the runtime's `refinement_in_place`, as generated code's `refine_block`).
-    fn refine<T: Real>(&self, which: &[usize], x: &[T], q: &mut [T]) {
-        let x64: Vec<f64> = x.iter().map(|v| v.to_f64()).collect();
-        let mut regs = Vec::new();
-        for b in which.iter().map(|&bi| &self.blocks[bi]) {
-            let k = b.unknowns.len();
-            let q64: Vec<f64> = q.iter().map(|v| v.to_f64()).collect();
-            let exact = b.residual.eval_twofold(&x64, &q64, &self.params);
-            let mut out = vec![T::zero(); k + k * k];
-            b.position
-                .eval(&Env::position(x, q, &self.params), &mut regs, &mut out);
-            let (mut r, mut jac, mut scale) =
-                (DVector::zeros(k), DMatrix::zeros(k, k), DVector::zeros(k));
-            fill(&out, k, &mut r, &mut jac);
-            for (ri, e) in r.iter_mut().zip(&exact) {
-                *ri = T::lit(e.value());
-            }
-            if refinement_in_place(&mut jac, &mut r, &mut scale, |k| q[b.unknowns[k]]) {
-                for (&u, d) in b.unknowns.iter().zip(r.iter()) {
-                    q[u] -= *d;
-                }
-            }
-        }
-    }
-
-    /// Velocity or acceleration: one linear solve per block, earlier blocks' rates known.
-    pub(super) fn linear<T: Real>(
-        &self,
-        stage: Stage,
-        env: Env<'_, T>,
-        z: &mut [T],
-    ) -> Result<(), SolveError> {
-        self.linear_blocks(&self.all_blocks(), stage, env, z)
-    }
-
-    /// [`Generic::linear`] on the blocks `which` only.
-    pub(super) fn linear_blocks<T: Real>(
-        &self,
-        which: &[usize],
-        stage: Stage,
-        env: Env<'_, T>,
-        z: &mut [T],
-    ) -> Result<(), SolveError> {
-        z.iter_mut().for_each(|v| *v = T::zero());
-        let mut regs = Vec::new();
-        let mut out = Vec::new();
-        for (bi, b) in which.iter().map(|&bi| (bi, &self.blocks[bi])) {
-            let k = b.unknowns.len();
-            let (tape, env) = match stage {
-                Stage::Velocity => (&b.velocity, Env { qd: z, ..env }),
-                _ => (&b.acceleration, Env { qdd: z, ..env }),
-            };
-            out.resize(k + k * k, T::zero());
-            tape.eval(&env, &mut regs, &mut out);
-            let mut rhs = DVector::zeros(k);
-            let mut jac = DMatrix::zeros(k, k);
-            let mut scale = DVector::zeros(k);
-            fill(&out, k, &mut rhs, &mut jac);
-            match gauss_in_place(&mut jac, &mut rhs, &mut scale) {
-                Ok(_) if rhs.iter().all(|v| v.is_finite()) => {}
-                Ok(_) => return Err(SolveError::Overflow { block: bi, stage }),
-                Err(ratio) => {
-                    return Err(SolveError::Singular {
-                        block: bi,
-                        stage,
-                        pivot_ratio: ratio.to_f64(),
-                    });
-                }
-            }
-            for (i, &u) in b.unknowns.iter().enumerate() {
-                z[u] = rhs[i];
-            }
-        }
-        Ok(())
-    }
-}
-
-/// Splits a block tape's outputs into its vector (first `k`) and its matrix (row-major).
-fn fill<T: Real>(out: &[T], k: usize, v: &mut DVector<T>, m: &mut DMatrix<T>) {
-    for i in 0..k {
-        v[i] = out[i];
-        for j in 0..k {
-            m[(i, j)] = out[k + i * k + j];
-        }
     }
 }

@@ -5,6 +5,7 @@
 //! structure ([`Linkage`], [`Sketch`]) is read from the loaded model.
 
 mod closed;
+mod driver;
 mod engine;
 mod linkage;
 mod scene;
@@ -17,8 +18,9 @@ pub use linkage::Linkage;
 pub use scene::GenericScene;
 pub use sketch::{Sketch, SliderAt};
 
+use driver::{Rates, Run};
 use mechgen_runtime::InputMotion;
-use mechgen_runtime::error::{Quantity, SolveError, Stage};
+use mechgen_runtime::error::{Quantity, SolveError};
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
 use mechgen_runtime::{DynMechanism, MechanismInfo, PointMotion, dynamic::len};
@@ -58,6 +60,19 @@ impl Generic {
             len(s, if i % 2 == 0 { ni } else { nu })?;
         }
         Ok(())
+    }
+
+    /// Every point's position, velocity and acceleration at `env`.
+    fn eval_points<T: Real>(&self, env: Env<'_, T>, out: &mut [PointMotion<T>]) {
+        let mut v = vec![T::zero(); 6 * self.info.points.len()];
+        self.points.eval(&env, &mut Vec::new(), &mut v);
+        for (o, c) in out.iter_mut().zip(v.chunks_exact(6)) {
+            *o = PointMotion {
+                position: [c[0], c[1]],
+                velocity: [c[2], c[3]],
+                acceleration: [c[4], c[5]],
+            };
+        }
     }
 
     /// The drawing chains (links and ground offsets of every loop) at `(x, q)`.
@@ -177,7 +192,8 @@ macro_rules! kinematics {
                 options: &SolveOptions<$t>,
             ) -> Result<NewtonReport<$t>, SolveError> {
                 self.lengths(&[x, q])?;
-                self.newton(x, q, options)
+                let mut sc = vec![(0.0, 1.0); q.len()];
+                self.positions(self.whole(), x, q, &mut sc, options)
             }
 
             fn solve_velocity(
@@ -193,7 +209,7 @@ macro_rules! kinematics {
                     xd,
                     ..Env::position(x, q, &self.params)
                 };
-                self.linear(Stage::Velocity, env, qd)
+                self.rates(&self.order, Rates::Velocity, env, qd, &mut [])
             }
 
             fn solve_acceleration(
@@ -208,11 +224,36 @@ macro_rules! kinematics {
                 self.finite(&[x, q, xd, qd, xdd])?;
                 let env = Env {
                     xd,
-                    qd,
                     xdd,
                     ..Env::position(x, q, &self.params)
                 };
-                self.linear(Stage::Acceleration, env, qdd)
+                let mut qd = qd.to_vec();
+                self.rates(&self.order, Rates::Acceleration, env, &mut qd, qdd)
+            }
+
+            fn solve(
+                &self,
+                input: InputMotion<&[$t]>,
+                q: &mut [$t],
+                qd: &mut [$t],
+                qdd: &mut [$t],
+                points: &mut [PointMotion<$t>],
+                options: &SolveOptions<$t>,
+            ) -> Result<NewtonReport<$t>, SolveError> {
+                let InputMotion { x, xd, xdd } = input;
+                self.lengths(&[x, q, xd, qd, xdd, qdd])?;
+                len(points, self.info.points.len())?;
+                let Run { report, sc } = self.drive(self.whole(), input, q, qd, qdd, options)?;
+                let env = Env {
+                    xd,
+                    qd,
+                    xdd,
+                    qdd,
+                    sc: &sc,
+                    ..Env::position(x, q, &self.params)
+                };
+                self.eval_points(env, points);
+                Ok(report)
             }
 
             fn points(
@@ -227,23 +268,13 @@ macro_rules! kinematics {
                 self.lengths(&[x, q, xd, qd, xdd, qdd])?;
                 len(out, self.info.points.len())?;
                 let env = Env {
-                    x,
-                    q,
-                    p: &self.params,
                     xd,
                     qd,
                     xdd,
                     qdd,
+                    ..Env::position(x, q, &self.params)
                 };
-                let mut v = vec![<$t as Default>::default(); 6 * self.info.points.len()];
-                self.points.eval(&env, &mut Vec::new(), &mut v);
-                for (o, c) in out.iter_mut().zip(v.chunks_exact(6)) {
-                    *o = PointMotion {
-                        position: [c[0], c[1]],
-                        velocity: [c[2], c[3]],
-                        acceleration: [c[4], c[5]],
-                    };
-                }
+                self.eval_points(env, out);
                 Ok(())
             }
         }

@@ -5,13 +5,14 @@
 
 use mechgen_codegen::{Compiled, Dag, ScenePlan};
 use mechgen_runtime::dynamic::len;
-use mechgen_runtime::error::{Quantity, SolveError, Stage};
+use mechgen_runtime::error::SolveError;
 use mechgen_runtime::mechanism::InputMotion;
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::scene::{DynScene, SceneDescription};
-use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
+use mechgen_runtime::solve::{NewtonReport, SolveOptions};
 
 use super::Generic;
+use super::driver::{Plan, Run};
 use super::tape::{Env, Tape};
 
 /// One scene's plan and its points' tape (per point: positions, then rates up to the order).
@@ -109,31 +110,14 @@ impl GenericScene {
         }
         len(q, nu)?;
         len(out, s.desc.columns.len())?;
-        check_finite(Quantity::Param, &g.params)?;
-        check_finite(Quantity::Input, x)?;
-        check_finite(Quantity::Guess, q)?;
-        check_finite(Quantity::InputRate, xd)?;
-        check_finite(Quantity::InputAcceleration, xdd)?;
-        let scale = g.length_scale_of(Some(&s.params_read));
-        let report = g.newton_blocks(&s.desc.blocks, scale, x, q, options)?;
-        let (mut qd, mut qdd) = (vec![T::zero(); nu], vec![T::zero(); nu]);
         let order = s.desc.order;
-        if order >= 1 {
-            let env = Env {
-                xd,
-                ..Env::position(x, q, &g.params)
-            };
-            g.linear_blocks(&s.desc.blocks, Stage::Velocity, env, &mut qd)?;
-        }
-        if order >= 2 {
-            let env = Env {
-                xd,
-                qd: &qd,
-                xdd,
-                ..Env::position(x, q, &g.params)
-            };
-            g.linear_blocks(&s.desc.blocks, Stage::Acceleration, env, &mut qdd)?;
-        }
+        let plan = Plan {
+            blocks: &s.desc.blocks,
+            scale: g.length_scale_of(Some(&s.params_read)),
+            order,
+        };
+        let (mut qd, mut qdd) = (vec![T::zero(); nu], vec![T::zero(); nu]);
+        let Run { report, sc } = g.drive(plan, input, q, &mut qd, &mut qdd, options)?;
         let rates = [&*q, &qd, &qdd];
         let mut at = 0;
         for &u in &s.unknowns {
@@ -150,6 +134,7 @@ impl GenericScene {
             qd: &qd,
             xdd,
             qdd: &qdd,
+            sc: &sc,
         };
         s.points
             .eval(&env, &mut Vec::new(), &mut out[at..at + s.point_values]);

@@ -19,7 +19,10 @@ enum Op {
     Neg(u32),
     /// Writes `sin` to this register and `cos` to the next one (whose op is [`Op::Cos2`]).
     SinCos(u32),
-    /// Placeholder for the `cos` half of the preceding [`Op::SinCos`].
+    /// [`Op::SinCos`] of unknown `k` (in register `a`): read from the state's sines and cosines
+    /// ([`Env::sc`]) when it has them, as generated code reads its `TrigState`.
+    SinCosQ(u32, u32),
+    /// Placeholder for the `cos` half of the preceding [`Op::SinCos`] or [`Op::SinCosQ`].
     Cos2,
     Sin(u32),
     Cos(u32),
@@ -40,6 +43,9 @@ pub struct Env<'a, T> {
     pub qd: &'a [T],
     pub xdd: &'a [T],
     pub qdd: &'a [T],
+    /// (sin, cos) of each unknown kept in step with `q` through a solve (the runtime's
+    /// `TrigSlices`); empty: computed from `q`.
+    pub sc: &'a [(T, T)],
 }
 
 impl<'a, T: Real> Env<'a, T> {
@@ -53,6 +59,7 @@ impl<'a, T: Real> Env<'a, T> {
             qd: &[],
             xdd: &[],
             qdd: &[],
+            sc: &[],
         }
     }
 
@@ -108,6 +115,10 @@ impl Tape {
         // Register of the sin of each paired argument (its cos is the next register).
         let mut sincos = vec![u32::MAX; nodes.len()];
         let mut ops = Vec::new();
+        let unknown = |a: NodeId| match nodes[a.index()] {
+            Node::Var(Var::Q(k)) => Some(u32::from(k)),
+            _ => None,
+        };
         for (i, n) in nodes.iter().enumerate() {
             if !needed[i] {
                 continue;
@@ -124,11 +135,16 @@ impl Tape {
                     Node::Sub(a, b) => Op::Sub(r(b), r(a)),
                     _ => Op::Neg(r(d)),
                 },
-                Node::Sin(a) | Node::Cos(a) if has_sin[a.index()] && has_cos[a.index()] => {
+                Node::Sin(a) | Node::Cos(a)
+                    if (has_sin[a.index()] && has_cos[a.index()]) || unknown(a).is_some() =>
+                {
                     let at = a.index();
                     if sincos[at] == u32::MAX {
                         sincos[at] = ops.len() as u32;
-                        ops.push(Op::SinCos(r(a)));
+                        ops.push(match unknown(a) {
+                            Some(k) => Op::SinCosQ(r(a), k),
+                            None => Op::SinCos(r(a)),
+                        });
                         ops.push(Op::Cos2);
                     }
                     let cos = matches!(n, Node::Cos(_));
@@ -165,7 +181,8 @@ impl Tape {
     /// Runs the program; `regs` is workspace (resized as needed). Returns the root values through
     /// `out` (as many as fit).
     pub fn eval<T: Real>(&self, env: &Env<'_, T>, regs: &mut Vec<T>, out: &mut [T]) {
-        self.run(|v| env.get(v), regs);
+        let sc = |k: u32| env.sc.get(k as usize).copied();
+        self.run(|v| env.get(v), sc, regs);
         for (o, &r) in out.iter_mut().zip(&self.outputs) {
             *o = regs[r as usize];
         }
@@ -176,12 +193,18 @@ impl Tape {
     pub fn eval_twofold(&self, x: &[f64], q: &[f64], p: &[f64]) -> Vec<Twofold> {
         let env = Env::position(x, q, p);
         let mut regs = Vec::new();
-        self.run(|v| Twofold::from(env.get(v)), &mut regs);
+        self.run(|v| Twofold::from(env.get(v)), |_| None, &mut regs);
         self.outputs.iter().map(|&r| regs[r as usize]).collect()
     }
 
     /// The interpreter: every instruction in order, in the arithmetic `A`, into `regs`.
-    fn run<A: Arith>(&self, var: impl Fn(Var) -> A, regs: &mut Vec<A>) {
+    /// `sc` gives an unknown's kept sine and cosine, if any.
+    fn run<A: Arith>(
+        &self,
+        var: impl Fn(Var) -> A,
+        sc: impl Fn(u32) -> Option<(A, A)>,
+        regs: &mut Vec<A>,
+    ) {
         regs.clear();
         regs.resize(self.ops.len(), A::constant(0.0));
         for i in 0..self.ops.len() {
@@ -194,8 +217,12 @@ impl Tape {
                 Op::Mul(a, b) => g(a) * g(b),
                 Op::Div(a, b) => g(a) / g(b),
                 Op::Neg(a) => -g(a),
-                Op::SinCos(a) => {
-                    let (s, c) = g(a).sin_cos_of();
+                Op::SinCos(a) | Op::SinCosQ(a, _) => {
+                    let kept = match self.ops[i] {
+                        Op::SinCosQ(_, k) => sc(k),
+                        _ => None,
+                    };
+                    let (s, c) = kept.unwrap_or_else(|| g(a).sin_cos_of());
                     if let Some(next) = regs.get_mut(i + 1) {
                         *next = c;
                     }

@@ -3,6 +3,7 @@
 
 #[cfg(feature = "cli")]
 pub mod cli;
+pub mod engines;
 pub mod scenes;
 pub mod stress;
 

@@ -145,6 +145,55 @@ pub fn compare<T: mechgen::Real>(
     (fails, pairs.len())
 }
 
+/// A generated scene against the generic engine's scene of the same plan, from the same guesses
+/// along `rows` (a failed row takes the last solved configuration), closed forms on and off:
+/// the same status on every row and outputs within 1e-13 of the row's largest magnitude (at
+/// least 1). Returns the failures and the rows solved.
+pub fn compare_engines(
+    what: &str,
+    generated: &dyn DynScene<f64>,
+    generic: &dyn DynScene<f64>,
+    full: &MechanismInfo,
+    rows: &[Row],
+) -> (Vec<String>, usize) {
+    let columns = generated.info().columns.len();
+    let (ni, mut solved, mut fails) = (full.inputs.len(), 0, Vec::new());
+    for closed_forms in [true, false] {
+        let options = SolveOptions {
+            closed_forms,
+            ..SolveOptions::default()
+        };
+        let mut guess: Vec<f64> = full.unknowns.iter().map(|u| u.start).collect();
+        for r in rows {
+            if let Ok(s) = &r.result {
+                guess.clone_from(&s.q);
+            }
+            let mut x: Vec<f64> = full.inputs.iter().map(|i| i.start).collect();
+            x[0] = r.input;
+            let (mut xd, xdd) = (vec![0.0; ni], vec![0.0; ni]);
+            xd[0] = 1.0;
+            let input = InputMotion::new(&x[..], &xd[..], &xdd[..]);
+            let (mut qa, mut qb) = (guess.clone(), guess.clone());
+            let (mut a, mut b) = (vec![0.0; columns], vec![0.0; columns]);
+            let ra = generated.solve_outputs(input, &mut qa, &mut a, &options);
+            let rb = generic.solve_outputs(input, &mut qb, &mut b, &options);
+            let at = format!("{what} at {} (closed forms {closed_forms})", r.input);
+            match (&ra, &rb) {
+                (Ok(_), Ok(_)) => {
+                    solved += 1;
+                    let scale = a.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+                    if a.iter().zip(&b).any(|(u, v)| !close(*u, *v, scale, 1e-13)) {
+                        fails.push(format!("{at}: generated {a:?}, generic {b:?}"));
+                    }
+                }
+                (Err(ea), Err(eb)) if ea.status() == eb.status() => {}
+                _ => fails.push(format!("{at}: generated {ra:?}, generic {rb:?}")),
+            }
+        }
+    }
+    (fails, solved)
+}
+
 /// Every compiled-in scene: its columns (interfaces.md), and its outputs equal to the full
 /// solver's over a full sweep, generated f64 (1e-14), generated f32 (1e-5) and the generic
 /// engine's scene against the generic full solver (1e-14). Returns the failures.
@@ -191,6 +240,11 @@ pub fn check_compiled_in_scenes() -> Vec<String> {
         }
         let (f, ng) = compare::<f64>(&format!("{name} generic"), &gs, g, &rows, 1e-14);
         fails.extend(f);
+        let (f, ne) = compare_engines(name, scene.as_ref(), &gs, &full.info(), &rows);
+        fails.extend(f);
+        if ne < solved {
+            fails.push(format!("{name}: {ne} rows solved alike by both engines"));
+        }
         eprintln!("{name}: {n} rows f64, {n32} f32, {ng} generic");
         if n != solved || n32 == 0 || ng != solved {
             fails.push(format!("{name}: compared {n}/{n32}/{ng} of {solved} rows"));

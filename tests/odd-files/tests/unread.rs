@@ -2,8 +2,9 @@
 //! generated scene's tolerances are relative to the length params it reads, and so must the
 //! generic engine's be. Over a sweep of the rocker four-bar through both dead points (±135.95°),
 //! with closed forms and with Newton, both engines give the same status on every row and the same
-//! outputs within 1e-13 of the row's largest with closed forms (1e-12 with Newton); past the dead points both say `Unassemblable` (with the whole mechanism's
-//! 1e12 as the scale, the generic engine once accepted rows 2 degrees past a dead point).
+//! outputs within 1e-13 of the row's largest (the same arithmetic: in fact bit for bit); past the
+//! dead points both say `Unassemblable` (with the whole mechanism's 1e12 as the scale, the generic
+//! engine once accepted rows 2 degrees past a dead point).
 
 use mechgen::{DynScene, InputMotion, SolveError, SolveOptions};
 use mechgen_odd_files::unread;
@@ -39,13 +40,10 @@ fn a_scene_that_reads_no_huge_param_solves_alike_on_both_engines() {
                 match (&ra, &rb) {
                     (Ok(_), Ok(_)) => {
                         // Relative to the row's largest output (rates grow without bound at the
-                        // dead points). With closed forms the engines agree to 1e-13; Newton's
-                        // different iterates differ by up to 1.1e-13 at 0.45° from a dead point
-                        // (accelerations), so 1e-12 there, as tests/generic.rs holds full sweeps.
+                        // dead points).
                         let scale = b.iter().fold(1.0f64, |m, v| m.max(v.abs()));
-                        let bound = if closed_forms { 1e-13 } else { 1e-12 };
                         for (u, v) in a.iter().zip(&b) {
-                            assert!((u - v).abs() <= bound * scale, "{at}: {a:?} {b:?}");
+                            assert!((u - v).abs() <= 1e-13 * scale, "{at}: {a:?} {b:?}");
                         }
                         guess = qa;
                     }

@@ -1,0 +1,313 @@
+//! Generic engine, the block driver: the one place a run-time solve runs a plan (the whole
+//! mechanism, or a scene's kept blocks up to its order). Positions block by block (a closed-form
+//! block by the runtime's kernel, any other by the runtime's Newton), one refinement step per
+//! block near a dead point, then per block one factorization of the Jacobian for both rates. The
+//! errors are the runtime's (`factor_in_place`, `solve_factored`), as generated code's are.
+
+use mechgen_runtime::elimination::{Factored, factor_block, factor_in_place, solve_factored};
+use mechgen_runtime::error::{Quantity, SolveError, Stage};
+use mechgen_runtime::mechanism::InputMotion;
+use mechgen_runtime::nalgebra::{DMatrix, DVector, Dyn, SMatrix, SVector};
+use mechgen_runtime::scalar::Real;
+use mechgen_runtime::solve::{NewtonReport, NewtonWork, SolveOptions, check_finite};
+use mechgen_runtime::trig::TrigSlices;
+use mechgen_runtime::twofold::{REFINE_BELOW, refinement_in_place};
+
+use super::Generic;
+use super::closed;
+use super::tape::Env;
+
+/// Which rates a run solves after (or without) the positions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Rates {
+    /// Velocities only.
+    Velocity,
+    /// Accelerations only, the velocities given.
+    Acceleration,
+    /// Both, each block's Jacobian factored once for the two.
+    Both,
+}
+
+/// The part of a mechanism one run solves: `blocks` in solve order, tolerances relative to the
+/// length `scale`, rates up to `order` (0 positions, 1 velocities, 2 accelerations).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Plan<'a> {
+    pub blocks: &'a [usize],
+    pub scale: f64,
+    pub order: u8,
+}
+
+/// What a whole solve leaves besides the unknowns and rates.
+#[derive(Clone, Debug)]
+pub(super) struct Run<T> {
+    pub report: NewtonReport<T>,
+    /// The angles' sines and cosines, kept in step through the solve as generated code keeps
+    /// them (what the points are then computed from).
+    pub sc: Vec<(T, T)>,
+}
+
+impl Generic {
+    /// Every block up to accelerations, tolerances relative to the mechanism's largest length
+    /// param.
+    pub(super) fn whole(&self) -> Plan<'_> {
+        Plan {
+            blocks: &self.order,
+            scale: self.length_scale(),
+            order: 2,
+        }
+    }
+
+    /// One whole solve of `plan`: every argument checked (params, inputs, guess, input rates, in
+    /// this order, as generated solvers check them), positions from the guess in `q` (written only
+    /// on success), then velocities into `qd` (`order` ≥ 1) and accelerations into `qdd` (`order` 2).
+    /// Returns the report and the solved angles' sines and cosines ([`Run`]).
+    pub(super) fn drive<T: Real>(
+        &self,
+        plan: Plan<'_>,
+        input: InputMotion<&[T]>,
+        q: &mut [T],
+        qd: &mut [T],
+        qdd: &mut [T],
+        options: &SolveOptions<T>,
+    ) -> Result<Run<T>, SolveError> {
+        let InputMotion { x, xd, xdd } = input;
+        check_finite(Quantity::Param, &self.params)?;
+        check_finite(Quantity::Input, x)?;
+        check_finite(Quantity::Guess, q)?;
+        check_finite(Quantity::InputRate, xd)?;
+        check_finite(Quantity::InputAcceleration, xdd)?;
+        let mut sc = vec![(T::zero(), T::one()); q.len()];
+        let report = self.positions(plan, x, q, &mut sc, options)?;
+        let rates = match plan.order {
+            0 => return Ok(Run { report, sc }),
+            1 => Rates::Velocity,
+            _ => Rates::Both,
+        };
+        let env = Env {
+            xd,
+            xdd,
+            sc: &sc,
+            ..Env::position(x, q, &self.params)
+        };
+        self.rates(plan.blocks, rates, env, qd, qdd)?;
+        Ok(Run { report, sc })
+    }
+
+    /// The positions of `plan`'s blocks in order, from the guess in `q`; `q` and the angles'
+    /// sines and cosines `sc` are written only on success (as the generated solvers do).
+    pub(super) fn positions<T: Real>(
+        &self,
+        plan: Plan<'_>,
+        x: &[T],
+        q: &mut [T],
+        sc: &mut [(T, T)],
+        options: &SolveOptions<T>,
+    ) -> Result<NewtonReport<T>, SolveError> {
+        check_finite(Quantity::Param, &self.params)?;
+        check_finite(Quantity::Input, x)?;
+        check_finite(Quantity::Guess, q)?;
+        let scale = T::lit(plan.scale);
+        let mut report = NewtonReport::new();
+        let (mut trial, mut trial_sc) = (q.to_vec(), sc.to_vec());
+        let mut st = TrigSlices {
+            q: &mut trial,
+            sc: &mut trial_sc,
+            angle: &self.angle,
+        };
+        st.init();
+        let (mut regs, mut out) = (Vec::new(), Vec::new());
+        for &bi in plan.blocks {
+            let b = &self.blocks[bi];
+            let k = b.unknowns.len();
+            if let Some(c) = b.closed.as_ref().filter(|_| options.closed_forms) {
+                out.resize(c.form.roots().len(), T::zero());
+                c.roots.eval(&self.env(x, &st), &mut regs, &mut out);
+                let tolerance = options.newton.tolerance;
+                closed::solve(bi, &c.form, &out, &mut st, scale, tolerance, &mut report)?;
+                continue;
+            }
+            let mut work: NewtonWork<T, Dyn> = NewtonWork {
+                residual: DVector::zeros(k),
+                jacobian: DMatrix::zeros(k, k),
+                scale: DVector::zeros(k),
+            };
+            out.resize(k + k * k, T::zero());
+            mechgen_runtime::solve::newton_in_place(
+                bi,
+                &mut st,
+                &b.unknowns,
+                &b.length,
+                scale,
+                &options.newton,
+                &mut report,
+                &mut work,
+                |st, r, j| {
+                    b.position.eval(&self.env(x, st), &mut regs, &mut out);
+                    fill(&out, k, r, j);
+                },
+            )?;
+        }
+        if report.pivot_ratio < T::lit(REFINE_BELOW) {
+            self.refine(plan.blocks, x, &mut st);
+        }
+        q.copy_from_slice(&trial);
+        sc.copy_from_slice(&trial_sc);
+        Ok(report)
+    }
+
+    /// The positions `(x, st)` with the kept sines and cosines.
+    fn env<'a, T: Real>(&'a self, x: &'a [T], st: &'a TrigSlices<'_, T>) -> Env<'a, T> {
+        Env {
+            sc: st.sc,
+            ..Env::position(x, st.q, &self.params)
+        }
+    }
+
+    /// Near a dead point: per block in order, one Newton step with the residual in double-word
+    /// arithmetic (the runtime's `refinement_in_place`, as generated code's `refine_block`).
+    fn refine<T: Real>(&self, which: &[usize], x: &[T], st: &mut TrigSlices<'_, T>) {
+        let x64: Vec<f64> = x.iter().map(|v| v.to_f64()).collect();
+        let mut regs = Vec::new();
+        for b in which.iter().map(|&bi| &self.blocks[bi]) {
+            let k = b.unknowns.len();
+            let q64: Vec<f64> = st.q.iter().map(|v| v.to_f64()).collect();
+            let exact = b.residual.eval_twofold(&x64, &q64, &self.params);
+            let mut out = vec![T::zero(); k + k * k];
+            b.position.eval(&self.env(x, st), &mut regs, &mut out);
+            let (mut r, mut jac, mut scale) =
+                (DVector::zeros(k), DMatrix::zeros(k, k), DVector::zeros(k));
+            fill(&out, k, &mut r, &mut jac);
+            for (ri, e) in r.iter_mut().zip(&exact) {
+                *ri = T::lit(e.value());
+            }
+            if refinement_in_place(&mut jac, &mut r, &mut scale, |k| st.q[b.unknowns[k]]) {
+                for (&u, d) in b.unknowns.iter().zip(r.iter()) {
+                    st.set(u, st.q[u] - *d);
+                }
+            }
+        }
+    }
+
+    /// The rates `which` asks for, block by block at the solved position of `env`: each block's
+    /// Jacobian factored once, then its velocity (into `qd`) and its acceleration (into `qdd`,
+    /// from the velocities in `qd`). What is solved is zeroed first outside the blocks.
+    pub(super) fn rates<T: Real>(
+        &self,
+        which: &[usize],
+        rates: Rates,
+        env: Env<'_, T>,
+        qd: &mut [T],
+        qdd: &mut [T],
+    ) -> Result<(), SolveError> {
+        let velocity = rates != Rates::Acceleration;
+        let acceleration = rates != Rates::Velocity;
+        if velocity {
+            qd.iter_mut().for_each(|v| *v = T::zero());
+        }
+        if acceleration {
+            qdd.iter_mut().for_each(|v| *v = T::zero());
+        }
+        // A failed factorization belongs to the first rate solved, as in generated code.
+        let stage = if velocity {
+            Stage::Velocity
+        } else {
+            Stage::Acceleration
+        };
+        let (mut regs, mut out) = (Vec::new(), Vec::new());
+        for &bi in which {
+            let b = &self.blocks[bi];
+            let k = b.unknowns.len();
+            out.resize(k + k * k, T::zero());
+            // Earlier blocks' velocities are on the right-hand side.
+            let env_v = Env { qd: &*qd, ..env };
+            b.velocity.eval(&env_v, &mut regs, &mut out);
+            let (mut rhs, mut jac) = (DVector::zeros(k), DMatrix::zeros(k, k));
+            fill(&out, k, &mut rhs, &mut jac);
+            let lu = Factors::new(bi, stage, jac)?;
+            if velocity {
+                lu.solve(bi, Stage::Velocity, &mut rhs)?;
+                for (&u, v) in b.unknowns.iter().zip(rhs.iter()) {
+                    qd[u] = *v;
+                }
+            }
+            if acceleration {
+                let env = Env {
+                    qd: &*qd,
+                    qdd: &*qdd,
+                    ..env
+                };
+                b.acceleration.eval(&env, &mut regs, &mut out[..k]);
+                let mut rhs = DVector::from_column_slice(&out[..k]);
+                lu.solve(bi, Stage::Acceleration, &mut rhs)?;
+                for (&u, v) in b.unknowns.iter().zip(rhs.iter()) {
+                    qdd[u] = *v;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A block Jacobian factored for its rates: a 1×1 or 2×2 block by the runtime's `factor_block`
+/// (the reciprocal, Cramer's inverse), exactly as generated code factors it; a larger one by
+/// elimination on the `DMatrix` (the same `lu_in_place` generated code runs on its `SMatrix`).
+enum Factors<T: Real> {
+    One(Factored<T, 1>),
+    Two(Factored<T, 2>),
+    Any {
+        lu: DMatrix<T>,
+        scale: DVector<T>,
+        swaps: Vec<usize>,
+    },
+}
+
+impl<T: Real> Factors<T> {
+    fn new(block: usize, stage: Stage, mut jac: DMatrix<T>) -> Result<Self, SolveError> {
+        Ok(match jac.nrows() {
+            1 => Factors::One(factor_block(
+                block,
+                stage,
+                SMatrix::from_fn(|i, j| jac[(i, j)]),
+            )?),
+            2 => Factors::Two(factor_block(
+                block,
+                stage,
+                SMatrix::from_fn(|i, j| jac[(i, j)]),
+            )?),
+            k => {
+                let (mut scale, mut swaps) = (DVector::zeros(k), vec![0; k]);
+                factor_in_place(block, stage, &mut jac, &mut scale, &mut swaps)?;
+                Factors::Any {
+                    lu: jac,
+                    scale,
+                    swaps,
+                }
+            }
+        })
+    }
+
+    /// `rhs` becomes the solution, or `Overflow` for `stage`.
+    fn solve(&self, block: usize, stage: Stage, rhs: &mut DVector<T>) -> Result<(), SolveError> {
+        match self {
+            Factors::One(f) => rhs[0] = f.solve(block, stage, SVector::from([rhs[0]]))?[0],
+            Factors::Two(f) => {
+                let z = f.solve(block, stage, SVector::from([rhs[0], rhs[1]]))?;
+                (rhs[0], rhs[1]) = (z[0], z[1]);
+            }
+            Factors::Any { lu, scale, swaps } => {
+                solve_factored(block, stage, lu, scale, swaps, rhs)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Splits a block tape's outputs into its vector (first `k`) and its matrix (row-major).
+fn fill<T: Real>(out: &[T], k: usize, v: &mut DVector<T>, m: &mut DMatrix<T>) {
+    for i in 0..k {
+        v[i] = out[i];
+        for j in 0..k {
+            m[(i, j)] = out[k + i * k + j];
+        }
+    }
+}

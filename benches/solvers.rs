@@ -28,8 +28,8 @@ use std::time::Duration;
 use criterion::{Criterion, criterion_group, criterion_main};
 use mechgen::sweep::{Continuation, sweep};
 use mechgen::{
-    Array, CoordDesc, DynMechanism, InputMotion, Kind, PointMotion, Scene, SceneVisitor,
-    SolveOptions, StaticMechanism, StaticVisitor,
+    Array, CoordDesc, DynMechanism, DynState, InputMotion, Kind, Scene, SceneVisitor, SolveOptions,
+    StaticMechanism, StaticVisitor,
 };
 
 /// A solved state and the input one step further (which is solvable too).
@@ -342,47 +342,35 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
         b.iter(|| {
             i = (i + 1) % n;
             let s = &states[i];
-            black_box(k.solve_acceleration(
-                InputMotion::new(black_box(&s.x), &xd, &xdd),
-                &s.q,
-                &s.qd,
-                &mut qdd,
-            ))
-            .ok();
+            black_box(k.solve_acceleration(black_box(&s.x), &s.q, &xd, &s.qd, &xdd, &mut qdd)).ok();
         })
     });
     // Ticking in place along the same walk: the predicted guess from the previous state, then
-    // `solve`.
-    let mut points = vec![PointMotion::default(); info.points.len()];
+    // `solve_in_place`.
     let mut walk = Walk::new(n);
     let (mut x, mut qs) = (states[0].x.clone(), states[0].q.clone());
     let (mut qds, mut qdds) = (states[0].qd.clone(), states[0].qdd.clone());
+    let mut st = DynState::new(InputMotion::new(&x, &xd, &xdd), &qs, info.points.len());
     g.bench_function("step/generic", |b| {
         b.iter(|| {
             let j = walk.next();
             let xn = black_box(&states[j].x);
             let h = xn[0] - x[0];
-            for (((v, q0), d), a) in q.iter_mut().zip(&qs).zip(&qds).zip(&qdds) {
+            st.x.copy_from_slice(xn);
+            for (((v, q0), d), a) in st.q.iter_mut().zip(&qs).zip(&qds).zip(&qdds) {
                 *v = q0 + h * (d + 0.5 * h * a);
             }
-            let tick = k.solve(
-                InputMotion::new(xn, &xd, &xdd),
-                &mut q,
-                &mut qd,
-                &mut qdd,
-                &mut points,
-                &opts,
-            );
+            let tick = k.solve_in_place(&mut st, &opts);
             if tick.is_ok() {
                 x.copy_from_slice(xn);
-                qs.copy_from_slice(&q);
-                qds.copy_from_slice(&qd);
-                qdds.copy_from_slice(&qdd);
+                qs.copy_from_slice(&st.q);
+                qds.copy_from_slice(&st.qd);
+                qdds.copy_from_slice(&st.qdd);
             } else {
                 let s = &states[j];
                 (x, qs, qds, qdds) = (s.x.clone(), s.q.clone(), s.qd.clone(), s.qdd.clone());
             }
-            black_box((&points, tick)).1.ok();
+            black_box((&st.points, tick)).1.ok();
         })
     });
     g.finish();

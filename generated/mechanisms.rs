@@ -458,18 +458,14 @@ pub mod sixbar {
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
     pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 4, 1, 10>;
-    /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
-    #[derive(Clone, Copy, Debug, PartialEq)]
-    pub struct Motion<T> {
-        pub x: Inputs<T>,
-        pub xd: Inputs<T>,
-        pub xdd: Inputs<T>,
-        pub q: Unknowns<T>,
-        pub qd: Unknowns<T>,
-        pub qdd: Unknowns<T>,
-        pub points: Points<T>,
-        pub report: ::mechgen::__private::NewtonReport<T>,
-    }
+    /// A solved state with named fields (`mechgen::State`): inputs and unknowns with their
+    /// first and second time derivatives, the points and the position solve's report.
+    pub type Motion<T> = ::mechgen::__private::State<
+        Inputs<T>,
+        Unknowns<T>,
+        Points<T>,
+        T,
+    >;
     /// Six-bar linkage: crank-rocker four-bar ABCD plus the RRR dyad E-F-G on the coupler point E
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Sixbar<T = f64> {
@@ -1964,6 +1960,7 @@ pub mod sixbar {
             ::mechgen::__private::SceneTick<T, 1, 4, 1, 10>,
             ::mechgen::__private::SolveError,
         > {
+            use ::mechgen::__private::TickCache as _;
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .scene_sixbar_e_path_solve(x, xd, xdd, &mut q, options)?;
@@ -1998,6 +1995,7 @@ pub mod sixbar {
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let t = ::mechgen::__private::scene_tick_state_mut(tick);
             let params = self.params.to_array();
             // The params the scene reads, the only ones compared and checked: l1, l2, l3, l4,
@@ -2408,6 +2406,7 @@ pub mod sixbar {
             ::mechgen::__private::SceneTick<T, 1, 4, 0, 10>,
             ::mechgen::__private::SolveError,
         > {
+            use ::mechgen::__private::TickCache as _;
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .scene_sixbar_output_solve(x, xd, xdd, &mut q, options)?;
@@ -2442,6 +2441,7 @@ pub mod sixbar {
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let t = ::mechgen::__private::scene_tick_state_mut(tick);
             let params = self.params.to_array();
             // The params the scene reads, the only ones compared and checked: l1, l2, l3, l4,
@@ -2705,6 +2705,7 @@ pub mod sixbar {
             guess: &[T; 4],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .solve_arrays(x, xd, xdd, &mut q, options)?;
@@ -2740,6 +2741,7 @@ pub mod sixbar {
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {
@@ -2823,6 +2825,16 @@ pub mod sixbar {
                 points: Points::from_array(points),
                 report,
             })
+        }
+        /// [`Self::solve`] into `state`: its inputs and rates are the input, its unknowns
+        /// the guess; on success it holds the solution, on error it is unchanged.
+        pub fn solve_in_place(
+            &self,
+            state: &mut Motion<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            *state = self.solve(&state.input(), &state.q, options)?;
+            Ok(())
         }
         /// The first tick of a simulation, solved from `guess` and kept with its sines and
         /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
@@ -2964,7 +2976,7 @@ pub mod sixbar {
             guess: &Self::Q,
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::StateOf<Self, T>,
             ::mechgen::__private::SolveError,
         > {
             let mut q = *guess;
@@ -2976,7 +2988,10 @@ pub mod sixbar {
                 &mut q,
                 options,
             )?;
-            Ok(::mechgen::__private::Solved {
+            Ok(::mechgen::__private::State {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q,
                 qd,
                 qdd,
@@ -3203,18 +3218,14 @@ pub mod shaper {
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
     pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 4, 2, 5>;
-    /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
-    #[derive(Clone, Copy, Debug, PartialEq)]
-    pub struct Motion<T> {
-        pub x: Inputs<T>,
-        pub xd: Inputs<T>,
-        pub xdd: Inputs<T>,
-        pub q: Unknowns<T>,
-        pub qd: Unknowns<T>,
-        pub qdd: Unknowns<T>,
-        pub points: Points<T>,
-        pub report: ::mechgen::__private::NewtonReport<T>,
-    }
+    /// A solved state with named fields (`mechgen::State`): inputs and unknowns with their
+    /// first and second time derivatives, the points and the position solve's report.
+    pub type Motion<T> = ::mechgen::__private::State<
+        Inputs<T>,
+        Unknowns<T>,
+        Points<T>,
+        T,
+    >;
     /// Shaper (crank and slotted guide bar): crank AB drives slider B on guide bar CD, link DE drives the ram E
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Shaper<T = f64> {
@@ -4711,6 +4722,7 @@ pub mod shaper {
             ::mechgen::__private::SceneTick<T, 1, 4, 0, 5>,
             ::mechgen::__private::SolveError,
         > {
+            use ::mechgen::__private::TickCache as _;
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .scene_shaper_ram_solve(x, xd, xdd, &mut q, options)?;
@@ -4745,6 +4757,7 @@ pub mod shaper {
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let t = ::mechgen::__private::scene_tick_state_mut(tick);
             let params = self.params.to_array();
             // The params the scene reads, the only ones compared and checked: l1, l3, l4, lAC,
@@ -4998,6 +5011,7 @@ pub mod shaper {
             guess: &[T; 4],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .solve_arrays(x, xd, xdd, &mut q, options)?;
@@ -5033,6 +5047,7 @@ pub mod shaper {
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {
@@ -5116,6 +5131,16 @@ pub mod shaper {
                 points: Points::from_array(points),
                 report,
             })
+        }
+        /// [`Self::solve`] into `state`: its inputs and rates are the input, its unknowns
+        /// the guess; on success it holds the solution, on error it is unchanged.
+        pub fn solve_in_place(
+            &self,
+            state: &mut Motion<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            *state = self.solve(&state.input(), &state.q, options)?;
+            Ok(())
         }
         /// The first tick of a simulation, solved from `guess` and kept with its sines and
         /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
@@ -5257,7 +5282,7 @@ pub mod shaper {
             guess: &Self::Q,
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::StateOf<Self, T>,
             ::mechgen::__private::SolveError,
         > {
             let mut q = *guess;
@@ -5269,7 +5294,10 @@ pub mod shaper {
                 &mut q,
                 options,
             )?;
-            Ok(::mechgen::__private::Solved {
+            Ok(::mechgen::__private::State {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q,
                 qd,
                 qdd,
@@ -5491,18 +5519,14 @@ pub mod four_bar {
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
     pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 2, 3, 6>;
-    /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
-    #[derive(Clone, Copy, Debug, PartialEq)]
-    pub struct Motion<T> {
-        pub x: Inputs<T>,
-        pub xd: Inputs<T>,
-        pub xdd: Inputs<T>,
-        pub q: Unknowns<T>,
-        pub qd: Unknowns<T>,
-        pub qdd: Unknowns<T>,
-        pub points: Points<T>,
-        pub report: ::mechgen::__private::NewtonReport<T>,
-    }
+    /// A solved state with named fields (`mechgen::State`): inputs and unknowns with their
+    /// first and second time derivatives, the points and the position solve's report.
+    pub type Motion<T> = ::mechgen::__private::State<
+        Inputs<T>,
+        Unknowns<T>,
+        Points<T>,
+        T,
+    >;
     /// Crank-rocker four-bar (Grashof): crank AB, coupler BC with coupler point P, rocker DC
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct FourBar<T = f64> {
@@ -6509,6 +6533,7 @@ pub mod four_bar {
             ::mechgen::__private::SceneTick<T, 1, 2, 1, 6>,
             ::mechgen::__private::SolveError,
         > {
+            use ::mechgen::__private::TickCache as _;
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .scene_coupler_curve_solve(x, xd, xdd, &mut q, options)?;
@@ -6543,6 +6568,7 @@ pub mod four_bar {
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let t = ::mechgen::__private::scene_tick_state_mut(tick);
             let params = self.params.to_array();
             // The params the scene reads, the only ones compared and checked: l1, l2, l3, l4,
@@ -6797,6 +6823,7 @@ pub mod four_bar {
             guess: &[T; 2],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .solve_arrays(x, xd, xdd, &mut q, options)?;
@@ -6832,6 +6859,7 @@ pub mod four_bar {
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {
@@ -6915,6 +6943,16 @@ pub mod four_bar {
                 points: Points::from_array(points),
                 report,
             })
+        }
+        /// [`Self::solve`] into `state`: its inputs and rates are the input, its unknowns
+        /// the guess; on success it holds the solution, on error it is unchanged.
+        pub fn solve_in_place(
+            &self,
+            state: &mut Motion<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            *state = self.solve(&state.input(), &state.q, options)?;
+            Ok(())
         }
         /// The first tick of a simulation, solved from `guess` and kept with its sines and
         /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
@@ -7056,7 +7094,7 @@ pub mod four_bar {
             guess: &Self::Q,
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::StateOf<Self, T>,
             ::mechgen::__private::SolveError,
         > {
             let mut q = *guess;
@@ -7068,7 +7106,10 @@ pub mod four_bar {
                 &mut q,
                 options,
             )?;
-            Ok(::mechgen::__private::Solved {
+            Ok(::mechgen::__private::State {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q,
                 qd,
                 qdd,
@@ -7261,18 +7302,14 @@ pub mod slider_crank {
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
     pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 2, 3, 3>;
-    /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
-    #[derive(Clone, Copy, Debug, PartialEq)]
-    pub struct Motion<T> {
-        pub x: Inputs<T>,
-        pub xd: Inputs<T>,
-        pub xdd: Inputs<T>,
-        pub q: Unknowns<T>,
-        pub qd: Unknowns<T>,
-        pub qdd: Unknowns<T>,
-        pub points: Points<T>,
-        pub report: ::mechgen::__private::NewtonReport<T>,
-    }
+    /// A solved state with named fields (`mechgen::State`): inputs and unknowns with their
+    /// first and second time derivatives, the points and the position solve's report.
+    pub type Motion<T> = ::mechgen::__private::State<
+        Inputs<T>,
+        Unknowns<T>,
+        Points<T>,
+        T,
+    >;
     /// Offset slider-crank: crank AB, connecting rod BC, slider C on the line y = off
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct SliderCrank<T = f64> {
@@ -8270,6 +8307,7 @@ pub mod slider_crank {
             guess: &[T; 2],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .solve_arrays(x, xd, xdd, &mut q, options)?;
@@ -8305,6 +8343,7 @@ pub mod slider_crank {
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {
@@ -8388,6 +8427,16 @@ pub mod slider_crank {
                 points: Points::from_array(points),
                 report,
             })
+        }
+        /// [`Self::solve`] into `state`: its inputs and rates are the input, its unknowns
+        /// the guess; on success it holds the solution, on error it is unchanged.
+        pub fn solve_in_place(
+            &self,
+            state: &mut Motion<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            *state = self.solve(&state.input(), &state.q, options)?;
+            Ok(())
         }
         /// The first tick of a simulation, solved from `guess` and kept with its sines and
         /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
@@ -8529,7 +8578,7 @@ pub mod slider_crank {
             guess: &Self::Q,
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::StateOf<Self, T>,
             ::mechgen::__private::SolveError,
         > {
             let mut q = *guess;
@@ -8541,7 +8590,10 @@ pub mod slider_crank {
                 &mut q,
                 options,
             )?;
-            Ok(::mechgen::__private::Solved {
+            Ok(::mechgen::__private::State {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q,
                 qd,
                 qdd,
@@ -8739,18 +8791,14 @@ pub mod rocker_four_bar {
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
     pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 2, 2, 4>;
-    /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
-    #[derive(Clone, Copy, Debug, PartialEq)]
-    pub struct Motion<T> {
-        pub x: Inputs<T>,
-        pub xd: Inputs<T>,
-        pub xdd: Inputs<T>,
-        pub q: Unknowns<T>,
-        pub qd: Unknowns<T>,
-        pub qdd: Unknowns<T>,
-        pub points: Points<T>,
-        pub report: ::mechgen::__private::NewtonReport<T>,
-    }
+    /// A solved state with named fields (`mechgen::State`): inputs and unknowns with their
+    /// first and second time derivatives, the points and the position solve's report.
+    pub type Motion<T> = ::mechgen::__private::State<
+        Inputs<T>,
+        Unknowns<T>,
+        Points<T>,
+        T,
+    >;
     /// Non-Grashof (triple-rocker) four-bar: input rocker AB, coupler BC, rocker DC; dead points at q1 = ±135.95 deg
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct RockerFourBar<T = f64> {
@@ -9651,6 +9699,7 @@ pub mod rocker_four_bar {
             guess: &[T; 2],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .solve_arrays(x, xd, xdd, &mut q, options)?;
@@ -9686,6 +9735,7 @@ pub mod rocker_four_bar {
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {
@@ -9769,6 +9819,16 @@ pub mod rocker_four_bar {
                 points: Points::from_array(points),
                 report,
             })
+        }
+        /// [`Self::solve`] into `state`: its inputs and rates are the input, its unknowns
+        /// the guess; on success it holds the solution, on error it is unchanged.
+        pub fn solve_in_place(
+            &self,
+            state: &mut Motion<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            *state = self.solve(&state.input(), &state.q, options)?;
+            Ok(())
         }
         /// The first tick of a simulation, solved from `guess` and kept with its sines and
         /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
@@ -9918,7 +9978,7 @@ pub mod rocker_four_bar {
             guess: &Self::Q,
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::StateOf<Self, T>,
             ::mechgen::__private::SolveError,
         > {
             let mut q = *guess;
@@ -9930,7 +9990,10 @@ pub mod rocker_four_bar {
                 &mut q,
                 options,
             )?;
-            Ok(::mechgen::__private::Solved {
+            Ok(::mechgen::__private::State {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q,
                 qd,
                 qdd,
@@ -10216,18 +10279,14 @@ pub mod sixbar_g {
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
     pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 4, 1, 10>;
-    /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
-    #[derive(Clone, Copy, Debug, PartialEq)]
-    pub struct Motion<T> {
-        pub x: Inputs<T>,
-        pub xd: Inputs<T>,
-        pub xdd: Inputs<T>,
-        pub q: Unknowns<T>,
-        pub qd: Unknowns<T>,
-        pub qdd: Unknowns<T>,
-        pub points: Points<T>,
-        pub report: ::mechgen::__private::NewtonReport<T>,
-    }
+    /// A solved state with named fields (`mechgen::State`): inputs and unknowns with their
+    /// first and second time derivatives, the points and the position solve's report.
+    pub type Motion<T> = ::mechgen::__private::State<
+        Inputs<T>,
+        Unknowns<T>,
+        Points<T>,
+        T,
+    >;
     /// Seed six-bar driven from the dyad angle q6 at G (one 4x4 block; dead points at q6 = 244.53 and 344.13 deg)
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct SixbarG<T = f64> {
@@ -11538,6 +11597,7 @@ pub mod sixbar_g {
             guess: &[T; 4],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .solve_arrays(x, xd, xdd, &mut q, options)?;
@@ -11573,6 +11633,7 @@ pub mod sixbar_g {
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {
@@ -11661,6 +11722,16 @@ pub mod sixbar_g {
                 points: Points::from_array(points),
                 report,
             })
+        }
+        /// [`Self::solve`] into `state`: its inputs and rates are the input, its unknowns
+        /// the guess; on success it holds the solution, on error it is unchanged.
+        pub fn solve_in_place(
+            &self,
+            state: &mut Motion<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            *state = self.solve(&state.input(), &state.q, options)?;
+            Ok(())
         }
         /// The first tick of a simulation, solved from `guess` and kept with its sines and
         /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
@@ -11802,7 +11873,7 @@ pub mod sixbar_g {
             guess: &Self::Q,
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::StateOf<Self, T>,
             ::mechgen::__private::SolveError,
         > {
             let mut q = *guess;
@@ -11814,7 +11885,10 @@ pub mod sixbar_g {
                 &mut q,
                 options,
             )?;
-            Ok(::mechgen::__private::Solved {
+            Ok(::mechgen::__private::State {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q,
                 qd,
                 qdd,
@@ -11873,12 +11947,14 @@ pub mod sixbar_e_path {
         pub E_x: T,
         pub E_y: T,
     }
-    /// What `solve` returns: the outputs, the solved unknowns and the Newton report.
-    pub type Solved<T> = (
-        Outputs<T>,
+    /// What `solve` returns (`mechgen::SceneState`): the inputs with their rates, the
+    /// unknowns (the kept blocks' solved), the outputs and the Newton report.
+    pub type Solved<T> = ::mechgen::__private::SceneState<
+        Inputs<T>,
         Unknowns<T>,
-        ::mechgen::__private::NewtonReport<T>,
-    );
+        Outputs<T>,
+        T,
+    >;
     impl<T: ::core::marker::Copy> Outputs<T> {
         pub fn from_array(a: [T; 2]) -> Self {
             Outputs { E_x: a[0], E_y: a[1] }
@@ -11941,11 +12017,24 @@ pub mod sixbar_e_path {
                     &mut q,
                     options,
                 )?;
-            Ok((
-                Self::outputs_of(&q, &qd, &qdd, &points),
-                Unknowns::from_array(q),
+            Ok(Solved {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
+                q: Unknowns::from_array(q),
+                out: Self::outputs_of(&q, &qd, &qdd, &points),
                 report,
-            ))
+            })
+        }
+        /// [`Self::solve`] into `state`: its inputs and rates are the input, its unknowns
+        /// the guess; on success it holds the solution, on error it is unchanged.
+        pub fn solve_in_place(
+            &self,
+            state: &mut Solved<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            *state = self.solve(&state.input(), &state.q, options)?;
+            Ok(())
         }
         /// The first tick of a simulation, solved from `guess` (see `tick`).
         pub fn tick_start(
@@ -12001,16 +12090,31 @@ pub mod sixbar_e_path {
         fn solve(
             &self,
             input: &::mechgen::__private::InputMotion<Self::X>,
-            q: &mut Self::Q,
+            guess: &Self::Q,
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (Self::Out, ::mechgen::__private::NewtonReport<T>),
+            ::mechgen::__private::SceneStateOf<Self, T>,
             ::mechgen::__private::SolveError,
         > {
+            let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .mechanism()
-                .scene_sixbar_e_path_solve(&input.x, &input.xd, &input.xdd, q, options)?;
-            Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
+                .scene_sixbar_e_path_solve(
+                    &input.x,
+                    &input.xd,
+                    &input.xdd,
+                    &mut q,
+                    options,
+                )?;
+            let out = Self::outputs_of(&q, &qd, &qdd, &points).to_array();
+            Ok(::mechgen::__private::SceneState {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
+                q,
+                out,
+                report,
+            })
         }
         fn tick_start(
             &self,
@@ -12070,12 +12174,14 @@ pub mod sixbar_output {
         pub q6_vel: T,
         pub q6_acc: T,
     }
-    /// What `solve` returns: the outputs, the solved unknowns and the Newton report.
-    pub type Solved<T> = (
-        Outputs<T>,
+    /// What `solve` returns (`mechgen::SceneState`): the inputs with their rates, the
+    /// unknowns (the kept blocks' solved), the outputs and the Newton report.
+    pub type Solved<T> = ::mechgen::__private::SceneState<
+        Inputs<T>,
         Unknowns<T>,
-        ::mechgen::__private::NewtonReport<T>,
-    );
+        Outputs<T>,
+        T,
+    >;
     impl<T: ::core::marker::Copy> Outputs<T> {
         pub fn from_array(a: [T; 3]) -> Self {
             Outputs {
@@ -12142,11 +12248,24 @@ pub mod sixbar_output {
                     &mut q,
                     options,
                 )?;
-            Ok((
-                Self::outputs_of(&q, &qd, &qdd, &points),
-                Unknowns::from_array(q),
+            Ok(Solved {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
+                q: Unknowns::from_array(q),
+                out: Self::outputs_of(&q, &qd, &qdd, &points),
                 report,
-            ))
+            })
+        }
+        /// [`Self::solve`] into `state`: its inputs and rates are the input, its unknowns
+        /// the guess; on success it holds the solution, on error it is unchanged.
+        pub fn solve_in_place(
+            &self,
+            state: &mut Solved<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            *state = self.solve(&state.input(), &state.q, options)?;
+            Ok(())
         }
         /// The first tick of a simulation, solved from `guess` (see `tick`).
         pub fn tick_start(
@@ -12202,16 +12321,31 @@ pub mod sixbar_output {
         fn solve(
             &self,
             input: &::mechgen::__private::InputMotion<Self::X>,
-            q: &mut Self::Q,
+            guess: &Self::Q,
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (Self::Out, ::mechgen::__private::NewtonReport<T>),
+            ::mechgen::__private::SceneStateOf<Self, T>,
             ::mechgen::__private::SolveError,
         > {
+            let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .mechanism()
-                .scene_sixbar_output_solve(&input.x, &input.xd, &input.xdd, q, options)?;
-            Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
+                .scene_sixbar_output_solve(
+                    &input.x,
+                    &input.xd,
+                    &input.xdd,
+                    &mut q,
+                    options,
+                )?;
+            let out = Self::outputs_of(&q, &qd, &qdd, &points).to_array();
+            Ok(::mechgen::__private::SceneState {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
+                q,
+                out,
+                report,
+            })
         }
         fn tick_start(
             &self,
@@ -12271,12 +12405,14 @@ pub mod shaper_ram {
         pub sE_vel: T,
         pub sE_acc: T,
     }
-    /// What `solve` returns: the outputs, the solved unknowns and the Newton report.
-    pub type Solved<T> = (
-        Outputs<T>,
+    /// What `solve` returns (`mechgen::SceneState`): the inputs with their rates, the
+    /// unknowns (the kept blocks' solved), the outputs and the Newton report.
+    pub type Solved<T> = ::mechgen::__private::SceneState<
+        Inputs<T>,
         Unknowns<T>,
-        ::mechgen::__private::NewtonReport<T>,
-    );
+        Outputs<T>,
+        T,
+    >;
     impl<T: ::core::marker::Copy> Outputs<T> {
         pub fn from_array(a: [T; 3]) -> Self {
             Outputs {
@@ -12343,11 +12479,24 @@ pub mod shaper_ram {
                     &mut q,
                     options,
                 )?;
-            Ok((
-                Self::outputs_of(&q, &qd, &qdd, &points),
-                Unknowns::from_array(q),
+            Ok(Solved {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
+                q: Unknowns::from_array(q),
+                out: Self::outputs_of(&q, &qd, &qdd, &points),
                 report,
-            ))
+            })
+        }
+        /// [`Self::solve`] into `state`: its inputs and rates are the input, its unknowns
+        /// the guess; on success it holds the solution, on error it is unchanged.
+        pub fn solve_in_place(
+            &self,
+            state: &mut Solved<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            *state = self.solve(&state.input(), &state.q, options)?;
+            Ok(())
         }
         /// The first tick of a simulation, solved from `guess` (see `tick`).
         pub fn tick_start(
@@ -12402,16 +12551,31 @@ pub mod shaper_ram {
         fn solve(
             &self,
             input: &::mechgen::__private::InputMotion<Self::X>,
-            q: &mut Self::Q,
+            guess: &Self::Q,
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (Self::Out, ::mechgen::__private::NewtonReport<T>),
+            ::mechgen::__private::SceneStateOf<Self, T>,
             ::mechgen::__private::SolveError,
         > {
+            let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .mechanism()
-                .scene_shaper_ram_solve(&input.x, &input.xd, &input.xdd, q, options)?;
-            Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
+                .scene_shaper_ram_solve(
+                    &input.x,
+                    &input.xd,
+                    &input.xdd,
+                    &mut q,
+                    options,
+                )?;
+            let out = Self::outputs_of(&q, &qd, &qdd, &points).to_array();
+            Ok(::mechgen::__private::SceneState {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
+                q,
+                out,
+                report,
+            })
         }
         fn tick_start(
             &self,
@@ -12472,12 +12636,14 @@ pub mod coupler_curve {
         pub P_vx: T,
         pub P_vy: T,
     }
-    /// What `solve` returns: the outputs, the solved unknowns and the Newton report.
-    pub type Solved<T> = (
-        Outputs<T>,
+    /// What `solve` returns (`mechgen::SceneState`): the inputs with their rates, the
+    /// unknowns (the kept blocks' solved), the outputs and the Newton report.
+    pub type Solved<T> = ::mechgen::__private::SceneState<
+        Inputs<T>,
         Unknowns<T>,
-        ::mechgen::__private::NewtonReport<T>,
-    );
+        Outputs<T>,
+        T,
+    >;
     impl<T: ::core::marker::Copy> Outputs<T> {
         pub fn from_array(a: [T; 4]) -> Self {
             Outputs {
@@ -12550,11 +12716,24 @@ pub mod coupler_curve {
                     &mut q,
                     options,
                 )?;
-            Ok((
-                Self::outputs_of(&q, &qd, &qdd, &points),
-                Unknowns::from_array(q),
+            Ok(Solved {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
+                q: Unknowns::from_array(q),
+                out: Self::outputs_of(&q, &qd, &qdd, &points),
                 report,
-            ))
+            })
+        }
+        /// [`Self::solve`] into `state`: its inputs and rates are the input, its unknowns
+        /// the guess; on success it holds the solution, on error it is unchanged.
+        pub fn solve_in_place(
+            &self,
+            state: &mut Solved<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            *state = self.solve(&state.input(), &state.q, options)?;
+            Ok(())
         }
         /// The first tick of a simulation, solved from `guess` (see `tick`).
         pub fn tick_start(
@@ -12610,16 +12789,31 @@ pub mod coupler_curve {
         fn solve(
             &self,
             input: &::mechgen::__private::InputMotion<Self::X>,
-            q: &mut Self::Q,
+            guess: &Self::Q,
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (Self::Out, ::mechgen::__private::NewtonReport<T>),
+            ::mechgen::__private::SceneStateOf<Self, T>,
             ::mechgen::__private::SolveError,
         > {
+            let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .mechanism()
-                .scene_coupler_curve_solve(&input.x, &input.xd, &input.xdd, q, options)?;
-            Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
+                .scene_coupler_curve_solve(
+                    &input.x,
+                    &input.xd,
+                    &input.xdd,
+                    &mut q,
+                    options,
+                )?;
+            let out = Self::outputs_of(&q, &qd, &qdd, &points).to_array();
+            Ok(::mechgen::__private::SceneState {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
+                q,
+                out,
+                report,
+            })
         }
         fn tick_start(
             &self,

@@ -40,10 +40,10 @@ pub use mechgen_runtime::__private;
 // `mechgen::runtime::…`; generated code reaches what it calls through `__private`.
 pub use mechgen_runtime::nalgebra;
 pub use mechgen_runtime::{
-    Array, CoordDesc, CoordInfo, DynMechanism, DynScene, InputMotion, Kind, MechanismInfo,
-    NewtonOptions, NewtonReport, ParamDesc, ParamInfo, PointMotion, Quantity, Real, RowMajor,
-    Scene, SceneDescription, SceneInfo, SceneVisitor, Solution, SolveError, SolveOptions, Solved,
-    Stage, StaticInfo, StaticMechanism, StaticVisitor, Tick, TickState,
+    Array, CoordDesc, CoordInfo, DynMechanism, DynScene, DynSceneState, DynState, InputMotion,
+    Kind, MechanismInfo, NewtonOptions, NewtonReport, ParamDesc, ParamInfo, PointMotion, Quantity,
+    Real, RowMajor, Scene, SceneDescription, SceneInfo, SceneState, SceneVisitor, SolveError,
+    SolveOptions, Stage, State, StaticInfo, StaticMechanism, StaticVisitor, Tick,
 };
 
 #[cfg(feature = "sweep")]

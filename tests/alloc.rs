@@ -77,7 +77,7 @@ const SOLVES: usize = 100;
 type Outcome = (usize, usize, Option<SolveError>);
 
 /// For one mechanism type and scalar: counts the allocations of `SOLVES` full solves through the
-/// separate stages, `SOLVES` more through `solve`, and `SOLVES` ticks (`tick_start`, `tick`), all
+/// separate stages, `SOLVES` more through `solve`, `SOLVES` through `solve_in_place`, and `SOLVES` ticks (`tick_start`, `tick`), all
 /// continuing from the start configuration 1° at a time.
 macro_rules! solves {
     ($fn:ident, $module:ident :: $ty:ident, $t:ty) => {
@@ -125,6 +125,20 @@ macro_rules! solves {
                         }
                         Err(e) => return (done, Some(e)),
                     }
+                }
+                // All at once, in place.
+                let start = InputMotion::new(x0, xd, xdd).map(|a| Inputs::from_array(*a));
+                let mut state = match m.solve(&start, &q0, &options) {
+                    Ok(s) => s,
+                    Err(e) => return (done, Some(e)),
+                };
+                for _ in 0..SOLVES {
+                    state.x = Inputs::from_array([state.x.to_array()[0] + step]);
+                    match m.solve_in_place(&mut state, &options) {
+                        Ok(()) => done += 1,
+                        Err(e) => return (done, Some(e)),
+                    }
+                    black_box(&state);
                 }
                 // Predictor stepping.
                 let at = |x: [$t; 1]| InputMotion::new(x, xd, xdd).map(|a| Inputs::from_array(*a));
@@ -192,13 +206,27 @@ impl<T: mechgen::Real> mechgen::SceneVisitor<T> for SceneSolves<T> {
             let mut input = InputMotion::new(x0, xd, xdd);
             for _ in 0..SOLVES {
                 input.x.as_mut()[0] += step;
-                match scene.solve(&input, &mut q, &options) {
-                    Ok(out) => {
-                        black_box(out);
+                match scene.solve(&input, &q, &options) {
+                    Ok(s) => {
+                        q = s.q;
+                        black_box(s.out);
                         done += 1;
                     }
                     Err(e) => return (done, Some(e)),
                 }
+            }
+            // In place.
+            let mut state = match scene.solve(&input, &q0, &options) {
+                Ok(s) => s,
+                Err(e) => return (done, Some(e)),
+            };
+            for _ in 0..SOLVES {
+                state.x.as_mut()[0] += step;
+                match scene.solve_in_place(&mut state, &options) {
+                    Ok(()) => done += 1,
+                    Err(e) => return (done, Some(e)),
+                }
+                black_box(&state);
             }
             let mut input = InputMotion::new(x0, xd, xdd);
             let mut tick = match scene.tick_start(&input, &q0, &options) {

@@ -222,7 +222,7 @@ impl Case {
     ) -> Vec<f64> {
         let mut qdd = vec![0.0; self.n];
         self.k
-            .solve_acceleration(InputMotion::new(x, xd, xdd), q, qd, &mut qdd)
+            .solve_acceleration(x, q, xd, qd, xdd, &mut qdd)
             .unwrap_or_else(|e| panic!("solve_acceleration at {x:?}: {e:?}"));
         qdd
     }

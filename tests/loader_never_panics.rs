@@ -409,7 +409,7 @@ fn run_engine(g: &generic::Generic) -> Result<(), TestCaseError> {
         prop_assert!(finite(&qd), "{}: velocity {qd:?}", info.name);
     }
     let mut qdd = vec![0.0; q.len()];
-    if g.solve_acceleration(InputMotion::new(&x, &xd, &xd), &q, &qd, &mut qdd)
+    if g.solve_acceleration(&x, &q, &xd, &qd, &xd, &mut qdd)
         .is_ok()
     {
         prop_assert!(finite(&qdd), "{}: acceleration {qdd:?}", info.name);

@@ -49,7 +49,7 @@ fn the_typed_scene_api() {
     let (x, q) = SixbarEPath::<f64>::start();
     let options = SolveOptions::default();
     let input = InputMotion::new(x, Inputs { q1: 1.0 }, Inputs { q1: 0.0 });
-    let (out, _, _) = scene.solve(&input, &q, &options).unwrap();
+    let out = scene.solve(&input, &q, &options).unwrap().out;
     let full = mechgen::sixbar::Sixbar::<f64>::default()
         .solve(&input, &q, &options)
         .unwrap();

@@ -73,7 +73,7 @@ fn state<T: mechgen::Real>(
     let mut points = vec![PointMotion::<T>::default(); k.info().points.len()];
     let (one, zero) = ([T::one()], [T::zero()]);
     k.solve_velocity(x, q, &one, &mut qd)?;
-    k.solve_acceleration(InputMotion::new(x, &one, &zero), q, &qd, &mut qdd)?;
+    k.solve_acceleration(x, q, &one, &qd, &zero, &mut qdd)?;
     k.points(InputMotion::new(x, &one, &zero), q, &qd, &qdd, &mut points)?;
     let f = |v: &[T]| v.iter().map(|t| t.to_f64()).collect::<Vec<f64>>();
     let (mut pos, mut vel, mut acc) = (f(q), f(&qd), f(&qdd));

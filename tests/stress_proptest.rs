@@ -522,7 +522,7 @@ fn solve(
     let v = k.solve_velocity(&x, &q, &[s.xd], &mut qd);
     prop_assert!(v.is_ok() && finite(&qd), "{what}: velocity {v:?} {qd:?}");
     let mut qdd = vec![0.0; nu];
-    let a = k.solve_acceleration(InputMotion::new(&x, &[s.xd], &[s.xdd]), &q, &qd, &mut qdd);
+    let a = k.solve_acceleration(&x, &q, &[s.xd], &qd, &[s.xdd], &mut qdd);
     prop_assert!(
         a.is_ok() && finite(&qdd),
         "{what}: acceleration {a:?} {qdd:?}"
@@ -822,7 +822,7 @@ fn check_garbage(c: &Garbage) -> Result<u32, TestCaseError> {
             prop_assert!(finite(&qd), "{what}: Ok velocity {qd:?}");
         }
         let mut qdd = vec![0.0; nu];
-        let a = k.solve_acceleration(InputMotion::new(&x, &xd, &xdd), &q, &qd, &mut qdd);
+        let a = k.solve_acceleration(&x, &q, &xd, &qd, &xdd, &mut qdd);
         let expected = bad_position
             .or_else(|| first_non_finite(Quantity::InputRate, &xd))
             .or_else(|| first_non_finite(Quantity::Rate, &qd))

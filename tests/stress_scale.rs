@@ -85,7 +85,7 @@ fn run(make: fn(f64) -> Box<dyn DynMechanism<f64>>, s: f64, inputs: &[f64]) -> S
         let (mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n]);
         let mut points = vec![PointMotion::default(); info.points.len()];
         k.solve_velocity(&x, &q, &[1.0], &mut qd).expect("velocity");
-        k.solve_acceleration(InputMotion::new(&x, &[1.0], &[0.0]), &q, &qd, &mut qdd)
+        k.solve_acceleration(&x, &q, &[1.0], &qd, &[0.0], &mut qdd)
             .expect("acceleration");
         k.points(
             InputMotion::new(&x, &[1.0], &[0.0]),

@@ -6,9 +6,7 @@
 mod common;
 
 use common::angle_diff;
-use mechgen::{
-    Array, InputMotion, Kind, SolveError, SolveOptions, StaticMechanism, StaticVisitor, TickState,
-};
+use mechgen::{Array, InputMotion, Kind, SolveError, SolveOptions, StaticMechanism, StaticVisitor};
 
 /// Largest difference between two states (angles folded, rates relative to max(1, |v|)).
 fn difference(kinds: &[Kind], a: [&[f64]; 3], b: [&[f64]; 3]) -> f64 {
@@ -59,13 +57,13 @@ fn run_with<M: StaticMechanism<f64>>(
     let mut worst: f64 = 0.0;
     for _ in 0..steps {
         input.x.as_mut()[0] += step_deg.to_radians();
-        let q = *t.q();
+        let q = t.q;
         m.tick(&mut t, &input, &opts)
             .unwrap_or_else(|e| panic!("{}: tick to {:?}: {e}", info.name, input.x.as_ref()));
         let s = m.solve(&input, &q, &opts).expect("a fresh solve");
         let d = difference(
             &kinds,
-            [t.q().as_ref(), t.qd().as_ref(), t.qdd().as_ref()],
+            [t.q.as_ref(), t.qd.as_ref(), t.qdd.as_ref()],
             [s.q.as_ref(), s.qd.as_ref(), s.qdd.as_ref()],
         );
         worst = worst.max(d);

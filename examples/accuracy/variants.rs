@@ -11,8 +11,8 @@ use std::time::{Duration, Instant};
 use mechgen::nalgebra::{DMatrix, DVector};
 use mechgen::sixbar::Sixbar;
 use mechgen::{
-    DynMechanism, InputMotion, NewtonOptions, PointMotion, Real, SolveError, SolveOptions, Solved,
-    StaticMechanism,
+    DynMechanism, DynState, InputMotion, NewtonOptions, PointMotion, Real, SolveError,
+    SolveOptions, StaticMechanism,
 };
 
 /// Unknowns of the six-bar (q2, q3, q5, q6), all angles.
@@ -283,7 +283,7 @@ impl<T: Real> Generated<T> {
     }
 
     /// Keeps a whole solve's state.
-    fn store(&mut self, s: Solved<[T; N], [PointMotion<T>; 1], T>) {
+    fn store(&mut self, s: mechgen::State<[T; 1], [T; N], [PointMotion<T>; 1], T>) {
         (self.q, self.qd, self.qdd, self.points) = (s.q, s.qd, s.qdd, s.points);
     }
 
@@ -405,23 +405,17 @@ pub struct Engine<'k, K: ?Sized> {
     options: SolveOptions<f64>,
     /// The assembly's start values (the six-bar's unless [`Engine::with_start`]).
     start: [f64; N],
-    q: Vec<f64>,
-    qd: Vec<f64>,
-    qdd: Vec<f64>,
-    points: Vec<PointMotion<f64>>,
+    st: DynState<f64>,
 }
 
 impl<'k, K: DynMechanism<f64> + ?Sized> Engine<'k, K> {
     pub fn new(k: &'k K, options: SolveOptions<f64>) -> Self {
-        let points = vec![PointMotion::default(); k.info().points.len()];
+        let input = InputMotion::new(&[0.0][..], &[1.0], &[0.0]);
         Engine {
             k,
             options,
             start: Sixbar::<f64>::start().1.to_array(),
-            q: vec![0.0; N],
-            qd: vec![0.0; N],
-            qdd: vec![0.0; N],
-            points,
+            st: DynState::new(input, &[0.0; N], k.info().points.len()),
         }
     }
 
@@ -434,47 +428,34 @@ impl<'k, K: DynMechanism<f64> + ?Sized> Engine<'k, K> {
 
 impl<K: DynMechanism<f64> + ?Sized> Stepper for Engine<'_, K> {
     fn reset(&mut self, x: f64) -> Result<(), String> {
-        self.q.copy_from_slice(&self.start);
+        self.st.x[0] = x;
+        self.st.q.copy_from_slice(&self.start);
         self.k
-            .solve(
-                InputMotion::new(&[x], &[1.0], &[0.0]),
-                &mut self.q,
-                &mut self.qd,
-                &mut self.qdd,
-                &mut self.points,
-                &SolveOptions::default(),
-            )
-            .map(|_| ())
+            .solve_in_place(&mut self.st, &SolveOptions::default())
             .map_err(|e| format!("assembly at {x}: {e}"))
     }
 
     #[inline]
     fn step(&mut self, x: f64, dx: f64) -> Result<Tick, String> {
+        let st = &mut self.st;
+        st.x[0] = x;
         for j in 0..N {
-            self.q[j] += dx * (self.qd[j] + 0.5 * dx * self.qdd[j]);
+            st.q[j] += dx * (st.qd[j] + 0.5 * dx * st.qdd[j]);
         }
-        let r = self
-            .k
-            .solve(
-                InputMotion::new(&[x], &[1.0], &[0.0]),
-                &mut self.q,
-                &mut self.qd,
-                &mut self.qdd,
-                &mut self.points,
-                &self.options,
-            )
+        self.k
+            .solve_in_place(st, &self.options)
             .map_err(|e| format!("tick at {x}: {e}"))?;
         Ok(Tick {
-            iterations: r.iterations,
+            iterations: st.report.iterations,
             failed: false,
         })
     }
 
     fn state(&self) -> State {
         let mut s = State::default();
-        s.q.copy_from_slice(&self.q);
-        s.qd.copy_from_slice(&self.qd);
-        s.qdd.copy_from_slice(&self.qdd);
+        s.q.copy_from_slice(&self.st.q);
+        s.qd.copy_from_slice(&self.st.qd);
+        s.qdd.copy_from_slice(&self.st.qdd);
         s
     }
 }

@@ -1,11 +1,16 @@
 //! The object-safe trait on slices, [`DynMechanism`]: what sweeps, the CLI, `lookup` and the
 //! generic engine share, for generated mechanisms (a blanket impl over
-//! [`crate::StaticMechanism`]) and mechanisms loaded at run time alike. Every slice is checked:
-//! a wrong length is [`SolveError::BadLength`], never a truncated copy.
+//! [`crate::StaticMechanism`]) and mechanisms loaded at run time alike. It mirrors
+//! `StaticMechanism` argument for argument, on slices, with [`DynState`] (vectors) for the
+//! solved [`State`]. Every slice is checked: a wrong length is [`SolveError::BadLength`], never a
+//! truncated copy.
+
+use alloc::vec;
+use alloc::vec::Vec;
 
 use crate::error::SolveError;
 use crate::info::{MechanismInfo, PointMotion};
-use crate::mechanism::{Array, InputMotion, RowMajor, StaticMechanism};
+use crate::mechanism::{Array, InputMotion, RowMajor, State, StaticMechanism};
 use crate::scalar::Real;
 use crate::solve::{NewtonReport, SolveOptions};
 
@@ -45,12 +50,16 @@ pub trait DynMechanism<T: Real> {
         q: &mut [T],
         options: &SolveOptions<T>,
     ) -> Result<NewtonReport<T>, SolveError>;
+    /// q̇ at a solved position into `qd` (UNKNOWNS).
     fn solve_velocity(&self, x: &[T], q: &[T], xd: &[T], qd: &mut [T]) -> Result<(), SolveError>;
+    /// q̈ at a solved position and velocity into `qdd` (UNKNOWNS).
     fn solve_acceleration(
         &self,
-        input: InputMotion<&[T]>,
+        x: &[T],
         q: &[T],
+        xd: &[T],
         qd: &[T],
+        xdd: &[T],
         qdd: &mut [T],
     ) -> Result<(), SolveError>;
     /// Every point's motion into `out` (POINTS).
@@ -62,23 +71,51 @@ pub trait DynMechanism<T: Real> {
         qdd: &[T],
         out: &mut [PointMotion<T>],
     ) -> Result<(), SolveError>;
-    /// One whole tick: positions from the guess in `q`, then velocities, accelerations and
-    /// points. The default calls the four stages in turn; generated mechanisms share work
-    /// between them.
+    /// One whole tick from `guess`: positions, velocities, accelerations and points, as a new
+    /// [`DynState`] (the allocating form of [`DynMechanism::solve_in_place`]).
     fn solve(
         &self,
         input: InputMotion<&[T]>,
-        q: &mut [T],
-        qd: &mut [T],
-        qdd: &mut [T],
-        points: &mut [PointMotion<T>],
+        guess: &[T],
         options: &SolveOptions<T>,
-    ) -> Result<NewtonReport<T>, SolveError> {
-        let report = self.solve_position(input.x, q, options)?;
-        self.solve_velocity(input.x, q, input.xd, qd)?;
-        self.solve_acceleration(input, q, qd, qdd)?;
-        self.points(input, q, qd, qdd, points)?;
-        Ok(report)
+    ) -> Result<DynState<T>, SolveError> {
+        let mut state = DynState::new(input, guess, self.info().points.len());
+        self.solve_in_place(&mut state, options)?;
+        Ok(state)
+    }
+    /// [`DynMechanism::solve`] into `state`: its inputs and rates are the input, its unknowns
+    /// the guess; on success it holds the solution, on error it is unchanged. Every vector must
+    /// have its length (`SolveError::BadLength`); a state reused from solve to solve allocates
+    /// nothing.
+    fn solve_in_place(
+        &self,
+        state: &mut DynState<T>,
+        options: &SolveOptions<T>,
+    ) -> Result<(), SolveError>;
+}
+
+/// The [`State`] of a [`DynMechanism`]: vectors of the mechanism's sizes.
+pub type DynState<T> = State<Vec<T>, Vec<T>, Vec<PointMotion<T>>, T>;
+
+impl<T: Real> DynState<T> {
+    /// A state at `input` with the unknowns `guess`, zero rates and `points` zero points: what
+    /// [`DynMechanism::solve_in_place`] solves from.
+    pub fn new(input: InputMotion<&[T]>, guess: &[T], points: usize) -> Self {
+        State {
+            x: input.x.to_vec(),
+            xd: input.xd.to_vec(),
+            xdd: input.xdd.to_vec(),
+            q: guess.to_vec(),
+            qd: vec![T::zero(); guess.len()],
+            qdd: vec![T::zero(); guess.len()],
+            points: vec![PointMotion::default(); points],
+            report: NewtonReport::new(),
+        }
+    }
+
+    /// The inputs with their rates, as slices.
+    pub fn input_slices(&self) -> InputMotion<&[T]> {
+        InputMotion::new(&self.x, &self.xd, &self.xdd)
     }
 }
 
@@ -162,15 +199,16 @@ impl<T: Real, M: StaticMechanism<T>> DynMechanism<T> for M {
     }
     fn solve_acceleration(
         &self,
-        input: InputMotion<&[T]>,
+        x: &[T],
         q: &[T],
+        xd: &[T],
         qd: &[T],
+        xdd: &[T],
         qdd: &mut [T],
     ) -> Result<(), SolveError> {
         len(qdd, M::UNKNOWNS)?;
-        let i: InputMotion<M::X> = arrays(input)?;
-        let a =
-            StaticMechanism::solve_acceleration(self, &i.x, &arr(q)?, &i.xd, &arr(qd)?, &i.xdd)?;
+        let (x, q, xd, qd, xdd) = (arr(x)?, arr(q)?, arr(xd)?, arr(qd)?, arr(xdd)?);
+        let a = StaticMechanism::solve_acceleration(self, &x, &q, &xd, &qd, &xdd)?;
         put(qdd, a.as_ref())
     }
     fn points(
@@ -185,23 +223,25 @@ impl<T: Real, M: StaticMechanism<T>> DynMechanism<T> for M {
         let p = StaticMechanism::points(self, &arrays(input)?, &arr(q)?, &arr(qd)?, &arr(qdd)?);
         put(out, p.as_ref())
     }
-    fn solve(
+    fn solve_in_place(
         &self,
-        input: InputMotion<&[T]>,
-        q: &mut [T],
-        qd: &mut [T],
-        qdd: &mut [T],
-        points: &mut [PointMotion<T>],
+        state: &mut DynState<T>,
         options: &SolveOptions<T>,
-    ) -> Result<NewtonReport<T>, SolveError> {
-        len(qd, M::UNKNOWNS)?;
-        len(qdd, M::UNKNOWNS)?;
-        len(points, M::POINTS)?;
-        let s = StaticMechanism::solve(self, &arrays(input)?, &arr(q)?, options)?;
-        put(q, s.q.as_ref())?;
-        put(qd, s.qd.as_ref())?;
-        put(qdd, s.qdd.as_ref())?;
-        put(points, s.points.as_ref())?;
-        Ok(s.report)
+    ) -> Result<(), SolveError> {
+        len(&state.qd, M::UNKNOWNS)?;
+        len(&state.qdd, M::UNKNOWNS)?;
+        len(&state.points, M::POINTS)?;
+        let s = StaticMechanism::solve(
+            self,
+            &arrays(state.input_slices())?,
+            &arr(&state.q)?,
+            options,
+        )?;
+        state.q.copy_from_slice(s.q.as_ref());
+        state.qd.copy_from_slice(s.qd.as_ref());
+        state.qdd.copy_from_slice(s.qdd.as_ref());
+        state.points.copy_from_slice(s.points.as_ref());
+        state.report = s.report;
+        Ok(())
     }
 }

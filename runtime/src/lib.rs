@@ -38,18 +38,21 @@ pub mod tick;
 pub mod trig;
 pub mod twofold;
 
-pub use dynamic::DynMechanism;
+pub use dynamic::{DynMechanism, DynState};
 pub use error::{Quantity, SolveError, Stage};
 pub use info::{
     CoordDesc, CoordInfo, Kind, MechanismInfo, ParamDesc, ParamInfo, PointMotion, StaticInfo,
 };
-pub use mechanism::{Array, InputMotion, RowMajor, Solved, StaticMechanism, StaticVisitor};
+pub use mechanism::{Array, InputMotion, RowMajor, State, StateOf, StaticMechanism, StaticVisitor};
 pub use nalgebra;
 pub use scalar::Real;
-pub use scene::{DynScene, Scene, SceneDescription, SceneInfo, SceneVisitor};
+pub use scene::{
+    DynScene, DynSceneState, Scene, SceneDescription, SceneInfo, SceneState, SceneStateOf,
+    SceneVisitor,
+};
 pub use scene_tick::SceneTick;
 pub use solve::{NewtonOptions, NewtonReport, SolveOptions};
-pub use tick::{Solution, Tick, TickState};
+pub use tick::{Tick, TickStateOf};
 
 /// Includes the solvers `mechgen_codegen::compile` (or `Config::compile`) generated in this
 /// crate's build: one module per mechanism and scene of the file, named as in the file. With a
@@ -75,16 +78,16 @@ pub mod __private {
     pub use crate::elimination::factor_block;
     pub use crate::error::{Quantity, SolveError, Stage};
     pub use crate::info::{CoordInfo, Kind, ParamInfo, PointMotion, StaticInfo};
-    pub use crate::mechanism::{InputMotion, Solved, StaticMechanism, StaticVisitor};
+    pub use crate::mechanism::{InputMotion, State, StateOf, StaticMechanism, StaticVisitor};
     pub use crate::scalar::Real;
-    pub use crate::scene::{DynScene, Scene, SceneInfo, SceneVisitor};
+    pub use crate::scene::{DynScene, Scene, SceneInfo, SceneState, SceneStateOf, SceneVisitor};
     pub use crate::scene_tick::{
         SceneTick, scene_rates_estimated, scene_tick, scene_tick_state, scene_tick_state_mut,
     };
     pub use crate::solve::{
         NewtonOptions, NewtonReport, SolveOptions, check_finite, check_finite_in, newton_block,
     };
-    pub use crate::tick::{Solution, Tick};
+    pub use crate::tick::{Solution, Tick, TickCache};
     pub use crate::trig::TrigState;
     pub use crate::twofold::{REFINE_BELOW, Twofold, refine_block};
     pub use nalgebra;

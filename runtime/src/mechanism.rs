@@ -1,13 +1,13 @@
 //! The static-dispatch trait generated mechanisms implement, [`StaticMechanism`] (sizes known at
 //! compile time, fixed arrays, nalgebra matrices, no allocation), its [`StaticVisitor`], and the
-//! bundles its solves take and give: [`InputMotion`] (inputs with their rates) and [`Solved`].
-//! The object-safe counterpart on slices is [`crate::DynMechanism`].
+//! bundles its solves take and give: [`InputMotion`] (inputs with their rates) and [`State`] (the
+//! one solved state every solve returns and every tick keeps). The object-safe counterpart on
+//! slices is [`crate::DynMechanism`].
 
 use crate::error::SolveError;
 use crate::info::{PointMotion, StaticInfo};
 use crate::scalar::Real;
 use crate::solve::{NewtonReport, SolveOptions};
-use crate::tick::TickState;
 use nalgebra::SMatrix;
 
 /// The inputs of a tick with their first and second time derivatives: `x`, `ẋ`, `ẍ`. `X` is the
@@ -36,16 +36,40 @@ impl<X> InputMotion<X> {
     }
 }
 
-/// A whole tick solved by [`StaticMechanism::solve`]: unknowns, their rates, the points and the
-/// position solve's report.
+/// The solved state of a mechanism, the one shape every whole solve gives: the inputs with their
+/// rates, the unknowns with theirs, every point's motion and the position solve's report.
+///
+/// [`StaticMechanism::solve`] returns one (`X`, `Q` arrays, `P` the points' array), a generated
+/// `NAME::Motion<T>` is the same with named fields (`Inputs<T>`, `Unknowns<T>`, `Points<T>`), a
+/// tick keeps one (a [`crate::Tick`] reads as its state), and [`crate::DynMechanism`] fills a
+/// [`crate::DynState`] (vectors). `solve_in_place` reads the inputs and the guess from a state
+/// and writes the solution into it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Solved<Q, P, T> {
+pub struct State<X, Q, P, T> {
+    pub x: X,
+    pub xd: X,
+    pub xdd: X,
     pub q: Q,
     pub qd: Q,
     pub qdd: Q,
     pub points: P,
     pub report: NewtonReport<T>,
 }
+
+impl<X: Clone, Q, P, T> State<X, Q, P, T> {
+    /// The inputs with their rates.
+    pub fn input(&self) -> InputMotion<X> {
+        InputMotion::new(self.x.clone(), self.xd.clone(), self.xdd.clone())
+    }
+}
+
+/// The [`State`] of a [`StaticMechanism`] `M`: its input, unknown and point arrays.
+pub type StateOf<M, T> = State<
+    <M as StaticMechanism<T>>::X,
+    <M as StaticMechanism<T>>::Q,
+    <M as StaticMechanism<T>>::Points,
+    T,
+>;
 
 /// A fixed-size coordinate array (`[T; N]`).
 pub trait Array<T>:
@@ -98,8 +122,13 @@ pub trait StaticMechanism<T: Real>: Send + Sync {
     /// Φx: `SMatrix<T, UNKNOWNS, INPUTS>`.
     type InputJacobian: RowMajor<T>;
     /// The state between simulator ticks: a [`crate::Tick`] of this mechanism's sizes (see there
-    /// for what it holds and what is valid to read), read through [`TickState`].
-    type Tick: TickState<T, X = Self::X, Q = Self::Q, Points = Self::Points>;
+    /// for what it holds), which reads as its [`State`].
+    type Tick: Copy
+        + core::fmt::Debug
+        + Send
+        + Sync
+        + 'static
+        + core::ops::Deref<Target = State<Self::X, Self::Q, Self::Points, T>>;
 
     fn info(&self) -> &'static StaticInfo;
     /// Φ(x, q).
@@ -153,7 +182,17 @@ pub trait StaticMechanism<T: Real>: Send + Sync {
         input: &InputMotion<Self::X>,
         guess: &Self::Q,
         options: &SolveOptions<T>,
-    ) -> Result<Solved<Self::Q, Self::Points, T>, SolveError>;
+    ) -> Result<StateOf<Self, T>, SolveError>;
+    /// [`StaticMechanism::solve`] into `state`: its inputs and rates are the input, its unknowns
+    /// the guess; on success it holds the solution, on error it is unchanged.
+    fn solve_in_place(
+        &self,
+        state: &mut StateOf<Self, T>,
+        options: &SolveOptions<T>,
+    ) -> Result<(), SolveError> {
+        *state = self.solve(&state.input(), &state.q, options)?;
+        Ok(())
+    }
     /// The first tick of a simulation, solved from `guess` (see [`StaticMechanism::tick`]).
     fn tick_start(
         &self,

@@ -4,6 +4,7 @@
 //! slices (blanket impl), which `lookup_scene` returns; [`SceneVisitor`] visits them statically.
 
 use alloc::string::{String, ToString};
+use alloc::vec;
 use alloc::vec::Vec;
 
 use crate::dynamic::len;
@@ -78,14 +79,24 @@ pub trait Scene<T: Real>: Send + Sync {
     /// The state between ticks (`tick_start`, `tick`).
     type Tick;
     fn info(&self) -> &'static SceneInfo;
-    /// Positions of the kept blocks from the guess in `q` (solved in place), then their rates up
-    /// to the scene's order and the outputs.
+    /// Positions of the kept blocks from `guess`, then their rates up to the scene's order and
+    /// the outputs.
     fn solve(
         &self,
         input: &InputMotion<Self::X>,
-        q: &mut Self::Q,
+        guess: &Self::Q,
         options: &SolveOptions<T>,
-    ) -> Result<(Self::Out, NewtonReport<T>), SolveError>;
+    ) -> Result<SceneStateOf<Self, T>, SolveError>;
+    /// [`Scene::solve`] into `state`: its inputs and rates are the input, its unknowns the
+    /// guess; on success it holds the solution, on error it is unchanged.
+    fn solve_in_place(
+        &self,
+        state: &mut SceneStateOf<Self, T>,
+        options: &SolveOptions<T>,
+    ) -> Result<(), SolveError> {
+        *state = self.solve(&state.input(), &state.q, options)?;
+        Ok(())
+    }
     /// The first tick of a simulation.
     fn tick_start(
         &self,
@@ -114,14 +125,72 @@ pub trait SceneVisitor<T: Real> {
 /// The object-safe face of a [`Scene`] over slices (lengths checked: `SolveError::BadLength`).
 pub trait DynScene<T: Real> {
     fn info(&self) -> SceneDescription;
-    /// As [`Scene::solve`]: `q` has the mechanism's unknowns, `out` one value per column.
-    fn solve_outputs(
+    /// As [`Scene::solve`], into a new [`DynSceneState`] (the allocating form of
+    /// [`DynScene::solve_in_place`]).
+    fn solve(
         &self,
         input: InputMotion<&[T]>,
-        q: &mut [T],
-        out: &mut [T],
+        guess: &[T],
         options: &SolveOptions<T>,
-    ) -> Result<NewtonReport<T>, SolveError>;
+    ) -> Result<DynSceneState<T>, SolveError> {
+        let mut state = DynSceneState::new(input, guess, self.info().columns.len());
+        self.solve_in_place(&mut state, options)?;
+        Ok(state)
+    }
+    /// As [`Scene::solve_in_place`]: `q` has the mechanism's unknowns, `out` one value per
+    /// column (lengths checked: `SolveError::BadLength`).
+    fn solve_in_place(
+        &self,
+        state: &mut DynSceneState<T>,
+        options: &SolveOptions<T>,
+    ) -> Result<(), SolveError>;
+}
+
+/// A solved scene, the shape of [`crate::State`] with the scene's outputs: the inputs with
+/// their rates, the mechanism's unknowns (the kept blocks' solved, the others as guessed), the
+/// output columns and the position solve's report. A generated scene's `NAME::Solved<T>` is one
+/// with named fields.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneState<X, Q, O, T> {
+    pub x: X,
+    pub xd: X,
+    pub xdd: X,
+    pub q: Q,
+    pub out: O,
+    pub report: NewtonReport<T>,
+}
+
+impl<X: Clone, Q, O, T> SceneState<X, Q, O, T> {
+    /// The inputs with their rates.
+    pub fn input(&self) -> InputMotion<X> {
+        InputMotion::new(self.x.clone(), self.xd.clone(), self.xdd.clone())
+    }
+}
+
+/// The [`SceneState`] of a [`Scene`] `S`: its input, unknown and output arrays.
+pub type SceneStateOf<S, T> =
+    SceneState<<S as Scene<T>>::X, <S as Scene<T>>::Q, <S as Scene<T>>::Out, T>;
+
+/// The [`SceneState`] of a [`DynScene`]: vectors.
+pub type DynSceneState<T> = SceneState<Vec<T>, Vec<T>, Vec<T>, T>;
+
+impl<T: Real> DynSceneState<T> {
+    /// A state at `input` with the unknowns `guess` and `columns` zero outputs.
+    pub fn new(input: InputMotion<&[T]>, guess: &[T], columns: usize) -> Self {
+        SceneState {
+            x: input.x.to_vec(),
+            xd: input.xd.to_vec(),
+            xdd: input.xdd.to_vec(),
+            q: guess.to_vec(),
+            out: vec![T::zero(); columns],
+            report: NewtonReport::new(),
+        }
+    }
+
+    /// The inputs with their rates, as slices.
+    pub fn input_slices(&self) -> InputMotion<&[T]> {
+        InputMotion::new(&self.x, &self.xd, &self.xdd)
+    }
 }
 
 fn arr<T: Real, A: Array<T>>(s: &[T]) -> Result<A, SolveError> {
@@ -135,20 +204,18 @@ impl<T: Real, S: Scene<T>> DynScene<T> for S {
     fn info(&self) -> SceneDescription {
         Scene::info(self).into()
     }
-    fn solve_outputs(
+    fn solve_in_place(
         &self,
-        input: InputMotion<&[T]>,
-        q: &mut [T],
-        out: &mut [T],
+        state: &mut DynSceneState<T>,
         options: &SolveOptions<T>,
-    ) -> Result<NewtonReport<T>, SolveError> {
+    ) -> Result<(), SolveError> {
         let input: InputMotion<S::X> =
-            InputMotion::new(arr(input.x)?, arr(input.xd)?, arr(input.xdd)?);
-        let mut qa: S::Q = arr(q)?;
-        len(out, S::Out::zeros().as_ref().len())?;
-        let (o, report) = Scene::solve(self, &input, &mut qa, options)?;
-        q.copy_from_slice(qa.as_ref());
-        out.copy_from_slice(o.as_ref());
-        Ok(report)
+            InputMotion::new(arr(&state.x)?, arr(&state.xd)?, arr(&state.xdd)?);
+        len(&state.out, S::Out::zeros().as_ref().len())?;
+        let s = Scene::solve(self, &input, &arr(&state.q)?, options)?;
+        state.q.copy_from_slice(s.q.as_ref());
+        state.out.copy_from_slice(s.out.as_ref());
+        state.report = s.report;
+        Ok(())
     }
 }

@@ -5,7 +5,7 @@
 
 use crate::scalar::Real;
 use crate::solve::NewtonReport;
-use crate::tick::Tick;
+use crate::tick::{Tick, TickCache};
 
 /// The state of a scene between simulator ticks (a generated scene's `NAME::Tick<T>`), made by
 /// its `tick_start` and moved on by its `tick`; read the outputs with the scene's `outputs`
@@ -63,7 +63,7 @@ pub fn scene_tick<T: Real, const NI: usize, const NU: usize, const NP: usize, co
 /// the solved `q` and the rates it computed, `qd` at order 1; the result is what its tick state
 /// stores).
 ///
-/// With `h` the time of the step to `x` at the rates `xd` ([`Tick::step_to`]): at
+/// With `h` the time of the step to `x` at the rates `xd` ([`TickCache::step_to`]): at
 /// order 0 the secant `s = Δq / h`, and when the last tick left one too (same input rates, steps
 /// not nearly opposite) the parabola through the last three configurations,
 /// `q̈ ≈ 2 (s − s₀) / (h₀ + h)` with `s₀ = q̇₀ − h₀ q̈₀ / 2`, and `q̇ ≈ s + h q̈ / 2`; at order 1
@@ -180,14 +180,15 @@ mod tests {
         1.7 - 5.0 * t
     }
 
-    fn start(t: f64, rate: f64) -> SceneTick<f64, 1, 1, 0, 0> {
+    /// The solved state at `t` with unknown `q` and rate `qd` (input rate 1, no acceleration).
+    fn solution(t: f64, q: [f64; 1], qd: [f64; 1]) -> Solution<f64, 1, 1, 0, 0> {
         let points: [PointMotion<f64>; 0] = [];
-        scene_tick(Tick::new(Solution {
+        Solution {
             x: [t],
             xd: [1.0],
             xdd: [0.0],
-            q: [q(t)],
-            qd: [rate],
+            q,
+            qd,
             qdd: [0.0],
             points,
             report: NewtonReport::new(),
@@ -195,7 +196,11 @@ mod tests {
             tq: [(0.0, 1.0)],
             tp: [],
             params: [],
-        }))
+        }
+    }
+
+    fn start(t: f64, rate: f64) -> SceneTick<f64, 1, 1, 0, 0> {
+        scene_tick(Tick::new(solution(t, [q(t)], [rate])))
     }
 
     /// One tick to `t` at `order`, stored as a scene's tick stores it.
@@ -203,7 +208,9 @@ mod tests {
         let rate = if order == 0 { 0.0 } else { qd(t) };
         let (v, a) = scene_rates_estimated(s, &[t], &[1.0], &[q(t)], [rate], order, [true], true);
         let st = scene_tick_state_mut(s);
-        (st.x, st.q, st.qd, st.qdd) = ([t], [q(t)], v, a);
+        let mut solution = solution(t, [q(t)], v);
+        solution.qdd = a;
+        *st = Tick::new(solution);
         (v[0], a[0])
     }
 

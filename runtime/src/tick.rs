@@ -2,13 +2,17 @@
 //! configuration, its rates and points) together with the sines and cosines of its angles. The
 //! next tick predicts the unknowns by a second-order Taylor step, rotates the cached sines and
 //! cosines by the predicted changes (no `sin_cos` call for a small step) and solves from there.
-//! Generated mechanisms expose it as `tick_start` / `tick` (and `StaticMechanism::tick`); generic
-//! code reads it through [`TickState`].
+//! Generated mechanisms expose it as `tick_start` / `tick` (and `StaticMechanism::tick`); it
+//! reads as its [`State`]. What generated code alone calls on it is the hidden [`TickCache`]
+//! (reached through `__private`).
 
 // Index loops over several parallel arrays read better than zipped iterators here.
 #![allow(clippy::needless_range_loop)]
 
+use core::ops::Deref;
+
 use crate::info::PointMotion;
+use crate::mechanism::State;
 use crate::scalar::Real;
 use crate::solve::NewtonReport;
 use crate::trig::{TrigState, rotate, sin_cos_cold};
@@ -20,26 +24,20 @@ pub const RESYNC_TICKS: u32 = 64;
 /// on by `tick` (`NAME::Tick<T>` names it with the mechanism's sizes: `NI` inputs, `NU`
 /// unknowns, `NP` points, `NPAR` params).
 ///
-/// What it holds, all valid to read after every successful `tick_start`/`tick` (and unchanged by
-/// a failed `tick`): the inputs `x` and their rates `xd` of the last tick, the solved unknowns
-/// `q` (on the branch of the first guess), their rates `qd` and accelerations `qdd`, every
-/// point's motion (`points`, in the order of `INFO.points`) and the last position solve's
-/// `report`. Besides those, private caches the next tick reads: the sines and cosines of the
-/// inputs, unknowns and params, the params they were made with (a change of params is detected
-/// and starts them afresh) and their age (recomputed every [`RESYNC_TICKS`] ticks). The fields
-/// are public to read; to move the state, call `tick` (a written field would not match the
-/// caches). Use: `let mut t = mech.tick_start(&input, &guess, &options)?;` once, then
-/// `mech.tick(&mut t, &input, &options)?` per step and read `t.q`, `t.qd`, `t.qdd`, `t.points`.
+/// A tick reads as its [`State`] (it dereferences to one): after every successful
+/// `tick_start`/`tick` (and unchanged by a failed `tick`), the inputs `x`, `xd`, `xdd` of the last
+/// tick, the solved unknowns `q` (on the branch of the first guess), their rates `qd` and
+/// accelerations `qdd`, every point's motion (`points`, in the order of `INFO.points`) and the
+/// last position solve's `report`. Besides the state, private caches the next tick reads: the
+/// sines and cosines of the inputs, unknowns and params, the params they were made with (a change
+/// of params is detected and starts them afresh) and their age (recomputed every
+/// [`RESYNC_TICKS`] ticks). The state cannot be written through a tick (it would not match the
+/// caches): to move it, call `tick`. Use: `let mut t = mech.tick_start(&input, &guess, &options)?;`
+/// once, then `mech.tick(&mut t, &input, &options)?` per step and read `t.q`, `t.qd`, `t.qdd`,
+/// `t.points` (or the whole `*t`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tick<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> {
-    pub x: [T; NI],
-    pub xd: [T; NI],
-    pub xdd: [T; NI],
-    pub q: [T; NU],
-    pub qd: [T; NU],
-    pub qdd: [T; NU],
-    pub points: [PointMotion<T>; NP],
-    pub report: NewtonReport<T>,
+    state: TickStateOf<T, NI, NU, NP>,
     tx: [(T, T); NI],
     tq: [(T, T); NU],
     tp: [(T, T); NPAR],
@@ -47,59 +45,16 @@ pub struct Tick<T, const NI: usize, const NU: usize, const NP: usize, const NPAR
     age: u32,
 }
 
-/// Read access to a tick's solved state, for generic code over [`crate::StaticMechanism`] (whose
-/// `Tick` is a [`Tick`]).
-pub trait TickState<T>: Copy + core::fmt::Debug + Send + Sync + 'static {
-    /// `[T; INPUTS]`
-    type X;
-    /// `[T; UNKNOWNS]`
-    type Q;
-    /// `[PointMotion<T>; POINTS]`
-    type Points;
-    /// The inputs of the last tick.
-    fn x(&self) -> &Self::X;
-    /// Their rates.
-    fn xd(&self) -> &Self::X;
-    /// The solved unknowns.
-    fn q(&self) -> &Self::Q;
-    /// Their rates.
-    fn qd(&self) -> &Self::Q;
-    /// Their accelerations.
-    fn qdd(&self) -> &Self::Q;
-    /// Every point's motion.
-    fn points(&self) -> &Self::Points;
-    /// The last position solve's report.
-    fn report(&self) -> &NewtonReport<T>;
-}
+/// The [`State`] of a tick with `NI` inputs, `NU` unknowns and `NP` points.
+pub type TickStateOf<T, const NI: usize, const NU: usize, const NP: usize> =
+    State<[T; NI], [T; NU], [PointMotion<T>; NP], T>;
 
-impl<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> TickState<T>
+impl<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> Deref
     for Tick<T, NI, NU, NP, NPAR>
-where
-    T: Copy + core::fmt::Debug + Send + Sync + 'static,
 {
-    type X = [T; NI];
-    type Q = [T; NU];
-    type Points = [PointMotion<T>; NP];
-    fn x(&self) -> &[T; NI] {
-        &self.x
-    }
-    fn xd(&self) -> &[T; NI] {
-        &self.xd
-    }
-    fn q(&self) -> &[T; NU] {
-        &self.q
-    }
-    fn qd(&self) -> &[T; NU] {
-        &self.qd
-    }
-    fn qdd(&self) -> &[T; NU] {
-        &self.qdd
-    }
-    fn points(&self) -> &[PointMotion<T>; NP] {
-        &self.points
-    }
-    fn report(&self) -> &NewtonReport<T> {
-        &self.report
+    type Target = TickStateOf<T, NI, NU, NP>;
+    fn deref(&self) -> &Self::Target {
+        &self.state
     }
 }
 
@@ -124,24 +79,107 @@ pub struct Solution<T, const NI: usize, const NU: usize, const NP: usize, const 
     pub params: [T; NPAR],
 }
 
-// What generated code calls on a tick (it lives in the user's crate, so these are `pub`): part
-// of the generator's ABI like `__private`, hidden from the documentation; users read a tick
-// through its fields, `TickState` or the generated `NAME::motion`.
+// What generated code calls on a tick: part of the generator's ABI, reached only as
+// `__private::TickCache` (the generated code lives in the user's crate); users read a tick as its
+// state.
+/// The caches of a [`Tick`], as generated code moves them (not a public API).
+#[doc(hidden)]
+#[allow(clippy::too_many_arguments)]
+pub trait TickCache<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>:
+    Sized
+{
+    /// A tick from a solution whose trigonometry was just computed with `sin_cos`.
+    fn new(s: Solution<T, NI, NU, NP, NPAR>) -> Self;
+
+    /// Whether `params` are the ones the caches were made with (then they are finite too: a
+    /// tick checks params it has not seen). A NaN param is never the same.
+    fn same_params(&self, params: &[T; NPAR]) -> bool;
+
+    /// [`TickCache::same_params`] over the params with `read[i]` only: a scene compares the params its
+    /// code reads (the others cannot change its results, and its caches hold none of them).
+    fn same_params_in(&self, params: &[T; NPAR], read: [bool; NPAR]) -> bool;
+
+    /// The params' cached sines and cosines (valid when [`TickCache::same_params`]).
+    fn params_trig(&self) -> &[(T, T); NPAR];
+
+    /// The inputs' sines and cosines at `x` (`angle[i]`: input `i` appears in a sin or cos),
+    /// rotated from the cached ones, or recomputed when they are due.
+    fn inputs_trig(&self, x: &[T; NI], angle: [bool; NI]) -> [(T, T); NI];
+
+    /// The last tick's unknowns with their sines and cosines, as the guess of a tick whose
+    /// blocks are all solved in closed form (nothing to predict: a closed form reads the guess
+    /// only for its branch and measures its turn from it, and its sines and cosines are exact,
+    /// so they need no resync and stay valid when the params change).
+    fn carried(&self, angle: [bool; NU]) -> TrigState<T, NU>;
+
+    /// Sets each unknown with `mask[k]` to the principal value of its cached sine and cosine. A
+    /// scene's tick leaves the angle of a closed-form block stale when it reads only its sine and
+    /// cosine; before a Newton solve predicts from it (closed forms off) it is made whole again
+    /// (its whole turns are lost, which nothing of that scene reads).
+    fn principal_angles(&mut self, mask: [bool; NU]);
+
+    /// The time from the last tick to input `x` at the input rates `xd`: the change of the
+    /// inputs fitted over those rates, Σ Δx·ẋ / Σ ẋ² (0 when they are at rest). The predictor
+    /// takes the last tick's rates; a scene's rate estimates the current ones.
+    fn step_to(&self, x: &[T; NI], xd: &[T; NI]) -> T;
+
+    /// The guess for input `x`: q + q̇ dt + q̈ dt²/2, dt fitted to the change of the inputs over
+    /// their last rates (no prediction when they were at rest), with its sines and cosines
+    /// rotated from the cached ones (recomputed when due, or all of them when the params are
+    /// not the same). Unknowns with `keep[k]` (those a closed form solves: it reads the guess
+    /// only for its branch and measures its turn from it, and leaves exact sines and cosines)
+    /// stay at the last tick's values.
+    fn predicted(
+        &self,
+        x: &[T; NI],
+        angle: [bool; NU],
+        keep: [bool; NU],
+        same_params: bool,
+    ) -> TrigState<T, NU>;
+
+    /// Stores the next solution in place; `new_params` are the params and their sines and
+    /// cosines when they were not the cached ones (they are stored, and every cache starts
+    /// afresh).
+    fn update(
+        &mut self,
+        x: &[T; NI],
+        xd: &[T; NI],
+        xdd: &[T; NI],
+        st: &TrigState<T, NU>,
+        qd: [T; NU],
+        qdd: [T; NU],
+        points: [PointMotion<T>; NP],
+        report: NewtonReport<T>,
+        tx: [(T, T); NI],
+        new_params: Option<NewParams<'_, T, NPAR>>,
+    );
+}
+
 impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>
     Tick<T, NI, NU, NP, NPAR>
 {
-    /// A tick from a solution whose trigonometry was just computed with `sin_cos`.
-    #[doc(hidden)]
-    pub fn new(s: Solution<T, NI, NU, NP, NPAR>) -> Self {
+    /// Whether the rotated caches are due to be recomputed ([`RESYNC_TICKS`]).
+    #[inline]
+    fn resync(&self) -> bool {
+        self.age >= RESYNC_TICKS
+    }
+}
+
+impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>
+    TickCache<T, NI, NU, NP, NPAR> for Tick<T, NI, NU, NP, NPAR>
+{
+    fn new(s: Solution<T, NI, NU, NP, NPAR>) -> Self {
         Tick {
-            x: s.x,
-            xd: s.xd,
-            xdd: s.xdd,
-            q: s.q,
-            qd: s.qd,
-            qdd: s.qdd,
-            points: s.points,
-            report: s.report,
+            state: State {
+                x: s.x,
+                xd: s.xd,
+                xdd: s.xdd,
+                q: s.q,
+                qd: s.qd,
+                qdd: s.qdd,
+                points: s.points,
+                report: s.report,
+            },
             tx: s.tx,
             tq: s.tq,
             tp: s.tp,
@@ -150,19 +188,13 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         }
     }
 
-    /// Whether `params` are the ones the caches were made with (then they are finite too: a
-    /// tick checks params it has not seen). A NaN param is never the same.
     #[inline]
-    #[doc(hidden)]
-    pub fn same_params(&self, params: &[T; NPAR]) -> bool {
+    fn same_params(&self, params: &[T; NPAR]) -> bool {
         self.same_params_in(params, [true; NPAR])
     }
 
-    /// [`Tick::same_params`] over the params with `read[i]` only: a scene compares the params its
-    /// code reads (the others cannot change its results, and its caches hold none of them).
     #[inline(always)]
-    #[doc(hidden)]
-    pub fn same_params_in(&self, params: &[T; NPAR], read: [bool; NPAR]) -> bool {
+    fn same_params_in(&self, params: &[T; NPAR], read: [bool; NPAR]) -> bool {
         // Branch-free, so that it compiles to a few compares (none for a param not read).
         let mut same = true;
         for i in 0..NPAR {
@@ -173,24 +205,13 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         same
     }
 
-    /// Whether the rotated caches are due to be recomputed ([`RESYNC_TICKS`]).
     #[inline]
-    fn resync(&self) -> bool {
-        self.age >= RESYNC_TICKS
-    }
-
-    /// The params' cached sines and cosines (valid when [`Tick::same_params`]).
-    #[inline]
-    #[doc(hidden)]
-    pub fn params_trig(&self) -> &[(T, T); NPAR] {
+    fn params_trig(&self) -> &[(T, T); NPAR] {
         &self.tp
     }
 
-    /// The inputs' sines and cosines at `x` (`angle[i]`: input `i` appears in a sin or cos),
-    /// rotated from the cached ones, or recomputed when they are due.
     #[inline]
-    #[doc(hidden)]
-    pub fn inputs_trig(&self, x: &[T; NI], angle: [bool; NI]) -> [(T, T); NI] {
+    fn inputs_trig(&self, x: &[T; NI], angle: [bool; NI]) -> [(T, T); NI] {
         let mut tx = self.tx;
         let resync = self.resync();
         for i in 0..NI {
@@ -198,46 +219,32 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
                 tx[i] = if resync {
                     sin_cos_cold(x[i])
                 } else {
-                    rotate(self.tx[i], x[i], self.x[i] - x[i])
+                    rotate(self.tx[i], x[i], self.state.x[i] - x[i])
                 };
             }
         }
         tx
     }
 
-    /// The last tick's unknowns with their sines and cosines, as the guess of a tick whose
-    /// blocks are all solved in closed form (nothing to predict: a closed form reads the guess
-    /// only for its branch and measures its turn from it, and its sines and cosines are exact,
-    /// so they need no resync and stay valid when the params change).
     #[inline(always)]
-    #[doc(hidden)]
-    pub fn carried(&self, angle: [bool; NU]) -> TrigState<T, NU> {
-        TrigState::from_parts(self.q, self.tq, angle)
+    fn carried(&self, angle: [bool; NU]) -> TrigState<T, NU> {
+        TrigState::from_parts(self.state.q, self.tq, angle)
     }
 
-    /// Sets each unknown with `mask[k]` to the principal value of its cached sine and cosine. A
-    /// scene's tick leaves the angle of a closed-form block stale when it reads only its sine and
-    /// cosine; before a Newton solve predicts from it (closed forms off) it is made whole again
-    /// (its whole turns are lost, which nothing of that scene reads).
     #[inline]
-    #[doc(hidden)]
-    pub fn principal_angles(&mut self, mask: [bool; NU]) {
+    fn principal_angles(&mut self, mask: [bool; NU]) {
         for k in 0..NU {
             if mask[k] {
-                self.q[k] = self.tq[k].0.atan2(self.tq[k].1);
+                self.state.q[k] = self.tq[k].0.atan2(self.tq[k].1);
             }
         }
     }
 
-    /// The time from the last tick to input `x` at the input rates `xd`: the change of the
-    /// inputs fitted over those rates, Σ Δx·ẋ / Σ ẋ² (0 when they are at rest). The predictor
-    /// takes the last tick's rates; a scene's rate estimates the current ones.
     #[inline(always)]
-    #[doc(hidden)]
-    pub fn step_to(&self, x: &[T; NI], xd: &[T; NI]) -> T {
+    fn step_to(&self, x: &[T; NI], xd: &[T; NI]) -> T {
         let (mut num, mut den) = (T::zero(), T::zero());
         for i in 0..NI {
-            num += (x[i] - self.x[i]) * xd[i];
+            num += (x[i] - self.state.x[i]) * xd[i];
             den += xd[i] * xd[i];
         }
         if den > T::zero() {
@@ -247,15 +254,8 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         }
     }
 
-    /// The guess for input `x`: q + q̇ dt + q̈ dt²/2, dt fitted to the change of the inputs over
-    /// their last rates (no prediction when they were at rest), with its sines and cosines
-    /// rotated from the cached ones (recomputed when due, or all of them when the params are
-    /// not the same). Unknowns with `keep[k]` (those a closed form solves: it reads the guess
-    /// only for its branch and measures its turn from it, and leaves exact sines and cosines)
-    /// stay at the last tick's values.
     #[inline(always)]
-    #[doc(hidden)]
-    pub fn predicted(
+    fn predicted(
         &self,
         x: &[T; NI],
         angle: [bool; NU],
@@ -264,17 +264,17 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
     ) -> TrigState<T, NU> {
         if same_params && !self.resync() && keep.iter().all(|&k| k) {
             // Nothing to predict: every unknown is solved in closed form.
-            return TrigState::from_parts(self.q, self.tq, angle);
+            return TrigState::from_parts(self.state.q, self.tq, angle);
         }
-        let dt = self.step_to(x, &self.xd);
-        let mut q = self.q;
+        let dt = self.step_to(x, &self.state.xd);
+        let mut q = self.state.q;
         for k in 0..NU {
             if !keep[k] {
-                q[k] += dt * (self.qd[k] + T::lit(0.5) * dt * self.qdd[k]);
+                q[k] += dt * (self.state.qd[k] + T::lit(0.5) * dt * self.state.qdd[k]);
             }
         }
         if !q.iter().all(|v| v.is_finite()) {
-            q = self.q;
+            q = self.state.q;
         }
         // Kept unknowns keep their sines and cosines (a closed form's are exact, and a scene
         // may have left such an angle's value stale).
@@ -285,20 +285,15 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
                 sc[k] = if fresh {
                     sin_cos_cold(q[k])
                 } else {
-                    rotate(self.tq[k], q[k], self.q[k] - q[k])
+                    rotate(self.tq[k], q[k], self.state.q[k] - q[k])
                 };
             }
         }
         TrigState::from_parts(q, sc, angle)
     }
 
-    /// Stores the next solution in place; `new_params` are the params and their sines and
-    /// cosines when they were not the cached ones (they are stored, and every cache starts
-    /// afresh).
-    #[allow(clippy::too_many_arguments)]
     #[inline]
-    #[doc(hidden)]
-    pub fn update(
+    fn update(
         &mut self,
         x: &[T; NI],
         xd: &[T; NI],
@@ -311,15 +306,15 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         tx: [(T, T); NI],
         new_params: Option<NewParams<'_, T, NPAR>>,
     ) {
-        self.x = *x;
-        self.xd = *xd;
-        self.xdd = *xdd;
-        self.q = st.q;
+        self.state.x = *x;
+        self.state.xd = *xd;
+        self.state.xdd = *xdd;
+        self.state.q = st.q;
         self.tq = st.sc;
-        self.qd = qd;
-        self.qdd = qdd;
-        self.points = points;
-        self.report = report;
+        self.state.qd = qd;
+        self.state.qdd = qdd;
+        self.state.points = points;
+        self.state.report = report;
         self.tx = tx;
         self.age = if new_params.is_none() && !self.resync() {
             self.age + 1

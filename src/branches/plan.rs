@@ -168,9 +168,10 @@ fn tear(c: &Compiled, dag: &mut Dag, block: &Block, cut: usize) -> Option<Torn> 
         roots.extend(form.roots());
     }
     let roots = Tape::new(dag, &roots);
-    let last = match c.model.unknowns[u].kind {
-        Kind::Angle => Last::Angle { q: u, roots },
-        Kind::Length => Last::Length { s: u, roots },
+    let last = if c.model.unknowns[u].kind == Kind::Angle {
+        Last::Angle { q: u, roots }
+    } else {
+        Last::Length { s: u, roots }
     };
     Some(Torn { cut, subs, last })
 }

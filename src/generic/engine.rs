@@ -2,7 +2,6 @@
 //! checker, lowering and derivatives), its DAG compiled to tapes per diagonal block; `driver.rs`
 //! solves them with the same block Newton, kernels and elimination as the generated code.
 
-use mechgen_codegen::Kind as CodegenKind;
 use mechgen_codegen::{Compiled, Diagnostic, SourceFile};
 
 use super::closed::ClosedTape;
@@ -70,13 +69,6 @@ pub struct Generic {
     pub(super) scenes: Vec<super::scene::SceneTapes>,
 }
 
-fn kind(k: CodegenKind) -> Kind {
-    match k {
-        CodegenKind::Angle => Kind::Angle,
-        CodegenKind::Length => Kind::Length,
-    }
-}
-
 /// Loads every mechanism of a file's text. Warnings are dropped; see [`load_with_warnings`].
 pub fn load(name: &str, text: &str) -> Result<Vec<Generic>, LoadError> {
     load_with_warnings(name, text).map(|(m, _)| m)
@@ -118,7 +110,7 @@ impl Generic {
             cs.iter()
                 .map(|c| CoordDesc {
                     name: c.name.text.clone(),
-                    kind: kind(c.kind),
+                    kind: c.kind,
                     start: c.start,
                 })
                 .collect::<Vec<_>>()
@@ -133,7 +125,7 @@ impl Generic {
                 .iter()
                 .map(|p| ParamDesc {
                     name: p.name.text.clone(),
-                    kind: kind(p.kind),
+                    kind: p.kind,
                     value: p.value,
                 })
                 .collect(),
@@ -155,7 +147,7 @@ impl Generic {
                         .block
                         .unknowns
                         .iter()
-                        .map(|&k| m.unknowns[k].kind == CodegenKind::Length)
+                        .map(|&k| m.unknowns[k].kind == Kind::Length)
                         .collect(),
                     position: with_jac(&b.residual),
                     residual: Tape::new(&dag, &b.residual),
@@ -177,17 +169,9 @@ impl Generic {
         let chain_roots: Vec<_> = chains.iter().flat_map(|ch| ch.vertices.concat()).collect();
         Generic {
             params: m.params.iter().map(|p| p.value).collect(),
-            length_param: m
-                .params
-                .iter()
-                .map(|p| p.kind == CodegenKind::Length)
-                .collect(),
+            length_param: m.params.iter().map(|p| p.kind == Kind::Length).collect(),
             order: (0..blocks.len()).collect(),
-            angle: m
-                .unknowns
-                .iter()
-                .map(|u| u.kind == CodegenKind::Angle)
-                .collect(),
+            angle: m.unknowns.iter().map(|u| u.kind == Kind::Angle).collect(),
             blocks,
             residual: Tape::new(&dag, &c.system.residuals),
             jacobian: Tape::new(&dag, &flat(&d.jacobian)),

@@ -18,12 +18,12 @@ pub use linkage::Linkage;
 pub use scene::GenericScene;
 pub use sketch::{Sketch, SliderAt};
 
-use driver::{Rates, Run};
+use driver::Rates;
 use mechgen_runtime::InputMotion;
 use mechgen_runtime::error::{Quantity, SolveError};
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
-use mechgen_runtime::{DynMechanism, MechanismInfo, PointMotion, dynamic::len};
+use mechgen_runtime::{DynMechanism, DynState, MechanismInfo, PointMotion, dynamic::len};
 use tape::Env;
 
 /// One chain of the mechanism drawing at a configuration.
@@ -214,12 +214,13 @@ macro_rules! kinematics {
 
             fn solve_acceleration(
                 &self,
-                input: InputMotion<&[$t]>,
+                x: &[$t],
                 q: &[$t],
+                xd: &[$t],
                 qd: &[$t],
+                xdd: &[$t],
                 qdd: &mut [$t],
             ) -> Result<(), SolveError> {
-                let InputMotion { x, xd, xdd } = input;
                 self.lengths(&[x, q, xd, qd, xdd, qdd])?;
                 self.finite(&[x, q, xd, qd, xdd])?;
                 let env = Env {
@@ -231,29 +232,44 @@ macro_rules! kinematics {
                 self.rates(&self.order, Rates::Acceleration, env, &mut qd, qdd)
             }
 
-            fn solve(
+            fn solve_in_place(
                 &self,
-                input: InputMotion<&[$t]>,
-                q: &mut [$t],
-                qd: &mut [$t],
-                qdd: &mut [$t],
-                points: &mut [PointMotion<$t>],
+                state: &mut DynState<$t>,
                 options: &SolveOptions<$t>,
-            ) -> Result<NewtonReport<$t>, SolveError> {
-                let InputMotion { x, xd, xdd } = input;
+            ) -> Result<(), SolveError> {
+                let DynState {
+                    x,
+                    xd,
+                    xdd,
+                    q,
+                    qd,
+                    qdd,
+                    points,
+                    report,
+                } = state;
                 self.lengths(&[x, q, xd, qd, xdd, qdd])?;
                 len(points, self.info.points.len())?;
-                let Run { report, sc } = self.drive(self.whole(), input, q, qd, qdd, options)?;
+                // Solved into one scratch vector: on error the state is unchanged.
+                let nu = q.len();
+                let mut scratch = [&q[..], &qd[..], &qdd[..]].concat();
+                let (q_new, rates) = scratch.split_at_mut(nu);
+                let (qd_new, qdd_new) = rates.split_at_mut(nu);
+                let input = InputMotion::new(&x[..], &xd[..], &xdd[..]);
+                let run = self.drive(self.whole(), input, q_new, qd_new, qdd_new, options)?;
                 let env = Env {
                     xd,
-                    qd,
+                    qd: qd_new,
                     xdd,
-                    qdd,
-                    sc: &sc,
-                    ..Env::position(x, q, &self.params)
+                    qdd: qdd_new,
+                    sc: &run.sc,
+                    ..Env::position(x, q_new, &self.params)
                 };
                 self.eval_points(env, points);
-                Ok(report)
+                q.copy_from_slice(q_new);
+                qd.copy_from_slice(qd_new);
+                qdd.copy_from_slice(qdd_new);
+                *report = run.report;
+                Ok(())
             }
 
             fn points(

@@ -8,7 +8,7 @@ use mechgen_runtime::dynamic::len;
 use mechgen_runtime::error::SolveError;
 use mechgen_runtime::mechanism::InputMotion;
 use mechgen_runtime::scalar::Real;
-use mechgen_runtime::scene::{DynScene, SceneDescription};
+use mechgen_runtime::scene::{DynScene, DynSceneState, SceneDescription};
 use mechgen_runtime::solve::{NewtonReport, SolveOptions};
 
 use super::Generic;
@@ -149,14 +149,17 @@ macro_rules! scene_kinematics {
             fn info(&self) -> SceneDescription {
                 self.mechanism.scenes[self.index].desc.clone()
             }
-            fn solve_outputs(
+            fn solve_in_place(
                 &self,
-                input: InputMotion<&[$t]>,
-                q: &mut [$t],
-                out: &mut [$t],
+                state: &mut DynSceneState<$t>,
                 options: &SolveOptions<$t>,
-            ) -> Result<NewtonReport<$t>, SolveError> {
-                self.solve(input, q, out, options)
+            ) -> Result<(), SolveError> {
+                // Solved on copies: on error the state is unchanged.
+                let (mut q, mut out) = (state.q.clone(), state.out.clone());
+                state.report = self.solve(state.input_slices(), &mut q, &mut out, options)?;
+                state.q.copy_from_slice(&q);
+                state.out.copy_from_slice(&out);
+                Ok(())
             }
         }
     };

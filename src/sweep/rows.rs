@@ -139,8 +139,8 @@ pub fn sweep_each(
                 let mut qdd = vec![0.0; nu];
                 let mut points = vec![PointMotion::default(); np];
                 k.solve_velocity(x, q, &xd, &mut qd)?;
+                k.solve_acceleration(x, q, &xd, &qd, &xdd, &mut qdd)?;
                 let input = InputMotion::new(&x[..], &xd[..], &xdd[..]);
-                k.solve_acceleration(input, q, &qd, &mut qdd)?;
                 k.points(input, q, &qd, &qdd, &mut points)?;
                 Ok(Solved {
                     q: q.to_vec(),

@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use mechgen_runtime::error::SolveError;
 use mechgen_runtime::info::{Kind, MechanismInfo};
 use mechgen_runtime::mechanism::InputMotion;
-use mechgen_runtime::scene::{DynScene, SceneDescription};
+use mechgen_runtime::scene::{DynScene, DynSceneState, SceneDescription};
 use mechgen_runtime::solve::SolveOptions;
 
 use super::Row;
@@ -38,24 +38,24 @@ pub fn scene_rows(
     options: &SolveOptions<f64>,
 ) -> Vec<SceneRow> {
     let ncols = scene.info().columns.len();
-    let (mut xs, mut xd) = (x.to_vec(), vec![0.0; x.len()]);
-    let xdd = vec![0.0; x.len()];
+    let mut xd = vec![0.0; x.len()];
     xd[index] = rate;
+    let xdd = vec![0.0; x.len()];
+    let mut state = DynSceneState::new(InputMotion::new(x, &xd, &xdd), &[], ncols);
     rows.iter()
         .map(|r| match &r.result {
             Ok(s) => {
-                xs[index] = r.input;
-                let mut q = s.q.clone();
-                let mut out = vec![0.0; ncols];
-                let solved = scene
-                    .solve_outputs(InputMotion::new(&xs, &xd, &xdd), &mut q, &mut out, options)
-                    .and_then(|_| match out.iter().all(|v| v.is_finite()) {
-                        true => Ok(out),
+                state.x[index] = r.input;
+                state.q.clone_from(&s.q);
+                let solved = scene.solve_in_place(&mut state, options).and_then(|_| {
+                    match state.out.iter().all(|v| v.is_finite()) {
+                        true => Ok(state.out.clone()),
                         false => Err(SolveError::Overflow {
                             block: 0,
                             stage: mechgen_runtime::error::Stage::Position,
                         }),
-                    });
+                    }
+                });
                 SceneRow {
                     input: r.input,
                     status: solved.as_ref().map_or_else(|e| e.status(), |_| "ok"),

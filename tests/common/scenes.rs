@@ -6,8 +6,7 @@
 use mechgen::generic::Generic;
 use mechgen::sweep::{Continuation, Row, sweep};
 use mechgen::{
-    Array, DynScene, Scene, SceneVisitor, StaticMechanism, StaticVisitor, TickState, lookup,
-    lookup_scene,
+    Array, DynScene, Scene, SceneVisitor, StaticMechanism, StaticVisitor, lookup, lookup_scene,
 };
 use mechgen::{
     DynMechanism, InputMotion, Kind, MechanismInfo, PointMotion, SceneDescription, SolveOptions,
@@ -92,7 +91,7 @@ pub fn compare<T: mechgen::Real>(
     tol: f64,
 ) -> (Vec<String>, usize) {
     let (s, info) = (scene.info(), full.info());
-    let (ni, nu, np) = (info.inputs.len(), info.unknowns.len(), info.points.len());
+    let ni = info.inputs.len();
     let lit = |v: f64| T::lit(v);
     let mut pairs = Vec::new();
     let mut fails = Vec::new();
@@ -104,26 +103,14 @@ pub fn compare<T: mechgen::Real>(
         xd[0] = lit(1.0);
         let xdd = vec![lit(0.0); ni];
         let guess: Vec<T> = solved.q.iter().map(|&v| lit(v)).collect();
-        let (mut q, mut qd, mut qdd) = (guess.clone(), vec![lit(0.0); nu], vec![lit(0.0); nu]);
-        let mut points = vec![PointMotion::<T>::default(); np];
-        let full_ok = full.solve(
-            InputMotion::new(&x, &xd, &xdd),
-            &mut q,
-            &mut qd,
-            &mut qdd,
-            &mut points,
-            &SolveOptions::default(),
-        );
-        let mut sq = guess;
-        let mut out = vec![lit(0.0); s.columns.len()];
-        let scene_ok = scene.solve_outputs(
-            InputMotion::new(&x, &xd, &xdd),
-            &mut sq,
-            &mut out,
-            &SolveOptions::default(),
-        );
+        let input = InputMotion::new(&x[..], &xd[..], &xdd[..]);
+        let full_ok = full.solve(input, &guess, &SolveOptions::default());
+        let scene_ok = scene.solve(input, &guess, &SolveOptions::default());
         match (full_ok, scene_ok) {
-            (Ok(_), Ok(_)) => pairs.push((full_values(&s, &info, [&q, &qd, &qdd], &points), out)),
+            (Ok(f), Ok(g)) => pairs.push((
+                full_values(&s, &info, [&f.q, &f.qd, &f.qdd], &f.points),
+                g.out,
+            )),
             (f, g) => fails.push(format!("{what} at {}: full {f:?}, scene {g:?}", r.input)),
         }
     }
@@ -156,7 +143,6 @@ pub fn compare_engines(
     full: &MechanismInfo,
     rows: &[Row],
 ) -> (Vec<String>, usize) {
-    let columns = generated.info().columns.len();
     let (ni, mut solved, mut fails) = (full.inputs.len(), 0, Vec::new());
     for closed_forms in [true, false] {
         let options = SolveOptions {
@@ -173,16 +159,15 @@ pub fn compare_engines(
             let (mut xd, xdd) = (vec![0.0; ni], vec![0.0; ni]);
             xd[0] = 1.0;
             let input = InputMotion::new(&x[..], &xd[..], &xdd[..]);
-            let (mut qa, mut qb) = (guess.clone(), guess.clone());
-            let (mut a, mut b) = (vec![0.0; columns], vec![0.0; columns]);
-            let ra = generated.solve_outputs(input, &mut qa, &mut a, &options);
-            let rb = generic.solve_outputs(input, &mut qb, &mut b, &options);
+            let ra = generated.solve(input, &guess, &options);
+            let rb = generic.solve(input, &guess, &options);
             let at = format!("{what} at {} (closed forms {closed_forms})", r.input);
             match (&ra, &rb) {
-                (Ok(_), Ok(_)) => {
+                (Ok(sa), Ok(sb)) => {
+                    let (a, b) = (&sa.out, &sb.out);
                     solved += 1;
                     let scale = a.iter().fold(1.0f64, |m, v| m.max(v.abs()));
-                    if a.iter().zip(&b).any(|(u, v)| !close(*u, *v, scale, 1e-13)) {
+                    if a.iter().zip(b).any(|(u, v)| !close(*u, *v, scale, 1e-13)) {
                         fails.push(format!("{at}: generated {a:?}, generic {b:?}"));
                     }
                 }
@@ -331,7 +316,7 @@ impl StaticVisitor<f64> for MechanismTicks {
                 },
             };
             if closed {
-                iterations += TickState::report(t).iterations;
+                iterations += t.report.iterations;
                 counted += 1;
             }
         }
@@ -348,7 +333,7 @@ impl SceneVisitor<f64> for Ticks {
         let mut tick: Option<S::Tick> = None;
         let (mut iterations, mut counted) = (0u32, 0u32);
         for (x, q, closed) in tick_walk(full.as_ref()) {
-            let (input, mut qa): (InputMotion<S::X>, S::Q) = tick_state(x, &q);
+            let (input, qa): (InputMotion<S::X>, S::Q) = tick_state(x, &q);
             let step = match tick.as_mut() {
                 None => scene
                     .tick_start(&input, &qa, &options(closed))
@@ -367,10 +352,8 @@ impl SceneVisitor<f64> for Ticks {
                 counted += 1;
             }
             let got = scene.outputs(t);
-            let (want, _) = scene
-                .solve(&input, &mut qa, &options(true))
-                .expect("solves");
-            for (c, (a, b)) in got.as_ref().iter().zip(want.as_ref()).enumerate() {
+            let want = scene.solve(&input, &qa, &options(true)).expect("solves");
+            for (c, (a, b)) in got.as_ref().iter().zip(want.out.as_ref()).enumerate() {
                 let close = (a - b).abs() <= 1e-9 * b.abs().max(1.0);
                 if !close {
                     self.fails

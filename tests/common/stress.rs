@@ -95,7 +95,7 @@ pub fn motion(
     let (mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n]);
     let mut points = vec![PointMotion::default(); k.info().points.len()];
     k.solve_velocity(x, q, &[1.0], &mut qd).expect("velocity");
-    k.solve_acceleration(InputMotion::new(x, &[1.0], &[0.0]), q, &qd, &mut qdd)
+    k.solve_acceleration(x, q, &[1.0], &qd, &[0.0], &mut qdd)
         .expect("acceleration");
     k.points(
         InputMotion::new(x, &[1.0], &[0.0]),

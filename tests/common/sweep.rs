@@ -6,7 +6,8 @@
 use std::cell::Cell;
 
 use mechgen::{
-    DynMechanism, InputMotion, MechanismInfo, NewtonReport, PointMotion, SolveError, SolveOptions,
+    DynMechanism, DynState, InputMotion, MechanismInfo, NewtonReport, PointMotion, SolveError,
+    SolveOptions,
 };
 
 /// Counts every call that solves or evaluates something; `info` may differ from the inner one's
@@ -91,13 +92,15 @@ impl DynMechanism<f64> for Counting<'_> {
     }
     fn solve_acceleration(
         &self,
-        input: InputMotion<&[f64]>,
+        x: &[f64],
         q: &[f64],
+        xd: &[f64],
         qd: &[f64],
+        xdd: &[f64],
         qdd: &mut [f64],
     ) -> Result<(), SolveError> {
         self.count();
-        self.inner.solve_acceleration(input, q, qd, qdd)
+        self.inner.solve_acceleration(x, q, xd, qd, xdd, qdd)
     }
     fn points(
         &self,
@@ -109,6 +112,14 @@ impl DynMechanism<f64> for Counting<'_> {
     ) -> Result<(), SolveError> {
         self.count();
         self.inner.points(input, q, qd, qdd, out)
+    }
+    fn solve_in_place(
+        &self,
+        state: &mut DynState<f64>,
+        options: &SolveOptions<f64>,
+    ) -> Result<(), SolveError> {
+        self.count();
+        self.inner.solve_in_place(state, options)
     }
 }
 

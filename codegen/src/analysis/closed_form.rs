@@ -234,6 +234,8 @@ pub fn closed_form(
             (Kind::Length, Kind::Angle) => {
                 angle_length(dag, model, [residuals[ex], residuals[ey]], b, a)
             }
+            // A kind the runtime may add later has no closed form.
+            _ => None,
         },
         _ => None,
     }
@@ -265,15 +267,16 @@ fn one(dag: &mut Dag, model: &Model, f: NodeId, k: usize) -> Option<ClosedForm> 
     if c.iter().all(|&n| x.dag.is_zero(n)) {
         return None;
     }
-    Some(match model.unknowns[k].kind {
-        Kind::Angle => ClosedForm::Angle1 {
+    Some(if model.unknowns[k].kind == Kind::Angle {
+        ClosedForm::Angle1 {
             q: k,
             roots: [konst, c[0], c[1]],
-        },
-        Kind::Length => ClosedForm::Length1 {
+        }
+    } else {
+        ClosedForm::Length1 {
             s: k,
             roots: [konst, c[0]],
-        },
+        }
     })
 }
 

@@ -16,11 +16,10 @@ fn f64_lit(x: f64) -> proc_macro2::Literal {
     proc_macro2::Literal::f64_unsuffixed(x)
 }
 
+/// The runtime's `Kind` variant, named as it is (the generator's `Kind` is the runtime's).
 fn kind(k: Kind, rt: &TokenStream) -> TokenStream {
-    match k {
-        Kind::Angle => quote!(#rt::Kind::Angle),
-        Kind::Length => quote!(#rt::Kind::Length),
-    }
+    let variant = format_ident!("{k:?}");
+    quote!(#rt::Kind::#variant)
 }
 
 pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
@@ -200,14 +199,9 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
             /// The state between simulator ticks (see `tick_start` and `tick`).
             pub type #tick_ty<#gt> = #rt::Tick<#gt, #ni, #nu, #np, #npar>;
 
-            /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
-            #[derive(Clone, Copy, Debug, PartialEq)]
-            pub struct #motion_ty<#gt> {
-                pub x: #inputs_ty<#gt>, pub xd: #inputs_ty<#gt>, pub xdd: #inputs_ty<#gt>,
-                pub q: #unknowns_ty<#gt>, pub qd: #unknowns_ty<#gt>, pub qdd: #unknowns_ty<#gt>,
-                pub points: #points_ty<#gt>,
-                pub report: #rt::NewtonReport<#gt>,
-            }
+            /// A solved state with named fields (`mechgen::State`): inputs and unknowns with their
+            /// first and second time derivatives, the points and the position solve's report.
+            pub type #motion_ty<#gt> = #rt::State<#inputs_ty<#gt>, #unknowns_ty<#gt>, #points_ty<#gt>, #gt>;
 
             #[doc = #doc]
             #[derive(Clone, Copy, Debug, PartialEq)]
@@ -242,6 +236,14 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                     let (qd, qdd, points, report) = self.solve_arrays(&input.x.to_array(), &input.xd.to_array(), &input.xdd.to_array(), &mut q, options)?;
                     Ok(#motion_ty { x: input.x, xd: input.xd, xdd: input.xdd, q: #unknowns_ty::from_array(q), qd: #unknowns_ty::from_array(qd),
                         qdd: #unknowns_ty::from_array(qdd), points: #points_ty::from_array(points), report })
+                }
+
+                /// [`Self::solve`] into `state`: its inputs and rates are the input, its unknowns
+                /// the guess; on success it holds the solution, on error it is unchanged.
+                pub fn solve_in_place(&self, state: &mut #motion_ty<#gt>, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<(), #rt::SolveError> {
+                    *state = self.solve(&state.input(), &state.q, options)?;
+                    Ok(())
                 }
 
                 /// The first tick of a simulation, solved from `guess` and kept with its sines and
@@ -305,10 +307,10 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                 }
                 #[inline]
                 fn solve(&self, input: &#rt::InputMotion<Self::X>, guess: &Self::Q, options: &#rt::SolveOptions<#gt>)
-                    -> ::core::result::Result<#rt::Solved<Self::Q, Self::Points, #gt>, #rt::SolveError> {
+                    -> ::core::result::Result<#rt::StateOf<Self, #gt>, #rt::SolveError> {
                     let mut q = *guess;
                     let (qd, qdd, points, report) = #ty::solve_arrays(self, &input.x, &input.xd, &input.xdd, &mut q, options)?;
-                    Ok(#rt::Solved { q, qd, qdd, points, report })
+                    Ok(#rt::State { x: input.x, xd: input.xd, xdd: input.xdd, q, qd, qdd, points, report })
                 }
                 fn tick_start(&self, input: &#rt::InputMotion<Self::X>, guess: &Self::Q, options: &#rt::SolveOptions<#gt>)
                     -> ::core::result::Result<Self::Tick, #rt::SolveError> { #ty::tick_start_arrays(self, &input.x, &input.xd, &input.xdd, guess, options) }

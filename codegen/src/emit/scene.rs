@@ -169,6 +169,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
             #[doc(hidden)]
             pub(super) fn #start_fn(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], guess: &[#gt; #nu],
                 options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<#rt::SceneTick<#gt, #ni, #nu, #np, #npar>, #rt::SolveError> {
+                use #rt::TickCache as _;
                 let mut q = *guess;
                 let (qd, qdd, points, report) = self.#solve_fn(x, xd, xdd, &mut q, options)?;
                 let (tx, tp) = self.trig_fixed(x);
@@ -181,6 +182,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
             #[inline]
             pub(super) fn #tick_fn(&self, tick: &mut #rt::SceneTick<#gt, #ni, #nu, #np, #npar>, x: &[#gt; #ni], xd: &[#gt; #ni],
                 xdd: &[#gt; #ni], options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
+                use #rt::TickCache as _;
                 let t = #rt::scene_tick_state_mut(tick);
                 let params = self.params.to_array();
                 #params_comment
@@ -334,8 +336,9 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
             #[derive(Clone, Copy, Debug, Default, PartialEq)]
             pub struct #outputs_ty<#gt> { #( pub #field_ids: #gt, )* #marker }
 
-            /// What `solve` returns: the outputs, the solved unknowns and the Newton report.
-            pub type Solved<#gt> = (#outputs_ty<#gt>, #unknowns_ty<#gt>, #rt::NewtonReport<#gt>);
+            /// What `solve` returns (`mechgen::SceneState`): the inputs with their rates, the
+            /// unknowns (the kept blocks' solved), the outputs and the Newton report.
+            pub type Solved<#gt> = #rt::SceneState<#inputs_ty<#gt>, #unknowns_ty<#gt>, #outputs_ty<#gt>, #gt>;
             impl<#gt: ::core::marker::Copy> #outputs_ty<#gt> {
                 pub fn from_array(a: [#gt; #ncols]) -> Self { #outputs_ty { #( #field_ids: a[#col_idx], )* #marker_init } }
                 pub fn to_array(&self) -> [#gt; #ncols] { [#(self.#field_ids),*] }
@@ -374,7 +377,16 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
                     let mut q = guess.to_array();
                     let (qd, qdd, points, report) = self.mechanism().#solve_fn(&input.x.to_array(), &input.xd.to_array(),
                         &input.xdd.to_array(), &mut q, options)?;
-                    Ok((Self::outputs_of(&q, &qd, &qdd, &points), #unknowns_ty::from_array(q), report))
+                    Ok(Solved { x: input.x, xd: input.xd, xdd: input.xdd, q: #unknowns_ty::from_array(q),
+                        out: Self::outputs_of(&q, &qd, &qdd, &points), report })
+                }
+
+                /// [`Self::solve`] into `state`: its inputs and rates are the input, its unknowns
+                /// the guess; on success it holds the solution, on error it is unchanged.
+                pub fn solve_in_place(&self, state: &mut Solved<#gt>, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<(), #rt::SolveError> {
+                    *state = self.solve(&state.input(), &state.q, options)?;
+                    Ok(())
                 }
 
                 /// The first tick of a simulation, solved from `guess` (see `tick`).
@@ -407,10 +419,12 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
                 type Out = [#gt; #ncols];
                 type Tick = #tick_ty<#gt>;
                 fn info(&self) -> &'static #rt::SceneInfo { &INFO }
-                fn solve(&self, input: &#rt::InputMotion<Self::X>, q: &mut Self::Q, options: &#rt::SolveOptions<#gt>)
-                    -> ::core::result::Result<(Self::Out, #rt::NewtonReport<#gt>), #rt::SolveError> {
-                    let (qd, qdd, points, report) = self.mechanism().#solve_fn(&input.x, &input.xd, &input.xdd, q, options)?;
-                    Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
+                fn solve(&self, input: &#rt::InputMotion<Self::X>, guess: &Self::Q, options: &#rt::SolveOptions<#gt>)
+                    -> ::core::result::Result<#rt::SceneStateOf<Self, #gt>, #rt::SolveError> {
+                    let mut q = *guess;
+                    let (qd, qdd, points, report) = self.mechanism().#solve_fn(&input.x, &input.xd, &input.xdd, &mut q, options)?;
+                    let out = Self::outputs_of(&q, &qd, &qdd, &points).to_array();
+                    Ok(#rt::SceneState { x: input.x, xd: input.xd, xdd: input.xdd, q, out, report })
                 }
                 fn tick_start(&self, input: &#rt::InputMotion<Self::X>, guess: &Self::Q, options: &#rt::SolveOptions<#gt>)
                     -> ::core::result::Result<Self::Tick, #rt::SolveError> {

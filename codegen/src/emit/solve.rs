@@ -195,6 +195,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         /// cosines for `tick_arrays` (the typed `tick_start` and `tick` call these).
         fn tick_start_arrays(&self, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni], guess: &[#gt; #nu],
             options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<#tick_ty<#gt>, #rt::SolveError> {
+            use #rt::TickCache as _;
             let mut q = *guess;
             let (qd, qdd, points, report) = self.solve_arrays(x, xd, xdd, &mut q, options)?;
             let (tx, tp) = self.trig_fixed(x);
@@ -210,6 +211,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         /// velocities, accelerations and points. On error `t` is unchanged.
         fn tick_arrays(&self, t: &mut #tick_ty<#gt>, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni],
             options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
+            use #rt::TickCache as _;
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {

@@ -7,12 +7,9 @@ use std::collections::HashMap;
 use crate::diagnostic::Span;
 use crate::front::ast::{Expr, Name};
 
-/// Angle (radians) or length (file units), inferred from use.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Kind {
-    Angle,
-    Length,
-}
+/// Angle (radians) or length (file units), inferred from use: the runtime's one `Kind`, which
+/// generated code and run-time engines name too.
+pub use mechgen_runtime::Kind;
 
 /// What a name refers to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

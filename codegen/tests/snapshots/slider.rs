@@ -203,18 +203,14 @@ pub mod slider {
     }
     /// The state between simulator ticks (see `tick_start` and `tick`).
     pub type Tick<T> = ::mechgen::__private::Tick<T, 1, 2, 1, 2>;
-    /// A solved state: inputs and unknowns with their first and second time derivatives, and the points.
-    #[derive(Clone, Copy, Debug, PartialEq)]
-    pub struct Motion<T> {
-        pub x: Inputs<T>,
-        pub xd: Inputs<T>,
-        pub xdd: Inputs<T>,
-        pub q: Unknowns<T>,
-        pub qd: Unknowns<T>,
-        pub qdd: Unknowns<T>,
-        pub points: Points<T>,
-        pub report: ::mechgen::__private::NewtonReport<T>,
-    }
+    /// A solved state with named fields (`mechgen::State`): inputs and unknowns with their
+    /// first and second time derivatives, the points and the position solve's report.
+    pub type Motion<T> = ::mechgen::__private::State<
+        Inputs<T>,
+        Unknowns<T>,
+        Points<T>,
+        T,
+    >;
     /// Centred slider-crank: crank l1, rod l2, slider s on the x axis
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Slider<T = f64> {
@@ -1118,6 +1114,7 @@ pub mod slider {
             guess: &[T; 2],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<Tick<T>, ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .solve_arrays(x, xd, xdd, &mut q, options)?;
@@ -1153,6 +1150,7 @@ pub mod slider {
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
             let params = self.params.to_array();
             let same = t.same_params(&params);
             if !same {
@@ -1236,6 +1234,16 @@ pub mod slider {
                 points: Points::from_array(points),
                 report,
             })
+        }
+        /// [`Self::solve`] into `state`: its inputs and rates are the input, its unknowns
+        /// the guess; on success it holds the solution, on error it is unchanged.
+        pub fn solve_in_place(
+            &self,
+            state: &mut Motion<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            *state = self.solve(&state.input(), &state.q, options)?;
+            Ok(())
         }
         /// The first tick of a simulation, solved from `guess` and kept with its sines and
         /// cosines for [`Self::tick`] (see `Tick` for what the state holds).
@@ -1377,7 +1385,7 @@ pub mod slider {
             guess: &Self::Q,
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            ::mechgen::__private::Solved<Self::Q, Self::Points, T>,
+            ::mechgen::__private::StateOf<Self, T>,
             ::mechgen::__private::SolveError,
         > {
             let mut q = *guess;
@@ -1389,7 +1397,10 @@ pub mod slider {
                 &mut q,
                 options,
             )?;
-            Ok(::mechgen::__private::Solved {
+            Ok(::mechgen::__private::State {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
                 q,
                 qd,
                 qdd,

@@ -186,12 +186,14 @@ pub mod rod {
     pub struct Outputs<T> {
         pub q2: T,
     }
-    /// What `solve` returns: the outputs, the solved unknowns and the Newton report.
-    pub type Solved<T> = (
-        Outputs<T>,
+    /// What `solve` returns (`mechgen::SceneState`): the inputs with their rates, the
+    /// unknowns (the kept blocks' solved), the outputs and the Newton report.
+    pub type Solved<T> = ::mechgen::__private::SceneState<
+        Inputs<T>,
         Unknowns<T>,
-        ::mechgen::__private::NewtonReport<T>,
-    );
+        Outputs<T>,
+        T,
+    >;
     impl<T: ::core::marker::Copy> Outputs<T> {
         pub fn from_array(a: [T; 1]) -> Self {
             Outputs { q2: a[0] }
@@ -254,11 +256,24 @@ pub mod rod {
                     &mut q,
                     options,
                 )?;
-            Ok((
-                Self::outputs_of(&q, &qd, &qdd, &points),
-                Unknowns::from_array(q),
+            Ok(Solved {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
+                q: Unknowns::from_array(q),
+                out: Self::outputs_of(&q, &qd, &qdd, &points),
                 report,
-            ))
+            })
+        }
+        /// [`Self::solve`] into `state`: its inputs and rates are the input, its unknowns
+        /// the guess; on success it holds the solution, on error it is unchanged.
+        pub fn solve_in_place(
+            &self,
+            state: &mut Solved<T>,
+            options: &::mechgen::__private::SolveOptions<T>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            *state = self.solve(&state.input(), &state.q, options)?;
+            Ok(())
         }
         /// The first tick of a simulation, solved from `guess` (see `tick`).
         pub fn tick_start(
@@ -313,16 +328,25 @@ pub mod rod {
         fn solve(
             &self,
             input: &::mechgen::__private::InputMotion<Self::X>,
-            q: &mut Self::Q,
+            guess: &Self::Q,
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<
-            (Self::Out, ::mechgen::__private::NewtonReport<T>),
+            ::mechgen::__private::SceneStateOf<Self, T>,
             ::mechgen::__private::SolveError,
         > {
+            let mut q = *guess;
             let (qd, qdd, points, report) = self
                 .mechanism()
-                .scene_rod_solve(&input.x, &input.xd, &input.xdd, q, options)?;
-            Ok((Self::outputs_of(q, &qd, &qdd, &points).to_array(), report))
+                .scene_rod_solve(&input.x, &input.xd, &input.xdd, &mut q, options)?;
+            let out = Self::outputs_of(&q, &qd, &qdd, &points).to_array();
+            Ok(::mechgen::__private::SceneState {
+                x: input.x,
+                xd: input.xd,
+                xdd: input.xdd,
+                q,
+                out,
+                report,
+            })
         }
         fn tick_start(
             &self,

@@ -13,7 +13,7 @@
 use std::f64::consts::PI;
 
 use mechgen::generic::{self, Generic};
-use mechgen::{DynMechanism, InputMotion, PointMotion, SolveError, SolveOptions};
+use mechgen::{DynMechanism, InputMotion, SolveError, SolveOptions};
 use mechgen_odd_files::closed::{inclined_slide, offset_slot};
 
 const TEXT: &str = include_str!("../closed.toml");
@@ -125,22 +125,14 @@ fn solve_both(
     let options = SolveOptions::default();
     let mut out = Vec::new();
     for engine in [m, g as &dyn DynMechanism<f64>] {
-        let mut q = guess.to_vec();
-        let (mut qd, mut qdd) = (vec![0.0; 2], vec![0.0; 2]);
-        let report = engine
-            .solve(
-                InputMotion::new(&[q1], &[1.0], &[0.0]),
-                &mut q,
-                &mut qd,
-                &mut qdd,
-                &mut [] as &mut [PointMotion<f64>],
-                &options,
-            )
+        let s = engine
+            .solve(InputMotion::new(&[q1], &[1.0], &[0.0]), &guess, &options)
             .unwrap_or_else(|e| panic!("{what}: {e}"));
         assert_eq!(
-            report.iterations, 0,
+            s.report.iterations, 0,
             "{what}: a closed form takes no iteration"
         );
+        let (q, qd) = (&s.q, &s.qd);
         out.push(([q[0], q[1]], [qd[0], qd[1]]));
     }
     let e = error(&out[0].0, &out[1].0, angle, scale);

@@ -3,7 +3,7 @@
 //! `k = hypot(l, off) / l` are computed by the solvers from it, so setting `r` at run time moves
 //! everything. Checked against the offset slider-crank's closed form written here.
 
-use mechgen::{DynMechanism, InputMotion, PointMotion, SolveOptions};
+use mechgen::{DynMechanism, DynState, InputMotion, SolveOptions};
 use mechgen_odd_files::derived::offset_slider::{OffsetSlider, Params};
 
 /// (q2, s, P) of the offset slider-crank with crank `r` at `q1`, on the branch with the rod
@@ -21,21 +21,14 @@ fn closed_form(r: f64, q1: f64) -> (f64, f64, [f64; 2]) {
 }
 
 fn sweep_against_closed_form(m: &OffsetSlider<f64>, r: f64) {
-    let mut q = vec![0.1, 4.9 * r];
-    let (mut qd, mut qdd) = (vec![0.0; 2], vec![0.0; 2]);
-    let mut points = vec![PointMotion::default(); 1];
+    let start = InputMotion::new(&[0.0][..], &[1.0], &[0.0]);
+    let mut state = DynState::new(start, &[0.1, 4.9 * r], 1);
     for i in 0..=36 {
         let q1 = f64::from(i) * 10f64.to_radians();
-        DynMechanism::solve(
-            m,
-            InputMotion::new(&[q1], &[1.0], &[0.0]),
-            &mut q,
-            &mut qd,
-            &mut qdd,
-            &mut points,
-            &SolveOptions::default(),
-        )
-        .unwrap_or_else(|e| panic!("r = {r}, q1 = {q1}: {e}"));
+        state.x[0] = q1;
+        DynMechanism::solve_in_place(m, &mut state, &SolveOptions::default())
+            .unwrap_or_else(|e| panic!("r = {r}, q1 = {q1}: {e}"));
+        let (q, points) = (&state.q, &state.points);
         let (q2, s, p) = closed_form(r, q1);
         let tol = 1e-14;
         assert!(

@@ -89,7 +89,7 @@ fn a_scene_with_a_very_long_name_builds_and_solves() {
     let (_, q) = Long::<f64>::start();
     let options = SolveOptions::default();
     let input = InputMotion::new(Inputs { q1: 0.7 }, Inputs { q1: 1.0 }, Inputs { q1: 0.0 });
-    let (out, _, _) = scene.solve(&input, &q, &options).unwrap();
+    let out = scene.solve(&input, &q, &options).unwrap().out;
     let want = full.solve(&input, &q, &options).unwrap();
     assert!(close(out.q3, want.q.q3) && close(out.q3_vel, want.qd.q3));
 }

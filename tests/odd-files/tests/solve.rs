@@ -4,7 +4,7 @@
 
 use std::f64::consts::TAU;
 
-use mechgen::{DynMechanism, InputMotion, Kind, MechanismInfo, PointMotion, SolveOptions};
+use mechgen::{DynMechanism, DynState, InputMotion, Kind, MechanismInfo, SolveOptions};
 use mechgen_odd_files as odd;
 
 const XD: f64 = 1.3;
@@ -42,20 +42,16 @@ fn check(m: &dyn DynMechanism<f64>) -> usize {
         "{}: reference columns",
         info.name
     );
-    let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
-    let (mut qd, mut qdd) = (vec![0.0; nu], vec![0.0; nu]);
-    let mut points = vec![PointMotion::default(); np];
+    let start: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
+    let (xd, xdd) = (vec![XD; ni], vec![XDD; ni]);
+    let mut state = DynState::new(InputMotion::new(&rows[0][..ni], &xd, &xdd), &start, np);
     for (r, row) in rows.iter().enumerate() {
-        let x = &row[..ni];
-        m.solve(
-            InputMotion::new(x, &vec![XD; ni], &vec![XDD; ni]),
-            &mut q,
-            &mut qd,
-            &mut qdd,
-            &mut points,
-            &SolveOptions::default(),
-        )
-        .unwrap_or_else(|e| panic!("{} row {r}: {e}", info.name));
+        state.x.copy_from_slice(&row[..ni]);
+        m.solve_in_place(&mut state, &SolveOptions::default())
+            .unwrap_or_else(|e| panic!("{} row {r}: {e}", info.name));
+        let DynState {
+            q, qd, qdd, points, ..
+        } = &state;
         for (k, u) in info.unknowns.iter().enumerate() {
             let want = &row[ni + 3 * k..ni + 3 * k + 3];
             let angle = u.kind == Kind::Angle;

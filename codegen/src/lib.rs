@@ -43,3 +43,4 @@ pub use ir::lower::{Chain, System, chains};
 pub use sema::builtin::Builtin;
 pub use sema::eval::derived_values;
 pub use sema::model::{Coord, Kind, Model, Param, Scene, Symbol};
+pub use sema::resolved::{DerivedId, InputId, ParamId, UnknownId};

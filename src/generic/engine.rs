@@ -225,8 +225,12 @@ impl Generic {
                 .uses
                 .iter()
                 .filter_map(|s| match *s {
-                    mechgen_codegen::Symbol::Param(k) => Some(&self.model.params[k].name.text),
-                    mechgen_codegen::Symbol::Derived(k) => Some(&self.model.derived[k].name.text),
+                    mechgen_codegen::Symbol::Param(k) => {
+                        Some(&self.model.params[k.index()].name.text)
+                    }
+                    mechgen_codegen::Symbol::Derived(k) => {
+                        Some(&self.model.derived[k.index()].name.text)
+                    }
                     _ => None,
                 })
                 .map(|n| format!("`{n}`"))

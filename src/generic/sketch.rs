@@ -94,18 +94,18 @@ impl Values<'_> {
                 S(std::f64::consts::PI)
             }
             ExprKind::Name(n) => S(match self.symbols.get(n) {
-                Some(Symbol::Input(i)) if set.is_some_and(|s| s.0 == *i) => {
+                Some(Symbol::Input(i)) if set.is_some_and(|s| s.0 == i.index()) => {
                     set.map_or(0.0, |s| s.1)
                 }
-                Some(Symbol::Unknown(i)) if set.is_some_and(|s| s.0 == self.inputs + i) => {
+                Some(Symbol::Unknown(i)) if set.is_some_and(|s| s.0 == self.inputs + i.index()) => {
                     set.map_or(0.0, |s| s.1)
                 }
-                Some(Symbol::Input(i)) => get(self.x, *i),
-                Some(Symbol::Unknown(i)) => get(self.q, *i),
-                Some(Symbol::Param(i)) => get(self.p, *i),
+                Some(Symbol::Input(i)) => get(self.x, i.index()),
+                Some(Symbol::Unknown(i)) => get(self.q, i.index()),
+                Some(Symbol::Param(i)) => get(self.p, i.index()),
                 Some(Symbol::Derived(j)) => self
                     .derived
-                    .get(*j)
+                    .get(j.index())
                     .map_or(f64::NAN, |d| self.scalar(d, set)),
                 None => f64::NAN,
             }),

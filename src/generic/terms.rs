@@ -126,8 +126,8 @@ fn coordinates(e: &Expr, symbols: &HashMap<String, Symbol>, inputs: usize, out: 
     match &e.kind {
         ExprKind::Number(_) => {}
         ExprKind::Name(n) => match symbols.get(n) {
-            Some(Symbol::Input(i)) => out.push(*i),
-            Some(Symbol::Unknown(i)) => out.push(inputs + i),
+            Some(Symbol::Input(i)) => out.push(i.index()),
+            Some(Symbol::Unknown(i)) => out.push(inputs + i.index()),
             _ => {}
         },
         ExprKind::Neg(a) => coordinates(a, symbols, inputs, out),

@@ -1,10 +1,10 @@
-//! Stage 3: a checked [`Model`] → scalar residuals and point coordinates in a [`Dag`]. Each loop
-//! becomes two residuals (x, y); a scalar term of a vector sum is the vector (s, 0).
+//! Stage 3: a checked [`Model`] → scalar residuals and point coordinates in a [`Dag`]: a total
+//! match over the model's resolved trees (typed ids, no names). Each loop becomes two residuals
+//! (x, y); a scalar term of a vector sum is the vector (s, 0).
 
-use crate::front::ast::{BinOp, Expr, ExprKind};
 use crate::ir::dag::{Dag, Func, Node, NodeId, Var};
-use crate::sema::builtin::Builtin;
-use crate::sema::model::{Model, Symbol};
+use crate::sema::model::Model;
+use crate::sema::resolved::{Fn1, Fn2, Op, Scalar, Term, Vector};
 
 /// The position-level system of one mechanism.
 #[derive(Clone, Debug)]
@@ -65,25 +65,25 @@ impl Equation {
     }
 }
 
+/// A lowered expression: a scalar stays one until a vector sum reads it as (s, 0).
 #[derive(Clone, Copy)]
 enum Value {
     Scalar(NodeId),
     Vector(NodeId, NodeId),
 }
 
-/// Lowers a checked model. The model is well typed, so every expression lowers.
+/// Lowers a checked model: a total match over its resolved trees.
 pub fn lower(model: &Model) -> System {
     let mut dag = Dag::new();
-    let mut residuals = Vec::with_capacity(2 * model.loops.len());
-    for l in &model.loops {
-        let [x, y] = vector(&mut dag, model, l);
-        residuals.extend([x, y]);
+    let mut lw = Lowering {
+        dag: &mut dag,
+        model,
+    };
+    let mut residuals = Vec::with_capacity(2 * model.loop_vectors.len());
+    for l in &model.loop_vectors {
+        residuals.extend(lw.vector(l));
     }
-    let points = model
-        .points
-        .iter()
-        .map(|(_, e)| vector(&mut dag, model, e))
-        .collect();
+    let points = model.point_vectors.iter().map(|p| lw.vector(p)).collect();
     System {
         dag,
         residuals,
@@ -91,107 +91,130 @@ pub fn lower(model: &Model) -> System {
     }
 }
 
-fn vector(dag: &mut Dag, model: &Model, e: &Expr) -> [NodeId; 2] {
-    match value(dag, model, e) {
-        Value::Vector(x, y) => [x, y],
-        Value::Scalar(s) => [s, dag.constant(0.0)],
-    }
+struct Lowering<'a> {
+    dag: &'a mut Dag,
+    model: &'a Model,
 }
 
-fn as_vector(dag: &mut Dag, v: Value) -> (NodeId, NodeId) {
-    match v {
-        Value::Vector(x, y) => (x, y),
-        Value::Scalar(s) => (s, dag.constant(0.0)),
+impl Lowering<'_> {
+    /// A vector expression's components.
+    fn vector(&mut self, v: &Vector) -> [NodeId; 2] {
+        let value = self.vector_value(v);
+        let (x, y) = self.padded(value);
+        [x, y]
     }
-}
 
-fn scalar(v: Value) -> NodeId {
-    match v {
-        Value::Scalar(s) => s,
-        // Unreachable for a checked model; the x component keeps lowering total.
-        Value::Vector(x, _) => x,
+    /// A value's components: a scalar is (s, 0).
+    fn padded(&mut self, v: Value) -> (NodeId, NodeId) {
+        match v {
+            Value::Vector(x, y) => (x, y),
+            Value::Scalar(s) => (s, self.dag.constant(0.0)),
+        }
     }
-}
 
-fn value(dag: &mut Dag, model: &Model, e: &Expr) -> Value {
-    match &e.kind {
-        ExprKind::Number(x) => Value::Scalar(dag.constant(*x)),
-        ExprKind::Name(n) if Builtin::from_name(n) == Some(Builtin::Pi) => {
-            Value::Scalar(dag.constant(std::f64::consts::PI))
-        }
-        ExprKind::Name(n) => {
-            let var = match model.symbols.get(n) {
-                Some(Symbol::Input(i)) => Var::X(*i as u16),
-                Some(Symbol::Unknown(i)) => Var::Q(*i as u16),
-                Some(Symbol::Param(i)) => Var::P(*i as u16),
-                // A derived param is its expression of the base params (hash-consing shares it).
-                Some(Symbol::Derived(j)) => {
-                    return model
-                        .derived
-                        .get(*j)
-                        .map_or(Value::Scalar(dag.constant(0.0)), |p| {
-                            value(dag, model, &p.expr)
-                        });
-                }
-                None => return Value::Scalar(dag.constant(0.0)),
-            };
-            Value::Scalar(dag.var(var))
-        }
-        ExprKind::Neg(a) => match value(dag, model, a) {
-            Value::Scalar(s) => Value::Scalar(dag.neg(s)),
-            Value::Vector(x, y) => Value::Vector(dag.neg(x), dag.neg(y)),
-        },
-        ExprKind::Binary(op, a, b) => {
-            let (va, vb) = (value(dag, model, a), value(dag, model, b));
-            binary(dag, *op, va, vb)
-        }
-        ExprKind::Call(f, args) => {
-            // Arity is checked: a missing argument (unreachable) reads as 0.
-            let zero = dag.constant(0.0);
-            let mut arg_values = [Value::Scalar(zero); 2];
-            for (slot, a) in arg_values.iter_mut().zip(args) {
-                *slot = value(dag, model, a);
+    /// A vector expression, its scalar terms kept scalar until the sum that reads them pads them.
+    fn vector_value(&mut self, v: &Vector) -> Value {
+        match v {
+            Vector::Real(s) => Value::Scalar(self.scalar(s)),
+            Vector::E(t) => {
+                let t = self.scalar(t);
+                let (c, s) = cos_sin(self.dag, t);
+                Value::Vector(c, s)
             }
-            let arg = |i: usize| arg_values[i.min(1)];
-            // A checked model calls only built-ins that loops and points allow.
-            let Some(builtin) = Builtin::from_name(&f.text) else {
-                return Value::Scalar(dag.constant(0.0));
-            };
-            match builtin {
-                Builtin::E => {
-                    let t = scalar(arg(0));
-                    let (c, s) = cos_sin(dag, t);
-                    Value::Vector(c, s)
+            Vector::C(x, y) => Value::Vector(self.scalar(x), self.scalar(y)),
+            Vector::Neg(a) => match self.vector_value(a) {
+                Value::Scalar(s) => Value::Scalar(self.dag.neg(s)),
+                Value::Vector(x, y) => Value::Vector(self.dag.neg(x), self.dag.neg(y)),
+            },
+            Vector::Add(a, b) | Vector::Sub(a, b) => {
+                let (a_value, b_value) = (self.vector_value(a), self.vector_value(b));
+                let ((ax, ay), (bx, by)) = (self.padded(a_value), self.padded(b_value));
+                let dag = &mut *self.dag;
+                if matches!(v, Vector::Add(..)) {
+                    Value::Vector(dag.add(ax, bx), dag.add(ay, by))
+                } else {
+                    Value::Vector(dag.sub(ax, bx), dag.sub(ay, by))
                 }
-                Builtin::C => {
-                    let (x, y) = (scalar(arg(0)), scalar(arg(1)));
-                    Value::Vector(x, y)
-                }
-                Builtin::Sin => Value::Scalar(cos_sin(dag, scalar(arg(0))).1),
-                Builtin::Cos => Value::Scalar(cos_sin(dag, scalar(arg(0))).0),
-                Builtin::Tan => Value::Scalar(dag.tan(scalar(arg(0)))),
-                Builtin::Sqrt => Value::Scalar(dag.sqrt(scalar(arg(0)))),
-                Builtin::Deg => {
-                    let k = dag.constant(std::f64::consts::PI / 180.0);
-                    Value::Scalar(dag.mul(k, scalar(arg(0))))
-                }
-                // Params only: in derived params, which lowering substitutes.
-                Builtin::Asin => Value::Scalar(func(dag, Func::Asin, arg(0), arg(0))),
-                Builtin::Acos => Value::Scalar(func(dag, Func::Acos, arg(0), arg(0))),
-                Builtin::Atan => Value::Scalar(func(dag, Func::Atan, arg(0), arg(0))),
-                Builtin::Abs => Value::Scalar(func(dag, Func::Abs, arg(0), arg(0))),
-                Builtin::Atan2 => Value::Scalar(func(dag, Func::Atan2, arg(0), arg(1))),
-                Builtin::Hypot => Value::Scalar(func(dag, Func::Hypot, arg(0), arg(1))),
-                // A constant, not a call (the checker says so).
-                Builtin::Pi => Value::Scalar(dag.constant(0.0)),
+            }
+            Vector::Scale(s, v) => {
+                let s = self.scalar(s);
+                let value = self.vector_value(v);
+                self.scaled(s, value)
+            }
+            Vector::Times(v, s) => {
+                let value = self.vector_value(v);
+                let s = self.scalar(s);
+                self.scaled(s, value)
+            }
+            Vector::Div(v, s) => {
+                let value = self.vector_value(v);
+                let s = self.scalar(s);
+                let (x, y) = self.padded(value);
+                Value::Vector(self.dag.div(x, s), self.dag.div(y, s))
             }
         }
     }
-}
 
-fn func(dag: &mut Dag, f: Func, a: Value, b: Value) -> NodeId {
-    let (a, b) = (scalar(a), scalar(b));
-    dag.func(f, a, b)
+    fn scaled(&mut self, s: NodeId, v: Value) -> Value {
+        let (x, y) = self.padded(v);
+        Value::Vector(self.dag.mul(s, x), self.dag.mul(s, y))
+    }
+
+    fn scalar(&mut self, s: &Scalar) -> NodeId {
+        let dag = &mut *self.dag;
+        match s {
+            Scalar::Number(x) => dag.constant(*x),
+            Scalar::Input(i) => dag.var(Var::X(i.0)),
+            Scalar::Unknown(i) => dag.var(Var::Q(i.0)),
+            Scalar::Param(i) => dag.var(Var::P(i.0)),
+            // A derived param is its expression of the base params (hash-consing shares it).
+            Scalar::Derived(j) => {
+                let model = self.model;
+                self.scalar(&model.derived[j.index()].resolved)
+            }
+            Scalar::Neg(a) => {
+                let a = self.scalar(a);
+                self.dag.neg(a)
+            }
+            Scalar::Binary(op, a, b) => {
+                let (a, b) = (self.scalar(a), self.scalar(b));
+                let dag = &mut *self.dag;
+                match op {
+                    Op::Add => dag.add(a, b),
+                    Op::Sub => dag.sub(a, b),
+                    Op::Mul => dag.mul(a, b),
+                    Op::Div => dag.div(a, b),
+                }
+            }
+            Scalar::Call1(f, a) => {
+                let a = self.scalar(a);
+                let dag = &mut *self.dag;
+                match f {
+                    Fn1::Sin => cos_sin(dag, a).1,
+                    Fn1::Cos => cos_sin(dag, a).0,
+                    Fn1::Tan => dag.tan(a),
+                    Fn1::Sqrt => dag.sqrt(a),
+                    Fn1::Deg => {
+                        let k = dag.constant(std::f64::consts::PI / 180.0);
+                        dag.mul(k, a)
+                    }
+                    // Params only: in derived params, which lowering substitutes.
+                    Fn1::Asin => dag.func(Func::Asin, a, a),
+                    Fn1::Acos => dag.func(Func::Acos, a, a),
+                    Fn1::Atan => dag.func(Func::Atan, a, a),
+                    Fn1::Abs => dag.func(Func::Abs, a, a),
+                }
+            }
+            Scalar::Call2(f, a, b) => {
+                let (a, b) = (self.scalar(a), self.scalar(b));
+                let f = match f {
+                    Fn2::Atan2 => Func::Atan2,
+                    Fn2::Hypot => Func::Hypot,
+                };
+                self.dag.func(f, a, b)
+            }
+        }
+    }
 }
 
 /// cos and sin of `t`, sums and differences expanded by the addition theorems, so that only sines
@@ -220,30 +243,6 @@ fn cos_sin(dag: &mut Dag, t: NodeId) -> (NodeId, NodeId) {
     }
 }
 
-fn binary(dag: &mut Dag, op: BinOp, a: Value, b: Value) -> Value {
-    use Value::{Scalar as S, Vector as V};
-    match (op, a, b) {
-        (BinOp::Add, S(x), S(y)) => S(dag.add(x, y)),
-        (BinOp::Sub, S(x), S(y)) => S(dag.sub(x, y)),
-        (BinOp::Mul, S(x), S(y)) => S(dag.mul(x, y)),
-        (BinOp::Div, S(x), S(y)) => S(dag.div(x, y)),
-        (BinOp::Add | BinOp::Sub, a, b) => {
-            let ((ax, ay), (bx, by)) = (as_vector(dag, a), as_vector(dag, b));
-            if op == BinOp::Add {
-                V(dag.add(ax, bx), dag.add(ay, by))
-            } else {
-                V(dag.sub(ax, bx), dag.sub(ay, by))
-            }
-        }
-        (BinOp::Mul, S(s), V(x, y)) | (BinOp::Mul, V(x, y), S(s)) => {
-            V(dag.mul(s, x), dag.mul(s, y))
-        }
-        (BinOp::Div, V(x, y), S(s)) => V(dag.div(x, s), dag.div(y, s)),
-        // Rejected by the checker (vector × vector, division by a vector).
-        (_, a, _) => a,
-    }
-}
-
 /// One side of a loop drawn as a chain of joints: the loop `Σ a − Σ b = 0` gives the chains
 /// `a₁, a₁+a₂, …` and `b₁, b₁+b₂, …`, both from the origin, constant terms (ground offsets) first.
 /// Used to draw the mechanism; nodes live in the system's DAG.
@@ -261,16 +260,24 @@ pub struct Chain {
 /// so the subtracted terms are taken in reverse order: `AD`, then `DC`.
 pub fn chains(model: &Model, dag: &mut Dag) -> Vec<Chain> {
     let mut out = Vec::new();
-    for l in &model.loops {
+    let mut lw = Lowering { dag, model };
+    for l in &model.loop_vectors {
         let mut terms = Vec::new();
-        flatten(l, true, &mut terms);
+        l.terms(true, &mut terms);
         let (plus, mut minus): (Vec<_>, Vec<_>) = terms.into_iter().partition(|(_, s)| *s);
         minus.reverse();
         for side in [plus, minus] {
             let lowered: Vec<([NodeId; 2], bool)> = side
                 .into_iter()
-                .map(|(e, _)| {
-                    let v = vector(dag, model, e);
+                .map(|(term, _)| {
+                    let v = match term {
+                        Term::Vector(v) => lw.vector(v),
+                        Term::Scalar(s) => {
+                            let s = lw.scalar(s);
+                            [s, lw.dag.constant(0.0)]
+                        }
+                    };
+                    let dag = &*lw.dag;
                     let ground = v
                         .iter()
                         .all(|&c| dag.vars_of(c).iter().all(|var| matches!(var, Var::P(_))));
@@ -278,6 +285,7 @@ pub fn chains(model: &Model, dag: &mut Dag) -> Vec<Chain> {
                 })
                 .collect();
             let ground_segments = lowered.iter().filter(|(_, g)| *g).count();
+            let dag = &mut *lw.dag;
             let zero = dag.constant(0.0);
             let mut at = [zero, zero];
             let mut vertices = vec![at];
@@ -299,20 +307,4 @@ pub fn chains(model: &Model, dag: &mut Dag) -> Vec<Chain> {
         }
     }
     out
-}
-
-/// The terms of a sum with their signs (`true` = added).
-fn flatten<'e>(e: &'e Expr, sign: bool, out: &mut Vec<(&'e Expr, bool)>) {
-    match &e.kind {
-        ExprKind::Binary(BinOp::Add, a, b) => {
-            flatten(a, sign, out);
-            flatten(b, sign, out);
-        }
-        ExprKind::Binary(BinOp::Sub, a, b) => {
-            flatten(a, sign, out);
-            flatten(b, !sign, out);
-        }
-        ExprKind::Neg(a) => flatten(a, !sign, out),
-        _ => out.push((e, sign)),
-    }
 }

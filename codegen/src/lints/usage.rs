@@ -6,6 +6,7 @@ use crate::front::ast::{Expr, ExprKind};
 use crate::ir::dag::Var;
 use crate::ir::lower::System;
 use crate::sema::model::{Model, Param, Symbol};
+use crate::sema::resolved::{DerivedId, ParamId};
 
 /// Inputs that drive nothing (error) and params that are never used (warning).
 pub fn usage(model: &Model, system: &System, diags: &mut Vec<Diagnostic>) {
@@ -44,12 +45,12 @@ pub fn usage(model: &Model, system: &System, diags: &mut Vec<Diagnostic>) {
         names_in(e, model, &mut named);
     }
     for (i, p) in model.params.iter().enumerate() {
-        if !used.contains(&Var::P(i as u16)) && !named.contains(&Symbol::Param(i)) {
+        if !used.contains(&Var::P(i as u16)) && !named.contains(&Symbol::Param(ParamId::new(i))) {
             diags.push(never_used(p));
         }
     }
     for (j, p) in model.derived.iter().enumerate() {
-        if !named.contains(&Symbol::Derived(j)) {
+        if !named.contains(&Symbol::Derived(DerivedId::new(j))) {
             diags.push(never_used(p));
         }
     }

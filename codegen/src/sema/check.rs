@@ -6,7 +6,8 @@ use std::collections::HashMap;
 use super::builtin::Builtin;
 use super::eval::{Shown, eval};
 use super::model::{Coord, Kind, Model, Param, Scene, Symbol};
-use super::typing::{Ty, type_of};
+use super::resolved::{DerivedId, InputId, ParamId, Resolved, Scalar, UnknownId};
+use super::typing::type_of;
 use crate::diagnostic::{Diagnostic, Span};
 use crate::front::ast::ExprKind;
 use crate::front::ast::{self, Name};
@@ -139,11 +140,11 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
     m.inputs
         .iter()
         .enumerate()
-        .for_each(|(i, n)| declare(n, Symbol::Input(i), diags));
+        .for_each(|(i, n)| declare(n, Symbol::Input(InputId::new(i)), diags));
     m.unknowns
         .iter()
         .enumerate()
-        .for_each(|(i, n)| declare(n, Symbol::Unknown(i), diags));
+        .for_each(|(i, n)| declare(n, Symbol::Unknown(UnknownId::new(i)), diags));
 
     // Params, in file order, each evaluated with the ones before it. A param whose expression
     // uses other params is derived; the others are the base params.
@@ -155,9 +156,9 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         let mut uses = Vec::new();
         params_used(expr, &declared, &mut uses);
         let sym = if uses.is_empty() {
-            Symbol::Param(params.len())
+            Symbol::Param(ParamId::new(params.len()))
         } else {
-            Symbol::Derived(derived.len())
+            Symbol::Derived(DerivedId::new(derived.len()))
         };
         declare(name, sym, diags);
         declared.push((name.text.clone(), sym));
@@ -175,6 +176,8 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
             source,
             uses,
             expr: expr.clone(),
+            // A plain number is its own tree; a param expression's is set with the loops'.
+            resolved: Scalar::Number(value),
         };
         match sym {
             Symbol::Derived(_) => derived.push(param),
@@ -183,27 +186,63 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
     }
 
     // Loops and points: types, names, angle inference.
+    // Each expression is resolved where it is typed; one that does not resolve was reported
+    // (`unresolved` counts them, so that a model is never built with a missing tree).
     let mut angles: Vec<Symbol> = Vec::new();
+    let mut unresolved = 0;
+    let mut loop_vectors = Vec::new();
     for l in &m.loops {
-        let _ = type_of(l, &symbols, false, &mut angles, diags);
+        match type_of(l, &symbols, false, &mut angles, diags) {
+            Some(r) => loop_vectors.push(r.into_vector()),
+            None => unresolved += 1,
+        }
     }
+    let mut point_vectors = Vec::new();
     for (name, p) in &m.points {
         if Builtin::is_reserved(&name.text) {
             diags.push(reserved(name));
         }
         diags.extend(keyword(name, "point name"));
-        if type_of(p, &symbols, false, &mut angles, diags) == Some(Ty::Scalar) {
-            diags.push(
+        match type_of(p, &symbols, false, &mut angles, diags) {
+            Some(Resolved::Vector(v)) => point_vectors.push(v),
+            Some(Resolved::Scalar(_)) => diags.push(
                 Diagnostic::error(
                     p.span,
                     format!("point `{}` is a scalar, not a vector", name.text),
                 )
                 .with_note("write it as a vector, e.g. `c(x, 0)` or `sE + c(0, yE)`"),
-            );
+            ),
+            None => unresolved += 1,
         }
     }
-    for (_, e) in &m.params {
-        let _ = type_of(e, &symbols, true, &mut angles, diags);
+    let (mut next_param, mut next_derived) = (0, 0);
+    for (name, e) in &m.params {
+        let resolved =
+            type_of(e, &symbols, true, &mut angles, diags).and_then(Resolved::into_scalar);
+        let slot = match symbols.get(&name.text) {
+            Some(Symbol::Derived(_)) if next_derived < derived.len() => {
+                next_derived += 1;
+                derived.get_mut(next_derived - 1)
+            }
+            _ if next_param < params.len() => {
+                next_param += 1;
+                params.get_mut(next_param - 1)
+            }
+            _ => None,
+        };
+        match (slot, resolved) {
+            (Some(p), Some(r)) if p.name.text == name.text => p.resolved = r,
+            _ => unresolved += 1,
+        }
+    }
+    if unresolved > 0 && !diags[before..].iter().any(Diagnostic::is_error) {
+        diags.push(Diagnostic::error(
+            m.name.span,
+            format!(
+                "internal error: {unresolved} expression(s) of `{}` did not resolve",
+                m.name.text
+            ),
+        ));
     }
     let kind_of = |s: Symbol| {
         if angles.contains(&s) {
@@ -213,10 +252,10 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         }
     };
     for (i, p) in params.iter_mut().enumerate() {
-        p.kind = kind_of(Symbol::Param(i));
+        p.kind = kind_of(Symbol::Param(ParamId::new(i)));
     }
     for (j, p) in derived.iter_mut().enumerate() {
-        p.kind = kind_of(Symbol::Derived(j));
+        p.kind = kind_of(Symbol::Derived(DerivedId::new(j)));
     }
 
     // The unknowns no loop names, by name (whatever else is wrong with the loops).
@@ -229,7 +268,7 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         .unknowns
         .iter()
         .enumerate()
-        .filter(|(i, _)| !m.parse_errors && !named.contains(&Symbol::Unknown(*i)))
+        .filter(|(i, _)| !m.parse_errors && !named.contains(&Symbol::Unknown(UnknownId::new(*i))))
         .map(|(_, n)| n)
         .collect();
     // Equations vs unknowns (a missing `loops` key is reported by the parser).
@@ -331,8 +370,8 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
             })
             .collect::<Vec<_>>()
     };
-    let inputs = coords(&m.inputs, Symbol::Input, diags);
-    let unknowns = coords(&m.unknowns, Symbol::Unknown, diags);
+    let inputs = coords(&m.inputs, |i| Symbol::Input(InputId::new(i)), diags);
+    let unknowns = coords(&m.unknowns, |i| Symbol::Unknown(UnknownId::new(i)), diags);
     // A square file without other errors has its unknowns in no equation told by the structural
     // lint (on the DAG); after an error (an undefined name, say) it never runs, so say it here.
     if square && diags[before..].iter().any(Diagnostic::is_error) {
@@ -352,6 +391,8 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         derived,
         loops: m.loops.clone(),
         points: m.points.clone(),
+        loop_vectors,
+        point_vectors,
         scenes: Vec::new(),
         symbols,
         start_span: start_span(m),
@@ -410,7 +451,7 @@ fn check_scene(
     };
     for out in &s.outputs {
         if let Some(Symbol::Unknown(i)) = model.symbols.get(&out.text) {
-            scene.unknowns.push(*i);
+            scene.unknowns.push(i.index());
         } else if let Some(i) = model.points.iter().position(|(n, _)| n.text == out.text) {
             scene.points.push(i);
         } else {

@@ -3,13 +3,16 @@
 //! coordinates and params classified as angle or length, params and start values evaluated,
 //! scenes validated. Built-ins are the one [`builtin::Builtin`] enum.
 //!
-//! Dependencies inside the stage run one way: `model` and `builtin` are leaves, `eval` and
-//! `typing` use them, `check` uses all.
+//! Names end resolved: each expression lowering reads is a [`resolved`] tree of typed ids.
+//!
+//! Dependencies inside the stage run one way: `resolved` and `builtin` are leaves, `model` uses
+//! `resolved`, `eval` and `typing` use them, `check` uses all.
 
 pub mod builtin;
 mod check;
 pub mod eval;
 pub mod model;
+pub mod resolved;
 mod typing;
 
 #[allow(unused_imports)] // the emitters' names table reads it
@@ -63,7 +66,10 @@ q3 = 1.8959394827657874
         let uses = |n: &str| &all.iter().find(|p| p.name.text == n).unwrap().uses;
         assert!(uses("l2").is_empty() && uses("a").is_empty());
         // g = abs(l1) - 0.1 is derived from l1; every other param is a base param.
-        assert_eq!(uses("g"), &[crate::Symbol::Param(0)]);
+        assert_eq!(
+            uses("g"),
+            &[crate::Symbol::Param(crate::sema::resolved::ParamId(0))]
+        );
         let derived: Vec<&str> = model.derived.iter().map(|d| d.name.text.as_str()).collect();
         assert_eq!(derived, ["g"]);
         assert_eq!(model.params.len(), 10);

@@ -4,6 +4,7 @@
 
 use std::collections::HashMap;
 
+use super::resolved::{DerivedId, InputId, ParamId, Scalar, UnknownId, Vector};
 use crate::diagnostic::Span;
 use crate::front::ast::{Expr, Name};
 
@@ -14,11 +15,11 @@ pub use mechgen_runtime::Kind;
 /// What a name refers to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Symbol {
-    Input(usize),
-    Unknown(usize),
-    Param(usize),
-    /// A derived param: defined by an expression of other params (index into `Model::derived`).
-    Derived(usize),
+    Input(InputId),
+    Unknown(UnknownId),
+    Param(ParamId),
+    /// A derived param: defined by an expression of other params.
+    Derived(DerivedId),
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -40,8 +41,9 @@ pub struct Param {
     /// The params its expression uses (earlier params, base or derived). A param that uses others
     /// is derived: its value follows from theirs.
     pub uses: Vec<Symbol>,
-    /// Its expression (a number for a plain param).
+    /// Its expression (a number for a plain param), as written and resolved.
     pub expr: Expr,
+    pub resolved: Scalar,
 }
 
 impl Param {
@@ -73,8 +75,11 @@ pub struct Model {
     /// substitutes their expressions, so the solvers recompute them from the base params and a
     /// change of a base param at run time carries through.
     pub derived: Vec<Param>,
+    /// The loops and points as written (spans, drawing) and resolved (what lowering reads).
     pub loops: Vec<Expr>,
     pub points: Vec<(Name, Expr)>,
+    pub loop_vectors: Vec<Vector>,
+    pub point_vectors: Vec<Vector>,
     pub scenes: Vec<Scene>,
     pub symbols: HashMap<String, Symbol>,
     /// Where the `start` values are written (the mechanism name when there are none).

@@ -1,11 +1,13 @@
-//! Part of stage 2: scalar/vector types of expressions, names resolved, and which coordinates are
-//! angles (those under `e()` or a trigonometric function).
+//! Part of stage 2: scalar/vector types of expressions, names resolved into the typed ids of the
+//! resolved tree ([`super::resolved`]), and which coordinates are angles (those under `e()` or a
+//! trigonometric function). One pass: what it accepts, it resolves.
 
 use std::collections::HashMap;
 
 use super::builtin::{Builtin, undefined_function};
 use super::eval::arity_error;
 use super::model::Symbol;
+use super::resolved::{Fn1, Fn2, Op, Resolved, Scalar, Vector};
 use crate::diagnostic::{Diagnostic, Span};
 use crate::front::ast::{BinOp, Expr, ExprKind};
 
@@ -27,26 +29,74 @@ fn undefined(name: &str, span: Span, symbols: &HashMap<String, Symbol>) -> Diagn
     Diagnostic::error(span, format!("undefined name `{name}`")).with_label(label)
 }
 
-/// Type of an expression; `None` after an error was reported. `params_only`: param expressions may
-/// use only params. Coordinates under `e()` or a trig function are recorded in `angles`.
+impl Resolved {
+    pub fn ty(&self) -> Ty {
+        match self {
+            Resolved::Scalar(_) => Ty::Scalar,
+            Resolved::Vector(_) => Ty::Vector,
+        }
+    }
+}
+
+/// The resolved tree of a symbol.
+fn leaf(sym: Symbol) -> Scalar {
+    match sym {
+        Symbol::Input(i) => Scalar::Input(i),
+        Symbol::Unknown(i) => Scalar::Unknown(i),
+        Symbol::Param(i) => Scalar::Param(i),
+        Symbol::Derived(j) => Scalar::Derived(j),
+    }
+}
+
+/// A built-in call on resolved scalar arguments (arity checked by the caller).
+fn call(builtin: Builtin, mut args: Vec<Scalar>) -> Option<Resolved> {
+    let mut next = || args.pop().map(Box::new);
+    let (b, a) = (next(), next());
+    let one = |f: Fn1, a: Option<Box<Scalar>>| Some(Resolved::Scalar(Scalar::Call1(f, a?)));
+    match builtin {
+        Builtin::E => Some(Resolved::Vector(Vector::E(b?))),
+        Builtin::C => Some(Resolved::Vector(Vector::C(a?, b?))),
+        Builtin::Atan2 => Some(Resolved::Scalar(Scalar::Call2(Fn2::Atan2, a?, b?))),
+        Builtin::Hypot => Some(Resolved::Scalar(Scalar::Call2(Fn2::Hypot, a?, b?))),
+        Builtin::Sin => one(Fn1::Sin, b),
+        Builtin::Cos => one(Fn1::Cos, b),
+        Builtin::Tan => one(Fn1::Tan, b),
+        Builtin::Sqrt => one(Fn1::Sqrt, b),
+        Builtin::Deg => one(Fn1::Deg, b),
+        Builtin::Asin => one(Fn1::Asin, b),
+        Builtin::Acos => one(Fn1::Acos, b),
+        Builtin::Atan => one(Fn1::Atan, b),
+        Builtin::Abs => one(Fn1::Abs, b),
+        // A constant, not a function: its call has no signature and was reported.
+        Builtin::Pi => None,
+    }
+}
+
+/// An expression typed and resolved; `None` after an error was reported. `params_only`: param
+/// expressions may use only params. Coordinates under `e()` or a trig function are recorded in
+/// `angles`.
 pub fn type_of(
     e: &Expr,
     symbols: &HashMap<String, Symbol>,
     params_only: bool,
     angles: &mut Vec<Symbol>,
     diags: &mut Vec<Diagnostic>,
-) -> Option<Ty> {
+) -> Option<Resolved> {
     macro_rules! go {
         ($x:expr, $angles:expr) => {
             type_of($x, symbols, params_only, $angles, diags)
         };
     }
     match &e.kind {
-        ExprKind::Number(_) => Some(Ty::Scalar),
-        ExprKind::Name(n) if Builtin::from_name(n) == Some(Builtin::Pi) => Some(Ty::Scalar),
+        ExprKind::Number(x) => Some(Resolved::Scalar(Scalar::Number(*x))),
+        ExprKind::Name(n) if Builtin::from_name(n) == Some(Builtin::Pi) => {
+            Some(Resolved::Scalar(Scalar::Number(std::f64::consts::PI)))
+        }
         ExprKind::Name(n) => match symbols.get(n) {
-            Some(Symbol::Param(_) | Symbol::Derived(_)) => Some(Ty::Scalar),
-            Some(_) if !params_only => Some(Ty::Scalar),
+            Some(&sym @ (Symbol::Param(_) | Symbol::Derived(_))) => {
+                Some(Resolved::Scalar(leaf(sym)))
+            }
+            Some(&sym) if !params_only => Some(Resolved::Scalar(leaf(sym))),
             Some(_) => {
                 diags.push(Diagnostic::error(
                     e.span,
@@ -62,16 +112,17 @@ pub fn type_of(
                 None
             }
         },
-        ExprKind::Neg(x) => go!(x, angles),
+        ExprKind::Neg(x) => go!(x, angles).map(Resolved::neg),
         ExprKind::Binary(op, a, b) => {
-            let (ta, tb) = (go!(a, angles), go!(b, angles));
-            let (ta, tb) = (ta?, tb?);
-            match (op, ta, tb) {
-                (BinOp::Add | BinOp::Sub, Ty::Scalar, Ty::Scalar) => Some(Ty::Scalar),
-                (BinOp::Add | BinOp::Sub, _, _) => Some(Ty::Vector),
-                (BinOp::Mul | BinOp::Div, Ty::Scalar, Ty::Scalar) => Some(Ty::Scalar),
-                (BinOp::Mul, Ty::Scalar, Ty::Vector)
-                | (BinOp::Mul | BinOp::Div, Ty::Vector, Ty::Scalar) => Some(Ty::Vector),
+            let (ra, rb) = (go!(a, angles), go!(b, angles));
+            let (ra, rb) = (ra?, rb?);
+            let bin = match op {
+                BinOp::Add => Op::Add,
+                BinOp::Sub => Op::Sub,
+                BinOp::Mul => Op::Mul,
+                BinOp::Div => Op::Div,
+            };
+            match (op, ra.ty(), rb.ty()) {
                 (BinOp::Mul, Ty::Vector, Ty::Vector) => {
                     diags.push(
                         Diagnostic::error(a.span, "vector × vector is not defined")
@@ -88,6 +139,7 @@ pub fn type_of(
                     ));
                     None
                 }
+                _ => Resolved::binary(bin, ra, rb),
             }
         }
         ExprKind::Call(f, args) => {
@@ -121,20 +173,16 @@ pub fn type_of(
                 }
             };
             let (arity, angle_arg) = (sig.arity, sig.angle_arguments);
-            let result = if sig.vector_result {
-                Ty::Vector
-            } else {
-                Ty::Scalar
-            };
             if args.len() != arity {
                 diags.push(arity_error(e, &f.text, arity, args.len()));
                 return None;
             }
             let mut ok = true;
+            let mut resolved = Vec::with_capacity(arity);
             for a in args {
                 match go!(a, angles) {
-                    Some(Ty::Scalar) => {}
-                    Some(Ty::Vector) => {
+                    Some(Resolved::Scalar(s)) => resolved.push(s),
+                    Some(Resolved::Vector(_)) => {
                         diags.push(Diagnostic::error(
                             a.span,
                             format!("`{}` of a vector is not defined", f.text),
@@ -147,7 +195,8 @@ pub fn type_of(
                     collect_names(a, symbols, angles);
                 }
             }
-            ok.then_some(result)
+            // A signature belongs to a function, so `builtin` is known here.
+            if ok { call(builtin?, resolved) } else { None }
         }
     }
 }

@@ -39,7 +39,7 @@ pub use diagnostic::{Diagnostic, Severity, SourceFile, Span};
 pub use front::ast::{BinOp, Expr, ExprKind, Name};
 pub use ir::dag::{Dag, Func, Node, NodeId, Var};
 pub use ir::differentiate::Derivatives;
-pub use ir::lower::{Chain, System, chains};
+pub use ir::lower::{Chain, Equation, System, chains};
 pub use sema::builtin::Builtin;
 pub use sema::eval::derived_values;
 pub use sema::model::{Coord, Kind, Model, Param, Scene, Symbol};

@@ -6,7 +6,9 @@
 //! linear in that unknown's cos and sin, or in the length: their compatibility). A one-angle block
 //! that is not closed-form is its own cut. Anything else is "not supported".
 
-use mechgen_codegen::{Block, ClosedForm, Compiled, Dag, Kind, NodeId, classify_closed_form};
+use mechgen_codegen::{
+    Block, ClosedForm, Compiled, Dag, Equation, Kind, NodeId, UnknownId, classify_closed_form,
+};
 
 use crate::generic::tape::Tape;
 
@@ -64,14 +66,14 @@ pub(super) fn plan(c: &Compiled) -> Result<Vec<Step>, String> {
             .block
             .unknowns
             .iter()
-            .filter(|&&k| c.model.unknowns[k].kind == Kind::Angle)
+            .filter(|&&k| c.model.unknowns[k.index()].kind == Kind::Angle)
             .find_map(|&cut| tear(c, &mut dag, &b.block, cut))
             .ok_or_else(|| {
                 let names: Vec<&str> = b
                     .block
                     .unknowns
                     .iter()
-                    .map(|&k| c.model.unknowns[k].name.text.as_str())
+                    .map(|&k| c.model.unknowns[k.index()].name.text.as_str())
                     .collect();
                 format!(
                     "branch identification is not supported for block {i} ({}) of `{}`: no angle \
@@ -86,32 +88,33 @@ pub(super) fn plan(c: &Compiled) -> Result<Vec<Step>, String> {
 }
 
 /// Tears `block` at the angle `cut`, or `None` when the rest is not closed-form loops.
-fn tear(c: &Compiled, dag: &mut Dag, block: &Block, cut: usize) -> Option<Torn> {
-    let res = &c.system.residuals;
+fn tear(c: &Compiled, dag: &mut Dag, block: &Block, cut: UnknownId) -> Option<Torn> {
+    let (cut, res) = (cut.index(), &c.system.residuals);
+    let equations: Vec<usize> = block.equations.iter().map(|e| e.index()).collect();
+    let unknowns: Vec<usize> = block.unknowns.iter().map(|u| u.index()).collect();
     if block.unknowns.len() == 1 {
         let e = block.equations[0];
         return Some(Torn {
             cut,
             subs: Vec::new(),
             last: Last::Scalar {
-                roots: Tape::new(dag, &[res[e]]),
+                roots: Tape::new(dag, &[res[e.index()]]),
             },
         });
     }
     // The block's loops: both components of each must be in the block.
     let mut loops: Vec<usize> = Vec::new();
-    for &e in &block.equations {
-        if e % 2 == 0 && block.equations.contains(&(e + 1)) {
+    for &e in &equations {
+        if e % 2 == 0 && equations.contains(&(e + 1)) {
             loops.push(e);
-        } else if !(e % 2 == 1 && block.equations.contains(&(e - 1))) {
+        } else if !(e % 2 == 1 && equations.contains(&(e - 1))) {
             return None;
         }
     }
     let mut solved = vec![cut];
     let mut subs = Vec::new();
     let free = |solved: &[usize], ex: usize| -> Vec<usize> {
-        block
-            .unknowns
+        unknowns
             .iter()
             .copied()
             .filter(|&k| !solved.contains(&k) && (touches(c, ex, k) || touches(c, ex + 1, k)))
@@ -124,8 +127,8 @@ fn tear(c: &Compiled, dag: &mut Dag, block: &Block, cut: usize) -> Option<Torn> 
                 return None;
             }
             let sub = Block {
-                equations: vec![ex, ex + 1],
-                unknowns: us.clone(),
+                equations: vec![Equation(ex), Equation(ex + 1)],
+                unknowns: us.iter().map(|&k| UnknownId::new(k)).collect(),
             };
             classify_closed_form(dag, &c.model, res, &sub).map(|f| (li, us, f))
         });
@@ -139,7 +142,7 @@ fn tear(c: &Compiled, dag: &mut Dag, block: &Block, cut: usize) -> Option<Torn> 
     }
     let ex = loops[0];
     let us = free(&solved, ex);
-    if us.len() != 1 || solved.len() + 1 != block.unknowns.len() {
+    if us.len() != 1 || solved.len() + 1 != unknowns.len() {
         return None;
     }
     let u = us[0];
@@ -156,8 +159,8 @@ fn tear(c: &Compiled, dag: &mut Dag, block: &Block, cut: usize) -> Option<Torn> 
             continue;
         }
         let one = Block {
-            equations: vec![e],
-            unknowns: vec![u],
+            equations: vec![Equation(e)],
+            unknowns: vec![UnknownId::new(u)],
         };
         // One unknown in one loop: the one-angle or one-length kind, whose roots are the
         // equation's coefficients.

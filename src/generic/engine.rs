@@ -69,6 +69,11 @@ pub struct Generic {
     pub(super) scenes: Vec<super::scene::SceneTapes>,
 }
 
+/// A block's unknowns as indices (what the run-time descriptions and tapes index by).
+fn unknown_indices(b: &mechgen_codegen::Block) -> Vec<usize> {
+    b.unknowns.iter().map(|u| u.index()).collect()
+}
+
 /// Loads every mechanism of a file's text. Warnings are dropped; see [`load_with_warnings`].
 pub fn load(name: &str, text: &str) -> Result<Vec<Generic>, LoadError> {
     load_with_warnings(name, text).map(|(m, _)| m)
@@ -130,7 +135,7 @@ impl Generic {
                 })
                 .collect(),
             points: m.points.iter().map(|p| p.0.text.clone()).collect(),
-            blocks: c.blocks.iter().map(|b| b.block.unknowns.clone()).collect(),
+            blocks: c.blocks.iter().map(|b| unknown_indices(&b.block)).collect(),
         };
         let blocks: Vec<BlockTapes> = c
             .blocks
@@ -142,12 +147,12 @@ impl Generic {
                     Tape::new(&dag, &roots)
                 };
                 BlockTapes {
-                    unknowns: b.block.unknowns.clone(),
+                    unknowns: unknown_indices(&b.block),
                     length: b
                         .block
                         .unknowns
                         .iter()
-                        .map(|&k| m.unknowns[k].kind == Kind::Length)
+                        .map(|&k| m.unknowns[k.index()].kind == Kind::Length)
                         .collect(),
                     position: with_jac(&b.residual),
                     residual: Tape::new(&dag, &b.residual),

@@ -217,23 +217,35 @@ pub fn closed_form(
     let kinds: Vec<Kind> = block
         .unknowns
         .iter()
-        .map(|&k| model.unknowns[k].kind)
+        .map(|&k| model.unknowns[k.index()].kind)
         .collect();
+    let residual = |e: Equation| residuals[e.index()];
     match (block.unknowns.as_slice(), block.equations.as_slice()) {
-        (&[k], &[e]) => one(dag, model, residuals[e], k),
+        (&[k], &[e]) => one(dag, model, residual(e), k.index()),
         (&[a, b], &[ex, ey]) if Equation::one_loop(ex, ey) => match (kinds[0], kinds[1]) {
             (Kind::Angle, Kind::Angle) => {
                 crate::analysis::dyad::dyad(dag, model, residuals, block).map(ClosedForm::Rrr)
             }
-            (Kind::Length, Kind::Length) => {
-                linear2(dag, model, [residuals[ex], residuals[ey]], [a, b])
-            }
-            (Kind::Angle, Kind::Length) => {
-                angle_length(dag, model, [residuals[ex], residuals[ey]], a, b)
-            }
-            (Kind::Length, Kind::Angle) => {
-                angle_length(dag, model, [residuals[ex], residuals[ey]], b, a)
-            }
+            (Kind::Length, Kind::Length) => linear2(
+                dag,
+                model,
+                [residual(ex), residual(ey)],
+                [a.index(), b.index()],
+            ),
+            (Kind::Angle, Kind::Length) => angle_length(
+                dag,
+                model,
+                [residual(ex), residual(ey)],
+                a.index(),
+                b.index(),
+            ),
+            (Kind::Length, Kind::Angle) => angle_length(
+                dag,
+                model,
+                [residual(ex), residual(ey)],
+                b.index(),
+                a.index(),
+            ),
             // A kind the runtime may add later has no closed form.
             _ => None,
         },

@@ -31,7 +31,12 @@ fn kinds_of(name: &str, text: &str) -> Vec<(String, Vec<Option<&'static str>>)> 
 
 /// The residuals of the block against `K + …` rebuilt from the roots, at two arbitrary states;
 /// the roots must not depend on the block's unknowns.
-fn rebuild(m: &Compiled, dag: &crate::ir::dag::Dag, cf: &ClosedForm, equations: &[usize]) {
+fn rebuild(
+    m: &Compiled,
+    dag: &crate::ir::dag::Dag,
+    cf: &ClosedForm,
+    equations: &[crate::ir::lower::Equation],
+) {
     let unknowns: Vec<usize> = match cf {
         ClosedForm::Rrr(d) => vec![d.a, d.b],
         ClosedForm::Rrp { q, s, .. } | ClosedForm::Rpr { q, s, .. } => vec![*q, *s],
@@ -56,12 +61,12 @@ fn rebuild(m: &Compiled, dag: &crate::ir::dag::Dag, cf: &ClosedForm, equations: 
             _ => 0.0,
         };
         let mut roots: Vec<_> = cf.roots().to_vec();
-        roots.extend(equations.iter().map(|&e| m.system.residuals[e]));
+        roots.extend(equations.iter().map(|&e| m.system.residuals[e.index()]));
         let all = dag.eval(&roots, &value);
         let v: Vec<f64> = cf.roots().iter().map(|r| all[r.index()]).collect();
         let want: Vec<f64> = equations
             .iter()
-            .map(|&e| all[m.system.residuals[e].index()])
+            .map(|&e| all[m.system.residuals[e.index()].index()])
             .collect();
         let q = |k: usize| value(Var::Q(k as u16));
         let rot = |p: f64, r: f64, a: f64| (p * a.cos() - r * a.sin(), r * a.cos() + p * a.sin());

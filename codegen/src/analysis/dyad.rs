@@ -35,15 +35,17 @@ pub fn dyad(dag: &mut Dag, model: &Model, residuals: &[NodeId], block: &Block) -
     if !Equation::one_loop(ex, ey) {
         return None;
     }
-    if model.unknowns[a].kind != Kind::Angle || model.unknowns[b].kind != Kind::Angle {
+    if model.unknowns[a.index()].kind != Kind::Angle
+        || model.unknowns[b.index()].kind != Kind::Angle
+    {
         return None;
     }
-    let (va, vb) = (dag.var(Var::Q(a as u16)), dag.var(Var::Q(b as u16)));
+    let (va, vb) = (dag.var(Var::Q(a.0)), dag.var(Var::Q(b.0)));
     let trig = Trig {
         nodes: [dag.cos(va), dag.sin(va), dag.cos(vb), dag.sin(vb)],
         vars: [va, vb],
     };
-    let (rx, ry) = (residuals[ex], residuals[ey]);
+    let (rx, ry) = (residuals[ex.index()], residuals[ey.index()]);
     let mut degrees = HashMap::new();
     if degree(dag, rx, &trig, &mut degrees)? > 1 || degree(dag, ry, &trig, &mut degrees)? > 1 {
         return None;
@@ -67,8 +69,8 @@ pub fn dyad(dag: &mut Dag, model: &Model, residuals: &[NodeId], block: &Block) -
     let kx = without_trig(dag, rx, &trig, &mut zeroed);
     let ky = without_trig(dag, ry, &trig, &mut zeroed);
     Some(Dyad {
-        a,
-        b,
+        a: a.index(),
+        b: b.index(),
         roots: [kx, ky, pa, ra, pb, rb],
     })
 }

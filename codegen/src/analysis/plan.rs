@@ -9,6 +9,7 @@ use crate::ir::dag::{NodeId, Var};
 use crate::ir::differentiate::{Derivatives, Differentiator};
 use crate::ir::lower::System;
 use crate::sema::model::Model;
+use crate::sema::resolved::UnknownId;
 
 /// Everything one diagonal block's solvers evaluate.
 #[derive(Clone, Debug)]
@@ -47,7 +48,9 @@ pub fn block_forms(
         .iter()
         .enumerate()
         .map(|(bi, b)| {
-            let others: Vec<usize> = (0..n).filter(|k| !b.unknowns.contains(k)).collect();
+            let others: Vec<usize> = (0..n)
+                .filter(|&k| !b.unknowns.contains(&UnknownId::new(k)))
+                .collect();
             let coupling = |d: &mut Differentiator, i: usize, rate: fn(u16) -> Var| -> NodeId {
                 let row: Vec<NodeId> = others.iter().map(|&k| der.jacobian[i][k]).collect();
                 let vars: Vec<NodeId> = others.iter().map(|&k| d.dag.var(rate(k as u16))).collect();
@@ -56,26 +59,29 @@ pub fn block_forms(
             let velocity_rhs = b
                 .equations
                 .iter()
-                .map(|&i| {
-                    let c = coupling(&mut d, i, Var::Qd);
-                    d.dag.sub(der.velocity_rhs[i], c)
+                .map(|&e| {
+                    let c = coupling(&mut d, e.index(), Var::Qd);
+                    d.dag.sub(der.velocity_rhs[e.index()], c)
                 })
                 .collect();
             let acceleration_rhs = b
                 .equations
                 .iter()
-                .map(|&i| {
-                    let c = coupling(&mut d, i, Var::Qdd);
-                    d.dag.sub(der.acceleration_rhs[i], c)
+                .map(|&e| {
+                    let c = coupling(&mut d, e.index(), Var::Qdd);
+                    d.dag.sub(der.acceleration_rhs[e.index()], c)
                 })
                 .collect();
             BlockForms {
                 block: b.clone(),
-                residual: b.equations.iter().map(|&i| residuals[i]).collect(),
+                residual: b.equations.iter().map(|&e| residuals[e.index()]).collect(),
                 jacobian: b
                     .equations
                     .iter()
-                    .map(|&i| b.unknowns.iter().map(|&k| der.jacobian[i][k]).collect())
+                    .map(|&e| {
+                        let row = &der.jacobian[e.index()];
+                        b.unknowns.iter().map(|&k| row[k.index()]).collect()
+                    })
                     .collect(),
                 velocity_rhs,
                 acceleration_rhs,

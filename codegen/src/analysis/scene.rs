@@ -11,6 +11,7 @@ use super::Compiled;
 use super::closed_form::ClosedForm;
 use crate::ir::dag::{Node, NodeId, Var};
 use crate::sema::model::Scene;
+use crate::sema::resolved::UnknownId;
 
 /// How far a scene differentiates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -65,7 +66,7 @@ impl ScenePlan {
     fn find_solved_unknowns(&self, c: &Compiled) -> Vec<usize> {
         self.blocks
             .iter()
-            .flat_map(|&b| c.blocks[b].block.unknowns.iter().copied())
+            .flat_map(|&b| c.blocks[b].block.unknowns.iter().map(|u| u.index()))
             .collect()
     }
 }
@@ -81,7 +82,7 @@ impl ScenePlan {
             .blocks
             .iter()
             .flat_map(|&b| c.blocks[b].block.equations.iter())
-            .map(|&e| c.system.residuals[e]);
+            .map(|&e| c.system.residuals[e.index()]);
         let points = self.points.iter().flat_map(|&p| c.system.points[p]);
         for root in equations.chain(points) {
             for v in c.system.dag.vars_of(root) {
@@ -114,18 +115,22 @@ impl ScenePlan {
             let bf = &c.blocks[b];
             match &bf.closed_form {
                 Some(cf) => roots.extend_from_slice(cf.roots()),
-                None => bf.block.unknowns.iter().for_each(|&u| read[u] = true),
+                None => bf
+                    .block
+                    .unknowns
+                    .iter()
+                    .for_each(|&u| read[u.index()] = true),
             }
             for &e in &bf.block.equations {
-                roots.push(c.system.residuals[e]);
+                roots.push(c.system.residuals[e.index()]);
                 if order >= 1 {
-                    roots.extend(&d.jacobian[e]);
-                    roots.extend(&d.input_jacobian[e]);
-                    roots.push(d.velocity_rhs[e]);
+                    roots.extend(&d.jacobian[e.index()]);
+                    roots.extend(&d.input_jacobian[e.index()]);
+                    roots.push(d.velocity_rhs[e.index()]);
                 }
                 if order >= 2 {
-                    roots.extend(&d.jacobian_dot[e]);
-                    roots.push(d.acceleration_rhs[e]);
+                    roots.extend(&d.jacobian_dot[e.index()]);
+                    roots.push(d.acceleration_rhs[e.index()]);
                 }
             }
         }
@@ -214,7 +219,7 @@ pub(crate) fn plan_scene(c: &Compiled, scene: &Scene) -> ScenePlan {
     let block_of = |k: usize| {
         c.blocks
             .iter()
-            .position(|b| b.block.unknowns.contains(&k))
+            .position(|b| b.block.unknowns.contains(&UnknownId::new(k)))
             .unwrap_or(0)
     };
     let mut needed = vec![false; c.blocks.len()];
@@ -236,7 +241,7 @@ pub(crate) fn plan_scene(c: &Compiled, scene: &Scene) -> ScenePlan {
             continue;
         }
         for &e in &c.blocks[b].block.equations {
-            for (k, &d) in c.derivatives.jacobian[e].iter().enumerate() {
+            for (k, &d) in c.derivatives.jacobian[e.index()].iter().enumerate() {
                 if !dag.is_zero(d) {
                     needed[block_of(k)] = true;
                 }
@@ -404,7 +409,7 @@ order = 2
         for p in &plans {
             for &b in &p.blocks {
                 for &e in &c[0].blocks[b].block.equations {
-                    for (k, &d) in c[0].derivatives.jacobian[e].iter().enumerate() {
+                    for (k, &d) in c[0].derivatives.jacobian[e.index()].iter().enumerate() {
                         if !c[0].system.dag.is_zero(d) {
                             assert!(p.solved.contains(&k), "{p:?} needs {k}");
                         }

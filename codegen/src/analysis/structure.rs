@@ -2,11 +2,14 @@
 //! the matched graph block-triangular (Tarjan's strongly connected components), so that solvers
 //! work block by block, each block needing only unknowns of the blocks before it.
 
+use crate::ir::lower::Equation;
+use crate::sema::resolved::UnknownId;
+
 /// One diagonal block: the equations and the unknowns it solves, both sorted.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Block {
-    pub equations: Vec<usize>,
-    pub unknowns: Vec<usize>,
+    pub equations: Vec<Equation>,
+    pub unknowns: Vec<UnknownId>,
 }
 
 /// Why the system is structurally singular.
@@ -54,10 +57,11 @@ pub fn blocks(incidence: &[Vec<usize>], n_unknowns: usize) -> Result<Vec<Block>,
         .into_iter()
         .map(|mut eqs| {
             eqs.sort_unstable();
-            let mut unknowns: Vec<usize> = eqs.iter().map(|&e| unknown_of[e]).collect();
+            let mut unknowns: Vec<UnknownId> =
+                eqs.iter().map(|&e| UnknownId::new(unknown_of[e])).collect();
             unknowns.sort_unstable();
             Block {
-                equations: eqs,
+                equations: eqs.into_iter().map(Equation).collect(),
                 unknowns,
             }
         })
@@ -152,12 +156,12 @@ mod tests {
             b,
             vec![
                 Block {
-                    equations: vec![0, 1],
-                    unknowns: vec![0, 1]
+                    equations: vec![Equation(0), Equation(1)],
+                    unknowns: vec![UnknownId(0), UnknownId(1)]
                 },
                 Block {
-                    equations: vec![2, 3],
-                    unknowns: vec![2, 3]
+                    equations: vec![Equation(2), Equation(3)],
+                    unknowns: vec![UnknownId(2), UnknownId(3)]
                 },
             ]
         );
@@ -169,7 +173,7 @@ mod tests {
         let inc = vec![vec![0, 1, 2], vec![0, 1, 2], vec![0, 1, 3], vec![0, 1, 3]];
         let b = blocks(&inc, 4).unwrap();
         assert_eq!(b.len(), 1);
-        assert_eq!(b[0].unknowns, vec![0, 1, 2, 3]);
+        assert_eq!(b[0].unknowns, [0, 1, 2, 3].map(UnknownId));
     }
 
     #[test]
@@ -177,8 +181,8 @@ mod tests {
         // eq 0 needs unknown 1 solved by eq 1 alone.
         let inc = vec![vec![0, 1], vec![1]];
         let b = blocks(&inc, 2).unwrap();
-        assert_eq!(b[0].equations, vec![1]);
-        assert_eq!(b[1].equations, vec![0]);
+        assert_eq!(b[0].equations, [Equation(1)]);
+        assert_eq!(b[1].equations, [Equation(0)]);
     }
 
     #[test]

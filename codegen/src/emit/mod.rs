@@ -24,6 +24,15 @@ use crate::analysis::Compiled;
 use crate::ir::dag::Var;
 use crate::sema::model::Model;
 use body::VarSource;
+
+/// An unknown's id is written as its index, an unsuffixed integer (`qd[3]`).
+impl quote::ToTokens for crate::sema::resolved::UnknownId {
+    fn to_tokens(&self, tokens: &mut TokenStream) {
+        tokens.extend([proc_macro2::TokenTree::Literal(
+            proc_macro2::Literal::usize_unsuffixed(self.index()),
+        )]);
+    }
+}
 pub(crate) use comments::comment;
 use names::ModuleItems;
 
@@ -260,14 +269,13 @@ impl syn::visit_mut::VisitMut for Tidy {
 use crate::ir::lower::Equation;
 
 /// `loop 1 (x, y), loop 2 (x)` for a block's equations.
-pub(crate) fn equations_text(eqs: &[usize]) -> String {
+pub(crate) fn equations_text(eqs: &[Equation]) -> String {
     let mut parts: Vec<String> = Vec::new();
     let mut i = 0;
     while i < eqs.len() {
-        let l = Equation(eqs[i]).loop_index();
+        let l = eqs[i].loop_index();
         let comps: Vec<&str> = eqs[i..]
             .iter()
-            .map(|&e| Equation(e))
             .take_while(|e| e.loop_index() == l)
             .map(|e| e.axis().name())
             .collect();

@@ -62,7 +62,7 @@ fn position_steps(
         let idx = &bf.block.unknowns;
         let lengths: Vec<bool> = idx
             .iter()
-            .map(|&u| m.unknowns[u].kind == Kind::Length)
+            .map(|&u| m.unknowns[u.index()].kind == Kind::Length)
             .collect();
         let pos_fn = format_ident!("block{}_position", bi);
         let newton = quote! {
@@ -355,10 +355,11 @@ pub(crate) fn jacobian_sets(c: &Compiled, bi: usize, roots: &[TokenStream]) -> T
                 continue;
             }
             let v = &roots[r * k + cc];
-            let (eq, un) = (bf.block.equations[r], bf.block.unknowns[cc]);
+            let (eq, un) = (bf.block.equations[r].index(), bf.block.unknowns[cc]);
             sets.extend(comment(&format!(
-                "J[{eq}][{un}] = ∂Φ{eq}/∂{}",
-                m.unknowns[un].name.text
+                "J[{eq}][{}] = ∂Φ{eq}/∂{}",
+                un.index(),
+                m.unknowns[un.index()].name.text
             )));
             sets.extend(quote!(jac[(#r, #cc)] = #v;));
         }

@@ -55,7 +55,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             .block
             .unknowns
             .iter()
-            .map(|&u| m.unknowns[u].name.text.as_str())
+            .map(|&u| m.unknowns[u.index()].name.text.as_str())
             .collect();
         let header = format!(
             "Block {bi}: {} from {}.",

@@ -59,9 +59,12 @@ impl Equation {
     }
 
     /// Whether `[a, b]` are one loop's x and y, in that order.
-    pub fn one_loop(a: usize, b: usize) -> bool {
-        let (a, b) = (Equation(a), Equation(b));
+    pub fn one_loop(a: Equation, b: Equation) -> bool {
         a.axis() == Axis::X && b == Equation(a.0 + 1)
+    }
+
+    pub fn index(self) -> usize {
+        self.0
     }
 }
 

@@ -5,6 +5,7 @@
 //! and the configurations at chosen inputs labelled with their circuit and branch.
 
 mod crossing;
+mod dead;
 mod grid;
 mod plan;
 mod report;
@@ -19,8 +20,9 @@ use std::f64::consts::TAU;
 
 use mechgen_codegen::{Compiled, Kind};
 
+use dead::Dead;
 pub use solve::Solver;
-use trace::{Dead, Interval, Traced};
+use trace::{Interval, Traced};
 
 /// The configurations at an input and the closed-form blocks' margins met on the way.
 type Solved = (Vec<Vec<f64>>, Vec<f64>);
@@ -220,11 +222,11 @@ impl Setup {
                 .map(|&x| self.count(x))
                 .collect::<Result<Vec<_>, _>>()?;
             let dead = self.dead_points(&xs, &counts)?;
-            let (dead, zones) = crossing::zones(dead, circular, width);
+            let (dead, zones) = dead::zones(dead, circular, width);
             // A whole turn without dead points starts away from any crossing's zone.
             let mut lo = from;
-            while circular && crossing::near_zone(&zones, lo, 2.0 * crossing::GUARD * width, true) {
-                lo += 3.0 * crossing::GUARD * width;
+            while circular && dead::near_zone(&zones, lo, 2.0 * dead::GUARD * width, true) {
+                lo += 3.0 * dead::GUARD * width;
             }
             let mut ivs = intervals(
                 &dead,

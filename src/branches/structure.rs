@@ -6,8 +6,9 @@
 
 use std::f64::consts::TAU;
 
-use super::crossing::{Found, GUARD};
-use super::trace::{Dead, Interval};
+use super::crossing::Found;
+use super::dead::{Dead, GUARD};
+use super::trace::Interval;
 use super::{Analysis, Branch, Crossing, DeadPoint, Labelled, Setup};
 
 /// Union-find over track nodes.

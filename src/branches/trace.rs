@@ -10,7 +10,7 @@
 use std::f64::consts::TAU;
 
 use super::Setup;
-use super::crossing::{GUARD, Zone, near_zone};
+use super::dead::{Dead, GUARD, Zone, near_zone};
 
 /// One traced configuration: its samples `(input, configuration)` in increasing input.
 pub(super) type Track = Vec<(f64, Vec<f64>)>;
@@ -31,14 +31,6 @@ pub(super) enum Traced {
     Tracks(Vec<Track>),
     /// The count changes at this input: a dead point the grid did not see.
     Changes(f64),
-}
-
-/// A dead point: its input, configuration, and the count below and above it.
-#[derive(Clone, Debug)]
-pub(super) struct Dead {
-    pub input: f64,
-    pub q: Vec<f64>,
-    pub counts: [usize; 2],
 }
 
 impl Setup {

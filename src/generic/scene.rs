@@ -46,7 +46,7 @@ impl SceneTapes {
                 name: plan.name.clone(),
                 mechanism: plan.mechanism.clone(),
                 order,
-                blocks: plan.blocks.clone(),
+                blocks: plan.block_indices(),
                 solved: plan.solved.clone(),
                 // The generic engine computes every angle; what a generated tick skips is listed
                 // all the same, so that `check` describes the scene the same way.

@@ -27,6 +27,18 @@ pub struct Compiled {
     pub scenes: Vec<scene::ScenePlan>,
 }
 
+impl Compiled {
+    /// Block `id`'s forms.
+    pub fn block(&self, id: structure::BlockId) -> &plan::BlockForms {
+        &self.blocks[id.index()]
+    }
+
+    /// Every block's id, in solve order.
+    pub fn block_ids(&self) -> impl Iterator<Item = structure::BlockId> + use<> {
+        (0..self.blocks.len()).map(structure::BlockId::new)
+    }
+}
+
 /// The block structure of a lowered system: which unknowns each equation's row of J touches.
 pub fn blocks(
     derivatives: &Derivatives,

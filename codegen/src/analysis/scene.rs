@@ -9,6 +9,7 @@
 
 use super::Compiled;
 use super::closed_form::ClosedForm;
+use super::structure::BlockId;
 use crate::ir::dag::{Node, NodeId, Var};
 use crate::sema::model::Scene;
 use crate::sema::resolved::UnknownId;
@@ -43,8 +44,8 @@ pub struct ScenePlan {
     /// The mechanism's name.
     pub mechanism: String,
     pub order: Order,
-    /// Kept blocks (indices into `Compiled::blocks`), in solve order.
-    pub blocks: Vec<usize>,
+    /// Kept blocks, in solve order.
+    pub blocks: Vec<BlockId>,
     /// Output unknowns, in the order the scene lists them.
     pub unknowns: Vec<usize>,
     /// Output points, in the order the scene lists them.
@@ -62,11 +63,16 @@ pub struct ScenePlan {
 }
 
 impl ScenePlan {
+    /// The kept blocks' indices (for comments and run-time descriptions).
+    pub fn block_indices(&self) -> Vec<usize> {
+        self.blocks.iter().map(|b| b.index()).collect()
+    }
+
     /// Every unknown a kept block solves, in block order: what the scene's solver keeps as state.
     fn find_solved_unknowns(&self, c: &Compiled) -> Vec<usize> {
         self.blocks
             .iter()
-            .flat_map(|&b| c.blocks[b].block.unknowns.iter().map(|u| u.index()))
+            .flat_map(|&b| c.block(b).block.unknowns.iter().map(|u| u.index()))
             .collect()
     }
 }
@@ -81,7 +87,7 @@ impl ScenePlan {
         let equations = self
             .blocks
             .iter()
-            .flat_map(|&b| c.blocks[b].block.equations.iter())
+            .flat_map(|&b| c.block(b).block.equations.iter())
             .map(|&e| c.system.residuals[e.index()]);
         let points = self.points.iter().flat_map(|&p| c.system.points[p]);
         for root in equations.chain(points) {
@@ -112,7 +118,7 @@ impl ScenePlan {
             read[u] = true;
         }
         for &b in &self.blocks {
-            let bf = &c.blocks[b];
+            let bf = c.block(b);
             match &bf.closed_form {
                 Some(cf) => roots.extend_from_slice(cf.roots()),
                 None => bf
@@ -168,7 +174,7 @@ impl ScenePlan {
         let mut skipped: Vec<usize> = self
             .blocks
             .iter()
-            .filter_map(|&b| c.blocks[b].closed_form.as_ref())
+            .filter_map(|&b| c.block(b).closed_form.as_ref())
             .flat_map(|cf| match *cf {
                 ClosedForm::Rrr(ref d) => vec![d.a, d.b],
                 ClosedForm::Rrp { q, .. }
@@ -252,7 +258,7 @@ pub(crate) fn plan_scene(c: &Compiled, scene: &Scene) -> ScenePlan {
         name: scene.name.text.clone(),
         mechanism: c.model.name.text.clone(),
         order: Order::from_file(scene.order),
-        blocks: (0..c.blocks.len()).filter(|&b| needed[b]).collect(),
+        blocks: c.block_ids().filter(|b| needed[b.index()]).collect(),
         unknowns: scene.unknowns.clone(),
         points: scene.points.clone(),
         solved: Vec::new(),
@@ -326,10 +332,10 @@ order = 2
         assert_eq!(c[0].blocks.len(), 2);
         let e = &plans[0];
         assert_eq!((e.name.as_str(), e.order), ("e_path", Order::Positions));
-        assert_eq!(e.blocks, vec![0]);
+        assert_eq!(e.blocks, [BlockId(0)]);
         assert_eq!(e.points, vec![0]);
         assert_eq!(e.solved, vec![0, 1]);
-        assert_eq!(plans[1].blocks, vec![0]);
+        assert_eq!(plans[1].blocks, [BlockId(0)]);
         assert_eq!(plans[1].order, Order::Velocities);
     }
 
@@ -337,7 +343,7 @@ order = 2
     fn an_output_of_a_later_block_keeps_the_blocks_it_depends_on() {
         let (_, plans) = plans();
         let out = &plans[2];
-        assert_eq!(out.blocks, vec![0, 1]);
+        assert_eq!(out.blocks, [BlockId(0), BlockId(1)]);
         assert_eq!(out.unknowns, vec![3]);
         assert_eq!(out.points, vec![1]);
         assert_eq!(out.order, Order::Accelerations);
@@ -408,7 +414,7 @@ order = 2
         let (c, plans) = plans();
         for p in &plans {
             for &b in &p.blocks {
-                for &e in &c[0].blocks[b].block.equations {
+                for &e in &c[0].block(b).block.equations {
                     for (k, &d) in c[0].derivatives.jacobian[e.index()].iter().enumerate() {
                         if !c[0].system.dag.is_zero(d) {
                             assert!(p.solved.contains(&k), "{p:?} needs {k}");

@@ -5,6 +5,20 @@
 use crate::ir::lower::Equation;
 use crate::sema::resolved::UnknownId;
 
+/// A diagonal block of its mechanism (index into `Compiled::blocks`, in solve order).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct BlockId(pub u16);
+
+impl BlockId {
+    /// The id of block `i` (a mechanism has fewer blocks than unknowns, which the parser caps).
+    pub fn new(i: usize) -> Self {
+        BlockId(i as u16)
+    }
+    pub fn index(self) -> usize {
+        usize::from(self.0)
+    }
+}
+
 /// One diagonal block: the equations and the unknowns it solves, both sorted.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Block {

@@ -25,14 +25,22 @@ use crate::ir::dag::Var;
 use crate::sema::model::Model;
 use body::VarSource;
 
-/// An unknown's id is written as its index, an unsuffixed integer (`qd[3]`).
-impl quote::ToTokens for crate::sema::resolved::UnknownId {
-    fn to_tokens(&self, tokens: &mut TokenStream) {
-        tokens.extend([proc_macro2::TokenTree::Literal(
-            proc_macro2::Literal::usize_unsuffixed(self.index()),
-        )]);
-    }
+/// An id is written as its index, an unsuffixed integer (`qd[3]`, `blocks: &[0, 1]`).
+macro_rules! index_tokens {
+    ($($id:ty),*) => {$(
+        impl quote::ToTokens for $id {
+            fn to_tokens(&self, tokens: &mut TokenStream) {
+                tokens.extend([proc_macro2::TokenTree::Literal(
+                    proc_macro2::Literal::usize_unsuffixed(self.index()),
+                )]);
+            }
+        }
+    )*};
 }
+index_tokens!(
+    crate::sema::resolved::UnknownId,
+    crate::analysis::structure::BlockId
+);
 pub(crate) use comments::comment;
 use names::ModuleItems;
 

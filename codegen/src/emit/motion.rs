@@ -8,6 +8,7 @@ use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
 use crate::analysis::Compiled;
+use crate::analysis::structure::BlockId;
 use crate::emit::body::{Builder, VarSource};
 use crate::emit::closed::AngleValues;
 use crate::emit::comment;
@@ -50,7 +51,7 @@ impl VarSource for Fused<'_> {
 /// roots and its kernel (Newton when `options.closed_forms` is off), each other block's Newton.
 fn position_steps(
     c: &Compiled,
-    blocks: &[usize],
+    blocks: &[BlockId],
     b: &mut Builder,
     (rt, gt): (&TokenStream, &Ident),
     values: AngleValues,
@@ -58,7 +59,7 @@ fn position_steps(
 ) -> TokenStream {
     let m = &c.model;
     let mut steps = TokenStream::new();
-    for (bi, bf) in blocks.iter().map(|&bi| (bi, &c.blocks[bi])) {
+    for (bi, bf) in blocks.iter().map(|&b| (b.index(), c.block(b))) {
         let idx = &bf.block.unknowns;
         let lengths: Vec<bool> = idx
             .iter()
@@ -110,7 +111,7 @@ pub(crate) enum Rates {
 /// Per block in order: its Jacobian factored once, then the velocity and/or acceleration solve.
 fn rate_steps(
     c: &Compiled,
-    blocks: &[usize],
+    blocks: &[BlockId],
     b: &mut Builder,
     rt: &TokenStream,
     gt: &Ident,
@@ -123,7 +124,7 @@ fn rate_steps(
     } else {
         quote!(#rt::Stage::Acceleration)
     };
-    for (bi, bf) in blocks.iter().map(|&bi| (bi, &c.blocks[bi])) {
+    for (bi, bf) in blocks.iter().map(|&b| (b.index(), c.block(b))) {
         let k = bf.block.unknowns.len();
         let idx = &bf.block.unknowns;
         let zi: Vec<usize> = (0..k).collect();
@@ -176,7 +177,7 @@ pub(crate) fn stages(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
     let dag = &c.system.dag;
     let (ni, nu, _, npar) = crate::emit::sizes(&c.model);
     let fused = Fused(cached);
-    let all: Vec<usize> = (0..c.blocks.len()).collect();
+    let all: Vec<BlockId> = c.block_ids().collect();
     let position = position_steps(
         c,
         &all,
@@ -237,7 +238,7 @@ pub(crate) fn stages(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
 /// What a fused body computes: the blocks (in solve order), the derivative order (0, 1, 2) and
 /// the points; a mechanism's `motion_cached` takes everything, a scene its subset.
 pub(crate) struct Subset<'a> {
-    pub blocks: &'a [usize],
+    pub blocks: &'a [BlockId],
     pub order: u8,
     pub points: &'a [usize],
     /// The function's name and visibility (a scene's is called from its own module).
@@ -254,7 +255,7 @@ pub(crate) struct Subset<'a> {
 
 /// `fn motion_cached(…) -> ::core::result::Result<(q̇, q̈, points), SolveError>`, inside the mechanism's impl.
 pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> TokenStream {
-    let blocks: Vec<usize> = (0..c.blocks.len()).collect();
+    let blocks: Vec<BlockId> = c.block_ids().collect();
     let points: Vec<usize> = (0..c.model.points.len()).collect();
     let sub = Subset {
         blocks: &blocks,

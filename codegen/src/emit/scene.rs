@@ -132,7 +132,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
         out.extend(comment(&format!(
             "Scene {}: blocks {:?}, order {}, points {:?}.",
             plan.name,
-            plan.blocks,
+            plan.block_indices(),
             plan.order.as_number(),
             plan.points
         )));
@@ -291,8 +291,9 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
     let unknown_names = plan.unknowns.iter().map(|&u| &m.unknowns[u].name.text);
     let point_names = plan.points.iter().map(|&p| &m.points[p].0.text);
     let doc = format!(
-        "Scene `{name}` of mechanism `{mech_name}`: {} to order {order}; solves blocks {blocks:?} only.",
-        col_names.join(", ")
+        "Scene `{name}` of mechanism `{mech_name}`: {} to order {order}; solves blocks {:?} only.",
+        col_names.join(", "),
+        plan.block_indices()
     );
     let marker =
         (ncols == 0).then(|| quote!(#[doc(hidden)] pub _scalar: ::core::marker::PhantomData<#gt>,));

@@ -187,12 +187,12 @@ pub(crate) fn residual_fns(c: &Compiled, args: &Args) -> TokenStream {
 /// The refinement after the position steps of `blocks`: when the solve's pivot ratio says the
 /// state is near a dead point, one Newton step per block with its double-word residual.
 pub(crate) fn refine_step(
-    blocks: &[usize],
+    blocks: &[crate::analysis::structure::BlockId],
     rt: &TokenStream,
     gt: &proc_macro2::Ident,
 ) -> TokenStream {
     let steps = blocks.iter().map(|&bi| {
-        let refine = format_ident!("block{}_refine", bi);
+        let refine = format_ident!("block{}_refine", bi.index());
         quote!(self.#refine(x, st, tx, tp);)
     });
     quote! {

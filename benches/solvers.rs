@@ -12,6 +12,9 @@
 //!   a `Tick`, also holds the sines and cosines, and it predicts itself), the generic engine with
 //!   the same prediction as its guess for `DynMechanism::solve`.
 //!
+//! - `sensitivity/generated`: the generated tick followed by every sensitivity (dq/dp, dP/dp)
+//!   at its state, so that their cost reads off against `step/generated`.
+//!
 //! - `step/batch`: 4096 instances of the generated tick, each walking the branch from its own
 //!   place, ticked once per iteration through `mechgen::batch::for_each_mut` on every core; the
 //!   time per instance.
@@ -227,6 +230,20 @@ impl StaticVisitor<f64> for Generated<'_> {
                         tick = m.tick_start(&inputs[j], &typed[j].1, &opts).ok();
                     }
                     black_box(&tick);
+                })
+            });
+            // `sensitivity/generated`: the same tick, then every dq/dp and dP/dp at its state.
+            let mut walk = Walk::new(inputs.len());
+            let mut tick = m.tick_start(&inputs[0], &typed[0].1, &opts).ok();
+            g.bench_function("sensitivity/generated", |b| {
+                b.iter(|| {
+                    let j = walk.next();
+                    let Some(t) = tick.as_mut() else { return };
+                    if m.tick(t, black_box(&inputs[j]), &opts).is_err() {
+                        tick = m.tick_start(&inputs[j], &typed[j].1, &opts).ok();
+                        return;
+                    }
+                    black_box(m.sensitivities(&t.x, &t.q)).ok();
                 })
             });
             // `step/batch`: a fleet of BATCH instances, each its own tick walking the branch from

@@ -720,6 +720,158 @@ pub mod sixbar {
             m[(3, 3)] = t36;
             m
         }
+        /// Φp = ∂Φ/∂p at (x, q), over the params of `Params` (derived params differentiated through).
+        pub fn param_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 10> {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let v_q3 = q[1];
+            let v_q5 = q[2];
+            let v_q6 = q[3];
+            let p_l2e = self.params.l2e;
+            let p_alpha = self.params.alpha;
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t4 = c_v_q2 * c_p_alpha;
+            let t5 = s_v_q2 * s_p_alpha;
+            let t6 = s_v_q2 * c_p_alpha;
+            let t7 = c_v_q2 * s_p_alpha;
+            let t8 = t4 + t5;
+            let t9 = t6 - t7;
+            let t10 = p_l2e * t8;
+            let t11 = p_l2e * t9;
+            let (s_v_q5, c_v_q5) = v_q5.sin_cos();
+            let (s_v_q6, c_v_q6) = v_q6.sin_cos();
+            let t14 = -s_v_q3;
+            let t15 = -s_v_q5;
+            let t16 = -s_v_q6;
+            let t17 = -c_v_q3;
+            let t18 = -c_v_q5;
+            let t19 = -c_v_q6;
+            let t20 = -t10;
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 10>::zeros();
+            // [0][0] = ∂Φ0/∂l1 (loop 1, x)
+            m[(0, 0)] = c_v_q1;
+            // [0][1] = ∂Φ0/∂l2 (loop 1, x)
+            m[(0, 1)] = c_v_q2;
+            // [0][2] = ∂Φ0/∂l3 (loop 1, x)
+            m[(0, 2)] = t17;
+            // [0][3] = ∂Φ0/∂l4 (loop 1, x)
+            m[(0, 3)] = T::lit(-1.0);
+            // [1][0] = ∂Φ1/∂l1 (loop 1, y)
+            m[(1, 0)] = s_v_q1;
+            // [1][1] = ∂Φ1/∂l2 (loop 1, y)
+            m[(1, 1)] = s_v_q2;
+            // [1][2] = ∂Φ1/∂l3 (loop 1, y)
+            m[(1, 2)] = t14;
+            // [2][0] = ∂Φ2/∂l1 (loop 2, x)
+            m[(2, 0)] = c_v_q1;
+            // [2][1] = ∂Φ2/∂l2 (loop 2, x)
+            m[(2, 1)] = c_v_q2;
+            // [2][4] = ∂Φ2/∂l5 (loop 2, x)
+            m[(2, 4)] = t18;
+            // [2][5] = ∂Φ2/∂l6 (loop 2, x)
+            m[(2, 5)] = t19;
+            // [2][6] = ∂Φ2/∂l2e (loop 2, x)
+            m[(2, 6)] = t8;
+            // [2][7] = ∂Φ2/∂xg (loop 2, x)
+            m[(2, 7)] = T::lit(-1.0);
+            // [2][9] = ∂Φ2/∂alpha (loop 2, x)
+            m[(2, 9)] = t11;
+            // [3][0] = ∂Φ3/∂l1 (loop 2, y)
+            m[(3, 0)] = s_v_q1;
+            // [3][1] = ∂Φ3/∂l2 (loop 2, y)
+            m[(3, 1)] = s_v_q2;
+            // [3][4] = ∂Φ3/∂l5 (loop 2, y)
+            m[(3, 4)] = t15;
+            // [3][5] = ∂Φ3/∂l6 (loop 2, y)
+            m[(3, 5)] = t16;
+            // [3][6] = ∂Φ3/∂l2e (loop 2, y)
+            m[(3, 6)] = t9;
+            // [3][8] = ∂Φ3/∂yg (loop 2, y)
+            m[(3, 8)] = T::lit(-1.0);
+            // [3][9] = ∂Φ3/∂alpha (loop 2, y)
+            m[(3, 9)] = t20;
+            m
+        }
+        /// ∂P/∂q at (x, q): rows `P_x`, `P_y` per point in `POINT_NAMES` order.
+        pub fn point_jacobian(
+            &self,
+            _x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 4> {
+            let v_q2 = q[0];
+            let p_l2 = self.params.l2;
+            let p_l2e = self.params.l2e;
+            let p_alpha = self.params.alpha;
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let t1 = p_l2 * c_v_q2;
+            let t2 = p_l2 * s_v_q2;
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t4 = c_v_q2 * c_p_alpha;
+            let t5 = s_v_q2 * s_p_alpha;
+            let t6 = s_v_q2 * c_p_alpha;
+            let t7 = c_v_q2 * s_p_alpha;
+            let t8 = t4 + t5;
+            let t9 = t6 - t7;
+            let t10 = p_l2e * t8;
+            let t11 = p_l2e * t9;
+            let t12 = t2 + t11;
+            let t13 = -t12;
+            let t14 = t1 + t10;
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 4>::zeros();
+            // [0][0] = ∂E_x/∂q2
+            m[(0, 0)] = t13;
+            // [1][0] = ∂E_y/∂q2
+            m[(1, 0)] = t14;
+            m
+        }
+        /// ∂P/∂p at (x, q): rows `P_x`, `P_y` per point, over the params of `Params`.
+        pub fn point_param_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 10> {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let p_l2e = self.params.l2e;
+            let p_alpha = self.params.alpha;
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t3 = c_v_q2 * c_p_alpha;
+            let t4 = s_v_q2 * s_p_alpha;
+            let t5 = s_v_q2 * c_p_alpha;
+            let t6 = c_v_q2 * s_p_alpha;
+            let t7 = t3 + t4;
+            let t8 = t5 - t6;
+            let t9 = p_l2e * t7;
+            let t10 = p_l2e * t8;
+            let t11 = -t9;
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 10>::zeros();
+            // [0][0] = ∂E_x/∂l1
+            m[(0, 0)] = c_v_q1;
+            // [0][1] = ∂E_x/∂l2
+            m[(0, 1)] = c_v_q2;
+            // [0][6] = ∂E_x/∂l2e
+            m[(0, 6)] = t7;
+            // [0][9] = ∂E_x/∂alpha
+            m[(0, 9)] = t10;
+            // [1][0] = ∂E_y/∂l1
+            m[(1, 0)] = s_v_q1;
+            // [1][1] = ∂E_y/∂l2
+            m[(1, 1)] = s_v_q2;
+            // [1][6] = ∂E_y/∂l2e
+            m[(1, 6)] = t8;
+            // [1][9] = ∂E_y/∂alpha
+            m[(1, 9)] = t11;
+            m
+        }
         /// −Φx ẋ: the right-hand side of J q̇ = −Φx ẋ.
         pub fn velocity_rhs(
             &self,
@@ -2798,6 +2950,113 @@ pub mod sixbar {
             );
             Ok(())
         }
+        /// The design derivatives at a solved position `(x, q)` (what a solve or a tick gave):
+        /// dq/dp (a row per unknown) and dP/dp (rows `P_x`, `P_y` per point), one column per
+        /// param of `Params` (derived params differentiated through), from J dq/dp = −Φp block
+        /// by block. Non-finite arguments: `NonFinite`; a block singular there (a dead point,
+        /// where they grow without bound): `Singular` at stage `Sensitivity`.
+        pub fn sensitivities(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 4, 10>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 10>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            let jac = self.jacobian(x, q);
+            let phi_p = self.param_jacobian(x, q);
+            let mut s: [T; 40] = [T::zero(); 40];
+            // Block 0: loop 1 (x, y) in q2, q3.
+            {
+                let (eqs, us) = ([0, 1], [0, 1]);
+                let lu = ::mechgen::__private::factor_block(
+                    0,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        2,
+                        2,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                ::mechgen::__private::block_sensitivities(
+                    0,
+                    &eqs,
+                    &us,
+                    &lu,
+                    |e, j| jac[(e, j)],
+                    |e, p| phi_p[(e, p)],
+                    10,
+                    &mut s,
+                    &mut [T::zero(); 2],
+                )?;
+            }
+            // Block 1: loop 2 (x, y) in q5, q6.
+            {
+                let (eqs, us) = ([2, 3], [2, 3]);
+                let lu = ::mechgen::__private::factor_block(
+                    1,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        2,
+                        2,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                ::mechgen::__private::block_sensitivities(
+                    1,
+                    &eqs,
+                    &us,
+                    &lu,
+                    |e, j| jac[(e, j)],
+                    |e, p| phi_p[(e, p)],
+                    10,
+                    &mut s,
+                    &mut [T::zero(); 2],
+                )?;
+            }
+            let (pq, pp) = (self.point_jacobian(x, q), self.point_param_jacobian(x, q));
+            let mut dp: [T; 20] = [T::zero(); 20];
+            ::mechgen::__private::point_sensitivities(
+                |r, k| pq[(r, k)],
+                |r, p| pp[(r, p)],
+                &s,
+                4,
+                10,
+                &mut dp,
+            );
+            Ok(::mechgen::__private::Sensitivities {
+                unknowns: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&s),
+                points: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&dp),
+            })
+        }
+        /// [`Self::sensitivities`] at a tick's state.
+        pub fn tick_sensitivities(
+            &self,
+            t: &Tick<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 4, 10>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 10>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            self.sensitivities(&t.x, &t.q)
+        }
         /// One whole tick from `guess`: positions, velocities, accelerations and points,
         /// sharing one set of sines and cosines between the stages.
         pub fn solve(
@@ -2899,6 +3158,8 @@ pub mod sixbar {
         type Points = [::mechgen::__private::PointMotion<T>; 1];
         type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>;
         type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 1>;
+        type ParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 10>;
+        type PointParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 10>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -2959,6 +3220,19 @@ pub mod sixbar {
             xdd: &Self::X,
         ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             Sixbar::solve_acceleration(self, x, q, xd, qd, xdd)
+        }
+        fn sensitivities(
+            &self,
+            x: &Self::X,
+            q: &Self::Q,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                Self::ParamJacobian,
+                Self::PointParamJacobian,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            Sixbar::sensitivities(self, x, q)
         }
         fn points(
             &self,
@@ -3405,6 +3679,77 @@ pub mod shaper {
             m[(3, 1)] = t23;
             // [3][2] = ∂Φ3/∂q4 (loop 2, y)
             m[(3, 2)] = t25;
+            m
+        }
+        /// Φp = ∂Φ/∂p at (x, q), over the params of `Params` (derived params differentiated through).
+        pub fn param_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 5> {
+            let v_q1 = x[0];
+            let v_q3 = q[1];
+            let v_q4 = q[2];
+            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let (s_v_q4, c_v_q4) = v_q4.sin_cos();
+            let t3 = -s_v_q1;
+            let t4 = -c_v_q1;
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 5>::zeros();
+            // [0][0] = ∂Φ0/∂l1 (loop 1, x)
+            m[(0, 0)] = t4;
+            // [1][0] = ∂Φ1/∂l1 (loop 1, y)
+            m[(1, 0)] = t3;
+            // [1][3] = ∂Φ1/∂lAC (loop 1, y)
+            m[(1, 3)] = T::lit(-1.0);
+            // [2][1] = ∂Φ2/∂l3 (loop 2, x)
+            m[(2, 1)] = c_v_q3;
+            // [2][2] = ∂Φ2/∂l4 (loop 2, x)
+            m[(2, 2)] = c_v_q4;
+            // [3][1] = ∂Φ3/∂l3 (loop 2, y)
+            m[(3, 1)] = s_v_q3;
+            // [3][2] = ∂Φ3/∂l4 (loop 2, y)
+            m[(3, 2)] = s_v_q4;
+            // [3][4] = ∂Φ3/∂yE (loop 2, y)
+            m[(3, 4)] = T::lit(-1.0);
+            m
+        }
+        /// ∂P/∂q at (x, q): rows `P_x`, `P_y` per point in `POINT_NAMES` order.
+        pub fn point_jacobian(
+            &self,
+            _x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
+            let v_q3 = q[1];
+            let p_l3 = self.params.l3;
+            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
+            let t1 = c_v_q3 * p_l3;
+            let t2 = s_v_q3 * p_l3;
+            let t3 = -t2;
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            // [0][3] = ∂E_x/∂sE
+            m[(0, 3)] = T::one();
+            // [2][1] = ∂D_x/∂q3
+            m[(2, 1)] = t3;
+            // [3][1] = ∂D_y/∂q3
+            m[(3, 1)] = t1;
+            m
+        }
+        /// ∂P/∂p at (x, q): rows `P_x`, `P_y` per point, over the params of `Params`.
+        pub fn point_param_jacobian(
+            &self,
+            _x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 5> {
+            let v_q3 = q[1];
+            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 5>::zeros();
+            // [1][4] = ∂E_y/∂yE
+            m[(1, 4)] = T::one();
+            // [2][1] = ∂D_x/∂l3
+            m[(2, 1)] = c_v_q3;
+            // [3][1] = ∂D_y/∂l3
+            m[(3, 1)] = s_v_q3;
             m
         }
         /// −Φx ẋ: the right-hand side of J q̇ = −Φx ẋ.
@@ -5104,6 +5449,137 @@ pub mod shaper {
             );
             Ok(())
         }
+        /// The design derivatives at a solved position `(x, q)` (what a solve or a tick gave):
+        /// dq/dp (a row per unknown) and dP/dp (rows `P_x`, `P_y` per point), one column per
+        /// param of `Params` (derived params differentiated through), from J dq/dp = −Φp block
+        /// by block. Non-finite arguments: `NonFinite`; a block singular there (a dead point,
+        /// where they grow without bound): `Singular` at stage `Sensitivity`.
+        pub fn sensitivities(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 4, 5>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 4, 5>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            let jac = self.jacobian(x, q);
+            let phi_p = self.param_jacobian(x, q);
+            let mut s: [T; 20] = [T::zero(); 20];
+            // Block 0: loop 1 (x, y) in s3, q3.
+            {
+                let (eqs, us) = ([0, 1], [0, 1]);
+                let lu = ::mechgen::__private::factor_block(
+                    0,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        2,
+                        2,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                ::mechgen::__private::block_sensitivities(
+                    0,
+                    &eqs,
+                    &us,
+                    &lu,
+                    |e, j| jac[(e, j)],
+                    |e, p| phi_p[(e, p)],
+                    5,
+                    &mut s,
+                    &mut [T::zero(); 2],
+                )?;
+            }
+            // Block 1: loop 2 (y) in q4.
+            {
+                let (eqs, us) = ([3], [2]);
+                let lu = ::mechgen::__private::factor_block(
+                    1,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        1,
+                        1,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                ::mechgen::__private::block_sensitivities(
+                    1,
+                    &eqs,
+                    &us,
+                    &lu,
+                    |e, j| jac[(e, j)],
+                    |e, p| phi_p[(e, p)],
+                    5,
+                    &mut s,
+                    &mut [T::zero(); 1],
+                )?;
+            }
+            // Block 2: loop 2 (x) in sE.
+            {
+                let (eqs, us) = ([2], [3]);
+                let lu = ::mechgen::__private::factor_block(
+                    2,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        1,
+                        1,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                ::mechgen::__private::block_sensitivities(
+                    2,
+                    &eqs,
+                    &us,
+                    &lu,
+                    |e, j| jac[(e, j)],
+                    |e, p| phi_p[(e, p)],
+                    5,
+                    &mut s,
+                    &mut [T::zero(); 1],
+                )?;
+            }
+            let (pq, pp) = (self.point_jacobian(x, q), self.point_param_jacobian(x, q));
+            let mut dp: [T; 20] = [T::zero(); 20];
+            ::mechgen::__private::point_sensitivities(
+                |r, k| pq[(r, k)],
+                |r, p| pp[(r, p)],
+                &s,
+                4,
+                5,
+                &mut dp,
+            );
+            Ok(::mechgen::__private::Sensitivities {
+                unknowns: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&s),
+                points: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&dp),
+            })
+        }
+        /// [`Self::sensitivities`] at a tick's state.
+        pub fn tick_sensitivities(
+            &self,
+            t: &Tick<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 4, 5>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 4, 5>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            self.sensitivities(&t.x, &t.q)
+        }
         /// One whole tick from `guess`: positions, velocities, accelerations and points,
         /// sharing one set of sines and cosines between the stages.
         pub fn solve(
@@ -5205,6 +5681,8 @@ pub mod shaper {
         type Points = [::mechgen::__private::PointMotion<T>; 2];
         type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>;
         type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 1>;
+        type ParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 5>;
+        type PointParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 5>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -5265,6 +5743,19 @@ pub mod shaper {
             xdd: &Self::X,
         ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             Shaper::solve_acceleration(self, x, q, xd, qd, xdd)
+        }
+        fn sensitivities(
+            &self,
+            x: &Self::X,
+            q: &Self::Q,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                Self::ParamJacobian,
+                Self::PointParamJacobian,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            Shaper::sensitivities(self, x, q)
         }
         fn points(
             &self,
@@ -5661,6 +6152,123 @@ pub mod four_bar {
             m[(1, 0)] = t10;
             // [1][1] = ∂Φ1/∂q3 (loop 1, y)
             m[(1, 1)] = t11;
+            m
+        }
+        /// Φp = ∂Φ/∂p at (x, q), over the params of `Params` (derived params differentiated through).
+        pub fn param_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 6> {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let v_q3 = q[1];
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
+            let t3 = -s_v_q3;
+            let t4 = -c_v_q3;
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 6>::zeros();
+            // [0][0] = ∂Φ0/∂l1 (loop 1, x)
+            m[(0, 0)] = c_v_q1;
+            // [0][1] = ∂Φ0/∂l2 (loop 1, x)
+            m[(0, 1)] = c_v_q2;
+            // [0][2] = ∂Φ0/∂l3 (loop 1, x)
+            m[(0, 2)] = t4;
+            // [0][3] = ∂Φ0/∂l4 (loop 1, x)
+            m[(0, 3)] = T::lit(-1.0);
+            // [1][0] = ∂Φ1/∂l1 (loop 1, y)
+            m[(1, 0)] = s_v_q1;
+            // [1][1] = ∂Φ1/∂l2 (loop 1, y)
+            m[(1, 1)] = s_v_q2;
+            // [1][2] = ∂Φ1/∂l3 (loop 1, y)
+            m[(1, 2)] = t3;
+            m
+        }
+        /// ∂P/∂q at (x, q): rows `P_x`, `P_y` per point in `POINT_NAMES` order.
+        pub fn point_jacobian(
+            &self,
+            _x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 6, 2> {
+            let v_q2 = q[0];
+            let v_q3 = q[1];
+            let p_l3 = self.params.l3;
+            let p_lp = self.params.lp;
+            let p_beta = self.params.beta;
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
+            let t2 = p_l3 * c_v_q3;
+            let t3 = p_l3 * s_v_q3;
+            let (s_p_beta, c_p_beta) = p_beta.sin_cos();
+            let t5 = c_v_q2 * c_p_beta;
+            let t6 = s_v_q2 * s_p_beta;
+            let t7 = s_v_q2 * c_p_beta;
+            let t8 = c_v_q2 * s_p_beta;
+            let t9 = t5 - t6;
+            let t10 = t7 + t8;
+            let t11 = p_lp * t9;
+            let t12 = p_lp * t10;
+            let t13 = -t3;
+            let t14 = -t12;
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 6, 2>::zeros();
+            // [2][1] = ∂C_x/∂q3
+            m[(2, 1)] = t13;
+            // [3][1] = ∂C_y/∂q3
+            m[(3, 1)] = t2;
+            // [4][0] = ∂P_x/∂q2
+            m[(4, 0)] = t14;
+            // [5][0] = ∂P_y/∂q2
+            m[(5, 0)] = t11;
+            m
+        }
+        /// ∂P/∂p at (x, q): rows `P_x`, `P_y` per point, over the params of `Params`.
+        pub fn point_param_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 6, 6> {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let v_q3 = q[1];
+            let p_lp = self.params.lp;
+            let p_beta = self.params.beta;
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
+            let (s_p_beta, c_p_beta) = p_beta.sin_cos();
+            let t4 = c_v_q2 * c_p_beta;
+            let t5 = s_v_q2 * s_p_beta;
+            let t6 = s_v_q2 * c_p_beta;
+            let t7 = c_v_q2 * s_p_beta;
+            let t8 = t4 - t5;
+            let t9 = t6 + t7;
+            let t10 = p_lp * t8;
+            let t11 = p_lp * t9;
+            let t12 = -t11;
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 6, 6>::zeros();
+            // [0][0] = ∂B_x/∂l1
+            m[(0, 0)] = c_v_q1;
+            // [1][0] = ∂B_y/∂l1
+            m[(1, 0)] = s_v_q1;
+            // [2][2] = ∂C_x/∂l3
+            m[(2, 2)] = c_v_q3;
+            // [2][3] = ∂C_x/∂l4
+            m[(2, 3)] = T::one();
+            // [3][2] = ∂C_y/∂l3
+            m[(3, 2)] = s_v_q3;
+            // [4][0] = ∂P_x/∂l1
+            m[(4, 0)] = c_v_q1;
+            // [4][4] = ∂P_x/∂lp
+            m[(4, 4)] = t8;
+            // [4][5] = ∂P_x/∂beta
+            m[(4, 5)] = t12;
+            // [5][0] = ∂P_y/∂l1
+            m[(5, 0)] = s_v_q1;
+            // [5][4] = ∂P_y/∂lp
+            m[(5, 4)] = t9;
+            // [5][5] = ∂P_y/∂beta
+            m[(5, 5)] = t10;
             m
         }
         /// −Φx ẋ: the right-hand side of J q̇ = −Φx ẋ.
@@ -6916,6 +7524,89 @@ pub mod four_bar {
             );
             Ok(())
         }
+        /// The design derivatives at a solved position `(x, q)` (what a solve or a tick gave):
+        /// dq/dp (a row per unknown) and dP/dp (rows `P_x`, `P_y` per point), one column per
+        /// param of `Params` (derived params differentiated through), from J dq/dp = −Φp block
+        /// by block. Non-finite arguments: `NonFinite`; a block singular there (a dead point,
+        /// where they grow without bound): `Singular` at stage `Sensitivity`.
+        pub fn sensitivities(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 6>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 6, 6>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            let jac = self.jacobian(x, q);
+            let phi_p = self.param_jacobian(x, q);
+            let mut s: [T; 12] = [T::zero(); 12];
+            // Block 0: loop 1 (x, y) in q2, q3.
+            {
+                let (eqs, us) = ([0, 1], [0, 1]);
+                let lu = ::mechgen::__private::factor_block(
+                    0,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        2,
+                        2,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                ::mechgen::__private::block_sensitivities(
+                    0,
+                    &eqs,
+                    &us,
+                    &lu,
+                    |e, j| jac[(e, j)],
+                    |e, p| phi_p[(e, p)],
+                    6,
+                    &mut s,
+                    &mut [T::zero(); 2],
+                )?;
+            }
+            let (pq, pp) = (self.point_jacobian(x, q), self.point_param_jacobian(x, q));
+            let mut dp: [T; 36] = [T::zero(); 36];
+            ::mechgen::__private::point_sensitivities(
+                |r, k| pq[(r, k)],
+                |r, p| pp[(r, p)],
+                &s,
+                2,
+                6,
+                &mut dp,
+            );
+            Ok(::mechgen::__private::Sensitivities {
+                unknowns: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&s),
+                points: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&dp),
+            })
+        }
+        /// [`Self::sensitivities`] at a tick's state.
+        pub fn tick_sensitivities(
+            &self,
+            t: &Tick<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 6>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 6, 6>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            self.sensitivities(&t.x, &t.q)
+        }
         /// One whole tick from `guess`: positions, velocities, accelerations and points,
         /// sharing one set of sines and cosines between the stages.
         pub fn solve(
@@ -7017,6 +7708,8 @@ pub mod four_bar {
         type Points = [::mechgen::__private::PointMotion<T>; 3];
         type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>;
         type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 1>;
+        type ParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 6>;
+        type PointParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 6, 6>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -7077,6 +7770,19 @@ pub mod four_bar {
             xdd: &Self::X,
         ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             FourBar::solve_acceleration(self, x, q, xd, qd, xdd)
+        }
+        fn sensitivities(
+            &self,
+            x: &Self::X,
+            q: &Self::Q,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                Self::ParamJacobian,
+                Self::PointParamJacobian,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            FourBar::sensitivities(self, x, q)
         }
         fn points(
             &self,
@@ -7419,6 +8125,80 @@ pub mod slider_crank {
             m[(0, 0)] = t4;
             // [1][0] = ∂Φ1/∂q2 (loop 1, y)
             m[(1, 0)] = t6;
+            m
+        }
+        /// Φp = ∂Φ/∂p at (x, q), over the params of `Params` (derived params differentiated through).
+        pub fn param_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 3> {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 3>::zeros();
+            // [0][0] = ∂Φ0/∂r (loop 1, x)
+            m[(0, 0)] = c_v_q1;
+            // [0][1] = ∂Φ0/∂l (loop 1, x)
+            m[(0, 1)] = c_v_q2;
+            // [1][0] = ∂Φ1/∂r (loop 1, y)
+            m[(1, 0)] = s_v_q1;
+            // [1][1] = ∂Φ1/∂l (loop 1, y)
+            m[(1, 1)] = s_v_q2;
+            // [1][2] = ∂Φ1/∂off (loop 1, y)
+            m[(1, 2)] = T::lit(-1.0);
+            m
+        }
+        /// ∂P/∂q at (x, q): rows `P_x`, `P_y` per point in `POINT_NAMES` order.
+        pub fn point_jacobian(
+            &self,
+            _x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 6, 2> {
+            let v_q2 = q[0];
+            let p_l = self.params.l;
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let t1 = p_l / T::lit(2.0);
+            let t2 = c_v_q2 * t1;
+            let t3 = s_v_q2 * t1;
+            let t4 = -t3;
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 6, 2>::zeros();
+            // [2][1] = ∂C_x/∂sC
+            m[(2, 1)] = T::one();
+            // [4][0] = ∂M_x/∂q2
+            m[(4, 0)] = t4;
+            // [5][0] = ∂M_y/∂q2
+            m[(5, 0)] = t2;
+            m
+        }
+        /// ∂P/∂p at (x, q): rows `P_x`, `P_y` per point, over the params of `Params`.
+        pub fn point_param_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 6, 3> {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let t2 = T::lit(0.5) * c_v_q2;
+            let t3 = T::lit(0.5) * s_v_q2;
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 6, 3>::zeros();
+            // [0][0] = ∂B_x/∂r
+            m[(0, 0)] = c_v_q1;
+            // [1][0] = ∂B_y/∂r
+            m[(1, 0)] = s_v_q1;
+            // [3][2] = ∂C_y/∂off
+            m[(3, 2)] = T::one();
+            // [4][0] = ∂M_x/∂r
+            m[(4, 0)] = c_v_q1;
+            // [4][1] = ∂M_x/∂l
+            m[(4, 1)] = t2;
+            // [5][0] = ∂M_y/∂r
+            m[(5, 0)] = s_v_q1;
+            // [5][1] = ∂M_y/∂l
+            m[(5, 1)] = t3;
             m
         }
         /// −Φx ẋ: the right-hand side of J q̇ = −Φx ẋ.
@@ -8400,6 +9180,113 @@ pub mod slider_crank {
             );
             Ok(())
         }
+        /// The design derivatives at a solved position `(x, q)` (what a solve or a tick gave):
+        /// dq/dp (a row per unknown) and dP/dp (rows `P_x`, `P_y` per point), one column per
+        /// param of `Params` (derived params differentiated through), from J dq/dp = −Φp block
+        /// by block. Non-finite arguments: `NonFinite`; a block singular there (a dead point,
+        /// where they grow without bound): `Singular` at stage `Sensitivity`.
+        pub fn sensitivities(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 3>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 6, 3>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            let jac = self.jacobian(x, q);
+            let phi_p = self.param_jacobian(x, q);
+            let mut s: [T; 6] = [T::zero(); 6];
+            // Block 0: loop 1 (y) in q2.
+            {
+                let (eqs, us) = ([1], [0]);
+                let lu = ::mechgen::__private::factor_block(
+                    0,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        1,
+                        1,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                ::mechgen::__private::block_sensitivities(
+                    0,
+                    &eqs,
+                    &us,
+                    &lu,
+                    |e, j| jac[(e, j)],
+                    |e, p| phi_p[(e, p)],
+                    3,
+                    &mut s,
+                    &mut [T::zero(); 1],
+                )?;
+            }
+            // Block 1: loop 1 (x) in sC.
+            {
+                let (eqs, us) = ([0], [1]);
+                let lu = ::mechgen::__private::factor_block(
+                    1,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        1,
+                        1,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                ::mechgen::__private::block_sensitivities(
+                    1,
+                    &eqs,
+                    &us,
+                    &lu,
+                    |e, j| jac[(e, j)],
+                    |e, p| phi_p[(e, p)],
+                    3,
+                    &mut s,
+                    &mut [T::zero(); 1],
+                )?;
+            }
+            let (pq, pp) = (self.point_jacobian(x, q), self.point_param_jacobian(x, q));
+            let mut dp: [T; 18] = [T::zero(); 18];
+            ::mechgen::__private::point_sensitivities(
+                |r, k| pq[(r, k)],
+                |r, p| pp[(r, p)],
+                &s,
+                2,
+                3,
+                &mut dp,
+            );
+            Ok(::mechgen::__private::Sensitivities {
+                unknowns: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&s),
+                points: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&dp),
+            })
+        }
+        /// [`Self::sensitivities`] at a tick's state.
+        pub fn tick_sensitivities(
+            &self,
+            t: &Tick<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 3>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 6, 3>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            self.sensitivities(&t.x, &t.q)
+        }
         /// One whole tick from `guess`: positions, velocities, accelerations and points,
         /// sharing one set of sines and cosines between the stages.
         pub fn solve(
@@ -8501,6 +9388,8 @@ pub mod slider_crank {
         type Points = [::mechgen::__private::PointMotion<T>; 3];
         type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>;
         type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 1>;
+        type ParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 3>;
+        type PointParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 6, 3>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -8561,6 +9450,19 @@ pub mod slider_crank {
             xdd: &Self::X,
         ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             SliderCrank::solve_acceleration(self, x, q, xd, qd, xdd)
+        }
+        fn sensitivities(
+            &self,
+            x: &Self::X,
+            q: &Self::Q,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                Self::ParamJacobian,
+                Self::PointParamJacobian,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            SliderCrank::sensitivities(self, x, q)
         }
         fn points(
             &self,
@@ -8933,6 +9835,79 @@ pub mod rocker_four_bar {
             m[(1, 0)] = t10;
             // [1][1] = ∂Φ1/∂q3 (loop 1, y)
             m[(1, 1)] = t11;
+            m
+        }
+        /// Φp = ∂Φ/∂p at (x, q), over the params of `Params` (derived params differentiated through).
+        pub fn param_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 4> {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let v_q3 = q[1];
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
+            let t3 = -s_v_q3;
+            let t4 = -c_v_q3;
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 4>::zeros();
+            // [0][0] = ∂Φ0/∂l1 (loop 1, x)
+            m[(0, 0)] = c_v_q1;
+            // [0][1] = ∂Φ0/∂l2 (loop 1, x)
+            m[(0, 1)] = c_v_q2;
+            // [0][2] = ∂Φ0/∂l3 (loop 1, x)
+            m[(0, 2)] = t4;
+            // [0][3] = ∂Φ0/∂l4 (loop 1, x)
+            m[(0, 3)] = T::lit(-1.0);
+            // [1][0] = ∂Φ1/∂l1 (loop 1, y)
+            m[(1, 0)] = s_v_q1;
+            // [1][1] = ∂Φ1/∂l2 (loop 1, y)
+            m[(1, 1)] = s_v_q2;
+            // [1][2] = ∂Φ1/∂l3 (loop 1, y)
+            m[(1, 2)] = t3;
+            m
+        }
+        /// ∂P/∂q at (x, q): rows `P_x`, `P_y` per point in `POINT_NAMES` order.
+        pub fn point_jacobian(
+            &self,
+            _x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 2> {
+            let v_q3 = q[1];
+            let p_l3 = self.params.l3;
+            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
+            let t1 = p_l3 * c_v_q3;
+            let t2 = p_l3 * s_v_q3;
+            let t3 = -t2;
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 2>::zeros();
+            // [2][1] = ∂C_x/∂q3
+            m[(2, 1)] = t3;
+            // [3][1] = ∂C_y/∂q3
+            m[(3, 1)] = t1;
+            m
+        }
+        /// ∂P/∂p at (x, q): rows `P_x`, `P_y` per point, over the params of `Params`.
+        pub fn point_param_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 4> {
+            let v_q1 = x[0];
+            let v_q3 = q[1];
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            // [0][0] = ∂B_x/∂l1
+            m[(0, 0)] = c_v_q1;
+            // [1][0] = ∂B_y/∂l1
+            m[(1, 0)] = s_v_q1;
+            // [2][2] = ∂C_x/∂l3
+            m[(2, 2)] = c_v_q3;
+            // [2][3] = ∂C_x/∂l4
+            m[(2, 3)] = T::one();
+            // [3][2] = ∂C_y/∂l3
+            m[(3, 2)] = s_v_q3;
             m
         }
         /// −Φx ẋ: the right-hand side of J q̇ = −Φx ẋ.
@@ -9792,6 +10767,89 @@ pub mod rocker_four_bar {
             );
             Ok(())
         }
+        /// The design derivatives at a solved position `(x, q)` (what a solve or a tick gave):
+        /// dq/dp (a row per unknown) and dP/dp (rows `P_x`, `P_y` per point), one column per
+        /// param of `Params` (derived params differentiated through), from J dq/dp = −Φp block
+        /// by block. Non-finite arguments: `NonFinite`; a block singular there (a dead point,
+        /// where they grow without bound): `Singular` at stage `Sensitivity`.
+        pub fn sensitivities(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 4>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            let jac = self.jacobian(x, q);
+            let phi_p = self.param_jacobian(x, q);
+            let mut s: [T; 8] = [T::zero(); 8];
+            // Block 0: loop 1 (x, y) in q2, q3.
+            {
+                let (eqs, us) = ([0, 1], [0, 1]);
+                let lu = ::mechgen::__private::factor_block(
+                    0,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        2,
+                        2,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                ::mechgen::__private::block_sensitivities(
+                    0,
+                    &eqs,
+                    &us,
+                    &lu,
+                    |e, j| jac[(e, j)],
+                    |e, p| phi_p[(e, p)],
+                    4,
+                    &mut s,
+                    &mut [T::zero(); 2],
+                )?;
+            }
+            let (pq, pp) = (self.point_jacobian(x, q), self.point_param_jacobian(x, q));
+            let mut dp: [T; 16] = [T::zero(); 16];
+            ::mechgen::__private::point_sensitivities(
+                |r, k| pq[(r, k)],
+                |r, p| pp[(r, p)],
+                &s,
+                2,
+                4,
+                &mut dp,
+            );
+            Ok(::mechgen::__private::Sensitivities {
+                unknowns: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&s),
+                points: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&dp),
+            })
+        }
+        /// [`Self::sensitivities`] at a tick's state.
+        pub fn tick_sensitivities(
+            &self,
+            t: &Tick<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 4>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            self.sensitivities(&t.x, &t.q)
+        }
         /// One whole tick from `guess`: positions, velocities, accelerations and points,
         /// sharing one set of sines and cosines between the stages.
         pub fn solve(
@@ -9893,6 +10951,8 @@ pub mod rocker_four_bar {
         type Points = [::mechgen::__private::PointMotion<T>; 2];
         type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>;
         type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 1>;
+        type ParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 4>;
+        type PointParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -9953,6 +11013,19 @@ pub mod rocker_four_bar {
             xdd: &Self::X,
         ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             RockerFourBar::solve_acceleration(self, x, q, xd, qd, xdd)
+        }
+        fn sensitivities(
+            &self,
+            x: &Self::X,
+            q: &Self::Q,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                Self::ParamJacobian,
+                Self::PointParamJacobian,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            RockerFourBar::sensitivities(self, x, q)
         }
         fn points(
             &self,
@@ -10545,6 +11618,168 @@ pub mod sixbar_g {
             m[(3, 1)] = t37;
             // [3][3] = ∂Φ3/∂q5 (loop 2, y)
             m[(3, 3)] = t38;
+            m
+        }
+        /// Φp = ∂Φ/∂p at (x, q), over the params of `Params` (derived params differentiated through).
+        pub fn param_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 4, 10> {
+            let v_q6 = x[0];
+            let v_q1 = q[0];
+            let v_q2 = q[1];
+            let v_q3 = q[2];
+            let v_q5 = q[3];
+            let p_l2e = self.params.l2e;
+            let p_alpha = self.params.alpha;
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t4 = c_v_q2 * c_p_alpha;
+            let t5 = s_v_q2 * s_p_alpha;
+            let t6 = s_v_q2 * c_p_alpha;
+            let t7 = c_v_q2 * s_p_alpha;
+            let t8 = t4 + t5;
+            let t9 = t6 - t7;
+            let t10 = p_l2e * t8;
+            let t11 = p_l2e * t9;
+            let (s_v_q5, c_v_q5) = v_q5.sin_cos();
+            let (s_v_q6, c_v_q6) = v_q6.sin_cos();
+            let t14 = -s_v_q3;
+            let t15 = -s_v_q5;
+            let t16 = -s_v_q6;
+            let t17 = -c_v_q3;
+            let t18 = -c_v_q5;
+            let t19 = -c_v_q6;
+            let t20 = -t10;
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 10>::zeros();
+            // [0][0] = ∂Φ0/∂l1 (loop 1, x)
+            m[(0, 0)] = c_v_q1;
+            // [0][1] = ∂Φ0/∂l2 (loop 1, x)
+            m[(0, 1)] = c_v_q2;
+            // [0][2] = ∂Φ0/∂l3 (loop 1, x)
+            m[(0, 2)] = t17;
+            // [0][3] = ∂Φ0/∂l4 (loop 1, x)
+            m[(0, 3)] = T::lit(-1.0);
+            // [1][0] = ∂Φ1/∂l1 (loop 1, y)
+            m[(1, 0)] = s_v_q1;
+            // [1][1] = ∂Φ1/∂l2 (loop 1, y)
+            m[(1, 1)] = s_v_q2;
+            // [1][2] = ∂Φ1/∂l3 (loop 1, y)
+            m[(1, 2)] = t14;
+            // [2][0] = ∂Φ2/∂l1 (loop 2, x)
+            m[(2, 0)] = c_v_q1;
+            // [2][1] = ∂Φ2/∂l2 (loop 2, x)
+            m[(2, 1)] = c_v_q2;
+            // [2][4] = ∂Φ2/∂l5 (loop 2, x)
+            m[(2, 4)] = t18;
+            // [2][5] = ∂Φ2/∂l6 (loop 2, x)
+            m[(2, 5)] = t19;
+            // [2][6] = ∂Φ2/∂l2e (loop 2, x)
+            m[(2, 6)] = t8;
+            // [2][7] = ∂Φ2/∂xg (loop 2, x)
+            m[(2, 7)] = T::lit(-1.0);
+            // [2][9] = ∂Φ2/∂alpha (loop 2, x)
+            m[(2, 9)] = t11;
+            // [3][0] = ∂Φ3/∂l1 (loop 2, y)
+            m[(3, 0)] = s_v_q1;
+            // [3][1] = ∂Φ3/∂l2 (loop 2, y)
+            m[(3, 1)] = s_v_q2;
+            // [3][4] = ∂Φ3/∂l5 (loop 2, y)
+            m[(3, 4)] = t15;
+            // [3][5] = ∂Φ3/∂l6 (loop 2, y)
+            m[(3, 5)] = t16;
+            // [3][6] = ∂Φ3/∂l2e (loop 2, y)
+            m[(3, 6)] = t9;
+            // [3][8] = ∂Φ3/∂yg (loop 2, y)
+            m[(3, 8)] = T::lit(-1.0);
+            // [3][9] = ∂Φ3/∂alpha (loop 2, y)
+            m[(3, 9)] = t20;
+            m
+        }
+        /// ∂P/∂q at (x, q): rows `P_x`, `P_y` per point in `POINT_NAMES` order.
+        pub fn point_jacobian(
+            &self,
+            _x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 4> {
+            let v_q1 = q[0];
+            let v_q2 = q[1];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l2e = self.params.l2e;
+            let p_alpha = self.params.alpha;
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let t1 = p_l1 * c_v_q1;
+            let t2 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t7 = c_v_q2 * c_p_alpha;
+            let t8 = s_v_q2 * s_p_alpha;
+            let t9 = s_v_q2 * c_p_alpha;
+            let t10 = c_v_q2 * s_p_alpha;
+            let t11 = t7 + t8;
+            let t12 = t9 - t10;
+            let t13 = p_l2e * t11;
+            let t14 = p_l2e * t12;
+            let t15 = -t2;
+            let t16 = t5 + t14;
+            let t17 = -t16;
+            let t18 = t4 + t13;
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 4>::zeros();
+            // [0][0] = ∂E_x/∂q1
+            m[(0, 0)] = t15;
+            // [0][1] = ∂E_x/∂q2
+            m[(0, 1)] = t17;
+            // [1][0] = ∂E_y/∂q1
+            m[(1, 0)] = t1;
+            // [1][1] = ∂E_y/∂q2
+            m[(1, 1)] = t18;
+            m
+        }
+        /// ∂P/∂p at (x, q): rows `P_x`, `P_y` per point, over the params of `Params`.
+        pub fn point_param_jacobian(
+            &self,
+            _x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 10> {
+            let v_q1 = q[0];
+            let v_q2 = q[1];
+            let p_l2e = self.params.l2e;
+            let p_alpha = self.params.alpha;
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t3 = c_v_q2 * c_p_alpha;
+            let t4 = s_v_q2 * s_p_alpha;
+            let t5 = s_v_q2 * c_p_alpha;
+            let t6 = c_v_q2 * s_p_alpha;
+            let t7 = t3 + t4;
+            let t8 = t5 - t6;
+            let t9 = p_l2e * t7;
+            let t10 = p_l2e * t8;
+            let t11 = -t9;
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 10>::zeros();
+            // [0][0] = ∂E_x/∂l1
+            m[(0, 0)] = c_v_q1;
+            // [0][1] = ∂E_x/∂l2
+            m[(0, 1)] = c_v_q2;
+            // [0][6] = ∂E_x/∂l2e
+            m[(0, 6)] = t7;
+            // [0][9] = ∂E_x/∂alpha
+            m[(0, 9)] = t10;
+            // [1][0] = ∂E_y/∂l1
+            m[(1, 0)] = s_v_q1;
+            // [1][1] = ∂E_y/∂l2
+            m[(1, 1)] = s_v_q2;
+            // [1][6] = ∂E_y/∂l2e
+            m[(1, 6)] = t8;
+            // [1][9] = ∂E_y/∂alpha
+            m[(1, 9)] = t11;
             m
         }
         /// −Φx ẋ: the right-hand side of J q̇ = −Φx ẋ.
@@ -11695,6 +12930,89 @@ pub mod sixbar_g {
             );
             Ok(())
         }
+        /// The design derivatives at a solved position `(x, q)` (what a solve or a tick gave):
+        /// dq/dp (a row per unknown) and dP/dp (rows `P_x`, `P_y` per point), one column per
+        /// param of `Params` (derived params differentiated through), from J dq/dp = −Φp block
+        /// by block. Non-finite arguments: `NonFinite`; a block singular there (a dead point,
+        /// where they grow without bound): `Singular` at stage `Sensitivity`.
+        pub fn sensitivities(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 4, 10>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 10>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            let jac = self.jacobian(x, q);
+            let phi_p = self.param_jacobian(x, q);
+            let mut s: [T; 40] = [T::zero(); 40];
+            // Block 0: loop 1 (x, y), loop 2 (x, y) in q1, q2, q3, q5.
+            {
+                let (eqs, us) = ([0, 1, 2, 3], [0, 1, 2, 3]);
+                let lu = ::mechgen::__private::factor_block(
+                    0,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        4,
+                        4,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                ::mechgen::__private::block_sensitivities(
+                    0,
+                    &eqs,
+                    &us,
+                    &lu,
+                    |e, j| jac[(e, j)],
+                    |e, p| phi_p[(e, p)],
+                    10,
+                    &mut s,
+                    &mut [T::zero(); 4],
+                )?;
+            }
+            let (pq, pp) = (self.point_jacobian(x, q), self.point_param_jacobian(x, q));
+            let mut dp: [T; 20] = [T::zero(); 20];
+            ::mechgen::__private::point_sensitivities(
+                |r, k| pq[(r, k)],
+                |r, p| pp[(r, p)],
+                &s,
+                4,
+                10,
+                &mut dp,
+            );
+            Ok(::mechgen::__private::Sensitivities {
+                unknowns: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&s),
+                points: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&dp),
+            })
+        }
+        /// [`Self::sensitivities`] at a tick's state.
+        pub fn tick_sensitivities(
+            &self,
+            t: &Tick<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 4, 10>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 10>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            self.sensitivities(&t.x, &t.q)
+        }
         /// One whole tick from `guess`: positions, velocities, accelerations and points,
         /// sharing one set of sines and cosines between the stages.
         pub fn solve(
@@ -11796,6 +13114,8 @@ pub mod sixbar_g {
         type Points = [::mechgen::__private::PointMotion<T>; 1];
         type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>;
         type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 1>;
+        type ParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 10>;
+        type PointParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 10>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -11856,6 +13176,19 @@ pub mod sixbar_g {
             xdd: &Self::X,
         ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             SixbarG::solve_acceleration(self, x, q, xd, qd, xdd)
+        }
+        fn sensitivities(
+            &self,
+            x: &Self::X,
+            q: &Self::Q,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                Self::ParamJacobian,
+                Self::PointParamJacobian,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            SixbarG::sensitivities(self, x, q)
         }
         fn points(
             &self,

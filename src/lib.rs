@@ -48,6 +48,8 @@ pub use mechgen_runtime::{
 
 #[cfg(feature = "sweep")]
 pub mod batch;
+#[cfg(feature = "sweep")]
+pub mod design;
 #[cfg(feature = "runtime")]
 pub mod generic;
 #[cfg(feature = "runtime")]

@@ -24,6 +24,8 @@ fn main() -> ExitCode {
         Some(Command::Branches(args)) => cli::branches::run(&args),
         Some(Command::Metrics(args)) => cli::metrics::run(&args),
         Some(Command::Batch(args)) => cli::batch::run(&args),
+        Some(Command::Sensitivity(args)) => cli::design::sensitivity(&args),
+        Some(Command::Tolerance(args)) => cli::design::tolerance(&args),
     };
     report_peak_memory();
     match result {

@@ -77,7 +77,7 @@ const SOLVES: usize = 100;
 type Outcome = (usize, usize, Option<SolveError>);
 
 /// For one mechanism type and scalar: counts the allocations of `SOLVES` full solves through the
-/// separate stages, `SOLVES` more through `solve`, `SOLVES` through `solve_in_place`, and `SOLVES` ticks (`tick_start`, `tick`), all
+/// separate stages (with the sensitivities), `SOLVES` more through `solve`, `SOLVES` through `solve_in_place`, and `SOLVES` ticks (`tick_start`, `tick`), all
 /// continuing from the start configuration 1° at a time.
 macro_rules! solves {
     ($fn:ident, $module:ident :: $ty:ident, $t:ty) => {
@@ -99,6 +99,7 @@ macro_rules! solves {
                     let stages = m.solve_position(&x, &mut q, &options).and_then(|_| {
                         let qd = m.solve_velocity(&x, &q, &xd)?;
                         let qdd = m.solve_acceleration(&x, &q, &xd, &qd, &xdd)?;
+                        black_box(m.sensitivities(&x, &q)?);
                         Ok(m.point_motion(&x, &q, &xd, &qd, &xdd, &qdd))
                     });
                     match stages {

@@ -86,6 +86,12 @@ fn compiled_in_scenes_equal_their_mechanisms() {
 }
 
 #[test]
+fn compiled_in_sensitivities_equal_differences_on_both_engines() {
+    let (fails, _) = common::sensitivity::check_sensitivities();
+    assert!(fails.is_empty(), "{}", fails.join("\n"));
+}
+
+#[test]
 fn compiled_in_mechanisms_alike_on_both_engines() {
     let fails = check_engines_agree();
     assert!(fails.is_empty(), "{}", fails.join("\n"));

@@ -27,7 +27,7 @@ pub fn analyze(file: &SourceFile) -> (Vec<Compiled>, Vec<Diagnostic>) {
 fn analyze_mechanism(model: Model, diags: &mut Vec<Diagnostic>) -> Option<Compiled> {
     let mut system = lower::lower(&model);
     let (ni, nu) = (model.inputs.len(), model.unknowns.len());
-    let derivatives = differentiate::differentiate(&mut system, ni, nu);
+    let derivatives = differentiate::differentiate(&mut system, ni, nu, model.params.len());
     let before = diags.len();
     lints::usage(&model, &system, diags);
     let blocks = match analysis::blocks(&derivatives, &system.dag, nu) {

@@ -62,6 +62,15 @@ pub trait DynMechanism<T: Real> {
         xdd: &[T],
         qdd: &mut [T],
     ) -> Result<(), SolveError>;
+    /// The design derivatives at a solved position (`StaticMechanism::sensitivities`), row-major:
+    /// dq/dp into `unknowns` (UNKNOWNS × PARAMS), dP/dp into `points` (2·POINTS × PARAMS).
+    fn sensitivities(
+        &self,
+        x: &[T],
+        q: &[T],
+        unknowns: &mut [T],
+        points: &mut [T],
+    ) -> Result<(), SolveError>;
     /// Every point's motion into `out` (POINTS).
     fn points(
         &self,
@@ -210,6 +219,17 @@ impl<T: Real, M: StaticMechanism<T>> DynMechanism<T> for M {
         let (x, q, xd, qd, xdd) = (arr(x)?, arr(q)?, arr(xd)?, arr(qd)?, arr(xdd)?);
         let a = StaticMechanism::solve_acceleration(self, &x, &q, &xd, &qd, &xdd)?;
         put(qdd, a.as_ref())
+    }
+    fn sensitivities(
+        &self,
+        x: &[T],
+        q: &[T],
+        unknowns: &mut [T],
+        points: &mut [T],
+    ) -> Result<(), SolveError> {
+        let s = StaticMechanism::sensitivities(self, &arr(x)?, &arr(q)?)?;
+        s.unknowns.write_row_major(unknowns)?;
+        s.points.write_row_major(points)
     }
     fn points(
         &self,

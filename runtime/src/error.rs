@@ -9,6 +9,8 @@ pub enum Stage {
     Position,
     Velocity,
     Acceleration,
+    /// The derivatives of the unknowns with respect to the params.
+    Sensitivity,
 }
 
 /// Which argument held a non-finite value.

@@ -33,6 +33,7 @@ pub mod mechanism;
 pub mod scalar;
 pub mod scene;
 pub mod scene_tick;
+pub mod sensitivity;
 pub mod solve;
 pub mod tick;
 pub mod trig;
@@ -51,6 +52,7 @@ pub use scene::{
     SceneVisitor,
 };
 pub use scene_tick::SceneTick;
+pub use sensitivity::Sensitivities;
 pub use solve::{NewtonOptions, NewtonReport, SolveOptions};
 pub use tick::{Tick, TickStateOf};
 
@@ -84,6 +86,7 @@ pub mod __private {
     pub use crate::scene_tick::{
         SceneTick, scene_rates_estimated, scene_tick, scene_tick_state, scene_tick_state_mut,
     };
+    pub use crate::sensitivity::{Sensitivities, block_sensitivities, point_sensitivities};
     pub use crate::solve::{
         NewtonOptions, NewtonReport, SolveOptions, check_finite, check_finite_in, newton_block,
     };

@@ -7,6 +7,7 @@
 use crate::error::SolveError;
 use crate::info::{PointMotion, StaticInfo};
 use crate::scalar::Real;
+use crate::sensitivity::Sensitivities;
 use crate::solve::{NewtonReport, SolveOptions};
 use nalgebra::SMatrix;
 
@@ -121,6 +122,10 @@ pub trait StaticMechanism<T: Real>: Send + Sync {
     type Jacobian: RowMajor<T>;
     /// Φx: `SMatrix<T, UNKNOWNS, INPUTS>`.
     type InputJacobian: RowMajor<T>;
+    /// dq/dp: `SMatrix<T, UNKNOWNS, PARAMS>`.
+    type ParamJacobian: RowMajor<T>;
+    /// dP/dp: `SMatrix<T, 2 × POINTS, PARAMS>` (rows `P_x`, `P_y` per point).
+    type PointParamJacobian: RowMajor<T>;
     /// The state between simulator ticks: a [`crate::Tick`] of this mechanism's sizes (see there
     /// for what it holds), which reads as its [`State`].
     type Tick: Copy
@@ -167,6 +172,13 @@ pub trait StaticMechanism<T: Real>: Send + Sync {
         qd: &Self::Q,
         xdd: &Self::X,
     ) -> Result<Self::Q, SolveError>;
+    /// The design derivatives at a solved position (see [`Sensitivities`]); a block singular
+    /// there is `Singular` at stage `Sensitivity`.
+    fn sensitivities(
+        &self,
+        x: &Self::X,
+        q: &Self::Q,
+    ) -> Result<Sensitivities<Self::ParamJacobian, Self::PointParamJacobian>, SolveError>;
     /// Every point's motion at a solved state.
     fn points(
         &self,

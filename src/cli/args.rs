@@ -51,6 +51,36 @@ pub enum Command {
     /// Sweep a mechanism for every param set of a CSV (one row per set), across every core:
     /// every row of every set as CSV, a summary per set.
     Batch(Box<BatchArgs>),
+    /// The derivatives of every unknown and point position with respect to every param (derived
+    /// params differentiated through), along a sweep.
+    Sensitivity(Box<SensitivityArgs>),
+    /// The worst-case and root-sum-square deviation of every unknown and point coordinate for
+    /// given param tolerances, along a sweep, at each output's worst row.
+    Tolerance(Box<ToleranceArgs>),
+}
+
+/// `mechgen sensitivity NAME [options]`.
+#[derive(Debug, Args)]
+pub struct SensitivityArgs {
+    /// Every row as CSV: the input, `u/p` per unknown and param, `P_x/p`, `P_y/p` per point and
+    /// param (radians per param unit), then `status`.
+    #[arg(long, value_name = "PATH")]
+    pub csv: Option<PathBuf>,
+    #[command(flatten)]
+    pub sweep: SweepOptions,
+}
+
+/// `mechgen tolerance NAME --tol p=T [--tol p=T ...] [options]`.
+#[derive(Debug, Args)]
+pub struct ToleranceArgs {
+    /// A param's tolerance T (file units; degrees for an angle param); repeatable.
+    #[arg(long = "tol", value_name = "PARAM=T", value_parser = assignment, required = true)]
+    pub tol: Vec<(String, f64)>,
+    /// Every row as CSV: the input, `y_worst` and `y_rss` per output `y`, then `status`.
+    #[arg(long, value_name = "PATH")]
+    pub csv: Option<PathBuf>,
+    #[command(flatten)]
+    pub sweep: SweepOptions,
 }
 
 /// `mechgen batch NAME --params SETS.csv [options]`.
@@ -155,6 +185,26 @@ pub struct SweepArgs {
     /// Also write an animated SVG of the mechanism over the sweep into DIR.
     #[arg(long, value_name = "DIR")]
     pub animate: Option<PathBuf>,
+    /// A force (FX, FY, file force units) on point P; repeatable. Adds the column
+    /// `input_effort`: the input torque (angle input) or force (length input) that balances the
+    /// loads, by virtual work.
+    #[arg(long = "load", value_name = "P=FX,FY", value_parser = load)]
+    pub load: Vec<(String, [f64; 2])>,
+}
+
+/// `P=FX,FY` with finite FX and FY.
+fn load(s: &str) -> Result<(String, [f64; 2]), String> {
+    let (name, value) = s
+        .split_once('=')
+        .ok_or_else(|| "needs P=FX,FY".to_string())?;
+    let (fx, fy) = value
+        .split_once(',')
+        .ok_or_else(|| "needs P=FX,FY".to_string())?;
+    let name = name.trim();
+    if name.is_empty() {
+        return Err("needs P=FX,FY".into());
+    }
+    Ok((name.to_string(), [finite(fx)?, finite(fy)?]))
 }
 
 impl std::ops::Deref for SweepArgs {
@@ -239,6 +289,14 @@ mod tests {
     #[test]
     fn the_command_line_is_consistent() {
         Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn loads() {
+        assert_eq!(load("E=1,-2.5").unwrap(), ("E".into(), [1.0, -2.5]));
+        assert!(load("E=1").is_err());
+        assert!(load("=1,2").is_err());
+        assert!(load("E=1,nan").is_err());
     }
 
     #[test]

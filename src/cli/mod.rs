@@ -21,6 +21,7 @@ pub mod args;
 pub mod batch;
 pub mod branches;
 pub mod check;
+pub mod design;
 pub mod load;
 pub mod metrics;
 pub mod options;

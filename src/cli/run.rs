@@ -1,10 +1,11 @@
 //! CLI, running things: `sweep` (table, CSV, plots; a scene's through [`super::scene`]) and the
 //! main job, on what [`super::load`] loads. Sits between [`super::args`] and [`mechgen::sweep`].
 
+use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
 
-use mechgen::{CoordDesc, Kind, MechanismInfo, report};
+use mechgen::{CoordDesc, Kind, MechanismInfo, design, report};
 
 use super::args::{MainArgs, SweepArgs};
 use super::load::{Loaded, run_plan, select, stream_plan, table_preamble, write_plots};
@@ -28,6 +29,16 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
         step: args.step,
     };
     let plan = plan(&info, args.input.as_deref(), &args.set, range)?;
+    let loads = loads(&info, &args.load)?;
+    if !loads.is_empty() && args.rate == 0.0 {
+        return Err(
+            "--load needs a nonzero --rate (the effort comes from the point velocities)".into(),
+        );
+    }
+    let effort_unit = match info.inputs[plan.index].kind {
+        Kind::Angle => "force*len/rad",
+        _ => "force",
+    };
     // Rows are printed and written as they are solved; only what plots and the branch note read
     // is kept.
     say_raw!(
@@ -36,7 +47,15 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
         plan.values.len(),
         table_preamble(&info, &plan, args.rate)
     );
-    let (header, width) = report::table_header(&info, plan.index);
+    let (mut header, width) = report::table_header(&info, plan.index);
+    if !loads.is_empty() {
+        header.pop();
+        let _ = writeln!(
+            header,
+            "{:>width$}",
+            format!("input_effort [{effort_unit}]")
+        );
+    }
     let stdout = std::io::stdout();
     let mut table = std::io::BufWriter::new(stdout.lock());
     let _ = table.write_all(header.as_bytes());
@@ -45,22 +64,41 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
             let file = std::fs::File::create(path)
                 .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
             let mut w = std::io::BufWriter::new(file);
-            let _ = w.write_all(report::csv_header_line(&info, plan.index).as_bytes());
+            let mut head = report::csv_header_line(&info, plan.index);
+            if !loads.is_empty() {
+                with_column(&mut head, "input_effort");
+            }
+            let _ = w.write_all(head.as_bytes());
             Some((path, w))
         }
         None => None,
     };
     let mut csv_error: Option<std::io::Error> = None;
     let mut line = String::new();
-    let index = plan.index;
+    let (index, rate) = (plan.index, args.rate);
     let swept = stream_plan(sel.solver.as_ref(), &info, plan, args.rate, &mut |r| {
         // A closed stdout (`mechgen sweep … | head`) ends the table, not the sweep or its CSV.
-        let _ = table.write_all(report::table_row(&info, index, width, r).as_bytes());
+        let effort = match (&r.result, loads.is_empty()) {
+            (Ok(s), false) => design::input_effort(s, &loads, rate).filter(|e| e.is_finite()),
+            _ => None,
+        };
+        let mut row = report::table_row(&info, index, width, r);
+        if let Some(e) = effort {
+            row.pop();
+            let _ = writeln!(row, "{:>width$}", report::significant(e));
+        }
+        let _ = table.write_all(row.as_bytes());
         if let Some((_, w)) = &mut csv
             && csv_error.is_none()
         {
             line.clear();
             report::csv_row(&mut line, &info, r);
+            if !loads.is_empty() {
+                with_column(
+                    &mut line,
+                    &effort.map_or(String::new(), |e| format!("{e:?}")),
+                );
+            }
             csv_error = w.write_all(line.as_bytes()).err();
         }
     })?;
@@ -86,6 +124,32 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
         true,
     )?;
     Ok(())
+}
+
+/// `--load P=FX,FY` against the mechanism's points.
+fn loads(info: &MechanismInfo, given: &[(String, [f64; 2])]) -> Result<Vec<design::Load>, String> {
+    given
+        .iter()
+        .map(|(name, force)| {
+            let point = info.points.iter().position(|p| p == name).ok_or_else(|| {
+                format!(
+                    "--load {name}=…: `{}` has no point `{name}` (its points: {})",
+                    info.name,
+                    info.points.join(", ")
+                )
+            })?;
+            Ok(design::Load {
+                point,
+                force: *force,
+            })
+        })
+        .collect()
+}
+
+/// `cell` as a column just before the last one (`status`) of a CSV line.
+fn with_column(line: &mut String, cell: &str) {
+    let at = line.rfind(',').unwrap_or(0);
+    line.insert_str(at, &format!(",{cell}"));
 }
 
 /// The main job's range: a full turn for an angle input, from its start value rounded down to

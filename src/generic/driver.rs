@@ -9,6 +9,7 @@ use mechgen_runtime::error::{Quantity, SolveError, Stage};
 use mechgen_runtime::mechanism::InputMotion;
 use mechgen_runtime::nalgebra::{DMatrix, DVector, Dyn, SMatrix, SVector};
 use mechgen_runtime::scalar::Real;
+use mechgen_runtime::sensitivity::{BlockSolve, block_sensitivities, point_sensitivities};
 use mechgen_runtime::solve::{NewtonReport, NewtonWork, SolveOptions, check_finite};
 use mechgen_runtime::trig::TrigSlices;
 use mechgen_runtime::twofold::{REFINE_BELOW, refinement_in_place};
@@ -244,6 +245,52 @@ impl Generic {
                 }
             }
         }
+        Ok(())
+    }
+}
+
+impl Generic {
+    /// The design derivatives at a solved position, row-major: dq/dp into `s` (unknowns ×
+    /// params), dP/dp into `dp` (2·points × params); each block's Jacobian factored as for its
+    /// rates, then the runtime's `block_sensitivities` and `point_sensitivities`, as generated
+    /// code runs them.
+    pub(super) fn sensitivities<T: Real>(
+        &self,
+        x: &[T],
+        q: &[T],
+        s: &mut [T],
+        dp: &mut [T],
+    ) -> Result<(), SolveError> {
+        let (nu, npar) = (q.len(), self.params.len());
+        let env = Env::position(x, q, &self.params);
+        let mut regs = Vec::new();
+        let mut jac = vec![T::zero(); nu * nu];
+        self.jacobian.eval(&env, &mut regs, &mut jac);
+        let mut all = vec![T::zero(); self.sensitivity.outputs()];
+        self.sensitivity.eval(&env, &mut regs, &mut all);
+        let (phi_p, points) = all.split_at(nu * npar);
+        let (pq, pp) = points.split_at(points.len() / (nu + npar).max(1) * nu);
+        s.iter_mut().for_each(|v| *v = T::zero());
+        for &bi in &self.order {
+            let b = &self.blocks[bi];
+            let k = b.unknowns.len();
+            let jb = DMatrix::from_fn(k, k, |i, j| jac[b.equations[i] * nu + b.unknowns[j]]);
+            let lu = Factors::new(bi, Stage::Sensitivity, jb)?;
+            let (j, f) = (|e, c| jac[e * nu + c], |e, p| phi_p[e * npar + p]);
+            let mut rhs = vec![T::zero(); k];
+            block_sensitivities(bi, &b.equations, &b.unknowns, &lu, j, f, npar, s, &mut rhs)?;
+        }
+        let (pq, pp) = (|r, c| pq[r * nu + c], |r, p| pp[r * npar + p]);
+        point_sensitivities(pq, pp, s, nu, npar, dp);
+        Ok(())
+    }
+}
+
+impl<T: Real> BlockSolve<T> for Factors<T> {
+    fn solve_slice(&self, block: usize, stage: Stage, rhs: &mut [T]) -> Result<(), SolveError> {
+        let mut v = DVector::from_column_slice(rhs);
+        self.solve(block, stage, &mut v)?;
+        rhs.copy_from_slice(v.as_slice());
         Ok(())
     }
 }

@@ -26,6 +26,7 @@ impl std::error::Error for LoadError {}
 /// The tapes of one diagonal block.
 #[derive(Clone, Debug)]
 pub(super) struct BlockTapes {
+    pub equations: Vec<usize>,
     pub unknowns: Vec<usize>,
     pub length: Vec<bool>,
     /// k residuals, then the k×k Jacobian row-major.
@@ -56,6 +57,8 @@ pub struct Generic {
     pub(super) residual: Tape,
     pub(super) jacobian: Tape,
     pub(super) input_jacobian: Tape,
+    /// Φp (equations × params), then ∂P/∂q and ∂P/∂p (rows `P_x`, `P_y` per point), row-major.
+    pub(super) sensitivity: Tape,
     pub(super) jacobian_dot: Tape,
     pub(super) acceleration_rhs: Tape,
     /// Per point: x, y, vx, vy, ax, ay.
@@ -147,6 +150,7 @@ impl Generic {
                     Tape::new(&dag, &roots)
                 };
                 BlockTapes {
+                    equations: b.block.equations.iter().map(|e| e.index()).collect(),
                     unknowns: unknown_indices(&b.block),
                     length: b
                         .block
@@ -172,6 +176,10 @@ impl Generic {
             point_roots.extend(d.point_acceleration[p]);
         }
         let chain_roots: Vec<_> = chains.iter().flat_map(|ch| ch.vertices.concat()).collect();
+        let mut sensitivity_roots = flat(&d.param_jacobian);
+        for per_point in [&d.point_jacobian, &d.point_param_jacobian] {
+            sensitivity_roots.extend(per_point.iter().flat_map(|p| p.iter().flatten()));
+        }
         Generic {
             params: m.params.iter().map(|p| p.value).collect(),
             length_param: m.params.iter().map(|p| p.kind == Kind::Length).collect(),
@@ -181,6 +189,7 @@ impl Generic {
             residual: Tape::new(&dag, &c.system.residuals),
             jacobian: Tape::new(&dag, &flat(&d.jacobian)),
             input_jacobian: Tape::new(&dag, &flat(&d.input_jacobian)),
+            sensitivity: Tape::new(&dag, &sensitivity_roots),
             jacobian_dot: Tape::new(&dag, &flat(&d.jacobian_dot)),
             acceleration_rhs: Tape::new(&dag, &d.acceleration_rhs),
             points: Tape::new(&dag, &point_roots),

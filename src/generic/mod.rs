@@ -144,6 +144,21 @@ macro_rules! kinematics {
                 self.eval_into(&self.jacobian, Env::position(x, q, &self.params), out)
             }
 
+            fn sensitivities(
+                &self,
+                x: &[$t],
+                q: &[$t],
+                unknowns: &mut [$t],
+                points: &mut [$t],
+            ) -> Result<(), SolveError> {
+                self.lengths(&[x, q])?;
+                self.finite(&[x, q])?;
+                let npar = self.params.len();
+                len(unknowns, self.info.unknowns.len() * npar)?;
+                len(points, 2 * self.info.points.len() * npar)?;
+                Generic::sensitivities(self, x, q, unknowns, points)
+            }
+
             fn input_jacobian(&self, x: &[$t], q: &[$t], out: &mut [$t]) -> Result<(), SolveError> {
                 self.lengths(&[x, q])?;
                 self.eval_into(&self.input_jacobian, Env::position(x, q, &self.params), out)

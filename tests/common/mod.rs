@@ -5,6 +5,7 @@
 pub mod cli;
 pub mod engines;
 pub mod scenes;
+pub mod sensitivity;
 pub mod stress;
 
 use mechgen::sweep::Row;

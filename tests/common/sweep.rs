@@ -113,6 +113,16 @@ impl DynMechanism<f64> for Counting<'_> {
         self.count();
         self.inner.points(input, q, qd, qdd, out)
     }
+    fn sensitivities(
+        &self,
+        x: &[f64],
+        q: &[f64],
+        unknowns: &mut [f64],
+        points: &mut [f64],
+    ) -> Result<(), SolveError> {
+        self.count();
+        self.inner.sensitivities(x, q, unknowns, points)
+    }
     fn solve_in_place(
         &self,
         state: &mut DynState<f64>,

@@ -15,6 +15,7 @@ mod module;
 mod motion;
 pub(crate) mod names;
 mod scene;
+mod sensitivity;
 mod solve;
 mod system;
 mod twofold;

@@ -34,6 +34,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     let (params_ty, inputs_ty, unknowns_ty) = (&it.params, &it.inputs, &it.unknowns);
     let (points_ty, tick_ty, motion_ty) = (&it.points, &it.tick, &it.motion);
     let (ni, nu, np, npar) = crate::emit::sizes(m);
+    let np2 = 2 * np;
     let mod_name = format_ident!("{}", m.name.text);
     let name = &m.name.text;
     let doc = if m.description.is_empty() {
@@ -148,6 +149,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     .collect();
     let system_fns = crate::emit::system::system_fns(c, &args);
     let solvers = crate::emit::solve::solvers(c, &args);
+    let sensitivity_fns = crate::emit::sensitivity::sensitivity_fns(c, &args);
     let nblocks = c.blocks.len();
 
     quote! {
@@ -227,6 +229,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
 
                 #system_fns
                 #solvers
+                #sensitivity_fns
 
                 /// One whole tick from `guess`: positions, velocities, accelerations and points,
                 /// sharing one set of sines and cosines between the stages.
@@ -284,6 +287,8 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                 type Points = [#rt::PointMotion<#gt>; #np];
                 type Jacobian = #rt::nalgebra::SMatrix<#gt, #nu, #nu>;
                 type InputJacobian = #rt::nalgebra::SMatrix<#gt, #nu, #ni>;
+                type ParamJacobian = #rt::nalgebra::SMatrix<#gt, #nu, #npar>;
+                type PointParamJacobian = #rt::nalgebra::SMatrix<#gt, #np2, #npar>;
                 type Tick = #tick_ty<#gt>;
                 fn info(&self) -> &'static #rt::StaticInfo { &INFO }
                 fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q { #ty::residual(self, x, q) }
@@ -302,6 +307,10 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                 }
                 fn solve_acceleration(&self, x: &Self::X, q: &Self::Q, xd: &Self::X, qd: &Self::Q, xdd: &Self::X)
                     -> ::core::result::Result<Self::Q, #rt::SolveError> { #ty::solve_acceleration(self, x, q, xd, qd, xdd) }
+                fn sensitivities(&self, x: &Self::X, q: &Self::Q)
+                    -> ::core::result::Result<#rt::Sensitivities<Self::ParamJacobian, Self::PointParamJacobian>, #rt::SolveError> {
+                    #ty::sensitivities(self, x, q)
+                }
                 fn points(&self, input: &#rt::InputMotion<Self::X>, q: &Self::Q, qd: &Self::Q, qdd: &Self::Q) -> Self::Points {
                     #ty::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
                 }

@@ -16,12 +16,18 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
     let m = &c.model;
     let dag = &c.system.dag;
     let (ni, nu, np) = (m.inputs.len(), m.unknowns.len(), m.points.len());
+    let equation_rows = |r: usize| (format!("Φ{r}"), format!(" ({})", equation_name(m, r)));
+    let point_rows = |r: usize| {
+        let axis = if r.is_multiple_of(2) { "x" } else { "y" };
+        (format!("{}_{axis}", m.points[r / 2].0.text), String::new())
+    };
     let matrix_fn = |fname: &str,
                      doc: &str,
                      entries: &[Vec<NodeId>],
                      cols: usize,
                      col_names: &[String],
-                     extra: TokenStream| {
+                     extra: TokenStream,
+                     row_name: &dyn Fn(usize) -> (String, String)| {
         let f = format_ident!("{}", fname);
         let rows = entries.len();
         let roots: Vec<NodeId> = entries.iter().flatten().copied().collect();
@@ -34,10 +40,10 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
                     continue;
                 }
                 let v = &b.roots[r * cols + k];
+                let (row, note) = row_name(r);
                 sets.extend(comment(&format!(
-                    "[{r}][{k}] = ∂Φ{r}/∂{} ({})",
-                    col_names[k],
-                    equation_name(m, r)
+                    "[{r}][{k}] = ∂{row}/∂{}{note}",
+                    col_names[k]
                 )));
                 sets.extend(quote!(m[(#r, #k)] = #v;));
                 written = true;
@@ -72,6 +78,7 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
         nu,
         &unknown_names,
         quote!(),
+        &equation_rows,
     );
     let input_jacobian = matrix_fn(
         "input_jacobian",
@@ -80,6 +87,7 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
         ni,
         &input_names,
         quote!(),
+        &equation_rows,
     );
     let jacobian_dot = matrix_fn(
         "jacobian_dot",
@@ -88,6 +96,38 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
         nu,
         &unknown_names,
         rates,
+        &equation_rows,
+    );
+    let param_names: Vec<String> = m.params.iter().map(|p| p.name.text.clone()).collect();
+    let param_jacobian = matrix_fn(
+        "param_jacobian",
+        "Φp = ∂Φ/∂p at (x, q), over the params of `Params` (derived params differentiated through).",
+        &c.derivatives.param_jacobian,
+        m.params.len(),
+        &param_names,
+        quote!(),
+        &equation_rows,
+    );
+    let point_rows_of = |per_point: &[[Vec<NodeId>; 2]]| -> Vec<Vec<NodeId>> {
+        per_point.iter().flat_map(|p| p.iter().cloned()).collect()
+    };
+    let point_jacobian = matrix_fn(
+        "point_jacobian",
+        "∂P/∂q at (x, q): rows `P_x`, `P_y` per point in `POINT_NAMES` order.",
+        &point_rows_of(&c.derivatives.point_jacobian),
+        nu,
+        &unknown_names,
+        quote!(),
+        &point_rows,
+    );
+    let point_param_jacobian = matrix_fn(
+        "point_param_jacobian",
+        "∂P/∂p at (x, q): rows `P_x`, `P_y` per point, over the params of `Params`.",
+        &point_rows_of(&c.derivatives.point_param_jacobian),
+        m.params.len(),
+        &param_names,
+        quote!(),
+        &point_rows,
     );
 
     let vector_fn = |fname: &str,
@@ -172,6 +212,9 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
         #jacobian
         #input_jacobian
         #jacobian_dot
+        #param_jacobian
+        #point_jacobian
+        #point_param_jacobian
         #velocity_rhs
         #acceleration_rhs
         #point_positions

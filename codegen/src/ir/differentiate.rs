@@ -24,6 +24,11 @@ pub struct Derivatives {
     pub point_jacobian: Vec<[Vec<NodeId>; 2]>,
     pub point_velocity: Vec<[NodeId; 2]>,
     pub point_acceleration: Vec<[NodeId; 2]>,
+    /// `param_jacobian[i][j]` = ∂Φi/∂pj over the base params (derived params are expressions of
+    /// them in the DAG, so they are differentiated through).
+    pub param_jacobian: Vec<Vec<NodeId>>,
+    /// `point_param_jacobian[p][c][j]` = ∂(point p, component c)/∂pj.
+    pub point_param_jacobian: Vec<[Vec<NodeId>; 2]>,
 }
 
 /// Memoised partial derivatives on one DAG.
@@ -182,8 +187,14 @@ impl<'a> Differentiator<'a> {
     }
 }
 
-/// Derives everything for a lowered system with `n_inputs` inputs and `n_unknowns` unknowns.
-pub fn differentiate(sys: &mut System, n_inputs: usize, n_unknowns: usize) -> Derivatives {
+/// Derives everything for a lowered system with `n_inputs` inputs, `n_unknowns` unknowns and
+/// `n_params` base params.
+pub fn differentiate(
+    sys: &mut System,
+    n_inputs: usize,
+    n_unknowns: usize,
+    n_params: usize,
+) -> Derivatives {
     let residuals = sys.residuals.clone();
     let points = sys.points.clone();
     let mut d = Differentiator::new(&mut sys.dag);
@@ -234,6 +245,16 @@ pub fn differentiate(sys: &mut System, n_inputs: usize, n_unknowns: usize) -> De
         .iter()
         .map(|p| p.map(|c| d.time_derivative(c, &all)))
         .collect();
+    // Last, so that every node made above keeps its id (and the generated solvers their text).
+    let p: Vec<Var> = (0..n_params).map(|j| Var::P(j as u16)).collect();
+    let param_jacobian = residuals
+        .iter()
+        .map(|&r| p.iter().map(|&v| d.partial(r, v)).collect())
+        .collect();
+    let point_param_jacobian = points
+        .iter()
+        .map(|pt| pt.map(|c| p.iter().map(|&v| d.partial(c, v)).collect()))
+        .collect();
     Derivatives {
         jacobian,
         input_jacobian,
@@ -243,5 +264,7 @@ pub fn differentiate(sys: &mut System, n_inputs: usize, n_unknowns: usize) -> De
         point_jacobian,
         point_velocity,
         point_acceleration,
+        param_jacobian,
+        point_param_jacobian,
     }
 }

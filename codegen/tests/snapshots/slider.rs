@@ -320,6 +320,50 @@ pub mod slider {
             m[(1, 0)] = t6;
             m
         }
+        /// Φp = ∂Φ/∂p at (x, q), over the params of `Params` (derived params differentiated through).
+        pub fn param_jacobian(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // [0][0] = ∂Φ0/∂l1 (loop 1, x)
+            m[(0, 0)] = c_v_q1;
+            // [0][1] = ∂Φ0/∂l2 (loop 1, x)
+            m[(0, 1)] = c_v_q2;
+            // [1][0] = ∂Φ1/∂l1 (loop 1, y)
+            m[(1, 0)] = s_v_q1;
+            // [1][1] = ∂Φ1/∂l2 (loop 1, y)
+            m[(1, 1)] = s_v_q2;
+            m
+        }
+        /// ∂P/∂q at (x, q): rows `P_x`, `P_y` per point in `POINT_NAMES` order.
+        pub fn point_jacobian(
+            &self,
+            _x: &[T; 1],
+            _q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
+            ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros()
+        }
+        /// ∂P/∂p at (x, q): rows `P_x`, `P_y` per point, over the params of `Params`.
+        pub fn point_param_jacobian(
+            &self,
+            x: &[T; 1],
+            _q: &[T; 2],
+        ) -> ::mechgen::__private::nalgebra::SMatrix<T, 2, 2> {
+            let v_q1 = x[0];
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let mut m = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // [0][0] = ∂B_x/∂l1
+            m[(0, 0)] = c_v_q1;
+            // [1][0] = ∂B_y/∂l1
+            m[(1, 0)] = s_v_q1;
+            m
+        }
         /// −Φx ẋ: the right-hand side of J q̇ = −Φx ẋ.
         pub fn velocity_rhs(
             &self,
@@ -1207,6 +1251,113 @@ pub mod slider {
             );
             Ok(())
         }
+        /// The design derivatives at a solved position `(x, q)` (what a solve or a tick gave):
+        /// dq/dp (a row per unknown) and dP/dp (rows `P_x`, `P_y` per point), one column per
+        /// param of `Params` (derived params differentiated through), from J dq/dp = −Φp block
+        /// by block. Non-finite arguments: `NonFinite`; a block singular there (a dead point,
+        /// where they grow without bound): `Singular` at stage `Sensitivity`.
+        pub fn sensitivities(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Param,
+                &self.params.to_array(),
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Position,
+                q,
+            )?;
+            let jac = self.jacobian(x, q);
+            let phi_p = self.param_jacobian(x, q);
+            let mut s: [T; 4] = [T::zero(); 4];
+            // Block 0: loop 1 (y) in q2.
+            {
+                let (eqs, us) = ([1], [0]);
+                let lu = ::mechgen::__private::factor_block(
+                    0,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        1,
+                        1,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                ::mechgen::__private::block_sensitivities(
+                    0,
+                    &eqs,
+                    &us,
+                    &lu,
+                    |e, j| jac[(e, j)],
+                    |e, p| phi_p[(e, p)],
+                    2,
+                    &mut s,
+                    &mut [T::zero(); 1],
+                )?;
+            }
+            // Block 1: loop 1 (x) in s.
+            {
+                let (eqs, us) = ([0], [1]);
+                let lu = ::mechgen::__private::factor_block(
+                    1,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        1,
+                        1,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                ::mechgen::__private::block_sensitivities(
+                    1,
+                    &eqs,
+                    &us,
+                    &lu,
+                    |e, j| jac[(e, j)],
+                    |e, p| phi_p[(e, p)],
+                    2,
+                    &mut s,
+                    &mut [T::zero(); 1],
+                )?;
+            }
+            let (pq, pp) = (self.point_jacobian(x, q), self.point_param_jacobian(x, q));
+            let mut dp: [T; 4] = [T::zero(); 4];
+            ::mechgen::__private::point_sensitivities(
+                |r, k| pq[(r, k)],
+                |r, p| pp[(r, p)],
+                &s,
+                2,
+                2,
+                &mut dp,
+            );
+            Ok(::mechgen::__private::Sensitivities {
+                unknowns: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&s),
+                points: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&dp),
+            })
+        }
+        /// [`Self::sensitivities`] at a tick's state.
+        pub fn tick_sensitivities(
+            &self,
+            t: &Tick<T>,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            self.sensitivities(&t.x, &t.q)
+        }
         /// One whole tick from `guess`: positions, velocities, accelerations and points,
         /// sharing one set of sines and cosines between the stages.
         pub fn solve(
@@ -1308,6 +1459,8 @@ pub mod slider {
         type Points = [::mechgen::__private::PointMotion<T>; 1];
         type Jacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>;
         type InputJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 1>;
+        type ParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>;
+        type PointParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>;
         type Tick = Tick<T>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
@@ -1368,6 +1521,19 @@ pub mod slider {
             xdd: &Self::X,
         ) -> ::core::result::Result<Self::Q, ::mechgen::__private::SolveError> {
             Slider::solve_acceleration(self, x, q, xd, qd, xdd)
+        }
+        fn sensitivities(
+            &self,
+            x: &Self::X,
+            q: &Self::Q,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                Self::ParamJacobian,
+                Self::PointParamJacobian,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            Slider::sensitivities(self, x, q)
         }
         fn points(
             &self,

@@ -243,7 +243,7 @@ impl StaticVisitor<f64> for Generated<'_> {
                         tick = m.tick_start(&inputs[j], &typed[j].1, &opts).ok();
                         return;
                     }
-                    black_box(m.sensitivities(&t.x, &t.q)).ok();
+                    black_box(m.tick_sensitivities(t)).ok();
                 })
             });
             // `step/batch`: a fleet of BATCH instances, each its own tick walking the branch from

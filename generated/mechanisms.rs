@@ -2950,6 +2950,163 @@ pub mod sixbar {
             );
             Ok(())
         }
+        /// [`Self::sensitivities`] with the sines and cosines of the inputs, unknowns and params
+        /// given.
+        fn sensitivity_cached(
+            &self,
+            _x: &[T; 1],
+            _q: &[T; 4],
+            tx: &[(T, T); 1],
+            tq: &[(T, T); 4],
+            tp: &[(T, T); 10],
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 4, 10>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 10>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l5 = self.params.l5;
+            let p_l6 = self.params.l6;
+            let p_l2e = self.params.l2e;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t0 = p_l2 * c_v_q2;
+            let t1 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t2 = p_l3 * c_v_q3;
+            let t3 = p_l3 * s_v_q3;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t4 = c_v_q2 * c_p_alpha;
+            let t5 = s_v_q2 * s_p_alpha;
+            let t6 = s_v_q2 * c_p_alpha;
+            let t7 = c_v_q2 * s_p_alpha;
+            let t8 = t4 + t5;
+            let t9 = t6 - t7;
+            let t10 = p_l2e * t8;
+            let t11 = p_l2e * t9;
+            let (s_v_q5, c_v_q5) = tq[2];
+            let t12 = p_l5 * c_v_q5;
+            let t13 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = tq[3];
+            let t14 = p_l6 * c_v_q6;
+            let t15 = p_l6 * s_v_q6;
+            let t16 = -t1;
+            let t17 = -s_v_q3;
+            let t18 = -t2;
+            let t19 = t1 + t11;
+            let t20 = -t19;
+            let t21 = -s_v_q5;
+            let t22 = -s_v_q6;
+            let t23 = t0 + t10;
+            let t24 = -t12;
+            let t25 = -t14;
+            let t26 = -c_v_q3;
+            let t27 = -c_v_q5;
+            let t28 = -c_v_q6;
+            let t29 = -t10;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            jac[(0, 0)] = t16;
+            jac[(0, 1)] = t3;
+            jac[(1, 0)] = t0;
+            jac[(1, 1)] = t18;
+            jac[(2, 0)] = t20;
+            jac[(2, 2)] = t13;
+            jac[(2, 3)] = t15;
+            jac[(3, 0)] = t23;
+            jac[(3, 2)] = t24;
+            jac[(3, 3)] = t25;
+            let mut phi_p = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 10>::zeros();
+            phi_p[(0, 0)] = c_v_q1;
+            phi_p[(0, 1)] = c_v_q2;
+            phi_p[(0, 2)] = t26;
+            phi_p[(0, 3)] = T::lit(-1.0);
+            phi_p[(1, 0)] = s_v_q1;
+            phi_p[(1, 1)] = s_v_q2;
+            phi_p[(1, 2)] = t17;
+            phi_p[(2, 0)] = c_v_q1;
+            phi_p[(2, 1)] = c_v_q2;
+            phi_p[(2, 4)] = t27;
+            phi_p[(2, 5)] = t28;
+            phi_p[(2, 6)] = t8;
+            phi_p[(2, 7)] = T::lit(-1.0);
+            phi_p[(2, 9)] = t11;
+            phi_p[(3, 0)] = s_v_q1;
+            phi_p[(3, 1)] = s_v_q2;
+            phi_p[(3, 4)] = t21;
+            phi_p[(3, 5)] = t22;
+            phi_p[(3, 6)] = t9;
+            phi_p[(3, 8)] = T::lit(-1.0);
+            phi_p[(3, 9)] = t29;
+            let mut pq = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 4>::zeros();
+            pq[(0, 0)] = t20;
+            pq[(1, 0)] = t23;
+            let mut pp = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 10>::zeros();
+            pp[(0, 0)] = c_v_q1;
+            pp[(0, 1)] = c_v_q2;
+            pp[(0, 6)] = t8;
+            pp[(0, 9)] = t11;
+            pp[(1, 0)] = s_v_q1;
+            pp[(1, 1)] = s_v_q2;
+            pp[(1, 6)] = t9;
+            pp[(1, 9)] = t29;
+            let mut s = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 10>::zeros();
+            // Block 0: loop 1 (x, y) in q2, q3.
+            {
+                let (eqs, us) = ([0, 1], [0, 1]);
+                let lu = ::mechgen::__private::factor_block(
+                    0,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        2,
+                        2,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                let rhs = ::mechgen::__private::nalgebra::SMatrix::<
+                    T,
+                    2,
+                    10,
+                >::from_rows(&[-phi_p.row(0).into_owned(), -phi_p.row(1).into_owned()]);
+                let z = lu
+                    .solve_columns(0, ::mechgen::__private::Stage::Sensitivity, rhs)?;
+                s.set_row(0, &z.row(0));
+                s.set_row(1, &z.row(1));
+            }
+            // Block 1: loop 2 (x, y) in q5, q6.
+            {
+                let (eqs, us) = ([2, 3], [2, 3]);
+                let lu = ::mechgen::__private::factor_block(
+                    1,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        2,
+                        2,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                let rhs = ::mechgen::__private::nalgebra::SMatrix::<
+                    T,
+                    2,
+                    10,
+                >::from_rows(
+                    &[
+                        -phi_p.row(2).into_owned() - s.row(0) * jac[(2, 0)],
+                        -phi_p.row(3).into_owned() - s.row(0) * jac[(3, 0)],
+                    ],
+                );
+                let z = lu
+                    .solve_columns(1, ::mechgen::__private::Stage::Sensitivity, rhs)?;
+                s.set_row(2, &z.row(0));
+                s.set_row(3, &z.row(1));
+            }
+            Ok(::mechgen::__private::Sensitivities {
+                unknowns: s,
+                points: pp + pq * s,
+            })
+        }
         /// The design derivatives at a solved position `(x, q)` (what a solve or a tick gave):
         /// dq/dp (a row per unknown) and dP/dp (rows `P_x`, `P_y` per point), one column per
         /// param of `Params` (derived params differentiated through), from J dq/dp = −Φp block
@@ -2978,73 +3135,12 @@ pub mod sixbar {
                 ::mechgen::__private::Quantity::Position,
                 q,
             )?;
-            let jac = self.jacobian(x, q);
-            let phi_p = self.param_jacobian(x, q);
-            let mut s: [T; 40] = [T::zero(); 40];
-            // Block 0: loop 1 (x, y) in q2, q3.
-            {
-                let (eqs, us) = ([0, 1], [0, 1]);
-                let lu = ::mechgen::__private::factor_block(
-                    0,
-                    ::mechgen::__private::Stage::Sensitivity,
-                    ::mechgen::__private::nalgebra::SMatrix::<
-                        T,
-                        2,
-                        2,
-                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
-                )?;
-                ::mechgen::__private::block_sensitivities(
-                    0,
-                    &eqs,
-                    &us,
-                    &lu,
-                    |e, j| jac[(e, j)],
-                    |e, p| phi_p[(e, p)],
-                    10,
-                    &mut s,
-                    &mut [T::zero(); 2],
-                )?;
-            }
-            // Block 1: loop 2 (x, y) in q5, q6.
-            {
-                let (eqs, us) = ([2, 3], [2, 3]);
-                let lu = ::mechgen::__private::factor_block(
-                    1,
-                    ::mechgen::__private::Stage::Sensitivity,
-                    ::mechgen::__private::nalgebra::SMatrix::<
-                        T,
-                        2,
-                        2,
-                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
-                )?;
-                ::mechgen::__private::block_sensitivities(
-                    1,
-                    &eqs,
-                    &us,
-                    &lu,
-                    |e, j| jac[(e, j)],
-                    |e, p| phi_p[(e, p)],
-                    10,
-                    &mut s,
-                    &mut [T::zero(); 2],
-                )?;
-            }
-            let (pq, pp) = (self.point_jacobian(x, q), self.point_param_jacobian(x, q));
-            let mut dp: [T; 20] = [T::zero(); 20];
-            ::mechgen::__private::point_sensitivities(
-                |r, k| pq[(r, k)],
-                |r, p| pp[(r, p)],
-                &s,
-                4,
-                10,
-                &mut dp,
-            );
-            Ok(::mechgen::__private::Sensitivities {
-                unknowns: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&s),
-                points: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&dp),
-            })
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.sensitivity_cached(x, q, &tx, &st.sc, &tp)
         }
-        /// [`Self::sensitivities`] at a tick's state.
+        /// [`Self::sensitivities`] at a tick's state, with the sines and cosines the tick keeps
+        /// (when the params are still those of the last tick; else computed afresh).
         pub fn tick_sensitivities(
             &self,
             t: &Tick<T>,
@@ -3055,7 +3151,12 @@ pub mod sixbar {
             >,
             ::mechgen::__private::SolveError,
         > {
-            self.sensitivities(&t.x, &t.q)
+            use ::mechgen::__private::TickCache as _;
+            if !t.same_params(&self.params.to_array()) {
+                return self.sensitivities(&t.x, &t.q);
+            }
+            let (tx, tq) = t.trig();
+            self.sensitivity_cached(&t.x, &t.q, tx, tq, t.params_trig())
         }
         /// One whole tick from `guess`: positions, velocities, accelerations and points,
         /// sharing one set of sines and cosines between the stages.
@@ -3233,6 +3334,18 @@ pub mod sixbar {
             ::mechgen::__private::SolveError,
         > {
             Sixbar::sensitivities(self, x, q)
+        }
+        fn tick_sensitivities(
+            &self,
+            t: &Self::Tick,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                Self::ParamJacobian,
+                Self::PointParamJacobian,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            Sixbar::tick_sensitivities(self, t)
         }
         fn points(
             &self,
@@ -5449,6 +5562,141 @@ pub mod shaper {
             );
             Ok(())
         }
+        /// [`Self::sensitivities`] with the sines and cosines of the inputs, unknowns and params
+        /// given.
+        fn sensitivity_cached(
+            &self,
+            _x: &[T; 1],
+            q: &[T; 4],
+            tx: &[(T, T); 1],
+            tq: &[(T, T); 4],
+            _tp: &[(T, T); 5],
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 4, 5>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 4, 5>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            let v_s3 = q[0];
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t0 = v_s3 * c_v_q3;
+            let t1 = v_s3 * s_v_q3;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t2 = c_v_q3 * p_l3;
+            let t3 = s_v_q3 * p_l3;
+            let (s_v_q4, c_v_q4) = tq[2];
+            let t4 = p_l4 * c_v_q4;
+            let t5 = p_l4 * s_v_q4;
+            let t6 = -t1;
+            let t7 = -t3;
+            let t8 = -t5;
+            let t9 = -s_v_q1;
+            let t10 = -c_v_q1;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            jac[(0, 0)] = c_v_q3;
+            jac[(0, 1)] = t6;
+            jac[(1, 0)] = s_v_q3;
+            jac[(1, 1)] = t0;
+            jac[(2, 1)] = t7;
+            jac[(2, 2)] = t8;
+            jac[(2, 3)] = T::lit(-1.0);
+            jac[(3, 1)] = t2;
+            jac[(3, 2)] = t4;
+            let mut phi_p = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 5>::zeros();
+            phi_p[(0, 0)] = t10;
+            phi_p[(1, 0)] = t9;
+            phi_p[(1, 3)] = T::lit(-1.0);
+            phi_p[(2, 1)] = c_v_q3;
+            phi_p[(2, 2)] = c_v_q4;
+            phi_p[(3, 1)] = s_v_q3;
+            phi_p[(3, 2)] = s_v_q4;
+            phi_p[(3, 4)] = T::lit(-1.0);
+            let mut pq = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            pq[(0, 3)] = T::one();
+            pq[(2, 1)] = t7;
+            pq[(3, 1)] = t2;
+            let mut pp = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 5>::zeros();
+            pp[(1, 4)] = T::one();
+            pp[(2, 1)] = c_v_q3;
+            pp[(3, 1)] = s_v_q3;
+            let mut s = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 5>::zeros();
+            // Block 0: loop 1 (x, y) in s3, q3.
+            {
+                let (eqs, us) = ([0, 1], [0, 1]);
+                let lu = ::mechgen::__private::factor_block(
+                    0,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        2,
+                        2,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                let rhs = ::mechgen::__private::nalgebra::SMatrix::<
+                    T,
+                    2,
+                    5,
+                >::from_rows(&[-phi_p.row(0).into_owned(), -phi_p.row(1).into_owned()]);
+                let z = lu
+                    .solve_columns(0, ::mechgen::__private::Stage::Sensitivity, rhs)?;
+                s.set_row(0, &z.row(0));
+                s.set_row(1, &z.row(1));
+            }
+            // Block 1: loop 2 (y) in q4.
+            {
+                let (eqs, us) = ([3], [2]);
+                let lu = ::mechgen::__private::factor_block(
+                    1,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        1,
+                        1,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                let rhs = ::mechgen::__private::nalgebra::SMatrix::<
+                    T,
+                    1,
+                    5,
+                >::from_rows(&[-phi_p.row(3).into_owned() - s.row(1) * jac[(3, 1)]]);
+                let z = lu
+                    .solve_columns(1, ::mechgen::__private::Stage::Sensitivity, rhs)?;
+                s.set_row(2, &z.row(0));
+            }
+            // Block 2: loop 2 (x) in sE.
+            {
+                let (eqs, us) = ([2], [3]);
+                let lu = ::mechgen::__private::factor_block(
+                    2,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        1,
+                        1,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                let rhs = ::mechgen::__private::nalgebra::SMatrix::<
+                    T,
+                    1,
+                    5,
+                >::from_rows(
+                    &[
+                        -phi_p.row(2).into_owned() - s.row(1) * jac[(2, 1)]
+                            - s.row(2) * jac[(2, 2)],
+                    ],
+                );
+                let z = lu
+                    .solve_columns(2, ::mechgen::__private::Stage::Sensitivity, rhs)?;
+                s.set_row(3, &z.row(0));
+            }
+            Ok(::mechgen::__private::Sensitivities {
+                unknowns: s,
+                points: pp + pq * s,
+            })
+        }
         /// The design derivatives at a solved position `(x, q)` (what a solve or a tick gave):
         /// dq/dp (a row per unknown) and dP/dp (rows `P_x`, `P_y` per point), one column per
         /// param of `Params` (derived params differentiated through), from J dq/dp = −Φp block
@@ -5477,97 +5725,12 @@ pub mod shaper {
                 ::mechgen::__private::Quantity::Position,
                 q,
             )?;
-            let jac = self.jacobian(x, q);
-            let phi_p = self.param_jacobian(x, q);
-            let mut s: [T; 20] = [T::zero(); 20];
-            // Block 0: loop 1 (x, y) in s3, q3.
-            {
-                let (eqs, us) = ([0, 1], [0, 1]);
-                let lu = ::mechgen::__private::factor_block(
-                    0,
-                    ::mechgen::__private::Stage::Sensitivity,
-                    ::mechgen::__private::nalgebra::SMatrix::<
-                        T,
-                        2,
-                        2,
-                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
-                )?;
-                ::mechgen::__private::block_sensitivities(
-                    0,
-                    &eqs,
-                    &us,
-                    &lu,
-                    |e, j| jac[(e, j)],
-                    |e, p| phi_p[(e, p)],
-                    5,
-                    &mut s,
-                    &mut [T::zero(); 2],
-                )?;
-            }
-            // Block 1: loop 2 (y) in q4.
-            {
-                let (eqs, us) = ([3], [2]);
-                let lu = ::mechgen::__private::factor_block(
-                    1,
-                    ::mechgen::__private::Stage::Sensitivity,
-                    ::mechgen::__private::nalgebra::SMatrix::<
-                        T,
-                        1,
-                        1,
-                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
-                )?;
-                ::mechgen::__private::block_sensitivities(
-                    1,
-                    &eqs,
-                    &us,
-                    &lu,
-                    |e, j| jac[(e, j)],
-                    |e, p| phi_p[(e, p)],
-                    5,
-                    &mut s,
-                    &mut [T::zero(); 1],
-                )?;
-            }
-            // Block 2: loop 2 (x) in sE.
-            {
-                let (eqs, us) = ([2], [3]);
-                let lu = ::mechgen::__private::factor_block(
-                    2,
-                    ::mechgen::__private::Stage::Sensitivity,
-                    ::mechgen::__private::nalgebra::SMatrix::<
-                        T,
-                        1,
-                        1,
-                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
-                )?;
-                ::mechgen::__private::block_sensitivities(
-                    2,
-                    &eqs,
-                    &us,
-                    &lu,
-                    |e, j| jac[(e, j)],
-                    |e, p| phi_p[(e, p)],
-                    5,
-                    &mut s,
-                    &mut [T::zero(); 1],
-                )?;
-            }
-            let (pq, pp) = (self.point_jacobian(x, q), self.point_param_jacobian(x, q));
-            let mut dp: [T; 20] = [T::zero(); 20];
-            ::mechgen::__private::point_sensitivities(
-                |r, k| pq[(r, k)],
-                |r, p| pp[(r, p)],
-                &s,
-                4,
-                5,
-                &mut dp,
-            );
-            Ok(::mechgen::__private::Sensitivities {
-                unknowns: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&s),
-                points: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&dp),
-            })
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.sensitivity_cached(x, q, &tx, &st.sc, &tp)
         }
-        /// [`Self::sensitivities`] at a tick's state.
+        /// [`Self::sensitivities`] at a tick's state, with the sines and cosines the tick keeps
+        /// (when the params are still those of the last tick; else computed afresh).
         pub fn tick_sensitivities(
             &self,
             t: &Tick<T>,
@@ -5578,7 +5741,12 @@ pub mod shaper {
             >,
             ::mechgen::__private::SolveError,
         > {
-            self.sensitivities(&t.x, &t.q)
+            use ::mechgen::__private::TickCache as _;
+            if !t.same_params(&self.params.to_array()) {
+                return self.sensitivities(&t.x, &t.q);
+            }
+            let (tx, tq) = t.trig();
+            self.sensitivity_cached(&t.x, &t.q, tx, tq, t.params_trig())
         }
         /// One whole tick from `guess`: positions, velocities, accelerations and points,
         /// sharing one set of sines and cosines between the stages.
@@ -5756,6 +5924,18 @@ pub mod shaper {
             ::mechgen::__private::SolveError,
         > {
             Shaper::sensitivities(self, x, q)
+        }
+        fn tick_sensitivities(
+            &self,
+            t: &Self::Tick,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                Self::ParamJacobian,
+                Self::PointParamJacobian,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            Shaper::tick_sensitivities(self, t)
         }
         fn points(
             &self,
@@ -7524,6 +7704,105 @@ pub mod four_bar {
             );
             Ok(())
         }
+        /// [`Self::sensitivities`] with the sines and cosines of the inputs, unknowns and params
+        /// given.
+        fn sensitivity_cached(
+            &self,
+            _x: &[T; 1],
+            _q: &[T; 2],
+            tx: &[(T, T); 1],
+            tq: &[(T, T); 2],
+            tp: &[(T, T); 6],
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 6>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 6, 6>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_lp = self.params.lp;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t0 = p_l2 * c_v_q2;
+            let t1 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t2 = p_l3 * c_v_q3;
+            let t3 = p_l3 * s_v_q3;
+            let (s_p_beta, c_p_beta) = tp[5];
+            let t4 = c_v_q2 * c_p_beta;
+            let t5 = s_v_q2 * s_p_beta;
+            let t6 = s_v_q2 * c_p_beta;
+            let t7 = c_v_q2 * s_p_beta;
+            let t8 = t4 - t5;
+            let t9 = t6 + t7;
+            let t10 = p_lp * t8;
+            let t11 = p_lp * t9;
+            let t12 = -t1;
+            let t13 = -s_v_q3;
+            let t14 = -t3;
+            let t15 = -t2;
+            let t16 = -t11;
+            let t17 = -c_v_q3;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            jac[(0, 0)] = t12;
+            jac[(0, 1)] = t3;
+            jac[(1, 0)] = t0;
+            jac[(1, 1)] = t15;
+            let mut phi_p = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 6>::zeros();
+            phi_p[(0, 0)] = c_v_q1;
+            phi_p[(0, 1)] = c_v_q2;
+            phi_p[(0, 2)] = t17;
+            phi_p[(0, 3)] = T::lit(-1.0);
+            phi_p[(1, 0)] = s_v_q1;
+            phi_p[(1, 1)] = s_v_q2;
+            phi_p[(1, 2)] = t13;
+            let mut pq = ::mechgen::__private::nalgebra::SMatrix::<T, 6, 2>::zeros();
+            pq[(2, 1)] = t14;
+            pq[(3, 1)] = t2;
+            pq[(4, 0)] = t16;
+            pq[(5, 0)] = t10;
+            let mut pp = ::mechgen::__private::nalgebra::SMatrix::<T, 6, 6>::zeros();
+            pp[(0, 0)] = c_v_q1;
+            pp[(1, 0)] = s_v_q1;
+            pp[(2, 2)] = c_v_q3;
+            pp[(2, 3)] = T::one();
+            pp[(3, 2)] = s_v_q3;
+            pp[(4, 0)] = c_v_q1;
+            pp[(4, 4)] = t8;
+            pp[(4, 5)] = t16;
+            pp[(5, 0)] = s_v_q1;
+            pp[(5, 4)] = t9;
+            pp[(5, 5)] = t10;
+            let mut s = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 6>::zeros();
+            // Block 0: loop 1 (x, y) in q2, q3.
+            {
+                let (eqs, us) = ([0, 1], [0, 1]);
+                let lu = ::mechgen::__private::factor_block(
+                    0,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        2,
+                        2,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                let rhs = ::mechgen::__private::nalgebra::SMatrix::<
+                    T,
+                    2,
+                    6,
+                >::from_rows(&[-phi_p.row(0).into_owned(), -phi_p.row(1).into_owned()]);
+                let z = lu
+                    .solve_columns(0, ::mechgen::__private::Stage::Sensitivity, rhs)?;
+                s.set_row(0, &z.row(0));
+                s.set_row(1, &z.row(1));
+            }
+            Ok(::mechgen::__private::Sensitivities {
+                unknowns: s,
+                points: pp + pq * s,
+            })
+        }
         /// The design derivatives at a solved position `(x, q)` (what a solve or a tick gave):
         /// dq/dp (a row per unknown) and dP/dp (rows `P_x`, `P_y` per point), one column per
         /// param of `Params` (derived params differentiated through), from J dq/dp = −Φp block
@@ -7552,49 +7831,12 @@ pub mod four_bar {
                 ::mechgen::__private::Quantity::Position,
                 q,
             )?;
-            let jac = self.jacobian(x, q);
-            let phi_p = self.param_jacobian(x, q);
-            let mut s: [T; 12] = [T::zero(); 12];
-            // Block 0: loop 1 (x, y) in q2, q3.
-            {
-                let (eqs, us) = ([0, 1], [0, 1]);
-                let lu = ::mechgen::__private::factor_block(
-                    0,
-                    ::mechgen::__private::Stage::Sensitivity,
-                    ::mechgen::__private::nalgebra::SMatrix::<
-                        T,
-                        2,
-                        2,
-                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
-                )?;
-                ::mechgen::__private::block_sensitivities(
-                    0,
-                    &eqs,
-                    &us,
-                    &lu,
-                    |e, j| jac[(e, j)],
-                    |e, p| phi_p[(e, p)],
-                    6,
-                    &mut s,
-                    &mut [T::zero(); 2],
-                )?;
-            }
-            let (pq, pp) = (self.point_jacobian(x, q), self.point_param_jacobian(x, q));
-            let mut dp: [T; 36] = [T::zero(); 36];
-            ::mechgen::__private::point_sensitivities(
-                |r, k| pq[(r, k)],
-                |r, p| pp[(r, p)],
-                &s,
-                2,
-                6,
-                &mut dp,
-            );
-            Ok(::mechgen::__private::Sensitivities {
-                unknowns: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&s),
-                points: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&dp),
-            })
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.sensitivity_cached(x, q, &tx, &st.sc, &tp)
         }
-        /// [`Self::sensitivities`] at a tick's state.
+        /// [`Self::sensitivities`] at a tick's state, with the sines and cosines the tick keeps
+        /// (when the params are still those of the last tick; else computed afresh).
         pub fn tick_sensitivities(
             &self,
             t: &Tick<T>,
@@ -7605,7 +7847,12 @@ pub mod four_bar {
             >,
             ::mechgen::__private::SolveError,
         > {
-            self.sensitivities(&t.x, &t.q)
+            use ::mechgen::__private::TickCache as _;
+            if !t.same_params(&self.params.to_array()) {
+                return self.sensitivities(&t.x, &t.q);
+            }
+            let (tx, tq) = t.trig();
+            self.sensitivity_cached(&t.x, &t.q, tx, tq, t.params_trig())
         }
         /// One whole tick from `guess`: positions, velocities, accelerations and points,
         /// sharing one set of sines and cosines between the stages.
@@ -7783,6 +8030,18 @@ pub mod four_bar {
             ::mechgen::__private::SolveError,
         > {
             FourBar::sensitivities(self, x, q)
+        }
+        fn tick_sensitivities(
+            &self,
+            t: &Self::Tick,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                Self::ParamJacobian,
+                Self::PointParamJacobian,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            FourBar::tick_sensitivities(self, t)
         }
         fn points(
             &self,
@@ -9180,6 +9439,104 @@ pub mod slider_crank {
             );
             Ok(())
         }
+        /// [`Self::sensitivities`] with the sines and cosines of the inputs, unknowns and params
+        /// given.
+        fn sensitivity_cached(
+            &self,
+            _x: &[T; 1],
+            _q: &[T; 2],
+            tx: &[(T, T); 1],
+            tq: &[(T, T); 2],
+            _tp: &[(T, T); 3],
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 3>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 6, 3>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            let p_l = self.params.l;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t0 = p_l * c_v_q2;
+            let t1 = p_l * s_v_q2;
+            let t2 = p_l / T::lit(2.0);
+            let t3 = c_v_q2 * t2;
+            let t4 = s_v_q2 * t2;
+            let t5 = -t1;
+            let t6 = -t4;
+            let t7 = T::lit(0.5) * c_v_q2;
+            let t8 = T::lit(0.5) * s_v_q2;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            jac[(0, 0)] = t5;
+            jac[(0, 1)] = T::lit(-1.0);
+            jac[(1, 0)] = t0;
+            let mut phi_p = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 3>::zeros();
+            phi_p[(0, 0)] = c_v_q1;
+            phi_p[(0, 1)] = c_v_q2;
+            phi_p[(1, 0)] = s_v_q1;
+            phi_p[(1, 1)] = s_v_q2;
+            phi_p[(1, 2)] = T::lit(-1.0);
+            let mut pq = ::mechgen::__private::nalgebra::SMatrix::<T, 6, 2>::zeros();
+            pq[(2, 1)] = T::one();
+            pq[(4, 0)] = t6;
+            pq[(5, 0)] = t3;
+            let mut pp = ::mechgen::__private::nalgebra::SMatrix::<T, 6, 3>::zeros();
+            pp[(0, 0)] = c_v_q1;
+            pp[(1, 0)] = s_v_q1;
+            pp[(3, 2)] = T::one();
+            pp[(4, 0)] = c_v_q1;
+            pp[(4, 1)] = t7;
+            pp[(5, 0)] = s_v_q1;
+            pp[(5, 1)] = t8;
+            let mut s = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 3>::zeros();
+            // Block 0: loop 1 (y) in q2.
+            {
+                let (eqs, us) = ([1], [0]);
+                let lu = ::mechgen::__private::factor_block(
+                    0,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        1,
+                        1,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                let rhs = ::mechgen::__private::nalgebra::SMatrix::<
+                    T,
+                    1,
+                    3,
+                >::from_rows(&[-phi_p.row(1).into_owned()]);
+                let z = lu
+                    .solve_columns(0, ::mechgen::__private::Stage::Sensitivity, rhs)?;
+                s.set_row(0, &z.row(0));
+            }
+            // Block 1: loop 1 (x) in sC.
+            {
+                let (eqs, us) = ([0], [1]);
+                let lu = ::mechgen::__private::factor_block(
+                    1,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        1,
+                        1,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                let rhs = ::mechgen::__private::nalgebra::SMatrix::<
+                    T,
+                    1,
+                    3,
+                >::from_rows(&[-phi_p.row(0).into_owned() - s.row(0) * jac[(0, 0)]]);
+                let z = lu
+                    .solve_columns(1, ::mechgen::__private::Stage::Sensitivity, rhs)?;
+                s.set_row(1, &z.row(0));
+            }
+            Ok(::mechgen::__private::Sensitivities {
+                unknowns: s,
+                points: pp + pq * s,
+            })
+        }
         /// The design derivatives at a solved position `(x, q)` (what a solve or a tick gave):
         /// dq/dp (a row per unknown) and dP/dp (rows `P_x`, `P_y` per point), one column per
         /// param of `Params` (derived params differentiated through), from J dq/dp = −Φp block
@@ -9208,73 +9565,12 @@ pub mod slider_crank {
                 ::mechgen::__private::Quantity::Position,
                 q,
             )?;
-            let jac = self.jacobian(x, q);
-            let phi_p = self.param_jacobian(x, q);
-            let mut s: [T; 6] = [T::zero(); 6];
-            // Block 0: loop 1 (y) in q2.
-            {
-                let (eqs, us) = ([1], [0]);
-                let lu = ::mechgen::__private::factor_block(
-                    0,
-                    ::mechgen::__private::Stage::Sensitivity,
-                    ::mechgen::__private::nalgebra::SMatrix::<
-                        T,
-                        1,
-                        1,
-                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
-                )?;
-                ::mechgen::__private::block_sensitivities(
-                    0,
-                    &eqs,
-                    &us,
-                    &lu,
-                    |e, j| jac[(e, j)],
-                    |e, p| phi_p[(e, p)],
-                    3,
-                    &mut s,
-                    &mut [T::zero(); 1],
-                )?;
-            }
-            // Block 1: loop 1 (x) in sC.
-            {
-                let (eqs, us) = ([0], [1]);
-                let lu = ::mechgen::__private::factor_block(
-                    1,
-                    ::mechgen::__private::Stage::Sensitivity,
-                    ::mechgen::__private::nalgebra::SMatrix::<
-                        T,
-                        1,
-                        1,
-                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
-                )?;
-                ::mechgen::__private::block_sensitivities(
-                    1,
-                    &eqs,
-                    &us,
-                    &lu,
-                    |e, j| jac[(e, j)],
-                    |e, p| phi_p[(e, p)],
-                    3,
-                    &mut s,
-                    &mut [T::zero(); 1],
-                )?;
-            }
-            let (pq, pp) = (self.point_jacobian(x, q), self.point_param_jacobian(x, q));
-            let mut dp: [T; 18] = [T::zero(); 18];
-            ::mechgen::__private::point_sensitivities(
-                |r, k| pq[(r, k)],
-                |r, p| pp[(r, p)],
-                &s,
-                2,
-                3,
-                &mut dp,
-            );
-            Ok(::mechgen::__private::Sensitivities {
-                unknowns: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&s),
-                points: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&dp),
-            })
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.sensitivity_cached(x, q, &tx, &st.sc, &tp)
         }
-        /// [`Self::sensitivities`] at a tick's state.
+        /// [`Self::sensitivities`] at a tick's state, with the sines and cosines the tick keeps
+        /// (when the params are still those of the last tick; else computed afresh).
         pub fn tick_sensitivities(
             &self,
             t: &Tick<T>,
@@ -9285,7 +9581,12 @@ pub mod slider_crank {
             >,
             ::mechgen::__private::SolveError,
         > {
-            self.sensitivities(&t.x, &t.q)
+            use ::mechgen::__private::TickCache as _;
+            if !t.same_params(&self.params.to_array()) {
+                return self.sensitivities(&t.x, &t.q);
+            }
+            let (tx, tq) = t.trig();
+            self.sensitivity_cached(&t.x, &t.q, tx, tq, t.params_trig())
         }
         /// One whole tick from `guess`: positions, velocities, accelerations and points,
         /// sharing one set of sines and cosines between the stages.
@@ -9463,6 +9764,18 @@ pub mod slider_crank {
             ::mechgen::__private::SolveError,
         > {
             SliderCrank::sensitivities(self, x, q)
+        }
+        fn tick_sensitivities(
+            &self,
+            t: &Self::Tick,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                Self::ParamJacobian,
+                Self::PointParamJacobian,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            SliderCrank::tick_sensitivities(self, t)
         }
         fn points(
             &self,
@@ -10767,6 +11080,86 @@ pub mod rocker_four_bar {
             );
             Ok(())
         }
+        /// [`Self::sensitivities`] with the sines and cosines of the inputs, unknowns and params
+        /// given.
+        fn sensitivity_cached(
+            &self,
+            _x: &[T; 1],
+            _q: &[T; 2],
+            tx: &[(T, T); 1],
+            tq: &[(T, T); 2],
+            _tp: &[(T, T); 4],
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 4>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t0 = p_l2 * c_v_q2;
+            let t1 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t2 = p_l3 * c_v_q3;
+            let t3 = p_l3 * s_v_q3;
+            let t4 = -t1;
+            let t5 = -s_v_q3;
+            let t6 = -t3;
+            let t7 = -t2;
+            let t8 = -c_v_q3;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            jac[(0, 0)] = t4;
+            jac[(0, 1)] = t3;
+            jac[(1, 0)] = t0;
+            jac[(1, 1)] = t7;
+            let mut phi_p = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 4>::zeros();
+            phi_p[(0, 0)] = c_v_q1;
+            phi_p[(0, 1)] = c_v_q2;
+            phi_p[(0, 2)] = t8;
+            phi_p[(0, 3)] = T::lit(-1.0);
+            phi_p[(1, 0)] = s_v_q1;
+            phi_p[(1, 1)] = s_v_q2;
+            phi_p[(1, 2)] = t5;
+            let mut pq = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 2>::zeros();
+            pq[(2, 1)] = t6;
+            pq[(3, 1)] = t2;
+            let mut pp = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            pp[(0, 0)] = c_v_q1;
+            pp[(1, 0)] = s_v_q1;
+            pp[(2, 2)] = c_v_q3;
+            pp[(2, 3)] = T::one();
+            pp[(3, 2)] = s_v_q3;
+            let mut s = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 4>::zeros();
+            // Block 0: loop 1 (x, y) in q2, q3.
+            {
+                let (eqs, us) = ([0, 1], [0, 1]);
+                let lu = ::mechgen::__private::factor_block(
+                    0,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        2,
+                        2,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                let rhs = ::mechgen::__private::nalgebra::SMatrix::<
+                    T,
+                    2,
+                    4,
+                >::from_rows(&[-phi_p.row(0).into_owned(), -phi_p.row(1).into_owned()]);
+                let z = lu
+                    .solve_columns(0, ::mechgen::__private::Stage::Sensitivity, rhs)?;
+                s.set_row(0, &z.row(0));
+                s.set_row(1, &z.row(1));
+            }
+            Ok(::mechgen::__private::Sensitivities {
+                unknowns: s,
+                points: pp + pq * s,
+            })
+        }
         /// The design derivatives at a solved position `(x, q)` (what a solve or a tick gave):
         /// dq/dp (a row per unknown) and dP/dp (rows `P_x`, `P_y` per point), one column per
         /// param of `Params` (derived params differentiated through), from J dq/dp = −Φp block
@@ -10795,49 +11188,12 @@ pub mod rocker_four_bar {
                 ::mechgen::__private::Quantity::Position,
                 q,
             )?;
-            let jac = self.jacobian(x, q);
-            let phi_p = self.param_jacobian(x, q);
-            let mut s: [T; 8] = [T::zero(); 8];
-            // Block 0: loop 1 (x, y) in q2, q3.
-            {
-                let (eqs, us) = ([0, 1], [0, 1]);
-                let lu = ::mechgen::__private::factor_block(
-                    0,
-                    ::mechgen::__private::Stage::Sensitivity,
-                    ::mechgen::__private::nalgebra::SMatrix::<
-                        T,
-                        2,
-                        2,
-                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
-                )?;
-                ::mechgen::__private::block_sensitivities(
-                    0,
-                    &eqs,
-                    &us,
-                    &lu,
-                    |e, j| jac[(e, j)],
-                    |e, p| phi_p[(e, p)],
-                    4,
-                    &mut s,
-                    &mut [T::zero(); 2],
-                )?;
-            }
-            let (pq, pp) = (self.point_jacobian(x, q), self.point_param_jacobian(x, q));
-            let mut dp: [T; 16] = [T::zero(); 16];
-            ::mechgen::__private::point_sensitivities(
-                |r, k| pq[(r, k)],
-                |r, p| pp[(r, p)],
-                &s,
-                2,
-                4,
-                &mut dp,
-            );
-            Ok(::mechgen::__private::Sensitivities {
-                unknowns: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&s),
-                points: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&dp),
-            })
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.sensitivity_cached(x, q, &tx, &st.sc, &tp)
         }
-        /// [`Self::sensitivities`] at a tick's state.
+        /// [`Self::sensitivities`] at a tick's state, with the sines and cosines the tick keeps
+        /// (when the params are still those of the last tick; else computed afresh).
         pub fn tick_sensitivities(
             &self,
             t: &Tick<T>,
@@ -10848,7 +11204,12 @@ pub mod rocker_four_bar {
             >,
             ::mechgen::__private::SolveError,
         > {
-            self.sensitivities(&t.x, &t.q)
+            use ::mechgen::__private::TickCache as _;
+            if !t.same_params(&self.params.to_array()) {
+                return self.sensitivities(&t.x, &t.q);
+            }
+            let (tx, tq) = t.trig();
+            self.sensitivity_cached(&t.x, &t.q, tx, tq, t.params_trig())
         }
         /// One whole tick from `guess`: positions, velocities, accelerations and points,
         /// sharing one set of sines and cosines between the stages.
@@ -11026,6 +11387,18 @@ pub mod rocker_four_bar {
             ::mechgen::__private::SolveError,
         > {
             RockerFourBar::sensitivities(self, x, q)
+        }
+        fn tick_sensitivities(
+            &self,
+            t: &Self::Tick,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                Self::ParamJacobian,
+                Self::PointParamJacobian,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            RockerFourBar::tick_sensitivities(self, t)
         }
         fn points(
             &self,
@@ -12930,6 +13303,149 @@ pub mod sixbar_g {
             );
             Ok(())
         }
+        /// [`Self::sensitivities`] with the sines and cosines of the inputs, unknowns and params
+        /// given.
+        fn sensitivity_cached(
+            &self,
+            _x: &[T; 1],
+            _q: &[T; 4],
+            tx: &[(T, T); 1],
+            tq: &[(T, T); 4],
+            tp: &[(T, T); 10],
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 4, 10>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 10>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l5 = self.params.l5;
+            let p_l2e = self.params.l2e;
+            let (s_v_q1, c_v_q1) = tq[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[1];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[2];
+            let t4 = p_l3 * c_v_q3;
+            let t5 = p_l3 * s_v_q3;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t6 = c_v_q2 * c_p_alpha;
+            let t7 = s_v_q2 * s_p_alpha;
+            let t8 = s_v_q2 * c_p_alpha;
+            let t9 = c_v_q2 * s_p_alpha;
+            let t10 = t6 + t7;
+            let t11 = t8 - t9;
+            let t12 = p_l2e * t10;
+            let t13 = p_l2e * t11;
+            let (s_v_q5, c_v_q5) = tq[3];
+            let t14 = p_l5 * c_v_q5;
+            let t15 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = tx[0];
+            let t16 = -t1;
+            let t17 = -t3;
+            let t18 = -s_v_q3;
+            let t19 = -t4;
+            let t20 = t3 + t13;
+            let t21 = -t20;
+            let t22 = -s_v_q5;
+            let t23 = t2 + t12;
+            let t24 = -t14;
+            let t25 = -s_v_q6;
+            let t26 = -c_v_q3;
+            let t27 = -c_v_q5;
+            let t28 = -c_v_q6;
+            let t29 = -t12;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 4>::zeros();
+            jac[(0, 0)] = t16;
+            jac[(0, 1)] = t17;
+            jac[(0, 2)] = t5;
+            jac[(1, 0)] = t0;
+            jac[(1, 1)] = t2;
+            jac[(1, 2)] = t19;
+            jac[(2, 0)] = t16;
+            jac[(2, 1)] = t21;
+            jac[(2, 3)] = t15;
+            jac[(3, 0)] = t0;
+            jac[(3, 1)] = t23;
+            jac[(3, 3)] = t24;
+            let mut phi_p = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 10>::zeros();
+            phi_p[(0, 0)] = c_v_q1;
+            phi_p[(0, 1)] = c_v_q2;
+            phi_p[(0, 2)] = t26;
+            phi_p[(0, 3)] = T::lit(-1.0);
+            phi_p[(1, 0)] = s_v_q1;
+            phi_p[(1, 1)] = s_v_q2;
+            phi_p[(1, 2)] = t18;
+            phi_p[(2, 0)] = c_v_q1;
+            phi_p[(2, 1)] = c_v_q2;
+            phi_p[(2, 4)] = t27;
+            phi_p[(2, 5)] = t28;
+            phi_p[(2, 6)] = t10;
+            phi_p[(2, 7)] = T::lit(-1.0);
+            phi_p[(2, 9)] = t13;
+            phi_p[(3, 0)] = s_v_q1;
+            phi_p[(3, 1)] = s_v_q2;
+            phi_p[(3, 4)] = t22;
+            phi_p[(3, 5)] = t25;
+            phi_p[(3, 6)] = t11;
+            phi_p[(3, 8)] = T::lit(-1.0);
+            phi_p[(3, 9)] = t29;
+            let mut pq = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 4>::zeros();
+            pq[(0, 0)] = t16;
+            pq[(0, 1)] = t21;
+            pq[(1, 0)] = t0;
+            pq[(1, 1)] = t23;
+            let mut pp = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 10>::zeros();
+            pp[(0, 0)] = c_v_q1;
+            pp[(0, 1)] = c_v_q2;
+            pp[(0, 6)] = t10;
+            pp[(0, 9)] = t13;
+            pp[(1, 0)] = s_v_q1;
+            pp[(1, 1)] = s_v_q2;
+            pp[(1, 6)] = t11;
+            pp[(1, 9)] = t29;
+            let mut s = ::mechgen::__private::nalgebra::SMatrix::<T, 4, 10>::zeros();
+            // Block 0: loop 1 (x, y), loop 2 (x, y) in q1, q2, q3, q5.
+            {
+                let (eqs, us) = ([0, 1, 2, 3], [0, 1, 2, 3]);
+                let lu = ::mechgen::__private::factor_block(
+                    0,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        4,
+                        4,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                let rhs = ::mechgen::__private::nalgebra::SMatrix::<
+                    T,
+                    4,
+                    10,
+                >::from_rows(
+                    &[
+                        -phi_p.row(0).into_owned(),
+                        -phi_p.row(1).into_owned(),
+                        -phi_p.row(2).into_owned(),
+                        -phi_p.row(3).into_owned(),
+                    ],
+                );
+                let z = lu
+                    .solve_columns(0, ::mechgen::__private::Stage::Sensitivity, rhs)?;
+                s.set_row(0, &z.row(0));
+                s.set_row(1, &z.row(1));
+                s.set_row(2, &z.row(2));
+                s.set_row(3, &z.row(3));
+            }
+            Ok(::mechgen::__private::Sensitivities {
+                unknowns: s,
+                points: pp + pq * s,
+            })
+        }
         /// The design derivatives at a solved position `(x, q)` (what a solve or a tick gave):
         /// dq/dp (a row per unknown) and dP/dp (rows `P_x`, `P_y` per point), one column per
         /// param of `Params` (derived params differentiated through), from J dq/dp = −Φp block
@@ -12958,49 +13474,12 @@ pub mod sixbar_g {
                 ::mechgen::__private::Quantity::Position,
                 q,
             )?;
-            let jac = self.jacobian(x, q);
-            let phi_p = self.param_jacobian(x, q);
-            let mut s: [T; 40] = [T::zero(); 40];
-            // Block 0: loop 1 (x, y), loop 2 (x, y) in q1, q2, q3, q5.
-            {
-                let (eqs, us) = ([0, 1, 2, 3], [0, 1, 2, 3]);
-                let lu = ::mechgen::__private::factor_block(
-                    0,
-                    ::mechgen::__private::Stage::Sensitivity,
-                    ::mechgen::__private::nalgebra::SMatrix::<
-                        T,
-                        4,
-                        4,
-                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
-                )?;
-                ::mechgen::__private::block_sensitivities(
-                    0,
-                    &eqs,
-                    &us,
-                    &lu,
-                    |e, j| jac[(e, j)],
-                    |e, p| phi_p[(e, p)],
-                    10,
-                    &mut s,
-                    &mut [T::zero(); 4],
-                )?;
-            }
-            let (pq, pp) = (self.point_jacobian(x, q), self.point_param_jacobian(x, q));
-            let mut dp: [T; 20] = [T::zero(); 20];
-            ::mechgen::__private::point_sensitivities(
-                |r, k| pq[(r, k)],
-                |r, p| pp[(r, p)],
-                &s,
-                4,
-                10,
-                &mut dp,
-            );
-            Ok(::mechgen::__private::Sensitivities {
-                unknowns: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&s),
-                points: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&dp),
-            })
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.sensitivity_cached(x, q, &tx, &st.sc, &tp)
         }
-        /// [`Self::sensitivities`] at a tick's state.
+        /// [`Self::sensitivities`] at a tick's state, with the sines and cosines the tick keeps
+        /// (when the params are still those of the last tick; else computed afresh).
         pub fn tick_sensitivities(
             &self,
             t: &Tick<T>,
@@ -13011,7 +13490,12 @@ pub mod sixbar_g {
             >,
             ::mechgen::__private::SolveError,
         > {
-            self.sensitivities(&t.x, &t.q)
+            use ::mechgen::__private::TickCache as _;
+            if !t.same_params(&self.params.to_array()) {
+                return self.sensitivities(&t.x, &t.q);
+            }
+            let (tx, tq) = t.trig();
+            self.sensitivity_cached(&t.x, &t.q, tx, tq, t.params_trig())
         }
         /// One whole tick from `guess`: positions, velocities, accelerations and points,
         /// sharing one set of sines and cosines between the stages.
@@ -13189,6 +13673,18 @@ pub mod sixbar_g {
             ::mechgen::__private::SolveError,
         > {
             SixbarG::sensitivities(self, x, q)
+        }
+        fn tick_sensitivities(
+            &self,
+            t: &Self::Tick,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                Self::ParamJacobian,
+                Self::PointParamJacobian,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            SixbarG::tick_sensitivities(self, t)
         }
         fn points(
             &self,

@@ -345,6 +345,34 @@ impl<T: Real, const K: usize> Factored<T, K> {
     }
 }
 
+impl<T: Real, const K: usize> Factored<T, K> {
+    /// The solutions for the `C` columns of `rhs` at once (a block's sensitivities to every
+    /// param), or `Overflow` when one is not finite.
+    #[inline(always)]
+    pub fn solve_columns<const C: usize>(
+        &self,
+        block: usize,
+        stage: Stage,
+        mut rhs: SMatrix<T, K, C>,
+    ) -> Result<SMatrix<T, K, C>, SolveError> {
+        if K <= 2 {
+            // A 1×1 or 2×2 block holds its inverse.
+            rhs = self.lu * rhs;
+        } else {
+            for c in 0..K {
+                rhs.swap_rows(c, self.swaps[c]);
+            }
+            for c in 0..C {
+                let mut col: SVector<T, K> = rhs.column(c).into_owned();
+                lu_solve(&self.lu, &self.scale, &mut col);
+                rhs.set_column(c, &col);
+            }
+        }
+        finite(block, stage, rhs.as_slice())?;
+        Ok(rhs)
+    }
+}
+
 /// One linear block solve of a velocity or acceleration pass.
 #[inline]
 pub fn solve_block<T: Real, const K: usize>(

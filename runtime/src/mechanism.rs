@@ -179,6 +179,11 @@ pub trait StaticMechanism<T: Real>: Send + Sync {
         x: &Self::X,
         q: &Self::Q,
     ) -> Result<Sensitivities<Self::ParamJacobian, Self::PointParamJacobian>, SolveError>;
+    /// [`StaticMechanism::sensitivities`] at a tick's state, with the sines and cosines it keeps.
+    fn tick_sensitivities(
+        &self,
+        t: &Self::Tick,
+    ) -> Result<Sensitivities<Self::ParamJacobian, Self::PointParamJacobian>, SolveError>;
     /// Every point's motion at a solved state.
     fn points(
         &self,

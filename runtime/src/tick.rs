@@ -58,6 +58,9 @@ impl<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> De
     }
 }
 
+/// The sines and cosines of a tick's inputs and unknowns.
+pub type TrigRefs<'a, T, const NI: usize, const NU: usize> = (&'a [(T, T); NI], &'a [(T, T); NU]);
+
 /// Params a tick had not seen, with their sines and cosines.
 pub type NewParams<'a, T, const NPAR: usize> = (&'a [T; NPAR], &'a [(T, T); NPAR]);
 
@@ -101,6 +104,10 @@ pub trait TickCache<T, const NI: usize, const NU: usize, const NP: usize, const 
 
     /// The params' cached sines and cosines (valid when [`TickCache::same_params`]).
     fn params_trig(&self) -> &[(T, T); NPAR];
+
+    /// The sines and cosines of the last tick's inputs and unknowns (those that appear in a sine
+    /// or cosine; valid while the params are the same).
+    fn trig(&self) -> TrigRefs<'_, T, NI, NU>;
 
     /// The inputs' sines and cosines at `x` (`angle[i]`: input `i` appears in a sin or cos),
     /// rotated from the cached ones, or recomputed when they are due.
@@ -203,6 +210,11 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
             }
         }
         same
+    }
+
+    #[inline]
+    fn trig(&self) -> TrigRefs<'_, T, NI, NU> {
+        (&self.tx, &self.tq)
     }
 
     #[inline]

@@ -311,6 +311,10 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                     -> ::core::result::Result<#rt::Sensitivities<Self::ParamJacobian, Self::PointParamJacobian>, #rt::SolveError> {
                     #ty::sensitivities(self, x, q)
                 }
+                fn tick_sensitivities(&self, t: &Self::Tick)
+                    -> ::core::result::Result<#rt::Sensitivities<Self::ParamJacobian, Self::PointParamJacobian>, #rt::SolveError> {
+                    #ty::tick_sensitivities(self, t)
+                }
                 fn points(&self, input: &#rt::InputMotion<Self::X>, q: &Self::Q, qd: &Self::Q, qdd: &Self::Q) -> Self::Points {
                     #ty::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
                 }

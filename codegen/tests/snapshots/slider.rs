@@ -1251,6 +1251,89 @@ pub mod slider {
             );
             Ok(())
         }
+        /// [`Self::sensitivities`] with the sines and cosines of the inputs, unknowns and params
+        /// given.
+        fn sensitivity_cached(
+            &self,
+            _x: &[T; 1],
+            _q: &[T; 2],
+            tx: &[(T, T); 1],
+            tq: &[(T, T); 2],
+            _tp: &[(T, T); 2],
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
+                ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            let p_l2 = self.params.l2;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t0 = p_l2 * c_v_q2;
+            let t1 = p_l2 * s_v_q2;
+            let t2 = -t1;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            jac[(0, 0)] = t2;
+            jac[(0, 1)] = T::lit(-1.0);
+            jac[(1, 0)] = t0;
+            let mut phi_p = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            phi_p[(0, 0)] = c_v_q1;
+            phi_p[(0, 1)] = c_v_q2;
+            phi_p[(1, 0)] = s_v_q1;
+            phi_p[(1, 1)] = s_v_q2;
+            let pq = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            let mut pp = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            pp[(0, 0)] = c_v_q1;
+            pp[(1, 0)] = s_v_q1;
+            let mut s = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // Block 0: loop 1 (y) in q2.
+            {
+                let (eqs, us) = ([1], [0]);
+                let lu = ::mechgen::__private::factor_block(
+                    0,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        1,
+                        1,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                let rhs = ::mechgen::__private::nalgebra::SMatrix::<
+                    T,
+                    1,
+                    2,
+                >::from_rows(&[-phi_p.row(1).into_owned()]);
+                let z = lu
+                    .solve_columns(0, ::mechgen::__private::Stage::Sensitivity, rhs)?;
+                s.set_row(0, &z.row(0));
+            }
+            // Block 1: loop 1 (x) in s.
+            {
+                let (eqs, us) = ([0], [1]);
+                let lu = ::mechgen::__private::factor_block(
+                    1,
+                    ::mechgen::__private::Stage::Sensitivity,
+                    ::mechgen::__private::nalgebra::SMatrix::<
+                        T,
+                        1,
+                        1,
+                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
+                )?;
+                let rhs = ::mechgen::__private::nalgebra::SMatrix::<
+                    T,
+                    1,
+                    2,
+                >::from_rows(&[-phi_p.row(0).into_owned() - s.row(0) * jac[(0, 0)]]);
+                let z = lu
+                    .solve_columns(1, ::mechgen::__private::Stage::Sensitivity, rhs)?;
+                s.set_row(1, &z.row(0));
+            }
+            Ok(::mechgen::__private::Sensitivities {
+                unknowns: s,
+                points: pp + pq * s,
+            })
+        }
         /// The design derivatives at a solved position `(x, q)` (what a solve or a tick gave):
         /// dq/dp (a row per unknown) and dP/dp (rows `P_x`, `P_y` per point), one column per
         /// param of `Params` (derived params differentiated through), from J dq/dp = −Φp block
@@ -1279,73 +1362,12 @@ pub mod slider {
                 ::mechgen::__private::Quantity::Position,
                 q,
             )?;
-            let jac = self.jacobian(x, q);
-            let phi_p = self.param_jacobian(x, q);
-            let mut s: [T; 4] = [T::zero(); 4];
-            // Block 0: loop 1 (y) in q2.
-            {
-                let (eqs, us) = ([1], [0]);
-                let lu = ::mechgen::__private::factor_block(
-                    0,
-                    ::mechgen::__private::Stage::Sensitivity,
-                    ::mechgen::__private::nalgebra::SMatrix::<
-                        T,
-                        1,
-                        1,
-                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
-                )?;
-                ::mechgen::__private::block_sensitivities(
-                    0,
-                    &eqs,
-                    &us,
-                    &lu,
-                    |e, j| jac[(e, j)],
-                    |e, p| phi_p[(e, p)],
-                    2,
-                    &mut s,
-                    &mut [T::zero(); 1],
-                )?;
-            }
-            // Block 1: loop 1 (x) in s.
-            {
-                let (eqs, us) = ([0], [1]);
-                let lu = ::mechgen::__private::factor_block(
-                    1,
-                    ::mechgen::__private::Stage::Sensitivity,
-                    ::mechgen::__private::nalgebra::SMatrix::<
-                        T,
-                        1,
-                        1,
-                    >::from_fn(|i, j| jac[(eqs[i], us[j])]),
-                )?;
-                ::mechgen::__private::block_sensitivities(
-                    1,
-                    &eqs,
-                    &us,
-                    &lu,
-                    |e, j| jac[(e, j)],
-                    |e, p| phi_p[(e, p)],
-                    2,
-                    &mut s,
-                    &mut [T::zero(); 1],
-                )?;
-            }
-            let (pq, pp) = (self.point_jacobian(x, q), self.point_param_jacobian(x, q));
-            let mut dp: [T; 4] = [T::zero(); 4];
-            ::mechgen::__private::point_sensitivities(
-                |r, k| pq[(r, k)],
-                |r, p| pp[(r, p)],
-                &s,
-                2,
-                2,
-                &mut dp,
-            );
-            Ok(::mechgen::__private::Sensitivities {
-                unknowns: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&s),
-                points: ::mechgen::__private::nalgebra::SMatrix::from_row_slice(&dp),
-            })
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            self.sensitivity_cached(x, q, &tx, &st.sc, &tp)
         }
-        /// [`Self::sensitivities`] at a tick's state.
+        /// [`Self::sensitivities`] at a tick's state, with the sines and cosines the tick keeps
+        /// (when the params are still those of the last tick; else computed afresh).
         pub fn tick_sensitivities(
             &self,
             t: &Tick<T>,
@@ -1356,7 +1378,12 @@ pub mod slider {
             >,
             ::mechgen::__private::SolveError,
         > {
-            self.sensitivities(&t.x, &t.q)
+            use ::mechgen::__private::TickCache as _;
+            if !t.same_params(&self.params.to_array()) {
+                return self.sensitivities(&t.x, &t.q);
+            }
+            let (tx, tq) = t.trig();
+            self.sensitivity_cached(&t.x, &t.q, tx, tq, t.params_trig())
         }
         /// One whole tick from `guess`: positions, velocities, accelerations and points,
         /// sharing one set of sines and cosines between the stages.
@@ -1534,6 +1561,18 @@ pub mod slider {
             ::mechgen::__private::SolveError,
         > {
             Slider::sensitivities(self, x, q)
+        }
+        fn tick_sensitivities(
+            &self,
+            t: &Self::Tick,
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Sensitivities<
+                Self::ParamJacobian,
+                Self::PointParamJacobian,
+            >,
+            ::mechgen::__private::SolveError,
+        > {
+            Slider::tick_sensitivities(self, t)
         }
         fn points(
             &self,

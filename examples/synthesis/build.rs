@@ -1,0 +1,3 @@
+fn main() {
+    mechgen_codegen::compile("mechanism.toml");
+}

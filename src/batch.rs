@@ -178,6 +178,27 @@ impl SetSummary {
 /// Sets handed out per chunk: each chunk is solved (in parallel) before any of it is written.
 pub const CHUNK: usize = 256;
 
+/// Mechanism `name` with the base params `params` (in `model`'s order): its generated solvers
+/// when `generated` and it is compiled in, else the generic engine `model` with those params.
+#[cfg(feature = "runtime")]
+pub fn solver_with_params(
+    name: &str,
+    model: &crate::generic::Generic,
+    generated: bool,
+    params: &[f64],
+) -> Box<dyn mechgen_runtime::DynMechanism<f64>> {
+    if generated && let Some(k) = crate::lookup_with_params::<f64>(name, params) {
+        return k;
+    }
+    let mut g = model.clone();
+    let info = mechgen_runtime::DynMechanism::<f64>::info(&g);
+    for (p, v) in info.params.iter().zip(params) {
+        // Base params only (`info.params`), so every name is one the engine sets.
+        let _ = g.set_param(&p.name, *v);
+    }
+    Box::new(g)
+}
+
 /// Runs `solve` for every set `0..count`, chunk by chunk (with the `parallel` feature on up to
 /// `threads` threads, default every core), and hands each result to `emit` in set order.
 pub fn for_each_ordered<T: Send>(

@@ -49,34 +49,45 @@ pub fn csv_header_line(info: &MechanismInfo, index: usize) -> String {
     out
 }
 
-/// One row of the CSV (with its newline), appended to `out`.
-pub fn csv_row(out: &mut String, info: &MechanismInfo, r: &Row) {
-    let blanks = 3 * info.unknowns.len() + 6 * info.points.len() + 1;
-    let _ = write!(out, "{:?}", r.input);
+/// One row's cells after the input, as the CSV writes them (the Python package reads them too):
+/// for an `ok` row the numbers of [`csv_header`] up to `cond` (`cond` `None` where it is not
+/// finite, as at a dead point), then the status; a failed row (or one with a non-finite number,
+/// status `non-finite`) has no numbers.
+pub fn row_cells(r: &Row) -> (Option<Vec<Option<f64>>>, &'static str) {
     match &r.result {
         Ok(s) => {
             let nums = numbers(s);
             if nums.iter().all(|v| v.is_finite()) {
-                for v in nums {
-                    let _ = write!(out, ",{v:?}");
-                }
-                // A condition number can be infinite exactly at a dead point: leave it empty then.
-                if s.condition.is_finite() {
-                    let _ = write!(out, ",{:?}", s.condition);
-                } else {
-                    out.push(',');
-                }
-                out.push_str(",ok\n");
+                let mut cells: Vec<Option<f64>> = nums.into_iter().map(Some).collect();
+                cells.push(s.condition.is_finite().then_some(s.condition));
+                (Some(cells), "ok")
             } else {
-                out.push_str(&",".repeat(blanks));
-                out.push_str(",non-finite\n");
+                (None, "non-finite")
             }
         }
-        Err(_) => {
+        Err(_) => (None, r.status()),
+    }
+}
+
+/// One row of the CSV (with its newline), appended to `out`.
+pub fn csv_row(out: &mut String, info: &MechanismInfo, r: &Row) {
+    let blanks = 3 * info.unknowns.len() + 6 * info.points.len() + 1;
+    let _ = write!(out, "{:?}", r.input);
+    match row_cells(r) {
+        (Some(cells), status) => {
+            for c in cells {
+                match c {
+                    Some(v) => {
+                        let _ = write!(out, ",{v:?}");
+                    }
+                    None => out.push(','),
+                }
+            }
+            let _ = writeln!(out, ",{status}");
+        }
+        (None, status) => {
             out.push_str(&",".repeat(blanks));
-            out.push(',');
-            out.push_str(r.status());
-            out.push('\n');
+            let _ = writeln!(out, ",{status}");
         }
     }
 }

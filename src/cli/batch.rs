@@ -4,13 +4,13 @@
 
 use std::io::{IsTerminal as _, Write as _};
 
-use mechgen::batch::{ParamSets, SetSummary, for_each_ordered};
+use mechgen::batch::{ParamSets, SetSummary, for_each_ordered, solver_with_params};
 use mechgen::sweep::{Continuation, check_start, sweep_each};
 use mechgen::{DynMechanism, report};
 
 use super::args::{BatchArgs, Engine};
 use super::load::{Loaded, select};
-use super::options::{Range, plan};
+use mechgen::sweep::plan::{Range, plan};
 
 /// A file opened for writing, with its name for errors.
 struct Out {
@@ -77,15 +77,7 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
     let generated = s.engine != Some(Engine::Generic) && file.is_none();
     let engine = |set: usize| -> Box<dyn DynMechanism<f64>> {
         let params = sets.params_of(set, &indices, &info);
-        if generated && let Some(k) = mechgen::lookup_with_params::<f64>(&s.name, &params) {
-            return k;
-        }
-        let mut g = sel.model.clone();
-        for (p, v) in info.params.iter().zip(&params) {
-            // Base params only: the names were checked above.
-            let _ = g.set_param(&p.name, *v);
-        }
-        Box::new(g)
+        solver_with_params(&s.name, &sel.model, generated, &params)
     };
     let want_rows = args.csv.is_some();
     // One set: its CSV rows (when asked for) and its summary.

@@ -10,7 +10,7 @@ use mechgen::{Kind, MechanismInfo};
 
 use super::args::{SensitivityArgs, SweepOptions, ToleranceArgs};
 use super::load::{Loaded, Selected, Swept, run_plan, select};
-use super::options::{Range, plan};
+use mechgen::sweep::plan::{Range, plan};
 
 /// Degrees per radian for an angle, 1 for a length.
 fn per_unit(kind: Kind) -> f64 {

@@ -10,7 +10,7 @@ use mechgen::{DynMechanism, MechanismInfo, report};
 use mechgen_codegen::diagnostic::{Diagnostic, Severity, SourceFile, render};
 
 use super::args::Engine;
-use super::options::Plan;
+use mechgen::sweep::plan::Plan;
 
 /// A mechanism file, analysed: every mechanism for the generic engine and the file's warnings.
 pub struct Loaded {

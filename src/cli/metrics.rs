@@ -10,7 +10,7 @@ use mechgen::{Kind, MechanismInfo};
 
 use super::args::MetricsArgs;
 use super::load::{Loaded, select};
-use super::options::{Range, plan};
+use mechgen::sweep::plan::{Range, plan};
 
 /// Rows of the sweep the extremes are refined between.
 const ROWS: f64 = 720.0;
@@ -70,7 +70,7 @@ fn compute(
     k: &dyn mechgen::DynMechanism<f64>,
     file: Option<&std::path::Path>,
     name: &str,
-    plan: &super::options::Plan,
+    plan: &mechgen::sweep::plan::Plan,
     full_turn: bool,
 ) -> Result<Vec<OutputMetrics>, String> {
     let compiled = super::branches::compile(file)?;

@@ -24,7 +24,6 @@ pub mod check;
 pub mod design;
 pub mod load;
 pub mod metrics;
-pub mod options;
 pub mod plots;
 pub mod run;
 pub mod scene;

@@ -9,7 +9,7 @@ use mechgen::{CoordDesc, Kind, MechanismInfo, design, report};
 
 use super::args::{MainArgs, SweepArgs};
 use super::load::{Loaded, run_plan, select, stream_plan, table_preamble, write_plots};
-use super::options::{Range, plan};
+use mechgen::sweep::plan::{Range, plan};
 
 /// `mechgen sweep NAME [options]`.
 pub fn sweep(args: &SweepArgs) -> Result<(), String> {

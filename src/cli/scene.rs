@@ -11,7 +11,7 @@ use mechgen::{DynScene, MechanismInfo, SceneDescription, report};
 
 use super::args::{Engine, SweepArgs};
 use super::load::{Loaded, Selected, Swept, run_plan, select, write_plots};
-use super::options::{Plan, Range, plan};
+use mechgen::sweep::plan::{Plan, Range, plan};
 
 /// The mechanism that scene `name` of `loaded` runs on, if `name` is a scene.
 pub fn scene_mechanism<'a>(loaded: &'a Loaded, name: &str) -> Option<&'a Generic> {

@@ -3,6 +3,7 @@
 //! Works on any [`DynMechanism`] (generated or generic), written once; the CLI and reports sit on it.
 
 pub mod continuation;
+pub mod plan;
 pub mod scene;
 
 pub use continuation::{

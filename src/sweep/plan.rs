@@ -1,8 +1,8 @@
-//! CLI, what a sweep's options mean for one mechanism: which input, its values (both ends
-//! included, the last row exactly `--to`), the held inputs' values, in sweep units (radians or
-//! file units). Sits between [`super::args`] and [`mechgen::sweep`].
+//! What a sweep's options mean for one mechanism (the CLI's `--input`, `--set`, `--from`, `--to`,
+//! `--step`, and the same for the Python package): which input, its values (both ends included,
+//! the last row exactly `--to`), the held inputs' values, in sweep units (radians or file units).
 
-use mechgen::{CoordDesc, Kind, MechanismInfo};
+use mechgen_runtime::{CoordDesc, Kind, MechanismInfo};
 
 /// A sweep resolved against a mechanism.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,0 +1,54 @@
+"""Planar linkage kinematics from loop equations: the generated solvers of the compiled-in
+mechanism file and the generic engine for any file, sweeps and batches to numpy."""
+
+from os import PathLike
+from typing import Mapping, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+class Mechanism:
+    """One mechanism: its generated solvers (compiled in) or the generic engine (a loaded file)."""
+
+    @property
+    def name(self) -> str: ...
+    @property
+    def params(self) -> dict[str, float]:
+        """The base params, name -> value (derived params follow from them)."""
+    @property
+    def inputs(self) -> list[str]: ...
+    @property
+    def unknowns(self) -> list[str]: ...
+    @property
+    def points(self) -> list[str]: ...
+    @property
+    def engine(self) -> str:
+        """"generated" or "generic"."""
+    def sweep(
+        self,
+        start: Optional[float] = None,
+        stop: Optional[float] = None,
+        step: Optional[float] = None,
+        rate: float = 1.0,
+        input: Optional[str] = None,
+        set: Optional[Mapping[str, float]] = None,
+        params: Optional[Mapping[str, float]] = None,
+    ) -> dict[str, np.ndarray]:
+        """One sweep as `mechgen sweep` sweeps it: CSV column -> 1-D array (status as str)."""
+    def batch(
+        self,
+        params: Mapping[str, Union[npt.ArrayLike, Sequence[float]]],
+        start: Optional[float] = None,
+        stop: Optional[float] = None,
+        step: Optional[float] = None,
+        rate: float = 1.0,
+        input: Optional[str] = None,
+        set: Optional[Mapping[str, float]] = None,
+    ) -> dict[str, np.ndarray]:
+        """Every param set swept on every core: CSV column -> 2-D array (sets, rows)."""
+
+def mechanisms() -> dict[str, Mechanism]:
+    """The compiled-in mechanisms, name -> Mechanism (generated solvers)."""
+
+def load(path: Union[str, PathLike[str]]) -> dict[str, Mechanism]:
+    """Every mechanism of a file, on the generic engine; ValueError with every diagnostic."""

@@ -83,7 +83,13 @@ pub fn check_sensitivities() -> (Vec<String>, usize) {
             let generic: Vec<f64> = gq.iter().chain(&gp).copied().collect();
             let mut columns = vec![Vec::new(); npar];
             for (j, col) in columns.iter_mut().enumerate() {
-                let h = 1e-4 * info.params[j].value.abs().max(1e-2 * scale);
+                // A step relative to the param, or to the mechanism's length scale for a length
+                // near zero (an angle's step is never a length's: h⁴ of a 0.1 rad step shows).
+                let floor = match info.params[j].kind {
+                    Kind::Length => 1e-2 * scale,
+                    _ => 1e-2,
+                };
+                let h = 1e-4 * info.params[j].value.abs().max(floor);
                 match richardson(&g, j, &x, &r.q, h) {
                     Some(d) => *col = d,
                     None => fails.push(format!("{at}: no differences for {}", info.params[j].name)),

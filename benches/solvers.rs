@@ -15,8 +15,12 @@
 //! - `sensitivity/generated`: the generated tick followed by every sensitivity (dq/dp, dP/dp)
 //!   at its state, so that their cost reads off against `step/generated`.
 //!
-//! - `step/batch`: 4096 instances of the generated tick, each walking the branch from its own
-//!   place, ticked once per iteration through `mechgen::batch::for_each_mut` on every core; the
+//! - `step/lanes`: W instances in the build's widest f64 lanes (`WithLanes`: `F64x4`, `F64x8` with
+//!   AVX-512; `NAME::Lanes`), each with its own params and its own place on the walk, one lane
+//!   tick per iteration; the time per instance.
+//! - `step/batch`: 4096 instances in lane groups of W, each lane walking the branch from its own
+//!   place, every group ticked once per iteration through `mechgen::batch::for_each_mut` on every
+//!   core (the loop on a worker of `mechgen::batch::workers`, as a simulator's frame loop); the
 //!   time per instance.
 //! - `<scene>/step/generated`: one tick of each compiled-in scene along its mechanism's walk (the
 //!   same states), right after its mechanism's benches, so a scene's saving reads off against
@@ -29,10 +33,11 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use mechgen::lanes::WithLanes;
 use mechgen::sweep::{Continuation, sweep};
 use mechgen::{
-    Array, CoordDesc, DynMechanism, DynState, InputMotion, Kind, Scene, SceneVisitor, SolveOptions,
-    StaticMechanism, StaticVisitor,
+    Array, CoordDesc, DynMechanism, DynState, InputMotion, Kind, LaneMechanism, Lanes, Scene,
+    SceneVisitor, SolveOptions, StaticMechanism, StaticVisitor,
 };
 
 /// A solved state and the input one step further (which is solvable too).
@@ -246,32 +251,85 @@ impl StaticVisitor<f64> for Generated<'_> {
                     black_box(m.tick_sensitivities(t)).ok();
                 })
             });
-            // `step/batch`: a fleet of BATCH instances, each its own tick walking the branch from
-            // its own place, all ticked once per iteration through the batch API on every core;
-            // the time per instance.
-            let mut fleet: Vec<(M::Tick, Walk)> = (0..BATCH)
-                .filter_map(|k| {
-                    let j = (k * 7919) % n;
-                    let t = m.tick_start(&inputs[j], &typed[j].1, &opts).ok()?;
-                    Some((t, Walk::at(n, j)))
-                })
-                .collect();
-            let size = fleet.len() as u32;
-            g.bench_function("step/batch", |b| {
+            // `step/lanes`: W instances in the widest SIMD lanes of the build (4 f64, 8 with
+            // AVX-512), each with its own params (the file's,
+            // scaled by 1 + 1e-9·i: different in every lane, solvable along the same walk) and
+            // its own place on the walk; one lane tick per iteration, the time per instance.
+            type Wide = <f64 as WithLanes>::Lanes;
+            let w = Wide::W;
+            let lanes = M::Lanes::<Wide>::from_fn(|i| {
+                let p: Vec<f64> = m
+                    .info()
+                    .params
+                    .iter()
+                    .map(|p| p.default * (1.0 + 1e-9 * i as f64))
+                    .collect();
+                M::with_params(&p).expect("one value per param")
+            });
+            let lane_x = |walks: &[Walk]| {
+                let mut x = <M::Lanes<Wide> as LaneMechanism<Wide>>::X::default();
+                for (k, v) in x.as_mut().iter_mut().enumerate() {
+                    *v = Wide::from_fn(|i| typed[walks[i].at].0.as_ref()[k]);
+                }
+                x
+            };
+            let mut lane_xd = <M::Lanes<Wide> as LaneMechanism<Wide>>::X::default();
+            lane_xd.as_mut()[0] = Wide::splat(1.0);
+            let start_lanes = |walks: &[Walk]| {
+                let mut guess = <M::Lanes<Wide> as LaneMechanism<Wide>>::Q::default();
+                for (k, v) in guess.as_mut().iter_mut().enumerate() {
+                    *v = Wide::from_fn(|i| typed[walks[i].at].1.as_ref()[k]);
+                }
+                let input = InputMotion::new(lane_x(walks), lane_xd, Default::default());
+                lanes.tick_start(&input, &guess, &opts)
+            };
+            let mut walks: Vec<Walk> = (0..w).map(|i| Walk::at(n, (i * 37) % n)).collect();
+            let mut lane_tick = start_lanes(&walks);
+            g.bench_function("step/lanes", |b| {
                 b.iter_custom(|iters| {
                     let start = std::time::Instant::now();
                     for _ in 0..iters {
-                        mechgen::batch::for_each_mut(&mut fleet, |_, (t, w)| {
-                            let j = w.next();
-                            if m.tick(t, &inputs[j], &opts).is_err()
-                                && let Ok(fresh) = m.tick_start(&inputs[j], &typed[j].1, &opts)
-                            {
-                                *t = fresh;
-                            }
-                        });
+                        for walk in walks.iter_mut() {
+                            walk.next();
+                        }
+                        let input = InputMotion::new(lane_x(&walks), lane_xd, Default::default());
+                        lanes.tick(&mut lane_tick, black_box(&input), &opts);
                     }
-                    black_box(&fleet);
-                    start.elapsed() / size.max(1)
+                    black_box(&lane_tick);
+                    start.elapsed() / w as u32
+                })
+            });
+            // `step/batch`: a fleet of BATCH instances in lane groups of W (each lane its own
+            // place on the walk), every group ticked once per iteration through the batch API
+            // on every core; the time per instance.
+            let mut fleet: Vec<(_, Vec<Walk>)> = (0..BATCH / w)
+                .map(|g| {
+                    let walks: Vec<Walk> = (0..w)
+                        .map(|i| Walk::at(n, ((g * w + i) * 7919) % n))
+                        .collect();
+                    (start_lanes(&walks), walks)
+                })
+                .collect();
+            // The loop runs on a worker of the pool (`pool.install`), as a simulator's frame
+            // loop would: each tick's parallel call is not a hand-over to sleeping threads.
+            let pool = mechgen::batch::workers(None).expect("worker threads");
+            g.bench_function("step/batch", |b| {
+                b.iter_custom(|iters| {
+                    pool.install(|| {
+                        let start = std::time::Instant::now();
+                        for _ in 0..iters {
+                            mechgen::batch::for_each_mut(&mut fleet, |_, (t, walks)| {
+                                for walk in walks.iter_mut() {
+                                    walk.next();
+                                }
+                                let input =
+                                    InputMotion::new(lane_x(walks), lane_xd, Default::default());
+                                lanes.tick(t, &input, &opts);
+                            });
+                        }
+                        black_box(&fleet);
+                        start.elapsed() / (BATCH as u32)
+                    })
                 })
             });
         }

@@ -3262,8 +3262,12 @@ pub mod sixbar {
         type ParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 10>;
         type PointParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 10>;
         type Tick = Tick<T>;
+        type Lanes<L: ::mechgen::__private::Lanes<Scalar = T>> = Lanes<L>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
+        }
+        fn with_params(params: &[T]) -> ::core::option::Option<Self> {
+            <[T; 10]>::try_from(params).ok().map(|a| Sixbar::new(Params::from_array(a)))
         }
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             Sixbar::residual(self, x, q)
@@ -3409,6 +3413,348 @@ pub mod sixbar {
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             Sixbar::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
+        }
+    }
+    /// The state of W instances between lane ticks (see `Lanes::tick_start`).
+    pub type LaneTick<L> = ::mechgen::__private::LaneTick<L, 1, 4, 1, 10>;
+    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64
+    /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
+    /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
+    /// scalar tick's, to the last bit.
+    /// Its blocks are all dyads: the common path of a tick runs in lanes.
+    #[derive(Clone, Copy, Debug)]
+    pub struct Lanes<L: ::mechgen::__private::Lanes> {
+        mechanisms: L::Array<Sixbar<L::Scalar>>,
+        params: [L; 10],
+        /// Changes with the params (`mechgen::lanes::fresh_params_id`).
+        params_id: usize,
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// Instance `i` is `f(i)`.
+        pub fn from_fn(f: impl FnMut(usize) -> Sixbar<L::Scalar>) -> Self {
+            let mechanisms = L::array(f);
+            let params = ::core::array::from_fn(|k| L::from_fn(|i| {
+                mechanisms.as_ref()[i].params.to_array()[k]
+            }));
+            Lanes {
+                mechanisms,
+                params,
+                params_id: ::mechgen::__private::lanes::fresh_params_id(),
+            }
+        }
+        /// Instance `i` (`i < W`).
+        pub fn mechanism(&self, i: usize) -> &Sixbar<L::Scalar> {
+            &self.mechanisms.as_ref()[i]
+        }
+        /// Sets instance `i` (`i < W`); its next tick starts its caches afresh.
+        pub fn set(&mut self, i: usize, m: Sixbar<L::Scalar>) {
+            self.mechanisms.as_mut()[i] = m;
+            for (k, v) in m.params.to_array().into_iter().enumerate() {
+                self.params[k].set_lane(i, v);
+            }
+            self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+        }
+        /// The first tick of every instance, each solved from its lane of `guess` by the
+        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
+        /// again at the next tick.
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            guess: &[L; 4],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> LaneTick<L> {
+            ::mechgen::__private::lanes::tick_start(
+                [&input.x, &input.xd, &input.xdd],
+                guess,
+                |
+                    i: usize,
+                    t: &mut Tick<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = &self.mechanisms.as_ref()[i];
+                    if started {
+                        m.tick_arrays(t, x, xd, xdd, options)
+                    } else {
+                        let guess = t.q;
+                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                        ::core::result::Result::Ok(())
+                    }
+                },
+            )
+        }
+        /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
+        /// that fails reports its error in `status` and keeps its last state; no lane changes
+        /// another. No allocation.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut LaneTick<L>,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            ::mechgen::__private::lanes::tick(
+                t,
+                (&self.params, self.params_id),
+                [&input.x, &input.xd, &input.xdd],
+                [true],
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        pivot: &mut L,
+                        ok: &mut L::Mask|
+                    {
+                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
+                    }),
+                |
+                    i: usize,
+                    t: &mut Tick<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = &self.mechanisms.as_ref()[i];
+                    if started {
+                        m.tick_arrays(t, x, xd, xdd, options)
+                    } else {
+                        let guess = t.q;
+                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                        ::core::result::Result::Ok(())
+                    }
+                },
+            )
+        }
+        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
+        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
+        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
+        /// non-finite value) are cleared in `ok`.
+        #[inline(always)]
+        fn motion_lanes(
+            &self,
+            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+            tolerance: L::Scalar,
+            pivot: &mut L,
+            ok: &mut L::Mask,
+        ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 1> {
+            let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, tp, .. } = fixed;
+            let mut qd = [L::zero(); 4];
+            let mut qdd = [L::zero(); 4];
+            let p_l1 = self.params[0];
+            let p_l2 = self.params[1];
+            let p_l3 = self.params[2];
+            let p_l4 = self.params[3];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
+            ::mechgen::__private::lanes::solve_dyad(
+                st,
+                0,
+                1,
+                [t3, t1],
+                (p_l2, ::core::option::Option::None),
+                (t2, ::core::option::Option::None),
+                tolerance,
+                pivot,
+                ok,
+            );
+            let p_l5 = self.params[4];
+            let p_l6 = self.params[5];
+            let p_l2e = self.params[6];
+            let p_xg = self.params[7];
+            let p_yg = self.params[8];
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let t6 = t0 + t4;
+            let t7 = t1 + t5;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t8 = c_v_q2 * c_p_alpha;
+            let t9 = s_v_q2 * s_p_alpha;
+            let t10 = s_v_q2 * c_p_alpha;
+            let t11 = c_v_q2 * s_p_alpha;
+            let t12 = t8 + t9;
+            let t13 = t10 - t11;
+            let t14 = p_l2e * t12;
+            let t15 = p_l2e * t13;
+            let t16 = t6 + t14;
+            let t17 = t7 + t15;
+            let t18 = -p_l5;
+            let t19 = -p_l6;
+            let t20 = t16 - p_xg;
+            let t21 = t17 - p_yg;
+            ::mechgen::__private::lanes::solve_dyad(
+                st,
+                2,
+                3,
+                [t20, t21],
+                (t18, ::core::option::Option::None),
+                (t19, ::core::option::Option::None),
+                tolerance,
+                pivot,
+                ok,
+            );
+            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            let v_q1_d = xd[0];
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t22 = p_l3 * c_v_q3;
+            let t23 = p_l3 * s_v_q3;
+            let t24 = -t5;
+            let t25 = -t22;
+            let t26 = t1 * v_q1_d;
+            let t27 = t0 * v_q1_d;
+            let t28 = -t27;
+            let mut jac = [[L::zero(); 2]; 2];
+            jac[0][0] = t24;
+            jac[0][1] = t23;
+            jac[1][0] = t4;
+            jac[1][1] = t25;
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t26, t28], ok);
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t29 = t4 * v_q2_d;
+            let t30 = t22 * v_q3_d;
+            let t31 = t5 * v_q2_d;
+            let t32 = t23 * v_q3_d;
+            let t33 = v_q1_d * t27;
+            let t34 = v_q2_d * t29;
+            let t35 = t33 + t34;
+            let t36 = v_q3_d * t30;
+            let t37 = t35 - t36;
+            let t38 = t1 * v_q1_dd;
+            let t39 = t37 + t38;
+            let t40 = v_q1_d * t26;
+            let t41 = v_q2_d * t31;
+            let t42 = t40 + t41;
+            let t43 = v_q3_d * t32;
+            let t44 = t42 - t43;
+            let t45 = t0 * v_q1_dd;
+            let t46 = t44 - t45;
+            let z = lu.solve([t39, t46], ok);
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            let (s_v_q5, c_v_q5) = st.sc[2];
+            let t47 = p_l5 * c_v_q5;
+            let t48 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = st.sc[3];
+            let t49 = p_l6 * c_v_q6;
+            let t50 = p_l6 * s_v_q6;
+            let t51 = t5 + t15;
+            let t52 = t4 + t14;
+            let t53 = -t47;
+            let t54 = -t49;
+            let t55 = t52 * v_q2_d;
+            let t56 = t51 * v_q2_d;
+            let t57 = t56 + t26;
+            let t58 = t55 + t27;
+            let t59 = -t58;
+            let mut jac = [[L::zero(); 2]; 2];
+            jac[0][0] = t48;
+            jac[0][1] = t50;
+            jac[1][0] = t53;
+            jac[1][1] = t54;
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t57, t59], ok);
+            qd[2] = z[0];
+            qd[3] = z[1];
+            let v_q5_d = qd[2];
+            let v_q6_d = qd[3];
+            let v_q2_dd = qdd[0];
+            let t60 = t47 * v_q5_d;
+            let t61 = t49 * v_q6_d;
+            let t62 = t48 * v_q5_d;
+            let t63 = t50 * v_q6_d;
+            let t64 = v_q2_d * t55;
+            let t65 = t33 + t64;
+            let t66 = v_q5_d * t60;
+            let t67 = t65 - t66;
+            let t68 = v_q6_d * t61;
+            let t69 = t67 - t68;
+            let t70 = t38 + t69;
+            let t71 = v_q2_d * t56;
+            let t72 = t40 + t71;
+            let t73 = v_q5_d * t62;
+            let t74 = t72 - t73;
+            let t75 = v_q6_d * t63;
+            let t76 = t74 - t75;
+            let t77 = t45 - t76;
+            let t78 = t51 * v_q2_dd;
+            let t79 = t52 * v_q2_dd;
+            let t80 = t70 + t78;
+            let t81 = t77 + t79;
+            let t82 = -t81;
+            let z = lu.solve([t80, t82], ok);
+            qdd[2] = z[0];
+            qdd[3] = z[1];
+            let t83 = -t57;
+            let t84 = t38 + t65;
+            let t85 = t84 + t78;
+            let t86 = -t85;
+            let t87 = t45 - t72;
+            let t88 = t87 + t79;
+            (
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [t16, t17],
+                        velocity: [t83, t58],
+                        acceleration: [t86, t88],
+                    },
+                ],
+            )
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> ::mechgen::__private::LaneMechanism<L>
+    for Lanes<L> {
+        type Mechanism = Sixbar<L::Scalar>;
+        type X = [L; 1];
+        type Q = [L; 4];
+        type Tick = LaneTick<L>;
+        fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self {
+            Lanes::from_fn(f)
+        }
+        fn set(&mut self, i: usize, m: Self::Mechanism) {
+            Lanes::set(self, i, m)
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> Self::Tick {
+            Lanes::tick_start(self, input, guess, options)
+        }
+        #[inline]
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            Lanes::tick(self, t, input, options)
+        }
+        fn lane(
+            t: &Self::Tick,
+            i: usize,
+        ) -> (
+            ::core::result::Result<(), ::mechgen::__private::SolveError>,
+            Tick<L::Scalar>,
+        ) {
+            (t.status(i), t.lane(i))
         }
     }
 }
@@ -5852,8 +6198,12 @@ pub mod shaper {
         type ParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 5>;
         type PointParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 5>;
         type Tick = Tick<T>;
+        type Lanes<L: ::mechgen::__private::Lanes<Scalar = T>> = Lanes<L>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
+        }
+        fn with_params(params: &[T]) -> ::core::option::Option<Self> {
+            <[T; 5]>::try_from(params).ok().map(|a| Shaper::new(Params::from_array(a)))
         }
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             Shaper::residual(self, x, q)
@@ -5999,6 +6349,160 @@ pub mod shaper {
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             Shaper::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
+        }
+    }
+    /// The state of W instances between lane ticks (see `Lanes::tick_start`).
+    pub type LaneTick<L> = ::mechgen::__private::LaneTick<L, 1, 4, 2, 5>;
+    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64
+    /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
+    /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
+    /// scalar tick's, to the last bit.
+    /// It has blocks other than dyads: every lane is ticked by the scalar tick (the same results, no SIMD speed-up).
+    #[derive(Clone, Copy, Debug)]
+    pub struct Lanes<L: ::mechgen::__private::Lanes> {
+        mechanisms: L::Array<Shaper<L::Scalar>>,
+        params: [L; 5],
+        /// Changes with the params (`mechgen::lanes::fresh_params_id`).
+        params_id: usize,
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// Instance `i` is `f(i)`.
+        pub fn from_fn(f: impl FnMut(usize) -> Shaper<L::Scalar>) -> Self {
+            let mechanisms = L::array(f);
+            let params = ::core::array::from_fn(|k| L::from_fn(|i| {
+                mechanisms.as_ref()[i].params.to_array()[k]
+            }));
+            Lanes {
+                mechanisms,
+                params,
+                params_id: ::mechgen::__private::lanes::fresh_params_id(),
+            }
+        }
+        /// Instance `i` (`i < W`).
+        pub fn mechanism(&self, i: usize) -> &Shaper<L::Scalar> {
+            &self.mechanisms.as_ref()[i]
+        }
+        /// Sets instance `i` (`i < W`); its next tick starts its caches afresh.
+        pub fn set(&mut self, i: usize, m: Shaper<L::Scalar>) {
+            self.mechanisms.as_mut()[i] = m;
+            for (k, v) in m.params.to_array().into_iter().enumerate() {
+                self.params[k].set_lane(i, v);
+            }
+            self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+        }
+        /// The first tick of every instance, each solved from its lane of `guess` by the
+        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
+        /// again at the next tick.
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            guess: &[L; 4],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> LaneTick<L> {
+            ::mechgen::__private::lanes::tick_start(
+                [&input.x, &input.xd, &input.xdd],
+                guess,
+                |
+                    i: usize,
+                    t: &mut Tick<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = &self.mechanisms.as_ref()[i];
+                    if started {
+                        m.tick_arrays(t, x, xd, xdd, options)
+                    } else {
+                        let guess = t.q;
+                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                        ::core::result::Result::Ok(())
+                    }
+                },
+            )
+        }
+        /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
+        /// that fails reports its error in `status` and keeps its last state; no lane changes
+        /// another. No allocation.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut LaneTick<L>,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            ::mechgen::__private::lanes::tick(
+                t,
+                (&self.params, self.params_id),
+                [&input.x, &input.xd, &input.xdd],
+                [true],
+                ::core::option::Option::<
+                    fn(
+                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
+                        &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        &mut L,
+                        &mut L::Mask,
+                    ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 2>,
+                >::None,
+                |
+                    i: usize,
+                    t: &mut Tick<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = &self.mechanisms.as_ref()[i];
+                    if started {
+                        m.tick_arrays(t, x, xd, xdd, options)
+                    } else {
+                        let guess = t.q;
+                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                        ::core::result::Result::Ok(())
+                    }
+                },
+            )
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> ::mechgen::__private::LaneMechanism<L>
+    for Lanes<L> {
+        type Mechanism = Shaper<L::Scalar>;
+        type X = [L; 1];
+        type Q = [L; 4];
+        type Tick = LaneTick<L>;
+        fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self {
+            Lanes::from_fn(f)
+        }
+        fn set(&mut self, i: usize, m: Self::Mechanism) {
+            Lanes::set(self, i, m)
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> Self::Tick {
+            Lanes::tick_start(self, input, guess, options)
+        }
+        #[inline]
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            Lanes::tick(self, t, input, options)
+        }
+        fn lane(
+            t: &Self::Tick,
+            i: usize,
+        ) -> (
+            ::core::result::Result<(), ::mechgen::__private::SolveError>,
+            Tick<L::Scalar>,
+        ) {
+            (t.status(i), t.lane(i))
         }
     }
 }
@@ -7958,8 +8462,12 @@ pub mod four_bar {
         type ParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 6>;
         type PointParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 6, 6>;
         type Tick = Tick<T>;
+        type Lanes<L: ::mechgen::__private::Lanes<Scalar = T>> = Lanes<L>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
+        }
+        fn with_params(params: &[T]) -> ::core::option::Option<Self> {
+            <[T; 6]>::try_from(params).ok().map(|a| FourBar::new(Params::from_array(a)))
         }
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             FourBar::residual(self, x, q)
@@ -8105,6 +8613,309 @@ pub mod four_bar {
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             FourBar::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
+        }
+    }
+    /// The state of W instances between lane ticks (see `Lanes::tick_start`).
+    pub type LaneTick<L> = ::mechgen::__private::LaneTick<L, 1, 2, 3, 6>;
+    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64
+    /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
+    /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
+    /// scalar tick's, to the last bit.
+    /// Its blocks are all dyads: the common path of a tick runs in lanes.
+    #[derive(Clone, Copy, Debug)]
+    pub struct Lanes<L: ::mechgen::__private::Lanes> {
+        mechanisms: L::Array<FourBar<L::Scalar>>,
+        params: [L; 6],
+        /// Changes with the params (`mechgen::lanes::fresh_params_id`).
+        params_id: usize,
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// Instance `i` is `f(i)`.
+        pub fn from_fn(f: impl FnMut(usize) -> FourBar<L::Scalar>) -> Self {
+            let mechanisms = L::array(f);
+            let params = ::core::array::from_fn(|k| L::from_fn(|i| {
+                mechanisms.as_ref()[i].params.to_array()[k]
+            }));
+            Lanes {
+                mechanisms,
+                params,
+                params_id: ::mechgen::__private::lanes::fresh_params_id(),
+            }
+        }
+        /// Instance `i` (`i < W`).
+        pub fn mechanism(&self, i: usize) -> &FourBar<L::Scalar> {
+            &self.mechanisms.as_ref()[i]
+        }
+        /// Sets instance `i` (`i < W`); its next tick starts its caches afresh.
+        pub fn set(&mut self, i: usize, m: FourBar<L::Scalar>) {
+            self.mechanisms.as_mut()[i] = m;
+            for (k, v) in m.params.to_array().into_iter().enumerate() {
+                self.params[k].set_lane(i, v);
+            }
+            self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+        }
+        /// The first tick of every instance, each solved from its lane of `guess` by the
+        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
+        /// again at the next tick.
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            guess: &[L; 2],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> LaneTick<L> {
+            ::mechgen::__private::lanes::tick_start(
+                [&input.x, &input.xd, &input.xdd],
+                guess,
+                |
+                    i: usize,
+                    t: &mut Tick<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = &self.mechanisms.as_ref()[i];
+                    if started {
+                        m.tick_arrays(t, x, xd, xdd, options)
+                    } else {
+                        let guess = t.q;
+                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                        ::core::result::Result::Ok(())
+                    }
+                },
+            )
+        }
+        /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
+        /// that fails reports its error in `status` and keeps its last state; no lane changes
+        /// another. No allocation.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut LaneTick<L>,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            ::mechgen::__private::lanes::tick(
+                t,
+                (&self.params, self.params_id),
+                [&input.x, &input.xd, &input.xdd],
+                [true],
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        pivot: &mut L,
+                        ok: &mut L::Mask|
+                    {
+                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
+                    }),
+                |
+                    i: usize,
+                    t: &mut Tick<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = &self.mechanisms.as_ref()[i];
+                    if started {
+                        m.tick_arrays(t, x, xd, xdd, options)
+                    } else {
+                        let guess = t.q;
+                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                        ::core::result::Result::Ok(())
+                    }
+                },
+            )
+        }
+        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
+        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
+        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
+        /// non-finite value) are cleared in `ok`.
+        #[inline(always)]
+        fn motion_lanes(
+            &self,
+            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
+            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+            tolerance: L::Scalar,
+            pivot: &mut L,
+            ok: &mut L::Mask,
+        ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 3> {
+            let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, tp, .. } = fixed;
+            let mut qd = [L::zero(); 2];
+            let mut qdd = [L::zero(); 2];
+            let p_l1 = self.params[0];
+            let p_l2 = self.params[1];
+            let p_l3 = self.params[2];
+            let p_l4 = self.params[3];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
+            ::mechgen::__private::lanes::solve_dyad(
+                st,
+                0,
+                1,
+                [t3, t1],
+                (p_l2, ::core::option::Option::None),
+                (t2, ::core::option::Option::None),
+                tolerance,
+                pivot,
+                ok,
+            );
+            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            let v_q1_d = xd[0];
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t6 = p_l3 * c_v_q3;
+            let t7 = p_l3 * s_v_q3;
+            let t8 = -t5;
+            let t9 = -t6;
+            let t10 = t1 * v_q1_d;
+            let t11 = t0 * v_q1_d;
+            let t12 = -t11;
+            let mut jac = [[L::zero(); 2]; 2];
+            jac[0][0] = t8;
+            jac[0][1] = t7;
+            jac[1][0] = t4;
+            jac[1][1] = t9;
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t10, t12], ok);
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t13 = t4 * v_q2_d;
+            let t14 = t6 * v_q3_d;
+            let t15 = t5 * v_q2_d;
+            let t16 = t7 * v_q3_d;
+            let t17 = v_q1_d * t11;
+            let t18 = v_q2_d * t13;
+            let t19 = t17 + t18;
+            let t20 = v_q3_d * t14;
+            let t21 = t19 - t20;
+            let t22 = t1 * v_q1_dd;
+            let t23 = t21 + t22;
+            let t24 = v_q1_d * t10;
+            let t25 = v_q2_d * t15;
+            let t26 = t24 + t25;
+            let t27 = v_q3_d * t16;
+            let t28 = t26 - t27;
+            let t29 = t0 * v_q1_dd;
+            let t30 = t28 - t29;
+            let z = lu.solve([t23, t30], ok);
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            let p_lp = self.params[4];
+            let v_q2_dd = qdd[0];
+            let v_q3_dd = qdd[1];
+            let t31 = p_l4 + t6;
+            let (s_p_beta, c_p_beta) = tp[5];
+            let t32 = c_v_q2 * c_p_beta;
+            let t33 = s_v_q2 * s_p_beta;
+            let t34 = s_v_q2 * c_p_beta;
+            let t35 = c_v_q2 * s_p_beta;
+            let t36 = t32 - t33;
+            let t37 = t34 + t35;
+            let t38 = p_lp * t36;
+            let t39 = p_lp * t37;
+            let t40 = t0 + t38;
+            let t41 = t1 + t39;
+            let t42 = -t10;
+            let t43 = -t16;
+            let t44 = t39 * v_q2_d;
+            let t45 = t10 + t44;
+            let t46 = -t45;
+            let t47 = t38 * v_q2_d;
+            let t48 = t11 + t47;
+            let t49 = t17 + t22;
+            let t50 = -t49;
+            let t51 = t24 - t29;
+            let t52 = -t51;
+            let t53 = t7 * v_q3_dd;
+            let t54 = t20 + t53;
+            let t55 = -t54;
+            let t56 = t6 * v_q3_dd;
+            let t57 = t27 - t56;
+            let t58 = -t57;
+            let t59 = v_q2_d * t47;
+            let t60 = t17 + t59;
+            let t61 = t22 + t60;
+            let t62 = t39 * v_q2_dd;
+            let t63 = t61 + t62;
+            let t64 = -t63;
+            let t65 = v_q2_d * t44;
+            let t66 = t24 + t65;
+            let t67 = t29 - t66;
+            let t68 = t38 * v_q2_dd;
+            let t69 = t67 + t68;
+            (
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [t0, t1],
+                        velocity: [t42, t11],
+                        acceleration: [t50, t52],
+                    },
+                    ::mechgen::__private::PointMotion {
+                        position: [t31, t7],
+                        velocity: [t43, t14],
+                        acceleration: [t55, t58],
+                    },
+                    ::mechgen::__private::PointMotion {
+                        position: [t40, t41],
+                        velocity: [t46, t48],
+                        acceleration: [t64, t69],
+                    },
+                ],
+            )
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> ::mechgen::__private::LaneMechanism<L>
+    for Lanes<L> {
+        type Mechanism = FourBar<L::Scalar>;
+        type X = [L; 1];
+        type Q = [L; 2];
+        type Tick = LaneTick<L>;
+        fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self {
+            Lanes::from_fn(f)
+        }
+        fn set(&mut self, i: usize, m: Self::Mechanism) {
+            Lanes::set(self, i, m)
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> Self::Tick {
+            Lanes::tick_start(self, input, guess, options)
+        }
+        #[inline]
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            Lanes::tick(self, t, input, options)
+        }
+        fn lane(
+            t: &Self::Tick,
+            i: usize,
+        ) -> (
+            ::core::result::Result<(), ::mechgen::__private::SolveError>,
+            Tick<L::Scalar>,
+        ) {
+            (t.status(i), t.lane(i))
         }
     }
 }
@@ -9692,8 +10503,14 @@ pub mod slider_crank {
         type ParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 3>;
         type PointParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 6, 3>;
         type Tick = Tick<T>;
+        type Lanes<L: ::mechgen::__private::Lanes<Scalar = T>> = Lanes<L>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
+        }
+        fn with_params(params: &[T]) -> ::core::option::Option<Self> {
+            <[T; 3]>::try_from(params)
+                .ok()
+                .map(|a| SliderCrank::new(Params::from_array(a)))
         }
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             SliderCrank::residual(self, x, q)
@@ -9839,6 +10656,160 @@ pub mod slider_crank {
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             SliderCrank::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
+        }
+    }
+    /// The state of W instances between lane ticks (see `Lanes::tick_start`).
+    pub type LaneTick<L> = ::mechgen::__private::LaneTick<L, 1, 2, 3, 3>;
+    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64
+    /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
+    /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
+    /// scalar tick's, to the last bit.
+    /// It has blocks other than dyads: every lane is ticked by the scalar tick (the same results, no SIMD speed-up).
+    #[derive(Clone, Copy, Debug)]
+    pub struct Lanes<L: ::mechgen::__private::Lanes> {
+        mechanisms: L::Array<SliderCrank<L::Scalar>>,
+        params: [L; 3],
+        /// Changes with the params (`mechgen::lanes::fresh_params_id`).
+        params_id: usize,
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// Instance `i` is `f(i)`.
+        pub fn from_fn(f: impl FnMut(usize) -> SliderCrank<L::Scalar>) -> Self {
+            let mechanisms = L::array(f);
+            let params = ::core::array::from_fn(|k| L::from_fn(|i| {
+                mechanisms.as_ref()[i].params.to_array()[k]
+            }));
+            Lanes {
+                mechanisms,
+                params,
+                params_id: ::mechgen::__private::lanes::fresh_params_id(),
+            }
+        }
+        /// Instance `i` (`i < W`).
+        pub fn mechanism(&self, i: usize) -> &SliderCrank<L::Scalar> {
+            &self.mechanisms.as_ref()[i]
+        }
+        /// Sets instance `i` (`i < W`); its next tick starts its caches afresh.
+        pub fn set(&mut self, i: usize, m: SliderCrank<L::Scalar>) {
+            self.mechanisms.as_mut()[i] = m;
+            for (k, v) in m.params.to_array().into_iter().enumerate() {
+                self.params[k].set_lane(i, v);
+            }
+            self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+        }
+        /// The first tick of every instance, each solved from its lane of `guess` by the
+        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
+        /// again at the next tick.
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            guess: &[L; 2],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> LaneTick<L> {
+            ::mechgen::__private::lanes::tick_start(
+                [&input.x, &input.xd, &input.xdd],
+                guess,
+                |
+                    i: usize,
+                    t: &mut Tick<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = &self.mechanisms.as_ref()[i];
+                    if started {
+                        m.tick_arrays(t, x, xd, xdd, options)
+                    } else {
+                        let guess = t.q;
+                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                        ::core::result::Result::Ok(())
+                    }
+                },
+            )
+        }
+        /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
+        /// that fails reports its error in `status` and keeps its last state; no lane changes
+        /// another. No allocation.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut LaneTick<L>,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            ::mechgen::__private::lanes::tick(
+                t,
+                (&self.params, self.params_id),
+                [&input.x, &input.xd, &input.xdd],
+                [true],
+                ::core::option::Option::<
+                    fn(
+                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 3>,
+                        &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        &mut L,
+                        &mut L::Mask,
+                    ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 3>,
+                >::None,
+                |
+                    i: usize,
+                    t: &mut Tick<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = &self.mechanisms.as_ref()[i];
+                    if started {
+                        m.tick_arrays(t, x, xd, xdd, options)
+                    } else {
+                        let guess = t.q;
+                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                        ::core::result::Result::Ok(())
+                    }
+                },
+            )
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> ::mechgen::__private::LaneMechanism<L>
+    for Lanes<L> {
+        type Mechanism = SliderCrank<L::Scalar>;
+        type X = [L; 1];
+        type Q = [L; 2];
+        type Tick = LaneTick<L>;
+        fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self {
+            Lanes::from_fn(f)
+        }
+        fn set(&mut self, i: usize, m: Self::Mechanism) {
+            Lanes::set(self, i, m)
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> Self::Tick {
+            Lanes::tick_start(self, input, guess, options)
+        }
+        #[inline]
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            Lanes::tick(self, t, input, options)
+        }
+        fn lane(
+            t: &Self::Tick,
+            i: usize,
+        ) -> (
+            ::core::result::Result<(), ::mechgen::__private::SolveError>,
+            Tick<L::Scalar>,
+        ) {
+            (t.status(i), t.lane(i))
         }
     }
 }
@@ -11315,8 +12286,14 @@ pub mod rocker_four_bar {
         type ParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 4>;
         type PointParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 4>;
         type Tick = Tick<T>;
+        type Lanes<L: ::mechgen::__private::Lanes<Scalar = T>> = Lanes<L>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
+        }
+        fn with_params(params: &[T]) -> ::core::option::Option<Self> {
+            <[T; 4]>::try_from(params)
+                .ok()
+                .map(|a| RockerFourBar::new(Params::from_array(a)))
         }
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             RockerFourBar::residual(self, x, q)
@@ -11470,6 +12447,275 @@ pub mod rocker_four_bar {
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             RockerFourBar::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
+        }
+    }
+    /// The state of W instances between lane ticks (see `Lanes::tick_start`).
+    pub type LaneTick<L> = ::mechgen::__private::LaneTick<L, 1, 2, 2, 4>;
+    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64
+    /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
+    /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
+    /// scalar tick's, to the last bit.
+    /// Its blocks are all dyads: the common path of a tick runs in lanes.
+    #[derive(Clone, Copy, Debug)]
+    pub struct Lanes<L: ::mechgen::__private::Lanes> {
+        mechanisms: L::Array<RockerFourBar<L::Scalar>>,
+        params: [L; 4],
+        /// Changes with the params (`mechgen::lanes::fresh_params_id`).
+        params_id: usize,
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// Instance `i` is `f(i)`.
+        pub fn from_fn(f: impl FnMut(usize) -> RockerFourBar<L::Scalar>) -> Self {
+            let mechanisms = L::array(f);
+            let params = ::core::array::from_fn(|k| L::from_fn(|i| {
+                mechanisms.as_ref()[i].params.to_array()[k]
+            }));
+            Lanes {
+                mechanisms,
+                params,
+                params_id: ::mechgen::__private::lanes::fresh_params_id(),
+            }
+        }
+        /// Instance `i` (`i < W`).
+        pub fn mechanism(&self, i: usize) -> &RockerFourBar<L::Scalar> {
+            &self.mechanisms.as_ref()[i]
+        }
+        /// Sets instance `i` (`i < W`); its next tick starts its caches afresh.
+        pub fn set(&mut self, i: usize, m: RockerFourBar<L::Scalar>) {
+            self.mechanisms.as_mut()[i] = m;
+            for (k, v) in m.params.to_array().into_iter().enumerate() {
+                self.params[k].set_lane(i, v);
+            }
+            self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+        }
+        /// The first tick of every instance, each solved from its lane of `guess` by the
+        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
+        /// again at the next tick.
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            guess: &[L; 2],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> LaneTick<L> {
+            ::mechgen::__private::lanes::tick_start(
+                [&input.x, &input.xd, &input.xdd],
+                guess,
+                |
+                    i: usize,
+                    t: &mut Tick<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = &self.mechanisms.as_ref()[i];
+                    if started {
+                        m.tick_arrays(t, x, xd, xdd, options)
+                    } else {
+                        let guess = t.q;
+                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                        ::core::result::Result::Ok(())
+                    }
+                },
+            )
+        }
+        /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
+        /// that fails reports its error in `status` and keeps its last state; no lane changes
+        /// another. No allocation.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut LaneTick<L>,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            ::mechgen::__private::lanes::tick(
+                t,
+                (&self.params, self.params_id),
+                [&input.x, &input.xd, &input.xdd],
+                [true],
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 4>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        pivot: &mut L,
+                        ok: &mut L::Mask|
+                    {
+                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
+                    }),
+                |
+                    i: usize,
+                    t: &mut Tick<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = &self.mechanisms.as_ref()[i];
+                    if started {
+                        m.tick_arrays(t, x, xd, xdd, options)
+                    } else {
+                        let guess = t.q;
+                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                        ::core::result::Result::Ok(())
+                    }
+                },
+            )
+        }
+        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
+        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
+        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
+        /// non-finite value) are cleared in `ok`.
+        #[inline(always)]
+        fn motion_lanes(
+            &self,
+            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 4>,
+            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+            tolerance: L::Scalar,
+            pivot: &mut L,
+            ok: &mut L::Mask,
+        ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 2> {
+            let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, .. } = fixed;
+            let mut qd = [L::zero(); 2];
+            let mut qdd = [L::zero(); 2];
+            let p_l1 = self.params[0];
+            let p_l2 = self.params[1];
+            let p_l3 = self.params[2];
+            let p_l4 = self.params[3];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
+            ::mechgen::__private::lanes::solve_dyad(
+                st,
+                0,
+                1,
+                [t3, t1],
+                (p_l2, ::core::option::Option::None),
+                (t2, ::core::option::Option::None),
+                tolerance,
+                pivot,
+                ok,
+            );
+            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            let v_q1_d = xd[0];
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t6 = p_l3 * c_v_q3;
+            let t7 = p_l3 * s_v_q3;
+            let t8 = -t5;
+            let t9 = -t6;
+            let t10 = t1 * v_q1_d;
+            let t11 = t0 * v_q1_d;
+            let t12 = -t11;
+            let mut jac = [[L::zero(); 2]; 2];
+            jac[0][0] = t8;
+            jac[0][1] = t7;
+            jac[1][0] = t4;
+            jac[1][1] = t9;
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t10, t12], ok);
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t13 = t4 * v_q2_d;
+            let t14 = t6 * v_q3_d;
+            let t15 = t5 * v_q2_d;
+            let t16 = t7 * v_q3_d;
+            let t17 = v_q1_d * t11;
+            let t18 = v_q2_d * t13;
+            let t19 = t17 + t18;
+            let t20 = v_q3_d * t14;
+            let t21 = t19 - t20;
+            let t22 = t1 * v_q1_dd;
+            let t23 = t21 + t22;
+            let t24 = v_q1_d * t10;
+            let t25 = v_q2_d * t15;
+            let t26 = t24 + t25;
+            let t27 = v_q3_d * t16;
+            let t28 = t26 - t27;
+            let t29 = t0 * v_q1_dd;
+            let t30 = t28 - t29;
+            let z = lu.solve([t23, t30], ok);
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            let v_q3_dd = qdd[1];
+            let t31 = p_l4 + t6;
+            let t32 = -t10;
+            let t33 = -t16;
+            let t34 = t17 + t22;
+            let t35 = -t34;
+            let t36 = t24 - t29;
+            let t37 = -t36;
+            let t38 = t7 * v_q3_dd;
+            let t39 = t20 + t38;
+            let t40 = -t39;
+            let t41 = t6 * v_q3_dd;
+            let t42 = t27 - t41;
+            let t43 = -t42;
+            (
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [t0, t1],
+                        velocity: [t32, t11],
+                        acceleration: [t35, t37],
+                    },
+                    ::mechgen::__private::PointMotion {
+                        position: [t31, t7],
+                        velocity: [t33, t14],
+                        acceleration: [t40, t43],
+                    },
+                ],
+            )
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> ::mechgen::__private::LaneMechanism<L>
+    for Lanes<L> {
+        type Mechanism = RockerFourBar<L::Scalar>;
+        type X = [L; 1];
+        type Q = [L; 2];
+        type Tick = LaneTick<L>;
+        fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self {
+            Lanes::from_fn(f)
+        }
+        fn set(&mut self, i: usize, m: Self::Mechanism) {
+            Lanes::set(self, i, m)
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> Self::Tick {
+            Lanes::tick_start(self, input, guess, options)
+        }
+        #[inline]
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            Lanes::tick(self, t, input, options)
+        }
+        fn lane(
+            t: &Self::Tick,
+            i: usize,
+        ) -> (
+            ::core::result::Result<(), ::mechgen::__private::SolveError>,
+            Tick<L::Scalar>,
+        ) {
+            (t.status(i), t.lane(i))
         }
     }
 }
@@ -13601,8 +14847,12 @@ pub mod sixbar_g {
         type ParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 4, 10>;
         type PointParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 10>;
         type Tick = Tick<T>;
+        type Lanes<L: ::mechgen::__private::Lanes<Scalar = T>> = Lanes<L>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
+        }
+        fn with_params(params: &[T]) -> ::core::option::Option<Self> {
+            <[T; 10]>::try_from(params).ok().map(|a| SixbarG::new(Params::from_array(a)))
         }
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             SixbarG::residual(self, x, q)
@@ -13748,6 +14998,160 @@ pub mod sixbar_g {
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             SixbarG::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
+        }
+    }
+    /// The state of W instances between lane ticks (see `Lanes::tick_start`).
+    pub type LaneTick<L> = ::mechgen::__private::LaneTick<L, 1, 4, 1, 10>;
+    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64
+    /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
+    /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
+    /// scalar tick's, to the last bit.
+    /// It has blocks other than dyads: every lane is ticked by the scalar tick (the same results, no SIMD speed-up).
+    #[derive(Clone, Copy, Debug)]
+    pub struct Lanes<L: ::mechgen::__private::Lanes> {
+        mechanisms: L::Array<SixbarG<L::Scalar>>,
+        params: [L; 10],
+        /// Changes with the params (`mechgen::lanes::fresh_params_id`).
+        params_id: usize,
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// Instance `i` is `f(i)`.
+        pub fn from_fn(f: impl FnMut(usize) -> SixbarG<L::Scalar>) -> Self {
+            let mechanisms = L::array(f);
+            let params = ::core::array::from_fn(|k| L::from_fn(|i| {
+                mechanisms.as_ref()[i].params.to_array()[k]
+            }));
+            Lanes {
+                mechanisms,
+                params,
+                params_id: ::mechgen::__private::lanes::fresh_params_id(),
+            }
+        }
+        /// Instance `i` (`i < W`).
+        pub fn mechanism(&self, i: usize) -> &SixbarG<L::Scalar> {
+            &self.mechanisms.as_ref()[i]
+        }
+        /// Sets instance `i` (`i < W`); its next tick starts its caches afresh.
+        pub fn set(&mut self, i: usize, m: SixbarG<L::Scalar>) {
+            self.mechanisms.as_mut()[i] = m;
+            for (k, v) in m.params.to_array().into_iter().enumerate() {
+                self.params[k].set_lane(i, v);
+            }
+            self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+        }
+        /// The first tick of every instance, each solved from its lane of `guess` by the
+        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
+        /// again at the next tick.
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            guess: &[L; 4],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> LaneTick<L> {
+            ::mechgen::__private::lanes::tick_start(
+                [&input.x, &input.xd, &input.xdd],
+                guess,
+                |
+                    i: usize,
+                    t: &mut Tick<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = &self.mechanisms.as_ref()[i];
+                    if started {
+                        m.tick_arrays(t, x, xd, xdd, options)
+                    } else {
+                        let guess = t.q;
+                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                        ::core::result::Result::Ok(())
+                    }
+                },
+            )
+        }
+        /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
+        /// that fails reports its error in `status` and keeps its last state; no lane changes
+        /// another. No allocation.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut LaneTick<L>,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            ::mechgen::__private::lanes::tick(
+                t,
+                (&self.params, self.params_id),
+                [&input.x, &input.xd, &input.xdd],
+                [true],
+                ::core::option::Option::<
+                    fn(
+                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                        &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        &mut L,
+                        &mut L::Mask,
+                    ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 1>,
+                >::None,
+                |
+                    i: usize,
+                    t: &mut Tick<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = &self.mechanisms.as_ref()[i];
+                    if started {
+                        m.tick_arrays(t, x, xd, xdd, options)
+                    } else {
+                        let guess = t.q;
+                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                        ::core::result::Result::Ok(())
+                    }
+                },
+            )
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> ::mechgen::__private::LaneMechanism<L>
+    for Lanes<L> {
+        type Mechanism = SixbarG<L::Scalar>;
+        type X = [L; 1];
+        type Q = [L; 4];
+        type Tick = LaneTick<L>;
+        fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self {
+            Lanes::from_fn(f)
+        }
+        fn set(&mut self, i: usize, m: Self::Mechanism) {
+            Lanes::set(self, i, m)
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> Self::Tick {
+            Lanes::tick_start(self, input, guess, options)
+        }
+        #[inline]
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            Lanes::tick(self, t, input, options)
+        }
+        fn lane(
+            t: &Self::Tick,
+            i: usize,
+        ) -> (
+            ::core::result::Result<(), ::mechgen::__private::SolveError>,
+            Tick<L::Scalar>,
+        ) {
+            (t.status(i), t.lane(i))
         }
     }
 }

@@ -233,8 +233,21 @@ pub fn for_each_ordered<T: Send>(
     }
 }
 
+/// A pool of `threads` worker threads (default every core) to run a loop of batch calls on:
+/// inside `pool.install(|| …)` the loop itself runs on a worker, so that consecutive calls of
+/// [`for_each_mut`] (the ticks of a fleet) are not each a hand-over to sleeping threads and back
+/// (measured: a fifth of a 4096-instance six-bar tick on this 2-core machine).
+#[cfg(feature = "parallel")]
+pub fn workers(threads: Option<usize>) -> Result<rayon::ThreadPool, String> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .map_err(|e| format!("cannot start worker threads: {e}"))
+}
+
 /// Calls `f(i, &mut items[i])` for every item, across every core with the `parallel` feature
-/// (rayon's pool, at least 64 items per task), in order on one thread without it. Each call sees
+/// (rayon's pool: the one installed, see [`workers`], else the global one; at least 64 items per
+/// task), in order on one thread without it. Each call sees
 /// its own item only, so the results do not depend on the threads.
 pub fn for_each_mut<S: Send>(items: &mut [S], f: impl Fn(usize, &mut S) + Sync) {
     #[cfg(feature = "parallel")]

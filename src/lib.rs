@@ -38,18 +38,23 @@ pub use mechgen_runtime as runtime;
 pub use mechgen_runtime::__private;
 // The kernels (`dyad`, `closed_form`, `elimination`, `solve`, `trig`) are reached through
 // `mechgen::runtime::…`; generated code reaches what it calls through `__private`.
+/// SIMD lanes: `mechgen::lanes::F64x4` and the other lane types, the [`Lanes`] trait.
+pub use mechgen_runtime::lanes;
 pub use mechgen_runtime::nalgebra;
 pub use mechgen_runtime::{
     Array, CoordDesc, CoordInfo, DynMechanism, DynScene, DynSceneState, DynState, InputMotion,
-    Kind, MechanismInfo, NewtonOptions, NewtonReport, ParamDesc, ParamInfo, PointMotion, Quantity,
-    Real, RowMajor, Scene, SceneDescription, SceneInfo, SceneState, SceneVisitor, SolveError,
-    SolveOptions, Stage, State, StaticInfo, StaticMechanism, StaticVisitor, Tick,
+    Kind, LaneMechanism, LaneState, LaneTick, Lanes, MechanismInfo, NewtonOptions, NewtonReport,
+    ParamDesc, ParamInfo, PointMotion, Quantity, Real, RowMajor, Scene, SceneDescription,
+    SceneInfo, SceneState, SceneVisitor, SolveError, SolveOptions, Stage, State, StaticInfo,
+    StaticMechanism, StaticVisitor, Tick,
 };
 
 #[cfg(feature = "sweep")]
 pub mod batch;
 #[cfg(feature = "sweep")]
 pub mod design;
+#[cfg(feature = "sweep")]
+pub mod fleet;
 #[cfg(feature = "runtime")]
 pub mod generic;
 #[cfg(feature = "runtime")]

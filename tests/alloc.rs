@@ -7,7 +7,7 @@ use std::cell::Cell;
 use std::hint::black_box;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use mechgen::{InputMotion, SolveError, SolveOptions};
+use mechgen::{InputMotion, Lanes, SolveError, SolveOptions};
 
 /// Allocations (alloc, alloc_zeroed, realloc) made while a thread had counting switched on.
 static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
@@ -77,7 +77,7 @@ const SOLVES: usize = 100;
 type Outcome = (usize, usize, Option<SolveError>);
 
 /// For one mechanism type and scalar: counts the allocations of `SOLVES` full solves through the
-/// separate stages (with the sensitivities), `SOLVES` more through `solve`, `SOLVES` through `solve_in_place`, and `SOLVES` ticks (`tick_start`, `tick`), all
+/// separate stages (with the sensitivities), `SOLVES` more through `solve`, `SOLVES` through `solve_in_place`, `SOLVES` ticks (`tick_start`, `tick`) and `SOLVES` lane ticks of W instances (`Lanes`), all
 /// continuing from the start configuration 1° at a time.
 macro_rules! solves {
     ($fn:ident, $module:ident :: $ty:ident, $t:ty) => {
@@ -156,6 +156,27 @@ macro_rules! solves {
                         }
                         Err(e) => return (done, Some(e)),
                     }
+                }
+                // W instances in SIMD lanes (f64: 4, f32: 8), each with its own params.
+                type L = <$t as mechgen::lanes::WithLanes>::Lanes;
+                let lanes = mechgen::$module::Lanes::<L>::from_fn(|i| {
+                    let mut p = m.params.to_array();
+                    p[0] *= 1.0 + 0.001 * i as $t;
+                    $ty::new(mechgen::$module::Params::from_array(p))
+                });
+                let lane_at =
+                    |x: $t| InputMotion::new([L::splat(x)], [L::splat(xd[0])], [L::splat(xdd[0])]);
+                let mut t =
+                    lanes.tick_start(&lane_at(x0[0]), &q0.to_array().map(L::splat), &options);
+                for i in 1..SOLVES {
+                    lanes.tick(&mut t, &lane_at(x0[0] + step * i as $t), &options);
+                    for k in 0..L::W {
+                        match t.status(k) {
+                            Ok(()) => done += 1,
+                            Err(e) => return (done, Some(e)),
+                        }
+                    }
+                    black_box(&t);
                 }
                 (done, None)
             });

@@ -96,3 +96,13 @@ fn compiled_in_mechanisms_alike_on_both_engines() {
     let fails = check_engines_agree();
     assert!(fails.is_empty(), "{}", fails.join("\n"));
 }
+
+/// Every compiled-in mechanism in SIMD lanes: each lane is its scalar tick, bit for bit
+/// (`common::lanes`, fewer cases than `tests/lanes.rs`, on whatever file this build compiled in).
+#[test]
+fn compiled_in_lanes_are_their_scalar_ticks() {
+    let (fails, seen) = common::lanes::check_lanes(4, 200);
+    eprintln!("{seen:?}");
+    assert!(fails.is_empty(), "{}", fails.join("\n"));
+    assert!(seen.compared > 0);
+}

@@ -34,24 +34,58 @@ struct Options {
     set: Vec<(String, f64)>,
 }
 
-/// A sweep's rows as cells: per row the numbers (NaN where the CSV leaves a cell empty) and the
-/// status.
-type Cells = (Vec<Vec<f64>>, Vec<&'static str>);
+/// A sweep's rows as cells, column by column: `numbers[c·rows + r]` is column `c` of row `r`
+/// (NaN where the CSV leaves the cell empty), and each row's status.
+struct Cells {
+    numbers: Vec<f64>,
+    statuses: Vec<&'static str>,
+}
 
 fn cells(rows: &[Row], columns: usize) -> Cells {
-    let mut numbers = Vec::with_capacity(rows.len());
-    let mut statuses = Vec::with_capacity(rows.len());
-    for r in rows {
-        let (c, status) = row_cells(r);
-        let mut v = vec![r.input];
-        match c {
-            Some(c) => v.extend(c.into_iter().map(|x| x.unwrap_or(f64::NAN))),
-            None => v.resize(columns, f64::NAN),
+    let n = rows.len();
+    let mut numbers = vec![f64::NAN; columns * n];
+    let mut statuses = Vec::with_capacity(n);
+    for (r, row) in rows.iter().enumerate() {
+        let (c, status) = row_cells(row);
+        numbers[r] = row.input;
+        for (k, v) in c.into_iter().flatten().enumerate().take(columns - 1) {
+            numbers[(k + 1) * n + r] = v.unwrap_or(f64::NAN);
         }
-        numbers.push(v);
         statuses.push(status);
     }
-    (numbers, statuses)
+    Cells { numbers, statuses }
+}
+
+/// The statuses of `sets` (each a list of rows) as one numpy string array of shape (sets, rows),
+/// or flat when `flat`: the distinct statuses (a handful) indexed by one integer per row, so that
+/// no Python string is made per row.
+fn statuses<'py>(
+    py: Python<'py>,
+    sets: &[Cells],
+    rows: usize,
+    flat: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let mut names: Vec<&'static str> = Vec::new();
+    let mut codes: Vec<i64> = Vec::with_capacity(sets.len() * rows);
+    for s in sets.iter().flat_map(|c| &c.statuses) {
+        let i = match names.iter().position(|n| n == s) {
+            Some(i) => i,
+            None => {
+                names.push(s);
+                names.len() - 1
+            }
+        };
+        codes.push(i as i64);
+    }
+    let np = py.import("numpy")?;
+    let names = np.call_method1("array", (names, "U"))?;
+    let codes = PyArray1::from_vec(py, codes);
+    let codes = if flat {
+        codes.into_any()
+    } else {
+        codes.reshape([sets.len(), rows])?.into_any()
+    };
+    names.get_item(codes)
 }
 
 impl Mechanism {
@@ -127,17 +161,6 @@ fn options(
     })
 }
 
-/// numpy's array of these strings.
-fn strings<'py>(py: Python<'py>, s: Vec<Vec<&str>>, flat: bool) -> PyResult<Bound<'py, PyAny>> {
-    let np = py.import("numpy")?;
-    if flat {
-        let row: Vec<&str> = s.into_iter().flatten().collect();
-        np.call_method1("array", (row,))
-    } else {
-        np.call_method1("array", (s,))
-    }
-}
-
 #[pymethods]
 impl Mechanism {
     /// The mechanism's name in its file.
@@ -203,14 +226,16 @@ impl Mechanism {
         let values = self.params_with(&given)?;
         let header = csv_header(&self.info, plan.index);
         let ncols = header.len() - 1;
-        let (numbers, statuses) =
-            py.detach(|| cells(&self.sweep_rows(&plan, &values, o.rate), ncols));
+        let c = py.detach(|| cells(&self.sweep_rows(&plan, &values, o.rate), ncols));
+        let n = c.statuses.len();
         let out = PyDict::new(py);
-        for (c, name) in header.iter().take(ncols).enumerate() {
-            let column: Vec<f64> = numbers.iter().map(|r| r[c]).collect();
-            out.set_item(name, PyArray1::from_vec(py, column))?;
+        for (k, name) in header.iter().take(ncols).enumerate() {
+            out.set_item(
+                name,
+                PyArray1::from_slice(py, &c.numbers[k * n..(k + 1) * n]),
+            )?;
         }
-        out.set_item("status", strings(py, vec![statuses], true)?)?;
+        out.set_item("status", statuses(py, &[c], n, true)?)?;
         Ok(out)
     }
 
@@ -277,19 +302,18 @@ impl Mechanism {
         .map_err(PyValueError::new_err)?;
         let nrows = plan.values.len();
         let out = PyDict::new(py);
-        for (c, name) in header.iter().take(ncols).enumerate() {
-            let flat: Vec<f64> = all
-                .iter()
-                .flat_map(|(n, _)| n.iter().map(move |r| r[c]))
-                .collect();
+        for (k, name) in header.iter().take(ncols).enumerate() {
+            let mut flat: Vec<f64> = Vec::with_capacity(count * nrows);
+            for c in &all {
+                flat.extend_from_slice(&c.numbers[k * nrows..(k + 1) * nrows]);
+            }
             let a = PyArray1::from_vec(py, flat).reshape([count, nrows])?;
             out.set_item(name, a)?;
         }
-        let statuses: Vec<Vec<&str>> = all.into_iter().map(|(_, s)| s).collect();
         let s = if count == 0 {
             PyArray2::<f64>::zeros(py, [0, nrows], false).into_any()
         } else {
-            strings(py, statuses, false)?
+            statuses(py, &all, nrows, false)?
         };
         out.set_item("status", s)?;
         Ok(out)

@@ -7,7 +7,7 @@
 //! A crate that embeds generated solvers depends on this crate alone (with `mechgen-codegen` as a
 //! build-dependency: `mechgen_codegen::compile("mechanism.toml")` in `build.rs`, then
 //! [`include_mechanisms!`]); applications depend on `mechgen`, which re-exports it. This crate
-//! depends on nalgebra and num-traits only and is `no_std` (with `alloc` for the owned `MechanismInfo`): the one use of std is the
+//! depends on nalgebra, num-traits and wide (SIMD vectors for [`lanes`]) only and is `no_std` (with `alloc` for the owned `MechanismInfo`): the one use of std is the
 //! float functions (`sin`, `cos`, `sqrt`, …), which num-traits takes from std.
 
 #![no_std]
@@ -29,11 +29,13 @@ pub mod dynamic;
 pub mod elimination;
 pub mod error;
 pub mod info;
+pub mod lanes;
 pub mod mechanism;
 pub mod scalar;
 pub mod scene;
 pub mod scene_tick;
 pub mod sensitivity;
+pub mod simd;
 pub mod solve;
 pub mod tick;
 pub mod trig;
@@ -44,7 +46,10 @@ pub use error::{Quantity, SolveError, Stage};
 pub use info::{
     CoordDesc, CoordInfo, Kind, MechanismInfo, ParamDesc, ParamInfo, PointMotion, StaticInfo,
 };
-pub use mechanism::{Array, InputMotion, RowMajor, State, StateOf, StaticMechanism, StaticVisitor};
+pub use lanes::{LaneState, LaneTick};
+pub use mechanism::{
+    Array, InputMotion, LaneMechanism, RowMajor, State, StateOf, StaticMechanism, StaticVisitor,
+};
 pub use nalgebra;
 pub use scalar::Real;
 pub use scene::{
@@ -53,6 +58,7 @@ pub use scene::{
 };
 pub use scene_tick::SceneTick;
 pub use sensitivity::Sensitivities;
+pub use simd::{Lanes, WithLanes};
 pub use solve::{NewtonOptions, NewtonReport, SolveOptions};
 pub use tick::{Tick, TickStateOf};
 
@@ -80,7 +86,10 @@ pub mod __private {
     pub use crate::elimination::factor_block;
     pub use crate::error::{Quantity, SolveError, Stage};
     pub use crate::info::{CoordInfo, Kind, ParamInfo, PointMotion, StaticInfo};
-    pub use crate::mechanism::{InputMotion, State, StateOf, StaticMechanism, StaticVisitor};
+    pub use crate::lanes::{self, LaneTick, Lanes};
+    pub use crate::mechanism::{
+        InputMotion, LaneMechanism, State, StateOf, StaticMechanism, StaticVisitor,
+    };
     pub use crate::scalar::Real;
     pub use crate::scene::{DynScene, Scene, SceneInfo, SceneState, SceneStateOf, SceneVisitor};
     pub use crate::scene_tick::{

@@ -8,6 +8,7 @@ use crate::error::SolveError;
 use crate::info::{PointMotion, StaticInfo};
 use crate::scalar::Real;
 use crate::sensitivity::Sensitivities;
+use crate::simd::Lanes;
 use crate::solve::{NewtonReport, SolveOptions};
 use nalgebra::SMatrix;
 
@@ -107,7 +108,7 @@ impl<T: Real, const R: usize, const C: usize> RowMajor<T> for SMatrix<T, R, C> {
 /// arrays, matrices as nalgebra `SMatrix`, no allocation. The generated module's own methods are
 /// the typed form of the same (named `Inputs`, `Unknowns`, `Points` structs); every
 /// `StaticMechanism` is also a [`crate::DynMechanism`].
-pub trait StaticMechanism<T: Real>: Send + Sync {
+pub trait StaticMechanism<T: Real>: Clone + Send + Sync {
     const NAME: &'static str;
     const INPUTS: usize;
     const UNKNOWNS: usize;
@@ -129,13 +130,21 @@ pub trait StaticMechanism<T: Real>: Send + Sync {
     /// The state between simulator ticks: a [`crate::Tick`] of this mechanism's sizes (see there
     /// for what it holds), which reads as its [`State`].
     type Tick: Copy
+        + PartialEq
         + core::fmt::Debug
         + Send
         + Sync
         + 'static
         + core::ops::Deref<Target = State<Self::X, Self::Q, Self::Points, T>>;
+    /// W instances in the SIMD lanes `L` (the generated `NAME::Lanes<L>`).
+    type Lanes<L: Lanes<Scalar = T>>: LaneMechanism<L, Mechanism = Self>;
 
     fn info(&self) -> &'static StaticInfo;
+    /// The mechanism with the params `params`, in the order of `info().params` (`None` unless
+    /// there are exactly that many).
+    fn with_params(params: &[T]) -> Option<Self>
+    where
+        Self: Sized;
     /// Φ(x, q).
     fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q;
     /// J = ∂Φ/∂q.
@@ -231,4 +240,44 @@ pub trait StaticMechanism<T: Real>: Send + Sync {
 /// Generic code run on every compiled-in mechanism by `visit_all`, with static dispatch.
 pub trait StaticVisitor<T: Real> {
     fn visit<M: StaticMechanism<T> + 'static>(&mut self, mechanism: &M);
+}
+
+/// W instances of a generated mechanism in SIMD lanes (`NAME::Lanes<L>`, see `crate::lanes`),
+/// for code generic over mechanisms (the batch API, benches, tests). Lane `i` of every value
+/// is instance `i`; each lane's result or error is its scalar tick's.
+pub trait LaneMechanism<L: Lanes>: Sized + Send + Sync {
+    /// One instance.
+    type Mechanism: StaticMechanism<L::Scalar>;
+    /// `[L; INPUTS]`
+    type X: Copy + Default + AsRef<[L]> + AsMut<[L]> + Send + Sync;
+    /// `[L; UNKNOWNS]`
+    type Q: Copy + Default + AsRef<[L]> + AsMut<[L]> + Send + Sync;
+    /// The state between lane ticks (`NAME::LaneTick<L>`).
+    type Tick: Clone + Send + Sync;
+    /// Instance `i` is `f(i)`.
+    fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self;
+    /// Sets instance `i` (`i < W`).
+    fn set(&mut self, i: usize, m: Self::Mechanism);
+    /// The first tick of every instance from its lane of `guess`.
+    fn tick_start(
+        &self,
+        input: &InputMotion<Self::X>,
+        guess: &Self::Q,
+        options: &SolveOptions<L::Scalar>,
+    ) -> Self::Tick;
+    /// One tick of every instance to its lane of `input`.
+    fn tick(
+        &self,
+        t: &mut Self::Tick,
+        input: &InputMotion<Self::X>,
+        options: &SolveOptions<L::Scalar>,
+    );
+    /// Instance `i`: the status of its last tick and its state as the scalar tick.
+    fn lane(
+        t: &Self::Tick,
+        i: usize,
+    ) -> (
+        Result<(), SolveError>,
+        <Self::Mechanism as StaticMechanism<L::Scalar>>::Tick,
+    );
 }

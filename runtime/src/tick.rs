@@ -37,12 +37,12 @@ pub const RESYNC_TICKS: u32 = 64;
 /// `t.points` (or the whole `*t`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tick<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> {
-    state: TickStateOf<T, NI, NU, NP>,
-    tx: [(T, T); NI],
-    tq: [(T, T); NU],
-    tp: [(T, T); NPAR],
-    params: [T; NPAR],
-    age: u32,
+    pub(crate) state: TickStateOf<T, NI, NU, NP>,
+    pub(crate) tx: [(T, T); NI],
+    pub(crate) tq: [(T, T); NU],
+    pub(crate) tp: [(T, T); NPAR],
+    pub(crate) params: [T; NPAR],
+    pub(crate) age: u32,
 }
 
 /// The [`State`] of a tick with `NI` inputs, `NU` unknowns and `NP` points.

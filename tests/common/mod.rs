@@ -4,6 +4,7 @@
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod engines;
+pub mod lanes;
 pub mod scenes;
 pub mod sensitivity;
 pub mod stress;

@@ -150,6 +150,8 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     let system_fns = crate::emit::system::system_fns(c, &args);
     let solvers = crate::emit::solve::solvers(c, &args);
     let sensitivity_fns = crate::emit::sensitivity::sensitivity_fns(c, &args);
+    let lanes = crate::emit::lanes::lanes(c, &args);
+    let (lt, lanes_ty) = (&it.lane_scalar, &it.lanes);
     let nblocks = c.blocks.len();
 
     quote! {
@@ -290,7 +292,11 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                 type ParamJacobian = #rt::nalgebra::SMatrix<#gt, #nu, #npar>;
                 type PointParamJacobian = #rt::nalgebra::SMatrix<#gt, #np2, #npar>;
                 type Tick = #tick_ty<#gt>;
+                type Lanes<#lt: #rt::Lanes<Scalar = #gt>> = #lanes_ty<#lt>;
                 fn info(&self) -> &'static #rt::StaticInfo { &INFO }
+                fn with_params(params: &[#gt]) -> ::core::option::Option<Self> {
+                    <[#gt; #npar]>::try_from(params).ok().map(|a| #ty::new(#params_ty::from_array(a)))
+                }
                 fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q { #ty::residual(self, x, q) }
                 fn jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::Jacobian { #ty::jacobian(self, x, q) }
                 fn input_jacobian(&self, x: &Self::X, q: &Self::Q) -> Self::InputJacobian { #ty::input_jacobian(self, x, q) }
@@ -331,6 +337,8 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                 fn tick(&self, t: &mut Self::Tick, input: &#rt::InputMotion<Self::X>, options: &#rt::SolveOptions<#gt>)
                     -> ::core::result::Result<(), #rt::SolveError> { #ty::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options) }
             }
+
+            #lanes
         }
     }
 }

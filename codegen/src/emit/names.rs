@@ -108,6 +108,11 @@ pub enum Item {
     Motion,
     /// A scene's outputs.
     Outputs,
+    /// The lane type parameter of the lane items.
+    LaneScalar,
+    /// The mechanism in SIMD lanes, and its state between lane ticks.
+    Lanes,
+    LaneTick,
 }
 
 /// Proposals per item, in order: the mechanism's type takes its name first (the file names it);
@@ -122,6 +127,9 @@ const ITEM_NAMES: &[(Item, &[&str])] = &[
     (Item::Tick, &["Tick", "TickState"]),
     (Item::Motion, &["Motion", "MotionState"]),
     (Item::Outputs, &["Outputs", "OutputValues"]),
+    (Item::LaneScalar, &["L", "W"]),
+    (Item::Lanes, &["Lanes", "LaneSet"]),
+    (Item::LaneTick, &["LaneTick", "LaneTickState"]),
 ];
 
 /// The names of one mechanism module's items, all distinct.
@@ -136,6 +144,9 @@ pub struct ModuleItems {
     pub tick: Ident,
     pub motion: Ident,
     pub outputs: Ident,
+    pub lane_scalar: Ident,
+    pub lanes: Ident,
+    pub lane_tick: Ident,
 }
 
 impl ModuleItems {
@@ -162,6 +173,9 @@ impl ModuleItems {
             tick: get(Item::Tick),
             motion: get(Item::Motion),
             outputs: get(Item::Outputs),
+            lane_scalar: get(Item::LaneScalar),
+            lanes: get(Item::Lanes),
+            lane_tick: get(Item::LaneTick),
             ty,
         }
     }

@@ -112,6 +112,12 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
                 let t = #rt::scene_tick_state_mut(tick);
             }
         });
+        // The motion's q̈ is replaced by the estimate: not bound.
+        let qdd_pat = if estimated.is_some() {
+            quote!(_)
+        } else {
+            quote!(qdd)
+        };
         let guess = if keep_closed.iter().all(|&k| k) {
             quote! {
                 if options.closed_forms { t.carried([#(#angle),*]) }
@@ -204,7 +210,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
                 let mut st = #guess;
                 let mut report = #rt::NewtonReport::new();
                 let fixed = #rt::Fixed { x, xd, xdd, tx: &tx, tp };
-                let (qd, qdd, points) = self.#motion_fn(fixed, &mut st, options, &mut report #every_false)?;
+                let (qd, #qdd_pat, points) = self.#motion_fn(fixed, &mut st, options, &mut report #every_false)?;
                 #estimated
                 t.update(x, xd, xdd, &st, qd, qdd, points, report, tx, fresh_tp.as_ref().map(|tp| (&params, tp)));
                 Ok(())

@@ -1489,8 +1489,12 @@ pub mod slider {
         type ParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>;
         type PointParamJacobian = ::mechgen::__private::nalgebra::SMatrix<T, 2, 2>;
         type Tick = Tick<T>;
+        type Lanes<L: ::mechgen::__private::Lanes<Scalar = T>> = Lanes<L>;
         fn info(&self) -> &'static ::mechgen::__private::StaticInfo {
             &INFO
+        }
+        fn with_params(params: &[T]) -> ::core::option::Option<Self> {
+            <[T; 2]>::try_from(params).ok().map(|a| Slider::new(Params::from_array(a)))
         }
         fn residual(&self, x: &Self::X, q: &Self::Q) -> Self::Q {
             Slider::residual(self, x, q)
@@ -1636,6 +1640,160 @@ pub mod slider {
             options: &::mechgen::__private::SolveOptions<T>,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             Slider::tick_arrays(self, t, &input.x, &input.xd, &input.xdd, options)
+        }
+    }
+    /// The state of W instances between lane ticks (see `Lanes::tick_start`).
+    pub type LaneTick<L> = ::mechgen::__private::LaneTick<L, 1, 2, 1, 2>;
+    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64
+    /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
+    /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
+    /// scalar tick's, to the last bit.
+    /// It has blocks other than dyads: every lane is ticked by the scalar tick (the same results, no SIMD speed-up).
+    #[derive(Clone, Copy, Debug)]
+    pub struct Lanes<L: ::mechgen::__private::Lanes> {
+        mechanisms: L::Array<Slider<L::Scalar>>,
+        params: [L; 2],
+        /// Changes with the params (`mechgen::lanes::fresh_params_id`).
+        params_id: usize,
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// Instance `i` is `f(i)`.
+        pub fn from_fn(f: impl FnMut(usize) -> Slider<L::Scalar>) -> Self {
+            let mechanisms = L::array(f);
+            let params = ::core::array::from_fn(|k| L::from_fn(|i| {
+                mechanisms.as_ref()[i].params.to_array()[k]
+            }));
+            Lanes {
+                mechanisms,
+                params,
+                params_id: ::mechgen::__private::lanes::fresh_params_id(),
+            }
+        }
+        /// Instance `i` (`i < W`).
+        pub fn mechanism(&self, i: usize) -> &Slider<L::Scalar> {
+            &self.mechanisms.as_ref()[i]
+        }
+        /// Sets instance `i` (`i < W`); its next tick starts its caches afresh.
+        pub fn set(&mut self, i: usize, m: Slider<L::Scalar>) {
+            self.mechanisms.as_mut()[i] = m;
+            for (k, v) in m.params.to_array().into_iter().enumerate() {
+                self.params[k].set_lane(i, v);
+            }
+            self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+        }
+        /// The first tick of every instance, each solved from its lane of `guess` by the
+        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
+        /// again at the next tick.
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            guess: &[L; 2],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> LaneTick<L> {
+            ::mechgen::__private::lanes::tick_start(
+                [&input.x, &input.xd, &input.xdd],
+                guess,
+                |
+                    i: usize,
+                    t: &mut Tick<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = &self.mechanisms.as_ref()[i];
+                    if started {
+                        m.tick_arrays(t, x, xd, xdd, options)
+                    } else {
+                        let guess = t.q;
+                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                        ::core::result::Result::Ok(())
+                    }
+                },
+            )
+        }
+        /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
+        /// that fails reports its error in `status` and keeps its last state; no lane changes
+        /// another. No allocation.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut LaneTick<L>,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            ::mechgen::__private::lanes::tick(
+                t,
+                (&self.params, self.params_id),
+                [&input.x, &input.xd, &input.xdd],
+                [true],
+                ::core::option::Option::<
+                    fn(
+                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
+                        &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        &mut L,
+                        &mut L::Mask,
+                    ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 1>,
+                >::None,
+                |
+                    i: usize,
+                    t: &mut Tick<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = &self.mechanisms.as_ref()[i];
+                    if started {
+                        m.tick_arrays(t, x, xd, xdd, options)
+                    } else {
+                        let guess = t.q;
+                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                        ::core::result::Result::Ok(())
+                    }
+                },
+            )
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> ::mechgen::__private::LaneMechanism<L>
+    for Lanes<L> {
+        type Mechanism = Slider<L::Scalar>;
+        type X = [L; 1];
+        type Q = [L; 2];
+        type Tick = LaneTick<L>;
+        fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self {
+            Lanes::from_fn(f)
+        }
+        fn set(&mut self, i: usize, m: Self::Mechanism) {
+            Lanes::set(self, i, m)
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> Self::Tick {
+            Lanes::tick_start(self, input, guess, options)
+        }
+        #[inline]
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            Lanes::tick(self, t, input, options)
+        }
+        fn lane(
+            t: &Self::Tick,
+            i: usize,
+        ) -> (
+            ::core::result::Result<(), ::mechgen::__private::SolveError>,
+            Tick<L::Scalar>,
+        ) {
+            (t.status(i), t.lane(i))
         }
     }
 }

@@ -1,0 +1,19 @@
+//! SIMD lanes: W independent instances of one mechanism (each with its own params, inputs and
+//! state) solved together, one instance per lane of a [`Lanes`] vector ([`F64x4`], [`F32x8`], …).
+//!
+//! The lane solvers run the scalar solvers' own operations lane by lane (IEEE arithmetic and
+//! square roots are the same in a lane as in a scalar), so a lane that takes the common path of a
+//! tick gives the scalar tick's result to the last bit. Every test a scalar tick branches on
+//! (a dead point, a large turn, a condition below the refinement threshold, a cache due to be
+//! recomputed, changed params, a non-finite value) is a mask here: the lanes it selects are
+//! ticked again by the scalar tick from their unchanged state, which gives each its own result or
+//! its own [`SolveError`](crate::SolveError). No lane ever changes another.
+
+mod kernels;
+mod tick;
+
+pub use crate::simd::{F32x8, F32x16, F64x2, F64x4, F64x8, Lanes, WithLanes};
+pub use kernels::{LaneFactored, LaneTrig, factor_block, rotate_inputs, solve_dyad};
+pub use tick::{
+    LaneFixed, LaneRates, LaneState, LaneTick, ScalarLane, fresh_params_id, tick, tick_start,
+};

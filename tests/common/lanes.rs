@@ -1,0 +1,212 @@
+//! Shared by `tests/lanes.rs` and `tests/fixtures.rs` (which CI runs on every fixture file): every
+//! compiled-in mechanism ticked in SIMD lanes, W instances with different params and input
+//! steps, against the scalar tick of each instance: every lane's status is the scalar tick's and
+//! its state (and caches) the scalar tick's to the last bit, whether it passed a dead point, failed
+//! to start, or ran next to lanes that did.
+
+use mechgen::lanes::{F64x2, F64x4, Lanes};
+use mechgen::{
+    Array, InputMotion, Kind, LaneMechanism, SolveOptions, StaticMechanism, StaticVisitor,
+};
+use proptest::test_runner::{Config, TestCaseError, TestRunner};
+
+/// What a run saw: lane-ticks compared, how many of them failed (in the scalar tick too), and
+/// how many ok lane-ticks ran beside a failed lane.
+#[derive(Default, Debug)]
+pub struct Seen {
+    pub compared: usize,
+    pub failed: usize,
+    pub ok_beside_failed: usize,
+}
+
+/// Instance `i`'s params: the file's values scaled (lengths) or shifted (angles) by up to
+/// `spread`, from `u` in [−1, 1].
+fn params_of<M: StaticMechanism<f64>>(m: &M, u: &[f64], spread: f64) -> M {
+    let info = m.info();
+    let p: Vec<f64> = info
+        .params
+        .iter()
+        .zip(u)
+        .map(|(p, u)| match p.kind {
+            Kind::Length => p.default * (1.0 + spread * u),
+            _ => p.default + spread * u,
+        })
+        .collect();
+    M::with_params(&p).expect("one value per param")
+}
+
+/// One case: W instances of `m` (lane 0 at the file's params, the others perturbed, the last by
+/// up to 40 % so that it meets dead points), each input stepped at its own rate for `ticks`
+/// ticks (a length input by its own span per tick), every lane checked against its scalar tick.
+fn case<M: StaticMechanism<f64>, L: Lanes<Scalar = f64>>(
+    m: &M,
+    u: &[f64],
+    steps: &[f64],
+    ticks: usize,
+    seen: &mut Seen,
+) -> Result<(), String> {
+    let info = m.info();
+    let w = L::W;
+    let npar = info.params.len();
+    let mechs: Vec<M> = (0..w)
+        .map(|i| {
+            let spread = if i == 0 {
+                0.0
+            } else if i == w - 1 {
+                0.4
+            } else {
+                0.05
+            };
+            params_of(m, &u[i * npar..(i + 1) * npar], spread)
+        })
+        .collect();
+    let lanes = M::Lanes::<L>::from_fn(|i| mechs[i].clone());
+    let opts = SolveOptions::default();
+    let (ni, nu) = (info.inputs.len(), info.unknowns.len());
+    // Per lane: the input step (radians, or a fraction of the start for a length).
+    let step: Vec<f64> = (0..w)
+        .map(|i| match info.inputs[0].kind {
+            Kind::Angle => steps[i].to_radians(),
+            _ => steps[i] * 0.01 * info.inputs[0].start.abs().max(1e-3),
+        })
+        .collect();
+    let mut x = <M::Lanes<L> as LaneMechanism<L>>::X::default();
+    let mut xd = x;
+    let mut guess = <M::Lanes<L> as LaneMechanism<L>>::Q::default();
+    for k in 0..ni {
+        x.as_mut()[k] = L::splat(info.inputs[k].start);
+    }
+    xd.as_mut()[0] = L::from_fn(|i| step[i]);
+    for k in 0..nu {
+        guess.as_mut()[k] = L::splat(info.unknowns[k].start);
+    }
+    let lane_input = |x: &<M::Lanes<L> as LaneMechanism<L>>::X, i: usize| {
+        let mut xs = M::X::zeros();
+        let mut xds = M::X::zeros();
+        for k in 0..ni {
+            xs.as_mut()[k] = x.as_ref()[k].lane(i);
+            xds.as_mut()[k] = xd.as_ref()[k].lane(i);
+        }
+        InputMotion::new(xs, xds, M::X::zeros())
+    };
+    let mut guesses = vec![M::Q::zeros(); w];
+    for g in &mut guesses {
+        for k in 0..nu {
+            g.as_mut()[k] = info.unknowns[k].start;
+        }
+    }
+    let input = InputMotion::new(x, xd, Default::default());
+    let mut t = lanes.tick_start(&input, &guess, &opts);
+    let mut scalar: Vec<Option<M::Tick>> = (0..w)
+        .map(|i| {
+            mechs[i]
+                .tick_start(&lane_input(&x, i), &guesses[i], &opts)
+                .ok()
+        })
+        .collect();
+    for tick in 0..=ticks {
+        if tick > 0 {
+            let a = x.as_mut();
+            a[0] = a[0] + L::from_fn(|i| step[i]);
+            let input = InputMotion::new(x, xd, Default::default());
+            lanes.tick(&mut t, &input, &opts);
+        }
+        let statuses: Vec<bool> = (0..w)
+            .map(|i| {
+                let input = lane_input(&x, i);
+                let r = if tick == 0 {
+                    scalar[i].map(|_| ()).ok_or(())
+                } else {
+                    match &mut scalar[i] {
+                        Some(s) => mechs[i].tick(s, &input, &opts).map_err(|_| ()),
+                        None => match mechs[i].tick_start(&input, &guesses[i], &opts) {
+                            Ok(s) => {
+                                scalar[i] = Some(s);
+                                Ok(())
+                            }
+                            Err(_) => Err(()),
+                        },
+                    }
+                };
+                r.is_ok()
+            })
+            .collect();
+        let any_failed = statuses.iter().any(|ok| !ok);
+        for i in 0..w {
+            let (status, lane) = <M::Lanes<L> as LaneMechanism<L>>::lane(&t, i);
+            let at = format!("{} lane {i}/{w} tick {tick}", info.name);
+            seen.compared += 1;
+            if status.is_ok() != statuses[i] {
+                return Err(format!(
+                    "{at}: lanes {status:?}, scalar ok = {}",
+                    statuses[i]
+                ));
+            }
+            if let Err(e) = status {
+                seen.failed += 1;
+                // The scalar tick's own error, from the same state.
+                let input = lane_input(&x, i);
+                let again = match scalar[i] {
+                    Some(mut s) => mechs[i].tick(&mut s, &input, &opts).err(),
+                    None => mechs[i].tick_start(&input, &guesses[i], &opts).err(),
+                };
+                if again != Some(e) {
+                    return Err(format!("{at}: lanes {e:?}, scalar {again:?}"));
+                }
+            } else if any_failed {
+                seen.ok_beside_failed += 1;
+            }
+            if let Some(s) = &scalar[i]
+                && lane != *s
+            {
+                return Err(format!("{at}: lanes {:?}\nscalar {:?}", *lane, **s));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Every compiled-in mechanism in `F64x4` and `F64x2` lanes over `cases` random cases of
+/// `ticks` ticks each: the failures and what was seen.
+pub fn check_lanes(cases: u32, ticks: usize) -> (Vec<String>, Seen) {
+    struct Visit {
+        cases: u32,
+        ticks: usize,
+        fails: Vec<String>,
+        seen: Seen,
+    }
+    impl StaticVisitor<f64> for Visit {
+        fn visit<M: StaticMechanism<f64> + 'static>(&mut self, m: &M) {
+            let npar = m.info().params.len();
+            let mut runner = TestRunner::new(Config {
+                cases: self.cases,
+                failure_persistence: None,
+                ..Config::default()
+            });
+            let strategy = (
+                proptest::collection::vec(-1.0f64..1.0, 4 * npar),
+                proptest::collection::vec(0.3f64..4.0, 4),
+            );
+            let seen = std::cell::RefCell::new(std::mem::take(&mut self.seen));
+            let ticks = self.ticks;
+            let r = runner.run(&strategy, |(u, steps)| {
+                let seen = &mut *seen.borrow_mut();
+                case::<M, F64x4>(m, &u, &steps, ticks, seen).map_err(TestCaseError::fail)?;
+                case::<M, F64x2>(m, &u, &steps, ticks, seen).map_err(TestCaseError::fail)?;
+                Ok(())
+            });
+            self.seen = seen.into_inner();
+            if let Err(e) = r {
+                self.fails.push(format!("{}: {e}", m.info().name));
+            }
+        }
+    }
+    let mut v = Visit {
+        cases,
+        ticks,
+        fails: Vec::new(),
+        seen: Seen::default(),
+    };
+    mechgen::visit_all(&mut v);
+    (v.fails, v.seen)
+}

@@ -3421,7 +3421,7 @@ pub mod sixbar {
     /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
     /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
     /// scalar tick's, to the last bit.
-    /// Its blocks are all dyads: the common path of a tick runs in lanes.
+    /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
     #[derive(Clone, Copy, Debug)]
     pub struct Lanes<L: ::mechgen::__private::Lanes> {
         mechanisms: L::Array<Sixbar<L::Scalar>>,
@@ -6357,7 +6357,7 @@ pub mod shaper {
     /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
     /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
     /// scalar tick's, to the last bit.
-    /// It has blocks other than dyads: every lane is ticked by the scalar tick (the same results, no SIMD speed-up).
+    /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
     #[derive(Clone, Copy, Debug)]
     pub struct Lanes<L: ::mechgen::__private::Lanes> {
         mechanisms: L::Array<Shaper<L::Scalar>>,
@@ -6437,14 +6437,16 @@ pub mod shaper {
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 [true],
-                ::core::option::Option::<
-                    fn(
-                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
-                        &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        &mut L,
-                        &mut L::Mask,
-                    ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 2>,
-                >::None,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        pivot: &mut L,
+                        ok: &mut L::Mask|
+                    {
+                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
+                    }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -6463,6 +6465,170 @@ pub mod shaper {
                         ::core::result::Result::Ok(())
                     }
                 },
+            )
+        }
+        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
+        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
+        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
+        /// non-finite value) are cleared in `ok`.
+        #[inline(always)]
+        fn motion_lanes(
+            &self,
+            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
+            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+            tolerance: L::Scalar,
+            pivot: &mut L,
+            ok: &mut L::Mask,
+        ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 2> {
+            let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, .. } = fixed;
+            let mut qd = [L::zero(); 4];
+            let mut qdd = [L::zero(); 4];
+            let p_l1 = self.params[0];
+            let p_lAC = self.params[3];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -t0;
+            let t3 = t1 + p_lAC;
+            let t4 = -t3;
+            ::mechgen::__private::lanes::solve_rpr(
+                st,
+                (1, 0),
+                [t2, t4],
+                (L::zero(), L::zero()),
+                (L::one(), L::zero()),
+                tolerance,
+                pivot,
+                ok,
+            );
+            let p_l3 = self.params[1];
+            let p_l4 = self.params[2];
+            let p_yE = self.params[4];
+            let (s_v_q3, _) = st.sc[1];
+            let t5 = s_v_q3 * p_l3;
+            let t6 = t5 - p_yE;
+            ::mechgen::__private::lanes::solve_angle1(
+                st,
+                2,
+                t6,
+                (::core::option::Option::None, p_l4),
+                tolerance,
+                ok,
+            );
+            let (_, c_v_q3) = st.sc[1];
+            let t7 = c_v_q3 * p_l3;
+            let (_, c_v_q4) = st.sc[2];
+            let t8 = p_l4 * c_v_q4;
+            let t9 = t7 + t8;
+            ::mechgen::__private::lanes::solve_length1(st, 3, t9, L::lit(-1.0), ok);
+            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            let v_s3 = st.q[0];
+            let v_q1_d = xd[0];
+            let t10 = v_s3 * c_v_q3;
+            let t11 = v_s3 * s_v_q3;
+            let t12 = -t11;
+            let t13 = t1 * v_q1_d;
+            let t14 = -t13;
+            let t15 = t0 * v_q1_d;
+            let mut jac = [[L::zero(); 2]; 2];
+            jac[0][0] = c_v_q3;
+            jac[0][1] = t12;
+            jac[1][0] = s_v_q3;
+            jac[1][1] = t10;
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t14, t15], ok);
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_s3_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t16 = s_v_q3 * v_q3_d;
+            let t17 = s_v_q3 * v_s3_d;
+            let t18 = t10 * v_q3_d;
+            let t19 = t17 + t18;
+            let t20 = c_v_q3 * v_q3_d;
+            let t21 = c_v_q3 * v_s3_d;
+            let t22 = t11 * v_q3_d;
+            let t23 = t21 - t22;
+            let t24 = v_q1_d * t15;
+            let t25 = t16 * v_s3_d;
+            let t26 = t24 - t25;
+            let t27 = v_q3_d * t19;
+            let t28 = t26 - t27;
+            let t29 = t1 * v_q1_dd;
+            let t30 = t28 + t29;
+            let t31 = -t30;
+            let t32 = v_q1_d * t13;
+            let t33 = v_s3_d * t20;
+            let t34 = t32 + t33;
+            let t35 = v_q3_d * t23;
+            let t36 = t34 + t35;
+            let t37 = t0 * v_q1_dd;
+            let t38 = t36 - t37;
+            let t39 = -t38;
+            let z = lu.solve([t31, t39], ok);
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            let t40 = t7 * v_q3_d;
+            let t41 = -t40;
+            let mut jac = [[L::zero(); 1]; 1];
+            jac[0][0] = t8;
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t41], ok);
+            qd[2] = z[0];
+            let v_q4_d = qd[2];
+            let v_q3_dd = qdd[1];
+            let (s_v_q4, _) = st.sc[2];
+            let t42 = p_l4 * s_v_q4;
+            let t43 = t5 * v_q3_d;
+            let t44 = t42 * v_q4_d;
+            let t45 = v_q3_d * t43;
+            let t46 = v_q4_d * t44;
+            let t47 = t45 + t46;
+            let t48 = t7 * v_q3_dd;
+            let t49 = t47 - t48;
+            let z = lu.solve([t49], ok);
+            qdd[2] = z[0];
+            let t50 = t43 + t44;
+            let mut jac = [[L::zero(); 1]; 1];
+            jac[0][0] = L::lit(-1.0);
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t50], ok);
+            qd[3] = z[0];
+            let v_q4_dd = qdd[2];
+            let t51 = t8 * v_q4_d;
+            let t52 = v_q3_d * t40;
+            let t53 = v_q4_d * t51;
+            let t54 = t52 + t53;
+            let t55 = t5 * v_q3_dd;
+            let t56 = t42 * v_q4_dd;
+            let t57 = t55 + t56;
+            let t58 = t54 + t57;
+            let z = lu.solve([t58], ok);
+            qdd[3] = z[0];
+            let v_sE = st.q[3];
+            let v_sE_d = qd[3];
+            let v_sE_dd = qdd[3];
+            let t59 = -t43;
+            let t60 = t52 + t55;
+            let t61 = -t60;
+            let t62 = t45 - t48;
+            let t63 = -t62;
+            (
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [v_sE, p_yE],
+                        velocity: [v_sE_d, L::zero()],
+                        acceleration: [v_sE_dd, L::zero()],
+                    },
+                    ::mechgen::__private::PointMotion {
+                        position: [t7, t5],
+                        velocity: [t59, t40],
+                        acceleration: [t61, t63],
+                    },
+                ],
             )
         }
     }
@@ -8621,7 +8787,7 @@ pub mod four_bar {
     /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
     /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
     /// scalar tick's, to the last bit.
-    /// Its blocks are all dyads: the common path of a tick runs in lanes.
+    /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
     #[derive(Clone, Copy, Debug)]
     pub struct Lanes<L: ::mechgen::__private::Lanes> {
         mechanisms: L::Array<FourBar<L::Scalar>>,
@@ -10664,7 +10830,7 @@ pub mod slider_crank {
     /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
     /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
     /// scalar tick's, to the last bit.
-    /// It has blocks other than dyads: every lane is ticked by the scalar tick (the same results, no SIMD speed-up).
+    /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
     #[derive(Clone, Copy, Debug)]
     pub struct Lanes<L: ::mechgen::__private::Lanes> {
         mechanisms: L::Array<SliderCrank<L::Scalar>>,
@@ -10744,14 +10910,16 @@ pub mod slider_crank {
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 [true],
-                ::core::option::Option::<
-                    fn(
-                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 3>,
-                        &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        &mut L,
-                        &mut L::Mask,
-                    ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 3>,
-                >::None,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 3>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        pivot: &mut L,
+                        ok: &mut L::Mask|
+                    {
+                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
+                    }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -10770,6 +10938,132 @@ pub mod slider_crank {
                         ::core::result::Result::Ok(())
                     }
                 },
+            )
+        }
+        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
+        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
+        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
+        /// non-finite value) are cleared in `ok`.
+        #[inline(always)]
+        fn motion_lanes(
+            &self,
+            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 3>,
+            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+            tolerance: L::Scalar,
+            pivot: &mut L,
+            ok: &mut L::Mask,
+        ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 3> {
+            let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, .. } = fixed;
+            let mut qd = [L::zero(); 2];
+            let mut qdd = [L::zero(); 2];
+            let p_r = self.params[0];
+            let p_l = self.params[1];
+            let p_off = self.params[2];
+            let (s_v_q1, _) = tx[0];
+            let t0 = p_r * s_v_q1;
+            let t1 = t0 - p_off;
+            ::mechgen::__private::lanes::solve_angle1(
+                st,
+                0,
+                t1,
+                (::core::option::Option::None, p_l),
+                tolerance,
+                ok,
+            );
+            let (_, c_v_q1) = tx[0];
+            let t2 = p_r * c_v_q1;
+            let (_, c_v_q2) = st.sc[0];
+            let t3 = p_l * c_v_q2;
+            let t4 = t2 + t3;
+            ::mechgen::__private::lanes::solve_length1(st, 1, t4, L::lit(-1.0), ok);
+            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            let v_q1_d = xd[0];
+            let t5 = t2 * v_q1_d;
+            let t6 = -t5;
+            let mut jac = [[L::zero(); 1]; 1];
+            jac[0][0] = t3;
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t6], ok);
+            qd[0] = z[0];
+            let v_q2_d = qd[0];
+            let v_q1_dd = xdd[0];
+            let (s_v_q2, _) = st.sc[0];
+            let t7 = p_l * s_v_q2;
+            let t8 = t7 * v_q2_d;
+            let t9 = t0 * v_q1_d;
+            let t10 = v_q1_d * t9;
+            let t11 = v_q2_d * t8;
+            let t12 = t10 + t11;
+            let t13 = t2 * v_q1_dd;
+            let t14 = t12 - t13;
+            let z = lu.solve([t14], ok);
+            qdd[0] = z[0];
+            let t15 = t8 + t9;
+            let mut jac = [[L::zero(); 1]; 1];
+            jac[0][0] = L::lit(-1.0);
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t15], ok);
+            qd[1] = z[0];
+            let v_q2_dd = qdd[0];
+            let t16 = t3 * v_q2_d;
+            let t17 = v_q1_d * t5;
+            let t18 = v_q2_d * t16;
+            let t19 = t17 + t18;
+            let t20 = t0 * v_q1_dd;
+            let t21 = t19 + t20;
+            let t22 = t7 * v_q2_dd;
+            let t23 = t21 + t22;
+            let z = lu.solve([t23], ok);
+            qdd[1] = z[0];
+            let v_sC = st.q[1];
+            let v_sC_d = qd[1];
+            let v_sC_dd = qdd[1];
+            let t24 = p_l / L::lit(2.0);
+            let t25 = c_v_q2 * t24;
+            let t26 = s_v_q2 * t24;
+            let t27 = t2 + t25;
+            let t28 = t0 + t26;
+            let t29 = -t9;
+            let t30 = t26 * v_q2_d;
+            let t31 = t9 + t30;
+            let t32 = -t31;
+            let t33 = t25 * v_q2_d;
+            let t34 = t5 + t33;
+            let t35 = t17 + t20;
+            let t36 = -t35;
+            let t37 = t10 - t13;
+            let t38 = -t37;
+            let t39 = v_q2_d * t33;
+            let t40 = t17 + t39;
+            let t41 = t20 + t40;
+            let t42 = t26 * v_q2_dd;
+            let t43 = t41 + t42;
+            let t44 = -t43;
+            let t45 = v_q2_d * t30;
+            let t46 = t10 + t45;
+            let t47 = t13 - t46;
+            let t48 = t25 * v_q2_dd;
+            let t49 = t47 + t48;
+            (
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [t2, t0],
+                        velocity: [t29, t5],
+                        acceleration: [t36, t38],
+                    },
+                    ::mechgen::__private::PointMotion {
+                        position: [v_sC, p_off],
+                        velocity: [v_sC_d, L::zero()],
+                        acceleration: [v_sC_dd, L::zero()],
+                    },
+                    ::mechgen::__private::PointMotion {
+                        position: [t27, t28],
+                        velocity: [t32, t34],
+                        acceleration: [t44, t49],
+                    },
+                ],
             )
         }
     }
@@ -12455,7 +12749,7 @@ pub mod rocker_four_bar {
     /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
     /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
     /// scalar tick's, to the last bit.
-    /// Its blocks are all dyads: the common path of a tick runs in lanes.
+    /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
     #[derive(Clone, Copy, Debug)]
     pub struct Lanes<L: ::mechgen::__private::Lanes> {
         mechanisms: L::Array<RockerFourBar<L::Scalar>>,
@@ -15006,7 +15300,7 @@ pub mod sixbar_g {
     /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
     /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
     /// scalar tick's, to the last bit.
-    /// It has blocks other than dyads: every lane is ticked by the scalar tick (the same results, no SIMD speed-up).
+    /// It has blocks without lane kernels (RRP, two lengths, Newton): every lane is ticked by the scalar tick (the same results, no SIMD speed-up).
     #[derive(Clone, Copy, Debug)]
     pub struct Lanes<L: ::mechgen::__private::Lanes> {
         mechanisms: L::Array<SixbarG<L::Scalar>>,

@@ -1,6 +1,6 @@
 //! Stage 6e: a mechanism in SIMD lanes: `Lanes<L>` (W instances, each with its own params) and
-//! `LaneTick<L>`, ticked by the runtime's lane driver. A mechanism whose blocks are all dyads
-//! gets the common path of its tick in lanes (`motion_lanes`): the fused body's segments, built
+//! `LaneTick<L>`, ticked by the runtime's lane driver. A mechanism whose blocks all have lane
+//! kernels (dyads, RPR, one angle, one length) gets the common path of its tick in lanes (`motion_lanes`): the fused body's segments, built
 //! from the same DAG in the same order (so every lane computes what the scalar tick computes),
 //! with the lane kernels in place of the scalar ones; every other lane (and every lane of any
 //! other mechanism) is ticked by the scalar tick.
@@ -54,12 +54,21 @@ impl VarSource for LaneVars<'_> {
     }
 }
 
-/// Whether the common path of the mechanism's tick runs in lanes: every block a dyad.
+/// Whether the common path of the mechanism's tick runs in lanes: every block a closed form
+/// with a lane kernel (a dyad, RPR, one angle, one length).
 fn has_lane_path(c: &Compiled) -> bool {
     !c.blocks.is_empty()
-        && c.blocks
-            .iter()
-            .all(|b| matches!(b.closed_form, Some(ClosedForm::Rrr(_))))
+        && c.blocks.iter().all(|b| {
+            matches!(
+                b.closed_form,
+                Some(
+                    ClosedForm::Rrr(_)
+                        | ClosedForm::Rpr { .. }
+                        | ClosedForm::Angle1 { .. }
+                        | ClosedForm::Length1 { .. }
+                )
+            )
+        })
 }
 
 /// `fn motion_lanes(…)`: positions (the dyads' closed forms), each block's velocities and
@@ -72,12 +81,14 @@ fn motion_lanes(c: &Compiled, args: &Args, vars: &LaneVars) -> TokenStream {
     let mut b = Builder::new(dag, vars);
     let mut steps = TokenStream::new();
     for bf in &c.blocks {
-        let Some(ClosedForm::Rrr(d)) = &bf.closed_form else {
+        let Some(cf) = &bf.closed_form else {
             continue;
         };
-        let roots = &d.roots;
+        let roots = cf.roots();
         let seg = b.segment(roots);
         let (stmts, r) = (&seg.stmts, &seg.roots);
+        // A root that is the literal zero in the scalar call is `None`: the kernel takes the
+        // scalar's zero path for it statically.
         let opt = |i: usize| {
             let v = &r[i];
             if dag.is_zero(roots[i]) {
@@ -86,12 +97,30 @@ fn motion_lanes(c: &Compiled, args: &Args, vars: &LaneVars) -> TokenStream {
                 quote!(::core::option::Option::Some(#v))
             }
         };
-        let (a, bb) = (d.a, d.b);
-        let [kx, ky, pa, pb] = [0, 1, 2, 4].map(|i| &r[i]);
-        let (ra, rb) = (opt(3), opt(5));
+        let call = match cf {
+            ClosedForm::Rrr(d) => {
+                let (a, bb) = (d.a, d.b);
+                let [kx, ky, pa, pb] = [0, 1, 2, 4].map(|i| &r[i]);
+                let (ra, rb) = (opt(3), opt(5));
+                quote!(#rt::lanes::solve_dyad(st, #a, #bb, [#kx, #ky], (#pa, #ra), (#pb, #rb), tolerance, pivot, ok);)
+            }
+            ClosedForm::Rpr { q, s, .. } => {
+                let [kx, ky, mp, mr, np, nr] = [0, 1, 2, 3, 4, 5].map(|i| &r[i]);
+                quote!(#rt::lanes::solve_rpr(st, (#q, #s), [#kx, #ky], (#mp, #mr), (#np, #nr), tolerance, pivot, ok);)
+            }
+            ClosedForm::Angle1 { q, .. } => {
+                let (k, p, qq) = (&r[0], opt(1), &r[2]);
+                quote!(#rt::lanes::solve_angle1(st, #q, #k, (#p, #qq), tolerance, ok);)
+            }
+            ClosedForm::Length1 { s, .. } => {
+                let (k, a) = (&r[0], &r[1]);
+                quote!(#rt::lanes::solve_length1(st, #s, #k, #a, ok);)
+            }
+            _ => continue,
+        };
         steps.extend(quote! {
             #stmts
-            #rt::lanes::solve_dyad(st, #a, #bb, [#kx, #ky], (#pa, #ra), (#pb, #rb), tolerance, pivot, ok);
+            #call
         });
     }
     // Near a dead point the scalar refines in double words: such lanes leave the common path.
@@ -194,9 +223,9 @@ pub(crate) fn lanes(c: &Compiled, args: &Args) -> TokenStream {
         }
     };
     let path_doc = if fast {
-        "Its blocks are all dyads: the common path of a tick runs in lanes."
+        "Its blocks all have lane kernels: the common path of a tick runs in lanes."
     } else {
-        "It has blocks other than dyads: every lane is ticked by the scalar tick (the same results, no SIMD speed-up)."
+        "It has blocks without lane kernels (RRP, two lengths, Newton): every lane is ticked by the scalar tick (the same results, no SIMD speed-up)."
     };
     let scalar = quote! {
         |i: usize, t: &mut #tick_ty<#gt>, started: bool, [x, xd, xdd]: [&[#gt; #ni]; 3]| {

@@ -1648,7 +1648,7 @@ pub mod slider {
     /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
     /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
     /// scalar tick's, to the last bit.
-    /// It has blocks other than dyads: every lane is ticked by the scalar tick (the same results, no SIMD speed-up).
+    /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
     #[derive(Clone, Copy, Debug)]
     pub struct Lanes<L: ::mechgen::__private::Lanes> {
         mechanisms: L::Array<Slider<L::Scalar>>,
@@ -1728,14 +1728,16 @@ pub mod slider {
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 [true],
-                ::core::option::Option::<
-                    fn(
-                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
-                        &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        &mut L,
-                        &mut L::Mask,
-                    ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 1>,
-                >::None,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        pivot: &mut L,
+                        ok: &mut L::Mask|
+                    {
+                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
+                    }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -1754,6 +1756,96 @@ pub mod slider {
                         ::core::result::Result::Ok(())
                     }
                 },
+            )
+        }
+        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
+        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
+        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
+        /// non-finite value) are cleared in `ok`.
+        #[inline(always)]
+        fn motion_lanes(
+            &self,
+            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
+            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+            tolerance: L::Scalar,
+            pivot: &mut L,
+            ok: &mut L::Mask,
+        ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 1> {
+            let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, .. } = fixed;
+            let mut qd = [L::zero(); 2];
+            let mut qdd = [L::zero(); 2];
+            let p_l1 = self.params[0];
+            let p_l2 = self.params[1];
+            let (s_v_q1, _) = tx[0];
+            let t0 = p_l1 * s_v_q1;
+            ::mechgen::__private::lanes::solve_angle1(
+                st,
+                0,
+                t0,
+                (::core::option::Option::None, p_l2),
+                tolerance,
+                ok,
+            );
+            let (_, c_v_q1) = tx[0];
+            let t1 = p_l1 * c_v_q1;
+            let (_, c_v_q2) = st.sc[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = t1 + t2;
+            ::mechgen::__private::lanes::solve_length1(st, 1, t3, L::lit(-1.0), ok);
+            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            let v_q1_d = xd[0];
+            let t4 = t1 * v_q1_d;
+            let t5 = -t4;
+            let mut jac = [[L::zero(); 1]; 1];
+            jac[0][0] = t2;
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t5], ok);
+            qd[0] = z[0];
+            let v_q2_d = qd[0];
+            let v_q1_dd = xdd[0];
+            let (s_v_q2, _) = st.sc[0];
+            let t6 = p_l2 * s_v_q2;
+            let t7 = t6 * v_q2_d;
+            let t8 = t0 * v_q1_d;
+            let t9 = v_q1_d * t8;
+            let t10 = v_q2_d * t7;
+            let t11 = t9 + t10;
+            let t12 = t1 * v_q1_dd;
+            let t13 = t11 - t12;
+            let z = lu.solve([t13], ok);
+            qdd[0] = z[0];
+            let t14 = t7 + t8;
+            let mut jac = [[L::zero(); 1]; 1];
+            jac[0][0] = L::lit(-1.0);
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t14], ok);
+            qd[1] = z[0];
+            let v_q2_dd = qdd[0];
+            let t15 = t2 * v_q2_d;
+            let t16 = v_q1_d * t4;
+            let t17 = v_q2_d * t15;
+            let t18 = t16 + t17;
+            let t19 = t0 * v_q1_dd;
+            let t20 = t18 + t19;
+            let t21 = t6 * v_q2_dd;
+            let t22 = t20 + t21;
+            let z = lu.solve([t22], ok);
+            qdd[1] = z[0];
+            let t23 = -t8;
+            let t24 = t16 + t19;
+            let t25 = -t24;
+            let t26 = t9 - t12;
+            let t27 = -t26;
+            (
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [t1, t0],
+                        velocity: [t23, t4],
+                        acceleration: [t25, t27],
+                    },
+                ],
             )
         }
     }

@@ -9,10 +9,12 @@
 //! ticked again by the scalar tick from their unchanged state, which gives each its own result or
 //! its own [`SolveError`](crate::SolveError). No lane ever changes another.
 
+mod closed;
 mod kernels;
 mod tick;
 
 pub use crate::simd::{F32x8, F32x16, F64x2, F64x4, F64x8, Lanes, WithLanes};
+pub use closed::{solve_angle1, solve_length1, solve_rpr};
 pub use kernels::{LaneFactored, LaneTrig, factor_block, rotate_inputs, solve_dyad};
 pub use tick::{
     LaneFixed, LaneRates, LaneState, LaneTick, ScalarLane, fresh_params_id, tick, tick_start,

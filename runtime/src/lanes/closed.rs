@@ -1,0 +1,144 @@
+//! The RPR, one-angle and one-length closed forms in lanes (`closed_form::solve_rpr`,
+//! `solve_angle1`, `solve_length1`: the shaper's slotted guide, the slider-crank's rod angle and
+//! slide), repeating the scalar operations in order; lanes that leave the scalar's common path are
+//! cleared in `ok`.
+
+use super::{LaneTrig, Lanes};
+use crate::scalar::Real;
+
+/// The turn from the direction `(cg, sg)` to `(c, s)` by the scalar's series (`dyad::turn`), and
+/// the angle `q` plus it, as `dyad::near` gives them; lanes whose turn is too large for the
+/// series, or whose angle cannot hold the answer to `tolerance`, are cleared in `ok`.
+#[inline(always)]
+fn near<L: Lanes>(
+    q: L,
+    (cg, sg): (L, L),
+    (c, s): (L, L),
+    tolerance: L::Scalar,
+    ok: &mut L::Mask,
+) -> L {
+    let sin = cg * s - sg * c;
+    let cos = cg * c + sg * s;
+    let t = sin / (L::one() + cos);
+    *ok = *ok & cos.gt(L::lit(0.99)) & t.abs().lt(L::lit(0.06));
+    let t2 = t * t;
+    let mut acc = L::lit(1.0 / 13.0);
+    for k in [11.0, 9.0, 7.0, 5.0, 3.0, 1.0] {
+        acc = L::lit(1.0 / k) - t2 * acc;
+    }
+    let q_new = q + L::lit(2.0) * t * acc;
+    *ok = *ok & (L::splat(L::Scalar::EPSILON) * q_new.abs()).le(L::splat(tolerance));
+    q_new
+}
+
+/// `closed_form::solve_angle1` in every lane: `K + P cos q + Q sin q = 0` for angle `q`, with
+/// `w = (P, Q)` (`P` as `None` where generated code has the literal zero), on the guess's side.
+#[inline(always)]
+pub fn solve_angle1<L: Lanes, const N: usize>(
+    st: &mut LaneTrig<L, N>,
+    q: usize,
+    k: L,
+    (p, qq): (Option<L>, L),
+    tolerance: L::Scalar,
+    ok: &mut L::Mask,
+) {
+    let zero = L::zero();
+    *ok = *ok & st.q[q].is_finite() & k.is_finite() & qq.is_finite();
+    let ww = match p {
+        None => qq * qq,
+        Some(p) => {
+            // The scalar takes its `P = 0` path where P is zero at run time: leave such lanes.
+            *ok = *ok & p.is_finite() & !p.eq(zero);
+            p * p + qq * qq
+        }
+    };
+    *ok = *ok & ww.gt(zero) & (ww + k * k).is_finite();
+    let c = -k;
+    let r = match p {
+        None => qq.abs(),
+        Some(_) => ww.sqrt(),
+    };
+    let near_dead = r - c.abs();
+    let slack = L::splat(L::Scalar::EPSILON * L::Scalar::lit(128.0));
+    *ok = *ok & !near_dead.lt(-slack * r);
+    let t = L::select(near_dead.gt(zero), (near_dead * (r + c.abs())).sqrt(), zero);
+    let (sg, cg) = st.sc[q];
+    let along = p.unwrap_or(zero) * sg - qq * cg;
+    let tau = L::select(along.lt(zero), -L::one(), L::one());
+    let x = tau * t;
+    let e = match p {
+        None => {
+            let inv = L::one() / qq;
+            (-x * inv, c * inv)
+        }
+        Some(p) => {
+            let inv = L::one() / ww;
+            ((c * p - x * qq) * inv, (c * qq + x * p) * inv)
+        }
+    };
+    *ok = *ok & e.0.is_finite() & e.1.is_finite();
+    st.q[q] = near(st.q[q], (cg, sg), e, tolerance, ok);
+    st.sc[q] = (e.1, e.0);
+}
+
+/// `closed_form::solve_length1` in every lane: `K + a s = 0` for the length `s`.
+#[inline(always)]
+pub fn solve_length1<L: Lanes, const N: usize>(
+    st: &mut LaneTrig<L, N>,
+    s: usize,
+    k: L,
+    a: L,
+    ok: &mut L::Mask,
+) {
+    *ok = *ok & k.is_finite() & a.is_finite() & !a.eq(L::zero());
+    let v = -k / a;
+    *ok = *ok & v.is_finite();
+    st.q[s] = v;
+}
+
+/// `closed_form::solve_rpr` in every lane: `K + (M + s N) e(q) = 0` for the angle `q` and the
+/// length `s` (`m`, `n` the `(p, r)` of `M`, `N`), on the guess's side; `pivot` gets each lane's
+/// condition estimate.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn solve_rpr<L: Lanes, const N: usize>(
+    st: &mut LaneTrig<L, N>,
+    (q, s): (usize, usize),
+    k: [L; 2],
+    m: (L, L),
+    n: (L, L),
+    tolerance: L::Scalar,
+    pivot: &mut L,
+    ok: &mut L::Mask,
+) {
+    let zero = L::zero();
+    for v in [st.q[q], k[0], k[1], m.0, m.1, n.0, n.1] {
+        *ok = *ok & v.is_finite();
+    }
+    let nn = n.0 * n.0 + n.1 * n.1;
+    *ok = *ok & nn.gt(zero);
+    let inv = L::one() / nn;
+    let d = (-k[0], -k[1]);
+    let over_n = |(x, y): (L, L)| ((x * n.0 + y * n.1) * inv, (y * n.0 - x * n.1) * inv);
+    let (g, (a, b)) = (over_n(d), over_n(m));
+    let g2 = g.0 * g.0 + g.1 * g.1;
+    *ok = *ok & (g2 + a * a + b * b).is_finite();
+    let r = g2.sqrt();
+    let bb = b.abs();
+    let near_dead = r - bb;
+    let slack = L::splat(L::Scalar::EPSILON * L::Scalar::lit(128.0));
+    *ok = *ok & !near_dead.lt(-slack * bb) & g2.gt(zero);
+    let t = L::select(near_dead.gt(zero), (near_dead * (r + bb)).sqrt(), zero);
+    let (sg, cg) = st.sc[q];
+    let tau = L::select((g.0 * cg + g.1 * sg).lt(zero), -L::one(), L::one());
+    let x = tau * t;
+    let inv_g2 = L::one() / g2;
+    let e = ((g.0 * x + g.1 * b) * inv_g2, (g.1 * x - g.0 * b) * inv_g2);
+    let len = x - a;
+    *ok = *ok & e.0.is_finite() & e.1.is_finite() & len.is_finite();
+    st.q[q] = near(st.q[q], (cg, sg), e, tolerance, ok);
+    st.sc[q] = (e.1, e.0);
+    st.q[s] = len;
+    let ratio = t / r;
+    *pivot = L::select(ratio.lt(*pivot), ratio, *pivot);
+}

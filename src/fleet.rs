@@ -2,10 +2,12 @@
 //! own params, inputs and state, ticked together: in groups of W SIMD lanes (`NAME::Lanes<L>`),
 //! the groups across every core with the `parallel` feature ([`crate::batch::for_each_mut`]).
 //! Instance `i` sits in lane `i % W` of group `i / W`; every instance's result or error is its
-//! scalar tick's, to the last bit, whatever the threads.
+//! scalar tick's, to the last bit, whatever the threads. [`DynFleet`] is the same API for
+//! run-time engines (the generic engine of `--file`): one instance at a time, across every core.
 
 use mechgen_runtime::{
-    InputMotion, LaneMechanism, Lanes, SolveError, SolveOptions, StaticMechanism,
+    DynMechanism, DynState, InputMotion, LaneMechanism, Lanes, Real, SolveError, SolveOptions,
+    StaticMechanism,
 };
 
 /// The lane type of `M` in `L`, and its state.
@@ -111,5 +113,140 @@ impl<M: StaticMechanism<L::Scalar>, L: Lanes> Fleet<M, L> {
         }
         let (_, t) = &self.groups[i / L::W];
         Ok(<Group<M, L> as LaneMechanism<L>>::lane(t, i % L::W))
+    }
+}
+
+/// Instances of a run-time engine ([`DynMechanism`]: the generic engine of `--file`, or any
+/// other), the same API as [`Fleet`], ticked one by one (no lanes) across every core: each tick
+/// is a whole solve (`solve_in_place`) from the second-order prediction of the instance's last
+/// state, as the generic engine's `step` bench ticks. A failed instance keeps its last state and
+/// its error (and, if it never started, tries again from its guess at the next tick).
+pub struct DynFleet<T: Real, M> {
+    members: Vec<DynMember<T, M>>,
+}
+
+/// One instance of a [`DynFleet`]: the engine, its state, the status of its last tick and
+/// whether it has started.
+struct DynMember<T: Real, M> {
+    engine: M,
+    state: DynState<T>,
+    status: Result<(), SolveError>,
+    started: bool,
+}
+
+/// `q + q̇ dt + q̈ dt²/2` with `dt` fitted to the change of the inputs over their last rates
+/// (Σ Δx·ẋ / Σ ẋ², no prediction at rest), or `q` where that is not finite.
+fn predicted<T: Real>(s: &DynState<T>, x: &[T]) -> Vec<T> {
+    let (mut num, mut den) = (T::zero(), T::zero());
+    for ((x1, x0), v) in x.iter().zip(&s.x).zip(&s.xd) {
+        num += (*x1 - *x0) * *v;
+        den += *v * *v;
+    }
+    let dt = if den > T::zero() {
+        num / den
+    } else {
+        T::zero()
+    };
+    let q: Vec<T> = (0..s.q.len())
+        .map(|k| s.q[k] + dt * (s.qd[k] + T::lit(0.5) * dt * s.qdd[k]))
+        .collect();
+    if q.iter().all(|v| v.is_finite()) {
+        q
+    } else {
+        s.q.clone()
+    }
+}
+
+impl<T: Real, M: DynMechanism<T> + Send + Sync> DynFleet<T, M> {
+    /// The first solve of every instance: `engines[i]` from `guesses[i]` at `inputs[i]` (one
+    /// length, at least one instance, each vector of its engine's size: else `BadLength`).
+    pub fn start(
+        engines: Vec<M>,
+        inputs: &[InputMotion<Vec<T>>],
+        guesses: &[Vec<T>],
+        options: &SolveOptions<T>,
+    ) -> Result<Self, SolveError> {
+        let len = engines.len();
+        mechgen_runtime::error::len(inputs, len)?;
+        mechgen_runtime::error::len(guesses, len)?;
+        if len == 0 {
+            return Err(SolveError::BadLength {
+                expected: 1,
+                got: 0,
+            });
+        }
+        let mut members = Vec::with_capacity(len);
+        for ((engine, input), guess) in engines.into_iter().zip(inputs).zip(guesses) {
+            let info = engine.info();
+            mechgen_runtime::error::len(&input.x, info.inputs.len())?;
+            mechgen_runtime::error::len(guess, info.unknowns.len())?;
+            let state = DynState::new(
+                InputMotion::new(&input.x[..], &input.xd[..], &input.xdd[..]),
+                guess,
+                info.points.len(),
+            );
+            members.push(DynMember {
+                engine,
+                state,
+                status: Ok(()),
+                started: false,
+            });
+        }
+        let mut fleet = DynFleet { members };
+        fleet.tick(inputs, options)?;
+        Ok(fleet)
+    }
+
+    /// How many instances.
+    pub fn len(&self) -> usize {
+        self.members.len()
+    }
+
+    /// Whether the fleet is empty (never: [`DynFleet::start`] needs one instance).
+    pub fn is_empty(&self) -> bool {
+        self.members.is_empty()
+    }
+
+    /// One tick of every instance to `inputs[i]` (one per instance, each of its engine's input
+    /// count, else `BadLength` and nothing ticks), across every core.
+    pub fn tick(
+        &mut self,
+        inputs: &[InputMotion<Vec<T>>],
+        options: &SolveOptions<T>,
+    ) -> Result<(), SolveError> {
+        mechgen_runtime::error::len(inputs, self.members.len())?;
+        for (m, input) in self.members.iter().zip(inputs) {
+            mechgen_runtime::error::len(&input.x, m.state.x.len())?;
+            mechgen_runtime::error::len(&input.xd, m.state.x.len())?;
+            mechgen_runtime::error::len(&input.xdd, m.state.x.len())?;
+        }
+        crate::batch::for_each_mut(&mut self.members, |i, m| {
+            let input = &inputs[i];
+            let mut next = m.state.clone();
+            if m.started {
+                next.q = predicted(&m.state, &input.x);
+            }
+            next.x.clone_from(&input.x);
+            next.xd.clone_from(&input.xd);
+            next.xdd.clone_from(&input.xdd);
+            m.status = m.engine.solve_in_place(&mut next, options);
+            if m.status.is_ok() {
+                m.state = next;
+                m.started = true;
+            }
+        });
+        Ok(())
+    }
+
+    /// Instance `i` (`i < len`, else `BadLength`): the status of its last tick and its state
+    /// (its last solved state; its guess if it never started).
+    pub fn state(&self, i: usize) -> Result<(Result<(), SolveError>, &DynState<T>), SolveError> {
+        match self.members.get(i) {
+            Some(m) => Ok((m.status, &m.state)),
+            None => Err(SolveError::BadLength {
+                expected: self.members.len(),
+                got: i,
+            }),
+        }
     }
 }

@@ -46,6 +46,18 @@ class Mechanism:
         set: Optional[Mapping[str, float]] = None,
     ) -> dict[str, np.ndarray]:
         """Every param set swept on every core: CSV column -> 2-D array (sets, rows)."""
+    def sensitivity(
+        self,
+        start: Optional[float] = None,
+        stop: Optional[float] = None,
+        step: Optional[float] = None,
+        rate: float = 1.0,
+        input: Optional[str] = None,
+        set: Optional[Mapping[str, float]] = None,
+        params: Optional[Mapping[str, float]] = None,
+    ) -> dict[str, np.ndarray]:
+        """d(output)/d(param) along a sweep, as `mechgen sensitivity --csv`: column `u/p` per
+        unknown u and param p, `P_x/p`, `P_y/p` per point, then status."""
 
 def mechanisms() -> dict[str, Mechanism]:
     """The compiled-in mechanisms, name -> Mechanism (generated solvers)."""

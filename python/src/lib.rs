@@ -1,6 +1,6 @@
 //! The Python package `mechgen` (interfaces.md, "Python"): the mechanisms compiled into the
 //! `mechgen` crate (generated solvers) and any file loaded at run time (the generic engine),
-//! with `sweep` and `batch` returning numpy arrays under the CSV's column names. Everything is the
+//! with `sweep`, `batch` and `sensitivity` returning numpy arrays under the CSV's column names. Everything is the
 //! `mechgen` crate's: the sweep plan (`mechgen::sweep::plan`), the continuation, the row cells of
 //! the CSV (`mechgen::report::row_cells`), the per-set solver and the ordered parallel batch
 //! (`mechgen::batch`); this file only converts.
@@ -8,6 +8,7 @@
 use std::collections::HashMap;
 
 use mg::batch::{for_each_ordered, solver_with_params};
+use mg::design::{self, outputs, row_inputs};
 use mg::generic::Generic;
 use mg::report::{csv_header, row_cells};
 use mg::sweep::plan::{Plan, Range, plan};
@@ -230,6 +231,79 @@ impl Mechanism {
         let n = c.statuses.len();
         let out = PyDict::new(py);
         for (k, name) in header.iter().take(ncols).enumerate() {
+            out.set_item(
+                name,
+                PyArray1::from_slice(py, &c.numbers[k * n..(k + 1) * n]),
+            )?;
+        }
+        out.set_item("status", statuses(py, &[c], n, true)?)?;
+        Ok(out)
+    }
+
+    /// The design derivatives along a sweep, as `mechgen sensitivity` gives them (same options
+    /// and rows as `sweep`): the input, then for each unknown `u` and param `p` the column `u/p`,
+    /// for each point `P` the columns `P_x/p`, `P_y/p` (radians per param unit for angles), then
+    /// `status` (a row whose sensitivities fail, at a dead point, has that status, NaN numbers).
+    #[pyo3(signature = (start=None, stop=None, step=None, rate=1.0, input=None, set=None, params=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn sensitivity<'py>(
+        &self,
+        py: Python<'py>,
+        start: Option<f64>,
+        stop: Option<f64>,
+        step: Option<f64>,
+        rate: f64,
+        input: Option<String>,
+        set: Option<HashMap<String, f64>>,
+        params: Option<HashMap<String, f64>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let o = options(start, stop, step, rate, input, set)?;
+        let plan = self.plan(&o)?;
+        let given: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
+        let values = self.params_with(&given)?;
+        let info = &self.info;
+        let mut header = vec![info.inputs[plan.index].name.clone()];
+        for (out, _) in outputs(info) {
+            header.extend(info.params.iter().map(|p| format!("{out}/{}", p.name)));
+        }
+        let c = py.detach(|| {
+            let k = solver_with_params(&info.name, &self.model, self.generated, &values);
+            let cont = Continuation::for_input(info.inputs[plan.index].kind, plan.span);
+            let rows = sweep_holding(
+                k.as_ref(),
+                plan.index,
+                &plan.values,
+                o.rate,
+                &plan.held,
+                &cont,
+            );
+            let n = rows.len();
+            let mut numbers = vec![f64::NAN; header.len() * n];
+            let mut statuses = Vec::with_capacity(n);
+            for (r, row) in rows.iter().enumerate() {
+                numbers[r] = row.input;
+                let s = match &row.result {
+                    Ok(s) => {
+                        let x = row_inputs(info, plan.index, &plan.held, row.input);
+                        design::sensitivity(k.as_ref(), info, &x, &s.q).map_err(|e| e.status())
+                    }
+                    Err(_) => Err(row.status()),
+                };
+                match s {
+                    Ok(v) => {
+                        for (j, v) in v.iter().enumerate() {
+                            numbers[(j + 1) * n + r] = *v;
+                        }
+                        statuses.push("ok");
+                    }
+                    Err(status) => statuses.push(status),
+                }
+            }
+            Cells { numbers, statuses }
+        });
+        let n = c.statuses.len();
+        let out = PyDict::new(py);
+        for (k, name) in header.iter().enumerate() {
             out.set_item(
                 name,
                 PyArray1::from_slice(py, &c.numbers[k * n..(k + 1) * n]),

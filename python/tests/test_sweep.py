@@ -79,3 +79,23 @@ def test_batch_equals_mechgen_batch_row_for_row(mechgen_bin, tmp_path):
     rows = pd.DataFrame({c: v.reshape(-1) for c, v in cols.items()})
     same_frames(rows, want.drop(columns="set"))
     assert (want["set"].to_numpy() == np.repeat(np.arange(n), 37)).all()
+
+
+@pytest.mark.parametrize("name", ["sixbar", "slider_crank", "shaper"])
+def test_sensitivity_frame_equals_the_csv_of_mechgen_sensitivity(name, mechgen_bin, tmp_path):
+    csv = tmp_path / f"{name}-sens.csv"
+    run(mechgen_bin, "sensitivity", name, "--csv", str(csv))
+    got = pd.DataFrame(mechgen.mechanisms()[name].sensitivity())
+    want = pd.read_csv(csv)
+    same_frames(got, want)
+    assert (got["status"] == "ok").any()
+    # The generic engine gives the same columns and statuses, values to 1e-9 of each column.
+    from conftest import ROOT
+    g = pd.DataFrame(mechgen.load(str(ROOT / "mechanism.toml"))[name].sensitivity())
+    assert list(g.columns) == list(got.columns)
+    assert (g["status"].values == got["status"].values).all()
+    ok = got["status"] == "ok"
+    for c in got.columns:
+        if c != "status":
+            a, b = got.loc[ok, c].to_numpy(), g.loc[ok, c].to_numpy()
+            assert np.abs(a - b).max() <= 1e-9 * max(1.0, np.abs(a).max()), c

@@ -3442,17 +3442,29 @@ pub mod sixbar {
                 params_id: ::mechgen::__private::lanes::fresh_params_id(),
             }
         }
-        /// Instance `i` (`i < W`).
-        pub fn mechanism(&self, i: usize) -> &Sixbar<L::Scalar> {
-            &self.mechanisms.as_ref()[i]
+        /// Instance `i` (`None` for `i ≥ W`).
+        pub fn mechanism(&self, i: usize) -> ::core::option::Option<&Sixbar<L::Scalar>> {
+            self.mechanisms.as_ref().get(i)
         }
-        /// Sets instance `i` (`i < W`); its next tick starts its caches afresh.
-        pub fn set(&mut self, i: usize, m: Sixbar<L::Scalar>) {
-            self.mechanisms.as_mut()[i] = m;
+        /// Sets instance `i` (`BadLength` for `i ≥ W`); its next tick starts its caches afresh.
+        pub fn set(
+            &mut self,
+            i: usize,
+            m: Sixbar<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::core::option::Option::Some(slot) = self.mechanisms.as_mut().get_mut(i)
+            else {
+                return ::core::result::Result::Err(::mechgen::__private::SolveError::BadLength {
+                    expected: L::W,
+                    got: i,
+                });
+            };
+            *slot = m;
             for (k, v) in m.params.to_array().into_iter().enumerate() {
                 self.params[k].set_lane(i, v);
             }
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+            ::core::result::Result::Ok(())
         }
         /// The first tick of every instance, each solved from its lane of `guess` by the
         /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
@@ -3727,7 +3739,11 @@ pub mod sixbar {
         fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self {
             Lanes::from_fn(f)
         }
-        fn set(&mut self, i: usize, m: Self::Mechanism) {
+        fn set(
+            &mut self,
+            i: usize,
+            m: Self::Mechanism,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             Lanes::set(self, i, m)
         }
         fn tick_start(
@@ -3750,11 +3766,13 @@ pub mod sixbar {
         fn lane(
             t: &Self::Tick,
             i: usize,
-        ) -> (
-            ::core::result::Result<(), ::mechgen::__private::SolveError>,
-            Tick<L::Scalar>,
-        ) {
-            (t.status(i), t.lane(i))
+        ) -> ::core::option::Option<
+            (
+                ::core::result::Result<(), ::mechgen::__private::SolveError>,
+                Tick<L::Scalar>,
+            ),
+        > {
+            ::core::option::Option::Some((t.status(i), t.lane(i)?))
         }
     }
 }
@@ -6378,17 +6396,29 @@ pub mod shaper {
                 params_id: ::mechgen::__private::lanes::fresh_params_id(),
             }
         }
-        /// Instance `i` (`i < W`).
-        pub fn mechanism(&self, i: usize) -> &Shaper<L::Scalar> {
-            &self.mechanisms.as_ref()[i]
+        /// Instance `i` (`None` for `i ≥ W`).
+        pub fn mechanism(&self, i: usize) -> ::core::option::Option<&Shaper<L::Scalar>> {
+            self.mechanisms.as_ref().get(i)
         }
-        /// Sets instance `i` (`i < W`); its next tick starts its caches afresh.
-        pub fn set(&mut self, i: usize, m: Shaper<L::Scalar>) {
-            self.mechanisms.as_mut()[i] = m;
+        /// Sets instance `i` (`BadLength` for `i ≥ W`); its next tick starts its caches afresh.
+        pub fn set(
+            &mut self,
+            i: usize,
+            m: Shaper<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::core::option::Option::Some(slot) = self.mechanisms.as_mut().get_mut(i)
+            else {
+                return ::core::result::Result::Err(::mechgen::__private::SolveError::BadLength {
+                    expected: L::W,
+                    got: i,
+                });
+            };
+            *slot = m;
             for (k, v) in m.params.to_array().into_iter().enumerate() {
                 self.params[k].set_lane(i, v);
             }
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+            ::core::result::Result::Ok(())
         }
         /// The first tick of every instance, each solved from its lane of `guess` by the
         /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
@@ -6641,7 +6671,11 @@ pub mod shaper {
         fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self {
             Lanes::from_fn(f)
         }
-        fn set(&mut self, i: usize, m: Self::Mechanism) {
+        fn set(
+            &mut self,
+            i: usize,
+            m: Self::Mechanism,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             Lanes::set(self, i, m)
         }
         fn tick_start(
@@ -6664,11 +6698,13 @@ pub mod shaper {
         fn lane(
             t: &Self::Tick,
             i: usize,
-        ) -> (
-            ::core::result::Result<(), ::mechgen::__private::SolveError>,
-            Tick<L::Scalar>,
-        ) {
-            (t.status(i), t.lane(i))
+        ) -> ::core::option::Option<
+            (
+                ::core::result::Result<(), ::mechgen::__private::SolveError>,
+                Tick<L::Scalar>,
+            ),
+        > {
+            ::core::option::Option::Some((t.status(i), t.lane(i)?))
         }
     }
 }
@@ -8808,17 +8844,32 @@ pub mod four_bar {
                 params_id: ::mechgen::__private::lanes::fresh_params_id(),
             }
         }
-        /// Instance `i` (`i < W`).
-        pub fn mechanism(&self, i: usize) -> &FourBar<L::Scalar> {
-            &self.mechanisms.as_ref()[i]
+        /// Instance `i` (`None` for `i ≥ W`).
+        pub fn mechanism(
+            &self,
+            i: usize,
+        ) -> ::core::option::Option<&FourBar<L::Scalar>> {
+            self.mechanisms.as_ref().get(i)
         }
-        /// Sets instance `i` (`i < W`); its next tick starts its caches afresh.
-        pub fn set(&mut self, i: usize, m: FourBar<L::Scalar>) {
-            self.mechanisms.as_mut()[i] = m;
+        /// Sets instance `i` (`BadLength` for `i ≥ W`); its next tick starts its caches afresh.
+        pub fn set(
+            &mut self,
+            i: usize,
+            m: FourBar<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::core::option::Option::Some(slot) = self.mechanisms.as_mut().get_mut(i)
+            else {
+                return ::core::result::Result::Err(::mechgen::__private::SolveError::BadLength {
+                    expected: L::W,
+                    got: i,
+                });
+            };
+            *slot = m;
             for (k, v) in m.params.to_array().into_iter().enumerate() {
                 self.params[k].set_lane(i, v);
             }
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+            ::core::result::Result::Ok(())
         }
         /// The first tick of every instance, each solved from its lane of `guess` by the
         /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
@@ -9054,7 +9105,11 @@ pub mod four_bar {
         fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self {
             Lanes::from_fn(f)
         }
-        fn set(&mut self, i: usize, m: Self::Mechanism) {
+        fn set(
+            &mut self,
+            i: usize,
+            m: Self::Mechanism,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             Lanes::set(self, i, m)
         }
         fn tick_start(
@@ -9077,11 +9132,13 @@ pub mod four_bar {
         fn lane(
             t: &Self::Tick,
             i: usize,
-        ) -> (
-            ::core::result::Result<(), ::mechgen::__private::SolveError>,
-            Tick<L::Scalar>,
-        ) {
-            (t.status(i), t.lane(i))
+        ) -> ::core::option::Option<
+            (
+                ::core::result::Result<(), ::mechgen::__private::SolveError>,
+                Tick<L::Scalar>,
+            ),
+        > {
+            ::core::option::Option::Some((t.status(i), t.lane(i)?))
         }
     }
 }
@@ -10851,17 +10908,32 @@ pub mod slider_crank {
                 params_id: ::mechgen::__private::lanes::fresh_params_id(),
             }
         }
-        /// Instance `i` (`i < W`).
-        pub fn mechanism(&self, i: usize) -> &SliderCrank<L::Scalar> {
-            &self.mechanisms.as_ref()[i]
+        /// Instance `i` (`None` for `i ≥ W`).
+        pub fn mechanism(
+            &self,
+            i: usize,
+        ) -> ::core::option::Option<&SliderCrank<L::Scalar>> {
+            self.mechanisms.as_ref().get(i)
         }
-        /// Sets instance `i` (`i < W`); its next tick starts its caches afresh.
-        pub fn set(&mut self, i: usize, m: SliderCrank<L::Scalar>) {
-            self.mechanisms.as_mut()[i] = m;
+        /// Sets instance `i` (`BadLength` for `i ≥ W`); its next tick starts its caches afresh.
+        pub fn set(
+            &mut self,
+            i: usize,
+            m: SliderCrank<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::core::option::Option::Some(slot) = self.mechanisms.as_mut().get_mut(i)
+            else {
+                return ::core::result::Result::Err(::mechgen::__private::SolveError::BadLength {
+                    expected: L::W,
+                    got: i,
+                });
+            };
+            *slot = m;
             for (k, v) in m.params.to_array().into_iter().enumerate() {
                 self.params[k].set_lane(i, v);
             }
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+            ::core::result::Result::Ok(())
         }
         /// The first tick of every instance, each solved from its lane of `guess` by the
         /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
@@ -11076,7 +11148,11 @@ pub mod slider_crank {
         fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self {
             Lanes::from_fn(f)
         }
-        fn set(&mut self, i: usize, m: Self::Mechanism) {
+        fn set(
+            &mut self,
+            i: usize,
+            m: Self::Mechanism,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             Lanes::set(self, i, m)
         }
         fn tick_start(
@@ -11099,11 +11175,13 @@ pub mod slider_crank {
         fn lane(
             t: &Self::Tick,
             i: usize,
-        ) -> (
-            ::core::result::Result<(), ::mechgen::__private::SolveError>,
-            Tick<L::Scalar>,
-        ) {
-            (t.status(i), t.lane(i))
+        ) -> ::core::option::Option<
+            (
+                ::core::result::Result<(), ::mechgen::__private::SolveError>,
+                Tick<L::Scalar>,
+            ),
+        > {
+            ::core::option::Option::Some((t.status(i), t.lane(i)?))
         }
     }
 }
@@ -12770,17 +12848,32 @@ pub mod rocker_four_bar {
                 params_id: ::mechgen::__private::lanes::fresh_params_id(),
             }
         }
-        /// Instance `i` (`i < W`).
-        pub fn mechanism(&self, i: usize) -> &RockerFourBar<L::Scalar> {
-            &self.mechanisms.as_ref()[i]
+        /// Instance `i` (`None` for `i ≥ W`).
+        pub fn mechanism(
+            &self,
+            i: usize,
+        ) -> ::core::option::Option<&RockerFourBar<L::Scalar>> {
+            self.mechanisms.as_ref().get(i)
         }
-        /// Sets instance `i` (`i < W`); its next tick starts its caches afresh.
-        pub fn set(&mut self, i: usize, m: RockerFourBar<L::Scalar>) {
-            self.mechanisms.as_mut()[i] = m;
+        /// Sets instance `i` (`BadLength` for `i ≥ W`); its next tick starts its caches afresh.
+        pub fn set(
+            &mut self,
+            i: usize,
+            m: RockerFourBar<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::core::option::Option::Some(slot) = self.mechanisms.as_mut().get_mut(i)
+            else {
+                return ::core::result::Result::Err(::mechgen::__private::SolveError::BadLength {
+                    expected: L::W,
+                    got: i,
+                });
+            };
+            *slot = m;
             for (k, v) in m.params.to_array().into_iter().enumerate() {
                 self.params[k].set_lane(i, v);
             }
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+            ::core::result::Result::Ok(())
         }
         /// The first tick of every instance, each solved from its lane of `guess` by the
         /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
@@ -12982,7 +13075,11 @@ pub mod rocker_four_bar {
         fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self {
             Lanes::from_fn(f)
         }
-        fn set(&mut self, i: usize, m: Self::Mechanism) {
+        fn set(
+            &mut self,
+            i: usize,
+            m: Self::Mechanism,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             Lanes::set(self, i, m)
         }
         fn tick_start(
@@ -13005,11 +13102,13 @@ pub mod rocker_four_bar {
         fn lane(
             t: &Self::Tick,
             i: usize,
-        ) -> (
-            ::core::result::Result<(), ::mechgen::__private::SolveError>,
-            Tick<L::Scalar>,
-        ) {
-            (t.status(i), t.lane(i))
+        ) -> ::core::option::Option<
+            (
+                ::core::result::Result<(), ::mechgen::__private::SolveError>,
+                Tick<L::Scalar>,
+            ),
+        > {
+            ::core::option::Option::Some((t.status(i), t.lane(i)?))
         }
     }
 }
@@ -15321,17 +15420,32 @@ pub mod sixbar_g {
                 params_id: ::mechgen::__private::lanes::fresh_params_id(),
             }
         }
-        /// Instance `i` (`i < W`).
-        pub fn mechanism(&self, i: usize) -> &SixbarG<L::Scalar> {
-            &self.mechanisms.as_ref()[i]
+        /// Instance `i` (`None` for `i ≥ W`).
+        pub fn mechanism(
+            &self,
+            i: usize,
+        ) -> ::core::option::Option<&SixbarG<L::Scalar>> {
+            self.mechanisms.as_ref().get(i)
         }
-        /// Sets instance `i` (`i < W`); its next tick starts its caches afresh.
-        pub fn set(&mut self, i: usize, m: SixbarG<L::Scalar>) {
-            self.mechanisms.as_mut()[i] = m;
+        /// Sets instance `i` (`BadLength` for `i ≥ W`); its next tick starts its caches afresh.
+        pub fn set(
+            &mut self,
+            i: usize,
+            m: SixbarG<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::core::option::Option::Some(slot) = self.mechanisms.as_mut().get_mut(i)
+            else {
+                return ::core::result::Result::Err(::mechgen::__private::SolveError::BadLength {
+                    expected: L::W,
+                    got: i,
+                });
+            };
+            *slot = m;
             for (k, v) in m.params.to_array().into_iter().enumerate() {
                 self.params[k].set_lane(i, v);
             }
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+            ::core::result::Result::Ok(())
         }
         /// The first tick of every instance, each solved from its lane of `guess` by the
         /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
@@ -15418,7 +15532,11 @@ pub mod sixbar_g {
         fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self {
             Lanes::from_fn(f)
         }
-        fn set(&mut self, i: usize, m: Self::Mechanism) {
+        fn set(
+            &mut self,
+            i: usize,
+            m: Self::Mechanism,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             Lanes::set(self, i, m)
         }
         fn tick_start(
@@ -15441,11 +15559,13 @@ pub mod sixbar_g {
         fn lane(
             t: &Self::Tick,
             i: usize,
-        ) -> (
-            ::core::result::Result<(), ::mechgen::__private::SolveError>,
-            Tick<L::Scalar>,
-        ) {
-            (t.status(i), t.lane(i))
+        ) -> ::core::option::Option<
+            (
+                ::core::result::Result<(), ::mechgen::__private::SolveError>,
+                Tick<L::Scalar>,
+            ),
+        > {
+            ::core::option::Option::Some((t.status(i), t.lane(i)?))
         }
     }
 }

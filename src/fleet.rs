@@ -112,7 +112,10 @@ impl<M: StaticMechanism<L::Scalar>, L: Lanes> Fleet<M, L> {
             });
         }
         let (_, t) = &self.groups[i / L::W];
-        Ok(<Group<M, L> as LaneMechanism<L>>::lane(t, i % L::W))
+        <Group<M, L> as LaneMechanism<L>>::lane(t, i % L::W).ok_or(SolveError::BadLength {
+            expected: self.len,
+            got: i,
+        })
     }
 }
 

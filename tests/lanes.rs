@@ -28,7 +28,10 @@ fn six_bar_in_f32_lanes_is_the_scalar_f32_tick() {
             Sixbar::new(p)
         })
         .collect();
-    let lanes = SixbarLanes::<F32x8>::from_fn(|i| mechs[i]);
+    let mut lanes = SixbarLanes::<F32x8>::from_fn(|i| mechs[i]);
+    // Out of range: errors and `None`, never a panic.
+    assert!(lanes.set(8, mechs[0]).is_err() && lanes.mechanism(8).is_none());
+    assert!(lanes.set(3, mechs[3]).is_ok());
     let (x0, q0) = Sixbar::<f32>::start();
     let opts = SolveOptions::default();
     let mut x = [F32x8::splat(x0.q1)];
@@ -46,6 +49,7 @@ fn six_bar_in_f32_lanes_is_the_scalar_f32_tick() {
             m.tick_start(&input, &q0, &opts).expect("starts")
         })
         .collect();
+    assert!(t.lane(8).is_none() && t.report(8).is_none() && t.status(8).is_err() && !t.started(8));
     for _ in 0..720 {
         x[0] = x[0] + xd[0];
         lanes.tick(&mut t, &InputMotion::new(x, xd, [F32x8::zero()]), &opts);
@@ -57,7 +61,7 @@ fn six_bar_in_f32_lanes_is_the_scalar_f32_tick() {
             );
             let r = m.tick(s, &input, &opts);
             assert_eq!(r, t.status(i));
-            assert_eq!(t.lane(i), *s, "lane {i}");
+            assert_eq!(t.lane(i), Some(*s), "lane {i}");
         }
     }
 }

@@ -242,6 +242,12 @@ pub trait StaticVisitor<T: Real> {
     fn visit<M: StaticMechanism<T> + 'static>(&mut self, mechanism: &M);
 }
 
+/// One instance of a [`LaneMechanism`] `M`: the status of its last tick and its scalar tick.
+pub type LaneOf<L, M> = (
+    Result<(), SolveError>,
+    <<M as LaneMechanism<L>>::Mechanism as StaticMechanism<<L as Lanes>::Scalar>>::Tick,
+);
+
 /// W instances of a generated mechanism in SIMD lanes (`NAME::Lanes<L>`, see `crate::lanes`),
 /// for code generic over mechanisms (the batch API, benches, tests). Lane `i` of every value
 /// is instance `i`; each lane's result or error is its scalar tick's.
@@ -256,8 +262,8 @@ pub trait LaneMechanism<L: Lanes>: Sized + Send + Sync {
     type Tick: Clone + Send + Sync;
     /// Instance `i` is `f(i)`.
     fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self;
-    /// Sets instance `i` (`i < W`).
-    fn set(&mut self, i: usize, m: Self::Mechanism);
+    /// Sets instance `i` (`BadLength` for `i ≥ W`).
+    fn set(&mut self, i: usize, m: Self::Mechanism) -> Result<(), SolveError>;
     /// The first tick of every instance from its lane of `guess`.
     fn tick_start(
         &self,
@@ -272,12 +278,7 @@ pub trait LaneMechanism<L: Lanes>: Sized + Send + Sync {
         input: &InputMotion<Self::X>,
         options: &SolveOptions<L::Scalar>,
     );
-    /// Instance `i`: the status of its last tick and its state as the scalar tick.
-    fn lane(
-        t: &Self::Tick,
-        i: usize,
-    ) -> (
-        Result<(), SolveError>,
-        <Self::Mechanism as StaticMechanism<L::Scalar>>::Tick,
-    );
+    /// Instance `i`: the status of its last tick and its state as the scalar tick (`None` for
+    /// `i ≥ W`).
+    fn lane(t: &Self::Tick, i: usize) -> Option<LaneOf<L, Self>>;
 }

@@ -133,7 +133,7 @@ fn case<M: StaticMechanism<f64>, L: Lanes<Scalar = f64>>(
             .collect();
         let any_failed = statuses.iter().any(|ok| !ok);
         for i in 0..w {
-            let (status, lane) = <M::Lanes<L> as LaneMechanism<L>>::lane(&t, i);
+            let (status, lane) = <M::Lanes<L> as LaneMechanism<L>>::lane(&t, i).expect("i < W");
             let at = format!("{} lane {i}/{w} tick {tick}", info.name);
             seen.compared += 1;
             if status.is_ok() != statuses[i] {

@@ -264,18 +264,22 @@ pub(crate) fn lanes(c: &Compiled, args: &Args) -> TokenStream {
                 #lanes_ty { mechanisms, params, params_id: #rt::lanes::fresh_params_id() }
             }
 
-            /// Instance `i` (`i < W`).
-            pub fn mechanism(&self, i: usize) -> &#ty<#lt::Scalar> {
-                &self.mechanisms.as_ref()[i]
+            /// Instance `i` (`None` for `i ≥ W`).
+            pub fn mechanism(&self, i: usize) -> ::core::option::Option<&#ty<#lt::Scalar>> {
+                self.mechanisms.as_ref().get(i)
             }
 
-            /// Sets instance `i` (`i < W`); its next tick starts its caches afresh.
-            pub fn set(&mut self, i: usize, m: #ty<#lt::Scalar>) {
-                self.mechanisms.as_mut()[i] = m;
+            /// Sets instance `i` (`BadLength` for `i ≥ W`); its next tick starts its caches afresh.
+            pub fn set(&mut self, i: usize, m: #ty<#lt::Scalar>) -> ::core::result::Result<(), #rt::SolveError> {
+                let ::core::option::Option::Some(slot) = self.mechanisms.as_mut().get_mut(i) else {
+                    return ::core::result::Result::Err(#rt::SolveError::BadLength { expected: #lt::W, got: i });
+                };
+                *slot = m;
                 for (k, v) in m.params.to_array().into_iter().enumerate() {
                     self.params[k].set_lane(i, v);
                 }
                 self.params_id = #rt::lanes::fresh_params_id();
+                ::core::result::Result::Ok(())
             }
 
             /// The first tick of every instance, each solved from its lane of `guess` by the
@@ -303,7 +307,7 @@ pub(crate) fn lanes(c: &Compiled, args: &Args) -> TokenStream {
             type Q = [#lt; #nu];
             type Tick = #lane_tick_ty<#lt>;
             fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self { #lanes_ty::from_fn(f) }
-            fn set(&mut self, i: usize, m: Self::Mechanism) { #lanes_ty::set(self, i, m) }
+            fn set(&mut self, i: usize, m: Self::Mechanism) -> ::core::result::Result<(), #rt::SolveError> { #lanes_ty::set(self, i, m) }
             fn tick_start(&self, input: &#rt::InputMotion<Self::X>, guess: &Self::Q, options: &#rt::SolveOptions<#lt::Scalar>) -> Self::Tick {
                 #lanes_ty::tick_start(self, input, guess, options)
             }
@@ -311,8 +315,8 @@ pub(crate) fn lanes(c: &Compiled, args: &Args) -> TokenStream {
             fn tick(&self, t: &mut Self::Tick, input: &#rt::InputMotion<Self::X>, options: &#rt::SolveOptions<#lt::Scalar>) {
                 #lanes_ty::tick(self, t, input, options)
             }
-            fn lane(t: &Self::Tick, i: usize) -> (::core::result::Result<(), #rt::SolveError>, #tick_ty<#lt::Scalar>) {
-                (t.status(i), t.lane(i))
+            fn lane(t: &Self::Tick, i: usize) -> ::core::option::Option<(::core::result::Result<(), #rt::SolveError>, #tick_ty<#lt::Scalar>)> {
+                ::core::option::Option::Some((t.status(i), t.lane(i)?))
             }
         }
     }

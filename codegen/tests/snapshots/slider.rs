@@ -1669,17 +1669,29 @@ pub mod slider {
                 params_id: ::mechgen::__private::lanes::fresh_params_id(),
             }
         }
-        /// Instance `i` (`i < W`).
-        pub fn mechanism(&self, i: usize) -> &Slider<L::Scalar> {
-            &self.mechanisms.as_ref()[i]
+        /// Instance `i` (`None` for `i ≥ W`).
+        pub fn mechanism(&self, i: usize) -> ::core::option::Option<&Slider<L::Scalar>> {
+            self.mechanisms.as_ref().get(i)
         }
-        /// Sets instance `i` (`i < W`); its next tick starts its caches afresh.
-        pub fn set(&mut self, i: usize, m: Slider<L::Scalar>) {
-            self.mechanisms.as_mut()[i] = m;
+        /// Sets instance `i` (`BadLength` for `i ≥ W`); its next tick starts its caches afresh.
+        pub fn set(
+            &mut self,
+            i: usize,
+            m: Slider<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::core::option::Option::Some(slot) = self.mechanisms.as_mut().get_mut(i)
+            else {
+                return ::core::result::Result::Err(::mechgen::__private::SolveError::BadLength {
+                    expected: L::W,
+                    got: i,
+                });
+            };
+            *slot = m;
             for (k, v) in m.params.to_array().into_iter().enumerate() {
                 self.params[k].set_lane(i, v);
             }
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+            ::core::result::Result::Ok(())
         }
         /// The first tick of every instance, each solved from its lane of `guess` by the
         /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
@@ -1858,7 +1870,11 @@ pub mod slider {
         fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self {
             Lanes::from_fn(f)
         }
-        fn set(&mut self, i: usize, m: Self::Mechanism) {
+        fn set(
+            &mut self,
+            i: usize,
+            m: Self::Mechanism,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             Lanes::set(self, i, m)
         }
         fn tick_start(
@@ -1881,11 +1897,13 @@ pub mod slider {
         fn lane(
             t: &Self::Tick,
             i: usize,
-        ) -> (
-            ::core::result::Result<(), ::mechgen::__private::SolveError>,
-            Tick<L::Scalar>,
-        ) {
-            (t.status(i), t.lane(i))
+        ) -> ::core::option::Option<
+            (
+                ::core::result::Result<(), ::mechgen::__private::SolveError>,
+                Tick<L::Scalar>,
+            ),
+        > {
+            ::core::option::Option::Some((t.status(i), t.lane(i)?))
         }
     }
 }

@@ -93,19 +93,30 @@ pub type LaneRates<L, const NU: usize, const NP: usize> = ([L; NU], [L; NU], [Po
 impl<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>
     LaneTick<L, NI, NU, NP, NPAR>
 {
-    /// The status of lane `i`'s last tick (`i < W`): `Ok`, or its error (the lane then keeps
-    /// the state of its last successful tick, or its guess when it never started).
+    /// The status of lane `i`'s last tick: `Ok`, or its error (the lane then keeps the state of
+    /// its last successful tick, or its guess when it never started); `BadLength` for `i ≥ W`.
     pub fn status(&self, i: usize) -> Result<(), SolveError> {
-        self.status.as_ref()[i]
+        match self.status.as_ref().get(i) {
+            Some(s) => *s,
+            None => Err(SolveError::BadLength {
+                expected: L::W,
+                got: i,
+            }),
+        }
     }
 
     /// Whether lane `i` has a solved state (its `tick_start` or a later tick succeeded).
     pub fn started(&self, i: usize) -> bool {
-        self.started >> i & 1 == 1
+        i < L::W && self.started >> i & 1 == 1
     }
 
-    /// Lane `i`'s last position solve report (`i < W`).
-    pub fn report(&self, i: usize) -> NewtonReport<L::Scalar> {
+    /// Lane `i`'s last position solve report (`None` for `i ≥ W`).
+    pub fn report(&self, i: usize) -> Option<NewtonReport<L::Scalar>> {
+        (i < L::W).then(|| self.report_of(i))
+    }
+
+    /// [`LaneTick::report`] of a lane `i < W`.
+    fn report_of(&self, i: usize) -> NewtonReport<L::Scalar> {
         NewtonReport {
             iterations: self.iterations.as_ref()[i],
             residual: self.residual.lane(i),
@@ -113,9 +124,14 @@ impl<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: us
         }
     }
 
-    /// Instance `i` (`i < W`) as a scalar tick: its state and caches, exactly as the scalar
-    /// `tick` would have left them.
-    pub fn lane(&self, i: usize) -> Tick<L::Scalar, NI, NU, NP, NPAR> {
+    /// Instance `i` as a scalar tick: its state and caches, exactly as the scalar `tick` would
+    /// have left them (`None` for `i ≥ W`).
+    pub fn lane(&self, i: usize) -> Option<Tick<L::Scalar, NI, NU, NP, NPAR>> {
+        (i < L::W).then(|| self.lane_of(i))
+    }
+
+    /// [`LaneTick::lane`] of a lane `i < W`.
+    fn lane_of(&self, i: usize) -> Tick<L::Scalar, NI, NU, NP, NPAR> {
         let s = &self.state;
         let one = |v: &[L; NI]| core::array::from_fn(|k| v[k].lane(i));
         let un = |v: &[L; NU]| core::array::from_fn(|k| v[k].lane(i));
@@ -134,7 +150,7 @@ impl<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: us
                     velocity: at(s.points[p].velocity),
                     acceleration: at(s.points[p].acceleration),
                 }),
-                report: self.report(i),
+                report: self.report_of(i),
             },
             tx: core::array::from_fn(|k| pair(self.tx[k])),
             tq: core::array::from_fn(|k| pair(self.tq[k])),
@@ -144,8 +160,8 @@ impl<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: us
         }
     }
 
-    /// Sets instance `i` to the scalar tick `t` (started, status `Ok`).
-    pub fn set_lane(&mut self, i: usize, t: &Tick<L::Scalar, NI, NU, NP, NPAR>) {
+    /// Sets instance `i < W` to the scalar tick `t` (started, status `Ok`).
+    fn set_lane(&mut self, i: usize, t: &Tick<L::Scalar, NI, NU, NP, NPAR>) {
         let s = &mut self.state;
         let set = |dst: &mut [L], src: &[L::Scalar]| {
             for (d, v) in dst.iter_mut().zip(src) {
@@ -263,7 +279,7 @@ fn restart<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NP
     [x, xd, xdd]: [&[L; NI]; 3],
     scalar: &mut impl ScalarLane<L::Scalar, NI, NU, NP, NPAR>,
 ) {
-    let mut s = t.lane(i);
+    let mut s = t.lane_of(i);
     let (xi, xdi, xddi) = (lane_of(x, i), lane_of(xd, i), lane_of(xdd, i));
     match scalar(i, &mut s, t.started(i), [&xi, &xdi, &xddi]) {
         Ok(()) => t.set_lane(i, &s),

@@ -20,6 +20,20 @@ pub struct Fleet<M: StaticMechanism<L::Scalar>, L: Lanes> {
     len: usize,
 }
 
+/// `BadLength` unless there is at least one instance and an input and a guess for each of the
+/// `len`.
+fn one_each<A, B>(len: usize, inputs: &[A], guesses: &[B]) -> Result<(), SolveError> {
+    mechgen_runtime::error::len(inputs, len)?;
+    mechgen_runtime::error::len(guesses, len)?;
+    if len == 0 {
+        return Err(SolveError::BadLength {
+            expected: 1,
+            got: 0,
+        });
+    }
+    Ok(())
+}
+
 /// Lane `i` of a group is instance `g·W + i`, the last instance standing in for the missing ones
 /// of the last group.
 fn member<U>(items: &[U], g: usize, i: usize, w: usize) -> &U {
@@ -53,14 +67,7 @@ impl<M: StaticMechanism<L::Scalar>, L: Lanes> Fleet<M, L> {
         options: &SolveOptions<L::Scalar>,
     ) -> Result<Self, SolveError> {
         let len = mechanisms.len();
-        mechgen_runtime::error::len(inputs, len)?;
-        mechgen_runtime::error::len(guesses, len)?;
-        if len == 0 {
-            return Err(SolveError::BadLength {
-                expected: 1,
-                got: 0,
-            });
-        }
+        one_each(len, inputs, guesses)?;
         let w = L::W;
         let mut groups: Vec<_> = (0..len.div_ceil(w))
             .map(|g| {
@@ -170,14 +177,7 @@ impl<T: Real, M: DynMechanism<T> + Send + Sync> DynFleet<T, M> {
         options: &SolveOptions<T>,
     ) -> Result<Self, SolveError> {
         let len = engines.len();
-        mechgen_runtime::error::len(inputs, len)?;
-        mechgen_runtime::error::len(guesses, len)?;
-        if len == 0 {
-            return Err(SolveError::BadLength {
-                expected: 1,
-                got: 0,
-            });
-        }
+        one_each(len, inputs, guesses)?;
         let mut members = Vec::with_capacity(len);
         for ((engine, input), guess) in engines.into_iter().zip(inputs).zip(guesses) {
             let info = engine.info();

@@ -57,6 +57,21 @@ fn cells(rows: &[Row], columns: usize) -> Cells {
     Cells { numbers, statuses }
 }
 
+/// One sweep's cells as the dict `sweep` and `sensitivity` return: `header[k]` → column `k`,
+/// then `status`.
+fn columns<'py>(py: Python<'py>, header: &[String], c: Cells) -> PyResult<Bound<'py, PyDict>> {
+    let n = c.statuses.len();
+    let out = PyDict::new(py);
+    for (k, name) in header.iter().enumerate() {
+        out.set_item(
+            name,
+            PyArray1::from_slice(py, &c.numbers[k * n..(k + 1) * n]),
+        )?;
+    }
+    out.set_item("status", statuses(py, &[c], n, true)?)?;
+    Ok(out)
+}
+
 /// The statuses of `sets` (each a list of rows) as one numpy string array of shape (sets, rows),
 /// or flat when `flat`: the distinct statuses (a handful) indexed by one integer per row, so that
 /// no Python string is made per row.
@@ -96,6 +111,19 @@ impl Mechanism {
         check_start(&self.info)
             .map_err(|e| PyValueError::new_err(format!("{}: {e}", self.info.name)))?;
         Ok(p)
+    }
+
+    /// A one-sweep call's options, its plan and its params (`params`: name → value in place of
+    /// the file's).
+    fn prepare(
+        &self,
+        o: Options,
+        params: Option<HashMap<String, f64>>,
+    ) -> PyResult<(Options, Plan, Vec<f64>)> {
+        let plan = self.plan(&o)?;
+        let given: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
+        let values = self.params_with(&given)?;
+        Ok((o, plan, values))
     }
 
     /// The base params with `given` (name → value) in place of the file's.
@@ -221,23 +249,12 @@ impl Mechanism {
         set: Option<HashMap<String, f64>>,
         params: Option<HashMap<String, f64>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let o = options(start, stop, step, rate, input, set)?;
-        let plan = self.plan(&o)?;
-        let given: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
-        let values = self.params_with(&given)?;
+        let (o, plan, values) =
+            self.prepare(options(start, stop, step, rate, input, set)?, params)?;
         let header = csv_header(&self.info, plan.index);
         let ncols = header.len() - 1;
         let c = py.detach(|| cells(&self.sweep_rows(&plan, &values, o.rate), ncols));
-        let n = c.statuses.len();
-        let out = PyDict::new(py);
-        for (k, name) in header.iter().take(ncols).enumerate() {
-            out.set_item(
-                name,
-                PyArray1::from_slice(py, &c.numbers[k * n..(k + 1) * n]),
-            )?;
-        }
-        out.set_item("status", statuses(py, &[c], n, true)?)?;
-        Ok(out)
+        columns(py, &header[..ncols], c)
     }
 
     /// The design derivatives along a sweep, as `mechgen sensitivity` gives them (same options
@@ -257,10 +274,8 @@ impl Mechanism {
         set: Option<HashMap<String, f64>>,
         params: Option<HashMap<String, f64>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let o = options(start, stop, step, rate, input, set)?;
-        let plan = self.plan(&o)?;
-        let given: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
-        let values = self.params_with(&given)?;
+        let (o, plan, values) =
+            self.prepare(options(start, stop, step, rate, input, set)?, params)?;
         let info = &self.info;
         let mut header = vec![info.inputs[plan.index].name.clone()];
         for (out, _) in outputs(info) {
@@ -301,16 +316,7 @@ impl Mechanism {
             }
             Cells { numbers, statuses }
         });
-        let n = c.statuses.len();
-        let out = PyDict::new(py);
-        for (k, name) in header.iter().enumerate() {
-            out.set_item(
-                name,
-                PyArray1::from_slice(py, &c.numbers[k * n..(k + 1) * n]),
-            )?;
-        }
-        out.set_item("status", statuses(py, &[c], n, true)?)?;
-        Ok(out)
+        columns(py, &header, c)
     }
 
     /// Many param sets, each swept as `sweep` sweeps it, across every core with the GIL

@@ -44,9 +44,10 @@ pub trait Lanes:
     fn from_fn(f: impl FnMut(usize) -> Self::Scalar) -> Self;
     /// One value per lane, lane `i` being `f(i)`.
     fn array<U: Copy + Debug + Send + Sync>(f: impl FnMut(usize) -> U) -> Self::Array<U>;
-    /// Lane `i` (`i < W`).
+    /// Lane `i`. Like indexing an array, panics for `i ≥ W` (every caller in the runtime and in
+    /// generated code loops over `0..W`; the `LaneTick` methods users call check the index).
     fn lane(self, i: usize) -> Self::Scalar;
-    /// Sets lane `i` (`i < W`).
+    /// Sets lane `i` (panics for `i ≥ W`, as [`Lanes::lane`]).
     fn set_lane(&mut self, i: usize, v: Self::Scalar);
 
     fn sqrt(self) -> Self;

@@ -36,8 +36,8 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use mechgen::lanes::WithLanes;
 use mechgen::sweep::{Continuation, sweep};
 use mechgen::{
-    Array, CoordDesc, DynMechanism, DynState, InputMotion, Kind, LaneMechanism, Lanes, Scene,
-    SceneVisitor, SolveOptions, StaticMechanism, StaticVisitor,
+    Array, CoordDesc, DynMechanism, DynState, InputMotion, Kind, LaneMechanism, LaneScene, Lanes,
+    Scene, SceneVisitor, SolveOptions, StaticMechanism, StaticVisitor,
 };
 
 /// A solved state and the input one step further (which is solvable too).
@@ -377,6 +377,50 @@ impl SceneVisitor<f64> for Scenes<'_> {
                         tick = scene.tick_start(&inputs[j], &qs[j], &opts).ok();
                     }
                     black_box(&tick);
+                })
+            });
+            // `step/lanes`: W instances of the scene in SIMD lanes, each its own place on the
+            // walk and its own params (as the mechanism's `step/lanes`), time per instance.
+            type Wide = <f64 as WithLanes>::Lanes;
+            let w = Wide::W;
+            let lanes = S::Lanes::<Wide>::from_fn(|i| {
+                let p: Vec<f64> = k
+                    .info()
+                    .params
+                    .iter()
+                    .map(|p| p.value * (1.0 + 1e-9 * i as f64))
+                    .collect();
+                S::with_params(&p).expect("one value per param")
+            });
+            let n = inputs.len();
+            let mut walks: Vec<Walk> = (0..w).map(|i| Walk::at(n, (i * 37) % n)).collect();
+            let lane_x = |walks: &[Walk]| {
+                let mut x = <S::Lanes<Wide> as LaneScene<Wide>>::X::default();
+                for (k, v) in x.as_mut().iter_mut().enumerate() {
+                    *v = Wide::from_fn(|i| inputs[walks[i].at].x.as_ref()[k]);
+                }
+                x
+            };
+            let mut lane_xd = <S::Lanes<Wide> as LaneScene<Wide>>::X::default();
+            lane_xd.as_mut()[0] = Wide::splat(1.0);
+            let mut guess = <S::Lanes<Wide> as LaneScene<Wide>>::Q::default();
+            for (k, v) in guess.as_mut().iter_mut().enumerate() {
+                *v = Wide::from_fn(|i| qs[walks[i].at].as_ref()[k]);
+            }
+            let input = InputMotion::new(lane_x(&walks), lane_xd, Default::default());
+            let mut lane_tick = lanes.tick_start(&input, &guess, &opts);
+            g.bench_function("step/lanes", |b| {
+                b.iter_custom(|iters| {
+                    let start = std::time::Instant::now();
+                    for _ in 0..iters {
+                        for walk in walks.iter_mut() {
+                            walk.next();
+                        }
+                        let input = InputMotion::new(lane_x(&walks), lane_xd, Default::default());
+                        lanes.tick(&mut lane_tick, black_box(&input), &opts);
+                    }
+                    black_box(&lane_tick);
+                    start.elapsed() / w as u32
                 })
             });
         }

@@ -3417,10 +3417,8 @@ pub mod sixbar {
     }
     /// The state of W instances between lane ticks (see `Lanes::tick_start`).
     pub type LaneTick<L> = ::mechgen::__private::LaneTick<L, 1, 4, 1, 10>;
-    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64
-    /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
-    /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
-    /// scalar tick's, to the last bit.
+    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64 instances, `F32x8` for eight f32 ones), each with its own params, inputs and state: lane `i` of every value is instance `i`, and every lane's result (or error) is the scalar tick's, to the last bit.
+    ///
     /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
     #[derive(Clone, Copy, Debug)]
     pub struct Lanes<L: ::mechgen::__private::Lanes> {
@@ -3481,6 +3479,7 @@ pub mod sixbar {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
+                    _: &mut (),
                     started: bool,
                     [x,
                     xd,
@@ -3510,7 +3509,11 @@ pub mod sixbar {
         ) {
             ::mechgen::__private::lanes::tick(
                 t,
-                (&self.params, self.params_id),
+                (
+                    &self.params,
+                    self.params_id,
+                    [true, true, true, true, true, true, true, true, true, true],
+                ),
                 [&input.x, &input.xd, &input.xdd],
                 [true],
                 options
@@ -3526,6 +3529,7 @@ pub mod sixbar {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
+                    _: &mut (),
                     started: bool,
                     [x,
                     xd,
@@ -6371,10 +6375,8 @@ pub mod shaper {
     }
     /// The state of W instances between lane ticks (see `Lanes::tick_start`).
     pub type LaneTick<L> = ::mechgen::__private::LaneTick<L, 1, 4, 2, 5>;
-    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64
-    /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
-    /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
-    /// scalar tick's, to the last bit.
+    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64 instances, `F32x8` for eight f32 ones), each with its own params, inputs and state: lane `i` of every value is instance `i`, and every lane's result (or error) is the scalar tick's, to the last bit.
+    ///
     /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
     #[derive(Clone, Copy, Debug)]
     pub struct Lanes<L: ::mechgen::__private::Lanes> {
@@ -6435,6 +6437,7 @@ pub mod shaper {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
+                    _: &mut (),
                     started: bool,
                     [x,
                     xd,
@@ -6464,7 +6467,7 @@ pub mod shaper {
         ) {
             ::mechgen::__private::lanes::tick(
                 t,
-                (&self.params, self.params_id),
+                (&self.params, self.params_id, [true, true, true, true, true]),
                 [&input.x, &input.xd, &input.xdd],
                 [true],
                 options
@@ -6480,6 +6483,7 @@ pub mod shaper {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
+                    _: &mut (),
                     started: bool,
                     [x,
                     xd,
@@ -6530,6 +6534,7 @@ pub mod shaper {
                 tolerance,
                 pivot,
                 ok,
+                true,
             );
             let p_l3 = self.params[1];
             let p_l4 = self.params[2];
@@ -6544,6 +6549,7 @@ pub mod shaper {
                 (::core::option::Option::None, p_l4),
                 tolerance,
                 ok,
+                true,
             );
             let (_, c_v_q3) = st.sc[1];
             let t7 = c_v_q3 * p_l3;
@@ -8819,10 +8825,8 @@ pub mod four_bar {
     }
     /// The state of W instances between lane ticks (see `Lanes::tick_start`).
     pub type LaneTick<L> = ::mechgen::__private::LaneTick<L, 1, 2, 3, 6>;
-    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64
-    /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
-    /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
-    /// scalar tick's, to the last bit.
+    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64 instances, `F32x8` for eight f32 ones), each with its own params, inputs and state: lane `i` of every value is instance `i`, and every lane's result (or error) is the scalar tick's, to the last bit.
+    ///
     /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
     #[derive(Clone, Copy, Debug)]
     pub struct Lanes<L: ::mechgen::__private::Lanes> {
@@ -8886,6 +8890,7 @@ pub mod four_bar {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
+                    _: &mut (),
                     started: bool,
                     [x,
                     xd,
@@ -8915,7 +8920,7 @@ pub mod four_bar {
         ) {
             ::mechgen::__private::lanes::tick(
                 t,
-                (&self.params, self.params_id),
+                (&self.params, self.params_id, [true, true, true, true, true, true]),
                 [&input.x, &input.xd, &input.xdd],
                 [true],
                 options
@@ -8931,6 +8936,7 @@ pub mod four_bar {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
+                    _: &mut (),
                     started: bool,
                     [x,
                     xd,
@@ -10883,10 +10889,8 @@ pub mod slider_crank {
     }
     /// The state of W instances between lane ticks (see `Lanes::tick_start`).
     pub type LaneTick<L> = ::mechgen::__private::LaneTick<L, 1, 2, 3, 3>;
-    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64
-    /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
-    /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
-    /// scalar tick's, to the last bit.
+    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64 instances, `F32x8` for eight f32 ones), each with its own params, inputs and state: lane `i` of every value is instance `i`, and every lane's result (or error) is the scalar tick's, to the last bit.
+    ///
     /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
     #[derive(Clone, Copy, Debug)]
     pub struct Lanes<L: ::mechgen::__private::Lanes> {
@@ -10950,6 +10954,7 @@ pub mod slider_crank {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
+                    _: &mut (),
                     started: bool,
                     [x,
                     xd,
@@ -10979,7 +10984,7 @@ pub mod slider_crank {
         ) {
             ::mechgen::__private::lanes::tick(
                 t,
-                (&self.params, self.params_id),
+                (&self.params, self.params_id, [true, true, true]),
                 [&input.x, &input.xd, &input.xdd],
                 [true],
                 options
@@ -10995,6 +11000,7 @@ pub mod slider_crank {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
+                    _: &mut (),
                     started: bool,
                     [x,
                     xd,
@@ -11041,6 +11047,7 @@ pub mod slider_crank {
                 (::core::option::Option::None, p_l),
                 tolerance,
                 ok,
+                true,
             );
             let (_, c_v_q1) = tx[0];
             let t2 = p_r * c_v_q1;
@@ -12823,10 +12830,8 @@ pub mod rocker_four_bar {
     }
     /// The state of W instances between lane ticks (see `Lanes::tick_start`).
     pub type LaneTick<L> = ::mechgen::__private::LaneTick<L, 1, 2, 2, 4>;
-    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64
-    /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
-    /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
-    /// scalar tick's, to the last bit.
+    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64 instances, `F32x8` for eight f32 ones), each with its own params, inputs and state: lane `i` of every value is instance `i`, and every lane's result (or error) is the scalar tick's, to the last bit.
+    ///
     /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
     #[derive(Clone, Copy, Debug)]
     pub struct Lanes<L: ::mechgen::__private::Lanes> {
@@ -12890,6 +12895,7 @@ pub mod rocker_four_bar {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
+                    _: &mut (),
                     started: bool,
                     [x,
                     xd,
@@ -12919,7 +12925,7 @@ pub mod rocker_four_bar {
         ) {
             ::mechgen::__private::lanes::tick(
                 t,
-                (&self.params, self.params_id),
+                (&self.params, self.params_id, [true, true, true, true]),
                 [&input.x, &input.xd, &input.xdd],
                 [true],
                 options
@@ -12935,6 +12941,7 @@ pub mod rocker_four_bar {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
+                    _: &mut (),
                     started: bool,
                     [x,
                     xd,
@@ -15395,10 +15402,8 @@ pub mod sixbar_g {
     }
     /// The state of W instances between lane ticks (see `Lanes::tick_start`).
     pub type LaneTick<L> = ::mechgen::__private::LaneTick<L, 1, 4, 1, 10>;
-    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64
-    /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
-    /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
-    /// scalar tick's, to the last bit.
+    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64 instances, `F32x8` for eight f32 ones), each with its own params, inputs and state: lane `i` of every value is instance `i`, and every lane's result (or error) is the scalar tick's, to the last bit.
+    ///
     /// It has blocks without lane kernels (RRP, two lengths, Newton): every lane is ticked by the scalar tick (the same results, no SIMD speed-up).
     #[derive(Clone, Copy, Debug)]
     pub struct Lanes<L: ::mechgen::__private::Lanes> {
@@ -15462,6 +15467,7 @@ pub mod sixbar_g {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
+                    _: &mut (),
                     started: bool,
                     [x,
                     xd,
@@ -15491,7 +15497,11 @@ pub mod sixbar_g {
         ) {
             ::mechgen::__private::lanes::tick(
                 t,
-                (&self.params, self.params_id),
+                (
+                    &self.params,
+                    self.params_id,
+                    [true, true, true, true, true, true, true, true, true, true],
+                ),
                 [&input.x, &input.xd, &input.xdd],
                 [true],
                 ::core::option::Option::<
@@ -15505,6 +15515,7 @@ pub mod sixbar_g {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
+                    _: &mut (),
                     started: bool,
                     [x,
                     xd,
@@ -15610,6 +15621,296 @@ pub mod sixbar_e_path {
             [self.E_x, self.E_y]
         }
     }
+    /// The output columns read from a solved state, of one instance or of W in lanes.
+    #[inline]
+    fn columns_of<V: ::core::marker::Copy>(
+        _q: &[V; 4],
+        _qd: &[V; 4],
+        _qdd: &[V; 4],
+        points: &[::mechgen::__private::PointMotion<V>; 1],
+    ) -> Outputs<V> {
+        Outputs::from_array([points[0].position[0], points[0].position[1]])
+    }
+    /// The state of W instances between lane ticks (see `Lanes::tick_start`).
+    pub type LaneTick<L> = ::mechgen::__private::LaneTick<
+        L,
+        1,
+        4,
+        1,
+        10,
+        ::mechgen::__private::SceneMemo<<L as ::mechgen::__private::Lanes>::Scalar>,
+    >;
+    /// W instances of the scene in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64 instances, `F32x8` for eight f32 ones), each with its own params, inputs and state: lane `i` of every value is instance `i`, and every lane's result (or error) is the scalar tick's, to the last bit.
+    ///
+    /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
+    #[derive(Clone, Copy, Debug)]
+    pub struct Lanes<L: ::mechgen::__private::Lanes> {
+        scenes: L::Array<SixbarEPath<L::Scalar>>,
+        params: [L; 10],
+        /// Changes with the params (`mechgen::lanes::fresh_params_id`).
+        params_id: usize,
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// Instance `i` is `f(i)`.
+        pub fn from_fn(f: impl FnMut(usize) -> SixbarEPath<L::Scalar>) -> Self {
+            let scenes = L::array(f);
+            let params = ::core::array::from_fn(|k| L::from_fn(|i| {
+                scenes.as_ref()[i].params.to_array()[k]
+            }));
+            Lanes {
+                scenes,
+                params,
+                params_id: ::mechgen::__private::lanes::fresh_params_id(),
+            }
+        }
+        /// Instance `i` (`None` for `i ≥ W`).
+        pub fn scene(
+            &self,
+            i: usize,
+        ) -> ::core::option::Option<&SixbarEPath<L::Scalar>> {
+            self.scenes.as_ref().get(i)
+        }
+        /// Sets instance `i` (`BadLength` for `i ≥ W`); its next tick starts its caches afresh.
+        pub fn set(
+            &mut self,
+            i: usize,
+            m: SixbarEPath<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::core::option::Option::Some(slot) = self.scenes.as_mut().get_mut(i)
+            else {
+                return ::core::result::Result::Err(::mechgen::__private::SolveError::BadLength {
+                    expected: L::W,
+                    got: i,
+                });
+            };
+            *slot = m;
+            for (k, v) in m.params.to_array().into_iter().enumerate() {
+                self.params[k].set_lane(i, v);
+            }
+            self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+            ::core::result::Result::Ok(())
+        }
+        /// The first tick of every instance, each solved from its lane of `guess` by the
+        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
+        /// again at the next tick.
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            guess: &[L; 4],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> LaneTick<L> {
+            ::mechgen::__private::lanes::tick_start(
+                [&input.x, &input.xd, &input.xdd],
+                guess,
+                |
+                    i: usize,
+                    t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 1, 10>,
+                    memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = self.scenes.as_ref()[i].mechanism();
+                    let (s, r) = if started {
+                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
+                        let r = m.scene_sixbar_e_path_tick(&mut s, x, xd, xdd, options);
+                        (s, r)
+                    } else {
+                        (
+                            m.scene_sixbar_e_path_tick_start(x, xd, xdd, &t.q, options)?,
+                            ::core::result::Result::Ok(()),
+                        )
+                    };
+                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
+                    r
+                },
+            )
+        }
+        /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
+        /// that fails reports its error in `status` and keeps its last state; no lane changes
+        /// another. No allocation.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut LaneTick<L>,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            ::mechgen::__private::lanes::tick(
+                t,
+                (
+                    &self.params,
+                    self.params_id,
+                    [true, true, true, true, false, false, true, false, false, true],
+                ),
+                [&input.x, &input.xd, &input.xdd],
+                [true],
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        pivot: &mut L,
+                        ok: &mut L::Mask|
+                    {
+                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
+                    }),
+                |
+                    i: usize,
+                    t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 1, 10>,
+                    memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = self.scenes.as_ref()[i].mechanism();
+                    let (s, r) = if started {
+                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
+                        let r = m.scene_sixbar_e_path_tick(&mut s, x, xd, xdd, options);
+                        (s, r)
+                    } else {
+                        (
+                            m.scene_sixbar_e_path_tick_start(x, xd, xdd, &t.q, options)?,
+                            ::core::result::Result::Ok(()),
+                        )
+                    };
+                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
+                    r
+                },
+            )
+        }
+        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
+        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
+        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
+        /// non-finite value) are cleared in `ok`.
+        #[inline(always)]
+        fn motion_lanes(
+            &self,
+            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+            tolerance: L::Scalar,
+            pivot: &mut L,
+            ok: &mut L::Mask,
+        ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 1> {
+            let ::mechgen::__private::lanes::LaneFixed { tx, tp, .. } = fixed;
+            let qd = [L::zero(); 4];
+            let qdd = [L::zero(); 4];
+            let p_l1 = self.params[0];
+            let p_l2 = self.params[1];
+            let p_l3 = self.params[2];
+            let p_l4 = self.params[3];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
+            ::mechgen::__private::lanes::solve_dyad_angles(
+                st,
+                (0, 1),
+                [t3, t1],
+                (
+                    (p_l2, ::core::option::Option::None),
+                    (t2, ::core::option::Option::None),
+                ),
+                tolerance,
+                pivot,
+                ok,
+                [false, false],
+            );
+            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            let p_l2e = self.params[6];
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let t6 = t0 + t4;
+            let t7 = t1 + t5;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t8 = c_v_q2 * c_p_alpha;
+            let t9 = s_v_q2 * s_p_alpha;
+            let t10 = s_v_q2 * c_p_alpha;
+            let t11 = c_v_q2 * s_p_alpha;
+            let t12 = t8 + t9;
+            let t13 = t10 - t11;
+            let t14 = p_l2e * t12;
+            let t15 = p_l2e * t13;
+            let t16 = t6 + t14;
+            let t17 = t7 + t15;
+            (
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [t16, t17],
+                        velocity: [L::zero(), L::zero()],
+                        acceleration: [L::zero(), L::zero()],
+                    },
+                ],
+            )
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// The outputs of every lane (lane `i` of each field is instance `i`'s; a lane that
+        /// never started holds zeros).
+        pub fn outputs(t: &LaneTick<L>) -> Outputs<L> {
+            columns_of(&t.q, &t.qd, &t.qdd, &t.points)
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> ::mechgen::__private::LaneScene<L>
+    for Lanes<L> {
+        type Scene = SixbarEPath<L::Scalar>;
+        type X = [L; 1];
+        type Q = [L; 4];
+        type Out = [L; 2];
+        type Tick = LaneTick<L>;
+        fn from_fn(f: impl FnMut(usize) -> Self::Scene) -> Self {
+            Lanes::from_fn(f)
+        }
+        fn set(
+            &mut self,
+            i: usize,
+            s: Self::Scene,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            Lanes::set(self, i, s)
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> Self::Tick {
+            Lanes::tick_start(self, input, guess, options)
+        }
+        #[inline]
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            Lanes::tick(self, t, input, options)
+        }
+        fn outputs(t: &Self::Tick) -> Self::Out {
+            Lanes::outputs(t).to_array()
+        }
+        fn lane(
+            t: &Self::Tick,
+            i: usize,
+        ) -> ::core::option::Option<
+            (
+                ::core::result::Result<(), ::mechgen::__private::SolveError>,
+                ::mechgen::__private::SceneTick<L::Scalar, 1, 4, 1, 10>,
+            ),
+        > {
+            ::core::option::Option::Some((
+                t.status(i),
+                ::mechgen::__private::scene_tick_join(t.lane(i)?, t.memo(i)?),
+            ))
+        }
+    }
     /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
     /// their rates up to the scene's order, the scene's points, and the caches.
     pub type Tick<T> = ::mechgen::__private::SceneTick<T, 1, 4, 1, 10>;
@@ -15639,12 +15940,12 @@ pub mod sixbar_e_path {
         }
         #[inline]
         fn outputs_of(
-            _q: &[T; 4],
-            _qd: &[T; 4],
-            _qdd: &[T; 4],
+            q: &[T; 4],
+            qd: &[T; 4],
+            qdd: &[T; 4],
             points: &[::mechgen::__private::PointMotion<T>; 1],
         ) -> Outputs<T> {
-            Outputs::from_array([points[0].position[0], points[0].position[1]])
+            columns_of(q, qd, qdd, points)
         }
         /// Positions of the kept blocks from `guess`, their rates up to the order, the
         /// outputs; the returned unknowns hold the kept blocks' solution.
@@ -15731,8 +16032,14 @@ pub mod sixbar_e_path {
         type Q = [T; 4];
         type Out = [T; 2];
         type Tick = Tick<T>;
+        type Lanes<L: ::mechgen::__private::Lanes<Scalar = T>> = Lanes<L>;
         fn info(&self) -> &'static ::mechgen::__private::SceneInfo {
             &INFO
+        }
+        fn with_params(params: &[T]) -> ::core::option::Option<Self> {
+            <[T; 10]>::try_from(params)
+                .ok()
+                .map(|a| SixbarEPath::new(Params::from_array(a)))
         }
         fn solve(
             &self,
@@ -15841,6 +16148,402 @@ pub mod sixbar_output {
             [self.q6, self.q6_vel, self.q6_acc]
         }
     }
+    /// The output columns read from a solved state, of one instance or of W in lanes.
+    #[inline]
+    fn columns_of<V: ::core::marker::Copy>(
+        q: &[V; 4],
+        qd: &[V; 4],
+        qdd: &[V; 4],
+        _points: &[::mechgen::__private::PointMotion<V>; 0],
+    ) -> Outputs<V> {
+        Outputs::from_array([q[3], qd[3], qdd[3]])
+    }
+    /// The state of W instances between lane ticks (see `Lanes::tick_start`).
+    pub type LaneTick<L> = ::mechgen::__private::LaneTick<
+        L,
+        1,
+        4,
+        0,
+        10,
+        ::mechgen::__private::SceneMemo<<L as ::mechgen::__private::Lanes>::Scalar>,
+    >;
+    /// W instances of the scene in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64 instances, `F32x8` for eight f32 ones), each with its own params, inputs and state: lane `i` of every value is instance `i`, and every lane's result (or error) is the scalar tick's, to the last bit.
+    ///
+    /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
+    #[derive(Clone, Copy, Debug)]
+    pub struct Lanes<L: ::mechgen::__private::Lanes> {
+        scenes: L::Array<SixbarOutput<L::Scalar>>,
+        params: [L; 10],
+        /// Changes with the params (`mechgen::lanes::fresh_params_id`).
+        params_id: usize,
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// Instance `i` is `f(i)`.
+        pub fn from_fn(f: impl FnMut(usize) -> SixbarOutput<L::Scalar>) -> Self {
+            let scenes = L::array(f);
+            let params = ::core::array::from_fn(|k| L::from_fn(|i| {
+                scenes.as_ref()[i].params.to_array()[k]
+            }));
+            Lanes {
+                scenes,
+                params,
+                params_id: ::mechgen::__private::lanes::fresh_params_id(),
+            }
+        }
+        /// Instance `i` (`None` for `i ≥ W`).
+        pub fn scene(
+            &self,
+            i: usize,
+        ) -> ::core::option::Option<&SixbarOutput<L::Scalar>> {
+            self.scenes.as_ref().get(i)
+        }
+        /// Sets instance `i` (`BadLength` for `i ≥ W`); its next tick starts its caches afresh.
+        pub fn set(
+            &mut self,
+            i: usize,
+            m: SixbarOutput<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::core::option::Option::Some(slot) = self.scenes.as_mut().get_mut(i)
+            else {
+                return ::core::result::Result::Err(::mechgen::__private::SolveError::BadLength {
+                    expected: L::W,
+                    got: i,
+                });
+            };
+            *slot = m;
+            for (k, v) in m.params.to_array().into_iter().enumerate() {
+                self.params[k].set_lane(i, v);
+            }
+            self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+            ::core::result::Result::Ok(())
+        }
+        /// The first tick of every instance, each solved from its lane of `guess` by the
+        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
+        /// again at the next tick.
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            guess: &[L; 4],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> LaneTick<L> {
+            ::mechgen::__private::lanes::tick_start(
+                [&input.x, &input.xd, &input.xdd],
+                guess,
+                |
+                    i: usize,
+                    t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 10>,
+                    memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = self.scenes.as_ref()[i].mechanism();
+                    let (s, r) = if started {
+                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
+                        let r = m.scene_sixbar_output_tick(&mut s, x, xd, xdd, options);
+                        (s, r)
+                    } else {
+                        (
+                            m.scene_sixbar_output_tick_start(x, xd, xdd, &t.q, options)?,
+                            ::core::result::Result::Ok(()),
+                        )
+                    };
+                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
+                    r
+                },
+            )
+        }
+        /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
+        /// that fails reports its error in `status` and keeps its last state; no lane changes
+        /// another. No allocation.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut LaneTick<L>,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            ::mechgen::__private::lanes::tick(
+                t,
+                (
+                    &self.params,
+                    self.params_id,
+                    [true, true, true, true, true, true, true, true, true, true],
+                ),
+                [&input.x, &input.xd, &input.xdd],
+                [true],
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        pivot: &mut L,
+                        ok: &mut L::Mask|
+                    {
+                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
+                    }),
+                |
+                    i: usize,
+                    t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 10>,
+                    memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = self.scenes.as_ref()[i].mechanism();
+                    let (s, r) = if started {
+                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
+                        let r = m.scene_sixbar_output_tick(&mut s, x, xd, xdd, options);
+                        (s, r)
+                    } else {
+                        (
+                            m.scene_sixbar_output_tick_start(x, xd, xdd, &t.q, options)?,
+                            ::core::result::Result::Ok(()),
+                        )
+                    };
+                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
+                    r
+                },
+            )
+        }
+        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
+        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
+        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
+        /// non-finite value) are cleared in `ok`.
+        #[inline(always)]
+        fn motion_lanes(
+            &self,
+            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+            tolerance: L::Scalar,
+            pivot: &mut L,
+            ok: &mut L::Mask,
+        ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 0> {
+            let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, tp, .. } = fixed;
+            let mut qd = [L::zero(); 4];
+            let mut qdd = [L::zero(); 4];
+            let p_l1 = self.params[0];
+            let p_l2 = self.params[1];
+            let p_l3 = self.params[2];
+            let p_l4 = self.params[3];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
+            ::mechgen::__private::lanes::solve_dyad_angles(
+                st,
+                (0, 1),
+                [t3, t1],
+                (
+                    (p_l2, ::core::option::Option::None),
+                    (t2, ::core::option::Option::None),
+                ),
+                tolerance,
+                pivot,
+                ok,
+                [false, false],
+            );
+            let p_l5 = self.params[4];
+            let p_l6 = self.params[5];
+            let p_l2e = self.params[6];
+            let p_xg = self.params[7];
+            let p_yg = self.params[8];
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let t6 = t0 + t4;
+            let t7 = t1 + t5;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t8 = c_v_q2 * c_p_alpha;
+            let t9 = s_v_q2 * s_p_alpha;
+            let t10 = s_v_q2 * c_p_alpha;
+            let t11 = c_v_q2 * s_p_alpha;
+            let t12 = t8 + t9;
+            let t13 = t10 - t11;
+            let t14 = p_l2e * t12;
+            let t15 = p_l2e * t13;
+            let t16 = t6 + t14;
+            let t17 = t7 + t15;
+            let t18 = -p_l5;
+            let t19 = -p_l6;
+            let t20 = t16 - p_xg;
+            let t21 = t17 - p_yg;
+            ::mechgen::__private::lanes::solve_dyad_angles(
+                st,
+                (2, 3),
+                [t20, t21],
+                (
+                    (t18, ::core::option::Option::None),
+                    (t19, ::core::option::Option::None),
+                ),
+                tolerance,
+                pivot,
+                ok,
+                [false, true],
+            );
+            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            let v_q1_d = xd[0];
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t22 = p_l3 * c_v_q3;
+            let t23 = p_l3 * s_v_q3;
+            let t24 = -t5;
+            let t25 = -t22;
+            let t26 = t1 * v_q1_d;
+            let t27 = t0 * v_q1_d;
+            let t28 = -t27;
+            let mut jac = [[L::zero(); 2]; 2];
+            jac[0][0] = t24;
+            jac[0][1] = t23;
+            jac[1][0] = t4;
+            jac[1][1] = t25;
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t26, t28], ok);
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t29 = t4 * v_q2_d;
+            let t30 = t22 * v_q3_d;
+            let t31 = t5 * v_q2_d;
+            let t32 = t23 * v_q3_d;
+            let t33 = v_q1_d * t27;
+            let t34 = v_q2_d * t29;
+            let t35 = t33 + t34;
+            let t36 = v_q3_d * t30;
+            let t37 = t35 - t36;
+            let t38 = t1 * v_q1_dd;
+            let t39 = t37 + t38;
+            let t40 = v_q1_d * t26;
+            let t41 = v_q2_d * t31;
+            let t42 = t40 + t41;
+            let t43 = v_q3_d * t32;
+            let t44 = t42 - t43;
+            let t45 = t0 * v_q1_dd;
+            let t46 = t44 - t45;
+            let z = lu.solve([t39, t46], ok);
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            let (s_v_q5, c_v_q5) = st.sc[2];
+            let t47 = p_l5 * c_v_q5;
+            let t48 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = st.sc[3];
+            let t49 = p_l6 * c_v_q6;
+            let t50 = p_l6 * s_v_q6;
+            let t51 = t5 + t15;
+            let t52 = t4 + t14;
+            let t53 = -t47;
+            let t54 = -t49;
+            let t55 = t52 * v_q2_d;
+            let t56 = t51 * v_q2_d;
+            let t57 = t56 + t26;
+            let t58 = t55 + t27;
+            let t59 = -t58;
+            let mut jac = [[L::zero(); 2]; 2];
+            jac[0][0] = t48;
+            jac[0][1] = t50;
+            jac[1][0] = t53;
+            jac[1][1] = t54;
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t57, t59], ok);
+            qd[2] = z[0];
+            qd[3] = z[1];
+            let v_q5_d = qd[2];
+            let v_q6_d = qd[3];
+            let v_q2_dd = qdd[0];
+            let t60 = t47 * v_q5_d;
+            let t61 = t49 * v_q6_d;
+            let t62 = t48 * v_q5_d;
+            let t63 = t50 * v_q6_d;
+            let t64 = v_q2_d * t55;
+            let t65 = t33 + t64;
+            let t66 = v_q5_d * t60;
+            let t67 = t65 - t66;
+            let t68 = v_q6_d * t61;
+            let t69 = t67 - t68;
+            let t70 = t38 + t69;
+            let t71 = v_q2_d * t56;
+            let t72 = t40 + t71;
+            let t73 = v_q5_d * t62;
+            let t74 = t72 - t73;
+            let t75 = v_q6_d * t63;
+            let t76 = t74 - t75;
+            let t77 = t45 - t76;
+            let t78 = t51 * v_q2_dd;
+            let t79 = t52 * v_q2_dd;
+            let t80 = t70 + t78;
+            let t81 = t77 + t79;
+            let t82 = -t81;
+            let z = lu.solve([t80, t82], ok);
+            qdd[2] = z[0];
+            qdd[3] = z[1];
+            (qd, qdd, [])
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// The outputs of every lane (lane `i` of each field is instance `i`'s; a lane that
+        /// never started holds zeros).
+        pub fn outputs(t: &LaneTick<L>) -> Outputs<L> {
+            columns_of(&t.q, &t.qd, &t.qdd, &t.points)
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> ::mechgen::__private::LaneScene<L>
+    for Lanes<L> {
+        type Scene = SixbarOutput<L::Scalar>;
+        type X = [L; 1];
+        type Q = [L; 4];
+        type Out = [L; 3];
+        type Tick = LaneTick<L>;
+        fn from_fn(f: impl FnMut(usize) -> Self::Scene) -> Self {
+            Lanes::from_fn(f)
+        }
+        fn set(
+            &mut self,
+            i: usize,
+            s: Self::Scene,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            Lanes::set(self, i, s)
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> Self::Tick {
+            Lanes::tick_start(self, input, guess, options)
+        }
+        #[inline]
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            Lanes::tick(self, t, input, options)
+        }
+        fn outputs(t: &Self::Tick) -> Self::Out {
+            Lanes::outputs(t).to_array()
+        }
+        fn lane(
+            t: &Self::Tick,
+            i: usize,
+        ) -> ::core::option::Option<
+            (
+                ::core::result::Result<(), ::mechgen::__private::SolveError>,
+                ::mechgen::__private::SceneTick<L::Scalar, 1, 4, 0, 10>,
+            ),
+        > {
+            ::core::option::Option::Some((
+                t.status(i),
+                ::mechgen::__private::scene_tick_join(t.lane(i)?, t.memo(i)?),
+            ))
+        }
+    }
     /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
     /// their rates up to the scene's order, the scene's points, and the caches.
     pub type Tick<T> = ::mechgen::__private::SceneTick<T, 1, 4, 0, 10>;
@@ -15873,9 +16576,9 @@ pub mod sixbar_output {
             q: &[T; 4],
             qd: &[T; 4],
             qdd: &[T; 4],
-            _points: &[::mechgen::__private::PointMotion<T>; 0],
+            points: &[::mechgen::__private::PointMotion<T>; 0],
         ) -> Outputs<T> {
-            Outputs::from_array([q[3], qd[3], qdd[3]])
+            columns_of(q, qd, qdd, points)
         }
         /// Positions of the kept blocks from `guess`, their rates up to the order, the
         /// outputs; the returned unknowns hold the kept blocks' solution.
@@ -15962,8 +16665,14 @@ pub mod sixbar_output {
         type Q = [T; 4];
         type Out = [T; 3];
         type Tick = Tick<T>;
+        type Lanes<L: ::mechgen::__private::Lanes<Scalar = T>> = Lanes<L>;
         fn info(&self) -> &'static ::mechgen::__private::SceneInfo {
             &INFO
+        }
+        fn with_params(params: &[T]) -> ::core::option::Option<Self> {
+            <[T; 10]>::try_from(params)
+                .ok()
+                .map(|a| SixbarOutput::new(Params::from_array(a)))
         }
         fn solve(
             &self,
@@ -16072,6 +16781,364 @@ pub mod shaper_ram {
             [self.sE, self.sE_vel, self.sE_acc]
         }
     }
+    /// The output columns read from a solved state, of one instance or of W in lanes.
+    #[inline]
+    fn columns_of<V: ::core::marker::Copy>(
+        q: &[V; 4],
+        qd: &[V; 4],
+        qdd: &[V; 4],
+        _points: &[::mechgen::__private::PointMotion<V>; 0],
+    ) -> Outputs<V> {
+        Outputs::from_array([q[3], qd[3], qdd[3]])
+    }
+    /// The state of W instances between lane ticks (see `Lanes::tick_start`).
+    pub type LaneTick<L> = ::mechgen::__private::LaneTick<
+        L,
+        1,
+        4,
+        0,
+        5,
+        ::mechgen::__private::SceneMemo<<L as ::mechgen::__private::Lanes>::Scalar>,
+    >;
+    /// W instances of the scene in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64 instances, `F32x8` for eight f32 ones), each with its own params, inputs and state: lane `i` of every value is instance `i`, and every lane's result (or error) is the scalar tick's, to the last bit.
+    ///
+    /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
+    #[derive(Clone, Copy, Debug)]
+    pub struct Lanes<L: ::mechgen::__private::Lanes> {
+        scenes: L::Array<ShaperRam<L::Scalar>>,
+        params: [L; 5],
+        /// Changes with the params (`mechgen::lanes::fresh_params_id`).
+        params_id: usize,
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// Instance `i` is `f(i)`.
+        pub fn from_fn(f: impl FnMut(usize) -> ShaperRam<L::Scalar>) -> Self {
+            let scenes = L::array(f);
+            let params = ::core::array::from_fn(|k| L::from_fn(|i| {
+                scenes.as_ref()[i].params.to_array()[k]
+            }));
+            Lanes {
+                scenes,
+                params,
+                params_id: ::mechgen::__private::lanes::fresh_params_id(),
+            }
+        }
+        /// Instance `i` (`None` for `i ≥ W`).
+        pub fn scene(&self, i: usize) -> ::core::option::Option<&ShaperRam<L::Scalar>> {
+            self.scenes.as_ref().get(i)
+        }
+        /// Sets instance `i` (`BadLength` for `i ≥ W`); its next tick starts its caches afresh.
+        pub fn set(
+            &mut self,
+            i: usize,
+            m: ShaperRam<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::core::option::Option::Some(slot) = self.scenes.as_mut().get_mut(i)
+            else {
+                return ::core::result::Result::Err(::mechgen::__private::SolveError::BadLength {
+                    expected: L::W,
+                    got: i,
+                });
+            };
+            *slot = m;
+            for (k, v) in m.params.to_array().into_iter().enumerate() {
+                self.params[k].set_lane(i, v);
+            }
+            self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+            ::core::result::Result::Ok(())
+        }
+        /// The first tick of every instance, each solved from its lane of `guess` by the
+        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
+        /// again at the next tick.
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            guess: &[L; 4],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> LaneTick<L> {
+            ::mechgen::__private::lanes::tick_start(
+                [&input.x, &input.xd, &input.xdd],
+                guess,
+                |
+                    i: usize,
+                    t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 5>,
+                    memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = self.scenes.as_ref()[i].mechanism();
+                    let (s, r) = if started {
+                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
+                        let r = m.scene_shaper_ram_tick(&mut s, x, xd, xdd, options);
+                        (s, r)
+                    } else {
+                        (
+                            m.scene_shaper_ram_tick_start(x, xd, xdd, &t.q, options)?,
+                            ::core::result::Result::Ok(()),
+                        )
+                    };
+                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
+                    r
+                },
+            )
+        }
+        /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
+        /// that fails reports its error in `status` and keeps its last state; no lane changes
+        /// another. No allocation.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut LaneTick<L>,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            ::mechgen::__private::lanes::tick(
+                t,
+                (&self.params, self.params_id, [true, true, true, true, true]),
+                [&input.x, &input.xd, &input.xdd],
+                [true],
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        pivot: &mut L,
+                        ok: &mut L::Mask|
+                    {
+                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
+                    }),
+                |
+                    i: usize,
+                    t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 5>,
+                    memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = self.scenes.as_ref()[i].mechanism();
+                    let (s, r) = if started {
+                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
+                        let r = m.scene_shaper_ram_tick(&mut s, x, xd, xdd, options);
+                        (s, r)
+                    } else {
+                        (
+                            m.scene_shaper_ram_tick_start(x, xd, xdd, &t.q, options)?,
+                            ::core::result::Result::Ok(()),
+                        )
+                    };
+                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
+                    r
+                },
+            )
+        }
+        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
+        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
+        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
+        /// non-finite value) are cleared in `ok`.
+        #[inline(always)]
+        fn motion_lanes(
+            &self,
+            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
+            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+            tolerance: L::Scalar,
+            pivot: &mut L,
+            ok: &mut L::Mask,
+        ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 0> {
+            let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, .. } = fixed;
+            let mut qd = [L::zero(); 4];
+            let mut qdd = [L::zero(); 4];
+            let p_l1 = self.params[0];
+            let p_lAC = self.params[3];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -t0;
+            let t3 = t1 + p_lAC;
+            let t4 = -t3;
+            ::mechgen::__private::lanes::solve_rpr(
+                st,
+                (1, 0),
+                [t2, t4],
+                (L::zero(), L::zero()),
+                (L::one(), L::zero()),
+                tolerance,
+                pivot,
+                ok,
+                false,
+            );
+            let p_l3 = self.params[1];
+            let p_l4 = self.params[2];
+            let p_yE = self.params[4];
+            let (s_v_q3, _) = st.sc[1];
+            let t5 = s_v_q3 * p_l3;
+            let t6 = t5 - p_yE;
+            ::mechgen::__private::lanes::solve_angle1(
+                st,
+                2,
+                t6,
+                (::core::option::Option::None, p_l4),
+                tolerance,
+                ok,
+                false,
+            );
+            let (_, c_v_q3) = st.sc[1];
+            let t7 = c_v_q3 * p_l3;
+            let (_, c_v_q4) = st.sc[2];
+            let t8 = p_l4 * c_v_q4;
+            let t9 = t7 + t8;
+            ::mechgen::__private::lanes::solve_length1(st, 3, t9, L::lit(-1.0), ok);
+            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            let v_s3 = st.q[0];
+            let v_q1_d = xd[0];
+            let t10 = v_s3 * c_v_q3;
+            let t11 = v_s3 * s_v_q3;
+            let t12 = -t11;
+            let t13 = t1 * v_q1_d;
+            let t14 = -t13;
+            let t15 = t0 * v_q1_d;
+            let mut jac = [[L::zero(); 2]; 2];
+            jac[0][0] = c_v_q3;
+            jac[0][1] = t12;
+            jac[1][0] = s_v_q3;
+            jac[1][1] = t10;
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t14, t15], ok);
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_s3_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t16 = s_v_q3 * v_q3_d;
+            let t17 = s_v_q3 * v_s3_d;
+            let t18 = t10 * v_q3_d;
+            let t19 = t17 + t18;
+            let t20 = c_v_q3 * v_q3_d;
+            let t21 = c_v_q3 * v_s3_d;
+            let t22 = t11 * v_q3_d;
+            let t23 = t21 - t22;
+            let t24 = v_q1_d * t15;
+            let t25 = t16 * v_s3_d;
+            let t26 = t24 - t25;
+            let t27 = v_q3_d * t19;
+            let t28 = t26 - t27;
+            let t29 = t1 * v_q1_dd;
+            let t30 = t28 + t29;
+            let t31 = -t30;
+            let t32 = v_q1_d * t13;
+            let t33 = v_s3_d * t20;
+            let t34 = t32 + t33;
+            let t35 = v_q3_d * t23;
+            let t36 = t34 + t35;
+            let t37 = t0 * v_q1_dd;
+            let t38 = t36 - t37;
+            let t39 = -t38;
+            let z = lu.solve([t31, t39], ok);
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            let t40 = t7 * v_q3_d;
+            let t41 = -t40;
+            let mut jac = [[L::zero(); 1]; 1];
+            jac[0][0] = t8;
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t41], ok);
+            qd[2] = z[0];
+            let v_q4_d = qd[2];
+            let v_q3_dd = qdd[1];
+            let (s_v_q4, _) = st.sc[2];
+            let t42 = p_l4 * s_v_q4;
+            let t43 = t5 * v_q3_d;
+            let t44 = t42 * v_q4_d;
+            let t45 = v_q3_d * t43;
+            let t46 = v_q4_d * t44;
+            let t47 = t45 + t46;
+            let t48 = t7 * v_q3_dd;
+            let t49 = t47 - t48;
+            let z = lu.solve([t49], ok);
+            qdd[2] = z[0];
+            let t50 = t43 + t44;
+            let mut jac = [[L::zero(); 1]; 1];
+            jac[0][0] = L::lit(-1.0);
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t50], ok);
+            qd[3] = z[0];
+            let v_q4_dd = qdd[2];
+            let t51 = t8 * v_q4_d;
+            let t52 = v_q3_d * t40;
+            let t53 = v_q4_d * t51;
+            let t54 = t52 + t53;
+            let t55 = t5 * v_q3_dd;
+            let t56 = t42 * v_q4_dd;
+            let t57 = t55 + t56;
+            let t58 = t54 + t57;
+            let z = lu.solve([t58], ok);
+            qdd[3] = z[0];
+            (qd, qdd, [])
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// The outputs of every lane (lane `i` of each field is instance `i`'s; a lane that
+        /// never started holds zeros).
+        pub fn outputs(t: &LaneTick<L>) -> Outputs<L> {
+            columns_of(&t.q, &t.qd, &t.qdd, &t.points)
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> ::mechgen::__private::LaneScene<L>
+    for Lanes<L> {
+        type Scene = ShaperRam<L::Scalar>;
+        type X = [L; 1];
+        type Q = [L; 4];
+        type Out = [L; 3];
+        type Tick = LaneTick<L>;
+        fn from_fn(f: impl FnMut(usize) -> Self::Scene) -> Self {
+            Lanes::from_fn(f)
+        }
+        fn set(
+            &mut self,
+            i: usize,
+            s: Self::Scene,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            Lanes::set(self, i, s)
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> Self::Tick {
+            Lanes::tick_start(self, input, guess, options)
+        }
+        #[inline]
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            Lanes::tick(self, t, input, options)
+        }
+        fn outputs(t: &Self::Tick) -> Self::Out {
+            Lanes::outputs(t).to_array()
+        }
+        fn lane(
+            t: &Self::Tick,
+            i: usize,
+        ) -> ::core::option::Option<
+            (
+                ::core::result::Result<(), ::mechgen::__private::SolveError>,
+                ::mechgen::__private::SceneTick<L::Scalar, 1, 4, 0, 5>,
+            ),
+        > {
+            ::core::option::Option::Some((
+                t.status(i),
+                ::mechgen::__private::scene_tick_join(t.lane(i)?, t.memo(i)?),
+            ))
+        }
+    }
     /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
     /// their rates up to the scene's order, the scene's points, and the caches.
     pub type Tick<T> = ::mechgen::__private::SceneTick<T, 1, 4, 0, 5>;
@@ -16104,9 +17171,9 @@ pub mod shaper_ram {
             q: &[T; 4],
             qd: &[T; 4],
             qdd: &[T; 4],
-            _points: &[::mechgen::__private::PointMotion<T>; 0],
+            points: &[::mechgen::__private::PointMotion<T>; 0],
         ) -> Outputs<T> {
-            Outputs::from_array([q[3], qd[3], qdd[3]])
+            columns_of(q, qd, qdd, points)
         }
         /// Positions of the kept blocks from `guess`, their rates up to the order, the
         /// outputs; the returned unknowns hold the kept blocks' solution.
@@ -16192,8 +17259,14 @@ pub mod shaper_ram {
         type Q = [T; 4];
         type Out = [T; 3];
         type Tick = Tick<T>;
+        type Lanes<L: ::mechgen::__private::Lanes<Scalar = T>> = Lanes<L>;
         fn info(&self) -> &'static ::mechgen::__private::SceneInfo {
             &INFO
+        }
+        fn with_params(params: &[T]) -> ::core::option::Option<Self> {
+            <[T; 5]>::try_from(params)
+                .ok()
+                .map(|a| ShaperRam::new(Params::from_array(a)))
         }
         fn solve(
             &self,
@@ -16304,6 +17377,319 @@ pub mod coupler_curve {
             [self.P_x, self.P_y, self.P_vx, self.P_vy]
         }
     }
+    /// The output columns read from a solved state, of one instance or of W in lanes.
+    #[inline]
+    fn columns_of<V: ::core::marker::Copy>(
+        _q: &[V; 2],
+        _qd: &[V; 2],
+        _qdd: &[V; 2],
+        points: &[::mechgen::__private::PointMotion<V>; 1],
+    ) -> Outputs<V> {
+        Outputs::from_array([
+            points[0].position[0],
+            points[0].position[1],
+            points[0].velocity[0],
+            points[0].velocity[1],
+        ])
+    }
+    /// The state of W instances between lane ticks (see `Lanes::tick_start`).
+    pub type LaneTick<L> = ::mechgen::__private::LaneTick<
+        L,
+        1,
+        2,
+        1,
+        6,
+        ::mechgen::__private::SceneMemo<<L as ::mechgen::__private::Lanes>::Scalar>,
+    >;
+    /// W instances of the scene in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64 instances, `F32x8` for eight f32 ones), each with its own params, inputs and state: lane `i` of every value is instance `i`, and every lane's result (or error) is the scalar tick's, to the last bit.
+    ///
+    /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
+    #[derive(Clone, Copy, Debug)]
+    pub struct Lanes<L: ::mechgen::__private::Lanes> {
+        scenes: L::Array<CouplerCurve<L::Scalar>>,
+        params: [L; 6],
+        /// Changes with the params (`mechgen::lanes::fresh_params_id`).
+        params_id: usize,
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// Instance `i` is `f(i)`.
+        pub fn from_fn(f: impl FnMut(usize) -> CouplerCurve<L::Scalar>) -> Self {
+            let scenes = L::array(f);
+            let params = ::core::array::from_fn(|k| L::from_fn(|i| {
+                scenes.as_ref()[i].params.to_array()[k]
+            }));
+            Lanes {
+                scenes,
+                params,
+                params_id: ::mechgen::__private::lanes::fresh_params_id(),
+            }
+        }
+        /// Instance `i` (`None` for `i ≥ W`).
+        pub fn scene(
+            &self,
+            i: usize,
+        ) -> ::core::option::Option<&CouplerCurve<L::Scalar>> {
+            self.scenes.as_ref().get(i)
+        }
+        /// Sets instance `i` (`BadLength` for `i ≥ W`); its next tick starts its caches afresh.
+        pub fn set(
+            &mut self,
+            i: usize,
+            m: CouplerCurve<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::core::option::Option::Some(slot) = self.scenes.as_mut().get_mut(i)
+            else {
+                return ::core::result::Result::Err(::mechgen::__private::SolveError::BadLength {
+                    expected: L::W,
+                    got: i,
+                });
+            };
+            *slot = m;
+            for (k, v) in m.params.to_array().into_iter().enumerate() {
+                self.params[k].set_lane(i, v);
+            }
+            self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+            ::core::result::Result::Ok(())
+        }
+        /// The first tick of every instance, each solved from its lane of `guess` by the
+        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
+        /// again at the next tick.
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            guess: &[L; 2],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> LaneTick<L> {
+            ::mechgen::__private::lanes::tick_start(
+                [&input.x, &input.xd, &input.xdd],
+                guess,
+                |
+                    i: usize,
+                    t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 1, 6>,
+                    memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = self.scenes.as_ref()[i].mechanism();
+                    let (s, r) = if started {
+                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
+                        let r = m.scene_coupler_curve_tick(&mut s, x, xd, xdd, options);
+                        (s, r)
+                    } else {
+                        (
+                            m.scene_coupler_curve_tick_start(x, xd, xdd, &t.q, options)?,
+                            ::core::result::Result::Ok(()),
+                        )
+                    };
+                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
+                    r
+                },
+            )
+        }
+        /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
+        /// that fails reports its error in `status` and keeps its last state; no lane changes
+        /// another. No allocation.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut LaneTick<L>,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            ::mechgen::__private::lanes::tick(
+                t,
+                (&self.params, self.params_id, [true, true, true, true, true, true]),
+                [&input.x, &input.xd, &input.xdd],
+                [true],
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        pivot: &mut L,
+                        ok: &mut L::Mask|
+                    {
+                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
+                    }),
+                |
+                    i: usize,
+                    t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 1, 6>,
+                    memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = self.scenes.as_ref()[i].mechanism();
+                    let (s, r) = if started {
+                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
+                        let r = m.scene_coupler_curve_tick(&mut s, x, xd, xdd, options);
+                        (s, r)
+                    } else {
+                        (
+                            m.scene_coupler_curve_tick_start(x, xd, xdd, &t.q, options)?,
+                            ::core::result::Result::Ok(()),
+                        )
+                    };
+                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
+                    r
+                },
+            )
+        }
+        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
+        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
+        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
+        /// non-finite value) are cleared in `ok`.
+        #[inline(always)]
+        fn motion_lanes(
+            &self,
+            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
+            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+            tolerance: L::Scalar,
+            pivot: &mut L,
+            ok: &mut L::Mask,
+        ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 1> {
+            let ::mechgen::__private::lanes::LaneFixed { xd, tx, tp, .. } = fixed;
+            let mut qd = [L::zero(); 2];
+            let qdd = [L::zero(); 2];
+            let p_l1 = self.params[0];
+            let p_l2 = self.params[1];
+            let p_l3 = self.params[2];
+            let p_l4 = self.params[3];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
+            ::mechgen::__private::lanes::solve_dyad_angles(
+                st,
+                (0, 1),
+                [t3, t1],
+                (
+                    (p_l2, ::core::option::Option::None),
+                    (t2, ::core::option::Option::None),
+                ),
+                tolerance,
+                pivot,
+                ok,
+                [false, false],
+            );
+            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            let v_q1_d = xd[0];
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t6 = p_l3 * c_v_q3;
+            let t7 = p_l3 * s_v_q3;
+            let t8 = -t5;
+            let t9 = -t6;
+            let t10 = t1 * v_q1_d;
+            let t11 = t0 * v_q1_d;
+            let t12 = -t11;
+            let mut jac = [[L::zero(); 2]; 2];
+            jac[0][0] = t8;
+            jac[0][1] = t7;
+            jac[1][0] = t4;
+            jac[1][1] = t9;
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([t10, t12], ok);
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let p_lp = self.params[4];
+            let v_q2_d = qd[0];
+            let (s_p_beta, c_p_beta) = tp[5];
+            let t13 = c_v_q2 * c_p_beta;
+            let t14 = s_v_q2 * s_p_beta;
+            let t15 = s_v_q2 * c_p_beta;
+            let t16 = c_v_q2 * s_p_beta;
+            let t17 = t13 - t14;
+            let t18 = t15 + t16;
+            let t19 = p_lp * t17;
+            let t20 = p_lp * t18;
+            let t21 = t0 + t19;
+            let t22 = t1 + t20;
+            let t23 = t20 * v_q2_d;
+            let t24 = t10 + t23;
+            let t25 = -t24;
+            let t26 = t19 * v_q2_d;
+            let t27 = t11 + t26;
+            (
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [t21, t22],
+                        velocity: [t25, t27],
+                        acceleration: [L::zero(), L::zero()],
+                    },
+                ],
+            )
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// The outputs of every lane (lane `i` of each field is instance `i`'s; a lane that
+        /// never started holds zeros).
+        pub fn outputs(t: &LaneTick<L>) -> Outputs<L> {
+            columns_of(&t.q, &t.qd, &t.qdd, &t.points)
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> ::mechgen::__private::LaneScene<L>
+    for Lanes<L> {
+        type Scene = CouplerCurve<L::Scalar>;
+        type X = [L; 1];
+        type Q = [L; 2];
+        type Out = [L; 4];
+        type Tick = LaneTick<L>;
+        fn from_fn(f: impl FnMut(usize) -> Self::Scene) -> Self {
+            Lanes::from_fn(f)
+        }
+        fn set(
+            &mut self,
+            i: usize,
+            s: Self::Scene,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            Lanes::set(self, i, s)
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> Self::Tick {
+            Lanes::tick_start(self, input, guess, options)
+        }
+        #[inline]
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            Lanes::tick(self, t, input, options)
+        }
+        fn outputs(t: &Self::Tick) -> Self::Out {
+            Lanes::outputs(t).to_array()
+        }
+        fn lane(
+            t: &Self::Tick,
+            i: usize,
+        ) -> ::core::option::Option<
+            (
+                ::core::result::Result<(), ::mechgen::__private::SolveError>,
+                ::mechgen::__private::SceneTick<L::Scalar, 1, 2, 1, 6>,
+            ),
+        > {
+            ::core::option::Option::Some((
+                t.status(i),
+                ::mechgen::__private::scene_tick_join(t.lane(i)?, t.memo(i)?),
+            ))
+        }
+    }
     /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
     /// their rates up to the scene's order, the scene's points, and the caches.
     pub type Tick<T> = ::mechgen::__private::SceneTick<T, 1, 2, 1, 6>;
@@ -16333,17 +17719,12 @@ pub mod coupler_curve {
         }
         #[inline]
         fn outputs_of(
-            _q: &[T; 2],
-            _qd: &[T; 2],
-            _qdd: &[T; 2],
+            q: &[T; 2],
+            qd: &[T; 2],
+            qdd: &[T; 2],
             points: &[::mechgen::__private::PointMotion<T>; 1],
         ) -> Outputs<T> {
-            Outputs::from_array([
-                points[0].position[0],
-                points[0].position[1],
-                points[0].velocity[0],
-                points[0].velocity[1],
-            ])
+            columns_of(q, qd, qdd, points)
         }
         /// Positions of the kept blocks from `guess`, their rates up to the order, the
         /// outputs; the returned unknowns hold the kept blocks' solution.
@@ -16430,8 +17811,14 @@ pub mod coupler_curve {
         type Q = [T; 2];
         type Out = [T; 4];
         type Tick = Tick<T>;
+        type Lanes<L: ::mechgen::__private::Lanes<Scalar = T>> = Lanes<L>;
         fn info(&self) -> &'static ::mechgen::__private::SceneInfo {
             &INFO
+        }
+        fn with_params(params: &[T]) -> ::core::option::Option<Self> {
+            <[T; 6]>::try_from(params)
+                .ok()
+                .map(|a| CouplerCurve::new(Params::from_array(a)))
         }
         fn solve(
             &self,

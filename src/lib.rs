@@ -43,10 +43,10 @@ pub use mechgen_runtime::lanes;
 pub use mechgen_runtime::nalgebra;
 pub use mechgen_runtime::{
     Array, CoordDesc, CoordInfo, DynMechanism, DynScene, DynSceneState, DynState, InputMotion,
-    Kind, LaneMechanism, LaneState, LaneTick, Lanes, MechanismInfo, NewtonOptions, NewtonReport,
-    ParamDesc, ParamInfo, PointMotion, Quantity, Real, RowMajor, Scene, SceneDescription,
-    SceneInfo, SceneState, SceneVisitor, SolveError, SolveOptions, Stage, State, StaticInfo,
-    StaticMechanism, StaticVisitor, Tick,
+    Kind, LaneMechanism, LaneScene, LaneState, LaneTick, Lanes, MechanismInfo, NewtonOptions,
+    NewtonReport, ParamDesc, ParamInfo, PointMotion, Quantity, Real, RowMajor, Scene,
+    SceneDescription, SceneInfo, SceneState, SceneTick, SceneVisitor, SolveError, SolveOptions,
+    Stage, State, StaticInfo, StaticMechanism, StaticVisitor, Tick,
 };
 
 #[cfg(feature = "sweep")]

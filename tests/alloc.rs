@@ -201,9 +201,9 @@ struct SceneSolves<T> {
     _t: std::marker::PhantomData<T>,
 }
 
-impl<T: mechgen::Real> mechgen::SceneVisitor<T> for SceneSolves<T> {
+impl<T: mechgen::lanes::WithLanes> mechgen::SceneVisitor<T> for SceneSolves<T> {
     fn visit<S: mechgen::Scene<T> + 'static>(&mut self, scene: &S) {
-        use mechgen::Array;
+        use mechgen::{Array, LaneScene};
         let k = mechgen::lookup::<f64>(scene.info().mechanism).expect("its mechanism");
         let info = k.info();
         let lit = |v: f64| T::lit(v);
@@ -222,6 +222,8 @@ impl<T: mechgen::Real> mechgen::SceneVisitor<T> for SceneSolves<T> {
         xd.as_mut()[0] = lit(1.0);
         let options = SolveOptions::<T>::default();
         let scene = black_box(scene);
+        let params: Vec<T> = info.params.iter().map(|p| lit(p.value)).collect();
+        type L<T> = <T as mechgen::lanes::WithLanes>::Lanes;
         let (allocations, (done, error)) = count(|| {
             let mut done = 0;
             let mut q = q0;
@@ -265,6 +267,46 @@ impl<T: mechgen::Real> mechgen::SceneVisitor<T> for SceneSolves<T> {
                     Err(e) => return (done, Some(e)),
                 }
             }
+            // W instances of the scene in SIMD lanes (f64: 4, f32: 8).
+            let lanes = S::Lanes::<L<T>>::from_fn(|_| S::with_params(&params).expect("params"));
+            let splat = |a: &S::X| {
+                let mut v = <S::Lanes<L<T>> as LaneScene<L<T>>>::X::default();
+                v.as_mut()
+                    .iter_mut()
+                    .zip(a.as_ref())
+                    .for_each(|(v, a)| *v = L::<T>::splat(*a));
+                v
+            };
+            let mut guess = <S::Lanes<L<T>> as LaneScene<L<T>>>::Q::default();
+            guess
+                .as_mut()
+                .iter_mut()
+                .zip(q0.as_ref())
+                .for_each(|(v, a)| *v = L::<T>::splat(*a));
+            let mut input = InputMotion::new(x0, xd, xdd);
+            let lane_input =
+                |i: &InputMotion<S::X>| InputMotion::new(splat(&i.x), splat(&i.xd), splat(&i.xdd));
+            let mut t = lanes.tick_start(&lane_input(&input), &guess, &options);
+            for _ in 1..SOLVES {
+                input.x.as_mut()[0] += step;
+                lanes.tick(&mut t, &lane_input(&input), &options);
+                for k in 0..<L<T> as Lanes>::W {
+                    match <S::Lanes<L<T>> as LaneScene<L<T>>>::lane(&t, k).map(|l| l.0) {
+                        Some(Ok(())) => done += 1,
+                        Some(Err(e)) => return (done, Some(e)),
+                        None => {
+                            return (
+                                done,
+                                Some(SolveError::BadLength {
+                                    expected: 0,
+                                    got: k,
+                                }),
+                            );
+                        }
+                    }
+                }
+                black_box(<S::Lanes<L<T>> as LaneScene<L<T>>>::outputs(&t));
+            }
             (done, None)
         });
         let o = &mut self.outcome;
@@ -276,7 +318,7 @@ impl<T: mechgen::Real> mechgen::SceneVisitor<T> for SceneSolves<T> {
     }
 }
 
-fn scenes<T: mechgen::Real>() -> Outcome {
+fn scenes<T: mechgen::lanes::WithLanes>() -> Outcome {
     let mut v = SceneSolves::<T> {
         outcome: (0, 0, None),
         _t: std::marker::PhantomData,

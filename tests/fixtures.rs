@@ -105,4 +105,8 @@ fn compiled_in_lanes_are_their_scalar_ticks() {
     eprintln!("{seen:?}");
     assert!(fails.is_empty(), "{}", fails.join("\n"));
     assert!(seen.compared > 0);
+    // Every compiled-in scene too (none in some files).
+    let (fails, seen) = common::lanes::check_scene_lanes(3, 200);
+    eprintln!("scenes: {seen:?}");
+    assert!(fails.is_empty(), "{}", fails.join("\n"));
 }

@@ -187,3 +187,11 @@ fn a_generic_fleet_follows_the_generated_one() {
     assert!(worst < 1e-12, "{worst:e}");
     assert!(generic.tick(&vec![dyn_at(0); 3], &opts).is_err());
 }
+
+#[test]
+fn every_scene_lane_is_its_scalar_tick() {
+    let (fails, seen) = common::lanes::check_scene_lanes(8, 300);
+    eprintln!("{seen:?}");
+    assert!(fails.is_empty(), "{}", fails.join("\n"));
+    assert!(seen.failed > 0 && seen.ok_beside_failed > 0, "{seen:?}");
+}

@@ -53,10 +53,10 @@ pub use mechanism::{
 pub use nalgebra;
 pub use scalar::Real;
 pub use scene::{
-    DynScene, DynSceneState, Scene, SceneDescription, SceneInfo, SceneState, SceneStateOf,
-    SceneVisitor,
+    DynScene, DynSceneState, LaneScene, LaneSceneOf, Scene, SceneDescription, SceneInfo,
+    SceneState, SceneStateOf, SceneVisitor,
 };
-pub use scene_tick::SceneTick;
+pub use scene_tick::{SceneMemo, SceneTick};
 pub use sensitivity::Sensitivities;
 pub use simd::{Lanes, WithLanes};
 pub use solve::{NewtonOptions, NewtonReport, SolveOptions};
@@ -91,9 +91,12 @@ pub mod __private {
         InputMotion, LaneMechanism, State, StateOf, StaticMechanism, StaticVisitor,
     };
     pub use crate::scalar::Real;
-    pub use crate::scene::{DynScene, Scene, SceneInfo, SceneState, SceneStateOf, SceneVisitor};
+    pub use crate::scene::{
+        DynScene, LaneScene, Scene, SceneInfo, SceneState, SceneStateOf, SceneVisitor,
+    };
     pub use crate::scene_tick::{
-        SceneTick, scene_rates_estimated, scene_tick, scene_tick_state, scene_tick_state_mut,
+        SceneMemo, SceneTick, scene_rates_estimated, scene_tick, scene_tick_join, scene_tick_parts,
+        scene_tick_state, scene_tick_state_mut,
     };
     pub use crate::sensitivity::{Sensitivities, block_sensitivities, point_sensitivities};
     pub use crate::solve::{

@@ -11,6 +11,7 @@ use crate::dynamic::len;
 use crate::error::SolveError;
 use crate::mechanism::{Array, InputMotion};
 use crate::scalar::Real;
+use crate::simd::Lanes;
 use crate::solve::{NewtonReport, SolveOptions};
 
 /// Static description of a scene: what it keeps of its mechanism.
@@ -77,8 +78,15 @@ pub trait Scene<T: Real>: Send + Sync {
     type Q: Array<T>;
     type Out: Array<T>;
     /// The state between ticks (`tick_start`, `tick`).
-    type Tick;
+    type Tick: Copy + PartialEq + core::fmt::Debug;
+    /// W instances in the SIMD lanes `L` (the generated `NAME::Lanes<L>`).
+    type Lanes<L: Lanes<Scalar = T>>: LaneScene<L, Scene = Self>;
     fn info(&self) -> &'static SceneInfo;
+    /// The scene with the params `params`, in the order of its mechanism's params (`None`
+    /// unless there are exactly that many).
+    fn with_params(params: &[T]) -> Option<Self>
+    where
+        Self: Sized;
     /// Positions of the kept blocks from `guess`, then their rates up to the scene's order and
     /// the outputs.
     fn solve(
@@ -116,6 +124,51 @@ pub trait Scene<T: Real>: Send + Sync {
     /// The report of a tick state's last position solve (Newton iterations, residual, pivot).
     fn report(&self, t: &Self::Tick) -> NewtonReport<T>;
 }
+
+/// W instances of a generated scene in SIMD lanes (`NAME::Lanes<L>`, see `crate::lanes`), for
+/// code generic over scenes. Lane `i` of every value is instance `i`; each lane's outputs, state
+/// and status are its scalar tick's, bit for bit.
+pub trait LaneScene<L: Lanes>: Sized + Send + Sync {
+    /// One instance.
+    type Scene: Scene<L::Scalar>;
+    /// `[L; INPUTS]`
+    type X: Copy + Default + AsRef<[L]> + AsMut<[L]> + Send + Sync;
+    /// `[L; UNKNOWNS]`
+    type Q: Copy + Default + AsRef<[L]> + AsMut<[L]> + Send + Sync;
+    /// `[L; COLUMNS]`: the output columns in lanes.
+    type Out: Copy + AsRef<[L]>;
+    /// The state between lane ticks (`NAME::LaneTick<L>`).
+    type Tick: Clone + Send + Sync;
+    /// Instance `i` is `f(i)`.
+    fn from_fn(f: impl FnMut(usize) -> Self::Scene) -> Self;
+    /// Sets instance `i` (`BadLength` for `i ≥ W`).
+    fn set(&mut self, i: usize, s: Self::Scene) -> Result<(), SolveError>;
+    /// The first tick of every instance from its lane of `guess`.
+    fn tick_start(
+        &self,
+        input: &InputMotion<Self::X>,
+        guess: &Self::Q,
+        options: &SolveOptions<L::Scalar>,
+    ) -> Self::Tick;
+    /// One tick of every instance to its lane of `input`.
+    fn tick(
+        &self,
+        t: &mut Self::Tick,
+        input: &InputMotion<Self::X>,
+        options: &SolveOptions<L::Scalar>,
+    );
+    /// The output columns of every lane (a lane that never started holds zeros).
+    fn outputs(t: &Self::Tick) -> Self::Out;
+    /// Instance `i`: the status of its last tick and its state as the scalar tick (`None` for
+    /// `i ≥ W`).
+    fn lane(t: &Self::Tick, i: usize) -> Option<LaneSceneOf<L, Self>>;
+}
+
+/// What [`LaneScene::lane`] gives for one lane: its status and scalar tick state.
+pub type LaneSceneOf<L, S> = (
+    Result<(), SolveError>,
+    <<S as LaneScene<L>>::Scene as Scene<<L as Lanes>::Scalar>>::Tick,
+);
 
 /// Generic code over every compiled-in scene, statically typed (`visit_scenes`).
 pub trait SceneVisitor<T: Real> {

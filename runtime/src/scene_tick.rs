@@ -19,9 +19,16 @@ use crate::tick::{Tick, TickCache};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneTick<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> {
     state: Tick<T, NI, NU, NP, NPAR>,
-    /// The time step of the last tick, and whether the stored estimates hold a secant the next
-    /// parabola can rest on (1) or not (0: after `tick_start`, a params change, a dropped
-    /// estimate): see [`scene_rates_estimated`].
+    memo: SceneMemo<T>,
+}
+
+/// What a scene's tick state holds besides its mechanism's [`Tick`]: the time step of the last
+/// tick, and whether the stored rate estimates hold a secant the next parabola can rest on (1)
+/// or not (0: after `tick_start`, a params change, a dropped estimate): see
+/// [`scene_rates_estimated`]. A scene in lanes keeps one per lane
+/// ([`crate::LaneTick`]'s memo).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SceneMemo<T> {
     last_step: T,
     history: u8,
 }
@@ -52,9 +59,30 @@ pub fn scene_tick<T: Real, const NI: usize, const NU: usize, const NP: usize, co
 ) -> SceneTick<T, NI, NU, NP, NPAR> {
     SceneTick {
         state,
-        last_step: T::zero(),
-        history: 0,
+        memo: SceneMemo {
+            last_step: T::zero(),
+            history: 0,
+        },
     }
+}
+
+/// A scene's tick state from its parts ([`scene_tick_parts`]), as a scene in lanes keeps them.
+#[doc(hidden)]
+#[inline]
+pub fn scene_tick_join<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>(
+    state: Tick<T, NI, NU, NP, NPAR>,
+    memo: SceneMemo<T>,
+) -> SceneTick<T, NI, NU, NP, NPAR> {
+    SceneTick { state, memo }
+}
+
+/// The parts of a scene's tick state: its mechanism's tick and the rest.
+#[doc(hidden)]
+#[inline]
+pub fn scene_tick_parts<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>(
+    t: SceneTick<T, NI, NU, NP, NPAR>,
+) -> (Tick<T, NI, NU, NP, NPAR>, SceneMemo<T>) {
+    (t.state, t.memo)
 }
 
 /// The rates a scene of order below 2 does not compute, estimated by differences for the
@@ -91,7 +119,7 @@ pub fn scene_rates_estimated<
     let old = &t.state;
     let h = old.step_to(x, xd);
     if !same_params {
-        t.history = 0;
+        t.memo.history = 0;
         return (
             if order == 0 { [T::zero(); NU] } else { qd },
             [T::zero(); NU],
@@ -102,10 +130,10 @@ pub fn scene_rates_estimated<
         return (qd, old.qdd);
     }
     let same_rates = (0..NI).all(|i| xd[i] == old.xd[i]);
-    let h0 = t.last_step;
+    let h0 = t.memo.last_step;
     // The parabola is well posed when the two steps are not nearly opposite.
     let parabola = order == 0
-        && t.history >= 1
+        && t.memo.history >= 1
         && same_rates
         && (h0 + h).abs() >= T::lit(0.5) * h0.abs().max(h.abs());
     let half = T::lit(0.5);
@@ -136,9 +164,9 @@ pub fn scene_rates_estimated<
             qd_out[k] = if order == 0 { T::zero() } else { qd[k] };
         }
     }
-    t.last_step = h;
+    t.memo.last_step = h;
     // What the next tick's parabola rests on: a secant (and its parabola) were stored.
-    t.history = if dropped { 0 } else { 1 };
+    t.memo.history = if dropped { 0 } else { 1 };
     (qd_out, qdd_out)
 }
 
@@ -258,7 +286,7 @@ mod tests {
         tick(&mut s, 0.1, 0);
         let (v, a) =
             scene_rates_estimated(&mut s, &[0.2], &[1.0], &[q(0.2)], [0.0], 0, [true], false);
-        assert_eq!((v, a, s.history), ([0.0], [0.0], 0));
+        assert_eq!((v, a, s.memo.history), ([0.0], [0.0], 0));
         // Steps out and nearly back (h₀ + h ≈ 0): the secant alone.
         let mut s = start(0.0, 0.0);
         tick(&mut s, 0.8, 0);

@@ -6,7 +6,8 @@
 
 use mechgen::lanes::{F64x2, F64x4, Lanes};
 use mechgen::{
-    Array, InputMotion, Kind, LaneMechanism, SolveOptions, StaticMechanism, StaticVisitor,
+    Array, InputMotion, Kind, LaneMechanism, LaneScene, MechanismInfo, Scene, SceneVisitor,
+    SolveOptions, StaticMechanism, StaticVisitor,
 };
 use proptest::test_runner::{Config, TestCaseError, TestRunner};
 
@@ -22,17 +23,30 @@ pub struct Seen {
 /// Instance `i`'s params: the file's values scaled (lengths) or shifted (angles) by up to
 /// `spread`, from `u` in [−1, 1].
 fn params_of<M: StaticMechanism<f64>>(m: &M, u: &[f64], spread: f64) -> M {
-    let info = m.info();
-    let p: Vec<f64> = info
-        .params
+    M::with_params(&param_values(&m.info().into(), u, spread)).expect("one value per param")
+}
+
+fn param_values(info: &MechanismInfo, u: &[f64], spread: f64) -> Vec<f64> {
+    info.params
         .iter()
         .zip(u)
         .map(|(p, u)| match p.kind {
-            Kind::Length => p.default * (1.0 + spread * u),
-            _ => p.default + spread * u,
+            Kind::Length => p.value * (1.0 + spread * u),
+            _ => p.value + spread * u,
         })
-        .collect();
-    M::with_params(&p).expect("one value per param")
+        .collect()
+}
+
+/// The spread of lane `i`'s params among `w`: none for lane 0, 40 % for the last (it meets dead
+/// points), 5 % for the others.
+fn spread(i: usize, w: usize) -> f64 {
+    if i == 0 {
+        0.0
+    } else if i == w - 1 {
+        0.4
+    } else {
+        0.05
+    }
 }
 
 /// One case: W instances of `m` (lane 0 at the file's params, the others perturbed, the last by
@@ -49,16 +63,7 @@ fn case<M: StaticMechanism<f64>, L: Lanes<Scalar = f64>>(
     let w = L::W;
     let npar = info.params.len();
     let mechs: Vec<M> = (0..w)
-        .map(|i| {
-            let spread = if i == 0 {
-                0.0
-            } else if i == w - 1 {
-                0.4
-            } else {
-                0.05
-            };
-            params_of(m, &u[i * npar..(i + 1) * npar], spread)
-        })
+        .map(|i| params_of(m, &u[i * npar..(i + 1) * npar], spread(i, w)))
         .collect();
     let lanes = M::Lanes::<L>::from_fn(|i| mechs[i].clone());
     let opts = SolveOptions::default();
@@ -208,5 +213,174 @@ pub fn check_lanes(cases: u32, ticks: usize) -> (Vec<String>, Seen) {
         seen: Seen::default(),
     };
     mechgen::visit_all(&mut v);
+    (v.fails, v.seen)
+}
+
+/// One case of a scene, as [`case`] for a mechanism: W instances (lane 0 at the file's params,
+/// the last 40 % off), each input stepped at its own rate, closed forms off in one tick of ten
+/// (every lane then ticks in scalar, its Newton predictor on the lane's own rate history); every
+/// lane's status, state and outputs are its scalar scene tick's.
+fn scene_case<S: Scene<f64>, L: Lanes<Scalar = f64>>(
+    info: &MechanismInfo,
+    u: &[f64],
+    steps: &[f64],
+    ticks: usize,
+    seen: &mut Seen,
+) -> Result<(), String> {
+    let w = L::W;
+    let npar = info.params.len();
+    let scenes: Vec<S> = (0..w)
+        .map(|i| {
+            let p = param_values(info, &u[i * npar..(i + 1) * npar], spread(i, w));
+            S::with_params(&p).expect("one value per param")
+        })
+        .collect();
+    let lanes = S::Lanes::<L>::from_fn(|i| {
+        let p = param_values(info, &u[i * npar..(i + 1) * npar], spread(i, w));
+        S::with_params(&p).expect("one value per param")
+    });
+    let (ni, nu) = (info.inputs.len(), info.unknowns.len());
+    let step: Vec<f64> = (0..w)
+        .map(|i| match info.inputs[0].kind {
+            Kind::Angle => steps[i].to_radians(),
+            _ => steps[i] * 0.01 * info.inputs[0].start.abs().max(1e-3),
+        })
+        .collect();
+    type LX<S, L> = <<S as Scene<f64>>::Lanes<L> as LaneScene<L>>::X;
+    let mut x = LX::<S, L>::default();
+    let mut xd = x;
+    let mut guess = <S::Lanes<L> as LaneScene<L>>::Q::default();
+    for k in 0..ni {
+        x.as_mut()[k] = L::splat(info.inputs[k].start);
+    }
+    xd.as_mut()[0] = L::from_fn(|i| step[i]);
+    for k in 0..nu {
+        guess.as_mut()[k] = L::splat(info.unknowns[k].start);
+    }
+    let lane_input = |x: &LX<S, L>, i: usize| {
+        let (mut xs, mut xds) = (S::X::zeros(), S::X::zeros());
+        for k in 0..ni {
+            xs.as_mut()[k] = x.as_ref()[k].lane(i);
+            xds.as_mut()[k] = xd.as_ref()[k].lane(i);
+        }
+        InputMotion::new(xs, xds, S::X::zeros())
+    };
+    let mut guess1 = S::Q::zeros();
+    for k in 0..nu {
+        guess1.as_mut()[k] = info.unknowns[k].start;
+    }
+    let options = |tick: usize| SolveOptions {
+        closed_forms: tick % 10 != 9,
+        ..SolveOptions::default()
+    };
+    let input = InputMotion::new(x, xd, Default::default());
+    let mut t = lanes.tick_start(&input, &guess, &options(0));
+    let mut scalar: Vec<Result<S::Tick, mechgen::SolveError>> = (0..w)
+        .map(|i| scenes[i].tick_start(&lane_input(&x, i), &guess1, &options(0)))
+        .collect();
+    let mut status: Vec<_> = scalar
+        .iter()
+        .map(|s| s.as_ref().map(|_| ()).map_err(|e| *e))
+        .collect();
+    for tick in 0..=ticks {
+        let opts = options(tick);
+        if tick > 0 {
+            let a = x.as_mut();
+            a[0] = a[0] + L::from_fn(|i| step[i]);
+            lanes.tick(&mut t, &InputMotion::new(x, xd, Default::default()), &opts);
+            for i in 0..w {
+                let input = lane_input(&x, i);
+                status[i] = match &mut scalar[i] {
+                    Ok(s) => scenes[i].tick(s, &input, &opts),
+                    Err(_) => scenes[i].tick_start(&input, &guess1, &opts).map(|s| {
+                        scalar[i] = Ok(s);
+                    }),
+                };
+            }
+        }
+        let any_failed = status.iter().any(|s| s.is_err());
+        let outputs = <S::Lanes<L> as LaneScene<L>>::outputs(&t);
+        for i in 0..w {
+            let (lane_status, lane) = <S::Lanes<L> as LaneScene<L>>::lane(&t, i).expect("i < W");
+            let at = format!("{} lane {i}/{w} tick {tick}", scenes[0].info().name);
+            seen.compared += 1;
+            if lane_status != status[i] {
+                return Err(format!(
+                    "{at}: lanes {lane_status:?}, scalar {:?}",
+                    status[i]
+                ));
+            }
+            if lane_status.is_err() {
+                seen.failed += 1;
+            } else if any_failed {
+                seen.ok_beside_failed += 1;
+            }
+            // A failed lane too holds what its scalar tick state holds (if it ever started).
+            let Ok(s) = &scalar[i] else { continue };
+            if lane != *s {
+                return Err(format!("{at}: lanes {lane:?}\nscalar {s:?}"));
+            }
+            if lane_status.is_err() {
+                continue;
+            }
+            let out = scenes[i].outputs(s);
+            let lane_out: Vec<f64> = outputs.as_ref().iter().map(|v| v.lane(i)).collect();
+            if lane_out[..] != *out.as_ref() {
+                return Err(format!(
+                    "{at}: outputs {lane_out:?}, scalar {:?}",
+                    out.as_ref()
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Every compiled-in scene in `F64x4` and `F64x2` lanes over `cases` random cases of `ticks`
+/// ticks each (as [`check_lanes`]): the failures and what was seen.
+pub fn check_scene_lanes(cases: u32, ticks: usize) -> (Vec<String>, Seen) {
+    struct Visit {
+        cases: u32,
+        ticks: usize,
+        fails: Vec<String>,
+        seen: Seen,
+    }
+    impl SceneVisitor<f64> for Visit {
+        fn visit<S: Scene<f64> + 'static>(&mut self, scene: &S) {
+            let name = scene.info().mechanism;
+            let info = mechgen::lookup::<f64>(name).expect("its mechanism").info();
+            let npar = info.params.len();
+            let mut runner = TestRunner::new(Config {
+                cases: self.cases,
+                failure_persistence: None,
+                ..Config::default()
+            });
+            let strategy = (
+                proptest::collection::vec(-1.0f64..1.0, 4 * npar),
+                proptest::collection::vec(0.3f64..4.0, 4),
+            );
+            let seen = std::cell::RefCell::new(std::mem::take(&mut self.seen));
+            let ticks = self.ticks;
+            let r = runner.run(&strategy, |(u, steps)| {
+                let seen = &mut *seen.borrow_mut();
+                scene_case::<S, F64x4>(&info, &u, &steps, ticks, seen)
+                    .map_err(TestCaseError::fail)?;
+                scene_case::<S, F64x2>(&info, &u, &steps, ticks, seen)
+                    .map_err(TestCaseError::fail)?;
+                Ok(())
+            });
+            self.seen = seen.into_inner();
+            if let Err(e) = r {
+                self.fails.push(format!("{}: {e}", scene.info().name));
+            }
+        }
+    }
+    let mut v = Visit {
+        cases,
+        ticks,
+        fails: Vec::new(),
+        seen: Seen::default(),
+    };
+    mechgen::visit_scenes(&mut v);
     (v.fails, v.seen)
 }

@@ -11,6 +11,7 @@ mod body;
 mod cache;
 mod closed;
 mod comments;
+mod lane_items;
 mod lanes;
 mod module;
 mod motion;

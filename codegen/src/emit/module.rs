@@ -150,7 +150,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     let system_fns = crate::emit::system::system_fns(c, &args);
     let solvers = crate::emit::solve::solvers(c, &args);
     let sensitivity_fns = crate::emit::sensitivity::sensitivity_fns(c, &args);
-    let lanes = crate::emit::lanes::lanes(c, &args);
+    let lanes = crate::emit::lane_items::mechanism(c, &args);
     let (lt, lanes_ty) = (&it.lane_scalar, &it.lanes);
     let nblocks = c.blocks.len();
 

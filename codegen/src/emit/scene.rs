@@ -282,6 +282,8 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
     let ncols = cols.len();
     let col_names: Vec<&str> = cols.iter().map(|c| c.name.as_str()).collect();
     let reads = cols.iter().map(|c| &c.read);
+    let lanes = crate::emit::lane_items::scene(c, plan, rt, ncols);
+    let (lanes_ty, lt) = (&it.lanes, &it.lane_scalar);
     let mut fields: Names<usize> = Names::new(["_scalar"]);
     let field_ids: Vec<Ident> = cols
         .iter()
@@ -351,6 +353,15 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
                 pub fn to_array(&self) -> [#gt; #ncols] { [#(self.#field_ids),*] }
             }
 
+            /// The output columns read from a solved state, of one instance or of W in lanes.
+            #[inline]
+            fn columns_of<V: ::core::marker::Copy>(q: &[V; #nu], qd: &[V; #nu], qdd: &[V; #nu], points: &[#rt::PointMotion<V>; #np])
+                -> #outputs_ty<V> {
+                #outputs_ty::from_array([#(#reads),*])
+            }
+
+            #lanes
+
             /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
             /// their rates up to the scene's order, the scene's points, and the caches.
             pub type #tick_ty<#gt> = #rt::SceneTick<#gt, #ni, #nu, #np, #npar>;
@@ -373,7 +384,7 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
 
                 #[inline]
                 fn outputs_of(q: &[#gt; #nu], qd: &[#gt; #nu], qdd: &[#gt; #nu], points: &[#rt::PointMotion<#gt>; #np]) -> #outputs_ty<#gt> {
-                    #outputs_ty::from_array([#(#reads),*])
+                    columns_of(q, qd, qdd, points)
                 }
 
                 /// Positions of the kept blocks from `guess`, their rates up to the order, the
@@ -425,7 +436,11 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
                 type Q = [#gt; #nu];
                 type Out = [#gt; #ncols];
                 type Tick = #tick_ty<#gt>;
+                type Lanes<#lt: #rt::Lanes<Scalar = #gt>> = #lanes_ty<#lt>;
                 fn info(&self) -> &'static #rt::SceneInfo { &INFO }
+                fn with_params(params: &[#gt]) -> ::core::option::Option<Self> {
+                    <[#gt; #npar]>::try_from(params).ok().map(|a| #ty::new(#params_ty::from_array(a)))
+                }
                 fn solve(&self, input: &#rt::InputMotion<Self::X>, guess: &Self::Q, options: &#rt::SolveOptions<#gt>)
                     -> ::core::result::Result<#rt::SceneStateOf<Self, #gt>, #rt::SolveError> {
                     let mut q = *guess;

@@ -1644,10 +1644,8 @@ pub mod slider {
     }
     /// The state of W instances between lane ticks (see `Lanes::tick_start`).
     pub type LaneTick<L> = ::mechgen::__private::LaneTick<L, 1, 2, 1, 2>;
-    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64
-    /// instances, `F32x8` for eight f32 ones), each with its own params, inputs and state:
-    /// lane `i` of every value is instance `i`, and every lane's result (or error) is the
-    /// scalar tick's, to the last bit.
+    /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64 instances, `F32x8` for eight f32 ones), each with its own params, inputs and state: lane `i` of every value is instance `i`, and every lane's result (or error) is the scalar tick's, to the last bit.
+    ///
     /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
     #[derive(Clone, Copy, Debug)]
     pub struct Lanes<L: ::mechgen::__private::Lanes> {
@@ -1708,6 +1706,7 @@ pub mod slider {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
+                    _: &mut (),
                     started: bool,
                     [x,
                     xd,
@@ -1737,7 +1736,7 @@ pub mod slider {
         ) {
             ::mechgen::__private::lanes::tick(
                 t,
-                (&self.params, self.params_id),
+                (&self.params, self.params_id, [true, true]),
                 [&input.x, &input.xd, &input.xdd],
                 [true],
                 options
@@ -1753,6 +1752,7 @@ pub mod slider {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
+                    _: &mut (),
                     started: bool,
                     [x,
                     xd,
@@ -1797,6 +1797,7 @@ pub mod slider {
                 (::core::option::Option::None, p_l2),
                 tolerance,
                 ok,
+                true,
             );
             let (_, c_v_q1) = tx[0];
             let t1 = p_l1 * c_v_q1;

@@ -202,6 +202,253 @@ pub mod rod {
             [self.q2]
         }
     }
+    /// The output columns read from a solved state, of one instance or of W in lanes.
+    #[inline]
+    fn columns_of<V: ::core::marker::Copy>(
+        q: &[V; 2],
+        _qd: &[V; 2],
+        _qdd: &[V; 2],
+        _points: &[::mechgen::__private::PointMotion<V>; 0],
+    ) -> Outputs<V> {
+        Outputs::from_array([q[0]])
+    }
+    /// The state of W instances between lane ticks (see `Lanes::tick_start`).
+    pub type LaneTick<L> = ::mechgen::__private::LaneTick<
+        L,
+        1,
+        2,
+        0,
+        2,
+        ::mechgen::__private::SceneMemo<<L as ::mechgen::__private::Lanes>::Scalar>,
+    >;
+    /// W instances of the scene in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64 instances, `F32x8` for eight f32 ones), each with its own params, inputs and state: lane `i` of every value is instance `i`, and every lane's result (or error) is the scalar tick's, to the last bit.
+    ///
+    /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
+    #[derive(Clone, Copy, Debug)]
+    pub struct Lanes<L: ::mechgen::__private::Lanes> {
+        scenes: L::Array<Rod<L::Scalar>>,
+        params: [L; 2],
+        /// Changes with the params (`mechgen::lanes::fresh_params_id`).
+        params_id: usize,
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// Instance `i` is `f(i)`.
+        pub fn from_fn(f: impl FnMut(usize) -> Rod<L::Scalar>) -> Self {
+            let scenes = L::array(f);
+            let params = ::core::array::from_fn(|k| L::from_fn(|i| {
+                scenes.as_ref()[i].params.to_array()[k]
+            }));
+            Lanes {
+                scenes,
+                params,
+                params_id: ::mechgen::__private::lanes::fresh_params_id(),
+            }
+        }
+        /// Instance `i` (`None` for `i ≥ W`).
+        pub fn scene(&self, i: usize) -> ::core::option::Option<&Rod<L::Scalar>> {
+            self.scenes.as_ref().get(i)
+        }
+        /// Sets instance `i` (`BadLength` for `i ≥ W`); its next tick starts its caches afresh.
+        pub fn set(
+            &mut self,
+            i: usize,
+            m: Rod<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let ::core::option::Option::Some(slot) = self.scenes.as_mut().get_mut(i)
+            else {
+                return ::core::result::Result::Err(::mechgen::__private::SolveError::BadLength {
+                    expected: L::W,
+                    got: i,
+                });
+            };
+            *slot = m;
+            for (k, v) in m.params.to_array().into_iter().enumerate() {
+                self.params[k].set_lane(i, v);
+            }
+            self.params_id = ::mechgen::__private::lanes::fresh_params_id();
+            ::core::result::Result::Ok(())
+        }
+        /// The first tick of every instance, each solved from its lane of `guess` by the
+        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
+        /// again at the next tick.
+        pub fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            guess: &[L; 2],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> LaneTick<L> {
+            ::mechgen::__private::lanes::tick_start(
+                [&input.x, &input.xd, &input.xdd],
+                guess,
+                |
+                    i: usize,
+                    t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 0, 2>,
+                    memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = self.scenes.as_ref()[i].mechanism();
+                    let (s, r) = if started {
+                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
+                        let r = m.scene_rod_tick(&mut s, x, xd, xdd, options);
+                        (s, r)
+                    } else {
+                        (
+                            m.scene_rod_tick_start(x, xd, xdd, &t.q, options)?,
+                            ::core::result::Result::Ok(()),
+                        )
+                    };
+                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
+                    r
+                },
+            )
+        }
+        /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
+        /// that fails reports its error in `status` and keeps its last state; no lane changes
+        /// another. No allocation.
+        #[inline]
+        pub fn tick(
+            &self,
+            t: &mut LaneTick<L>,
+            input: &::mechgen::__private::InputMotion<[L; 1]>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            ::mechgen::__private::lanes::tick(
+                t,
+                (&self.params, self.params_id, [true, true]),
+                [&input.x, &input.xd, &input.xdd],
+                [true],
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        pivot: &mut L,
+                        ok: &mut L::Mask|
+                    {
+                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
+                    }),
+                |
+                    i: usize,
+                    t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 0, 2>,
+                    memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
+                    started: bool,
+                    [x,
+                    xd,
+                    xdd,
+                    ]: [&[L::Scalar; 1]; 3]|
+                {
+                    let m = self.scenes.as_ref()[i].mechanism();
+                    let (s, r) = if started {
+                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
+                        let r = m.scene_rod_tick(&mut s, x, xd, xdd, options);
+                        (s, r)
+                    } else {
+                        (
+                            m.scene_rod_tick_start(x, xd, xdd, &t.q, options)?,
+                            ::core::result::Result::Ok(()),
+                        )
+                    };
+                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
+                    r
+                },
+            )
+        }
+        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
+        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
+        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
+        /// non-finite value) are cleared in `ok`.
+        #[inline(always)]
+        fn motion_lanes(
+            &self,
+            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
+            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+            tolerance: L::Scalar,
+            pivot: &mut L,
+            ok: &mut L::Mask,
+        ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 0> {
+            let ::mechgen::__private::lanes::LaneFixed { tx, .. } = fixed;
+            let qd = [L::zero(); 2];
+            let qdd = [L::zero(); 2];
+            let p_l1 = self.params[0];
+            let p_l2 = self.params[1];
+            let (s_v_q1, _) = tx[0];
+            let t0 = p_l1 * s_v_q1;
+            ::mechgen::__private::lanes::solve_angle1(
+                st,
+                0,
+                t0,
+                (::core::option::Option::None, p_l2),
+                tolerance,
+                ok,
+                true,
+            );
+            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            (qd, qdd, [])
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// The outputs of every lane (lane `i` of each field is instance `i`'s; a lane that
+        /// never started holds zeros).
+        pub fn outputs(t: &LaneTick<L>) -> Outputs<L> {
+            columns_of(&t.q, &t.qd, &t.qdd, &t.points)
+        }
+    }
+    impl<L: ::mechgen::__private::Lanes> ::mechgen::__private::LaneScene<L>
+    for Lanes<L> {
+        type Scene = Rod<L::Scalar>;
+        type X = [L; 1];
+        type Q = [L; 2];
+        type Out = [L; 1];
+        type Tick = LaneTick<L>;
+        fn from_fn(f: impl FnMut(usize) -> Self::Scene) -> Self {
+            Lanes::from_fn(f)
+        }
+        fn set(
+            &mut self,
+            i: usize,
+            s: Self::Scene,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            Lanes::set(self, i, s)
+        }
+        fn tick_start(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            guess: &Self::Q,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> Self::Tick {
+            Lanes::tick_start(self, input, guess, options)
+        }
+        #[inline]
+        fn tick(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) {
+            Lanes::tick(self, t, input, options)
+        }
+        fn outputs(t: &Self::Tick) -> Self::Out {
+            Lanes::outputs(t).to_array()
+        }
+        fn lane(
+            t: &Self::Tick,
+            i: usize,
+        ) -> ::core::option::Option<
+            (
+                ::core::result::Result<(), ::mechgen::__private::SolveError>,
+                ::mechgen::__private::SceneTick<L::Scalar, 1, 2, 0, 2>,
+            ),
+        > {
+            ::core::option::Option::Some((
+                t.status(i),
+                ::mechgen::__private::scene_tick_join(t.lane(i)?, t.memo(i)?),
+            ))
+        }
+    }
     /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
     /// their rates up to the scene's order, the scene's points, and the caches.
     pub type Tick<T> = ::mechgen::__private::SceneTick<T, 1, 2, 0, 2>;
@@ -232,11 +479,11 @@ pub mod rod {
         #[inline]
         fn outputs_of(
             q: &[T; 2],
-            _qd: &[T; 2],
-            _qdd: &[T; 2],
-            _points: &[::mechgen::__private::PointMotion<T>; 0],
+            qd: &[T; 2],
+            qdd: &[T; 2],
+            points: &[::mechgen::__private::PointMotion<T>; 0],
         ) -> Outputs<T> {
-            Outputs::from_array([q[0]])
+            columns_of(q, qd, qdd, points)
         }
         /// Positions of the kept blocks from `guess`, their rates up to the order, the
         /// outputs; the returned unknowns hold the kept blocks' solution.
@@ -322,8 +569,12 @@ pub mod rod {
         type Q = [T; 2];
         type Out = [T; 1];
         type Tick = Tick<T>;
+        type Lanes<L: ::mechgen::__private::Lanes<Scalar = T>> = Lanes<L>;
         fn info(&self) -> &'static ::mechgen::__private::SceneInfo {
             &INFO
+        }
+        fn with_params(params: &[T]) -> ::core::option::Option<Self> {
+            <[T; 2]>::try_from(params).ok().map(|a| Rod::new(Params::from_array(a)))
         }
         fn solve(
             &self,

@@ -3,36 +3,13 @@
 //! slide), repeating the scalar operations in order; lanes that leave the scalar's common path are
 //! cleared in `ok`.
 
+use super::kernels::near;
 use super::{LaneTrig, Lanes};
 use crate::scalar::Real;
 
-/// The turn from the direction `(cg, sg)` to `(c, s)` by the scalar's series (`dyad::turn`), and
-/// the angle `q` plus it, as `dyad::near` gives them; lanes whose turn is too large for the
-/// series, or whose angle cannot hold the answer to `tolerance`, are cleared in `ok`.
-#[inline(always)]
-fn near<L: Lanes>(
-    q: L,
-    (cg, sg): (L, L),
-    (c, s): (L, L),
-    tolerance: L::Scalar,
-    ok: &mut L::Mask,
-) -> L {
-    let sin = cg * s - sg * c;
-    let cos = cg * c + sg * s;
-    let t = sin / (L::one() + cos);
-    *ok = *ok & cos.gt(L::lit(0.99)) & t.abs().lt(L::lit(0.06));
-    let t2 = t * t;
-    let mut acc = L::lit(1.0 / 13.0);
-    for k in [11.0, 9.0, 7.0, 5.0, 3.0, 1.0] {
-        acc = L::lit(1.0 / k) - t2 * acc;
-    }
-    let q_new = q + L::lit(2.0) * t * acc;
-    *ok = *ok & (L::splat(L::Scalar::EPSILON) * q_new.abs()).le(L::splat(tolerance));
-    q_new
-}
-
 /// `closed_form::solve_angle1` in every lane: `K + P cos q + Q sin q = 0` for angle `q`, with
-/// `w = (P, Q)` (`P` as `None` where generated code has the literal zero), on the guess's side.
+/// `w = (P, Q)` (`P` as `None` where generated code has the literal zero), on the guess's side;
+/// with `value` false only the sine and cosine are solved (the angle keeps its value).
 #[inline(always)]
 pub fn solve_angle1<L: Lanes, const N: usize>(
     st: &mut LaneTrig<L, N>,
@@ -41,6 +18,7 @@ pub fn solve_angle1<L: Lanes, const N: usize>(
     (p, qq): (Option<L>, L),
     tolerance: L::Scalar,
     ok: &mut L::Mask,
+    value: bool,
 ) {
     let zero = L::zero();
     *ok = *ok & st.q[q].is_finite() & k.is_finite() & qq.is_finite();
@@ -77,7 +55,9 @@ pub fn solve_angle1<L: Lanes, const N: usize>(
         }
     };
     *ok = *ok & e.0.is_finite() & e.1.is_finite();
-    st.q[q] = near(st.q[q], (cg, sg), e, tolerance, ok);
+    if value {
+        st.q[q] = near(st.q[q], (cg, sg), e, tolerance, ok);
+    }
     st.sc[q] = (e.1, e.0);
 }
 
@@ -98,7 +78,8 @@ pub fn solve_length1<L: Lanes, const N: usize>(
 
 /// `closed_form::solve_rpr` in every lane: `K + (M + s N) e(q) = 0` for the angle `q` and the
 /// length `s` (`m`, `n` the `(p, r)` of `M`, `N`), on the guess's side; `pivot` gets each lane's
-/// condition estimate.
+/// condition estimate; with `value` false the angle keeps its value (its sine and cosine are
+/// solved).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn solve_rpr<L: Lanes, const N: usize>(
@@ -110,6 +91,7 @@ pub fn solve_rpr<L: Lanes, const N: usize>(
     tolerance: L::Scalar,
     pivot: &mut L,
     ok: &mut L::Mask,
+    value: bool,
 ) {
     let zero = L::zero();
     for v in [st.q[q], k[0], k[1], m.0, m.1, n.0, n.1] {
@@ -136,7 +118,9 @@ pub fn solve_rpr<L: Lanes, const N: usize>(
     let e = ((g.0 * x + g.1 * b) * inv_g2, (g.1 * x - g.0 * b) * inv_g2);
     let len = x - a;
     *ok = *ok & e.0.is_finite() & e.1.is_finite() & len.is_finite();
-    st.q[q] = near(st.q[q], (cg, sg), e, tolerance, ok);
+    if value {
+        st.q[q] = near(st.q[q], (cg, sg), e, tolerance, ok);
+    }
     st.sc[q] = (e.1, e.0);
     st.q[s] = len;
     let ratio = t / r;

@@ -33,6 +33,24 @@ pub fn solve_dyad<L: Lanes, const N: usize>(
     pivot: &mut L,
     ok: &mut L::Mask,
 ) {
+    solve_dyad_angles(st, (a, b), k, (ma, mb), tolerance, pivot, ok, [true; 2]);
+}
+
+/// [`solve_dyad`] computing only the angles with `values[i]` (`a`, then `b`), as
+/// [`crate::dyad::solve_dyad_angles`] does for a scene's tick: an angle nobody reads keeps its
+/// value, only its sine and cosine are solved (generated code passes constants).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn solve_dyad_angles<L: Lanes, const N: usize>(
+    st: &mut LaneTrig<L, N>,
+    (a, b): (usize, usize),
+    k: [L; 2],
+    (ma, mb): ((L, Option<L>), (L, Option<L>)),
+    tolerance: L::Scalar,
+    pivot: &mut L,
+    ok: &mut L::Mask,
+    values: [bool; 2],
+) {
     let (ga, gb) = (st.sc[a], st.sc[b]);
     let (ea, eb) = ((ga.1, ga.0), (gb.1, gb.0));
     // The scalar takes its plain-scaling path where r is zero at run time: leave such lanes to it.
@@ -82,7 +100,41 @@ pub fn solve_dyad<L: Lanes, const N: usize>(
     };
     let (ca, sa) = unapply(ma, big_a);
     let (cb, sb) = unapply(mb, big_b);
-    // The turns from the guess by the series of `near_pair` (both small), else the scalar's.
+    // The turns from the guess by the series of `near_pair` (both small) or `near` (one
+    // angle), else the scalar's; an angle not computed stays as it was.
+    let (qa, qb) = match values {
+        [true, true] => near_pair(
+            st.q[a],
+            st.q[b],
+            (ea, eb),
+            ((ca, sa), (cb, sb)),
+            tolerance,
+            ok,
+        ),
+        [true, false] => (near(st.q[a], ea, (ca, sa), tolerance, ok), st.q[b]),
+        [false, true] => (st.q[a], near(st.q[b], eb, (cb, sb), tolerance, ok)),
+        [false, false] => (st.q[a], st.q[b]),
+    };
+    *ok = *ok & (qa + qb + ca + sb).is_finite();
+    st.q[a] = qa;
+    st.q[b] = qb;
+    st.sc[a] = (sa, ca);
+    st.sc[b] = (sb, cb);
+    let ratio = (big_a.0 * big_b.1 - big_a.1 * big_b.0).abs() / (la * lb);
+    *pivot = L::select(ratio.lt(*pivot), ratio, *pivot);
+}
+
+/// Both angles of a dyad turned from their guesses (directions `ea`, `eb`) to `na`, `nb` by
+/// the series of the scalar's `near_pair`; lanes where it would take another path are cleared.
+#[inline(always)]
+fn near_pair<L: Lanes>(
+    qa: L,
+    qb: L,
+    (ea, eb): ((L, L), (L, L)),
+    ((ca, sa), (cb, sb)): ((L, L), (L, L)),
+    tolerance: L::Scalar,
+    ok: &mut L::Mask,
+) -> (L, L) {
     let (sin_a, sin_b) = (ea.0 * sa - ea.1 * ca, eb.0 * sb - eb.1 * cb);
     let (cos_a, cos_b) = (ea.0 * ca + ea.1 * sa, eb.0 * cb + eb.1 * sb);
     let (ta, tb) = (sin_a / (L::one() + cos_a), sin_b / (L::one() + cos_b));
@@ -95,16 +147,35 @@ pub fn solve_dyad<L: Lanes, const N: usize>(
         acc_b = L::lit(1.0 / k) - t2b * acc_b;
     }
     let two = L::lit(2.0);
-    let (qa, qb) = (st.q[a] + two * ta * acc_a, st.q[b] + two * tb * acc_b);
+    let (qa, qb) = (qa + two * ta * acc_a, qb + two * tb * acc_b);
     let held = (L::splat(L::Scalar::EPSILON) * (qa.abs() + qb.abs())).le(L::splat(tolerance));
     *ok = *ok & (small & held);
-    *ok = *ok & (qa + qb + ca + sb).is_finite();
-    st.q[a] = qa;
-    st.q[b] = qb;
-    st.sc[a] = (sa, ca);
-    st.sc[b] = (sb, cb);
-    let ratio = (big_a.0 * big_b.1 - big_a.1 * big_b.0).abs() / (la * lb);
-    *pivot = L::select(ratio.lt(*pivot), ratio, *pivot);
+    (qa, qb)
+}
+
+/// The angle `q` (direction `(cg, sg)`) turned to `(c, s)` by the scalar's series
+/// (`dyad::near` through `dyad::turn`); lanes whose turn is too large for the series, or whose
+/// angle cannot hold the answer to `tolerance`, are cleared in `ok`.
+#[inline(always)]
+pub(super) fn near<L: Lanes>(
+    q: L,
+    (cg, sg): (L, L),
+    (c, s): (L, L),
+    tolerance: L::Scalar,
+    ok: &mut L::Mask,
+) -> L {
+    let sin = cg * s - sg * c;
+    let cos = cg * c + sg * s;
+    let t = sin / (L::one() + cos);
+    *ok = *ok & cos.gt(L::lit(0.99)) & t.abs().lt(L::lit(0.06));
+    let t2 = t * t;
+    let mut acc = L::lit(1.0 / 13.0);
+    for k in [11.0, 9.0, 7.0, 5.0, 3.0, 1.0] {
+        acc = L::lit(1.0 / k) - t2 * acc;
+    }
+    let q_new = q + L::lit(2.0) * t * acc;
+    *ok = *ok & (L::splat(L::Scalar::EPSILON) * q_new.abs()).le(L::splat(tolerance));
+    q_new
 }
 
 /// A block Jacobian of every lane factored for its velocity and acceleration solves (1×1: its

@@ -41,13 +41,21 @@ pub struct LaneState<L: Lanes, const NI: usize, const NU: usize, const NP: usize
 
 /// The state of W instances of a mechanism between ticks: what [`Tick`] is for one, in lanes
 /// (it reads as its [`LaneState`]; [`LaneTick::lane`] gives instance `i` as a scalar [`Tick`]).
-/// Made by a generated `Lanes::tick_start` and moved by `Lanes::tick`.
+/// Made by a generated `Lanes::tick_start` and moved by `Lanes::tick`. `M` is what a scalar
+/// tick state holds besides a [`Tick`] (a scene's rate history, [`crate::SceneMemo`]; `()` for
+/// a mechanism), kept per lane for the ticks that run in scalar.
 // `repr(C)`: what every tick reads and writes first, the caches it reads rarely (the params and
 // their sines and cosines, the statuses) last, so that a fleet's ticks touch few cache lines.
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
-pub struct LaneTick<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>
-{
+pub struct LaneTick<
+    L: Lanes,
+    const NI: usize,
+    const NU: usize,
+    const NP: usize,
+    const NPAR: usize,
+    M: Memo = (),
+> {
     state: LaneState<L, NI, NU, NP>,
     tx: [(L, L); NI],
     tq: [(L, L); NU],
@@ -66,10 +74,11 @@ pub struct LaneTick<L: Lanes, const NI: usize, const NU: usize, const NP: usize,
     status: L::Array<Result<(), SolveError>>,
     tp: [(L, L); NPAR],
     params: [L; NPAR],
+    memo: L::Array<M>,
 }
 
-impl<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize> Deref
-    for LaneTick<L, NI, NU, NP, NPAR>
+impl<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize, M: Memo> Deref
+    for LaneTick<L, NI, NU, NP, NPAR, M>
 {
     type Target = LaneState<L, NI, NU, NP>;
     fn deref(&self) -> &Self::Target {
@@ -90,8 +99,8 @@ pub struct LaneFixed<'a, L, const NI: usize, const NPAR: usize> {
 /// The rates and points of a lane tick's common path: `(q̇, q̈, points)`.
 pub type LaneRates<L, const NU: usize, const NP: usize> = ([L; NU], [L; NU], [PointMotion<L>; NP]);
 
-impl<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>
-    LaneTick<L, NI, NU, NP, NPAR>
+impl<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize, M: Memo>
+    LaneTick<L, NI, NU, NP, NPAR, M>
 {
     /// The status of lane `i`'s last tick: `Ok`, or its error (the lane then keeps the state of
     /// its last successful tick, or its guess when it never started); `BadLength` for `i ≥ W`.
@@ -160,8 +169,22 @@ impl<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: us
         }
     }
 
+    /// What lane `i` holds besides its [`Tick`] (`None` for `i ≥ W`).
+    pub fn memo(&self, i: usize) -> Option<M> {
+        self.memo.as_ref().get(i).copied()
+    }
+
     /// Sets instance `i < W` to the scalar tick `t` (started, status `Ok`).
     fn set_lane(&mut self, i: usize, t: &Tick<L::Scalar, NI, NU, NP, NPAR>) {
+        self.store_lane(i, t);
+        self.status.as_mut()[i] = Ok(());
+        self.failed &= !(1 << i);
+        self.started |= 1 << i;
+    }
+
+    /// Writes the state and caches of the scalar tick `t` into instance `i < W` (its status and
+    /// whether it started are the caller's).
+    fn store_lane(&mut self, i: usize, t: &Tick<L::Scalar, NI, NU, NP, NPAR>) {
         let s = &mut self.state;
         let set = |dst: &mut [L], src: &[L::Scalar]| {
             for (d, v) in dst.iter_mut().zip(src) {
@@ -184,8 +207,6 @@ impl<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: us
         self.residual.set_lane(i, r.residual);
         self.iterations.as_mut()[i] = r.iterations;
         self.scalar_report |= 1 << i;
-        self.status.as_mut()[i] = Ok(());
-        self.failed &= !(1 << i);
         let pairs = |dst: &mut [(L, L)], src: &[(L::Scalar, L::Scalar)]| {
             for (d, v) in dst.iter_mut().zip(src) {
                 d.0.set_lane(i, v.0);
@@ -197,21 +218,32 @@ impl<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: us
         pairs(&mut self.tp, &t.tp);
         set(&mut self.params, &t.params);
         self.age.as_mut()[i] = t.age;
-        self.started |= 1 << i;
     }
 }
 
-/// A scalar tick of lane `i`: `started` says whether `t` holds a solved state (then `tick` it to
-/// the inputs) or only the guess `t.q` (then `tick_start` from it into `t`).
-pub trait ScalarLane<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>:
-    FnMut(usize, &mut Tick<T, NI, NU, NP, NPAR>, bool, [&[T; NI]; 3]) -> Result<(), SolveError>
+/// What a lane keeps besides its [`Tick`] (`()`, or a scene's [`crate::SceneMemo`]).
+pub trait Memo: Copy + core::fmt::Debug + Send + Sync + Default {}
+
+impl<M: Copy + core::fmt::Debug + Send + Sync + Default> Memo for M {}
+
+/// A scalar tick of lane `i`: `started` says whether `t` (with the lane's memo) holds a solved
+/// state (then `tick` it to the inputs) or only the guess `t.q` (then `tick_start` from it into
+/// `t`).
+pub trait ScalarLane<T, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize, M>:
+    FnMut(usize, &mut Tick<T, NI, NU, NP, NPAR>, &mut M, bool, [&[T; NI]; 3]) -> Result<(), SolveError>
 {
 }
 
-impl<T, F, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>
-    ScalarLane<T, NI, NU, NP, NPAR> for F
+impl<T, F, M, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>
+    ScalarLane<T, NI, NU, NP, NPAR, M> for F
 where
-    F: FnMut(usize, &mut Tick<T, NI, NU, NP, NPAR>, bool, [&[T; NI]; 3]) -> Result<(), SolveError>,
+    F: FnMut(
+        usize,
+        &mut Tick<T, NI, NU, NP, NPAR>,
+        &mut M,
+        bool,
+        [&[T; NI]; 3],
+    ) -> Result<(), SolveError>,
 {
 }
 
@@ -229,11 +261,12 @@ pub fn tick_start<
     const NU: usize,
     const NP: usize,
     const NPAR: usize,
+    M: Memo,
 >(
     [x, xd, xdd]: [&[L; NI]; 3],
     guess: &[L; NU],
-    mut scalar: impl ScalarLane<L::Scalar, NI, NU, NP, NPAR>,
-) -> LaneTick<L, NI, NU, NP, NPAR> {
+    mut scalar: impl ScalarLane<L::Scalar, NI, NU, NP, NPAR, M>,
+) -> LaneTick<L, NI, NU, NP, NPAR, M> {
     let zero = L::zero();
     let unit = (zero, L::one());
     let mut t = LaneTick {
@@ -263,6 +296,7 @@ pub fn tick_start<
         failed: 0,
         started: 0,
         scalar_report: 0,
+        memo: L::array(|_| M::default()),
     };
     for i in 0..L::W {
         restart(&mut t, i, [x, xd, xdd], &mut scalar);
@@ -273,17 +307,33 @@ pub fn tick_start<
 /// Lane `i` ticked (or started) by the scalar tick; its status set. Off the common path.
 #[cold]
 #[inline(never)]
-fn restart<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>(
-    t: &mut LaneTick<L, NI, NU, NP, NPAR>,
+fn restart<
+    L: Lanes,
+    const NI: usize,
+    const NU: usize,
+    const NP: usize,
+    const NPAR: usize,
+    M: Memo,
+>(
+    t: &mut LaneTick<L, NI, NU, NP, NPAR, M>,
     i: usize,
     [x, xd, xdd]: [&[L; NI]; 3],
-    scalar: &mut impl ScalarLane<L::Scalar, NI, NU, NP, NPAR>,
+    scalar: &mut impl ScalarLane<L::Scalar, NI, NU, NP, NPAR, M>,
 ) {
     let mut s = t.lane_of(i);
+    let mut memo = t.memo.as_ref()[i];
     let (xi, xdi, xddi) = (lane_of(x, i), lane_of(xd, i), lane_of(xdd, i));
-    match scalar(i, &mut s, t.started(i), [&xi, &xdi, &xddi]) {
+    let started = t.started(i);
+    let r = scalar(i, &mut s, &mut memo, started, [&xi, &xdi, &xddi]);
+    t.memo.as_mut()[i] = memo;
+    match r {
         Ok(()) => t.set_lane(i, &s),
         Err(e) => {
+            // What the scalar tick leaves on error (a scene's tick may have made a skipped
+            // angle whole before it failed), as the scalar tick state would hold it.
+            if started {
+                t.store_lane(i, &s);
+            }
             t.status.as_mut()[i] = Err(e);
             t.failed |= 1 << i;
         }
@@ -291,16 +341,24 @@ fn restart<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NP
 }
 
 /// One tick of W instances to the inputs `x` (rates `xd`, `xdd`), with the params `params` (in
-/// lanes, in the order of the mechanism's param array) and the inputs with `angle[i]` read
+/// lanes, in the order of the mechanism's param array; only those with `read[k]` are compared
+/// with the stored ones, as a scene's tick compares only the params it reads) and the inputs with `angle[i]` read
 /// through their sines and cosines. `fast` is the common path of the mechanism's tick in lanes
 /// (`None` where the mechanism has none): from the last tick's unknowns it solves every block
 /// and the rates and points, clearing in the mask each lane that leaves the common path. Each lane
 /// that was not started, saw new params or non-finite inputs, or
 /// that `fast` cleared is ticked by `scalar` from its state before this tick; the others
 /// store the common path's results. Every lane ends with the scalar tick's result or error.
-pub fn tick<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>(
-    t: &mut LaneTick<L, NI, NU, NP, NPAR>,
-    (params, params_id): (&[L; NPAR], usize),
+pub fn tick<
+    L: Lanes,
+    const NI: usize,
+    const NU: usize,
+    const NP: usize,
+    const NPAR: usize,
+    M: Memo,
+>(
+    t: &mut LaneTick<L, NI, NU, NP, NPAR, M>,
+    (params, params_id, read): (&[L; NPAR], usize, [bool; NPAR]),
     [x, xd, xdd]: [&[L; NI]; 3],
     angle: [bool; NI],
     fast: Option<
@@ -311,7 +369,7 @@ pub fn tick<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const N
             &mut L::Mask,
         ) -> LaneRates<L, NU, NP>,
     >,
-    mut scalar: impl ScalarLane<L::Scalar, NI, NU, NP, NPAR>,
+    mut scalar: impl ScalarLane<L::Scalar, NI, NU, NP, NPAR, M>,
 ) {
     let all = L::all_bits();
     let stale = all & !t.started;
@@ -327,8 +385,8 @@ pub fn tick<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const N
     // `params_id` names params that every lane's stored ones equal: nothing to compare.
     let known = params_id != 0 && t.params_id == params_id;
     if !known {
-        for (p, c) in params.iter().zip(&t.params) {
-            ok = ok & p.eq(*c);
+        for k in (0..NPAR).filter(|&k| read[k]) {
+            ok = ok & params[k].eq(t.params[k]);
         }
     }
     let mut bad = all;
@@ -375,8 +433,8 @@ pub fn tick<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const N
     }
     if !known && params_id != 0 {
         let mut same = L::mask(all);
-        for (p, c) in params.iter().zip(&t.params) {
-            same = same & p.eq(*c);
+        for k in (0..NPAR).filter(|&k| read[k]) {
+            same = same & params[k].eq(t.params[k]);
         }
         if L::bits(same) == all {
             t.params_id = params_id;
@@ -387,8 +445,15 @@ pub fn tick<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const N
 /// Stores the common path's results in the lanes with a bit in `good` (all of them: plain
 /// stores; some: a select per value).
 #[inline(always)]
-fn store<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>(
-    t: &mut LaneTick<L, NI, NU, NP, NPAR>,
+fn store<
+    L: Lanes,
+    const NI: usize,
+    const NU: usize,
+    const NP: usize,
+    const NPAR: usize,
+    M: Memo,
+>(
+    t: &mut LaneTick<L, NI, NU, NP, NPAR, M>,
     good: u32,
     [x, xd, xdd]: [&[L; NI]; 3],
     st: &LaneTrig<L, NU>,

@@ -3507,25 +3507,25 @@ pub mod sixbar {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, true, true, true, true, true, true],
+                angle_x: [true],
+                angle_q: [true, true, true, true],
+                predict: [false, false, false, false],
+            };
             ::mechgen::__private::lanes::tick(
                 t,
-                (
-                    &self.params,
-                    self.params_id,
-                    [true, true, true, true, true, true, true, true, true, true],
-                ),
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                [true],
+                &shape,
                 options
                     .closed_forms
                     .then_some(|
                         fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
                         st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        pivot: &mut L,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
                         ok: &mut L::Mask|
-                    {
-                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
-                    }),
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -3547,17 +3547,18 @@ pub mod sixbar {
                 },
             )
         }
-        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
-        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
-        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
-        /// non-finite value) are cleared in `ok`.
+        /// The common path of a tick in lanes: every closed form from the last tick's branch,
+        /// every Newton block from the predicted guess, then velocities, accelerations and
+        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
+        /// turn, a Newton step off the common path, a condition below the refinement
+        /// threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
             fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
             st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-            tolerance: L::Scalar,
-            pivot: &mut L,
+            newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
+            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
             ok: &mut L::Mask,
         ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 1> {
             let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, tp, .. } = fixed;
@@ -3579,8 +3580,8 @@ pub mod sixbar {
                 [t3, t1],
                 (p_l2, ::core::option::Option::None),
                 (t2, ::core::option::Option::None),
-                tolerance,
-                pivot,
+                newton.tolerance,
+                &mut report.pivot_ratio,
                 ok,
             );
             let p_l5 = self.params[4];
@@ -3615,11 +3616,12 @@ pub mod sixbar {
                 [t20, t21],
                 (t18, ::core::option::Option::None),
                 (t19, ::core::option::Option::None),
-                tolerance,
-                pivot,
+                newton.tolerance,
+                &mut report.pivot_ratio,
                 ok,
             );
-            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            *ok = *ok
+                & !report.pivot_ratio.lt(L::lit(::mechgen::__private::REFINE_BELOW));
             let v_q1_d = xd[0];
             let (s_v_q3, c_v_q3) = st.sc[1];
             let t22 = p_l3 * c_v_q3;
@@ -6465,21 +6467,25 @@ pub mod shaper {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, true],
+                angle_x: [true],
+                angle_q: [false, true, true, false],
+                predict: [false, false, false, false],
+            };
             ::mechgen::__private::lanes::tick(
                 t,
-                (&self.params, self.params_id, [true, true, true, true, true]),
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                [true],
+                &shape,
                 options
                     .closed_forms
                     .then_some(|
                         fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
                         st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        pivot: &mut L,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
                         ok: &mut L::Mask|
-                    {
-                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
-                    }),
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -6501,17 +6507,18 @@ pub mod shaper {
                 },
             )
         }
-        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
-        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
-        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
-        /// non-finite value) are cleared in `ok`.
+        /// The common path of a tick in lanes: every closed form from the last tick's branch,
+        /// every Newton block from the predicted guess, then velocities, accelerations and
+        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
+        /// turn, a Newton step off the common path, a condition below the refinement
+        /// threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
             fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
             st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-            tolerance: L::Scalar,
-            pivot: &mut L,
+            newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
+            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
             ok: &mut L::Mask,
         ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 2> {
             let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, .. } = fixed;
@@ -6531,8 +6538,8 @@ pub mod shaper {
                 [t2, t4],
                 (L::zero(), L::zero()),
                 (L::one(), L::zero()),
-                tolerance,
-                pivot,
+                newton.tolerance,
+                &mut report.pivot_ratio,
                 ok,
                 true,
             );
@@ -6547,7 +6554,7 @@ pub mod shaper {
                 2,
                 t6,
                 (::core::option::Option::None, p_l4),
-                tolerance,
+                newton.tolerance,
                 ok,
                 true,
             );
@@ -6557,7 +6564,8 @@ pub mod shaper {
             let t8 = p_l4 * c_v_q4;
             let t9 = t7 + t8;
             ::mechgen::__private::lanes::solve_length1(st, 3, t9, L::lit(-1.0), ok);
-            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            *ok = *ok
+                & !report.pivot_ratio.lt(L::lit(::mechgen::__private::REFINE_BELOW));
             let v_s3 = st.q[0];
             let v_q1_d = xd[0];
             let t10 = v_s3 * c_v_q3;
@@ -8918,21 +8926,25 @@ pub mod four_bar {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, true, true],
+                angle_x: [true],
+                angle_q: [true, true],
+                predict: [false, false],
+            };
             ::mechgen::__private::lanes::tick(
                 t,
-                (&self.params, self.params_id, [true, true, true, true, true, true]),
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                [true],
+                &shape,
                 options
                     .closed_forms
                     .then_some(|
                         fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
                         st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        pivot: &mut L,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
                         ok: &mut L::Mask|
-                    {
-                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
-                    }),
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -8954,17 +8966,18 @@ pub mod four_bar {
                 },
             )
         }
-        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
-        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
-        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
-        /// non-finite value) are cleared in `ok`.
+        /// The common path of a tick in lanes: every closed form from the last tick's branch,
+        /// every Newton block from the predicted guess, then velocities, accelerations and
+        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
+        /// turn, a Newton step off the common path, a condition below the refinement
+        /// threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
             fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
             st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-            tolerance: L::Scalar,
-            pivot: &mut L,
+            newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
+            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
             ok: &mut L::Mask,
         ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 3> {
             let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, tp, .. } = fixed;
@@ -8986,11 +8999,12 @@ pub mod four_bar {
                 [t3, t1],
                 (p_l2, ::core::option::Option::None),
                 (t2, ::core::option::Option::None),
-                tolerance,
-                pivot,
+                newton.tolerance,
+                &mut report.pivot_ratio,
                 ok,
             );
-            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            *ok = *ok
+                & !report.pivot_ratio.lt(L::lit(::mechgen::__private::REFINE_BELOW));
             let v_q1_d = xd[0];
             let (s_v_q2, c_v_q2) = st.sc[0];
             let t4 = p_l2 * c_v_q2;
@@ -10982,21 +10996,25 @@ pub mod slider_crank {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true],
+                angle_x: [true],
+                angle_q: [true, false],
+                predict: [false, false],
+            };
             ::mechgen::__private::lanes::tick(
                 t,
-                (&self.params, self.params_id, [true, true, true]),
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                [true],
+                &shape,
                 options
                     .closed_forms
                     .then_some(|
                         fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 3>,
                         st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        pivot: &mut L,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
                         ok: &mut L::Mask|
-                    {
-                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
-                    }),
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -11018,17 +11036,18 @@ pub mod slider_crank {
                 },
             )
         }
-        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
-        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
-        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
-        /// non-finite value) are cleared in `ok`.
+        /// The common path of a tick in lanes: every closed form from the last tick's branch,
+        /// every Newton block from the predicted guess, then velocities, accelerations and
+        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
+        /// turn, a Newton step off the common path, a condition below the refinement
+        /// threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
             fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 3>,
             st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-            tolerance: L::Scalar,
-            pivot: &mut L,
+            newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
+            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
             ok: &mut L::Mask,
         ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 3> {
             let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, .. } = fixed;
@@ -11045,7 +11064,7 @@ pub mod slider_crank {
                 0,
                 t1,
                 (::core::option::Option::None, p_l),
-                tolerance,
+                newton.tolerance,
                 ok,
                 true,
             );
@@ -11055,7 +11074,8 @@ pub mod slider_crank {
             let t3 = p_l * c_v_q2;
             let t4 = t2 + t3;
             ::mechgen::__private::lanes::solve_length1(st, 1, t4, L::lit(-1.0), ok);
-            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            *ok = *ok
+                & !report.pivot_ratio.lt(L::lit(::mechgen::__private::REFINE_BELOW));
             let v_q1_d = xd[0];
             let t5 = t2 * v_q1_d;
             let t6 = -t5;
@@ -12923,21 +12943,25 @@ pub mod rocker_four_bar {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true],
+                angle_x: [true],
+                angle_q: [true, true],
+                predict: [false, false],
+            };
             ::mechgen::__private::lanes::tick(
                 t,
-                (&self.params, self.params_id, [true, true, true, true]),
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                [true],
+                &shape,
                 options
                     .closed_forms
                     .then_some(|
                         fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 4>,
                         st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        pivot: &mut L,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
                         ok: &mut L::Mask|
-                    {
-                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
-                    }),
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -12959,17 +12983,18 @@ pub mod rocker_four_bar {
                 },
             )
         }
-        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
-        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
-        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
-        /// non-finite value) are cleared in `ok`.
+        /// The common path of a tick in lanes: every closed form from the last tick's branch,
+        /// every Newton block from the predicted guess, then velocities, accelerations and
+        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
+        /// turn, a Newton step off the common path, a condition below the refinement
+        /// threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
             fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 4>,
             st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-            tolerance: L::Scalar,
-            pivot: &mut L,
+            newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
+            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
             ok: &mut L::Mask,
         ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 2> {
             let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, .. } = fixed;
@@ -12991,11 +13016,12 @@ pub mod rocker_four_bar {
                 [t3, t1],
                 (p_l2, ::core::option::Option::None),
                 (t2, ::core::option::Option::None),
-                tolerance,
-                pivot,
+                newton.tolerance,
+                &mut report.pivot_ratio,
                 ok,
             );
-            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            *ok = *ok
+                & !report.pivot_ratio.lt(L::lit(::mechgen::__private::REFINE_BELOW));
             let v_q1_d = xd[0];
             let (s_v_q2, c_v_q2) = st.sc[0];
             let t4 = p_l2 * c_v_q2;
@@ -15404,7 +15430,7 @@ pub mod sixbar_g {
     pub type LaneTick<L> = ::mechgen::__private::LaneTick<L, 1, 4, 1, 10>;
     /// W instances of the mechanism in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64 instances, `F32x8` for eight f32 ones), each with its own params, inputs and state: lane `i` of every value is instance `i`, and every lane's result (or error) is the scalar tick's, to the last bit.
     ///
-    /// It has blocks without lane kernels (RRP, two lengths, Newton): every lane is ticked by the scalar tick (the same results, no SIMD speed-up).
+    /// Its blocks all have lane kernels: the common path of a tick runs in lanes.
     #[derive(Clone, Copy, Debug)]
     pub struct Lanes<L: ::mechgen::__private::Lanes> {
         mechanisms: L::Array<SixbarG<L::Scalar>>,
@@ -15495,23 +15521,25 @@ pub mod sixbar_g {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, true, true, true, true, true, true],
+                angle_x: [true],
+                angle_q: [true, true, true, true],
+                predict: [true, true, true, true],
+            };
             ::mechgen::__private::lanes::tick(
                 t,
-                (
-                    &self.params,
-                    self.params_id,
-                    [true, true, true, true, true, true, true, true, true, true],
-                ),
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                [true],
-                ::core::option::Option::<
-                    fn(
-                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
-                        &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        &mut L,
-                        &mut L::Mask,
-                    ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 1>,
-                >::None,
+                &shape,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        ok: &mut L::Mask|
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -15531,6 +15559,246 @@ pub mod sixbar_g {
                         ::core::result::Result::Ok(())
                     }
                 },
+            )
+        }
+        /// The common path of a tick in lanes: every closed form from the last tick's branch,
+        /// every Newton block from the predicted guess, then velocities, accelerations and
+        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
+        /// turn, a Newton step off the common path, a condition below the refinement
+        /// threshold, a non-finite value) are cleared in `ok`.
+        #[inline(always)]
+        fn motion_lanes(
+            &self,
+            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+            newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
+            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+            ok: &mut L::Mask,
+        ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 1> {
+            let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, tp, .. } = fixed;
+            let mut qd = [L::zero(); 4];
+            let mut qdd = [L::zero(); 4];
+            let scale = L::from_fn(|i| {
+                self.mechanisms.as_ref()[i].params.length_scale()
+            });
+            ::mechgen::__private::lanes::newton_block(
+                st,
+                [0, 1, 2, 3],
+                [false, false, false, false],
+                [true, true, true, true],
+                scale,
+                newton,
+                report,
+                ok,
+                |st: &::mechgen::__private::lanes::LaneTrig<L, _>| {
+                    let p_l1 = self.params[0];
+                    let p_l2 = self.params[1];
+                    let p_l3 = self.params[2];
+                    let p_l4 = self.params[3];
+                    let p_l5 = self.params[4];
+                    let p_l6 = self.params[5];
+                    let p_l2e = self.params[6];
+                    let p_xg = self.params[7];
+                    let p_yg = self.params[8];
+                    let (s_v_q1, c_v_q1) = st.sc[0];
+                    let t0 = p_l1 * c_v_q1;
+                    let t1 = p_l1 * s_v_q1;
+                    let (s_v_q2, c_v_q2) = st.sc[1];
+                    let t2 = p_l2 * c_v_q2;
+                    let t3 = p_l2 * s_v_q2;
+                    let t4 = t0 + t2;
+                    let t5 = t1 + t3;
+                    let t6 = t4 - p_l4;
+                    let (s_v_q3, c_v_q3) = st.sc[2];
+                    let t7 = p_l3 * c_v_q3;
+                    let t8 = p_l3 * s_v_q3;
+                    let t9 = t6 - t7;
+                    let t10 = t5 - t8;
+                    let (s_p_alpha, c_p_alpha) = tp[9];
+                    let t11 = c_v_q2 * c_p_alpha;
+                    let t12 = s_v_q2 * s_p_alpha;
+                    let t13 = s_v_q2 * c_p_alpha;
+                    let t14 = c_v_q2 * s_p_alpha;
+                    let t15 = t11 + t12;
+                    let t16 = t13 - t14;
+                    let t17 = p_l2e * t15;
+                    let t18 = p_l2e * t16;
+                    let t19 = t4 + t17;
+                    let t20 = t5 + t18;
+                    let (s_v_q5, c_v_q5) = st.sc[3];
+                    let t21 = p_l5 * c_v_q5;
+                    let t22 = p_l5 * s_v_q5;
+                    let t23 = t19 - t21;
+                    let t24 = t20 - t22;
+                    let (s_v_q6, c_v_q6) = tx[0];
+                    let t25 = p_l6 * c_v_q6;
+                    let t26 = p_l6 * s_v_q6;
+                    let t27 = t23 - t25;
+                    let t28 = t24 - t26;
+                    let t29 = t27 - p_xg;
+                    let t30 = t28 - p_yg;
+                    let t31 = -t1;
+                    let t32 = -t3;
+                    let t33 = -t7;
+                    let t34 = t3 + t18;
+                    let t35 = -t34;
+                    let t36 = t2 + t17;
+                    let t37 = -t21;
+                    let mut jac = [[L::zero(); 4]; 4];
+                    jac[0][0] = t31;
+                    jac[0][1] = t32;
+                    jac[0][2] = t8;
+                    jac[1][0] = t0;
+                    jac[1][1] = t2;
+                    jac[1][2] = t33;
+                    jac[2][0] = t31;
+                    jac[2][1] = t35;
+                    jac[2][3] = t22;
+                    jac[3][0] = t0;
+                    jac[3][1] = t36;
+                    jac[3][3] = t37;
+                    ([t9, t10, t29, t30], jac)
+                },
+            );
+            *ok = *ok
+                & !report.pivot_ratio.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            let p_l1 = self.params[0];
+            let p_l2 = self.params[1];
+            let p_l3 = self.params[2];
+            let p_l5 = self.params[4];
+            let p_l6 = self.params[5];
+            let p_l2e = self.params[6];
+            let v_q6_d = xd[0];
+            let (s_v_q1, c_v_q1) = st.sc[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = st.sc[1];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = st.sc[2];
+            let t4 = p_l3 * c_v_q3;
+            let t5 = p_l3 * s_v_q3;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t6 = c_v_q2 * c_p_alpha;
+            let t7 = s_v_q2 * s_p_alpha;
+            let t8 = s_v_q2 * c_p_alpha;
+            let t9 = c_v_q2 * s_p_alpha;
+            let t10 = t6 + t7;
+            let t11 = t8 - t9;
+            let t12 = p_l2e * t10;
+            let t13 = p_l2e * t11;
+            let (s_v_q5, c_v_q5) = st.sc[3];
+            let t14 = p_l5 * c_v_q5;
+            let t15 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = tx[0];
+            let t16 = p_l6 * c_v_q6;
+            let t17 = p_l6 * s_v_q6;
+            let t18 = -t1;
+            let t19 = -t3;
+            let t20 = -t4;
+            let t21 = t3 + t13;
+            let t22 = -t21;
+            let t23 = t2 + t12;
+            let t24 = -t14;
+            let t25 = t17 * v_q6_d;
+            let t26 = -t25;
+            let t27 = t16 * v_q6_d;
+            let mut jac = [[L::zero(); 4]; 4];
+            jac[0][0] = t18;
+            jac[0][1] = t19;
+            jac[0][2] = t5;
+            jac[1][0] = t0;
+            jac[1][1] = t2;
+            jac[1][2] = t20;
+            jac[2][0] = t18;
+            jac[2][1] = t22;
+            jac[2][3] = t15;
+            jac[3][0] = t0;
+            jac[3][1] = t23;
+            jac[3][3] = t24;
+            let lu = ::mechgen::__private::lanes::factor_block(jac, ok);
+            let z = lu.solve([L::zero(), L::zero(), t26, t27], ok);
+            qd[0] = z[0];
+            qd[1] = z[1];
+            qd[2] = z[2];
+            qd[3] = z[3];
+            let v_q1_d = qd[0];
+            let v_q2_d = qd[1];
+            let v_q3_d = qd[2];
+            let v_q5_d = qd[3];
+            let v_q6_dd = xdd[0];
+            let t28 = t0 * v_q1_d;
+            let t29 = t2 * v_q2_d;
+            let t30 = t4 * v_q3_d;
+            let t31 = t1 * v_q1_d;
+            let t32 = t3 * v_q2_d;
+            let t33 = t5 * v_q3_d;
+            let t34 = t23 * v_q2_d;
+            let t35 = t14 * v_q5_d;
+            let t36 = t21 * v_q2_d;
+            let t37 = t15 * v_q5_d;
+            let t38 = v_q1_d * t28;
+            let t39 = v_q2_d * t29;
+            let t40 = t38 + t39;
+            let t41 = v_q3_d * t30;
+            let t42 = t40 - t41;
+            let t43 = v_q1_d * t31;
+            let t44 = v_q2_d * t32;
+            let t45 = t43 + t44;
+            let t46 = v_q3_d * t33;
+            let t47 = t45 - t46;
+            let t48 = v_q6_d * t27;
+            let t49 = t38 - t48;
+            let t50 = v_q2_d * t34;
+            let t51 = t49 + t50;
+            let t52 = v_q5_d * t35;
+            let t53 = t51 - t52;
+            let t54 = t17 * v_q6_dd;
+            let t55 = t53 - t54;
+            let t56 = v_q6_d * t25;
+            let t57 = t43 - t56;
+            let t58 = v_q2_d * t36;
+            let t59 = t57 + t58;
+            let t60 = v_q5_d * t37;
+            let t61 = t59 - t60;
+            let t62 = t16 * v_q6_dd;
+            let t63 = t61 + t62;
+            let z = lu.solve([t42, t47, t55, t63], ok);
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            qdd[2] = z[2];
+            qdd[3] = z[3];
+            let v_q1_dd = qdd[0];
+            let v_q2_dd = qdd[1];
+            let t64 = t0 + t2;
+            let t65 = t1 + t3;
+            let t66 = t64 + t12;
+            let t67 = t65 + t13;
+            let t68 = t31 + t36;
+            let t69 = -t68;
+            let t70 = t28 + t34;
+            let t71 = t38 + t50;
+            let t72 = t1 * v_q1_dd;
+            let t73 = t71 + t72;
+            let t74 = t21 * v_q2_dd;
+            let t75 = t73 + t74;
+            let t76 = -t75;
+            let t77 = t43 + t58;
+            let t78 = t0 * v_q1_dd;
+            let t79 = t77 - t78;
+            let t80 = t23 * v_q2_dd;
+            let t81 = t79 - t80;
+            let t82 = -t81;
+            (
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [t66, t67],
+                        velocity: [t69, t70],
+                        acceleration: [t76, t82],
+                    },
+                ],
             )
         }
     }
@@ -15738,25 +16006,25 @@ pub mod sixbar_e_path {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, false, false, true, false, false, true],
+                angle_x: [true],
+                angle_q: [true, true, false, false],
+                predict: [false, false, false, false],
+            };
             ::mechgen::__private::lanes::tick(
                 t,
-                (
-                    &self.params,
-                    self.params_id,
-                    [true, true, true, true, false, false, true, false, false, true],
-                ),
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                [true],
+                &shape,
                 options
                     .closed_forms
                     .then_some(|
                         fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
                         st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        pivot: &mut L,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
                         ok: &mut L::Mask|
-                    {
-                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
-                    }),
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 1, 10>,
@@ -15783,17 +16051,18 @@ pub mod sixbar_e_path {
                 },
             )
         }
-        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
-        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
-        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
-        /// non-finite value) are cleared in `ok`.
+        /// The common path of a tick in lanes: every closed form from the last tick's branch,
+        /// every Newton block from the predicted guess, then velocities, accelerations and
+        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
+        /// turn, a Newton step off the common path, a condition below the refinement
+        /// threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
             fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
             st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-            tolerance: L::Scalar,
-            pivot: &mut L,
+            newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
+            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
             ok: &mut L::Mask,
         ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 1> {
             let ::mechgen::__private::lanes::LaneFixed { tx, tp, .. } = fixed;
@@ -15816,12 +16085,13 @@ pub mod sixbar_e_path {
                     (p_l2, ::core::option::Option::None),
                     (t2, ::core::option::Option::None),
                 ),
-                tolerance,
-                pivot,
+                newton.tolerance,
+                &mut report.pivot_ratio,
                 ok,
                 [false, false],
             );
-            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            *ok = *ok
+                & !report.pivot_ratio.lt(L::lit(::mechgen::__private::REFINE_BELOW));
             let p_l2e = self.params[6];
             let (s_v_q2, c_v_q2) = st.sc[0];
             let t4 = p_l2 * c_v_q2;
@@ -16265,25 +16535,25 @@ pub mod sixbar_output {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, true, true, true, true, true, true],
+                angle_x: [true],
+                angle_q: [true, true, true, true],
+                predict: [false, false, false, false],
+            };
             ::mechgen::__private::lanes::tick(
                 t,
-                (
-                    &self.params,
-                    self.params_id,
-                    [true, true, true, true, true, true, true, true, true, true],
-                ),
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                [true],
+                &shape,
                 options
                     .closed_forms
                     .then_some(|
                         fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
                         st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        pivot: &mut L,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
                         ok: &mut L::Mask|
-                    {
-                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
-                    }),
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 10>,
@@ -16310,17 +16580,18 @@ pub mod sixbar_output {
                 },
             )
         }
-        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
-        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
-        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
-        /// non-finite value) are cleared in `ok`.
+        /// The common path of a tick in lanes: every closed form from the last tick's branch,
+        /// every Newton block from the predicted guess, then velocities, accelerations and
+        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
+        /// turn, a Newton step off the common path, a condition below the refinement
+        /// threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
             fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
             st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-            tolerance: L::Scalar,
-            pivot: &mut L,
+            newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
+            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
             ok: &mut L::Mask,
         ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 0> {
             let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, tp, .. } = fixed;
@@ -16343,8 +16614,8 @@ pub mod sixbar_output {
                     (p_l2, ::core::option::Option::None),
                     (t2, ::core::option::Option::None),
                 ),
-                tolerance,
-                pivot,
+                newton.tolerance,
+                &mut report.pivot_ratio,
                 ok,
                 [false, false],
             );
@@ -16381,12 +16652,13 @@ pub mod sixbar_output {
                     (t18, ::core::option::Option::None),
                     (t19, ::core::option::Option::None),
                 ),
-                tolerance,
-                pivot,
+                newton.tolerance,
+                &mut report.pivot_ratio,
                 ok,
                 [false, true],
             );
-            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            *ok = *ok
+                & !report.pivot_ratio.lt(L::lit(::mechgen::__private::REFINE_BELOW));
             let v_q1_d = xd[0];
             let (s_v_q3, c_v_q3) = st.sc[1];
             let t22 = p_l3 * c_v_q3;
@@ -16895,21 +17167,25 @@ pub mod shaper_ram {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, true],
+                angle_x: [true],
+                angle_q: [false, true, true, false],
+                predict: [false, false, false, false],
+            };
             ::mechgen::__private::lanes::tick(
                 t,
-                (&self.params, self.params_id, [true, true, true, true, true]),
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                [true],
+                &shape,
                 options
                     .closed_forms
                     .then_some(|
                         fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
                         st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        pivot: &mut L,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
                         ok: &mut L::Mask|
-                    {
-                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
-                    }),
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 5>,
@@ -16936,17 +17212,18 @@ pub mod shaper_ram {
                 },
             )
         }
-        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
-        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
-        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
-        /// non-finite value) are cleared in `ok`.
+        /// The common path of a tick in lanes: every closed form from the last tick's branch,
+        /// every Newton block from the predicted guess, then velocities, accelerations and
+        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
+        /// turn, a Newton step off the common path, a condition below the refinement
+        /// threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
             fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
             st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-            tolerance: L::Scalar,
-            pivot: &mut L,
+            newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
+            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
             ok: &mut L::Mask,
         ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 0> {
             let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, .. } = fixed;
@@ -16966,8 +17243,8 @@ pub mod shaper_ram {
                 [t2, t4],
                 (L::zero(), L::zero()),
                 (L::one(), L::zero()),
-                tolerance,
-                pivot,
+                newton.tolerance,
+                &mut report.pivot_ratio,
                 ok,
                 false,
             );
@@ -16982,7 +17259,7 @@ pub mod shaper_ram {
                 2,
                 t6,
                 (::core::option::Option::None, p_l4),
-                tolerance,
+                newton.tolerance,
                 ok,
                 false,
             );
@@ -16992,7 +17269,8 @@ pub mod shaper_ram {
             let t8 = p_l4 * c_v_q4;
             let t9 = t7 + t8;
             ::mechgen::__private::lanes::solve_length1(st, 3, t9, L::lit(-1.0), ok);
-            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            *ok = *ok
+                & !report.pivot_ratio.lt(L::lit(::mechgen::__private::REFINE_BELOW));
             let v_s3 = st.q[0];
             let v_q1_d = xd[0];
             let t10 = v_s3 * c_v_q3;
@@ -17499,21 +17777,25 @@ pub mod coupler_curve {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, true, true],
+                angle_x: [true],
+                angle_q: [true, true],
+                predict: [false, false],
+            };
             ::mechgen::__private::lanes::tick(
                 t,
-                (&self.params, self.params_id, [true, true, true, true, true, true]),
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                [true],
+                &shape,
                 options
                     .closed_forms
                     .then_some(|
                         fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
                         st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        pivot: &mut L,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
                         ok: &mut L::Mask|
-                    {
-                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
-                    }),
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 1, 6>,
@@ -17540,17 +17822,18 @@ pub mod coupler_curve {
                 },
             )
         }
-        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
-        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
-        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
-        /// non-finite value) are cleared in `ok`.
+        /// The common path of a tick in lanes: every closed form from the last tick's branch,
+        /// every Newton block from the predicted guess, then velocities, accelerations and
+        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
+        /// turn, a Newton step off the common path, a condition below the refinement
+        /// threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
             fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
             st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-            tolerance: L::Scalar,
-            pivot: &mut L,
+            newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
+            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
             ok: &mut L::Mask,
         ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 1> {
             let ::mechgen::__private::lanes::LaneFixed { xd, tx, tp, .. } = fixed;
@@ -17573,12 +17856,13 @@ pub mod coupler_curve {
                     (p_l2, ::core::option::Option::None),
                     (t2, ::core::option::Option::None),
                 ),
-                tolerance,
-                pivot,
+                newton.tolerance,
+                &mut report.pivot_ratio,
                 ok,
                 [false, false],
             );
-            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            *ok = *ok
+                & !report.pivot_ratio.lt(L::lit(::mechgen::__private::REFINE_BELOW));
             let v_q1_d = xd[0];
             let (s_v_q2, c_v_q2) = st.sc[0];
             let t4 = p_l2 * c_v_q2;

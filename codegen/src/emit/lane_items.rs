@@ -20,6 +20,10 @@ struct Spec<'a> {
     sub: LaneSubset<'a>,
     /// The params a tick compares (a scene: those it reads).
     read: Vec<bool>,
+    /// The unknowns that are angles (with cached sines and cosines) and those a tick predicts
+    /// (Newton's), as the scalar tick's `predicted` takes them.
+    angle_q: Vec<bool>,
+    predict: Vec<bool>,
     /// The lane tick's alias target.
     lane_tick: TokenStream,
     /// The scalar tick of one lane (`lanes::ScalarLane`).
@@ -48,26 +52,28 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
         cached: &cached,
         lane: lt,
     };
-    let fast = has_lane_path(c, s.sub.blocks);
+    let fast = has_lane_path(c, s.sub.blocks, s.sub.order);
     let motion = fast.then(|| motion_lanes(c, s.args, &vars, &s.sub));
     let fast_arg = if fast {
         quote! {
             options.closed_forms.then_some(
-                |fixed: #rt::lanes::LaneFixed<'_, #lt, #ni, #npar>, st: &mut #rt::lanes::LaneTrig<#lt, #nu>, pivot: &mut #lt, ok: &mut #lt::Mask| {
-                    self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
+                |fixed: #rt::lanes::LaneFixed<'_, #lt, #ni, #npar>, st: &mut #rt::lanes::LaneTrig<#lt, #nu>,
+                    report: &mut #rt::lanes::LaneReport<#lt>, ok: &mut #lt::Mask| {
+                    self.motion_lanes(fixed, st, &options.newton, report, ok)
                 },
             )
         }
     } else {
         quote! {
-            ::core::option::Option::<fn(#rt::lanes::LaneFixed<'_, #lt, #ni, #npar>, &mut #rt::lanes::LaneTrig<#lt, #nu>, &mut #lt, &mut #lt::Mask)
+            ::core::option::Option::<fn(#rt::lanes::LaneFixed<'_, #lt, #ni, #npar>, &mut #rt::lanes::LaneTrig<#lt, #nu>,
+                &mut #rt::lanes::LaneReport<#lt>, &mut #lt::Mask)
                 -> #rt::lanes::LaneRates<#lt, #nu, #np>>::None
         }
     };
     let path_doc = if fast {
         "Its blocks all have lane kernels: the common path of a tick runs in lanes."
     } else {
-        "It has blocks without lane kernels (RRP, two lengths, Newton): every lane is ticked by the scalar tick (the same results, no SIMD speed-up)."
+        "It has blocks without lane kernels (RRP, two lengths; Newton in a scene below order 2): every lane is ticked by the scalar tick (the same results, no SIMD speed-up)."
     };
     let doc = format!(
         " W instances of the {} in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64 \
@@ -77,6 +83,7 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
         s.what
     );
     let (field, accessor, scalar, read) = (&s.field, &s.accessor, &s.scalar, &s.read);
+    let (angle_q, predict) = (&s.angle_q, &s.predict);
     let lane_tick = &s.lane_tick;
     quote! {
         /// The state of W instances between lane ticks (see `Lanes::tick_start`).
@@ -132,8 +139,9 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
             /// another. No allocation.
             #[inline]
             pub fn tick(&self, t: &mut #lane_tick_ty<#lt>, input: &#rt::InputMotion<[#lt; #ni]>, options: &#rt::SolveOptions<#lt::Scalar>) {
-                #rt::lanes::tick(t, (&self.params, self.params_id, [#(#read),*]), [&input.x, &input.xd, &input.xdd],
-                    [#(#xm),*], #fast_arg, #scalar)
+                let shape = #rt::lanes::LaneShape { read: [#(#read),*], angle_x: [#(#xm),*], angle_q: [#(#angle_q),*],
+                    predict: [#(#predict),*] };
+                #rt::lanes::tick(t, (&self.params, self.params_id), [&input.x, &input.xd, &input.xdd], &shape, #fast_arg, #scalar)
             }
 
             #motion
@@ -169,8 +177,14 @@ pub(crate) fn mechanism(c: &Compiled, args: &Args) -> TokenStream {
             order: 2,
             points: &points,
             values_read: None,
+            scale_of: quote!(self.mechanisms.as_ref()[i].params.length_scale()),
         },
         read: vec![true; npar],
+        angle_q: trig_masks(c).1,
+        predict: crate::emit::closed::closed_mask(c)
+            .iter()
+            .map(|k| !k)
+            .collect(),
         lane_tick: quote!(#rt::LaneTick<#lt, #ni, #nu, #np, #npar>),
         scalar,
         field: format_ident!("mechanisms"),
@@ -217,10 +231,13 @@ pub(crate) fn scene(c: &Compiled, plan: &ScenePlan, rt: &TokenStream, ncols: usi
     let (ty, lanes_ty, lane_tick_ty, outputs_ty) = (&it.ty, &it.lanes, &it.lane_tick, &it.outputs);
     let (ni, nu, _, npar) = crate::emit::sizes(&c.model);
     let np = plan.points.len();
-    let (tick_fn, start_fn) = (
+    let (tick_fn, start_fn, scale_fn) = (
         format_ident!("scene_{}_tick", plan.name),
         format_ident!("scene_{}_tick_start", plan.name),
+        format_ident!("scene_{}_length_scale", plan.name),
     );
+    let q_trig = trig_masks(c).1;
+    let closed = crate::emit::closed::closed_mask(c);
     let scalar = quote! {
         |i: usize, t: &mut #rt::Tick<#gt, #ni, #nu, #np, #npar>, memo: &mut #rt::SceneMemo<#gt>, started: bool,
             [x, xd, xdd]: [&[#gt; #ni]; 3]| {
@@ -244,8 +261,15 @@ pub(crate) fn scene(c: &Compiled, plan: &ScenePlan, rt: &TokenStream, ncols: usi
             order: plan.order.as_number(),
             points: &plan.points,
             values_read: Some(&plan.values_read),
+            scale_of: quote!(self.scenes.as_ref()[i].mechanism().#scale_fn()),
         },
         read: plan.params_read.clone(),
+        angle_q: (0..nu)
+            .map(|k| q_trig[k] && plan.solved.contains(&k))
+            .collect(),
+        predict: (0..nu)
+            .map(|k| !closed[k] && plan.solved.contains(&k))
+            .collect(),
         lane_tick: quote!(#rt::LaneTick<#lt, #ni, #nu, #np, #npar, #rt::SceneMemo<<#lt as #rt::Lanes>::Scalar>>),
         scalar,
         field: format_ident!("scenes"),

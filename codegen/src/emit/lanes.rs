@@ -9,11 +9,13 @@ use quote::{format_ident, quote};
 
 use crate::analysis::Compiled;
 use crate::analysis::closed_form::ClosedForm;
+use crate::analysis::plan::BlockForms;
 use crate::analysis::structure::BlockId;
 use crate::emit::Args;
 use crate::emit::body::{Builder, VarSource};
 use crate::emit::cache::Cached;
 use crate::ir::dag::Var;
+use crate::sema::model::Kind;
 
 /// Variables as `motion_lanes` reads them: the unknowns and their sines and cosines from the lane
 /// state `st`, the params from the lanes' `self.params[i]`, the rest as the fused body does.
@@ -63,23 +65,62 @@ pub(crate) struct LaneSubset<'a> {
     /// Per unknown, whether its value is read (`ScenePlan::values_read`; `None`: all are). The
     /// lane body is a tick's, so an angle nobody reads is never computed (`every_angle` false).
     pub values_read: Option<&'a [bool]>,
+    /// The length scale of lane `i` (Newton's tolerance is relative to it), an expression in `i`.
+    pub scale_of: TokenStream,
 }
 
 /// Whether the common path of a tick of `blocks` runs in lanes: every block a closed form with
-/// a lane kernel (a dyad, RPR, one angle, one length).
-pub(crate) fn has_lane_path(c: &Compiled, blocks: &[BlockId]) -> bool {
+/// a lane kernel (a dyad, RPR, one angle, one length) or Newton; below order 2 (a scene
+/// estimating its Newton blocks' rates by differences), closed forms only.
+pub(crate) fn has_lane_path(c: &Compiled, blocks: &[BlockId], order: u8) -> bool {
     !blocks.is_empty()
-        && blocks.iter().all(|&b| {
-            matches!(
-                c.block(b).closed_form,
-                Some(
-                    ClosedForm::Rrr(_)
-                        | ClosedForm::Rpr { .. }
-                        | ClosedForm::Angle1 { .. }
-                        | ClosedForm::Length1 { .. }
-                )
-            )
+        && blocks.iter().all(|&b| match &c.block(b).closed_form {
+            None => order >= 2,
+            Some(cf) => matches!(
+                cf,
+                ClosedForm::Rrr(_)
+                    | ClosedForm::Rpr { .. }
+                    | ClosedForm::Angle1 { .. }
+                    | ClosedForm::Length1 { .. }
+            ),
         })
+}
+
+/// `newton_block(…)` of a block without a closed form in lanes: its residual and Jacobian
+/// (from the DAG, as `blockN_position` computes them) in a closure of the Newton state.
+fn newton_call(c: &Compiled, vars: &LaneVars, rt: &TokenStream, bf: &BlockForms) -> TokenStream {
+    let (m, dag, lt) = (&c.model, &c.system.dag, vars.lane);
+    let k = bf.block.unknowns.len();
+    let idx: Vec<usize> = bf.block.unknowns.iter().map(|u| u.index()).collect();
+    let length: Vec<bool> = idx
+        .iter()
+        .map(|&u| m.unknowns[u].kind == Kind::Length)
+        .collect();
+    let q_trig = &vars.cached.q;
+    let angle: Vec<bool> = idx.iter().map(|&u| q_trig[u]).collect();
+    let mut roots = bf.residual.clone();
+    roots.extend(bf.jacobian.iter().flatten());
+    let mut b = Builder::new(dag, vars);
+    let seg = b.segment(&roots);
+    let (stmts, r) = (&seg.stmts, &seg.roots[..k]);
+    let mut sets = TokenStream::new();
+    for row in 0..k {
+        for col in 0..k {
+            if !dag.is_zero(bf.jacobian[row][col]) {
+                let v = &seg.roots[k + row * k + col];
+                sets.extend(quote!(jac[#row][#col] = #v;));
+            }
+        }
+    }
+    quote! {
+        #rt::lanes::newton_block(st, [#(#idx),*], [#(#length),*], [#(#angle),*], scale, newton, report, ok,
+            |st: &#rt::lanes::LaneTrig<#lt, _>| {
+                #stmts
+                let mut jac = [[#lt::zero(); #k]; #k];
+                #sets
+                ([#(#r),*], jac)
+            });
+    }
 }
 
 /// `fn motion_lanes(…)`: positions (the closed forms), each block's velocities and
@@ -99,8 +140,14 @@ pub(crate) fn motion_lanes(
     let value = |k: usize| sub.values_read.is_none_or(|read| read[k]);
     let mut b = Builder::new(dag, vars);
     let mut steps = TokenStream::new();
+    let newton = sub.blocks.iter().any(|&b| c.block(b).closed_form.is_none());
+    if newton {
+        let scale_of = &sub.scale_of;
+        steps.extend(quote!(let scale = #lt::from_fn(|i| #scale_of);));
+    }
     for bf in sub.blocks.iter().map(|&b| c.block(b)) {
         let Some(cf) = &bf.closed_form else {
+            steps.extend(newton_call(c, vars, rt, bf));
             continue;
         };
         let roots = cf.roots();
@@ -122,21 +169,21 @@ pub(crate) fn motion_lanes(
                 let [kx, ky, pa, pb] = [0, 1, 2, 4].map(|i| &r[i]);
                 let (ra, rb) = (opt(3), opt(5));
                 if value(a) && value(bb) {
-                    quote!(#rt::lanes::solve_dyad(st, #a, #bb, [#kx, #ky], (#pa, #ra), (#pb, #rb), tolerance, pivot, ok);)
+                    quote!(#rt::lanes::solve_dyad(st, #a, #bb, [#kx, #ky], (#pa, #ra), (#pb, #rb), newton.tolerance, &mut report.pivot_ratio, ok);)
                 } else {
                     let (va, vb) = (value(a), value(bb));
-                    quote!(#rt::lanes::solve_dyad_angles(st, (#a, #bb), [#kx, #ky], ((#pa, #ra), (#pb, #rb)), tolerance, pivot, ok, [#va, #vb]);)
+                    quote!(#rt::lanes::solve_dyad_angles(st, (#a, #bb), [#kx, #ky], ((#pa, #ra), (#pb, #rb)), newton.tolerance, &mut report.pivot_ratio, ok, [#va, #vb]);)
                 }
             }
             ClosedForm::Rpr { q, s, .. } => {
                 let [kx, ky, mp, mr, np, nr] = [0, 1, 2, 3, 4, 5].map(|i| &r[i]);
                 let v = value(*q);
-                quote!(#rt::lanes::solve_rpr(st, (#q, #s), [#kx, #ky], (#mp, #mr), (#np, #nr), tolerance, pivot, ok, #v);)
+                quote!(#rt::lanes::solve_rpr(st, (#q, #s), [#kx, #ky], (#mp, #mr), (#np, #nr), newton.tolerance, &mut report.pivot_ratio, ok, #v);)
             }
             ClosedForm::Angle1 { q, .. } => {
                 let (k, p, qq) = (&r[0], opt(1), &r[2]);
                 let v = value(*q);
-                quote!(#rt::lanes::solve_angle1(st, #q, #k, (#p, #qq), tolerance, ok, #v);)
+                quote!(#rt::lanes::solve_angle1(st, #q, #k, (#p, #qq), newton.tolerance, ok, #v);)
             }
             ClosedForm::Length1 { s, .. } => {
                 let (k, a) = (&r[0], &r[1]);
@@ -151,7 +198,7 @@ pub(crate) fn motion_lanes(
     }
     // Near a dead point the scalar refines in double words: such lanes leave the common path.
     steps.extend(quote! {
-        *ok = *ok & !pivot.lt(#lt::lit(#rt::REFINE_BELOW));
+        *ok = *ok & !report.pivot_ratio.lt(#lt::lit(#rt::REFINE_BELOW));
     });
     for bf in sub
         .blocks
@@ -220,13 +267,15 @@ pub(crate) fn motion_lanes(
     let qd_let = rate_let(format_ident!("qd"), sub.order >= 1);
     let qdd_let = rate_let(format_ident!("qdd"), sub.order >= 2);
     quote! {
-        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
-        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
-        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
-        /// non-finite value) are cleared in `ok`.
+        /// The common path of a tick in lanes: every closed form from the last tick's branch,
+        /// every Newton block from the predicted guess, then velocities, accelerations and
+        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
+        /// turn, a Newton step off the common path, a condition below the refinement
+        /// threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(&self, fixed: #rt::lanes::LaneFixed<'_, #lt, #ni, #npar>, st: &mut #rt::lanes::LaneTrig<#lt, #nu>,
-            tolerance: #lt::Scalar, pivot: &mut #lt, ok: &mut #lt::Mask) -> #rt::lanes::LaneRates<#lt, #nu, #np> {
+            newton: &#rt::NewtonOptions<#lt::Scalar>, report: &mut #rt::lanes::LaneReport<#lt>, ok: &mut #lt::Mask)
+            -> #rt::lanes::LaneRates<#lt, #nu, #np> {
             let #rt::lanes::LaneFixed { x, xd, xdd, tx, tp } = fixed;
             #qd_let
             #qdd_let

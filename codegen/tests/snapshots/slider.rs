@@ -1734,21 +1734,25 @@ pub mod slider {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true],
+                angle_x: [true],
+                angle_q: [true, false],
+                predict: [false, false],
+            };
             ::mechgen::__private::lanes::tick(
                 t,
-                (&self.params, self.params_id, [true, true]),
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                [true],
+                &shape,
                 options
                     .closed_forms
                     .then_some(|
                         fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
                         st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        pivot: &mut L,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
                         ok: &mut L::Mask|
-                    {
-                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
-                    }),
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -1770,17 +1774,18 @@ pub mod slider {
                 },
             )
         }
-        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
-        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
-        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
-        /// non-finite value) are cleared in `ok`.
+        /// The common path of a tick in lanes: every closed form from the last tick's branch,
+        /// every Newton block from the predicted guess, then velocities, accelerations and
+        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
+        /// turn, a Newton step off the common path, a condition below the refinement
+        /// threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
             fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
             st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-            tolerance: L::Scalar,
-            pivot: &mut L,
+            newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
+            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
             ok: &mut L::Mask,
         ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 1> {
             let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, .. } = fixed;
@@ -1795,7 +1800,7 @@ pub mod slider {
                 0,
                 t0,
                 (::core::option::Option::None, p_l2),
-                tolerance,
+                newton.tolerance,
                 ok,
                 true,
             );
@@ -1805,7 +1810,8 @@ pub mod slider {
             let t2 = p_l2 * c_v_q2;
             let t3 = t1 + t2;
             ::mechgen::__private::lanes::solve_length1(st, 1, t3, L::lit(-1.0), ok);
-            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            *ok = *ok
+                & !report.pivot_ratio.lt(L::lit(::mechgen::__private::REFINE_BELOW));
             let v_q1_d = xd[0];
             let t4 = t1 * v_q1_d;
             let t5 = -t4;

@@ -316,21 +316,25 @@ pub mod rod {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true],
+                angle_x: [true],
+                angle_q: [true, false],
+                predict: [false, false],
+            };
             ::mechgen::__private::lanes::tick(
                 t,
-                (&self.params, self.params_id, [true, true]),
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                [true],
+                &shape,
                 options
                     .closed_forms
                     .then_some(|
                         fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
                         st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        pivot: &mut L,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
                         ok: &mut L::Mask|
-                    {
-                        self.motion_lanes(fixed, st, options.newton.tolerance, pivot, ok)
-                    }),
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 0, 2>,
@@ -357,17 +361,18 @@ pub mod rod {
                 },
             )
         }
-        /// The common path of a tick in lanes: every dyad from the last tick's branch, then
-        /// velocities, accelerations and points, as `motion_cached` computes them; lanes that
-        /// leave it (a dead point, a large turn, a condition below the refinement threshold, a
-        /// non-finite value) are cleared in `ok`.
+        /// The common path of a tick in lanes: every closed form from the last tick's branch,
+        /// every Newton block from the predicted guess, then velocities, accelerations and
+        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
+        /// turn, a Newton step off the common path, a condition below the refinement
+        /// threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
             fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
             st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-            tolerance: L::Scalar,
-            pivot: &mut L,
+            newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
+            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
             ok: &mut L::Mask,
         ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 0> {
             let ::mechgen::__private::lanes::LaneFixed { tx, .. } = fixed;
@@ -382,11 +387,12 @@ pub mod rod {
                 0,
                 t0,
                 (::core::option::Option::None, p_l2),
-                tolerance,
+                newton.tolerance,
                 ok,
                 true,
             );
-            *ok = *ok & !pivot.lt(L::lit(::mechgen::__private::REFINE_BELOW));
+            *ok = *ok
+                & !report.pivot_ratio.lt(L::lit(::mechgen::__private::REFINE_BELOW));
             (qd, qdd, [])
         }
     }

@@ -5,6 +5,7 @@
 //! common path (or fail), the lane is cleared in the mask `ok` and its values are not used.
 
 use super::Lanes;
+use super::newton::LaneLu;
 use crate::scalar::Real;
 
 /// The unknowns of W instances with their sines and cosines (`sc[k]` = (sin, cos) of `q[k]`
@@ -179,15 +180,16 @@ pub(super) fn near<L: Lanes>(
 }
 
 /// A block Jacobian of every lane factored for its velocity and acceleration solves (1×1: its
-/// reciprocal; 2×2: its inverse), as [`crate::elimination::Factored`] holds one.
+/// reciprocal; 2×2: its inverse; larger: its equilibrated LU factors with each lane's row
+/// swaps), as [`crate::elimination::Factored`] holds one.
 #[derive(Clone, Copy, Debug)]
-pub struct LaneFactored<L, const K: usize> {
+pub struct LaneFactored<L: Lanes, const K: usize> {
     inv: [[L; K]; K],
+    lu: Option<LaneLu<L, K>>,
 }
 
-/// [`crate::elimination::factor_block`]'s 1×1 and 2×2 paths in every lane: lanes singular to
-/// working precision (or with entries outside the 2×2 path's range) get their lane cleared in `ok`.
-/// Blocks of other sizes are never run in lanes.
+/// [`crate::elimination::factor_block`] in every lane: lanes singular to working precision (or
+/// with 2×2 entries outside its Cramer path's range) get their lane cleared in `ok`.
 #[inline(always)]
 pub fn factor_block<L: Lanes, const K: usize>(
     jac: [[L; K]; K],
@@ -213,9 +215,12 @@ pub fn factor_block<L: Lanes, const K: usize>(
         inv[1][0] = -a10 * d;
         inv[1][1] = a00 * d;
     } else {
-        *ok = *ok & zero.gt(zero);
+        return LaneFactored {
+            inv,
+            lu: Some(super::newton::lu(jac, ok)),
+        };
     }
-    LaneFactored { inv }
+    LaneFactored { inv, lu: None }
 }
 
 impl<L: Lanes, const K: usize> LaneFactored<L, K> {
@@ -223,7 +228,9 @@ impl<L: Lanes, const K: usize> LaneFactored<L, K> {
     #[inline(always)]
     pub fn solve(&self, rhs: [L; K], ok: &mut L::Mask) -> [L; K] {
         let mut z = rhs;
-        if K == 1 {
+        if let Some(lu) = &self.lu {
+            z = lu.solve(rhs);
+        } else if K == 1 {
             z[0] = rhs[0] * self.inv[0][0];
         } else if K == 2 {
             z[0] = self.inv[0][0] * rhs[0] + self.inv[0][1] * rhs[1];
@@ -237,9 +244,8 @@ impl<L: Lanes, const K: usize> LaneFactored<L, K> {
 }
 
 /// The inputs' sines and cosines at `x` as the scalar tick's `inputs_trig` makes them, for the
-/// inputs with `angle[i]`: rotated from `tx` at `x0` by [`crate::trig::rotate`]'s series, or, in
-/// the lanes of `resync` (whose caches are due) and those that moved by more than its 0.1 rad,
-/// `sin_cos` of `x` itself, lane by lane.
+/// inputs with `angle[i]`: rotated from `tx` at `x0` by [`rotate`], or, in the lanes of `resync`
+/// (whose caches are due), `sin_cos` of `x` itself, lane by lane.
 #[inline(always)]
 pub fn rotate_inputs<L: Lanes, const NI: usize>(
     tx: &[(L, L); NI],
@@ -250,30 +256,36 @@ pub fn rotate_inputs<L: Lanes, const NI: usize>(
 ) -> [(L, L); NI] {
     let mut out = *tx;
     for i in 0..NI {
-        if !angle[i] {
-            continue;
-        }
-        let dz = x0[i] - x[i];
-        let d2 = dz * dz;
-        let mut ps = L::lit(1.0 / 362880.0);
-        for k in [-1.0 / 5040.0, 1.0 / 120.0, -1.0 / 6.0, 1.0] {
-            ps = L::lit(k) + d2 * ps;
-        }
-        let mut pc = L::lit(-1.0 / 3628800.0);
-        for k in [1.0 / 40320.0, -1.0 / 720.0, 1.0 / 24.0, -0.5, 1.0] {
-            pc = L::lit(k) + d2 * pc;
-        }
-        let (sd, cd) = (dz * ps, pc);
-        let (s, c) = tx[i];
-        out[i] = (s * cd - c * sd, c * cd + s * sd);
-        let cold = resync | !dz.abs().le(L::lit(0.1));
-        if L::bits(cold) != 0 {
-            // Rare (once in `RESYNC_TICKS` ticks, or a jump): the scalar's own `sin_cos`.
-            let (s, c) = cold_sin_cos(x[i]);
-            out[i] = (L::select(cold, s, out[i].0), L::select(cold, c, out[i].1));
+        if angle[i] {
+            out[i] = rotate(tx[i], x[i], x0[i] - x[i], resync);
         }
     }
     out
+}
+
+/// [`crate::trig::rotate`] in every lane: the sine and cosine `(s, c)` of an angle turned by
+/// `−dz` to `q_new`, by the series; in the lanes of `fresh` and those where `|dz| > 0.1` (or
+/// not finite), `sin_cos` of `q_new` itself, lane by lane (as the scalar's cold path).
+#[inline(always)]
+pub fn rotate<L: Lanes>((s, c): (L, L), q_new: L, dz: L, fresh: L::Mask) -> (L, L) {
+    let d2 = dz * dz;
+    let mut ps = L::lit(1.0 / 362880.0);
+    for k in [-1.0 / 5040.0, 1.0 / 120.0, -1.0 / 6.0, 1.0] {
+        ps = L::lit(k) + d2 * ps;
+    }
+    let mut pc = L::lit(-1.0 / 3628800.0);
+    for k in [1.0 / 40320.0, -1.0 / 720.0, 1.0 / 24.0, -0.5, 1.0] {
+        pc = L::lit(k) + d2 * pc;
+    }
+    let (sd, cd) = (dz * ps, pc);
+    let out = (s * cd - c * sd, c * cd + s * sd);
+    let cold = fresh | !dz.abs().le(L::lit(0.1));
+    if L::bits(cold) == 0 {
+        return out;
+    }
+    // Rare (once in `RESYNC_TICKS` ticks, a jump, a long Newton step): the scalar's `sin_cos`.
+    let (s, c) = cold_sin_cos(q_new);
+    (L::select(cold, s, out.0), L::select(cold, c, out.1))
 }
 
 /// [`Lanes::sin_cos`] behind a call the optimizer does not speculate (as

@@ -11,13 +11,16 @@
 
 mod closed;
 mod kernels;
+mod newton;
 mod tick;
 
 pub use crate::simd::{F32x8, F32x16, F64x2, F64x4, F64x8, Lanes, WithLanes};
 pub use closed::{solve_angle1, solve_length1, solve_rpr};
 pub use kernels::{
-    LaneFactored, LaneTrig, factor_block, rotate_inputs, solve_dyad, solve_dyad_angles,
+    LaneFactored, LaneTrig, factor_block, rotate, rotate_inputs, solve_dyad, solve_dyad_angles,
 };
+pub use newton::{LaneLu, LaneReport, lu, newton_block};
 pub use tick::{
-    LaneFixed, LaneRates, LaneState, LaneTick, Memo, ScalarLane, fresh_params_id, tick, tick_start,
+    LaneFixed, LaneRates, LaneShape, LaneState, LaneTick, Memo, ScalarLane, fresh_params_id, tick,
+    tick_start,
 };

@@ -7,10 +7,11 @@
 
 use core::ops::Deref;
 
-use super::{LaneTrig, Lanes};
+use super::{LaneReport, LaneTrig, Lanes};
 use crate::error::SolveError;
 use crate::info::PointMotion;
 use crate::mechanism::State;
+use crate::scalar::Real;
 use crate::solve::NewtonReport;
 use crate::tick::{RESYNC_TICKS, Tick};
 use num_traits::Zero;
@@ -340,15 +341,26 @@ fn restart<
     }
 }
 
+/// What a lane tick needs to know of the mechanism (or scene) besides its values, as constant
+/// masks: the params it compares (a scene: those it reads), the inputs and unknowns that are
+/// angles read through their sines and cosines, and the unknowns a tick predicts (those Newton
+/// solves; a closed form's keep the last tick's value).
+#[derive(Clone, Copy, Debug)]
+pub struct LaneShape<const NI: usize, const NU: usize, const NPAR: usize> {
+    pub read: [bool; NPAR],
+    pub angle_x: [bool; NI],
+    pub angle_q: [bool; NU],
+    pub predict: [bool; NU],
+}
+
 /// One tick of W instances to the inputs `x` (rates `xd`, `xdd`), with the params `params` (in
-/// lanes, in the order of the mechanism's param array; only those with `read[k]` are compared
-/// with the stored ones, as a scene's tick compares only the params it reads) and the inputs with `angle[i]` read
-/// through their sines and cosines. `fast` is the common path of the mechanism's tick in lanes
-/// (`None` where the mechanism has none): from the last tick's unknowns it solves every block
-/// and the rates and points, clearing in the mask each lane that leaves the common path. Each lane
-/// that was not started, saw new params or non-finite inputs, or
-/// that `fast` cleared is ticked by `scalar` from its state before this tick; the others
-/// store the common path's results. Every lane ends with the scalar tick's result or error.
+/// lanes, in the order of the mechanism's param array) and the mechanism's `shape`. `fast` is the
+/// common path of the mechanism's tick in lanes (`None` where it has none): from the last tick's
+/// unknowns (Newton's predicted as the scalar predicts them) it solves every block and the
+/// rates and points, clearing in the mask each lane that leaves the common path. Each lane that
+/// was not started, saw new params or non-finite inputs, or that `fast` cleared is ticked by
+/// `scalar` from its state before this tick; the others store the common path's results. Every
+/// lane ends with the scalar tick's result or error.
 pub fn tick<
     L: Lanes,
     const NI: usize,
@@ -358,19 +370,20 @@ pub fn tick<
     M: Memo,
 >(
     t: &mut LaneTick<L, NI, NU, NP, NPAR, M>,
-    (params, params_id, read): (&[L; NPAR], usize, [bool; NPAR]),
+    (params, params_id): (&[L; NPAR], usize),
     [x, xd, xdd]: [&[L; NI]; 3],
-    angle: [bool; NI],
+    shape: &LaneShape<NI, NU, NPAR>,
     fast: Option<
         impl FnOnce(
             LaneFixed<'_, L, NI, NPAR>,
             &mut LaneTrig<L, NU>,
-            &mut L,
+            &mut LaneReport<L>,
             &mut L::Mask,
         ) -> LaneRates<L, NU, NP>,
     >,
     mut scalar: impl ScalarLane<L::Scalar, NI, NU, NP, NPAR, M>,
 ) {
+    let read = shape.read;
     let all = L::all_bits();
     let stale = all & !t.started;
     let mut due = 0u32;
@@ -391,12 +404,9 @@ pub fn tick<
     }
     let mut bad = all;
     if let Some(fast) = fast.filter(|_| stale != all) {
-        let tx = super::rotate_inputs(&t.tx, &t.state.x, x, angle, L::mask(due));
-        let mut st = LaneTrig {
-            q: t.state.q,
-            sc: t.tq,
-        };
-        let mut pivot = L::one();
+        let tx = super::rotate_inputs(&t.tx, &t.state.x, x, shape.angle_x, L::mask(due));
+        let mut st = predicted(t, x, shape, L::mask(due));
+        let mut report = LaneReport::new();
         let fixed = LaneFixed {
             x,
             xd,
@@ -404,15 +414,30 @@ pub fn tick<
             tx: &tx,
             tp: &t.tp,
         };
-        let (qd, qdd, points) = fast(fixed, &mut st, &mut pivot, &mut ok);
+        let (qd, qdd, points) = fast(fixed, &mut st, &mut report, &mut ok);
         bad = all & !L::bits(ok);
         let good = all & !bad;
         if good != 0 {
-            store(t, good, [x, xd, xdd], &st, (qd, qdd, points, pivot), tx);
-            // The report of a closed-form solve: no iterations, no residual.
-            for i in (0..L::W).filter(|i| (good & t.scalar_report) >> i & 1 == 1) {
-                t.iterations.as_mut()[i] = 0;
-                t.residual.set_lane(i, L::Scalar::zero());
+            store(
+                t,
+                good,
+                [x, xd, xdd],
+                &st,
+                (qd, qdd, points, report.pivot_ratio),
+                tx,
+            );
+            if shape.predict.iter().any(|&p| p) {
+                // Newton's report, lane by lane.
+                for i in (0..L::W).filter(|i| good >> i & 1 == 1) {
+                    t.iterations.as_mut()[i] = report.iterations.lane(i).to_f64() as u32;
+                }
+                t.residual = L::select(L::mask(good), report.residual, t.residual);
+            } else {
+                // The report of a closed-form solve: no iterations, no residual.
+                for i in (0..L::W).filter(|i| (good & t.scalar_report) >> i & 1 == 1) {
+                    t.iterations.as_mut()[i] = 0;
+                    t.residual.set_lane(i, L::Scalar::zero());
+                }
             }
             t.scalar_report &= !good;
             for i in (0..L::W).filter(|i| (good & t.failed) >> i & 1 == 1) {
@@ -440,6 +465,52 @@ pub fn tick<
             t.params_id = params_id;
         }
     }
+}
+
+/// The guess of a lane tick, as the scalar tick's `predicted` makes it for lanes with the same
+/// params: the unknowns with `shape.predict` moved along their last rates over the time the
+/// inputs took (`step_to`), their sines and cosines rotated (afresh in the lanes of `fresh`);
+/// a lane whose prediction is not finite keeps its last unknowns. The others as they were.
+#[inline(always)]
+fn predicted<
+    L: Lanes,
+    const NI: usize,
+    const NU: usize,
+    const NP: usize,
+    const NPAR: usize,
+    M: Memo,
+>(
+    t: &LaneTick<L, NI, NU, NP, NPAR, M>,
+    x: &[L; NI],
+    shape: &LaneShape<NI, NU, NPAR>,
+    fresh: L::Mask,
+) -> LaneTrig<L, NU> {
+    let s = &t.state;
+    let mut st = LaneTrig { q: s.q, sc: t.tq };
+    if !shape.predict.iter().any(|&p| p) {
+        return st;
+    }
+    let zero = L::zero();
+    let (mut num, mut den) = (zero, zero);
+    for i in 0..NI {
+        num = num + (x[i] - s.x[i]) * s.xd[i];
+        den = den + s.xd[i] * s.xd[i];
+    }
+    let dt = L::select(den.gt(zero), num / den, zero);
+    let mut finite = L::mask(L::all_bits());
+    for k in 0..NU {
+        if shape.predict[k] {
+            st.q[k] = st.q[k] + dt * (s.qd[k] + L::lit(0.5) * dt * s.qdd[k]);
+        }
+        finite = finite & st.q[k].is_finite();
+    }
+    for k in 0..NU {
+        st.q[k] = L::select(finite, st.q[k], s.q[k]);
+        if shape.predict[k] && shape.angle_q[k] {
+            st.sc[k] = super::rotate(t.tq[k], st.q[k], s.q[k] - st.q[k], fresh);
+        }
+    }
+    st
 }
 
 /// Stores the common path's results in the lanes with a bit in `good` (all of them: plain

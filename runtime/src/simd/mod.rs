@@ -31,6 +31,7 @@ pub trait Lanes:
     type Scalar: Real;
     /// A lane mask (the result of a comparison).
     type Mask: Copy
+        + Debug
         + BitAnd<Output = Self::Mask>
         + BitOr<Output = Self::Mask>
         + Not<Output = Self::Mask>;

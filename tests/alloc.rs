@@ -193,6 +193,42 @@ solves!(sixbar_f32, sixbar::Sixbar, f32);
 solves!(shaper_f32, shaper::Shaper, f32);
 solves!(four_bar_f32, four_bar::FourBar, f32);
 solves!(slider_crank_f32, slider_crank::SliderCrank, f32);
+/// Newton (a 4×4 block) in lanes: `sixbar_g` ticked 1° at a time over the 60° from its start
+/// that it assembles along, W instances at once (f64: 4, f32: 8); allocations counted.
+fn sixbar_g_lanes<T: mechgen::lanes::WithLanes>() -> Outcome {
+    use mechgen::sixbar_g::{Lanes as GLanes, SixbarG};
+    type L<T> = <T as mechgen::lanes::WithLanes>::Lanes;
+    let lanes = GLanes::<L<T>>::from_fn(|_| SixbarG::<T>::default());
+    let (x0, q0) = SixbarG::<T>::start();
+    let options = SolveOptions::<T>::default();
+    let step = T::lit(1f64.to_radians());
+    let at = |x: T| {
+        InputMotion::new(
+            [L::<T>::splat(x)],
+            [L::<T>::splat(T::one())],
+            [L::<T>::zero()],
+        )
+    };
+    let guess = q0.to_array().map(L::<T>::splat);
+    let (allocations, (done, error)) = count(|| {
+        let mut done = 0;
+        let mut x = x0.q6;
+        let mut t = lanes.tick_start(&at(x), &guess, &options);
+        for _ in 0..60 {
+            x += step;
+            lanes.tick(&mut t, &at(x), &options);
+            for k in 0..<L<T> as Lanes>::W {
+                match t.status(k) {
+                    Ok(()) => done += 1,
+                    Err(e) => return (done, Some(e)),
+                }
+            }
+            black_box(&t);
+        }
+        (done, None)
+    });
+    (allocations, done, error)
+}
 
 /// Every compiled-in scene: `SOLVES` solves through `Scene::solve` and `SOLVES` ticks from the
 /// start, 1° (or 1/360 of the start value of a length input) at a time; allocations counted.
@@ -350,6 +386,8 @@ fn generated_solvers_do_not_allocate() {
         ("shaper f32", shaper_f32),
         ("four_bar f32", four_bar_f32),
         ("slider_crank f32", slider_crank_f32),
+        ("sixbar_g lanes f64", sixbar_g_lanes::<f64>),
+        ("sixbar_g lanes f32", sixbar_g_lanes::<f32>),
         ("every scene f64", scenes::<f64>),
         ("every scene f32", scenes::<f32>),
     ];

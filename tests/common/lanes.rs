@@ -37,23 +37,27 @@ fn param_values(info: &MechanismInfo, u: &[f64], spread: f64) -> Vec<f64> {
         .collect()
 }
 
-/// The spread of lane `i`'s params among `w`: none for lane 0, 40 % for the last (it meets dead
-/// points), 5 % for the others.
-fn spread(i: usize, w: usize) -> f64 {
+/// The spread of the last lane's params in the root crate's checks: 40 % (it meets dead points).
+pub const LAST_SPREAD: f64 = 0.4;
+
+/// The spread of lane `i`'s params among `w`: none for lane 0, `last` for the last, 5 % for the
+/// others.
+fn spread(i: usize, w: usize, last: f64) -> f64 {
     if i == 0 {
         0.0
     } else if i == w - 1 {
-        0.4
+        last
     } else {
         0.05
     }
 }
 
 /// One case: W instances of `m` (lane 0 at the file's params, the others perturbed, the last by
-/// up to 40 % so that it meets dead points), each input stepped at its own rate for `ticks`
+/// up to `last`; the root crate: 40 %, so that it meets dead points), each input stepped at its own rate for `ticks`
 /// ticks (a length input by its own span per tick), every lane checked against its scalar tick.
 fn case<M: StaticMechanism<f64>, L: Lanes<Scalar = f64>>(
     m: &M,
+    last: f64,
     u: &[f64],
     steps: &[f64],
     ticks: usize,
@@ -63,7 +67,7 @@ fn case<M: StaticMechanism<f64>, L: Lanes<Scalar = f64>>(
     let w = L::W;
     let npar = info.params.len();
     let mechs: Vec<M> = (0..w)
-        .map(|i| params_of(m, &u[i * npar..(i + 1) * npar], spread(i, w)))
+        .map(|i| params_of(m, &u[i * npar..(i + 1) * npar], spread(i, w, last)))
         .collect();
     let lanes = M::Lanes::<L>::from_fn(|i| mechs[i].clone());
     let opts = SolveOptions::default();
@@ -171,8 +175,39 @@ fn case<M: StaticMechanism<f64>, L: Lanes<Scalar = f64>>(
     Ok(())
 }
 
-/// Every compiled-in mechanism in `F64x4` and `F64x2` lanes over `cases` random cases of
-/// `ticks` ticks each: the failures and what was seen.
+/// One mechanism in `F64x4` and `F64x2` lanes over `cases` random cases of `ticks` ticks each
+/// (random params and input rates per lane, the last lane's params up to `last` off): the first
+/// failing case, if any. Also what a crate with mechanisms of its own runs
+/// (`tests/odd-files/tests/lanes.rs`).
+pub fn check_mechanism_lanes<M: StaticMechanism<f64>>(
+    m: &M,
+    last: f64,
+    cases: u32,
+    ticks: usize,
+    seen: &mut Seen,
+) -> Result<(), String> {
+    let npar = m.info().params.len();
+    let mut runner = TestRunner::new(Config {
+        cases,
+        failure_persistence: None,
+        ..Config::default()
+    });
+    let strategy = (
+        proptest::collection::vec(-1.0f64..1.0, 4 * npar),
+        proptest::collection::vec(0.3f64..4.0, 4),
+    );
+    let seen = std::cell::RefCell::new(seen);
+    runner
+        .run(&strategy, |(u, steps)| {
+            let seen = &mut **seen.borrow_mut();
+            case::<M, F64x4>(m, last, &u, &steps, ticks, seen).map_err(TestCaseError::fail)?;
+            case::<M, F64x2>(m, last, &u, &steps, ticks, seen).map_err(TestCaseError::fail)?;
+            Ok(())
+        })
+        .map_err(|e| format!("{}: {e}", m.info().name))
+}
+
+/// Every compiled-in mechanism as [`check_mechanism_lanes`]: the failures and what was seen.
 pub fn check_lanes(cases: u32, ticks: usize) -> (Vec<String>, Seen) {
     struct Visit {
         cases: u32,
@@ -182,27 +217,10 @@ pub fn check_lanes(cases: u32, ticks: usize) -> (Vec<String>, Seen) {
     }
     impl StaticVisitor<f64> for Visit {
         fn visit<M: StaticMechanism<f64> + 'static>(&mut self, m: &M) {
-            let npar = m.info().params.len();
-            let mut runner = TestRunner::new(Config {
-                cases: self.cases,
-                failure_persistence: None,
-                ..Config::default()
-            });
-            let strategy = (
-                proptest::collection::vec(-1.0f64..1.0, 4 * npar),
-                proptest::collection::vec(0.3f64..4.0, 4),
-            );
-            let seen = std::cell::RefCell::new(std::mem::take(&mut self.seen));
-            let ticks = self.ticks;
-            let r = runner.run(&strategy, |(u, steps)| {
-                let seen = &mut *seen.borrow_mut();
-                case::<M, F64x4>(m, &u, &steps, ticks, seen).map_err(TestCaseError::fail)?;
-                case::<M, F64x2>(m, &u, &steps, ticks, seen).map_err(TestCaseError::fail)?;
-                Ok(())
-            });
-            self.seen = seen.into_inner();
-            if let Err(e) = r {
-                self.fails.push(format!("{}: {e}", m.info().name));
+            if let Err(e) =
+                check_mechanism_lanes(m, LAST_SPREAD, self.cases, self.ticks, &mut self.seen)
+            {
+                self.fails.push(e);
             }
         }
     }
@@ -231,12 +249,20 @@ fn scene_case<S: Scene<f64>, L: Lanes<Scalar = f64>>(
     let npar = info.params.len();
     let scenes: Vec<S> = (0..w)
         .map(|i| {
-            let p = param_values(info, &u[i * npar..(i + 1) * npar], spread(i, w));
+            let p = param_values(
+                info,
+                &u[i * npar..(i + 1) * npar],
+                spread(i, w, LAST_SPREAD),
+            );
             S::with_params(&p).expect("one value per param")
         })
         .collect();
     let lanes = S::Lanes::<L>::from_fn(|i| {
-        let p = param_values(info, &u[i * npar..(i + 1) * npar], spread(i, w));
+        let p = param_values(
+            info,
+            &u[i * npar..(i + 1) * npar],
+            spread(i, w, LAST_SPREAD),
+        );
         S::with_params(&p).expect("one value per param")
     });
     let (ni, nu) = (info.inputs.len(), info.unknowns.len());

@@ -73,7 +73,7 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
     let path_doc = if fast {
         "Its blocks all have lane kernels: the common path of a tick runs in lanes."
     } else {
-        "It has blocks without lane kernels (RRP, two lengths; Newton in a scene below order 2): every lane is ticked by the scalar tick (the same results, no SIMD speed-up)."
+        "Its tick has no lane path (no blocks, or Newton blocks in a scene below order 2, whose rates come from differences): every lane is ticked by the scalar tick (the same results, no SIMD speed-up)."
     };
     let doc = format!(
         " W instances of the {} in SIMD lanes (`L` = `mechgen::lanes::F64x4` for four f64 \

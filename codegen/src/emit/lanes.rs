@@ -1,5 +1,5 @@
 //! Stage 6e, the lane body: the common path of a tick in SIMD lanes (`motion_lanes`) for a
-//! mechanism or a scene whose blocks all have lane kernels (dyads, RPR, one angle, one length):
+//! mechanism or a scene (every closed-form kind has a lane kernel, Newton blocks `newton_block`):
 //! the fused body's segments, built from the same DAG in the same order (so every lane computes
 //! what the scalar tick computes), with the lane kernels in place of the scalar ones. The items
 //! around it (`Lanes<L>`, `LaneTick<L>`) are [`crate::emit::lane_items`]'s.
@@ -70,20 +70,10 @@ pub(crate) struct LaneSubset<'a> {
 }
 
 /// Whether the common path of a tick of `blocks` runs in lanes: every block a closed form with
-/// a lane kernel (a dyad, RPR, one angle, one length) or Newton; below order 2 (a scene
-/// estimating its Newton blocks' rates by differences), closed forms only.
+/// a lane kernel (every closed-form kind) or Newton; below order 2 (a scene estimating its
+/// Newton blocks' rates by differences), closed forms only.
 pub(crate) fn has_lane_path(c: &Compiled, blocks: &[BlockId], order: u8) -> bool {
-    !blocks.is_empty()
-        && blocks.iter().all(|&b| match &c.block(b).closed_form {
-            None => order >= 2,
-            Some(cf) => matches!(
-                cf,
-                ClosedForm::Rrr(_)
-                    | ClosedForm::Rpr { .. }
-                    | ClosedForm::Angle1 { .. }
-                    | ClosedForm::Length1 { .. }
-            ),
-        })
+    !blocks.is_empty() && (order >= 2 || blocks.iter().all(|&b| c.block(b).closed_form.is_some()))
 }
 
 /// `newton_block(…)` of a block without a closed form in lanes: its residual and Jacobian
@@ -180,6 +170,15 @@ pub(crate) fn motion_lanes(
                 let v = value(*q);
                 quote!(#rt::lanes::solve_rpr(st, (#q, #s), [#kx, #ky], (#mp, #mr), (#np, #nr), newton.tolerance, &mut report.pivot_ratio, ok, #v);)
             }
+            ClosedForm::Rrp { q, s, .. } => {
+                let [kx, ky, p, ux, uy] = [0, 1, 2, 4, 5].map(|i| &r[i]);
+                let (rr, v) = (opt(3), value(*q));
+                quote!(#rt::lanes::solve_rrp(st, (#q, #s), [#kx, #ky], (#p, #rr), [#ux, #uy], newton.tolerance, &mut report.pivot_ratio, ok, #v);)
+            }
+            ClosedForm::Linear2 { s1, s2, .. } => {
+                let [kx, ky, ax, ay, bx, by] = [0, 1, 2, 3, 4, 5].map(|i| &r[i]);
+                quote!(#rt::lanes::solve_linear2(st, (#s1, #s2), [#kx, #ky], [#ax, #ay], [#bx, #by], &mut report.pivot_ratio, ok);)
+            }
             ClosedForm::Angle1 { q, .. } => {
                 let (k, p, qq) = (&r[0], opt(1), &r[2]);
                 let v = value(*q);
@@ -189,7 +188,6 @@ pub(crate) fn motion_lanes(
                 let (k, a) = (&r[0], &r[1]);
                 quote!(#rt::lanes::solve_length1(st, #s, #k, #a, ok);)
             }
-            _ => continue,
         };
         steps.extend(quote! {
             #stmts

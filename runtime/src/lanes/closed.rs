@@ -1,7 +1,8 @@
-//! The RPR, one-angle and one-length closed forms in lanes (`closed_form::solve_rpr`,
-//! `solve_angle1`, `solve_length1`: the shaper's slotted guide, the slider-crank's rod angle and
-//! slide), repeating the scalar operations in order; lanes that leave the scalar's common path are
-//! cleared in `ok`.
+//! The RPR, RRP, one-angle, one-length and two-length closed forms in lanes
+//! (`closed_form::solve_rpr`, `solve_rrp`, `solve_angle1`, `solve_length1`, `solve_linear2`: the
+//! shaper's slotted guide, an inclined slide, the slider-crank's rod angle and slide, a cross
+//! slide), repeating the scalar operations in order; lanes that leave the scalar's common path
+//! are cleared in `ok`.
 
 use super::kernels::near;
 use super::{LaneTrig, Lanes};
@@ -124,5 +125,112 @@ pub fn solve_rpr<L: Lanes, const N: usize>(
     st.sc[q] = (e.1, e.0);
     st.q[s] = len;
     let ratio = t / r;
+    *pivot = L::select(ratio.lt(*pivot), ratio, *pivot);
+}
+
+/// `closed_form::solve_rrp` in every lane: `K + M e(q) + s u = 0` for the angle `q` and the
+/// length `s` along the fixed direction `u` (`(p, r)` of `M`, `r` as `None` where generated code
+/// has the literal zero), on the guess's side (the sign of `u · M e(q)`); `pivot` gets each lane's
+/// half chord over `|M|`; with `value` false the angle keeps its value.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn solve_rrp<L: Lanes, const N: usize>(
+    st: &mut LaneTrig<L, N>,
+    (q, s): (usize, usize),
+    k: [L; 2],
+    (p, r): (L, Option<L>),
+    u: [L; 2],
+    tolerance: L::Scalar,
+    pivot: &mut L,
+    ok: &mut L::Mask,
+    value: bool,
+) {
+    let (zero, one) = (L::zero(), L::one());
+    let rr = r.unwrap_or(zero);
+    for v in [st.q[q], k[0], k[1], p, rr, u[0], u[1]] {
+        *ok = *ok & v.is_finite();
+    }
+    // The scalar takes its `r = 0` path (|p| and 1/p) where r is zero at run time: leave such lanes.
+    if r.is_some() {
+        *ok = *ok & !rr.eq(zero);
+    }
+    let d = (-k[0], -k[1]);
+    let uu = u[0] * u[0] + u[1] * u[1];
+    let l2 = p * p + rr * rr;
+    *ok = *ok & uu.gt(zero) & l2.gt(zero) & (uu + l2 + d.0 * d.0 + d.1 * d.1).is_finite();
+    let l = match r {
+        None => p.abs(),
+        Some(_) => l2.sqrt(),
+    };
+    let inv_ul = one / uu.sqrt();
+    let unit = (u[0] * inv_ul, u[1] * inv_ul);
+    let h = unit.0 * d.1 - unit.1 * d.0;
+    let dist = h.abs();
+    let near_dead = l - dist;
+    let slack = L::splat(L::Scalar::EPSILON * L::Scalar::lit(128.0));
+    *ok = *ok & !near_dead.lt(-slack * l);
+    let half = L::select(near_dead.gt(zero), (near_dead * (l + dist)).sqrt(), zero);
+    let foot = (-unit.1 * h, unit.0 * h);
+    let s0 = (d.0 * unit.0 + d.1 * unit.1) * inv_ul;
+    let (sg, cg) = st.sc[q];
+    let a = (p * cg - rr * sg, rr * cg + p * sg);
+    let tau = L::select((a.0 * u[0] + a.1 * u[1]).lt(zero), -one, one);
+    let w = tau * half;
+    let (x, y) = (foot.0 + w * unit.0, foot.1 + w * unit.1);
+    let e = match r {
+        None => {
+            let inv = one / p;
+            (x * inv, y * inv)
+        }
+        Some(r) => {
+            let inv = one / (p * p + r * r);
+            ((p * x + r * y) * inv, (p * y - r * x) * inv)
+        }
+    };
+    let len = s0 - w * inv_ul;
+    *ok = *ok & e.0.is_finite() & e.1.is_finite() & len.is_finite();
+    if value {
+        st.q[q] = near(st.q[q], (cg, sg), e, tolerance, ok);
+    }
+    st.sc[q] = (e.1, e.0);
+    st.q[s] = len;
+    let ratio = half / l;
+    *pivot = L::select(ratio.lt(*pivot), ratio, *pivot);
+}
+
+/// `closed_form::solve_linear2` in every lane: `K + s1 u1 + s2 u2 = 0` for the lengths `s1`,
+/// `s2` (Cramer on the column-equilibrated 2×2); `pivot` gets each lane's `|det|` (or its
+/// inverse above 1); lanes whose directions are parallel to working precision leave.
+#[inline(always)]
+pub fn solve_linear2<L: Lanes, const N: usize>(
+    st: &mut LaneTrig<L, N>,
+    (s1, s2): (usize, usize),
+    k: [L; 2],
+    u1: [L; 2],
+    u2: [L; 2],
+    pivot: &mut L,
+    ok: &mut L::Mask,
+) {
+    let (zero, one) = (L::zero(), L::one());
+    for v in [k[0], k[1], u1[0], u1[1], u2[0], u2[1]] {
+        *ok = *ok & v.is_finite();
+    }
+    // `f64::max` of two finite non-negative values.
+    let max = |x: L, y: L| L::select(x.lt(y), y, x);
+    let (m1, m2) = (max(u1[0].abs(), u1[1].abs()), max(u2[0].abs(), u2[1].abs()));
+    *ok = *ok & m1.gt(zero) & m2.gt(zero);
+    let (i1, i2) = (one / m1, one / m2);
+    let (a, b) = ((u1[0] * i1, u1[1] * i1), (u2[0] * i2, u2[1] * i2));
+    let det = a.0 * b.1 - a.1 * b.0;
+    let r = det.abs();
+    *ok = *ok & r.gt(L::splat(L::Scalar::EPSILON * L::Scalar::lit(2.0)));
+    let d = (-k[0], -k[1]);
+    let inv = one / det;
+    let v1 = (d.0 * b.1 - d.1 * b.0) * inv * i1;
+    let v2 = (a.0 * d.1 - a.1 * d.0) * inv * i2;
+    *ok = *ok & v1.is_finite() & v2.is_finite();
+    st.q[s1] = v1;
+    st.q[s2] = v2;
+    let ratio = L::select(r.le(one), r, one / r);
     *pivot = L::select(ratio.lt(*pivot), ratio, *pivot);
 }

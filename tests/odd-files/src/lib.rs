@@ -17,8 +17,9 @@ pub mod derived {
     ::mechgen::include_mechanisms!("derived.rs");
 }
 
-/// `closed.toml`: closed-form blocks no other file has, an offset slot (RPR, `h != 0`) and an
-/// inclined slide (RRP), in generated code (`tests/closed.rs`).
+/// `closed.toml`: closed-form blocks no other file has, an offset slot (RPR, `h != 0`), an
+/// inclined slide (RRP) and a cross slide (two lengths), in generated code (`tests/closed.rs`,
+/// in lanes `tests/lanes.rs`).
 pub mod closed {
     ::mechgen::include_mechanisms!("closed.rs");
 }

@@ -1,11 +1,12 @@
-//! `closed.toml` in generated code: the offset slot (RPR with a perpendicular offset `h != 0`)
-//! and the inclined slide (RRP), the two closed-form kinds no other file of the repository has.
+//! `closed.toml` in generated code: the offset slot (RPR with a perpendicular offset `h != 0`),
+//! the inclined slide (RRP) and the cross slide (two lengths), the closed-form kinds no other file
+//! of the repository has.
 //!
 //! * 200 deterministic pseudo-random parameter sets each, set through the generated `Params`, on
 //!   both assembly modes: generated positions = the closed forms written here (quadratic formula,
 //!   atan2) ≤ 1e-12 (lengths relative to the length scale), velocities = central differences of
 //!   those closed forms, the generic engine (same file text) = generated ≤ 1e-12, no Newton
-//!   iteration;
+//!   iteration; the cross slide's lengths = Cramer's rule written here (positions and rates);
 //! * δ = 1e-2 … 1e-10 before the dead points (the pin at distance |h| from the slot's pivot; the
 //!   coupler's circle tangent to the slide), on data chosen so that the reference is exact to
 //!   rounding: positions within a few ε/√δ; just past them `Unassemblable`, guess left alone.
@@ -14,7 +15,7 @@ use std::f64::consts::PI;
 
 use mechgen::generic::{self, Generic};
 use mechgen::{DynMechanism, InputMotion, SolveError, SolveOptions};
-use mechgen_odd_files::closed::{inclined_slide, offset_slot};
+use mechgen_odd_files::closed::{cross_slide, inclined_slide, offset_slot};
 
 const TEXT: &str = include_str!("../closed.toml");
 const CASES: usize = 200;
@@ -61,11 +62,15 @@ fn angle_diff(a: f64, b: f64) -> f64 {
 }
 
 #[test]
-fn the_blocks_are_the_two_closed_forms() {
+fn the_blocks_are_the_three_closed_forms() {
     assert_eq!(engine("offset_slot").block_kinds(), ["closed form (RPR)"]);
     assert_eq!(
         engine("inclined_slide").block_kinds(),
         ["closed form (RRP)"]
+    );
+    assert_eq!(
+        engine("cross_slide").block_kinds(),
+        ["closed form (linear 2x2)"]
     );
 }
 
@@ -266,6 +271,56 @@ fn inclined_slide_is_the_closed_form_on_both_modes() {
     eprintln!(
         "inclined slide: worst error against the closed form {worst:.2e} over {CASES} cases × 2 modes"
     );
+}
+
+/// The cross slide `s1 e(a1) + s2 e(a2) = r e(q1) + (x0, y0)` by Cramer's rule, and its rates
+/// (the right side's derivative `r e(q1 + π/2)` by the same rule).
+fn cross_closed(p: &cross_slide::Params<f64>, q1: f64) -> ([f64; 2], [f64; 2]) {
+    let (c1, s1, c2, s2) = (p.a1.cos(), p.a1.sin(), p.a2.cos(), p.a2.sin());
+    let det = c1 * s2 - c2 * s1;
+    let cramer = |x: f64, y: f64| [(x * s2 - y * c2) / det, (c1 * y - s1 * x) / det];
+    let (c, s) = (q1.cos(), q1.sin());
+    (
+        cramer(p.r * c + p.x0, p.r * s + p.y0),
+        cramer(-p.r * s, p.r * c),
+    )
+}
+
+#[test]
+fn cross_slide_is_cramers_rule() {
+    let mut rng = Rng(13);
+    let mut g = engine("cross_slide");
+    let angle = [false, false];
+    let mut worst: f64 = 0.0;
+    for _ in 0..CASES {
+        let r = rng.length();
+        let (x0, y0) = (
+            rng.length() * rng.range(-1.0, 1.0),
+            rng.length() * rng.range(-1.0, 1.0),
+        );
+        // The slides at least 0.1 rad from parallel (the elimination's condition).
+        let a1 = rng.range(-PI, PI);
+        let a2 = a1 + rng.range(0.1, PI - 0.1) * if rng.next() < 0.5 { 1.0 } else { -1.0 };
+        let q1 = rng.range(-PI, PI);
+        let p = cross_slide::Params { r, a1, a2, x0, y0 };
+        for (name, value) in [("r", r), ("a1", a1), ("a2", a2), ("x0", x0), ("y0", y0)] {
+            g.set_param(name, value).expect("a param");
+        }
+        let scale = r.max(x0.abs()).max(y0.abs());
+        let m = cross_slide::CrossSlide { params: p };
+        let (want, rates) = cross_closed(&p, q1);
+        // Any guess: the lengths are linear.
+        let guess = [want[0] + scale, want[1] - scale];
+        let what = format!("{p:?}, q1 = {q1}");
+        let (q, qd) = solve_both(&m, &g, q1, guess, angle, scale, &what);
+        let e = error(&q, &want, angle, scale).max(error(&qd, &rates, angle, scale));
+        assert!(
+            e <= SAME,
+            "{what}: {q:?} {qd:?} vs Cramer {want:?} {rates:?}"
+        );
+        worst = worst.max(e);
+    }
+    eprintln!("cross slide: worst error against Cramer's rule {worst:.2e} over {CASES} cases");
 }
 
 /// δ = 1e-2 … 1e-10.

@@ -12,6 +12,7 @@
 mod closed;
 mod kernels;
 mod newton;
+mod state;
 mod tick;
 
 pub use crate::simd::{F32x8, F32x16, F64x2, F64x4, F64x8, Lanes, WithLanes};
@@ -20,7 +21,5 @@ pub use kernels::{
     LaneFactored, LaneTrig, factor_block, rotate, rotate_inputs, solve_dyad, solve_dyad_angles,
 };
 pub use newton::{LaneLu, LaneReport, lu, newton_block};
-pub use tick::{
-    LaneFixed, LaneRates, LaneShape, LaneState, LaneTick, Memo, ScalarLane, fresh_params_id, tick,
-    tick_start,
-};
+pub use state::{LaneFixed, LaneRates, LaneState, LaneTick, Memo, fresh_params_id};
+pub use tick::{LaneShape, ScalarLane, tick, tick_start};

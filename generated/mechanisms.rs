@@ -3464,18 +3464,35 @@ pub mod sixbar {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the
-        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
-        /// again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results). A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             guess: &[L; 4],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, true, true, true, true, true, true],
+                angle_x: [true],
+                angle_q: [true, true, true, true],
+                angle_p: [
+                    false, false, false, false, false, false, false, false, false, true,
+                ],
+                predict: [false, false, false, false],
+            };
             ::mechgen::__private::lanes::tick_start(
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
+                &shape,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        ok: &mut L::Mask|
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -3511,6 +3528,9 @@ pub mod sixbar {
                 read: [true, true, true, true, true, true, true, true, true, true],
                 angle_x: [true],
                 angle_q: [true, true, true, true],
+                angle_p: [
+                    false, false, false, false, false, false, false, false, false, true,
+                ],
                 predict: [false, false, false, false],
             };
             ::mechgen::__private::lanes::tick(
@@ -6424,18 +6444,33 @@ pub mod shaper {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the
-        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
-        /// again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results). A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             guess: &[L; 4],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, true],
+                angle_x: [true],
+                angle_q: [false, true, true, false],
+                angle_p: [false, false, false, false, false],
+                predict: [false, false, false, false],
+            };
             ::mechgen::__private::lanes::tick_start(
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
+                &shape,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        ok: &mut L::Mask|
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -6471,6 +6506,7 @@ pub mod shaper {
                 read: [true, true, true, true, true],
                 angle_x: [true],
                 angle_q: [false, true, true, false],
+                angle_p: [false, false, false, false, false],
                 predict: [false, false, false, false],
             };
             ::mechgen::__private::lanes::tick(
@@ -8883,18 +8919,33 @@ pub mod four_bar {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the
-        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
-        /// again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results). A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             guess: &[L; 2],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, true, true],
+                angle_x: [true],
+                angle_q: [true, true],
+                angle_p: [false, false, false, false, false, true],
+                predict: [false, false],
+            };
             ::mechgen::__private::lanes::tick_start(
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
+                &shape,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        ok: &mut L::Mask|
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -8930,6 +8981,7 @@ pub mod four_bar {
                 read: [true, true, true, true, true, true],
                 angle_x: [true],
                 angle_q: [true, true],
+                angle_p: [false, false, false, false, false, true],
                 predict: [false, false],
             };
             ::mechgen::__private::lanes::tick(
@@ -10953,18 +11005,33 @@ pub mod slider_crank {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the
-        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
-        /// again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results). A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             guess: &[L; 2],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true],
+                angle_x: [true],
+                angle_q: [true, false],
+                angle_p: [false, false, false],
+                predict: [false, false],
+            };
             ::mechgen::__private::lanes::tick_start(
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
+                &shape,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 3>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        ok: &mut L::Mask|
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -11000,6 +11067,7 @@ pub mod slider_crank {
                 read: [true, true, true],
                 angle_x: [true],
                 angle_q: [true, false],
+                angle_p: [false, false, false],
                 predict: [false, false],
             };
             ::mechgen::__private::lanes::tick(
@@ -12900,18 +12968,33 @@ pub mod rocker_four_bar {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the
-        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
-        /// again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results). A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             guess: &[L; 2],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true],
+                angle_x: [true],
+                angle_q: [true, true],
+                angle_p: [false, false, false, false],
+                predict: [false, false],
+            };
             ::mechgen::__private::lanes::tick_start(
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
+                &shape,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 4>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        ok: &mut L::Mask|
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -12947,6 +13030,7 @@ pub mod rocker_four_bar {
                 read: [true, true, true, true],
                 angle_x: [true],
                 angle_q: [true, true],
+                angle_p: [false, false, false, false],
                 predict: [false, false],
             };
             ::mechgen::__private::lanes::tick(
@@ -15478,18 +15562,35 @@ pub mod sixbar_g {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the
-        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
-        /// again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results). A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             guess: &[L; 4],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, true, true, true, true, true, true],
+                angle_x: [true],
+                angle_q: [true, true, true, true],
+                angle_p: [
+                    false, false, false, false, false, false, false, false, false, true,
+                ],
+                predict: [true, true, true, true],
+            };
             ::mechgen::__private::lanes::tick_start(
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
+                &shape,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        ok: &mut L::Mask|
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -15525,6 +15626,9 @@ pub mod sixbar_g {
                 read: [true, true, true, true, true, true, true, true, true, true],
                 angle_x: [true],
                 angle_q: [true, true, true, true],
+                angle_p: [
+                    false, false, false, false, false, false, false, false, false, true,
+                ],
                 predict: [true, true, true, true],
             };
             ::mechgen::__private::lanes::tick(
@@ -15958,18 +16062,35 @@ pub mod sixbar_e_path {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the
-        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
-        /// again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` by the scalar `tick_start`. A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             guess: &[L; 4],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, false, false, true, false, false, true],
+                angle_x: [true],
+                angle_q: [true, true, false, false],
+                angle_p: [
+                    false, false, false, false, false, false, false, false, false, true,
+                ],
+                predict: [false, false, false, false],
+            };
             ::mechgen::__private::lanes::tick_start(
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
+                &shape,
+                ::core::option::Option::<
+                    fn(
+                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                        &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        &mut L::Mask,
+                    ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 1>,
+                >::None,
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 1, 10>,
@@ -16010,6 +16131,9 @@ pub mod sixbar_e_path {
                 read: [true, true, true, true, false, false, true, false, false, true],
                 angle_x: [true],
                 angle_q: [true, true, false, false],
+                angle_p: [
+                    false, false, false, false, false, false, false, false, false, true,
+                ],
                 predict: [false, false, false, false],
             };
             ::mechgen::__private::lanes::tick(
@@ -16487,18 +16611,35 @@ pub mod sixbar_output {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the
-        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
-        /// again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` by the scalar `tick_start`. A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             guess: &[L; 4],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, true, true, true, true, true, true],
+                angle_x: [true],
+                angle_q: [true, true, true, true],
+                angle_p: [
+                    false, false, false, false, false, false, false, false, false, true,
+                ],
+                predict: [false, false, false, false],
+            };
             ::mechgen::__private::lanes::tick_start(
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
+                &shape,
+                ::core::option::Option::<
+                    fn(
+                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                        &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        &mut L::Mask,
+                    ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 0>,
+                >::None,
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 10>,
@@ -16539,6 +16680,9 @@ pub mod sixbar_output {
                 read: [true, true, true, true, true, true, true, true, true, true],
                 angle_x: [true],
                 angle_q: [true, true, true, true],
+                angle_p: [
+                    false, false, false, false, false, false, false, false, false, true,
+                ],
                 predict: [false, false, false, false],
             };
             ::mechgen::__private::lanes::tick(
@@ -17119,18 +17263,33 @@ pub mod shaper_ram {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the
-        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
-        /// again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` by the scalar `tick_start`. A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             guess: &[L; 4],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, true],
+                angle_x: [true],
+                angle_q: [false, true, true, false],
+                angle_p: [false, false, false, false, false],
+                predict: [false, false, false, false],
+            };
             ::mechgen::__private::lanes::tick_start(
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
+                &shape,
+                ::core::option::Option::<
+                    fn(
+                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
+                        &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        &mut L::Mask,
+                    ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 0>,
+                >::None,
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 5>,
@@ -17171,6 +17330,7 @@ pub mod shaper_ram {
                 read: [true, true, true, true, true],
                 angle_x: [true],
                 angle_q: [false, true, true, false],
+                angle_p: [false, false, false, false, false],
                 predict: [false, false, false, false],
             };
             ::mechgen::__private::lanes::tick(
@@ -17729,18 +17889,33 @@ pub mod coupler_curve {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the
-        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
-        /// again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` by the scalar `tick_start`. A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             guess: &[L; 2],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true, true, true, true, true],
+                angle_x: [true],
+                angle_q: [true, true],
+                angle_p: [false, false, false, false, false, true],
+                predict: [false, false],
+            };
             ::mechgen::__private::lanes::tick_start(
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
+                &shape,
+                ::core::option::Option::<
+                    fn(
+                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
+                        &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        &mut L::Mask,
+                    ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 1>,
+                >::None,
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 1, 6>,
@@ -17781,6 +17956,7 @@ pub mod coupler_curve {
                 read: [true, true, true, true, true, true],
                 angle_x: [true],
                 angle_q: [true, true],
+                angle_p: [false, false, false, false, false, true],
                 predict: [false, false],
             };
             ::mechgen::__private::lanes::tick(

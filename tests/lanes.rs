@@ -66,6 +66,74 @@ fn six_bar_in_f32_lanes_is_the_scalar_f32_tick() {
     }
 }
 
+/// The first tick in lanes from eight different guesses and inputs, some not finite (a guess,
+/// a param, an input, an input rate), some far from the default branch: each lane is the scalar
+/// `tick_start` from its own guess (state, caches and report bit for bit, or its error), and a
+/// far guess starts on another branch than the default one beside it.
+#[test]
+fn a_start_in_lanes_is_each_lanes_scalar_start() {
+    use mechgen::lanes::F64x8;
+    let (x0, q0) = Sixbar::<f64>::start();
+    let q0 = q0.to_array();
+    let mut mechs = [Sixbar::new(Params::<f64>::default()); 8];
+    mechs[2].params.l1 = f64::INFINITY;
+    mechs[7].params.l5 *= 1.05;
+    let mut guesses = [q0; 8];
+    guesses[1][2] = f64::NAN;
+    // The second loop's dyad on its other assembly: q5 and q6 mirrored about the line between
+    // their ends (roughly: swapped and turned half a turn).
+    guesses[5] = [
+        q0[0],
+        q0[1],
+        q0[3] + std::f64::consts::PI,
+        q0[2] + std::f64::consts::PI,
+    ];
+    guesses[6] = [q0[1], q0[0], q0[2], q0[3]];
+    let mut x = [x0.q1; 8];
+    let mut xd = [1f64.to_radians(); 8];
+    x[3] = f64::NAN;
+    xd[4] = f64::NEG_INFINITY;
+    x[6] += 0.3;
+    let lanes = SixbarLanes::<F64x8>::from_fn(|i| mechs[i]);
+    let input = InputMotion::new(
+        [F64x8::from_fn(|i| x[i])],
+        [F64x8::from_fn(|i| xd[i])],
+        [F64x8::zero()],
+    );
+    let guess: [F64x8; 4] = core::array::from_fn(|k| F64x8::from_fn(|i| guesses[i][k]));
+    let opts = SolveOptions::default();
+    let t = lanes.tick_start(&input, &guess, &opts);
+    let mut failed = 0;
+    for i in 0..8 {
+        let scalar = mechgen::StaticMechanism::tick_start(
+            &mechs[i],
+            &InputMotion::new([x[i]], [xd[i]], [0.0]),
+            &guesses[i],
+            &opts,
+        );
+        match scalar {
+            Ok(s) => {
+                assert_eq!(t.status(i), Ok(()), "lane {i}");
+                assert!(t.started(i), "lane {i}");
+                assert_eq!(t.lane(i), Some(s), "lane {i}");
+            }
+            Err(e) => {
+                failed += 1;
+                assert_eq!(t.status(i), Err(e), "lane {i}");
+                assert!(!t.started(i), "lane {i}");
+                // A lane that failed keeps its guess.
+                assert_eq!(
+                    t.lane(i).expect("i < W").q.map(f64::to_bits),
+                    guesses[i].map(f64::to_bits)
+                );
+            }
+        }
+    }
+    assert_eq!(failed, 4, "the four lanes with a value not finite");
+    let branch_differs = |i: usize| (0..4).any(|k| (t.q[k].lane(i) - t.q[k].lane(0)).abs() > 0.1);
+    assert!(branch_differs(5), "{:?}", t.q);
+}
+
 /// A fleet of 103 six-bars (not a multiple of W; different params and input rates) ticked over
 /// a turn through `mechgen::fleet::Fleet` on every core: every instance is its scalar tick.
 #[test]

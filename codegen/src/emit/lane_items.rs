@@ -28,6 +28,9 @@ struct Spec<'a> {
     lane_tick: TokenStream,
     /// The scalar tick of one lane (`lanes::ScalarLane`).
     scalar: TokenStream,
+    /// Whether the scalar `tick_start` is the solve the lane path repeats (a mechanism's; a
+    /// scene's starts every value of its subset, which its tick's lane body does not).
+    start_in_lanes: bool,
     /// The instances' field and accessor (`mechanisms`, `mechanism`), and what they are.
     field: Ident,
     accessor: Ident,
@@ -46,7 +49,7 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
         args: s.args,
         x: xm.clone(),
         q: qm,
-        p: pm,
+        p: pm.clone(),
     };
     let vars = LaneVars {
         cached: &cached,
@@ -54,6 +57,11 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
     };
     let fast = has_lane_path(c, s.sub.blocks, s.sub.order);
     let motion = fast.then(|| motion_lanes(c, s.args, &vars, &s.sub));
+    let none = quote! {
+        ::core::option::Option::<fn(#rt::lanes::LaneFixed<'_, #lt, #ni, #npar>, &mut #rt::lanes::LaneTrig<#lt, #nu>,
+            &mut #rt::lanes::LaneReport<#lt>, &mut #lt::Mask)
+            -> #rt::lanes::LaneRates<#lt, #nu, #np>>::None
+    };
     let fast_arg = if fast {
         quote! {
             options.closed_forms.then_some(
@@ -64,11 +72,7 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
             )
         }
     } else {
-        quote! {
-            ::core::option::Option::<fn(#rt::lanes::LaneFixed<'_, #lt, #ni, #npar>, &mut #rt::lanes::LaneTrig<#lt, #nu>,
-                &mut #rt::lanes::LaneReport<#lt>, &mut #lt::Mask)
-                -> #rt::lanes::LaneRates<#lt, #nu, #np>>::None
-        }
+        none.clone()
     };
     let path_doc = if fast {
         "Its blocks all have lane kernels: the common path of a tick runs in lanes."
@@ -85,6 +89,24 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
     let (field, accessor, scalar, read) = (&s.field, &s.accessor, &s.scalar, &s.read);
     let (angle_q, predict) = (&s.angle_q, &s.predict);
     let lane_tick = &s.lane_tick;
+    let shape = quote! {
+        let shape = #rt::lanes::LaneShape { read: [#(#read),*], angle_x: [#(#xm),*], angle_q: [#(#angle_q),*],
+            angle_p: [#(#pm),*], predict: [#(#predict),*] };
+    };
+    let (start_arg, start_doc) = if fast && s.start_in_lanes {
+        (
+            &fast_arg,
+            "solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results).",
+        )
+    } else {
+        (
+            &none,
+            "solved from its lane of `guess` by the scalar `tick_start`.",
+        )
+    };
+    let start_doc = format!(
+        " The first tick of every instance, each {start_doc} A lane that fails reports its error in `status` and starts again at the next tick."
+    );
     quote! {
         /// The state of W instances between lane ticks (see `Lanes::tick_start`).
         pub type #lane_tick_ty<#lt> = #lane_tick;
@@ -126,12 +148,12 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
                 ::core::result::Result::Ok(())
             }
 
-            /// The first tick of every instance, each solved from its lane of `guess` by the
-            /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
-            /// again at the next tick.
+            #[doc = #start_doc]
             pub fn tick_start(&self, input: &#rt::InputMotion<[#lt; #ni]>, guess: &[#lt; #nu], options: &#rt::SolveOptions<#lt::Scalar>)
                 -> #lane_tick_ty<#lt> {
-                #rt::lanes::tick_start([&input.x, &input.xd, &input.xdd], guess, #scalar)
+                #shape
+                #rt::lanes::tick_start((&self.params, self.params_id), [&input.x, &input.xd, &input.xdd], guess, &shape,
+                    #start_arg, #scalar)
             }
 
             /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
@@ -139,8 +161,7 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
             /// another. No allocation.
             #[inline]
             pub fn tick(&self, t: &mut #lane_tick_ty<#lt>, input: &#rt::InputMotion<[#lt; #ni]>, options: &#rt::SolveOptions<#lt::Scalar>) {
-                let shape = #rt::lanes::LaneShape { read: [#(#read),*], angle_x: [#(#xm),*], angle_q: [#(#angle_q),*],
-                    predict: [#(#predict),*] };
+                #shape
                 #rt::lanes::tick(t, (&self.params, self.params_id), [&input.x, &input.xd, &input.xdd], &shape, #fast_arg, #scalar)
             }
 
@@ -187,6 +208,7 @@ pub(crate) fn mechanism(c: &Compiled, args: &Args) -> TokenStream {
             .collect(),
         lane_tick: quote!(#rt::LaneTick<#lt, #ni, #nu, #np, #npar>),
         scalar,
+        start_in_lanes: true,
         field: format_ident!("mechanisms"),
         accessor: format_ident!("mechanism"),
         what: "mechanism",
@@ -272,6 +294,7 @@ pub(crate) fn scene(c: &Compiled, plan: &ScenePlan, rt: &TokenStream, ncols: usi
             .collect(),
         lane_tick: quote!(#rt::LaneTick<#lt, #ni, #nu, #np, #npar, #rt::SceneMemo<<#lt as #rt::Lanes>::Scalar>>),
         scalar,
+        start_in_lanes: false,
         field: format_ident!("scenes"),
         accessor: format_ident!("scene"),
         what: "scene",

@@ -1691,18 +1691,33 @@ pub mod slider {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the
-        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
-        /// again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results). A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             guess: &[L; 2],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true],
+                angle_x: [true],
+                angle_q: [true, false],
+                angle_p: [false, false],
+                predict: [false, false],
+            };
             ::mechgen::__private::lanes::tick_start(
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
+                &shape,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        ok: &mut L::Mask|
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -1738,6 +1753,7 @@ pub mod slider {
                 read: [true, true],
                 angle_x: [true],
                 angle_q: [true, false],
+                angle_p: [false, false],
                 predict: [false, false],
             };
             ::mechgen::__private::lanes::tick(

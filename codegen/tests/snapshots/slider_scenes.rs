@@ -268,18 +268,33 @@ pub mod rod {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the
-        /// scalar `tick_start`. A lane that fails reports its error in `status` and starts
-        /// again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` by the scalar `tick_start`. A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             guess: &[L; 2],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
+            let shape = ::mechgen::__private::lanes::LaneShape {
+                read: [true, true],
+                angle_x: [true],
+                angle_q: [true, false],
+                angle_p: [false, false],
+                predict: [false, false],
+            };
             ::mechgen::__private::lanes::tick_start(
+                (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
+                &shape,
+                ::core::option::Option::<
+                    fn(
+                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
+                        &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        &mut L::Mask,
+                    ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 0>,
+                >::None,
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 0, 2>,
@@ -320,6 +335,7 @@ pub mod rod {
                 read: [true, true],
                 angle_x: [true],
                 angle_q: [true, false],
+                angle_p: [false, false],
                 predict: [false, false],
             };
             ::mechgen::__private::lanes::tick(

@@ -12,6 +12,7 @@
 mod closed;
 mod kernels;
 mod newton;
+mod start;
 mod state;
 mod tick;
 
@@ -21,5 +22,6 @@ pub use kernels::{
     LaneFactored, LaneTrig, factor_block, rotate, rotate_inputs, solve_dyad, solve_dyad_angles,
 };
 pub use newton::{LaneLu, LaneReport, lu, newton_block};
+pub use start::tick_start;
 pub use state::{LaneFixed, LaneRates, LaneState, LaneTick, Memo, fresh_params_id};
-pub use tick::{LaneShape, ScalarLane, tick, tick_start};
+pub use tick::{LaneShape, ScalarLane, tick};

@@ -4,7 +4,7 @@
 // Index loops over several parallel arrays read better than zipped iterators here.
 #![allow(clippy::needless_range_loop)]
 
-use super::state::{LaneFixed, LaneRates, LaneState, LaneTick, Memo};
+use super::state::{LaneFixed, LaneRates, LaneTick, Memo};
 use super::{LaneReport, LaneTrig, Lanes};
 use crate::error::SolveError;
 use crate::info::PointMotion;
@@ -33,67 +33,10 @@ where
 {
 }
 
-/// Lane `i` of each of `v`.
-fn lane_of<L: Lanes, const N: usize>(v: &[L; N], i: usize) -> [L::Scalar; N] {
-    core::array::from_fn(|k| v[k].lane(i))
-}
-
-/// The first tick of W instances: each lane started by the scalar `tick_start` from its guess
-/// (`scalar` with `started` false). A lane that fails keeps its guess and its error, and starts
-/// again on the next tick.
-pub fn tick_start<
-    L: Lanes,
-    const NI: usize,
-    const NU: usize,
-    const NP: usize,
-    const NPAR: usize,
-    M: Memo,
->(
-    [x, xd, xdd]: [&[L; NI]; 3],
-    guess: &[L; NU],
-    mut scalar: impl ScalarLane<L::Scalar, NI, NU, NP, NPAR, M>,
-) -> LaneTick<L, NI, NU, NP, NPAR, M> {
-    let zero = L::zero();
-    let unit = (zero, L::one());
-    let mut t = LaneTick {
-        state: LaneState {
-            x: *x,
-            xd: *xd,
-            xdd: *xdd,
-            q: *guess,
-            qd: [zero; NU],
-            qdd: [zero; NU],
-            points: [PointMotion {
-                position: [zero; 2],
-                velocity: [zero; 2],
-                acceleration: [zero; 2],
-            }; NP],
-            pivot_ratio: L::one(),
-        },
-        tx: [unit; NI],
-        tq: [unit; NU],
-        tp: [unit; NPAR],
-        params: [zero; NPAR],
-        params_id: 0,
-        age: L::array(|_| 0),
-        iterations: L::array(|_| 0),
-        residual: zero,
-        status: L::array(|_| Ok(())),
-        failed: 0,
-        started: 0,
-        scalar_report: 0,
-        memo: L::array(|_| M::default()),
-    };
-    for i in 0..L::W {
-        restart(&mut t, i, [x, xd, xdd], &mut scalar);
-    }
-    t
-}
-
 /// Lane `i` ticked (or started) by the scalar tick; its status set. Off the common path.
 #[cold]
 #[inline(never)]
-fn restart<
+pub(super) fn restart<
     L: Lanes,
     const NI: usize,
     const NU: usize,
@@ -108,7 +51,8 @@ fn restart<
 ) {
     let mut s = t.lane_of(i);
     let mut memo = t.memo.as_ref()[i];
-    let (xi, xdi, xddi) = (lane_of(x, i), lane_of(xd, i), lane_of(xdd, i));
+    let lane_of = |v: &[L; NI]| -> [L::Scalar; NI] { core::array::from_fn(|k| v[k].lane(i)) };
+    let (xi, xdi, xddi) = (lane_of(x), lane_of(xd), lane_of(xdd));
     let started = t.started(i);
     let r = scalar(i, &mut s, &mut memo, started, [&xi, &xdi, &xddi]);
     t.memo.as_mut()[i] = memo;
@@ -127,14 +71,15 @@ fn restart<
 }
 
 /// What a lane tick needs to know of the mechanism (or scene) besides its values, as constant
-/// masks: the params it compares (a scene: those it reads), the inputs and unknowns that are
-/// angles read through their sines and cosines, and the unknowns a tick predicts (those Newton
+/// masks: the params it compares (a scene: those it reads), the inputs, unknowns and params that
+/// are angles read through their sines and cosines, and the unknowns a tick predicts (those Newton
 /// solves; a closed form's keep the last tick's value).
 #[derive(Clone, Copy, Debug)]
 pub struct LaneShape<const NI: usize, const NU: usize, const NPAR: usize> {
     pub read: [bool; NPAR],
     pub angle_x: [bool; NI],
     pub angle_q: [bool; NU],
+    pub angle_p: [bool; NPAR],
     pub predict: [bool; NU],
 }
 
@@ -301,7 +246,7 @@ fn predicted<
 /// Stores the common path's results in the lanes with a bit in `good` (all of them: plain
 /// stores; some: a select per value).
 #[inline(always)]
-fn store<
+pub(super) fn store<
     L: Lanes,
     const NI: usize,
     const NU: usize,

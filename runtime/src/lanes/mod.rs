@@ -24,4 +24,4 @@ pub use kernels::{
 pub use newton::{LaneLu, LaneReport, lu, newton_block};
 pub use start::tick_start;
 pub use state::{LaneFixed, LaneRates, LaneState, LaneTick, Memo, fresh_params_id};
-pub use tick::{LaneShape, ScalarLane, tick};
+pub use tick::{LanePath, LaneShape, ScalarLane, tick};

@@ -6,8 +6,8 @@
 // Index loops over several parallel arrays read better than zipped iterators here.
 #![allow(clippy::needless_range_loop)]
 
-use super::state::{LaneFixed, LaneRates, LaneState, LaneTick, Memo};
-use super::tick::{LaneShape, ScalarLane, restart, store};
+use super::state::{LaneFixed, LaneState, LaneTick, Memo};
+use super::tick::{LanePath, LaneShape, ScalarLane, restart, store};
 use super::{LaneReport, LaneTrig, Lanes};
 use crate::info::PointMotion;
 use crate::scalar::Real;
@@ -43,14 +43,7 @@ pub fn tick_start<
     [x, xd, xdd]: [&[L; NI]; 3],
     guess: &[L; NU],
     shape: &LaneShape<NI, NU, NPAR>,
-    fast: Option<
-        impl FnOnce(
-            LaneFixed<'_, L, NI, NPAR>,
-            &mut LaneTrig<L, NU>,
-            &mut LaneReport<L>,
-            &mut L::Mask,
-        ) -> LaneRates<L, NU, NP>,
-    >,
+    fast: Option<impl LanePath<L, NI, NU, NP, NPAR>>,
     mut scalar: impl ScalarLane<L::Scalar, NI, NU, NP, NPAR, M>,
 ) -> LaneTick<L, NI, NU, NP, NPAR, M> {
     let zero = L::zero();
@@ -139,14 +132,6 @@ pub fn tick_start<
     for i in (0..L::W).filter(|i| bad >> i & 1 == 1) {
         restart(&mut t, i, [x, xd, xdd], &mut scalar);
     }
-    if params_id != 0 {
-        let mut same = L::mask(all);
-        for k in (0..NPAR).filter(|&k| shape.read[k]) {
-            same = same & params[k].eq(t.params[k]);
-        }
-        if L::bits(same) == all {
-            t.params_id = params_id;
-        }
-    }
+    t.learn_params_id(params, params_id, shape.read);
     t
 }

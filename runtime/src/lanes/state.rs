@@ -169,6 +169,27 @@ impl<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: us
         self.memo.as_ref().get(i).copied()
     }
 
+    /// Takes `params_id` (not 0) as the id of the params every lane holds when each lane's
+    /// params (those in `read`) equal `params`, so that the next tick need not compare them.
+    pub(super) fn learn_params_id(
+        &mut self,
+        params: &[L; NPAR],
+        params_id: usize,
+        read: [bool; NPAR],
+    ) {
+        if params_id == 0 {
+            return;
+        }
+        let all = L::all_bits();
+        let mut same = L::mask(all);
+        for k in (0..NPAR).filter(|&k| read[k]) {
+            same = same & params[k].eq(self.params[k]);
+        }
+        if L::bits(same) == all {
+            self.params_id = params_id;
+        }
+    }
+
     /// Sets instance `i < W` to the scalar tick `t` (started, status `Ok`).
     pub(super) fn set_lane(&mut self, i: usize, t: &Tick<L::Scalar, NI, NU, NP, NPAR>) {
         self.store_lane(i, t);

@@ -33,6 +33,31 @@ where
 {
 }
 
+/// The common path of a tick in lanes (the generated `motion_lanes`): from the unknowns and their
+/// sines and cosines in `st` it solves every block and the rates and points, clearing in the mask
+/// each lane that leaves it.
+pub trait LanePath<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>:
+    FnOnce(
+    LaneFixed<'_, L, NI, NPAR>,
+    &mut LaneTrig<L, NU>,
+    &mut LaneReport<L>,
+    &mut L::Mask,
+) -> LaneRates<L, NU, NP>
+{
+}
+
+impl<L: Lanes, F, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>
+    LanePath<L, NI, NU, NP, NPAR> for F
+where
+    F: FnOnce(
+        LaneFixed<'_, L, NI, NPAR>,
+        &mut LaneTrig<L, NU>,
+        &mut LaneReport<L>,
+        &mut L::Mask,
+    ) -> LaneRates<L, NU, NP>,
+{
+}
+
 /// Lane `i` ticked (or started) by the scalar tick; its status set. Off the common path.
 #[cold]
 #[inline(never)]
@@ -103,14 +128,7 @@ pub fn tick<
     (params, params_id): (&[L; NPAR], usize),
     [x, xd, xdd]: [&[L; NI]; 3],
     shape: &LaneShape<NI, NU, NPAR>,
-    fast: Option<
-        impl FnOnce(
-            LaneFixed<'_, L, NI, NPAR>,
-            &mut LaneTrig<L, NU>,
-            &mut LaneReport<L>,
-            &mut L::Mask,
-        ) -> LaneRates<L, NU, NP>,
-    >,
+    fast: Option<impl LanePath<L, NI, NU, NP, NPAR>>,
     mut scalar: impl ScalarLane<L::Scalar, NI, NU, NP, NPAR, M>,
 ) {
     let read = shape.read;
@@ -186,14 +204,8 @@ pub fn tick<
     for i in (0..L::W).filter(|i| bad >> i & 1 == 1) {
         restart(t, i, [x, xd, xdd], &mut scalar);
     }
-    if !known && params_id != 0 {
-        let mut same = L::mask(all);
-        for k in (0..NPAR).filter(|&k| read[k]) {
-            same = same & params[k].eq(t.params[k]);
-        }
-        if L::bits(same) == all {
-            t.params_id = params_id;
-        }
+    if !known {
+        t.learn_params_id(params, params_id, read);
     }
 }
 

@@ -3568,10 +3568,10 @@ pub mod sixbar {
             )
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
-        /// every Newton block from the predicted guess, then velocities, accelerations and
-        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
-        /// turn, a Newton step off the common path, a condition below the refinement
-        /// threshold, a non-finite value) are cleared in `ok`.
+        /// every Newton block from the predicted guess (a start: both from the guess), then
+        /// velocities, accelerations and points, as the scalar tick computes them; lanes that
+        /// leave it (a dead point, a large turn, a Newton step off the common path, a condition
+        /// below the refinement threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
@@ -6544,10 +6544,10 @@ pub mod shaper {
             )
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
-        /// every Newton block from the predicted guess, then velocities, accelerations and
-        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
-        /// turn, a Newton step off the common path, a condition below the refinement
-        /// threshold, a non-finite value) are cleared in `ok`.
+        /// every Newton block from the predicted guess (a start: both from the guess), then
+        /// velocities, accelerations and points, as the scalar tick computes them; lanes that
+        /// leave it (a dead point, a large turn, a Newton step off the common path, a condition
+        /// below the refinement threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
@@ -9019,10 +9019,10 @@ pub mod four_bar {
             )
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
-        /// every Newton block from the predicted guess, then velocities, accelerations and
-        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
-        /// turn, a Newton step off the common path, a condition below the refinement
-        /// threshold, a non-finite value) are cleared in `ok`.
+        /// every Newton block from the predicted guess (a start: both from the guess), then
+        /// velocities, accelerations and points, as the scalar tick computes them; lanes that
+        /// leave it (a dead point, a large turn, a Newton step off the common path, a condition
+        /// below the refinement threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
@@ -11105,10 +11105,10 @@ pub mod slider_crank {
             )
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
-        /// every Newton block from the predicted guess, then velocities, accelerations and
-        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
-        /// turn, a Newton step off the common path, a condition below the refinement
-        /// threshold, a non-finite value) are cleared in `ok`.
+        /// every Newton block from the predicted guess (a start: both from the guess), then
+        /// velocities, accelerations and points, as the scalar tick computes them; lanes that
+        /// leave it (a dead point, a large turn, a Newton step off the common path, a condition
+        /// below the refinement threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
@@ -13068,10 +13068,10 @@ pub mod rocker_four_bar {
             )
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
-        /// every Newton block from the predicted guess, then velocities, accelerations and
-        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
-        /// turn, a Newton step off the common path, a condition below the refinement
-        /// threshold, a non-finite value) are cleared in `ok`.
+        /// every Newton block from the predicted guess (a start: both from the guess), then
+        /// velocities, accelerations and points, as the scalar tick computes them; lanes that
+        /// leave it (a dead point, a large turn, a Newton step off the common path, a condition
+        /// below the refinement threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
@@ -15666,10 +15666,10 @@ pub mod sixbar_g {
             )
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
-        /// every Newton block from the predicted guess, then velocities, accelerations and
-        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
-        /// turn, a Newton step off the common path, a condition below the refinement
-        /// threshold, a non-finite value) are cleared in `ok`.
+        /// every Newton block from the predicted guess (a start: both from the guess), then
+        /// velocities, accelerations and points, as the scalar tick computes them; lanes that
+        /// leave it (a dead point, a large turn, a Newton step off the common path, a condition
+        /// below the refinement threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
@@ -16062,7 +16062,7 @@ pub mod sixbar_e_path {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the scalar `tick_start`. A lane that fails reports its error in `status` and starts again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results). A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
@@ -16083,14 +16083,14 @@ pub mod sixbar_e_path {
                 [&input.x, &input.xd, &input.xdd],
                 guess,
                 &shape,
-                ::core::option::Option::<
-                    fn(
-                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
-                        &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        &mut L::Mask,
-                    ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 1>,
-                >::None,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        ok: &mut L::Mask|
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok, true) }),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 1, 10>,
@@ -16148,7 +16148,9 @@ pub mod sixbar_e_path {
                         st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
                         report: &mut ::mechgen::__private::lanes::LaneReport<L>,
                         ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    {
+                        self.motion_lanes(fixed, st, &options.newton, report, ok, false)
+                    }),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 1, 10>,
@@ -16176,10 +16178,10 @@ pub mod sixbar_e_path {
             )
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
-        /// every Newton block from the predicted guess, then velocities, accelerations and
-        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
-        /// turn, a Newton step off the common path, a condition below the refinement
-        /// threshold, a non-finite value) are cleared in `ok`.
+        /// every Newton block from the predicted guess (a start: both from the guess), then
+        /// velocities, accelerations and points, as the scalar tick computes them; lanes that
+        /// leave it (a dead point, a large turn, a Newton step off the common path, a condition
+        /// below the refinement threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
@@ -16188,6 +16190,7 @@ pub mod sixbar_e_path {
             newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
             report: &mut ::mechgen::__private::lanes::LaneReport<L>,
             ok: &mut L::Mask,
+            every_angle: bool,
         ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 1> {
             let ::mechgen::__private::lanes::LaneFixed { tx, tp, .. } = fixed;
             let qd = [L::zero(); 4];
@@ -16212,7 +16215,7 @@ pub mod sixbar_e_path {
                 newton.tolerance,
                 &mut report.pivot_ratio,
                 ok,
-                [false, false],
+                [every_angle, every_angle],
             );
             *ok = *ok
                 & !report.pivot_ratio.lt(L::lit(::mechgen::__private::REFINE_BELOW));
@@ -16611,7 +16614,7 @@ pub mod sixbar_output {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the scalar `tick_start`. A lane that fails reports its error in `status` and starts again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results). A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
@@ -16632,14 +16635,14 @@ pub mod sixbar_output {
                 [&input.x, &input.xd, &input.xdd],
                 guess,
                 &shape,
-                ::core::option::Option::<
-                    fn(
-                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
-                        &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        &mut L::Mask,
-                    ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 0>,
-                >::None,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        ok: &mut L::Mask|
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok, true) }),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 10>,
@@ -16697,7 +16700,9 @@ pub mod sixbar_output {
                         st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
                         report: &mut ::mechgen::__private::lanes::LaneReport<L>,
                         ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    {
+                        self.motion_lanes(fixed, st, &options.newton, report, ok, false)
+                    }),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 10>,
@@ -16725,10 +16730,10 @@ pub mod sixbar_output {
             )
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
-        /// every Newton block from the predicted guess, then velocities, accelerations and
-        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
-        /// turn, a Newton step off the common path, a condition below the refinement
-        /// threshold, a non-finite value) are cleared in `ok`.
+        /// every Newton block from the predicted guess (a start: both from the guess), then
+        /// velocities, accelerations and points, as the scalar tick computes them; lanes that
+        /// leave it (a dead point, a large turn, a Newton step off the common path, a condition
+        /// below the refinement threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
@@ -16737,6 +16742,7 @@ pub mod sixbar_output {
             newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
             report: &mut ::mechgen::__private::lanes::LaneReport<L>,
             ok: &mut L::Mask,
+            every_angle: bool,
         ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 0> {
             let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, tp, .. } = fixed;
             let mut qd = [L::zero(); 4];
@@ -16761,7 +16767,7 @@ pub mod sixbar_output {
                 newton.tolerance,
                 &mut report.pivot_ratio,
                 ok,
-                [false, false],
+                [every_angle, every_angle],
             );
             let p_l5 = self.params[4];
             let p_l6 = self.params[5];
@@ -16799,7 +16805,7 @@ pub mod sixbar_output {
                 newton.tolerance,
                 &mut report.pivot_ratio,
                 ok,
-                [false, true],
+                [every_angle, true],
             );
             *ok = *ok
                 & !report.pivot_ratio.lt(L::lit(::mechgen::__private::REFINE_BELOW));
@@ -17263,7 +17269,7 @@ pub mod shaper_ram {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the scalar `tick_start`. A lane that fails reports its error in `status` and starts again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results). A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
@@ -17282,14 +17288,14 @@ pub mod shaper_ram {
                 [&input.x, &input.xd, &input.xdd],
                 guess,
                 &shape,
-                ::core::option::Option::<
-                    fn(
-                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
-                        &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        &mut L::Mask,
-                    ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 0>,
-                >::None,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        ok: &mut L::Mask|
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok, true) }),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 5>,
@@ -17345,7 +17351,9 @@ pub mod shaper_ram {
                         st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
                         report: &mut ::mechgen::__private::lanes::LaneReport<L>,
                         ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    {
+                        self.motion_lanes(fixed, st, &options.newton, report, ok, false)
+                    }),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 5>,
@@ -17373,10 +17381,10 @@ pub mod shaper_ram {
             )
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
-        /// every Newton block from the predicted guess, then velocities, accelerations and
-        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
-        /// turn, a Newton step off the common path, a condition below the refinement
-        /// threshold, a non-finite value) are cleared in `ok`.
+        /// every Newton block from the predicted guess (a start: both from the guess), then
+        /// velocities, accelerations and points, as the scalar tick computes them; lanes that
+        /// leave it (a dead point, a large turn, a Newton step off the common path, a condition
+        /// below the refinement threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
@@ -17385,6 +17393,7 @@ pub mod shaper_ram {
             newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
             report: &mut ::mechgen::__private::lanes::LaneReport<L>,
             ok: &mut L::Mask,
+            every_angle: bool,
         ) -> ::mechgen::__private::lanes::LaneRates<L, 4, 0> {
             let ::mechgen::__private::lanes::LaneFixed { xd, xdd, tx, .. } = fixed;
             let mut qd = [L::zero(); 4];
@@ -17406,7 +17415,7 @@ pub mod shaper_ram {
                 newton.tolerance,
                 &mut report.pivot_ratio,
                 ok,
-                false,
+                every_angle,
             );
             let p_l3 = self.params[1];
             let p_l4 = self.params[2];
@@ -17421,7 +17430,7 @@ pub mod shaper_ram {
                 (::core::option::Option::None, p_l4),
                 newton.tolerance,
                 ok,
-                false,
+                every_angle,
             );
             let (_, c_v_q3) = st.sc[1];
             let t7 = c_v_q3 * p_l3;
@@ -17889,7 +17898,7 @@ pub mod coupler_curve {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the scalar `tick_start`. A lane that fails reports its error in `status` and starts again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results). A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
@@ -17908,14 +17917,14 @@ pub mod coupler_curve {
                 [&input.x, &input.xd, &input.xdd],
                 guess,
                 &shape,
-                ::core::option::Option::<
-                    fn(
-                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
-                        &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        &mut L::Mask,
-                    ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 1>,
-                >::None,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        ok: &mut L::Mask|
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok, true) }),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 1, 6>,
@@ -17971,7 +17980,9 @@ pub mod coupler_curve {
                         st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
                         report: &mut ::mechgen::__private::lanes::LaneReport<L>,
                         ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    {
+                        self.motion_lanes(fixed, st, &options.newton, report, ok, false)
+                    }),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 1, 6>,
@@ -17999,10 +18010,10 @@ pub mod coupler_curve {
             )
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
-        /// every Newton block from the predicted guess, then velocities, accelerations and
-        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
-        /// turn, a Newton step off the common path, a condition below the refinement
-        /// threshold, a non-finite value) are cleared in `ok`.
+        /// every Newton block from the predicted guess (a start: both from the guess), then
+        /// velocities, accelerations and points, as the scalar tick computes them; lanes that
+        /// leave it (a dead point, a large turn, a Newton step off the common path, a condition
+        /// below the refinement threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,
@@ -18011,6 +18022,7 @@ pub mod coupler_curve {
             newton: &::mechgen::__private::NewtonOptions<L::Scalar>,
             report: &mut ::mechgen::__private::lanes::LaneReport<L>,
             ok: &mut L::Mask,
+            every_angle: bool,
         ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 1> {
             let ::mechgen::__private::lanes::LaneFixed { xd, tx, tp, .. } = fixed;
             let mut qd = [L::zero(); 2];
@@ -18035,7 +18047,7 @@ pub mod coupler_curve {
                 newton.tolerance,
                 &mut report.pivot_ratio,
                 ok,
-                [false, false],
+                [every_angle, every_angle],
             );
             *ok = *ok
                 & !report.pivot_ratio.lt(L::lit(::mechgen::__private::REFINE_BELOW));

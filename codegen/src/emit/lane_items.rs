@@ -28,9 +28,6 @@ struct Spec<'a> {
     lane_tick: TokenStream,
     /// The scalar tick of one lane (`lanes::ScalarLane`).
     scalar: TokenStream,
-    /// Whether the scalar `tick_start` is the solve the lane path repeats (a mechanism's; a
-    /// scene's starts every value of its subset, which its tick's lane body does not).
-    start_in_lanes: bool,
     /// The instances' field and accessor (`mechanisms`, `mechanism`), and what they are.
     field: Ident,
     accessor: Ident,
@@ -62,18 +59,23 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
             &mut #rt::lanes::LaneReport<#lt>, &mut #lt::Mask)
             -> #rt::lanes::LaneRates<#lt, #nu, #np>>::None
     };
-    let fast_arg = if fast {
+    // The lane path of a tick and of a start (a scene's with values to skip computes them all
+    // at its start, as its scalar start does).
+    let path = |every: bool| {
+        if !fast {
+            return none.clone();
+        }
+        let every = s.sub.values_read.map(|_| quote!(#every));
         quote! {
             options.closed_forms.then_some(
                 |fixed: #rt::lanes::LaneFixed<'_, #lt, #ni, #npar>, st: &mut #rt::lanes::LaneTrig<#lt, #nu>,
                     report: &mut #rt::lanes::LaneReport<#lt>, ok: &mut #lt::Mask| {
-                    self.motion_lanes(fixed, st, &options.newton, report, ok)
+                    self.motion_lanes(fixed, st, &options.newton, report, ok, #every)
                 },
             )
         }
-    } else {
-        none.clone()
     };
+    let (fast_arg, start_arg) = (path(false), path(true));
     let path_doc = if fast {
         "Its blocks all have lane kernels: the common path of a tick runs in lanes."
     } else {
@@ -93,16 +95,10 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
         let shape = #rt::lanes::LaneShape { read: [#(#read),*], angle_x: [#(#xm),*], angle_q: [#(#angle_q),*],
             angle_p: [#(#pm),*], predict: [#(#predict),*] };
     };
-    let (start_arg, start_doc) = if fast && s.start_in_lanes {
-        (
-            &fast_arg,
-            "solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results).",
-        )
+    let start_doc = if fast {
+        "solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results)."
     } else {
-        (
-            &none,
-            "solved from its lane of `guess` by the scalar `tick_start`.",
-        )
+        "solved from its lane of `guess` by the scalar `tick_start`."
     };
     let start_doc = format!(
         " The first tick of every instance, each {start_doc} A lane that fails reports its error in `status` and starts again at the next tick."
@@ -208,7 +204,6 @@ pub(crate) fn mechanism(c: &Compiled, args: &Args) -> TokenStream {
             .collect(),
         lane_tick: quote!(#rt::LaneTick<#lt, #ni, #nu, #np, #npar>),
         scalar,
-        start_in_lanes: true,
         field: format_ident!("mechanisms"),
         accessor: format_ident!("mechanism"),
         what: "mechanism",
@@ -240,7 +235,8 @@ pub(crate) fn mechanism(c: &Compiled, args: &Args) -> TokenStream {
 
 /// The lane items of a scene's module: `LaneTick<L>` (its mechanism's tick for the kept blocks
 /// and the scene's points, with each lane's `SceneMemo`), `Lanes<L>` with `outputs`, and its
-/// `LaneScene` impl. Its lane body is its scalar tick's subset (`every_angle` false).
+/// `LaneScene` impl. Its lane body is its scalar tick's subset (`every_angle` false in a tick,
+/// true in a start, as its scalar body).
 pub(crate) fn scene(c: &Compiled, plan: &ScenePlan, rt: &TokenStream, ncols: usize) -> TokenStream {
     let args = Args {
         model: &c.model,
@@ -282,7 +278,8 @@ pub(crate) fn scene(c: &Compiled, plan: &ScenePlan, rt: &TokenStream, ncols: usi
             blocks: &plan.blocks,
             order: plan.order.as_number(),
             points: &plan.points,
-            values_read: Some(&plan.values_read),
+            // As the scalar body: only a subset with an angle to skip reads the flags.
+            values_read: (!plan.angles_skipped.is_empty()).then_some(&plan.values_read[..]),
             scale_of: quote!(self.scenes.as_ref()[i].mechanism().#scale_fn()),
         },
         read: plan.params_read.clone(),
@@ -294,7 +291,6 @@ pub(crate) fn scene(c: &Compiled, plan: &ScenePlan, rt: &TokenStream, ncols: usi
             .collect(),
         lane_tick: quote!(#rt::LaneTick<#lt, #ni, #nu, #np, #npar, #rt::SceneMemo<<#lt as #rt::Lanes>::Scalar>>),
         scalar,
-        start_in_lanes: false,
         field: format_ident!("scenes"),
         accessor: format_ident!("scene"),
         what: "scene",

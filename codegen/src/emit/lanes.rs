@@ -62,8 +62,9 @@ pub(crate) struct LaneSubset<'a> {
     pub blocks: &'a [BlockId],
     pub order: u8,
     pub points: &'a [usize],
-    /// Per unknown, whether its value is read (`ScenePlan::values_read`; `None`: all are). The
-    /// lane body is a tick's, so an angle nobody reads is never computed (`every_angle` false).
+    /// Per unknown, whether its value is read (`ScenePlan::values_read`; `None`: all are). As
+    /// the scalar scene body, a lane body with values to skip takes `every_angle: bool` (a tick
+    /// passes `false`: an angle nobody reads is not computed; a start `true`).
     pub values_read: Option<&'a [bool]>,
     /// The length scale of lane `i` (Newton's tolerance is relative to it), an expression in `i`.
     pub scale_of: TokenStream,
@@ -126,8 +127,16 @@ pub(crate) fn motion_lanes(
     let dag = &c.system.dag;
     let (ni, nu, _, npar) = crate::emit::sizes(m);
     let np = sub.points.len();
-    // Whether a kernel computes angle `k`'s value (a tick computes only those read).
-    let value = |k: usize| sub.values_read.is_none_or(|read| read[k]);
+    // Whether a kernel computes angle `k`'s value: read, or (unread) when `every_angle` says so.
+    let read = |k: usize| sub.values_read.is_none_or(|read| read[k]);
+    let value = |k: usize| {
+        if read(k) {
+            quote!(true)
+        } else {
+            quote!(every_angle)
+        }
+    };
+    let every_arg = sub.values_read.map(|_| quote!(every_angle: bool,));
     let mut b = Builder::new(dag, vars);
     let mut steps = TokenStream::new();
     let newton = sub.blocks.iter().any(|&b| c.block(b).closed_form.is_none());
@@ -158,7 +167,7 @@ pub(crate) fn motion_lanes(
                 let (a, bb) = (d.a, d.b);
                 let [kx, ky, pa, pb] = [0, 1, 2, 4].map(|i| &r[i]);
                 let (ra, rb) = (opt(3), opt(5));
-                if value(a) && value(bb) {
+                if read(a) && read(bb) {
                     quote!(#rt::lanes::solve_dyad(st, #a, #bb, [#kx, #ky], (#pa, #ra), (#pb, #rb), newton.tolerance, &mut report.pivot_ratio, ok);)
                 } else {
                     let (va, vb) = (value(a), value(bb));
@@ -266,13 +275,14 @@ pub(crate) fn motion_lanes(
     let qdd_let = rate_let(format_ident!("qdd"), sub.order >= 2);
     quote! {
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
-        /// every Newton block from the predicted guess, then velocities, accelerations and
-        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
-        /// turn, a Newton step off the common path, a condition below the refinement
-        /// threshold, a non-finite value) are cleared in `ok`.
+        /// every Newton block from the predicted guess (a start: both from the guess), then
+        /// velocities, accelerations and points, as the scalar tick computes them; lanes that
+        /// leave it (a dead point, a large turn, a Newton step off the common path, a condition
+        /// below the refinement threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(&self, fixed: #rt::lanes::LaneFixed<'_, #lt, #ni, #npar>, st: &mut #rt::lanes::LaneTrig<#lt, #nu>,
-            newton: &#rt::NewtonOptions<#lt::Scalar>, report: &mut #rt::lanes::LaneReport<#lt>, ok: &mut #lt::Mask)
+            newton: &#rt::NewtonOptions<#lt::Scalar>, report: &mut #rt::lanes::LaneReport<#lt>, ok: &mut #lt::Mask,
+            #every_arg)
             -> #rt::lanes::LaneRates<#lt, #nu, #np> {
             let #rt::lanes::LaneFixed { x, xd, xdd, tx, tp } = fixed;
             #qd_let

@@ -1791,10 +1791,10 @@ pub mod slider {
             )
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
-        /// every Newton block from the predicted guess, then velocities, accelerations and
-        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
-        /// turn, a Newton step off the common path, a condition below the refinement
-        /// threshold, a non-finite value) are cleared in `ok`.
+        /// every Newton block from the predicted guess (a start: both from the guess), then
+        /// velocities, accelerations and points, as the scalar tick computes them; lanes that
+        /// leave it (a dead point, a large turn, a Newton step off the common path, a condition
+        /// below the refinement threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,

@@ -268,7 +268,7 @@ pub mod rod {
             self.params_id = ::mechgen::__private::lanes::fresh_params_id();
             ::core::result::Result::Ok(())
         }
-        /// The first tick of every instance, each solved from its lane of `guess` by the scalar `tick_start`. A lane that fails reports its error in `status` and starts again at the next tick.
+        /// The first tick of every instance, each solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results). A lane that fails reports its error in `status` and starts again at the next tick.
         pub fn tick_start(
             &self,
             input: &::mechgen::__private::InputMotion<[L; 1]>,
@@ -287,14 +287,14 @@ pub mod rod {
                 [&input.x, &input.xd, &input.xdd],
                 guess,
                 &shape,
-                ::core::option::Option::<
-                    fn(
-                        ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
-                        &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        &mut L::Mask,
-                    ) -> ::mechgen::__private::lanes::LaneRates<L, 2, 0>,
-                >::None,
+                options
+                    .closed_forms
+                    .then_some(|
+                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
+                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                        ok: &mut L::Mask|
+                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 0, 2>,
@@ -378,10 +378,10 @@ pub mod rod {
             )
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
-        /// every Newton block from the predicted guess, then velocities, accelerations and
-        /// points, as the scalar tick computes them; lanes that leave it (a dead point, a large
-        /// turn, a Newton step off the common path, a condition below the refinement
-        /// threshold, a non-finite value) are cleared in `ok`.
+        /// every Newton block from the predicted guess (a start: both from the guess), then
+        /// velocities, accelerations and points, as the scalar tick computes them; lanes that
+        /// leave it (a dead point, a large turn, a Newton step off the common path, a condition
+        /// below the refinement threshold, a non-finite value) are cleared in `ok`.
         #[inline(always)]
         fn motion_lanes(
             &self,

@@ -25,9 +25,9 @@ fn fresh<L: Lanes, const N: usize>(v: &[L; N], angle: [bool; N]) -> [(L, L); N] 
 }
 
 /// The first tick of W instances to the inputs `x` (rates `xd`, `xdd`) from `guess`, with the
-/// params `params` (in lanes) and the mechanism's `shape`. `fast` is the common path of the
-/// mechanism's tick in lanes (`None` where it has none, or where the scalar start is not a solve
-/// from the guess): every lane with finite params, inputs and guess is solved by it from its
+/// params `params` (in lanes) and the mechanism's (or scene's) `shape`. `fast` is the common
+/// path of its tick in lanes as its scalar start runs it (a scene's computing every value of
+/// its subset; `None` where it has none): every lane with finite params, inputs and guess is solved by it from its
 /// guess, and each lane it clears, or that it was not given, is started by `scalar` (with
 /// `started` false) from its guess. A lane that fails keeps its guess and its error, and starts
 /// again on the next tick. Every lane ends with the scalar `tick_start`'s result or error.

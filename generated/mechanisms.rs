@@ -3428,6 +3428,17 @@ pub mod sixbar {
         params_id: usize,
     }
     impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// What the lane driver knows of the instances besides their values: the params a tick
+        /// compares, the angles among the inputs, unknowns and params, the unknowns it predicts.
+        const SHAPE: ::mechgen::__private::lanes::LaneShape<1, 4, 10> = ::mechgen::__private::lanes::LaneShape {
+            read: [true, true, true, true, true, true, true, true, true, true],
+            angle_x: [true],
+            angle_q: [true, true, true, true],
+            angle_p: [
+                false, false, false, false, false, false, false, false, false, true,
+            ],
+            predict: [false, false, false, false],
+        };
         /// Instance `i` is `f(i)`.
         pub fn from_fn(f: impl FnMut(usize) -> Sixbar<L::Scalar>) -> Self {
             let mechanisms = L::array(f);
@@ -3471,20 +3482,11 @@ pub mod sixbar {
             guess: &[L; 4],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, true, true, true, true, true, true],
-                angle_x: [true],
-                angle_q: [true, true, true, true],
-                angle_p: [
-                    false, false, false, false, false, false, false, false, false, true,
-                ],
-                predict: [false, false, false, false],
-            };
             ::mechgen::__private::lanes::tick_start(
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -3496,22 +3498,10 @@ pub mod sixbar {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
-                    _: &mut (),
+                    memo: &mut (),
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = &self.mechanisms.as_ref()[i];
-                    if started {
-                        m.tick_arrays(t, x, xd, xdd, options)
-                    } else {
-                        let guess = t.q;
-                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
-                        ::core::result::Result::Ok(())
-                    }
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
         }
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
@@ -3524,20 +3514,11 @@ pub mod sixbar {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, true, true, true, true, true, true],
-                angle_x: [true],
-                angle_q: [true, true, true, true],
-                angle_p: [
-                    false, false, false, false, false, false, false, false, false, true,
-                ],
-                predict: [false, false, false, false],
-            };
             ::mechgen::__private::lanes::tick(
                 t,
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -3549,23 +3530,34 @@ pub mod sixbar {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
-                    _: &mut (),
+                    memo: &mut (),
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = &self.mechanisms.as_ref()[i];
-                    if started {
-                        m.tick_arrays(t, x, xd, xdd, options)
-                    } else {
-                        let guess = t.q;
-                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
-                        ::core::result::Result::Ok(())
-                    }
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
+        }
+        /// Lane `i` ticked by its scalar tick from `t` (`started`), or started from its guess
+        /// `t.q`: what the lane driver runs for a lane off the common path.
+        fn scalar_lane(
+            &self,
+            i: usize,
+            t: &mut Tick<L::Scalar>,
+            _memo: &mut (),
+            started: bool,
+            [x,
+            xd,
+            xdd,
+            ]: [&[L::Scalar; 1]; 3],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let m = &self.mechanisms.as_ref()[i];
+            if started {
+                m.tick_arrays(t, x, xd, xdd, options)
+            } else {
+                let guess = t.q;
+                *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                ::core::result::Result::Ok(())
+            }
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
         /// every Newton block from the predicted guess (a start: both from the guess), then
@@ -6408,6 +6400,15 @@ pub mod shaper {
         params_id: usize,
     }
     impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// What the lane driver knows of the instances besides their values: the params a tick
+        /// compares, the angles among the inputs, unknowns and params, the unknowns it predicts.
+        const SHAPE: ::mechgen::__private::lanes::LaneShape<1, 4, 5> = ::mechgen::__private::lanes::LaneShape {
+            read: [true, true, true, true, true],
+            angle_x: [true],
+            angle_q: [false, true, true, false],
+            angle_p: [false, false, false, false, false],
+            predict: [false, false, false, false],
+        };
         /// Instance `i` is `f(i)`.
         pub fn from_fn(f: impl FnMut(usize) -> Shaper<L::Scalar>) -> Self {
             let mechanisms = L::array(f);
@@ -6451,18 +6452,11 @@ pub mod shaper {
             guess: &[L; 4],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, true],
-                angle_x: [true],
-                angle_q: [false, true, true, false],
-                angle_p: [false, false, false, false, false],
-                predict: [false, false, false, false],
-            };
             ::mechgen::__private::lanes::tick_start(
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -6474,22 +6468,10 @@ pub mod shaper {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
-                    _: &mut (),
+                    memo: &mut (),
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = &self.mechanisms.as_ref()[i];
-                    if started {
-                        m.tick_arrays(t, x, xd, xdd, options)
-                    } else {
-                        let guess = t.q;
-                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
-                        ::core::result::Result::Ok(())
-                    }
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
         }
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
@@ -6502,18 +6484,11 @@ pub mod shaper {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, true],
-                angle_x: [true],
-                angle_q: [false, true, true, false],
-                angle_p: [false, false, false, false, false],
-                predict: [false, false, false, false],
-            };
             ::mechgen::__private::lanes::tick(
                 t,
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -6525,23 +6500,34 @@ pub mod shaper {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
-                    _: &mut (),
+                    memo: &mut (),
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = &self.mechanisms.as_ref()[i];
-                    if started {
-                        m.tick_arrays(t, x, xd, xdd, options)
-                    } else {
-                        let guess = t.q;
-                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
-                        ::core::result::Result::Ok(())
-                    }
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
+        }
+        /// Lane `i` ticked by its scalar tick from `t` (`started`), or started from its guess
+        /// `t.q`: what the lane driver runs for a lane off the common path.
+        fn scalar_lane(
+            &self,
+            i: usize,
+            t: &mut Tick<L::Scalar>,
+            _memo: &mut (),
+            started: bool,
+            [x,
+            xd,
+            xdd,
+            ]: [&[L::Scalar; 1]; 3],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let m = &self.mechanisms.as_ref()[i];
+            if started {
+                m.tick_arrays(t, x, xd, xdd, options)
+            } else {
+                let guess = t.q;
+                *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                ::core::result::Result::Ok(())
+            }
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
         /// every Newton block from the predicted guess (a start: both from the guess), then
@@ -8880,6 +8866,15 @@ pub mod four_bar {
         params_id: usize,
     }
     impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// What the lane driver knows of the instances besides their values: the params a tick
+        /// compares, the angles among the inputs, unknowns and params, the unknowns it predicts.
+        const SHAPE: ::mechgen::__private::lanes::LaneShape<1, 2, 6> = ::mechgen::__private::lanes::LaneShape {
+            read: [true, true, true, true, true, true],
+            angle_x: [true],
+            angle_q: [true, true],
+            angle_p: [false, false, false, false, false, true],
+            predict: [false, false],
+        };
         /// Instance `i` is `f(i)`.
         pub fn from_fn(f: impl FnMut(usize) -> FourBar<L::Scalar>) -> Self {
             let mechanisms = L::array(f);
@@ -8926,18 +8921,11 @@ pub mod four_bar {
             guess: &[L; 2],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, true, true],
-                angle_x: [true],
-                angle_q: [true, true],
-                angle_p: [false, false, false, false, false, true],
-                predict: [false, false],
-            };
             ::mechgen::__private::lanes::tick_start(
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -8949,22 +8937,10 @@ pub mod four_bar {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
-                    _: &mut (),
+                    memo: &mut (),
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = &self.mechanisms.as_ref()[i];
-                    if started {
-                        m.tick_arrays(t, x, xd, xdd, options)
-                    } else {
-                        let guess = t.q;
-                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
-                        ::core::result::Result::Ok(())
-                    }
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
         }
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
@@ -8977,18 +8953,11 @@ pub mod four_bar {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, true, true],
-                angle_x: [true],
-                angle_q: [true, true],
-                angle_p: [false, false, false, false, false, true],
-                predict: [false, false],
-            };
             ::mechgen::__private::lanes::tick(
                 t,
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -9000,23 +8969,34 @@ pub mod four_bar {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
-                    _: &mut (),
+                    memo: &mut (),
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = &self.mechanisms.as_ref()[i];
-                    if started {
-                        m.tick_arrays(t, x, xd, xdd, options)
-                    } else {
-                        let guess = t.q;
-                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
-                        ::core::result::Result::Ok(())
-                    }
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
+        }
+        /// Lane `i` ticked by its scalar tick from `t` (`started`), or started from its guess
+        /// `t.q`: what the lane driver runs for a lane off the common path.
+        fn scalar_lane(
+            &self,
+            i: usize,
+            t: &mut Tick<L::Scalar>,
+            _memo: &mut (),
+            started: bool,
+            [x,
+            xd,
+            xdd,
+            ]: [&[L::Scalar; 1]; 3],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let m = &self.mechanisms.as_ref()[i];
+            if started {
+                m.tick_arrays(t, x, xd, xdd, options)
+            } else {
+                let guess = t.q;
+                *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                ::core::result::Result::Ok(())
+            }
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
         /// every Newton block from the predicted guess (a start: both from the guess), then
@@ -10966,6 +10946,15 @@ pub mod slider_crank {
         params_id: usize,
     }
     impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// What the lane driver knows of the instances besides their values: the params a tick
+        /// compares, the angles among the inputs, unknowns and params, the unknowns it predicts.
+        const SHAPE: ::mechgen::__private::lanes::LaneShape<1, 2, 3> = ::mechgen::__private::lanes::LaneShape {
+            read: [true, true, true],
+            angle_x: [true],
+            angle_q: [true, false],
+            angle_p: [false, false, false],
+            predict: [false, false],
+        };
         /// Instance `i` is `f(i)`.
         pub fn from_fn(f: impl FnMut(usize) -> SliderCrank<L::Scalar>) -> Self {
             let mechanisms = L::array(f);
@@ -11012,18 +11001,11 @@ pub mod slider_crank {
             guess: &[L; 2],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true],
-                angle_x: [true],
-                angle_q: [true, false],
-                angle_p: [false, false, false],
-                predict: [false, false],
-            };
             ::mechgen::__private::lanes::tick_start(
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -11035,22 +11017,10 @@ pub mod slider_crank {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
-                    _: &mut (),
+                    memo: &mut (),
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = &self.mechanisms.as_ref()[i];
-                    if started {
-                        m.tick_arrays(t, x, xd, xdd, options)
-                    } else {
-                        let guess = t.q;
-                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
-                        ::core::result::Result::Ok(())
-                    }
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
         }
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
@@ -11063,18 +11033,11 @@ pub mod slider_crank {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true],
-                angle_x: [true],
-                angle_q: [true, false],
-                angle_p: [false, false, false],
-                predict: [false, false],
-            };
             ::mechgen::__private::lanes::tick(
                 t,
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -11086,23 +11049,34 @@ pub mod slider_crank {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
-                    _: &mut (),
+                    memo: &mut (),
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = &self.mechanisms.as_ref()[i];
-                    if started {
-                        m.tick_arrays(t, x, xd, xdd, options)
-                    } else {
-                        let guess = t.q;
-                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
-                        ::core::result::Result::Ok(())
-                    }
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
+        }
+        /// Lane `i` ticked by its scalar tick from `t` (`started`), or started from its guess
+        /// `t.q`: what the lane driver runs for a lane off the common path.
+        fn scalar_lane(
+            &self,
+            i: usize,
+            t: &mut Tick<L::Scalar>,
+            _memo: &mut (),
+            started: bool,
+            [x,
+            xd,
+            xdd,
+            ]: [&[L::Scalar; 1]; 3],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let m = &self.mechanisms.as_ref()[i];
+            if started {
+                m.tick_arrays(t, x, xd, xdd, options)
+            } else {
+                let guess = t.q;
+                *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                ::core::result::Result::Ok(())
+            }
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
         /// every Newton block from the predicted guess (a start: both from the guess), then
@@ -12929,6 +12903,15 @@ pub mod rocker_four_bar {
         params_id: usize,
     }
     impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// What the lane driver knows of the instances besides their values: the params a tick
+        /// compares, the angles among the inputs, unknowns and params, the unknowns it predicts.
+        const SHAPE: ::mechgen::__private::lanes::LaneShape<1, 2, 4> = ::mechgen::__private::lanes::LaneShape {
+            read: [true, true, true, true],
+            angle_x: [true],
+            angle_q: [true, true],
+            angle_p: [false, false, false, false],
+            predict: [false, false],
+        };
         /// Instance `i` is `f(i)`.
         pub fn from_fn(f: impl FnMut(usize) -> RockerFourBar<L::Scalar>) -> Self {
             let mechanisms = L::array(f);
@@ -12975,18 +12958,11 @@ pub mod rocker_four_bar {
             guess: &[L; 2],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true],
-                angle_x: [true],
-                angle_q: [true, true],
-                angle_p: [false, false, false, false],
-                predict: [false, false],
-            };
             ::mechgen::__private::lanes::tick_start(
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -12998,22 +12974,10 @@ pub mod rocker_four_bar {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
-                    _: &mut (),
+                    memo: &mut (),
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = &self.mechanisms.as_ref()[i];
-                    if started {
-                        m.tick_arrays(t, x, xd, xdd, options)
-                    } else {
-                        let guess = t.q;
-                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
-                        ::core::result::Result::Ok(())
-                    }
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
         }
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
@@ -13026,18 +12990,11 @@ pub mod rocker_four_bar {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true],
-                angle_x: [true],
-                angle_q: [true, true],
-                angle_p: [false, false, false, false],
-                predict: [false, false],
-            };
             ::mechgen::__private::lanes::tick(
                 t,
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -13049,23 +13006,34 @@ pub mod rocker_four_bar {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
-                    _: &mut (),
+                    memo: &mut (),
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = &self.mechanisms.as_ref()[i];
-                    if started {
-                        m.tick_arrays(t, x, xd, xdd, options)
-                    } else {
-                        let guess = t.q;
-                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
-                        ::core::result::Result::Ok(())
-                    }
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
+        }
+        /// Lane `i` ticked by its scalar tick from `t` (`started`), or started from its guess
+        /// `t.q`: what the lane driver runs for a lane off the common path.
+        fn scalar_lane(
+            &self,
+            i: usize,
+            t: &mut Tick<L::Scalar>,
+            _memo: &mut (),
+            started: bool,
+            [x,
+            xd,
+            xdd,
+            ]: [&[L::Scalar; 1]; 3],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let m = &self.mechanisms.as_ref()[i];
+            if started {
+                m.tick_arrays(t, x, xd, xdd, options)
+            } else {
+                let guess = t.q;
+                *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                ::core::result::Result::Ok(())
+            }
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
         /// every Newton block from the predicted guess (a start: both from the guess), then
@@ -15523,6 +15491,17 @@ pub mod sixbar_g {
         params_id: usize,
     }
     impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// What the lane driver knows of the instances besides their values: the params a tick
+        /// compares, the angles among the inputs, unknowns and params, the unknowns it predicts.
+        const SHAPE: ::mechgen::__private::lanes::LaneShape<1, 4, 10> = ::mechgen::__private::lanes::LaneShape {
+            read: [true, true, true, true, true, true, true, true, true, true],
+            angle_x: [true],
+            angle_q: [true, true, true, true],
+            angle_p: [
+                false, false, false, false, false, false, false, false, false, true,
+            ],
+            predict: [true, true, true, true],
+        };
         /// Instance `i` is `f(i)`.
         pub fn from_fn(f: impl FnMut(usize) -> SixbarG<L::Scalar>) -> Self {
             let mechanisms = L::array(f);
@@ -15569,20 +15548,11 @@ pub mod sixbar_g {
             guess: &[L; 4],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, true, true, true, true, true, true],
-                angle_x: [true],
-                angle_q: [true, true, true, true],
-                angle_p: [
-                    false, false, false, false, false, false, false, false, false, true,
-                ],
-                predict: [true, true, true, true],
-            };
             ::mechgen::__private::lanes::tick_start(
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -15594,22 +15564,10 @@ pub mod sixbar_g {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
-                    _: &mut (),
+                    memo: &mut (),
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = &self.mechanisms.as_ref()[i];
-                    if started {
-                        m.tick_arrays(t, x, xd, xdd, options)
-                    } else {
-                        let guess = t.q;
-                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
-                        ::core::result::Result::Ok(())
-                    }
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
         }
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
@@ -15622,20 +15580,11 @@ pub mod sixbar_g {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, true, true, true, true, true, true],
-                angle_x: [true],
-                angle_q: [true, true, true, true],
-                angle_p: [
-                    false, false, false, false, false, false, false, false, false, true,
-                ],
-                predict: [true, true, true, true],
-            };
             ::mechgen::__private::lanes::tick(
                 t,
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -15647,23 +15596,34 @@ pub mod sixbar_g {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
-                    _: &mut (),
+                    memo: &mut (),
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = &self.mechanisms.as_ref()[i];
-                    if started {
-                        m.tick_arrays(t, x, xd, xdd, options)
-                    } else {
-                        let guess = t.q;
-                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
-                        ::core::result::Result::Ok(())
-                    }
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
+        }
+        /// Lane `i` ticked by its scalar tick from `t` (`started`), or started from its guess
+        /// `t.q`: what the lane driver runs for a lane off the common path.
+        fn scalar_lane(
+            &self,
+            i: usize,
+            t: &mut Tick<L::Scalar>,
+            _memo: &mut (),
+            started: bool,
+            [x,
+            xd,
+            xdd,
+            ]: [&[L::Scalar; 1]; 3],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let m = &self.mechanisms.as_ref()[i];
+            if started {
+                m.tick_arrays(t, x, xd, xdd, options)
+            } else {
+                let guess = t.q;
+                *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                ::core::result::Result::Ok(())
+            }
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
         /// every Newton block from the predicted guess (a start: both from the guess), then
@@ -16023,6 +15983,17 @@ pub mod sixbar_e_path {
         params_id: usize,
     }
     impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// What the lane driver knows of the instances besides their values: the params a tick
+        /// compares, the angles among the inputs, unknowns and params, the unknowns it predicts.
+        const SHAPE: ::mechgen::__private::lanes::LaneShape<1, 4, 10> = ::mechgen::__private::lanes::LaneShape {
+            read: [true, true, true, true, false, false, true, false, false, true],
+            angle_x: [true],
+            angle_q: [true, true, false, false],
+            angle_p: [
+                false, false, false, false, false, false, false, false, false, true,
+            ],
+            predict: [false, false, false, false],
+        };
         /// Instance `i` is `f(i)`.
         pub fn from_fn(f: impl FnMut(usize) -> SixbarEPath<L::Scalar>) -> Self {
             let scenes = L::array(f);
@@ -16069,20 +16040,11 @@ pub mod sixbar_e_path {
             guess: &[L; 4],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, false, false, true, false, false, true],
-                angle_x: [true],
-                angle_q: [true, true, false, false],
-                angle_p: [
-                    false, false, false, false, false, false, false, false, false, true,
-                ],
-                predict: [false, false, false, false],
-            };
             ::mechgen::__private::lanes::tick_start(
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -16096,25 +16058,8 @@ pub mod sixbar_e_path {
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 1, 10>,
                     memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = self.scenes.as_ref()[i].mechanism();
-                    let (s, r) = if started {
-                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
-                        let r = m.scene_sixbar_e_path_tick(&mut s, x, xd, xdd, options);
-                        (s, r)
-                    } else {
-                        (
-                            m.scene_sixbar_e_path_tick_start(x, xd, xdd, &t.q, options)?,
-                            ::core::result::Result::Ok(()),
-                        )
-                    };
-                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
-                    r
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
         }
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
@@ -16127,20 +16072,11 @@ pub mod sixbar_e_path {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, false, false, true, false, false, true],
-                angle_x: [true],
-                angle_q: [true, true, false, false],
-                angle_p: [
-                    false, false, false, false, false, false, false, false, false, true,
-                ],
-                predict: [false, false, false, false],
-            };
             ::mechgen::__private::lanes::tick(
                 t,
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -16156,26 +16092,37 @@ pub mod sixbar_e_path {
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 1, 10>,
                     memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = self.scenes.as_ref()[i].mechanism();
-                    let (s, r) = if started {
-                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
-                        let r = m.scene_sixbar_e_path_tick(&mut s, x, xd, xdd, options);
-                        (s, r)
-                    } else {
-                        (
-                            m.scene_sixbar_e_path_tick_start(x, xd, xdd, &t.q, options)?,
-                            ::core::result::Result::Ok(()),
-                        )
-                    };
-                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
-                    r
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
+        }
+        /// Lane `i` ticked by its scalar tick from `t` (`started`), or started from its guess
+        /// `t.q`: what the lane driver runs for a lane off the common path.
+        fn scalar_lane(
+            &self,
+            i: usize,
+            t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 1, 10>,
+            memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
+            started: bool,
+            [x,
+            xd,
+            xdd,
+            ]: [&[L::Scalar; 1]; 3],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let m = self.scenes.as_ref()[i].mechanism();
+            let (s, r) = if started {
+                let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
+                let r = m.scene_sixbar_e_path_tick(&mut s, x, xd, xdd, options);
+                (s, r)
+            } else {
+                (
+                    m.scene_sixbar_e_path_tick_start(x, xd, xdd, &t.q, options)?,
+                    ::core::result::Result::Ok(()),
+                )
+            };
+            (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
+            r
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
         /// every Newton block from the predicted guess (a start: both from the guess), then
@@ -16575,6 +16522,17 @@ pub mod sixbar_output {
         params_id: usize,
     }
     impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// What the lane driver knows of the instances besides their values: the params a tick
+        /// compares, the angles among the inputs, unknowns and params, the unknowns it predicts.
+        const SHAPE: ::mechgen::__private::lanes::LaneShape<1, 4, 10> = ::mechgen::__private::lanes::LaneShape {
+            read: [true, true, true, true, true, true, true, true, true, true],
+            angle_x: [true],
+            angle_q: [true, true, true, true],
+            angle_p: [
+                false, false, false, false, false, false, false, false, false, true,
+            ],
+            predict: [false, false, false, false],
+        };
         /// Instance `i` is `f(i)`.
         pub fn from_fn(f: impl FnMut(usize) -> SixbarOutput<L::Scalar>) -> Self {
             let scenes = L::array(f);
@@ -16621,20 +16579,11 @@ pub mod sixbar_output {
             guess: &[L; 4],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, true, true, true, true, true, true],
-                angle_x: [true],
-                angle_q: [true, true, true, true],
-                angle_p: [
-                    false, false, false, false, false, false, false, false, false, true,
-                ],
-                predict: [false, false, false, false],
-            };
             ::mechgen::__private::lanes::tick_start(
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -16648,25 +16597,8 @@ pub mod sixbar_output {
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 10>,
                     memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = self.scenes.as_ref()[i].mechanism();
-                    let (s, r) = if started {
-                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
-                        let r = m.scene_sixbar_output_tick(&mut s, x, xd, xdd, options);
-                        (s, r)
-                    } else {
-                        (
-                            m.scene_sixbar_output_tick_start(x, xd, xdd, &t.q, options)?,
-                            ::core::result::Result::Ok(()),
-                        )
-                    };
-                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
-                    r
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
         }
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
@@ -16679,20 +16611,11 @@ pub mod sixbar_output {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, true, true, true, true, true, true],
-                angle_x: [true],
-                angle_q: [true, true, true, true],
-                angle_p: [
-                    false, false, false, false, false, false, false, false, false, true,
-                ],
-                predict: [false, false, false, false],
-            };
             ::mechgen::__private::lanes::tick(
                 t,
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -16708,26 +16631,37 @@ pub mod sixbar_output {
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 10>,
                     memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = self.scenes.as_ref()[i].mechanism();
-                    let (s, r) = if started {
-                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
-                        let r = m.scene_sixbar_output_tick(&mut s, x, xd, xdd, options);
-                        (s, r)
-                    } else {
-                        (
-                            m.scene_sixbar_output_tick_start(x, xd, xdd, &t.q, options)?,
-                            ::core::result::Result::Ok(()),
-                        )
-                    };
-                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
-                    r
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
+        }
+        /// Lane `i` ticked by its scalar tick from `t` (`started`), or started from its guess
+        /// `t.q`: what the lane driver runs for a lane off the common path.
+        fn scalar_lane(
+            &self,
+            i: usize,
+            t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 10>,
+            memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
+            started: bool,
+            [x,
+            xd,
+            xdd,
+            ]: [&[L::Scalar; 1]; 3],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let m = self.scenes.as_ref()[i].mechanism();
+            let (s, r) = if started {
+                let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
+                let r = m.scene_sixbar_output_tick(&mut s, x, xd, xdd, options);
+                (s, r)
+            } else {
+                (
+                    m.scene_sixbar_output_tick_start(x, xd, xdd, &t.q, options)?,
+                    ::core::result::Result::Ok(()),
+                )
+            };
+            (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
+            r
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
         /// every Newton block from the predicted guess (a start: both from the guess), then
@@ -17233,6 +17167,15 @@ pub mod shaper_ram {
         params_id: usize,
     }
     impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// What the lane driver knows of the instances besides their values: the params a tick
+        /// compares, the angles among the inputs, unknowns and params, the unknowns it predicts.
+        const SHAPE: ::mechgen::__private::lanes::LaneShape<1, 4, 5> = ::mechgen::__private::lanes::LaneShape {
+            read: [true, true, true, true, true],
+            angle_x: [true],
+            angle_q: [false, true, true, false],
+            angle_p: [false, false, false, false, false],
+            predict: [false, false, false, false],
+        };
         /// Instance `i` is `f(i)`.
         pub fn from_fn(f: impl FnMut(usize) -> ShaperRam<L::Scalar>) -> Self {
             let scenes = L::array(f);
@@ -17276,18 +17219,11 @@ pub mod shaper_ram {
             guess: &[L; 4],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, true],
-                angle_x: [true],
-                angle_q: [false, true, true, false],
-                angle_p: [false, false, false, false, false],
-                predict: [false, false, false, false],
-            };
             ::mechgen::__private::lanes::tick_start(
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -17301,25 +17237,8 @@ pub mod shaper_ram {
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 5>,
                     memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = self.scenes.as_ref()[i].mechanism();
-                    let (s, r) = if started {
-                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
-                        let r = m.scene_shaper_ram_tick(&mut s, x, xd, xdd, options);
-                        (s, r)
-                    } else {
-                        (
-                            m.scene_shaper_ram_tick_start(x, xd, xdd, &t.q, options)?,
-                            ::core::result::Result::Ok(()),
-                        )
-                    };
-                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
-                    r
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
         }
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
@@ -17332,18 +17251,11 @@ pub mod shaper_ram {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, true],
-                angle_x: [true],
-                angle_q: [false, true, true, false],
-                angle_p: [false, false, false, false, false],
-                predict: [false, false, false, false],
-            };
             ::mechgen::__private::lanes::tick(
                 t,
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -17359,26 +17271,37 @@ pub mod shaper_ram {
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 5>,
                     memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = self.scenes.as_ref()[i].mechanism();
-                    let (s, r) = if started {
-                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
-                        let r = m.scene_shaper_ram_tick(&mut s, x, xd, xdd, options);
-                        (s, r)
-                    } else {
-                        (
-                            m.scene_shaper_ram_tick_start(x, xd, xdd, &t.q, options)?,
-                            ::core::result::Result::Ok(()),
-                        )
-                    };
-                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
-                    r
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
+        }
+        /// Lane `i` ticked by its scalar tick from `t` (`started`), or started from its guess
+        /// `t.q`: what the lane driver runs for a lane off the common path.
+        fn scalar_lane(
+            &self,
+            i: usize,
+            t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 5>,
+            memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
+            started: bool,
+            [x,
+            xd,
+            xdd,
+            ]: [&[L::Scalar; 1]; 3],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let m = self.scenes.as_ref()[i].mechanism();
+            let (s, r) = if started {
+                let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
+                let r = m.scene_shaper_ram_tick(&mut s, x, xd, xdd, options);
+                (s, r)
+            } else {
+                (
+                    m.scene_shaper_ram_tick_start(x, xd, xdd, &t.q, options)?,
+                    ::core::result::Result::Ok(()),
+                )
+            };
+            (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
+            r
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
         /// every Newton block from the predicted guess (a start: both from the guess), then
@@ -17859,6 +17782,15 @@ pub mod coupler_curve {
         params_id: usize,
     }
     impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// What the lane driver knows of the instances besides their values: the params a tick
+        /// compares, the angles among the inputs, unknowns and params, the unknowns it predicts.
+        const SHAPE: ::mechgen::__private::lanes::LaneShape<1, 2, 6> = ::mechgen::__private::lanes::LaneShape {
+            read: [true, true, true, true, true, true],
+            angle_x: [true],
+            angle_q: [true, true],
+            angle_p: [false, false, false, false, false, true],
+            predict: [false, false],
+        };
         /// Instance `i` is `f(i)`.
         pub fn from_fn(f: impl FnMut(usize) -> CouplerCurve<L::Scalar>) -> Self {
             let scenes = L::array(f);
@@ -17905,18 +17837,11 @@ pub mod coupler_curve {
             guess: &[L; 2],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, true, true],
-                angle_x: [true],
-                angle_q: [true, true],
-                angle_p: [false, false, false, false, false, true],
-                predict: [false, false],
-            };
             ::mechgen::__private::lanes::tick_start(
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -17930,25 +17855,8 @@ pub mod coupler_curve {
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 1, 6>,
                     memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = self.scenes.as_ref()[i].mechanism();
-                    let (s, r) = if started {
-                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
-                        let r = m.scene_coupler_curve_tick(&mut s, x, xd, xdd, options);
-                        (s, r)
-                    } else {
-                        (
-                            m.scene_coupler_curve_tick_start(x, xd, xdd, &t.q, options)?,
-                            ::core::result::Result::Ok(()),
-                        )
-                    };
-                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
-                    r
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
         }
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
@@ -17961,18 +17869,11 @@ pub mod coupler_curve {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true, true, true, true, true],
-                angle_x: [true],
-                angle_q: [true, true],
-                angle_p: [false, false, false, false, false, true],
-                predict: [false, false],
-            };
             ::mechgen::__private::lanes::tick(
                 t,
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -17988,26 +17889,37 @@ pub mod coupler_curve {
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 1, 6>,
                     memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = self.scenes.as_ref()[i].mechanism();
-                    let (s, r) = if started {
-                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
-                        let r = m.scene_coupler_curve_tick(&mut s, x, xd, xdd, options);
-                        (s, r)
-                    } else {
-                        (
-                            m.scene_coupler_curve_tick_start(x, xd, xdd, &t.q, options)?,
-                            ::core::result::Result::Ok(()),
-                        )
-                    };
-                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
-                    r
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
+        }
+        /// Lane `i` ticked by its scalar tick from `t` (`started`), or started from its guess
+        /// `t.q`: what the lane driver runs for a lane off the common path.
+        fn scalar_lane(
+            &self,
+            i: usize,
+            t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 1, 6>,
+            memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
+            started: bool,
+            [x,
+            xd,
+            xdd,
+            ]: [&[L::Scalar; 1]; 3],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let m = self.scenes.as_ref()[i].mechanism();
+            let (s, r) = if started {
+                let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
+                let r = m.scene_coupler_curve_tick(&mut s, x, xd, xdd, options);
+                (s, r)
+            } else {
+                (
+                    m.scene_coupler_curve_tick_start(x, xd, xdd, &t.q, options)?,
+                    ::core::result::Result::Ok(()),
+                )
+            };
+            (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
+            r
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
         /// every Newton block from the predicted guess (a start: both from the guess), then

@@ -26,7 +26,10 @@ struct Spec<'a> {
     predict: Vec<bool>,
     /// The lane tick's alias target.
     lane_tick: TokenStream,
-    /// The scalar tick of one lane (`lanes::ScalarLane`).
+    /// The scalar tick of one lane (`lanes::ScalarLane`): its tick state's and memo's types, the
+    /// memo's binding and the body (of `i`, `t`, the memo, `started`, `x`, `xd`, `xdd`, `options`).
+    scalar_tick: TokenStream,
+    memo: (TokenStream, TokenStream),
     scalar: TokenStream,
     /// The instances' field and accessor (`mechanisms`, `mechanism`), and what they are.
     field: Ident,
@@ -88,12 +91,20 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
          tick's, to the last bit.",
         s.what
     );
-    let (field, accessor, scalar, read) = (&s.field, &s.accessor, &s.scalar, &s.read);
+    let (field, accessor, read) = (&s.field, &s.accessor, &s.read);
+    let (scalar_tick, (memo_pat, memo_ty), scalar_body) = (&s.scalar_tick, &s.memo, &s.scalar);
+    let scalar = quote! {
+        |i: usize, t: &mut #scalar_tick, memo: &mut #memo_ty, started: bool, xs: [&[#lt::Scalar; #ni]; 3]| {
+            self.scalar_lane(i, t, memo, started, xs, options)
+        }
+    };
     let (angle_q, predict) = (&s.angle_q, &s.predict);
     let lane_tick = &s.lane_tick;
     let shape = quote! {
-        let shape = #rt::lanes::LaneShape { read: [#(#read),*], angle_x: [#(#xm),*], angle_q: [#(#angle_q),*],
-            angle_p: [#(#pm),*], predict: [#(#predict),*] };
+        /// What the lane driver knows of the instances besides their values: the params a tick
+        /// compares, the angles among the inputs, unknowns and params, the unknowns it predicts.
+        const SHAPE: #rt::lanes::LaneShape<#ni, #nu, #npar> = #rt::lanes::LaneShape { read: [#(#read),*],
+            angle_x: [#(#xm),*], angle_q: [#(#angle_q),*], angle_p: [#(#pm),*], predict: [#(#predict),*] };
     };
     let start_doc = if fast {
         "solved from its lane of `guess` in lanes (each lane that leaves the common path by the scalar `tick_start`; the same results)."
@@ -119,6 +130,8 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
         }
 
         impl<#lt: #rt::Lanes> #lanes_ty<#lt> {
+            #shape
+
             /// Instance `i` is `f(i)`.
             pub fn from_fn(f: impl FnMut(usize) -> #ty<#lt::Scalar>) -> Self {
                 let #field = #lt::array(f);
@@ -147,8 +160,7 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
             #[doc = #start_doc]
             pub fn tick_start(&self, input: &#rt::InputMotion<[#lt; #ni]>, guess: &[#lt; #nu], options: &#rt::SolveOptions<#lt::Scalar>)
                 -> #lane_tick_ty<#lt> {
-                #shape
-                #rt::lanes::tick_start((&self.params, self.params_id), [&input.x, &input.xd, &input.xdd], guess, &shape,
+                #rt::lanes::tick_start((&self.params, self.params_id), [&input.x, &input.xd, &input.xdd], guess, &Self::SHAPE,
                     #start_arg, #scalar)
             }
 
@@ -157,8 +169,15 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
             /// another. No allocation.
             #[inline]
             pub fn tick(&self, t: &mut #lane_tick_ty<#lt>, input: &#rt::InputMotion<[#lt; #ni]>, options: &#rt::SolveOptions<#lt::Scalar>) {
-                #shape
-                #rt::lanes::tick(t, (&self.params, self.params_id), [&input.x, &input.xd, &input.xdd], &shape, #fast_arg, #scalar)
+                #rt::lanes::tick(t, (&self.params, self.params_id), [&input.x, &input.xd, &input.xdd], &Self::SHAPE, #fast_arg, #scalar)
+            }
+
+            /// Lane `i` ticked by its scalar tick from `t` (`started`), or started from its guess
+            /// `t.q`: what the lane driver runs for a lane off the common path.
+            fn scalar_lane(&self, i: usize, t: &mut #scalar_tick, #memo_pat: &mut #memo_ty, started: bool,
+                [x, xd, xdd]: [&[#lt::Scalar; #ni]; 3], options: &#rt::SolveOptions<#lt::Scalar>)
+                -> ::core::result::Result<(), #rt::SolveError> {
+                #scalar_body
             }
 
             #motion
@@ -176,15 +195,13 @@ pub(crate) fn mechanism(c: &Compiled, args: &Args) -> TokenStream {
     let blocks: Vec<BlockId> = c.block_ids().collect();
     let points: Vec<usize> = (0..np).collect();
     let scalar = quote! {
-        |i: usize, t: &mut #tick_ty<#gt>, _: &mut (), started: bool, [x, xd, xdd]: [&[#gt; #ni]; 3]| {
-            let m = &self.mechanisms.as_ref()[i];
-            if started {
-                m.tick_arrays(t, x, xd, xdd, options)
-            } else {
-                let guess = t.q;
-                *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
-                ::core::result::Result::Ok(())
-            }
+        let m = &self.mechanisms.as_ref()[i];
+        if started {
+            m.tick_arrays(t, x, xd, xdd, options)
+        } else {
+            let guess = t.q;
+            *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+            ::core::result::Result::Ok(())
         }
     };
     let spec = Spec {
@@ -203,6 +220,8 @@ pub(crate) fn mechanism(c: &Compiled, args: &Args) -> TokenStream {
             .map(|k| !k)
             .collect(),
         lane_tick: quote!(#rt::LaneTick<#lt, #ni, #nu, #np, #npar>),
+        scalar_tick: quote!(#tick_ty<#gt>),
+        memo: (quote!(_memo), quote!(())),
         scalar,
         field: format_ident!("mechanisms"),
         accessor: format_ident!("mechanism"),
@@ -257,20 +276,17 @@ pub(crate) fn scene(c: &Compiled, plan: &ScenePlan, rt: &TokenStream, ncols: usi
     let q_trig = trig_masks(c).1;
     let closed = crate::emit::closed::closed_mask(c);
     let scalar = quote! {
-        |i: usize, t: &mut #rt::Tick<#gt, #ni, #nu, #np, #npar>, memo: &mut #rt::SceneMemo<#gt>, started: bool,
-            [x, xd, xdd]: [&[#gt; #ni]; 3]| {
-            let m = self.scenes.as_ref()[i].mechanism();
-            // On error too: what the scalar tick leaves in its state.
-            let (s, r) = if started {
-                let mut s = #rt::scene_tick_join(*t, *memo);
-                let r = m.#tick_fn(&mut s, x, xd, xdd, options);
-                (s, r)
-            } else {
-                (m.#start_fn(x, xd, xdd, &t.q, options)?, ::core::result::Result::Ok(()))
-            };
-            (*t, *memo) = #rt::scene_tick_parts(s);
-            r
-        }
+        let m = self.scenes.as_ref()[i].mechanism();
+        // On error too: what the scalar tick leaves in its state.
+        let (s, r) = if started {
+            let mut s = #rt::scene_tick_join(*t, *memo);
+            let r = m.#tick_fn(&mut s, x, xd, xdd, options);
+            (s, r)
+        } else {
+            (m.#start_fn(x, xd, xdd, &t.q, options)?, ::core::result::Result::Ok(()))
+        };
+        (*t, *memo) = #rt::scene_tick_parts(s);
+        r
     };
     let spec = Spec {
         args: &args,
@@ -290,6 +306,8 @@ pub(crate) fn scene(c: &Compiled, plan: &ScenePlan, rt: &TokenStream, ncols: usi
             .map(|k| !closed[k] && plan.solved.contains(&k))
             .collect(),
         lane_tick: quote!(#rt::LaneTick<#lt, #ni, #nu, #np, #npar, #rt::SceneMemo<<#lt as #rt::Lanes>::Scalar>>),
+        scalar_tick: quote!(#rt::Tick<#gt, #ni, #nu, #np, #npar>),
+        memo: (quote!(memo), quote!(#rt::SceneMemo<#gt>)),
         scalar,
         field: format_ident!("scenes"),
         accessor: format_ident!("scene"),

@@ -1655,6 +1655,15 @@ pub mod slider {
         params_id: usize,
     }
     impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// What the lane driver knows of the instances besides their values: the params a tick
+        /// compares, the angles among the inputs, unknowns and params, the unknowns it predicts.
+        const SHAPE: ::mechgen::__private::lanes::LaneShape<1, 2, 2> = ::mechgen::__private::lanes::LaneShape {
+            read: [true, true],
+            angle_x: [true],
+            angle_q: [true, false],
+            angle_p: [false, false],
+            predict: [false, false],
+        };
         /// Instance `i` is `f(i)`.
         pub fn from_fn(f: impl FnMut(usize) -> Slider<L::Scalar>) -> Self {
             let mechanisms = L::array(f);
@@ -1698,18 +1707,11 @@ pub mod slider {
             guess: &[L; 2],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true],
-                angle_x: [true],
-                angle_q: [true, false],
-                angle_p: [false, false],
-                predict: [false, false],
-            };
             ::mechgen::__private::lanes::tick_start(
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -1721,22 +1723,10 @@ pub mod slider {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
-                    _: &mut (),
+                    memo: &mut (),
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = &self.mechanisms.as_ref()[i];
-                    if started {
-                        m.tick_arrays(t, x, xd, xdd, options)
-                    } else {
-                        let guess = t.q;
-                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
-                        ::core::result::Result::Ok(())
-                    }
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
         }
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
@@ -1749,18 +1739,11 @@ pub mod slider {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true],
-                angle_x: [true],
-                angle_q: [true, false],
-                angle_p: [false, false],
-                predict: [false, false],
-            };
             ::mechgen::__private::lanes::tick(
                 t,
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -1772,23 +1755,34 @@ pub mod slider {
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
-                    _: &mut (),
+                    memo: &mut (),
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = &self.mechanisms.as_ref()[i];
-                    if started {
-                        m.tick_arrays(t, x, xd, xdd, options)
-                    } else {
-                        let guess = t.q;
-                        *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
-                        ::core::result::Result::Ok(())
-                    }
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
+        }
+        /// Lane `i` ticked by its scalar tick from `t` (`started`), or started from its guess
+        /// `t.q`: what the lane driver runs for a lane off the common path.
+        fn scalar_lane(
+            &self,
+            i: usize,
+            t: &mut Tick<L::Scalar>,
+            _memo: &mut (),
+            started: bool,
+            [x,
+            xd,
+            xdd,
+            ]: [&[L::Scalar; 1]; 3],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let m = &self.mechanisms.as_ref()[i];
+            if started {
+                m.tick_arrays(t, x, xd, xdd, options)
+            } else {
+                let guess = t.q;
+                *t = m.tick_start_arrays(x, xd, xdd, &guess, options)?;
+                ::core::result::Result::Ok(())
+            }
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
         /// every Newton block from the predicted guess (a start: both from the guess), then

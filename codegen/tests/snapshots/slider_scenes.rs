@@ -232,6 +232,15 @@ pub mod rod {
         params_id: usize,
     }
     impl<L: ::mechgen::__private::Lanes> Lanes<L> {
+        /// What the lane driver knows of the instances besides their values: the params a tick
+        /// compares, the angles among the inputs, unknowns and params, the unknowns it predicts.
+        const SHAPE: ::mechgen::__private::lanes::LaneShape<1, 2, 2> = ::mechgen::__private::lanes::LaneShape {
+            read: [true, true],
+            angle_x: [true],
+            angle_q: [true, false],
+            angle_p: [false, false],
+            predict: [false, false],
+        };
         /// Instance `i` is `f(i)`.
         pub fn from_fn(f: impl FnMut(usize) -> Rod<L::Scalar>) -> Self {
             let scenes = L::array(f);
@@ -275,18 +284,11 @@ pub mod rod {
             guess: &[L; 2],
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) -> LaneTick<L> {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true],
-                angle_x: [true],
-                angle_q: [true, false],
-                angle_p: [false, false],
-                predict: [false, false],
-            };
             ::mechgen::__private::lanes::tick_start(
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
                 guess,
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -300,25 +302,8 @@ pub mod rod {
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 0, 2>,
                     memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = self.scenes.as_ref()[i].mechanism();
-                    let (s, r) = if started {
-                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
-                        let r = m.scene_rod_tick(&mut s, x, xd, xdd, options);
-                        (s, r)
-                    } else {
-                        (
-                            m.scene_rod_tick_start(x, xd, xdd, &t.q, options)?,
-                            ::core::result::Result::Ok(()),
-                        )
-                    };
-                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
-                    r
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
         }
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
@@ -331,18 +316,11 @@ pub mod rod {
             input: &::mechgen::__private::InputMotion<[L; 1]>,
             options: &::mechgen::__private::SolveOptions<L::Scalar>,
         ) {
-            let shape = ::mechgen::__private::lanes::LaneShape {
-                read: [true, true],
-                angle_x: [true],
-                angle_q: [true, false],
-                angle_p: [false, false],
-                predict: [false, false],
-            };
             ::mechgen::__private::lanes::tick(
                 t,
                 (&self.params, self.params_id),
                 [&input.x, &input.xd, &input.xdd],
-                &shape,
+                &Self::SHAPE,
                 options
                     .closed_forms
                     .then_some(|
@@ -356,26 +334,37 @@ pub mod rod {
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 0, 2>,
                     memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
                     started: bool,
-                    [x,
-                    xd,
-                    xdd,
-                    ]: [&[L::Scalar; 1]; 3]|
-                {
-                    let m = self.scenes.as_ref()[i].mechanism();
-                    let (s, r) = if started {
-                        let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
-                        let r = m.scene_rod_tick(&mut s, x, xd, xdd, options);
-                        (s, r)
-                    } else {
-                        (
-                            m.scene_rod_tick_start(x, xd, xdd, &t.q, options)?,
-                            ::core::result::Result::Ok(()),
-                        )
-                    };
-                    (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
-                    r
-                },
+                    xs: [&[L::Scalar; 1]; 3]|
+                { self.scalar_lane(i, t, memo, started, xs, options) },
             )
+        }
+        /// Lane `i` ticked by its scalar tick from `t` (`started`), or started from its guess
+        /// `t.q`: what the lane driver runs for a lane off the common path.
+        fn scalar_lane(
+            &self,
+            i: usize,
+            t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 0, 2>,
+            memo: &mut ::mechgen::__private::SceneMemo<L::Scalar>,
+            started: bool,
+            [x,
+            xd,
+            xdd,
+            ]: [&[L::Scalar; 1]; 3],
+            options: &::mechgen::__private::SolveOptions<L::Scalar>,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let m = self.scenes.as_ref()[i].mechanism();
+            let (s, r) = if started {
+                let mut s = ::mechgen::__private::scene_tick_join(*t, *memo);
+                let r = m.scene_rod_tick(&mut s, x, xd, xdd, options);
+                (s, r)
+            } else {
+                (
+                    m.scene_rod_tick_start(x, xd, xdd, &t.q, options)?,
+                    ::core::result::Result::Ok(()),
+                )
+            };
+            (*t, *memo) = ::mechgen::__private::scene_tick_parts(s);
+            r
         }
         /// The common path of a tick in lanes: every closed form from the last tick's branch,
         /// every Newton block from the predicted guess (a start: both from the guess), then

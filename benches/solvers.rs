@@ -12,6 +12,9 @@
 //!   a `Tick`, also holds the sines and cosines, and it predicts itself), the generic engine with
 //!   the same prediction as its guess for `DynMechanism::solve`.
 //!
+//! - `sweep/generated`, `sweep/generic`: one row of the sweep core (`sweep_each`, what the CLI,
+//!   `batch` and Python run per row), no output, time per row of a 1° sweep over the start's
+//!   branch.
 //! - `sensitivity/generated`: the generated tick followed by every sensitivity (dq/dp, dP/dp)
 //!   at its state, so that their cost reads off against `step/generated`.
 //!
@@ -34,7 +37,7 @@ use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mechgen::lanes::WithLanes;
-use mechgen::sweep::{Continuation, sweep};
+use mechgen::sweep::{Continuation, sweep, sweep_each};
 use mechgen::{
     Array, CoordDesc, DynMechanism, DynState, InputMotion, Kind, LaneMechanism, LaneScene, Lanes,
     Scene, SceneVisitor, SolveOptions, StaticMechanism, StaticVisitor,
@@ -333,6 +336,7 @@ impl StaticVisitor<f64> for Generated<'_> {
                 })
             });
         }
+        sweep_rows(&mut g, "sweep/generated", m, &states);
         g.finish();
         mechgen::visit_scenes(&mut Scenes {
             c: self.c,
@@ -492,7 +496,51 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
             black_box((&st.points, tick)).1.ok();
         })
     });
+    sweep_rows(&mut g, "sweep/generic", k, &states);
     g.finish();
+}
+
+/// `sweep/<engine>`: the sweep core (`sweep_each`: continuation to each row, positions, rates,
+/// points, condition, status) over the start's branch in 1° rows (the inputs of `states`, which
+/// are its solvable steps), no output; the time per row.
+fn sweep_rows(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    id: &str,
+    k: &dyn DynMechanism<f64>,
+    states: &[State],
+) {
+    let info = k.info();
+    let mut values: Vec<f64> = states.iter().map(|s| s.x[0]).collect();
+    if let Some(last) = states.last() {
+        values.push(last.x_next[0]);
+    }
+    values.dedup();
+    // A branch that covers the whole walk (a full turn of a crank, or the whole span of a length
+    // input) is swept from its start upward, as the default sweep runs; a shorter one (a rocker's)
+    // over the walk's values around the start, the rows below it solved downward and handed out
+    // in order.
+    let start = info.inputs[0].start;
+    if values.len() >= 361 {
+        let dx = values[1] - values[0];
+        values = (0..=360).map(|i| start + f64::from(i) * dx).collect();
+    }
+    let span = values.last().copied().unwrap_or(0.0) - values[0];
+    let c = Continuation::for_input(info.inputs[0].kind, span);
+    g.bench_function(id, |b| {
+        b.iter_custom(|iters| {
+            let rows = values.len() as u64;
+            let sweeps = iters.div_ceil(rows).max(1);
+            let start = std::time::Instant::now();
+            for _ in 0..sweeps {
+                sweep_each(k, 0, &values, 1.0, &[], &c, &mut |r| {
+                    black_box(&r);
+                });
+            }
+            start
+                .elapsed()
+                .mul_f64(iters as f64 / (sweeps * rows) as f64)
+        })
+    });
 }
 
 fn benches(c: &mut Criterion) {

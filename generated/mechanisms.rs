@@ -298,6 +298,7 @@ pub mod sixbar {
         ],
         points: &["E"],
         blocks: &[&[0, 1], &[2, 3]],
+        closed: &[true, true],
     };
     /// Point names, in the order of point outputs.
     pub const POINT_NAMES: [&str; 1] = ["E"];
@@ -3861,6 +3862,7 @@ pub mod shaper {
         ],
         points: &["E", "D"],
         blocks: &[&[0, 1], &[2], &[3]],
+        closed: &[true, true, true],
     };
     /// Point names, in the order of point outputs.
     pub const POINT_NAMES: [&str; 2] = ["E", "D"];
@@ -6806,6 +6808,7 @@ pub mod four_bar {
         ],
         points: &["B", "C", "P"],
         blocks: &[&[0, 1]],
+        closed: &[true],
     };
     /// Point names, in the order of point outputs.
     pub const POINT_NAMES: [&str; 3] = ["B", "C", "P"];
@@ -9241,6 +9244,7 @@ pub mod slider_crank {
         ],
         points: &["B", "C", "M"],
         blocks: &[&[0], &[1]],
+        closed: &[true, true],
     };
     /// Point names, in the order of point outputs.
     pub const POINT_NAMES: [&str; 3] = ["B", "C", "M"];
@@ -11306,6 +11310,7 @@ pub mod rocker_four_bar {
         ],
         points: &["B", "C"],
         blocks: &[&[0, 1]],
+        closed: &[true],
     };
     /// Point names, in the order of point outputs.
     pub const POINT_NAMES: [&str; 2] = ["B", "C"];
@@ -13289,6 +13294,7 @@ pub mod sixbar_g {
         ],
         points: &["E"],
         blocks: &[&[0, 1, 2, 3]],
+        closed: &[false],
     };
     /// Point names, in the order of point outputs.
     pub const POINT_NAMES: [&str; 1] = ["E"];

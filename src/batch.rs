@@ -7,7 +7,7 @@
 //! memory (a fleet of mechanisms each ticked once, say).
 
 use crate::MechanismInfo;
-use crate::sweep::Row;
+use crate::sweep::RowRef;
 
 /// Param sets read from CSV: `names` (the header), one row of values per set.
 #[derive(Clone, Debug, PartialEq)]
@@ -120,7 +120,7 @@ impl SetSummary {
     }
 
     /// Counts `r` in.
-    pub fn add(&mut self, r: &Row) {
+    pub fn add(&mut self, r: &RowRef<'_>) {
         match &r.result {
             Ok(s) => {
                 self.ok_rows += 1;

@@ -6,7 +6,7 @@
 
 use mechgen_runtime::{DynMechanism, Kind, MechanismInfo, SolveError};
 
-use crate::sweep::Solved;
+use crate::sweep::SolvedRef;
 
 /// The outputs a sensitivity has a row for, in order: each unknown, then `P_x`, `P_y` per point,
 /// with their kinds.
@@ -98,7 +98,7 @@ pub struct Load {
 /// balances `loads` at a solved row, by virtual work: −Σ (FX ∂P_x/∂x + FY ∂P_y/∂x), the points'
 /// ∂P/∂x their velocities at the sweep's `rate` divided by it. `None` when the rate is zero (the
 /// velocities then say nothing about ∂P/∂x).
-pub fn input_effort(s: &Solved, loads: &[Load], rate: f64) -> Option<f64> {
+pub fn input_effort(s: &SolvedRef<'_>, loads: &[Load], rate: f64) -> Option<f64> {
     if rate == 0.0 {
         return None;
     }

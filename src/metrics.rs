@@ -294,15 +294,8 @@ fn extremes(
             time_ratio: None,
         };
     }
-    let min = cand.iter().copied().fold(
-        (f64::NAN, f64::INFINITY),
-        |m, c| if c.1 < m.1 { c } else { m },
-    );
-    let max =
-        cand.iter().copied().fold(
-            (f64::NAN, f64::NEG_INFINITY),
-            |m, c| if c.1 > m.1 { c } else { m },
-        );
+    let min = extreme(&cand, |a, b| a < b);
+    let max = extreme(&cand, |a, b| a > b);
     let time_ratio = (full_turn && !fold && turns.len() == 2).then(|| {
         let tau = std::f64::consts::TAU;
         let a = (turns[1] - turns[0]).rem_euclid(tau);
@@ -317,4 +310,24 @@ fn extremes(
         input_at_max: Some(max.0),
         time_ratio,
     }
+}
+
+/// The extreme of `cand` (input, value) by `better`, with the smallest input among the candidates
+/// within rounding (1e-12 relative) of it: an output with two equal extremes (a symmetric one)
+/// reports the first, whatever the last bits of each.
+fn extreme(cand: &[(f64, f64)], better: impl Fn(f64, f64) -> bool) -> (f64, f64) {
+    let best = cand
+        .iter()
+        .copied()
+        .fold(None, |m: Option<(f64, f64)>, c| match m {
+            Some(m) if !better(c.1, m.1) => Some(m),
+            _ => Some(c),
+        })
+        .unwrap_or((f64::NAN, f64::NAN));
+    let tol = 1e-12 * best.1.abs().max(1.0);
+    let input = cand
+        .iter()
+        .filter(|c| (c.1 - best.1).abs() <= tol)
+        .fold(best.0, |m, c| m.min(c.0));
+    (input, best.1)
 }

@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 
-use crate::sweep::{Row, Solved, StopReason};
+use crate::sweep::{Row, RowRef, SolvedRef, StopReason};
 use mechgen_runtime::{CoordDesc, Kind, MechanismInfo};
 
 /// Column headers of the CSV, in order.
@@ -25,19 +25,11 @@ pub fn csv_header(info: &MechanismInfo, index: usize) -> Vec<String> {
     h
 }
 
-fn numbers(s: &Solved) -> Vec<f64> {
-    let mut v: Vec<f64> = s.q.iter().chain(&s.qd).chain(&s.qdd).copied().collect();
-    for p in &s.points {
-        v.extend(p.position.iter().chain(&p.velocity).chain(&p.acceleration));
-    }
-    v
-}
-
 /// The sweep as CSV text.
 pub fn csv(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
     let mut out = csv_header_line(info, index);
     for r in rows {
-        csv_row(&mut out, info, r);
+        csv_row(&mut out, info, &r.view());
     }
     out
 }
@@ -49,47 +41,99 @@ pub fn csv_header_line(info: &MechanismInfo, index: usize) -> String {
     out
 }
 
-/// One row's cells after the input, as the CSV writes them (the Python package reads them too):
-/// for an `ok` row the numbers of [`csv_header`] up to `cond` (`cond` `None` where it is not
-/// finite, as at a dead point), then the status; a failed row (or one with a non-finite number,
-/// status `non-finite`) has no numbers.
-pub fn row_cells(r: &Row) -> (Option<Vec<Option<f64>>>, &'static str) {
+/// Whether every number of a solved row is finite (a row with one that is not is written as
+/// failed, status `non-finite`: no cell is ever NaN or inf).
+pub fn all_finite(s: &SolvedRef<'_>) -> bool {
+    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    finite(s.q)
+        && finite(s.qd)
+        && finite(s.qdd)
+        && s.points
+            .iter()
+            .all(|p| finite(&p.position) && finite(&p.velocity) && finite(&p.acceleration))
+}
+
+/// A row's CSV status: `ok`, `non-finite` for a solved row with a non-finite number, or the
+/// failed row's status.
+pub fn status(r: &RowRef<'_>) -> &'static str {
     match &r.result {
-        Ok(s) => {
-            let nums = numbers(s);
-            if nums.iter().all(|v| v.is_finite()) {
-                let mut cells: Vec<Option<f64>> = nums.into_iter().map(Some).collect();
-                cells.push(s.condition.is_finite().then_some(s.condition));
-                (Some(cells), "ok")
-            } else {
-                (None, "non-finite")
-            }
-        }
-        Err(_) => (None, r.status()),
+        Ok(s) if !all_finite(s) => "non-finite",
+        _ => r.status(),
     }
 }
 
-/// One row of the CSV (with its newline), appended to `out`.
-pub fn csv_row(out: &mut String, info: &MechanismInfo, r: &Row) {
-    let blanks = 3 * info.unknowns.len() + 6 * info.points.len() + 1;
-    let _ = write!(out, "{:?}", r.input);
-    match row_cells(r) {
-        (Some(cells), status) => {
-            for c in cells {
-                match c {
-                    Some(v) => {
-                        let _ = write!(out, ",{v:?}");
-                    }
-                    None => out.push(','),
-                }
+/// `v` in shortest round-trip form (`ryu`), appended to `out`.
+pub fn push_float(out: &mut String, v: f64) {
+    let mut b = ryu::Buffer::new();
+    out.push_str(b.format(v));
+}
+
+/// Every status a sweep row can have, in a fixed order (what [`status_code`] numbers): `ok`,
+/// the solver errors' statuses, the continuation's, `non-finite`.
+pub const STATUSES: &[&str] = &[
+    "ok",
+    "unassemblable",
+    "singular",
+    "no-convergence",
+    "non-finite-input",
+    "bad-length",
+    "overflow",
+    "not-started",
+    "substep-limit",
+    "unusable-start",
+    "non-finite",
+];
+
+/// `status`'s index in [`STATUSES`] (`STATUSES.len()` for a status it does not list).
+pub fn status_code(status: &str) -> u8 {
+    let i = STATUSES.iter().position(|s| *s == status);
+    i.unwrap_or(STATUSES.len()) as u8
+}
+
+/// A row's numbers after the input, in the order of [`csv_header`] up to `cond`, each handed to
+/// `put`: the CSV's cells, NaN where the CSV leaves a cell empty (a failed row's, a non-finite
+/// condition estimate's). Returns the row's status. What the CSV writer and the Python package's
+/// columns both read a row through.
+pub fn row_numbers(r: &RowRef<'_>, info: &MechanismInfo, mut put: impl FnMut(f64)) -> &'static str {
+    match &r.result {
+        Ok(s) if all_finite(s) => {
+            s.q.iter().chain(s.qd).chain(s.qdd).for_each(|&v| put(v));
+            for p in s.points {
+                p.position
+                    .iter()
+                    .chain(&p.velocity)
+                    .chain(&p.acceleration)
+                    .for_each(|&v| put(v));
             }
-            let _ = writeln!(out, ",{status}");
+            put(if s.condition.is_finite() {
+                s.condition
+            } else {
+                f64::NAN
+            });
+            "ok"
         }
-        (None, status) => {
-            out.push_str(&",".repeat(blanks));
-            let _ = writeln!(out, ",{status}");
+        _ => {
+            let cells = 3 * info.unknowns.len() + 6 * info.points.len() + 1;
+            (0..cells).for_each(|_| put(f64::NAN));
+            status(r)
         }
     }
+}
+
+/// One row of the CSV (with its newline), appended to `out`: the cells of [`row_numbers`] in
+/// shortest round-trip form (empty where NaN), then the status. Allocates nothing but `out`'s
+/// growth.
+pub fn csv_row(out: &mut String, info: &MechanismInfo, r: &RowRef<'_>) {
+    push_float(out, r.input);
+    let status = row_numbers(r, info, |v| {
+        out.push(',');
+        if !v.is_nan() {
+            push_float(out, v);
+        }
+    });
+    out.push(',');
+    out.push_str(status);
+    out.push('\n');
 }
 
 /// Significant digits of the table's numbers.
@@ -98,20 +142,104 @@ pub const DIGITS: usize = 7;
 /// `v` with [`DIGITS`] significant digits: fixed notation from 1e-4 to 1e7, else scientific
 /// (`1.234568e303`); zeros as `0`. Never NaN or inf text for finite `v`.
 pub fn significant(v: f64) -> String {
+    let mut out = String::new();
+    push_significant(&mut out, v, 0);
+    out
+}
+
+/// [`significant`] appended to `out`, right-aligned in `width` characters: formatted once (the
+/// digits and exponent of `{:.6e}`, which fixed notation then places), nothing allocated.
+pub fn push_significant(out: &mut String, v: f64, width: usize) {
+    let mut text = Stack::default();
     if v == 0.0 {
-        return "0".into();
-    }
-    if !v.is_finite() {
-        return "-".into();
-    }
-    // The exponent after rounding to DIGITS digits (9.9999999 rounds up to 10.00000).
-    let rounded: f64 = format!("{v:.*e}", DIGITS - 1).parse().unwrap_or(v);
-    let exp = rounded.abs().log10().floor() as i32;
-    if (-4..7).contains(&exp) {
-        let decimals = (DIGITS as i32 - 1 - exp).max(0) as usize;
-        format!("{v:.decimals$}")
+        text.push(b"0");
+    } else if !v.is_finite() {
+        text.push(b"-");
     } else {
-        format!("{v:.*e}", DIGITS - 1)
+        let mut sci = Stack::default();
+        let _ = write!(sci, "{v:.*e}", DIGITS - 1);
+        let s = sci.bytes();
+        let e_at = s.iter().position(|&b| b == b'e').unwrap_or(s.len());
+        let exp: i32 = std::str::from_utf8(&s[(e_at + 1).min(s.len())..])
+            .ok()
+            .and_then(|e| e.parse().ok())
+            .unwrap_or(0);
+        if (-4..7).contains(&exp) {
+            // The mantissa's digits, the point placed by the exponent.
+            let negative = s[0] == b'-';
+            let digits: Stack = s[..e_at]
+                .iter()
+                .filter(|b| b.is_ascii_digit())
+                .copied()
+                .collect();
+            let d = digits.bytes();
+            if negative {
+                text.push(b"-");
+            }
+            if exp >= 0 {
+                let whole = exp as usize + 1;
+                text.push(&d[..whole]);
+                if whole < d.len() {
+                    text.push(b".");
+                    text.push(&d[whole..]);
+                }
+            } else {
+                text.push(b"0.");
+                for _ in 0..(-exp - 1) {
+                    text.push(b"0");
+                }
+                text.push(d);
+            }
+        } else {
+            text.push(s);
+        }
+    }
+    let t = text.bytes();
+    out.extend(std::iter::repeat_n(' ', width.saturating_sub(t.len())));
+    out.push_str(std::str::from_utf8(t).unwrap_or("-"));
+}
+
+/// A short text on the stack (a formatted number).
+struct Stack {
+    buf: [u8; 64],
+    len: usize,
+}
+
+impl Default for Stack {
+    fn default() -> Self {
+        Stack {
+            buf: [0; 64],
+            len: 0,
+        }
+    }
+}
+
+impl Stack {
+    fn push(&mut self, b: &[u8]) {
+        let n = b.len().min(self.buf.len() - self.len);
+        self.buf[self.len..self.len + n].copy_from_slice(&b[..n]);
+        self.len += n;
+    }
+
+    fn bytes(&self) -> &[u8] {
+        &self.buf[..self.len]
+    }
+}
+
+impl FromIterator<u8> for Stack {
+    fn from_iter<I: IntoIterator<Item = u8>>(iter: I) -> Self {
+        let mut s = Stack::default();
+        for b in iter {
+            s.push(&[b]);
+        }
+        s
+    }
+}
+
+impl std::fmt::Write for Stack {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        self.push(s.as_bytes());
+        Ok(())
     }
 }
 
@@ -167,7 +295,7 @@ pub fn preamble(info: &MechanismInfo, index: usize, rate: f64, x: &[f64]) -> Str
 pub fn table(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
     let (mut out, width) = table_header(info, index);
     for r in rows {
-        out.push_str(&table_row(info, index, width, r));
+        table_row(&mut out, info, index, width, &r.view());
     }
     out
 }
@@ -208,15 +336,27 @@ pub fn table_header(info: &MechanismInfo, index: usize) -> (String, usize) {
     (out, width)
 }
 
-/// One line of the table (with its newline), for columns of `width`.
-pub fn table_row(info: &MechanismInfo, index: usize, width: usize, r: &Row) -> String {
+/// One line of the table (with its newline), for columns of `width`, appended to `out`.
+pub fn table_row(
+    out: &mut String,
+    info: &MechanismInfo,
+    index: usize,
+    width: usize,
+    r: &RowRef<'_>,
+) {
     let input_kind = info.inputs[index].kind;
-    let mut out = String::new();
-    let _ = write!(out, "{:>width$}", significant(r.input * deg(input_kind)));
+    push_significant(out, r.input * deg(input_kind), width);
     match &r.result {
         Ok(s) => {
-            for v in scaled(info, s) {
-                let _ = write!(out, "{:>width$}", significant(v));
+            for rates in [s.q, s.qd, s.qdd] {
+                for (v, u) in rates.iter().zip(&info.unknowns) {
+                    push_significant(out, v * deg(u.kind), width);
+                }
+            }
+            for p in s.points {
+                for v in p.position.iter().chain(&p.velocity).chain(&p.acceleration) {
+                    push_significant(out, *v, width);
+                }
             }
         }
         Err(e) => {
@@ -268,24 +408,6 @@ pub fn table_row(info: &MechanismInfo, index: usize, width: usize, r: &Row) -> S
         }
     }
     out.push('\n');
-    out
-}
-
-/// A solved row's numbers in table units: angles in degrees (the same continuous angle as the
-/// CSV, not folded into a turn), angular rates in degrees.
-fn scaled(info: &MechanismInfo, s: &Solved) -> Vec<f64> {
-    let kinds = info.unknowns.iter().map(|u| u.kind);
-    let mut v: Vec<f64> =
-        s.q.iter()
-            .zip(kinds.clone())
-            .map(|(v, k)| v * deg(k))
-            .chain(s.qd.iter().zip(kinds.clone()).map(|(v, k)| v * deg(k)))
-            .chain(s.qdd.iter().zip(kinds).map(|(v, k)| v * deg(k)))
-            .collect();
-    for p in &s.points {
-        v.extend(p.position.iter().chain(&p.velocity).chain(&p.acceleration));
-    }
-    v
 }
 
 fn deg(k: Kind) -> f64 {

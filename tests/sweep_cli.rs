@@ -5,8 +5,7 @@
 #![cfg(feature = "cli")]
 
 mod common;
-#[path = "common/sweep.rs"]
-mod support;
+use common::sweep as support;
 
 use std::path::PathBuf;
 use std::process::Command;

@@ -5,9 +5,11 @@
 //! solved [`State`]. Every slice is checked: a wrong length is [`SolveError::BadLength`], never a
 //! truncated copy.
 
+use alloc::boxed::Box;
 use alloc::vec;
 use alloc::vec::Vec;
 
+use crate::dyn_tick::{DynTick, SolveTick, StaticTick};
 use crate::error::SolveError;
 use crate::info::{MechanismInfo, PointMotion};
 use crate::mechanism::{Array, InputMotion, RowMajor, State, StaticMechanism};
@@ -101,6 +103,12 @@ pub trait DynMechanism<T: Real> {
         state: &mut DynState<T>,
         options: &SolveOptions<T>,
     ) -> Result<(), SolveError>;
+    /// A tick of this mechanism on slices, not yet started (see [`DynTick`]): a generated
+    /// mechanism's own tick, or (the default) the runtime's predictor with
+    /// [`DynMechanism::solve_in_place`]. Made once per run (it allocates); its ticks do not.
+    fn ticker(&self) -> Box<dyn DynTick<T> + '_> {
+        Box::new(SolveTick::new(self))
+    }
 }
 
 /// The [`State`] of a [`DynMechanism`]: vectors of the mechanism's sizes.
@@ -130,7 +138,7 @@ impl<T: Real> DynState<T> {
 
 pub use crate::error::len;
 
-fn arr<T: Real, A: Array<T>>(s: &[T]) -> Result<A, SolveError> {
+pub(crate) fn arr<T: Real, A: Array<T>>(s: &[T]) -> Result<A, SolveError> {
     let mut a = A::zeros();
     let dst = a.as_mut();
     len(s, dst.len())?;
@@ -144,7 +152,9 @@ fn put<T: Copy>(dst: &mut [T], src: &[T]) -> Result<(), SolveError> {
     Ok(())
 }
 
-fn arrays<T: Real, A: Array<T>>(m: InputMotion<&[T]>) -> Result<InputMotion<A>, SolveError> {
+pub(crate) fn arrays<T: Real, A: Array<T>>(
+    m: InputMotion<&[T]>,
+) -> Result<InputMotion<A>, SolveError> {
     Ok(InputMotion {
         x: arr(m.x)?,
         xd: arr(m.xd)?,
@@ -263,5 +273,8 @@ impl<T: Real, M: StaticMechanism<T>> DynMechanism<T> for M {
         state.points.copy_from_slice(s.points.as_ref());
         state.report = s.report;
         Ok(())
+    }
+    fn ticker(&self) -> Box<dyn DynTick<T> + '_> {
+        Box::new(StaticTick::new(self))
     }
 }

@@ -63,6 +63,8 @@ pub enum SolveError {
     BadLength { expected: usize, got: usize },
     /// The computation produced a non-finite value from finite arguments (overflow).
     Overflow { block: usize, stage: Stage },
+    /// A tick was asked for before a successful first tick (`DynTick::start`).
+    NotStarted,
 }
 
 impl SolveError {
@@ -75,6 +77,7 @@ impl SolveError {
             SolveError::NoConvergence { .. } => "no-convergence",
             SolveError::BadLength { .. } => "bad-length",
             SolveError::Overflow { .. } => "overflow",
+            SolveError::NotStarted => "not-started",
         }
     }
 }
@@ -118,6 +121,7 @@ impl fmt::Display for SolveError {
             SolveError::Overflow { block, stage } => {
                 write!(f, "overflow in block {block} ({stage:?} solve)")
             }
+            SolveError::NotStarted => write!(f, "tick before a first successful tick"),
         }
     }
 }

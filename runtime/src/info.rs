@@ -41,6 +41,9 @@ pub struct StaticInfo {
     pub points: &'static [&'static str],
     /// Unknown indices of each diagonal block, in solve order.
     pub blocks: &'static [&'static [usize]],
+    /// Whether each block is solved in closed form (on its guess's side: a tick with closed
+    /// forms on cannot leave the branch there); else by Newton.
+    pub closed: &'static [bool],
 }
 
 /// An input or unknown, owned: its name, kind and value in the file's `start` configuration.
@@ -71,6 +74,8 @@ pub struct MechanismInfo {
     pub points: Vec<String>,
     /// Unknown indices of each diagonal block, in solve order.
     pub blocks: Vec<Vec<usize>>,
+    /// Whether each block is solved in closed form (else by Newton).
+    pub closed: Vec<bool>,
 }
 
 impl From<&CoordInfo> for CoordDesc {
@@ -103,6 +108,7 @@ impl From<&StaticInfo> for MechanismInfo {
             params: s.params.iter().map(ParamDesc::from).collect(),
             points: s.points.iter().map(|p| p.to_string()).collect(),
             blocks: s.blocks.iter().map(|b| b.to_vec()).collect(),
+            closed: s.closed.to_vec(),
         }
     }
 }

@@ -25,6 +25,7 @@ compile_error!("mechgen-runtime needs its `std` feature (the float functions com
 
 pub mod closed_form;
 pub mod dyad;
+pub mod dyn_tick;
 pub mod dynamic;
 pub mod elimination;
 pub mod error;
@@ -41,6 +42,7 @@ pub mod tick;
 pub mod trig;
 pub mod twofold;
 
+pub use dyn_tick::{DynTick, StateRef};
 pub use dynamic::{DynMechanism, DynState};
 pub use error::{Quantity, SolveError, Stage};
 pub use info::{

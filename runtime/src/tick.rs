@@ -162,6 +162,41 @@ pub trait TickCache<T, const NI: usize, const NU: usize, const NP: usize, const 
     );
 }
 
+/// The time from inputs `from` to inputs `to` at the input rates `xd`: the change of the inputs
+/// fitted over those rates, Σ Δx·ẋ / Σ ẋ² (0 when they are at rest). The one rule every tick's
+/// predictor (generated, lanes, [`crate::dyn_tick`]) steps by.
+#[inline(always)]
+pub fn step_to<T: Real>(from: &[T], to: &[T], xd: &[T]) -> T {
+    let (mut num, mut den) = (T::zero(), T::zero());
+    for i in 0..from.len().min(to.len()).min(xd.len()) {
+        num += (to[i] - from[i]) * xd[i];
+        den += xd[i] * xd[i];
+    }
+    if den > T::zero() {
+        num / den
+    } else {
+        T::zero()
+    }
+}
+
+/// The second-order predictor of every tick: `out[k] = q + q̇ dt + q̈ dt²/2` for each unknown
+/// not kept (`keep[k]`, or beyond `keep`'s length: predicted), kept ones `q[k]`; all of `q` where
+/// any prediction is not finite.
+#[inline(always)]
+pub fn taylor<T: Real>(q: &[T], qd: &[T], qdd: &[T], dt: T, keep: &[bool], out: &mut [T]) {
+    let mut finite = true;
+    for k in 0..out.len() {
+        out[k] = q[k];
+        if !keep.get(k).copied().unwrap_or(false) {
+            out[k] += dt * (qd[k] + T::lit(0.5) * dt * qdd[k]);
+        }
+        finite &= out[k].is_finite();
+    }
+    if !finite {
+        out.copy_from_slice(&q[..out.len()]);
+    }
+}
+
 impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>
     Tick<T, NI, NU, NP, NPAR>
 {
@@ -254,16 +289,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
 
     #[inline(always)]
     fn step_to(&self, x: &[T; NI], xd: &[T; NI]) -> T {
-        let (mut num, mut den) = (T::zero(), T::zero());
-        for i in 0..NI {
-            num += (x[i] - self.state.x[i]) * xd[i];
-            den += xd[i] * xd[i];
-        }
-        if den > T::zero() {
-            num / den
-        } else {
-            T::zero()
-        }
+        step_to(&self.state.x, x, xd)
     }
 
     #[inline(always)]
@@ -280,14 +306,8 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
         }
         let dt = self.step_to(x, &self.state.xd);
         let mut q = self.state.q;
-        for k in 0..NU {
-            if !keep[k] {
-                q[k] += dt * (self.state.qd[k] + T::lit(0.5) * dt * self.state.qdd[k]);
-            }
-        }
-        if !q.iter().all(|v| v.is_finite()) {
-            q = self.state.q;
-        }
+        let s = &self.state;
+        taylor(&s.q, &s.qd, &s.qdd, dt, &keep, &mut q);
         // Kept unknowns keep their sines and cosines (a closed form's are exact, and a scene
         // may have left such an angle's value stale).
         let fresh = !same_params || self.resync();

@@ -2,6 +2,7 @@
 //! as `sweep` sweeps it, the sets across every core ([`mechgen::batch`]); every row written in set
 //! order as its chunk is solved, a summary row per set, a progress bar on stderr.
 
+use std::fmt::Write as _;
 use std::io::{IsTerminal as _, Write as _};
 
 use mechgen::batch::{ParamSets, SetSummary, for_each_ordered, solver_with_params};
@@ -98,7 +99,7 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
                 if want_rows {
                     line.clear();
                     report::csv_row(&mut line, &info, &r);
-                    rows.push_str(&format!("{set},"));
+                    let _ = write!(rows, "{set},");
                     rows.push_str(&line);
                 }
             },

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use mechgen::generic::Generic;
-use mechgen::sweep::{Continuation, Row, check_start, sweep_each, sweep_holding};
+use mechgen::sweep::{Continuation, Row, RowRef, check_start, sweep_each, sweep_holding};
 use mechgen::{DynMechanism, MechanismInfo, report};
 use mechgen_codegen::diagnostic::{Diagnostic, Severity, SourceFile, render};
 
@@ -57,14 +57,7 @@ impl Loaded {
     /// The start check's warning for mechanism `name` (as `mechgen check` prints it), if any:
     /// its start did not close the loops and Newton converged somewhere, maybe on another branch.
     pub fn start_warning(&self, name: &str) -> Option<String> {
-        let prefix = format!("start configuration of `{name}`");
-        let mine: Vec<Diagnostic> = self
-            .warnings
-            .iter()
-            .filter(|d| d.message.starts_with(&prefix))
-            .cloned()
-            .collect();
-        (!mine.is_empty()).then(|| render(&self.file, &mine))
+        mechgen::generic::start_warning(&self.file, &self.warnings, name)
     }
 }
 
@@ -179,7 +172,7 @@ pub(super) fn stream_plan(
     info: &MechanismInfo,
     plan: Plan,
     rate: f64,
-    each: &mut dyn FnMut(&Row),
+    each: &mut dyn FnMut(&RowRef<'_>),
 ) -> Result<Swept, String> {
     check_start(info).map_err(|e| format!("{}: {e}", info.name))?;
     let kind = info.inputs[plan.index].kind;
@@ -187,7 +180,10 @@ pub(super) fn stream_plan(
     let n = plan.values.len();
     let stride = n.div_ceil(KEPT_ROWS).max(1);
     let mut kept: Vec<Row> = Vec::new();
+    // The row before the current one when it was not kept (its vectors reused row after row).
     let mut previous: Option<Row> = None;
+    let mut pending = false;
+    let mut last_status: Option<&'static str> = None;
     let mut i = 0;
     sweep_each(
         k,
@@ -198,16 +194,25 @@ pub(super) fn stream_plan(
         &continuation,
         &mut |r| {
             each(&r);
-            let changed = previous.as_ref().is_some_and(|p| p.status() != r.status());
-            if changed && let Some(p) = previous.take() {
-                kept.push(p);
+            let status = r.status();
+            let changed = last_status.is_some_and(|p| p != status);
+            if changed
+                && pending
+                && let Some(p) = &previous
+            {
+                kept.push(p.clone());
             }
             if changed || i % stride == 0 || i + 1 == n {
-                kept.push(r);
-                previous = None;
+                kept.push(r.to_row());
+                pending = false;
             } else {
-                previous = Some(r);
+                match &mut previous {
+                    Some(p) => p.assign(&r),
+                    None => previous = Some(r.to_row()),
+                }
+                pending = true;
             }
+            last_status = Some(status);
             i += 1;
         },
     );

@@ -74,7 +74,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
         None => None,
     };
     let mut csv_error: Option<std::io::Error> = None;
-    let mut line = String::new();
+    let (mut line, mut row) = (String::new(), String::new());
     let (index, rate) = (plan.index, args.rate);
     let swept = stream_plan(sel.solver.as_ref(), &info, plan, args.rate, &mut |r| {
         // A closed stdout (`mechgen sweep … | head`) ends the table, not the sweep or its CSV.
@@ -82,10 +82,12 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
             (Ok(s), false) => design::input_effort(s, &loads, rate).filter(|e| e.is_finite()),
             _ => None,
         };
-        let mut row = report::table_row(&info, index, width, r);
+        row.clear();
+        report::table_row(&mut row, &info, index, width, r);
         if let Some(e) = effort {
             row.pop();
-            let _ = writeln!(row, "{:>width$}", report::significant(e));
+            report::push_significant(&mut row, e, width);
+            row.push('\n');
         }
         let _ = table.write_all(row.as_bytes());
         if let Some((_, w)) = &mut csv

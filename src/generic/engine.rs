@@ -96,6 +96,44 @@ pub fn load_with_warnings(name: &str, text: &str) -> Result<(Vec<Generic>, Strin
     Ok((compiled.iter().map(Generic::new).collect(), rendered))
 }
 
+/// The start check's warning for mechanism `name`, rendered as `mechgen check` prints it, if the
+/// file has one: its start did not close the loops and Newton converged somewhere, maybe on
+/// another branch.
+pub fn start_warning(file: &SourceFile, diagnostics: &[Diagnostic], name: &str) -> Option<String> {
+    let prefix = format!("start configuration of `{name}`");
+    let mine: Vec<Diagnostic> = diagnostics
+        .iter()
+        .filter(|d| d.severity == mechgen_codegen::diagnostic::Severity::Warning)
+        .filter(|d| d.message.starts_with(&prefix))
+        .cloned()
+        .collect();
+    (!mine.is_empty()).then(|| mechgen_codegen::diagnostic::render(file, &mine))
+}
+
+/// Loads every mechanism of a file's text, each with its start warning ([`start_warning`]).
+pub fn load_with_start_warnings(
+    name: &str,
+    text: &str,
+) -> Result<Vec<(Generic, Option<String>)>, LoadError> {
+    let file = SourceFile::new(name, text);
+    let (compiled, diagnostics) = mechgen_codegen::analyze(&file);
+    if diagnostics.iter().any(Diagnostic::is_error) {
+        let rendered = mechgen_codegen::diagnostic::render(&file, &diagnostics);
+        return Err(LoadError {
+            rendered,
+            diagnostics,
+        });
+    }
+    Ok(compiled
+        .iter()
+        .map(|c| {
+            let g = Generic::new(c);
+            let w = start_warning(&file, &diagnostics, g.name());
+            (g, w)
+        })
+        .collect())
+}
+
 /// Reads and loads a mechanism file.
 pub fn load_file(path: &std::path::Path) -> Result<Vec<Generic>, LoadError> {
     let name = path.display().to_string();
@@ -139,6 +177,7 @@ impl Generic {
                 .collect(),
             points: m.points.iter().map(|p| p.0.text.clone()).collect(),
             blocks: c.blocks.iter().map(|b| unknown_indices(&b.block)).collect(),
+            closed: c.blocks.iter().map(|b| b.closed_form.is_some()).collect(),
         };
         let blocks: Vec<BlockTapes> = c
             .blocks

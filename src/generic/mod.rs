@@ -13,7 +13,10 @@ mod sketch;
 pub mod tape;
 mod terms;
 
-pub use engine::{Generic, LoadError, load, load_file, load_with_warnings};
+pub use engine::{
+    Generic, LoadError, load, load_file, load_with_start_warnings, load_with_warnings,
+    start_warning,
+};
 pub use linkage::Linkage;
 pub use scene::GenericScene;
 pub use sketch::{Sketch, SliderAt};

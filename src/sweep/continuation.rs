@@ -112,168 +112,274 @@ pub fn continue_within(
     c: &Continuation,
     allowance: &mut usize,
 ) -> Result<f64, Stop> {
-    let mut used = 0;
-    let result = follow(k, x, q, index, target, c, *allowance, &mut used);
-    *allowance = allowance.saturating_sub(used);
-    result
+    let info = k.info();
+    match Follower::new(&info, index, x.len()) {
+        Ok(mut f) => f.continue_within(k, x, q, target, c, allowance),
+        Err(error) => Err(Stop {
+            error,
+            reason: StopReason::Solver,
+        }),
+    }
 }
 
-/// The continuation itself, at most `allowance` substeps, counted in `used`.
-#[allow(clippy::too_many_arguments)]
-fn follow(
-    k: &dyn DynMechanism<f64>,
-    x: &mut [f64],
-    q: &mut [f64],
+/// The continuation of one input of one mechanism with its workspace: what it reads of the
+/// mechanism's description (read once), and the vectors each substep fills (allocated once), so
+/// that a sweep continues row after row without reading the description or allocating.
+pub struct Follower {
     index: usize,
-    target: f64,
-    c: &Continuation,
-    allowance: usize,
-    used: &mut usize,
-) -> Result<f64, Stop> {
-    let solver = |error| Stop {
-        error,
-        reason: StopReason::Solver,
-    };
-    let info = k.info();
-    let kind = match info.inputs.get(index) {
-        Some(input) if index < x.len() => input.kind,
-        _ => {
+    kind: Kind,
+    unknowns: Vec<Kind>,
+    scale: f64,
+    tangent: Vec<f64>,
+    trial: Vec<f64>,
+    predicted: Vec<f64>,
+    xt: Vec<f64>,
+    unit: Vec<f64>,
+}
+
+impl Follower {
+    /// For input `index` of the mechanism `info` describes, with `ni` inputs given (`BadLength`
+    /// when `index` is not one of them).
+    pub fn new(info: &MechanismInfo, index: usize, ni: usize) -> Result<Follower, SolveError> {
+        let kind = match info.inputs.get(index) {
+            Some(input) if index < ni => input.kind,
+            _ => {
+                return Err(SolveError::BadLength {
+                    expected: info.inputs.len(),
+                    got: index,
+                });
+            }
+        };
+        let n = info.unknowns.len();
+        let mut unit = vec![0.0; ni];
+        unit[index] = 1.0;
+        Ok(Follower {
+            index,
+            kind,
+            unknowns: info.unknowns.iter().map(|u| u.kind).collect(),
+            scale: length_scale(info),
+            tangent: vec![0.0; n],
+            trial: vec![0.0; n],
+            predicted: vec![0.0; n],
+            xt: vec![0.0; ni],
+            unit,
+        })
+    }
+
+    /// The mechanism's length scale ([`length_scale`]).
+    pub fn scale(&self) -> f64 {
+        self.scale
+    }
+
+    /// [`continue_within`] with this workspace.
+    pub fn continue_within(
+        &mut self,
+        k: &dyn DynMechanism<f64>,
+        x: &mut [f64],
+        q: &mut [f64],
+        target: f64,
+        c: &Continuation,
+        allowance: &mut usize,
+    ) -> Result<f64, Stop> {
+        let mut used = 0;
+        let result = self.follow(k, x, q, target, c, *allowance, &mut used);
+        *allowance = allowance.saturating_sub(used);
+        result
+    }
+
+    /// Whether a tick's substep stays on the branch: from `before` (rates `qd`, `qdd`) over the
+    /// time `dt`, the second-order prediction `p` and the tick's solution `after` must not move
+    /// any unknown too far ([`MAX_PREDICTED`], as [`Follower::too_far`]) and `after` must stay
+    /// near `p` ([`jump`] at most [`MAX_JUMP`]). One pass, nothing stored.
+    pub fn keeps_branch(
+        &self,
+        before: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        dt: f64,
+        after: &[f64],
+    ) -> bool {
+        let length = self.length_limit(before);
+        let (mut moved, mut scale, mut size) = (0.0f64, 1e-12f64, 0.0f64);
+        for k in 0..after.len() {
+            let p = before[k] + dt * (qd[k] + 0.5 * dt * qdd[k]);
+            let (step, change) = ((p - before[k]).abs(), (after[k] - before[k]).abs());
+            let limit = match self.unknowns[k] {
+                Kind::Angle => MAX_PREDICTED,
+                _ => MAX_PREDICTED * length,
+            };
+            // A NaN fails every comparison: it is refused.
+            if !(step <= limit && change <= limit) {
+                return false;
+            }
+            moved = moved.max((after[k] - p).abs());
+            scale = scale.max(step).max(change);
+            size = size.max(before[k].abs());
+        }
+        moved < 1e-9 * (1.0 + size) || moved / scale <= MAX_JUMP
+    }
+
+    /// Whether a predicted change of the unknowns from `before` to `predicted` is too far for one
+    /// substep ([`MAX_PREDICTED`]; a NaN change is too far).
+    pub fn too_far(&self, before: &[f64], predicted: &[f64]) -> bool {
+        let length = self.length_limit(before);
+        (0..predicted.len()).any(|i| {
+            let change = (predicted[i] - before[i]).abs();
+            let limit = match self.unknowns[i] {
+                Kind::Angle => MAX_PREDICTED,
+                _ => MAX_PREDICTED * length,
+            };
+            change.is_nan() || change > limit
+        })
+    }
+
+    /// The length a length unknown's predicted change is measured against: the mechanism's length
+    /// scale or the largest current length unknown, whichever is larger, so that a state whose
+    /// lengths are all near zero is not a stop.
+    fn length_limit(&self, q: &[f64]) -> f64 {
+        let current = q
+            .iter()
+            .zip(&self.unknowns)
+            .filter(|(v, u)| **u == Kind::Length && v.is_finite())
+            .fold(0.0f64, |m, (v, _)| m.max(v.abs()));
+        self.scale.max(current)
+    }
+
+    /// The continuation itself, at most `allowance` substeps, counted in `used`.
+    #[allow(clippy::too_many_arguments)]
+    fn follow(
+        &mut self,
+        k: &dyn DynMechanism<f64>,
+        x: &mut [f64],
+        q: &mut [f64],
+        target: f64,
+        c: &Continuation,
+        allowance: usize,
+        used: &mut usize,
+    ) -> Result<f64, Stop> {
+        let solver = |error| Stop {
+            error,
+            reason: StopReason::Solver,
+        };
+        let index = self.index;
+        let n = self.unknowns.len();
+        if x.len() != self.xt.len() || q.len() != n {
             return Err(solver(SolveError::BadLength {
-                expected: info.inputs.len(),
-                got: index,
+                expected: n,
+                got: q.len(),
             }));
         }
-    };
-    if !target.is_finite() || !x[index].is_finite() {
-        return Err(solver(SolveError::NonFinite {
-            quantity: mechgen_runtime::error::Quantity::Input,
-            index,
-        }));
-    }
-    let scale = length_scale(&info);
-    let h_max = largest_substep(c, kind, scale);
-    let min_fraction = if c.min_fraction > 0.0 && c.min_fraction <= 1.0 {
-        c.min_fraction.max(1e-15)
-    } else {
-        1e-9
-    };
-    let budget = substep_budget((target - x[index]).abs(), h_max).min(allowance);
-    let limit = predictor_limits(&info, q, scale);
-    let n = q.len();
-    let mut h = h_max;
-    let mut tangent = vec![0.0; n];
-    let mut trial = vec![0.0; n];
-    let mut xt = x.to_vec();
-    let mut unit = vec![0.0; x.len()];
-    unit[index] = 1.0;
-    let mut last_err = None;
-    let refused = |last_err: Option<SolveError>| match last_err {
-        Some(error) => solver(error),
-        None => Stop {
-            error: SolveError::Unassemblable {
-                block: 0,
-                residual: f64::INFINITY,
-                iterations: 0,
+        if !target.is_finite() || !x[index].is_finite() {
+            return Err(solver(SolveError::NonFinite {
+                quantity: mechgen_runtime::error::Quantity::Input,
+                index,
+            }));
+        }
+        let h_max = largest_substep(c, self.kind, self.scale);
+        let min_fraction = if c.min_fraction > 0.0 && c.min_fraction <= 1.0 {
+            c.min_fraction.max(1e-15)
+        } else {
+            1e-9
+        };
+        let budget = substep_budget((target - x[index]).abs(), h_max).min(allowance);
+        let mut h = h_max;
+        let mut last_err = None;
+        let refused = |last_err: Option<SolveError>| match last_err {
+            Some(error) => solver(error),
+            None => Stop {
+                error: SolveError::Unassemblable {
+                    block: 0,
+                    residual: f64::INFINITY,
+                    iterations: 0,
+                },
+                reason: StopReason::Refused,
             },
-            reason: StopReason::Refused,
-        },
-    };
-    for _ in 0..budget {
-        *used += 1;
-        let remaining = target - x[index];
-        // dq/dx along the branch, from J q' = −Φx e_index.
-        let have_tangent = k.solve_velocity(x, q, &unit, &mut tangent).is_ok();
-        xt.copy_from_slice(x);
-        xt[index] = if remaining.abs() <= h {
-            target
-        } else {
-            x[index] + remaining.signum() * h
         };
-        let dx = xt[index] - x[index];
-        if dx == 0.0 && remaining != 0.0 {
-            // The substep is below the input's resolution here: nothing smaller to try.
-            return Err(refused(last_err));
-        }
-        for i in 0..n {
-            trial[i] = q[i] + if have_tangent { tangent[i] * dx } else { 0.0 };
-        }
-        let predicted = trial.clone();
-        // Leaving a dead point the tangent is huge: a substep it would carry far is shortened
-        // before Newton sees it (else angles land many turns away and lose their precision).
-        let too_far = (0..n).any(|i| {
-            let change = (predicted[i] - q[i]).abs();
-            change.is_nan() || change > limit[i]
-        });
-        let corrected = if too_far {
-            None
-        } else {
-            Some(k.solve_position(&xt, &mut trial, &c.options))
-        };
-        let accepted = match corrected {
-            // Accept only a corrector that stayed near the prediction: no silent branch jump.
-            Some(Ok(report)) if jump(&predicted, &trial, q) <= 0.25 => Some(report),
-            // Already at the target: nothing smaller to try.
-            Some(Err(e)) if dx == 0.0 => return Err(solver(e)),
-            Some(Err(e)) => {
-                last_err = Some(e);
+        for _ in 0..budget {
+            *used += 1;
+            let remaining = target - x[index];
+            // dq/dx along the branch, from J q' = −Φx e_index.
+            let have_tangent = k
+                .solve_velocity(x, q, &self.unit, &mut self.tangent)
+                .is_ok();
+            self.xt.copy_from_slice(x);
+            self.xt[index] = if remaining.abs() <= h {
+                target
+            } else {
+                x[index] + remaining.signum() * h
+            };
+            let dx = self.xt[index] - x[index];
+            if dx == 0.0 && remaining != 0.0 {
+                // The substep is below the input's resolution here: nothing smaller to try.
+                return Err(refused(last_err));
+            }
+            for ((t, q), d) in self.trial.iter_mut().zip(&*q).zip(&self.tangent) {
+                *t = q + if have_tangent { d * dx } else { 0.0 };
+            }
+            self.predicted.copy_from_slice(&self.trial);
+            // Leaving a dead point the tangent is huge: a substep it would carry far is shortened
+            // before Newton sees it (else angles land many turns away and lose their precision).
+            let too_far = self.too_far(q, &self.predicted);
+            let corrected = if too_far {
                 None
-            }
-            _ => None,
-        };
-        // Leaving a dead point the tangent overshoots (the branch bends like √δ): Newton from the
-        // current state is accepted when it moved along the tangent and not beyond it.
-        let accepted = accepted.or_else(|| {
-            if too_far || !have_tangent || dx == 0.0 {
-                return None;
-            }
-            trial.copy_from_slice(q);
-            let report = k.solve_position(&xt, &mut trial, &c.options).ok()?;
-            leaves_along(&predicted, &trial, q).then_some(report)
-        });
-        match accepted {
-            Some(report) => {
-                q.copy_from_slice(&trial);
-                x[index] = xt[index];
-                if x[index] == target {
-                    return Ok(report.condition());
+            } else {
+                Some(k.solve_position(&self.xt, &mut self.trial, &c.options))
+            };
+            let accepted = match corrected {
+                // Accept only a corrector that stayed near the prediction: no silent branch jump.
+                Some(Ok(report)) if jump(&self.predicted, &self.trial, q) <= MAX_JUMP => {
+                    Some(report)
                 }
-                h = (h * 2.0).min(h_max);
+                // Already at the target: nothing smaller to try.
+                Some(Err(e)) if dx == 0.0 => return Err(solver(e)),
+                Some(Err(e)) => {
+                    last_err = Some(e);
+                    None
+                }
+                _ => None,
+            };
+            // Leaving a dead point the tangent overshoots (the branch bends like √δ): Newton from
+            // the current state is accepted when it moved along the tangent and not beyond it.
+            let accepted = accepted.or_else(|| {
+                if too_far || !have_tangent || dx == 0.0 {
+                    return None;
+                }
+                self.trial.copy_from_slice(q);
+                let report = k
+                    .solve_position(&self.xt, &mut self.trial, &c.options)
+                    .ok()?;
+                leaves_along(&self.predicted, &self.trial, q).then_some(report)
+            });
+            match accepted {
+                Some(report) => {
+                    q.copy_from_slice(&self.trial);
+                    x[index] = self.xt[index];
+                    if x[index] == target {
+                        return Ok(report.condition());
+                    }
+                    h = (h * 2.0).min(h_max);
+                }
+                None => h *= 0.5,
             }
-            None => h *= 0.5,
+            if h < h_max * min_fraction {
+                return Err(refused(last_err));
+            }
         }
-        if h < h_max * min_fraction {
-            return Err(refused(last_err));
-        }
+        Err(Stop {
+            error: SolveError::NoConvergence {
+                block: 0,
+                residual: ((target - x[index]) / h_max).abs().min(f64::MAX),
+                step: h,
+                iterations: u32::try_from(budget).unwrap_or(u32::MAX),
+            },
+            reason: StopReason::SubstepLimit,
+        })
     }
-    Err(Stop {
-        error: SolveError::NoConvergence {
-            block: 0,
-            residual: ((target - x[index]) / h_max).abs().min(f64::MAX),
-            step: h,
-            iterations: u32::try_from(budget).unwrap_or(u32::MAX),
-        },
-        reason: StopReason::SubstepLimit,
-    })
 }
 
-/// Per unknown, the largest change a predictor substep may make (see [`MAX_PREDICTED`]): for a
-/// length, relative to the mechanism's length scale or the largest current length unknown,
-/// whichever is larger, so that a state whose lengths are all near zero is not a stop.
-fn predictor_limits(info: &MechanismInfo, q: &[f64], scale: f64) -> Vec<f64> {
-    let current = q
-        .iter()
-        .zip(&info.unknowns)
-        .filter(|(v, u)| u.kind == Kind::Length && v.is_finite())
-        .fold(0.0f64, |m, (v, _)| m.max(v.abs()));
-    let length = scale.max(current);
-    info.unknowns
-        .iter()
-        .map(|u| match u.kind {
-            Kind::Angle => MAX_PREDICTED,
-            _ => MAX_PREDICTED * length,
-        })
-        .collect()
-}
+/// The largest accepted move of a corrector away from its prediction, relative to the substep's
+/// change of the state ([`jump`]): beyond it a substep is taken for a jump to another branch.
+pub const MAX_JUMP: f64 = 0.25;
 
 /// Whether the move from `before` to `corrected` goes the way of the tangent prediction (cosine
 /// above 0.9) and not farther: true of a move away from a dead point along the branch (√δ is
@@ -290,7 +396,7 @@ fn leaves_along(predicted: &[f64], corrected: &[f64], before: &[f64]) -> bool {
 }
 
 /// How far the corrector moved from the prediction, relative to the substep's change of the state.
-fn jump(predicted: &[f64], corrected: &[f64], before: &[f64]) -> f64 {
+pub fn jump(predicted: &[f64], corrected: &[f64], before: &[f64]) -> f64 {
     let mut moved: f64 = 0.0;
     let mut scale: f64 = 1e-12;
     for i in 0..predicted.len() {

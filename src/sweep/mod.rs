@@ -7,8 +7,8 @@ pub mod plan;
 pub mod scene;
 
 pub use continuation::{
-    MAX_ROUTE, MAX_SUBSTEPS, Stop, StopReason, continue_branch, continue_within, length_scale,
-    substep_budget,
+    Follower, MAX_ROUTE, MAX_SUBSTEPS, Stop, StopReason, continue_branch, continue_within,
+    length_scale, substep_budget,
 };
 
 use mechgen_runtime::error::SolveError;
@@ -42,27 +42,101 @@ impl Continuation {
     }
 }
 
-/// One solved row.
+/// One solved row: the unknowns, their rates, every point's motion and the condition estimate.
+/// Owned (`Solved`, vectors) or borrowed from the sweep's workspace ([`SolvedRef`], slices: what
+/// [`sweep_each`] hands out without allocating).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Solved {
-    pub q: Vec<f64>,
-    pub qd: Vec<f64>,
-    pub qdd: Vec<f64>,
-    pub points: Vec<PointMotion<f64>>,
+pub struct Solved<V = Vec<f64>, P = Vec<PointMotion<f64>>> {
+    pub q: V,
+    pub qd: V,
+    pub qdd: V,
+    pub points: P,
     /// Condition estimate of the Jacobian at this row (1 / pivot ratio).
     pub condition: f64,
 }
 
+/// A solved row borrowed from the sweep that solved it.
+pub type SolvedRef<'a> = Solved<&'a [f64], &'a [PointMotion<f64>]>;
+
 /// One row of a sweep: the input value (radians or file units) and its result.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Row {
+pub struct Row<S = Solved> {
     pub input: f64,
-    pub result: Result<Solved, SolveError>,
+    pub result: Result<S, SolveError>,
     /// On a failed row, where the branch stopped; `None` on a solved row.
     pub stopped: Option<Stopped>,
 }
 
+/// A row borrowed from the sweep that solved it ([`sweep_each`] hands these out).
+pub type RowRef<'a> = Row<SolvedRef<'a>>;
+
 impl Row {
+    /// This row, borrowed.
+    pub fn view(&self) -> RowRef<'_> {
+        Row {
+            input: self.input,
+            result: self
+                .result
+                .as_ref()
+                .map(|s| Solved {
+                    q: &s.q[..],
+                    qd: &s.qd[..],
+                    qdd: &s.qdd[..],
+                    points: &s.points[..],
+                    condition: s.condition,
+                })
+                .map_err(|e| *e),
+            stopped: self.stopped,
+        }
+    }
+}
+
+impl Row {
+    /// `r` written into this row, reusing its vectors where it has them.
+    pub fn assign(&mut self, r: &RowRef<'_>) {
+        self.input = r.input;
+        self.stopped = r.stopped;
+        match (&mut self.result, &r.result) {
+            (Ok(d), Ok(s)) => {
+                let refill = |d: &mut Vec<f64>, s: &[f64]| {
+                    d.clear();
+                    d.extend_from_slice(s);
+                };
+                refill(&mut d.q, s.q);
+                refill(&mut d.qd, s.qd);
+                refill(&mut d.qdd, s.qdd);
+                d.points.clear();
+                d.points.extend_from_slice(s.points);
+                d.condition = s.condition;
+            }
+            (_, Ok(_)) => *self = r.to_row(),
+            (_, Err(e)) => self.result = Err(*e),
+        }
+    }
+}
+
+impl RowRef<'_> {
+    /// This row, owned.
+    pub fn to_row(&self) -> Row {
+        Row {
+            input: self.input,
+            result: self
+                .result
+                .as_ref()
+                .map(|s| Solved {
+                    q: s.q.to_vec(),
+                    qd: s.qd.to_vec(),
+                    qdd: s.qdd.to_vec(),
+                    points: s.points.to_vec(),
+                    condition: s.condition,
+                })
+                .map_err(|e| *e),
+            stopped: self.stopped,
+        }
+    }
+}
+
+impl<S> Row<S> {
     /// Where the branch stopped at a dead point, for a failed row whose branch ends at one (not
     /// for an overflow, whose condition estimate is infinite too).
     pub fn dead_point(&self) -> Option<Stopped> {
@@ -202,5 +276,6 @@ pub fn sweep_budget(rows: usize) -> usize {
 }
 
 mod rows;
+mod walker;
 
 pub use rows::{SEGMENT, nearest_row, sweep, sweep_each, sweep_holding};

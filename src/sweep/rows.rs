@@ -1,13 +1,14 @@
 //! Sweeps, the rows (`mechgen::sweep::sweep`): settle the start, move held inputs to their values,
-//! reach the row nearest the start, then one continuation and one rate solve per row each way. Part of
-//! [`crate::sweep`].
+//! reach the row nearest the start, then walk row by row each way (`walker.rs`), the rows below
+//! the start kept to be handed out in input order. Part of [`crate::sweep`].
 
+use super::walker::{Outcome, Walker};
 use super::{
-    Continuation, Row, Solved, Stop, StopReason, Stopped, check_start, continue_within,
+    Continuation, Row, RowRef, Solved, StopReason, Stopped, check_start, continue_within,
     nearest_turn, sweep_budget,
 };
 use mechgen_runtime::error::SolveError;
-use mechgen_runtime::{DynMechanism, InputMotion, Kind, MechanismInfo, PointMotion};
+use mechgen_runtime::{DynMechanism, Kind, MechanismInfo, PointMotion};
 
 /// Sweeps input `index` over `values` (radians or file units) from the file's start configuration,
 /// with input rate `rate` and zero input acceleration; the other inputs stay at their start
@@ -34,28 +35,32 @@ pub fn sweep_holding(
     c: &Continuation,
 ) -> Vec<Row> {
     let mut rows = Vec::with_capacity(values.len());
-    sweep_each(k, index, values, rate, held, c, &mut |r| rows.push(r));
+    sweep_each(k, index, values, rate, held, c, &mut |r| {
+        rows.push(r.to_row())
+    });
     rows
 }
 
-/// Rows solved below the start row between two checkpoints of the continuation's state: the
-/// rows below the start row are solved downward but handed out upward, a segment at a time.
+/// Rows solved below the start row between two checkpoints of the walk: the rows below the start
+/// row are solved downward but handed out upward, a segment at a time.
 pub const SEGMENT: usize = 4096;
 
 /// The sweep of [`sweep_holding`], handing each row to `emit` in the order of `values` as soon as
-/// it can, so that memory does not grow with the number of rows: the held inputs are moved to
-/// their values, then the sweep continues from the start to the row nearest it ([`nearest_row`];
-/// an angle input's start, swept or held, is first moved by whole turns to the representative
-/// nearest that value), from that row through the rows before it (down to the first value) and,
-/// again from that row, through the rows after it. The rows before it are solved downward twice:
-/// once keeping the continuation's state every [`SEGMENT`] rows, then segment by segment from
-/// those states (the same steps, so the same numbers), each segment handed out upward.
+/// it can, so that memory does not grow with the number of rows, and allocating nothing per row
+/// (the rows are borrowed from the sweep's workspace): the held inputs are moved to their values,
+/// then the sweep continues from the start to the row nearest it ([`nearest_row`]; an angle
+/// input's start, swept or held, is first moved by whole turns to the representative nearest that
+/// value), from that row through the rows before it (down to the first value) and, again from
+/// that row, through the rows after it. From row to row the engine's own tick carries the state
+/// (see `walker.rs`). The rows before the start row are solved downward and kept, up to
+/// [`SEGMENT`] of them; below that, the walk keeps its state every [`SEGMENT`] rows and solves
+/// each segment again from there, handing it out upward.
 ///
 /// Failed rows keep the sweep going from the last state reached and record it in
-/// [`Row::stopped`]: a branch that ends at a dead point stays there (the rows past it fail)
-/// instead of jumping to another branch. Every continuation is bounded, and the whole sweep uses
-/// at most [`sweep_budget`]`(values.len())` substeps (three solves each) and four more solves per
-/// row: once they are used up, the remaining rows get `substep-limit` without any work.
+/// [`Row::stopped`]: a branch that ends at a dead point stays there (the rows past it fail, with
+/// no solve) instead of jumping to another branch. Every continuation is bounded, and the whole
+/// sweep uses at most [`sweep_budget`]`(values.len())` substeps (three solves each) and four more
+/// solves per row: once they are used up, the remaining rows get `substep-limit`.
 pub fn sweep_each(
     k: &dyn DynMechanism<f64>,
     index: usize,
@@ -63,12 +68,12 @@ pub fn sweep_each(
     rate: f64,
     held: &[(usize, f64)],
     c: &Continuation,
-    emit: &mut dyn FnMut(Row),
+    emit: &mut dyn FnMut(RowRef<'_>),
 ) {
     let info: MechanismInfo = k.info();
     let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
     let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
-    let (ni, nu, np) = (x.len(), q.len(), info.points.len());
+    let ni = x.len();
     let mut fail_all = |error: SolveError, stopped: Stopped| {
         for &input in values {
             emit(Row {
@@ -95,9 +100,13 @@ pub fn sweep_each(
             stopped(x[index], f64::INFINITY, StopReason::UnusableStart),
         );
     }
-    let mut xd = vec![0.0; ni];
-    xd[index] = rate;
-    let xdd = vec![0.0; ni];
+    if !rate.is_finite() {
+        let error = SolveError::NonFinite {
+            quantity: mechgen_runtime::error::Quantity::InputRate,
+            index,
+        };
+        return fail_all(error, stopped(x[index], f64::INFINITY, StopReason::Solver));
+    }
     settle_start(k, &info, &x, &mut q, c);
     let mut allowance = sweep_budget(values.len());
     // Held inputs first, each along the branch from its start value to its value.
@@ -125,79 +134,164 @@ pub fn sweep_each(
     if info.inputs[index].kind == Kind::Angle {
         x[index] = nearest_turn(x[index], values[nearest]);
     }
-    // One row: the continuation to it, then its rates and points.
-    let solve_row = |s: &mut State, target: f64| {
-        let State { x, q, allowance } = s;
-        let mut reason = StopReason::Solver;
-        let result = continue_within(k, x, q, index, target, c, allowance)
-            .map_err(|Stop { error, reason: r }| {
-                reason = r;
-                error
-            })
-            .and_then(|condition| {
-                let mut qd = vec![0.0; nu];
-                let mut qdd = vec![0.0; nu];
-                let mut points = vec![PointMotion::default(); np];
-                k.solve_velocity(x, q, &xd, &mut qd)?;
-                k.solve_acceleration(x, q, &xd, &qd, &xdd, &mut qdd)?;
-                let input = InputMotion::new(&x[..], &xd[..], &xdd[..]);
-                k.points(input, q, &qd, &qdd, &mut points)?;
-                Ok(Solved {
-                    q: q.to_vec(),
-                    qd,
-                    qdd,
-                    points,
-                    condition,
-                })
-            });
-        // The state is a converged solution: one more solve gives its condition estimate.
-        let stopped = result
-            .is_err()
-            .then(|| stopped(x[index], condition_at(k, x, q, c), reason));
-        Row {
-            input: target,
-            result,
-            stopped,
-        }
+    let mut w = match Walker::new(k, &info, index, rate, c, (x, q, allowance)) {
+        Ok(w) => w,
+        Err(error) => return fail_all(error, stopped(0.0, f64::INFINITY, StopReason::Solver)),
     };
-    let mut state = State { x, q, allowance };
-    let first = solve_row(&mut state, values[nearest]);
-    let at_first = state.clone();
-    // Down to the first value: the continuation alone (it is all that moves the state), keeping
-    // the state at the top of every segment.
+    let first = w.solve(values[nearest]);
+    let at_first = w.mark();
+    let mut first_row = RowStore::new(&info, 1);
+    first_row.push(&mut w, values[nearest], first);
+    // Down to the first value: rows kept a segment at a time, the walk's state kept at the top
+    // of every segment. The tick starts afresh there (and every SEGMENT rows up from the start
+    // row), so that a segment solved again from its checkpoint, or the same rows in a sweep that
+    // starts at the start row, have exactly these numbers.
+    let mut store = RowStore::new(&info, nearest.min(SEGMENT));
     let mut checkpoints = Vec::new();
     for i in (0..nearest).rev() {
         if (nearest - 1 - i) % SEGMENT == 0 {
-            checkpoints.push((i, state.clone()));
+            let mark = w.mark();
+            w.resume(&mark);
+            checkpoints.push((i, mark));
+            store.clear();
         }
-        let State { x, q, allowance } = &mut state;
-        let _ = continue_within(k, x, q, index, values[i], c, allowance);
+        let outcome = w.solve(values[i]);
+        store.push(&mut w, values[i], outcome);
     }
-    let after_down = state.allowance;
-    // Then each segment again from its checkpoint, with rates and points, handed out upward.
-    let mut segment = Vec::with_capacity(SEGMENT.min(nearest));
-    for (top, mut s) in checkpoints.into_iter().rev() {
+    let after_down = w.allowance;
+    // The lowest segment is in the store; each segment above it is solved again from its
+    // checkpoint. Each is handed out upward.
+    store.emit_reversed(emit);
+    checkpoints.pop();
+    for (top, mark) in checkpoints.into_iter().rev() {
         let bottom = (top + 1).saturating_sub(SEGMENT);
-        segment.extend((bottom..=top).rev().map(|i| solve_row(&mut s, values[i])));
-        segment.drain(..).rev().for_each(&mut *emit);
+        w.resume(&mark);
+        store.clear();
+        for i in (bottom..=top).rev() {
+            let outcome = w.solve(values[i]);
+            store.push(&mut w, values[i], outcome);
+        }
+        store.emit_reversed(emit);
     }
-    emit(first);
+    first_row.emit_reversed(emit);
     // Up from the start row, with what the rows below left of the budget.
-    let mut state = State {
-        allowance: after_down,
-        ..at_first
-    };
-    for &target in &values[nearest + 1..] {
-        emit(solve_row(&mut state, target));
+    w.resume(&at_first);
+    w.allowance = after_down;
+    for (d, &target) in values[nearest + 1..].iter().enumerate() {
+        if d > 0 && d % SEGMENT == 0 {
+            w.renew();
+        }
+        let outcome = w.solve(target);
+        emit(view(&mut w, target, outcome));
     }
 }
 
-/// The continuation's state between rows: inputs, unknowns and the substeps left.
-#[derive(Clone)]
-struct State {
-    x: Vec<f64>,
-    q: Vec<f64>,
-    allowance: usize,
+/// The row at `input` with `outcome`, borrowed from the walk.
+fn view<'w>(w: &'w mut Walker<'_>, input: f64, outcome: Outcome) -> RowRef<'w> {
+    match outcome {
+        Ok(()) => match w.solved() {
+            Some(s) => Row {
+                input,
+                result: Ok(s),
+                stopped: None,
+            },
+            None => Row {
+                input,
+                result: Err(SolveError::NotStarted),
+                stopped: Some(stopped(input, f64::INFINITY, StopReason::Solver)),
+            },
+        },
+        Err((error, at)) => Row {
+            input,
+            result: Err(error),
+            stopped: Some(at),
+        },
+    }
+}
+
+/// A kept row's outcome: its condition estimate, or its error and where the branch stopped.
+type Kept = Result<f64, (SolveError, Stopped)>;
+
+/// Rows kept to be handed out later (the rows below the start row, in the order solved): their
+/// numbers in one buffer, allocated once.
+struct RowStore {
+    /// Each row's input, and its condition estimate or its error and stop.
+    rows: Vec<(f64, Kept)>,
+    numbers: Vec<f64>,
+    points: Vec<PointMotion<f64>>,
+    nu: usize,
+    np: usize,
+}
+
+impl RowStore {
+    fn new(info: &MechanismInfo, rows: usize) -> RowStore {
+        let (nu, np) = (info.unknowns.len(), info.points.len());
+        RowStore {
+            rows: Vec::with_capacity(rows),
+            numbers: Vec::with_capacity(rows * 3 * nu),
+            points: Vec::with_capacity(rows * np),
+            nu,
+            np,
+        }
+    }
+
+    fn clear(&mut self) {
+        self.rows.clear();
+        self.numbers.clear();
+        self.points.clear();
+    }
+
+    /// The row at `input` with `outcome` (its numbers read from the walk).
+    fn push(&mut self, w: &mut Walker<'_>, input: f64, outcome: Outcome) {
+        let row = view(w, input, outcome);
+        let outcome = match &row.result {
+            Ok(s) => {
+                self.numbers.extend_from_slice(s.q);
+                self.numbers.extend_from_slice(s.qd);
+                self.numbers.extend_from_slice(s.qdd);
+                self.points.extend_from_slice(s.points);
+                Ok(s.condition)
+            }
+            Err(e) => Err((
+                *e,
+                row.stopped
+                    .unwrap_or(stopped(input, f64::INFINITY, StopReason::Solver)),
+            )),
+        };
+        self.rows.push((input, outcome));
+    }
+
+    /// The rows kept, last kept first.
+    fn emit_reversed(&self, emit: &mut dyn FnMut(RowRef<'_>)) {
+        let (nu, np) = (self.nu, self.np);
+        let (mut n_end, mut p_end) = (self.numbers.len(), self.points.len());
+        for &(input, outcome) in self.rows.iter().rev() {
+            emit(match outcome {
+                Ok(condition) => {
+                    let (n0, p0) = (n_end - 3 * nu, p_end - np);
+                    let v = &self.numbers[n0..n_end];
+                    let row = Row {
+                        input,
+                        result: Ok(Solved {
+                            q: &v[..nu],
+                            qd: &v[nu..2 * nu],
+                            qdd: &v[2 * nu..],
+                            points: &self.points[p0..p_end],
+                            condition,
+                        }),
+                        stopped: None,
+                    };
+                    (n_end, p_end) = (n0, p0);
+                    row
+                }
+                Err((error, at)) => Row {
+                    input,
+                    result: Err(error),
+                    stopped: Some(at),
+                },
+            });
+        }
+    }
 }
 
 /// The index of the row a sweep reaches first: the value nearest the start input `x0` (for an

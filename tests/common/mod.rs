@@ -8,6 +8,7 @@ pub mod lanes;
 pub mod scenes;
 pub mod sensitivity;
 pub mod stress;
+pub mod sweep;
 
 use mechgen::sweep::Row;
 use mechgen::{Kind, MechanismInfo};

@@ -63,6 +63,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
         let u = &b.block.unknowns;
         quote!(&[#(#u),*])
     });
+    let closed_info = c.blocks.iter().map(|b| b.closed_form.is_some());
     let description = &m.description;
 
     // Params struct.
@@ -169,6 +170,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                 params: &[#(#params_info),*],
                 points: &[#(#point_names),*],
                 blocks: &[#(#blocks_info),*],
+                closed: &[#(#closed_info),*],
             };
             /// Point names, in the order of point outputs.
             pub const POINT_NAMES: [&str; #np] = [#(#point_names),*];

@@ -1,0 +1,304 @@
+//! Sweeps, one row at a time (`Walker`): the engine's own tick ([`DynTick`]: a generated
+//! mechanism's `Tick`, predictor and cached sines and cosines included) carries the state from row
+//! to row in substeps of at most the continuation's largest step, each checked against its
+//! prediction (no branch jump); a substep the tick cannot take hands the row to the adaptive
+//! continuation ([`Follower`]), and a branch that ended at a dead point fails the rows beyond it
+//! without solving. Nothing is read from the description or allocated per row. Part of
+//! [`crate::sweep`].
+
+use super::continuation::largest_substep;
+use super::{Continuation, Follower, SolvedRef, Stop, StopReason, Stopped};
+use mechgen_runtime::error::SolveError;
+use mechgen_runtime::{DynMechanism, DynTick, InputMotion, MechanismInfo, PointMotion};
+
+/// A row's outcome: solved (the tick holds it), or its error and where the branch stopped.
+pub(super) type Outcome = Result<(), (SolveError, Stopped)>;
+
+/// The state of a sweep between rows and the workspace that moves it.
+pub(super) struct Walker<'k> {
+    k: &'k dyn DynMechanism<f64>,
+    c: &'k Continuation,
+    ticker: Box<dyn DynTick<f64> + 'k>,
+    follower: Follower,
+    index: usize,
+    /// The inputs of the last state reached on the branch, and (when `synced`, or the tick is
+    /// not started) its unknowns and their rates; else those are the tick's.
+    x: Vec<f64>,
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    qdd: Vec<f64>,
+    synced: bool,
+    /// Whether the tick has a state (its last start succeeded).
+    started: bool,
+    /// Whether each substep of the tick is checked against its prediction: not when every block
+    /// is solved in closed form (on the guess's side, so a tick cannot leave the branch).
+    guarded: bool,
+    /// Substeps left of the sweep's budget.
+    pub(super) allowance: usize,
+    /// Where the branch ended at a dead point and the direction of travel there (±1): rows
+    /// beyond it fail with this error without any solve.
+    dead: Option<(SolveError, Stopped, f64)>,
+    /// The input rates of the ticks (the sweep's rate on the swept input, or 1 for a rate of 0)
+    /// and accelerations (zero).
+    xd: Vec<f64>,
+    xdd: Vec<f64>,
+    /// The rows' rate is zero: their rates are these zeros, their points these (positions only).
+    at_rest: Option<(Vec<f64>, Vec<PointMotion<f64>>)>,
+    h_max: f64,
+    settled: Vec<f64>,
+}
+
+/// Where a walk stands, to walk again from there later (a checkpoint).
+#[derive(Clone)]
+pub(super) struct Mark {
+    x: Vec<f64>,
+    q: Vec<f64>,
+    allowance: usize,
+    dead: Option<(SolveError, Stopped, f64)>,
+}
+
+impl<'k> Walker<'k> {
+    /// A walk of input `index` from `(x, q)` at input rate `rate` (finite).
+    pub(super) fn new(
+        k: &'k dyn DynMechanism<f64>,
+        info: &MechanismInfo,
+        index: usize,
+        rate: f64,
+        c: &'k Continuation,
+        (x, q, allowance): (Vec<f64>, Vec<f64>, usize),
+    ) -> Result<Walker<'k>, SolveError> {
+        let follower = Follower::new(info, index, x.len())?;
+        let (ni, nu) = (x.len(), q.len());
+        let mut xd = vec![0.0; ni];
+        xd[index] = if rate == 0.0 { 1.0 } else { rate };
+        let at_rest = (rate == 0.0).then(|| {
+            (
+                vec![0.0; nu],
+                vec![PointMotion::default(); info.points.len()],
+            )
+        });
+        let h_max = largest_substep(c, info.inputs[index].kind, follower.scale());
+        let closed = info.closed.len() == info.blocks.len() && info.closed.iter().all(|&c| c);
+        Ok(Walker {
+            k,
+            c,
+            ticker: k.ticker(),
+            follower,
+            index,
+            x,
+            q,
+            qd: vec![0.0; nu],
+            qdd: vec![0.0; nu],
+            synced: true,
+            started: false,
+            guarded: !(closed && c.options.closed_forms),
+            allowance,
+            dead: None,
+            xd,
+            xdd: vec![0.0; ni],
+            at_rest,
+            h_max,
+            settled: vec![0.0; nu],
+        })
+    }
+
+    /// Where the walk stands now.
+    pub(super) fn mark(&mut self) -> Mark {
+        self.sync();
+        Mark {
+            x: self.x.clone(),
+            q: self.q.clone(),
+            allowance: self.allowance,
+            dead: self.dead,
+        }
+    }
+
+    /// Walks on from `mark`, the tick started afresh there: what the walk does from a mark is
+    /// the same whenever it is done.
+    pub(super) fn resume(&mut self, mark: &Mark) {
+        self.x.copy_from_slice(&mark.x);
+        self.q.copy_from_slice(&mark.q);
+        self.synced = true;
+        self.allowance = mark.allowance;
+        self.dead = mark.dead;
+        let _ = self.restart();
+    }
+
+    /// The tick started afresh where the walk stands (as [`Walker::resume`] from a mark made
+    /// now).
+    pub(super) fn renew(&mut self) {
+        let mark = self.mark();
+        self.resume(&mark);
+    }
+
+    /// The walk's unknowns and rates made the tick's (after ticks that did not copy them).
+    fn sync(&mut self) {
+        if self.started
+            && !self.synced
+            && let Some(s) = self.ticker.state()
+        {
+            self.q.copy_from_slice(s.q);
+            self.qd.copy_from_slice(s.qd);
+            self.qdd.copy_from_slice(s.qdd);
+        }
+        self.synced = true;
+    }
+
+    /// The tick started afresh at the walk's state (not started when that fails to solve).
+    fn restart(&mut self) -> Result<(), SolveError> {
+        self.sync();
+        let input = InputMotion::new(&self.x[..], &self.xd[..], &self.xdd[..]);
+        self.started = false;
+        self.ticker.start(input, &self.q, &self.c.options)?;
+        self.started = self.ticker.state().is_some();
+        self.synced = false;
+        self.sync();
+        Ok(())
+    }
+
+    /// The row at input `target`: the branch followed to it, then its rates and points.
+    pub(super) fn solve(&mut self, target: f64) -> Outcome {
+        if let Some((error, stopped, direction)) = self.dead {
+            if (target - stopped.input) * direction > 0.0 {
+                return Err((error, stopped));
+            }
+            self.dead = None;
+        }
+        if self.started && self.tick_to(target) {
+            return Ok(());
+        }
+        self.continue_to(target)
+    }
+
+    /// The solved row's numbers (the tick's state; rates and point rates zero for a walk at
+    /// rest) and the condition estimate of its position solve.
+    pub(super) fn solved(&mut self) -> Option<SolvedRef<'_>> {
+        let s = self.ticker.state()?;
+        let condition = s.report.condition();
+        Some(match &mut self.at_rest {
+            None => SolvedRef {
+                q: s.q,
+                qd: s.qd,
+                qdd: s.qdd,
+                points: s.points,
+                condition,
+            },
+            Some((zeros, points)) => {
+                for (p, t) in points.iter_mut().zip(s.points) {
+                    p.position = t.position;
+                }
+                SolvedRef {
+                    q: s.q,
+                    qd: zeros,
+                    qdd: zeros,
+                    points,
+                    condition,
+                }
+            }
+        })
+    }
+
+    /// The tick to `target` in equal substeps of at most the largest substep, each (when
+    /// `guarded`) accepted when its solution moved no unknown too far and stayed near its
+    /// prediction. False when one is not taken (the walk then stands at the last substep taken,
+    /// the tick started there).
+    fn tick_to(&mut self, target: f64) -> bool {
+        let i = self.index;
+        let from = self.x[i];
+        let distance = target - from;
+        let substeps = if distance.abs() <= self.h_max {
+            1
+        } else {
+            let n = (distance.abs() / self.h_max).ceil();
+            if !(n.is_finite() && n <= super::MAX_ROUTE as f64) {
+                return false;
+            }
+            n as usize
+        };
+        for j in 1..=substeps {
+            if self.allowance == 0 {
+                return false;
+            }
+            self.allowance -= 1;
+            let x_before = self.x[i];
+            let xt = if j == substeps {
+                target
+            } else {
+                from + distance * (j as f64 / substeps as f64)
+            };
+            if self.guarded {
+                self.sync();
+            }
+            self.x[i] = xt;
+            let input = InputMotion::new(&self.x[..], &self.xd[..], &self.xdd[..]);
+            if self.ticker.tick(input, &self.c.options).is_err() {
+                self.x[i] = x_before;
+                return false;
+            }
+            self.synced = false;
+            if self.guarded {
+                // The tick's predictor over this substep (the swept input alone moves).
+                let dt = (xt - x_before) / self.xd[i];
+                let (f, q, qd, qdd) = (&self.follower, &self.q, &self.qd, &self.qdd);
+                let kept = self
+                    .ticker
+                    .state()
+                    .is_some_and(|s| f.keeps_branch(q, qd, qdd, dt, s.q));
+                if !kept {
+                    // The tick left the branch (or moved too far): start again where it stood.
+                    self.x[i] = x_before;
+                    self.synced = true;
+                    let _ = self.restart();
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// The adaptive continuation to `target` from the walk's state, then the tick started there;
+    /// on failure the walk stands where the branch stopped.
+    fn continue_to(&mut self, target: f64) -> Outcome {
+        self.sync();
+        let i = self.index;
+        let result = self.follower.continue_within(
+            self.k,
+            &mut self.x,
+            &mut self.q,
+            target,
+            self.c,
+            &mut self.allowance,
+        );
+        let stop = match result {
+            Ok(_) => match self.restart() {
+                Ok(()) => return Ok(()),
+                Err(error) => Stop {
+                    error,
+                    reason: StopReason::Solver,
+                },
+            },
+            Err(stop) => {
+                let _ = self.restart();
+                stop
+            }
+        };
+        let stopped = Stopped {
+            input: self.x[i],
+            condition: self.condition_here(),
+            reason: stop.reason,
+        };
+        if stopped.at_dead_point() {
+            self.dead = Some((stop.error, stopped, (target - stopped.input).signum()));
+        }
+        Err((stop.error, stopped))
+    }
+
+    /// Condition estimate at the walk's (converged) state; infinite when the solve fails there.
+    fn condition_here(&mut self) -> f64 {
+        self.sync();
+        self.settled.copy_from_slice(&self.q);
+        self.k
+            .solve_position(&self.x, &mut self.settled, &self.c.options)
+            .map_or(f64::INFINITY, |r| r.condition())
+    }
+}

@@ -2,7 +2,6 @@
 //! as `sweep` sweeps it, the sets across every core ([`mechgen::batch`]); every row written in set
 //! order as its chunk is solved, a summary row per set, a progress bar on stderr.
 
-use std::fmt::Write as _;
 use std::io::{IsTerminal as _, Write as _};
 
 use mechgen::batch::{ParamSets, SetSummary, for_each_ordered, solver_with_params};
@@ -26,16 +25,16 @@ impl Out {
             .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         let mut out = Out {
             path: path.to_path_buf(),
-            w: std::io::BufWriter::new(f),
+            w: std::io::BufWriter::with_capacity(super::OUTPUT_BUFFER, f),
             error: None,
         };
-        out.write(header);
+        out.write(header.as_bytes());
         Ok(out)
     }
 
-    fn write(&mut self, s: &str) {
+    fn write(&mut self, s: &[u8]) {
         if self.error.is_none() {
-            self.error = self.w.write_all(s.as_bytes()).err();
+            self.error = self.w.write_all(s).err();
         }
     }
 
@@ -82,11 +81,10 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
     };
     let want_rows = args.csv.is_some();
     // One set: its CSV rows (when asked for) and its summary.
-    let solve = |set: usize| -> (String, SetSummary) {
+    let solve = |set: usize| -> (Vec<u8>, SetSummary) {
         let k = engine(set);
-        let mut rows = String::new();
+        let mut rows = Vec::new();
         let mut summary = SetSummary::new(&info);
-        let mut line = String::new();
         sweep_each(
             k.as_ref(),
             plan.index,
@@ -97,10 +95,8 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
             &mut |r| {
                 summary.add(&r);
                 if want_rows {
-                    line.clear();
-                    report::csv_row(&mut line, &info, &r);
                     let _ = write!(rows, "{set},");
-                    rows.push_str(&line);
+                    report::csv_row(&mut rows, &info, &r);
                 }
             },
         );
@@ -129,7 +125,7 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
                 c.write(&rows);
             }
             if let Some(o) = &mut summary_out {
-                o.write(&summary.row(set));
+                o.write(summary.row(set).as_bytes());
             }
             whole += usize::from(summary.failed_rows == 0);
             failed_start += usize::from(summary.ok_rows == 0);

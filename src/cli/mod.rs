@@ -17,6 +17,9 @@ macro_rules! say_raw {
     }};
 }
 
+/// Bytes buffered before a table or CSV is written out: large writes, few system calls.
+pub(crate) const OUTPUT_BUFFER: usize = 1 << 20;
+
 pub mod args;
 pub mod batch;
 pub mod branches;

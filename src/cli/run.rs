@@ -57,13 +57,13 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
         );
     }
     let stdout = std::io::stdout();
-    let mut table = std::io::BufWriter::new(stdout.lock());
+    let mut table = std::io::BufWriter::with_capacity(super::OUTPUT_BUFFER, stdout.lock());
     let _ = table.write_all(header.as_bytes());
     let mut csv = match &args.csv {
         Some(path) => {
             let file = std::fs::File::create(path)
                 .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-            let mut w = std::io::BufWriter::new(file);
+            let mut w = std::io::BufWriter::with_capacity(super::OUTPUT_BUFFER, file);
             let mut head = report::csv_header_line(&info, plan.index);
             if !loads.is_empty() {
                 with_column(&mut head, "input_effort");
@@ -74,7 +74,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
         None => None,
     };
     let mut csv_error: Option<std::io::Error> = None;
-    let (mut line, mut row) = (String::new(), String::new());
+    let (mut line, mut row): (Vec<u8>, Vec<u8>) = (Vec::new(), Vec::new());
     let (index, rate) = (plan.index, args.rate);
     let swept = stream_plan(sel.solver.as_ref(), &info, plan, args.rate, &mut |r| {
         // A closed stdout (`mechgen sweep … | head`) ends the table, not the sweep or its CSV.
@@ -87,21 +87,18 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
         if let Some(e) = effort {
             row.pop();
             report::push_significant(&mut row, e, width);
-            row.push('\n');
+            row.push(b'\n');
         }
-        let _ = table.write_all(row.as_bytes());
+        let _ = table.write_all(&row);
         if let Some((_, w)) = &mut csv
             && csv_error.is_none()
         {
             line.clear();
             report::csv_row(&mut line, &info, r);
             if !loads.is_empty() {
-                with_column(
-                    &mut line,
-                    &effort.map_or(String::new(), |e| format!("{e:?}")),
-                );
+                with_column_bytes(&mut line, effort);
             }
-            csv_error = w.write_all(line.as_bytes()).err();
+            csv_error = w.write_all(&line).err();
         }
     })?;
     let _ = table.flush();
@@ -152,6 +149,16 @@ fn loads(info: &MechanismInfo, given: &[(String, [f64; 2])]) -> Result<Vec<desig
 fn with_column(line: &mut String, cell: &str) {
     let at = line.rfind(',').unwrap_or(0);
     line.insert_str(at, &format!(",{cell}"));
+}
+
+/// A CSV row's line with one more cell before its last (`status`): `effort`, empty when `None`.
+fn with_column_bytes(line: &mut Vec<u8>, effort: Option<f64>) {
+    let at = line.iter().rposition(|&b| b == b',').unwrap_or(0);
+    let mut cell = vec![b','];
+    if let Some(e) = effort {
+        report::push_float(&mut cell, e);
+    }
+    line.splice(at..at, cell);
 }
 
 /// The main job's range: a full turn for an angle input, from its start value rounded down to

@@ -127,8 +127,7 @@ impl<'k> Walker<'k> {
     /// The tick started afresh where the walk stands (as [`Walker::resume`] from a mark made
     /// now).
     pub(super) fn renew(&mut self) {
-        let mark = self.mark();
-        self.resume(&mark);
+        let _ = self.restart();
     }
 
     /// The walk's unknowns and rates made the tick's (after ticks that did not copy them).

@@ -4,6 +4,10 @@
 
 use std::fmt::Write as _;
 
+mod number;
+
+pub use number::{DIGITS, push_float, push_significant, significant};
+
 use crate::sweep::{Row, RowRef, SolvedRef, StopReason};
 use mechgen_runtime::{CoordDesc, Kind, MechanismInfo};
 
@@ -27,11 +31,11 @@ pub fn csv_header(info: &MechanismInfo, index: usize) -> Vec<String> {
 
 /// The sweep as CSV text.
 pub fn csv(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
-    let mut out = csv_header_line(info, index);
+    let mut out = csv_header_line(info, index).into_bytes();
     for r in rows {
         csv_row(&mut out, info, &r.view());
     }
-    out
+    String::from_utf8_lossy(&out).into_owned()
 }
 
 /// The CSV's header line (with its newline).
@@ -60,12 +64,6 @@ pub fn status(r: &RowRef<'_>) -> &'static str {
         Ok(s) if !all_finite(s) => "non-finite",
         _ => r.status(),
     }
-}
-
-/// `v` in shortest round-trip form (`ryu`), appended to `out`.
-pub fn push_float(out: &mut String, v: f64) {
-    let mut b = ryu::Buffer::new();
-    out.push_str(b.format(v));
 }
 
 /// Every status a sweep row can have, in a fixed order (what [`status_code`] numbers): `ok`,
@@ -123,124 +121,17 @@ pub fn row_numbers(r: &RowRef<'_>, info: &MechanismInfo, mut put: impl FnMut(f64
 /// One row of the CSV (with its newline), appended to `out`: the cells of [`row_numbers`] in
 /// shortest round-trip form (empty where NaN), then the status. Allocates nothing but `out`'s
 /// growth.
-pub fn csv_row(out: &mut String, info: &MechanismInfo, r: &RowRef<'_>) {
+pub fn csv_row(out: &mut Vec<u8>, info: &MechanismInfo, r: &RowRef<'_>) {
     push_float(out, r.input);
     let status = row_numbers(r, info, |v| {
-        out.push(',');
+        out.push(b',');
         if !v.is_nan() {
             push_float(out, v);
         }
     });
-    out.push(',');
-    out.push_str(status);
-    out.push('\n');
-}
-
-/// Significant digits of the table's numbers.
-pub const DIGITS: usize = 7;
-
-/// `v` with [`DIGITS`] significant digits: fixed notation from 1e-4 to 1e7, else scientific
-/// (`1.234568e303`); zeros as `0`. Never NaN or inf text for finite `v`.
-pub fn significant(v: f64) -> String {
-    let mut out = String::new();
-    push_significant(&mut out, v, 0);
-    out
-}
-
-/// [`significant`] appended to `out`, right-aligned in `width` characters: formatted once (the
-/// digits and exponent of `{:.6e}`, which fixed notation then places), nothing allocated.
-pub fn push_significant(out: &mut String, v: f64, width: usize) {
-    let mut text = Stack::default();
-    if v == 0.0 {
-        text.push(b"0");
-    } else if !v.is_finite() {
-        text.push(b"-");
-    } else {
-        let mut sci = Stack::default();
-        let _ = write!(sci, "{v:.*e}", DIGITS - 1);
-        let s = sci.bytes();
-        let e_at = s.iter().position(|&b| b == b'e').unwrap_or(s.len());
-        let exp: i32 = std::str::from_utf8(&s[(e_at + 1).min(s.len())..])
-            .ok()
-            .and_then(|e| e.parse().ok())
-            .unwrap_or(0);
-        if (-4..7).contains(&exp) {
-            // The mantissa's digits, the point placed by the exponent.
-            let negative = s[0] == b'-';
-            let digits: Stack = s[..e_at]
-                .iter()
-                .filter(|b| b.is_ascii_digit())
-                .copied()
-                .collect();
-            let d = digits.bytes();
-            if negative {
-                text.push(b"-");
-            }
-            if exp >= 0 {
-                let whole = exp as usize + 1;
-                text.push(&d[..whole]);
-                if whole < d.len() {
-                    text.push(b".");
-                    text.push(&d[whole..]);
-                }
-            } else {
-                text.push(b"0.");
-                for _ in 0..(-exp - 1) {
-                    text.push(b"0");
-                }
-                text.push(d);
-            }
-        } else {
-            text.push(s);
-        }
-    }
-    let t = text.bytes();
-    out.extend(std::iter::repeat_n(' ', width.saturating_sub(t.len())));
-    out.push_str(std::str::from_utf8(t).unwrap_or("-"));
-}
-
-/// A short text on the stack (a formatted number).
-struct Stack {
-    buf: [u8; 64],
-    len: usize,
-}
-
-impl Default for Stack {
-    fn default() -> Self {
-        Stack {
-            buf: [0; 64],
-            len: 0,
-        }
-    }
-}
-
-impl Stack {
-    fn push(&mut self, b: &[u8]) {
-        let n = b.len().min(self.buf.len() - self.len);
-        self.buf[self.len..self.len + n].copy_from_slice(&b[..n]);
-        self.len += n;
-    }
-
-    fn bytes(&self) -> &[u8] {
-        &self.buf[..self.len]
-    }
-}
-
-impl FromIterator<u8> for Stack {
-    fn from_iter<I: IntoIterator<Item = u8>>(iter: I) -> Self {
-        let mut s = Stack::default();
-        for b in iter {
-            s.push(&[b]);
-        }
-        s
-    }
-}
-
-impl std::fmt::Write for Stack {
-    fn write_str(&mut self, s: &str) -> std::fmt::Result {
-        self.push(s.as_bytes());
-        Ok(())
-    }
+    out.push(b',');
+    out.extend_from_slice(status.as_bytes());
+    out.push(b'\n');
 }
 
 /// The lines above a table: units (angles in degrees, the rate's units) and the values of the
@@ -293,11 +184,12 @@ pub fn preamble(info: &MechanismInfo, index: usize, rate: f64, x: &[f64]) -> Str
 /// The seed-style table: angles in degrees (and degrees per second, per second squared), lengths
 /// in file units `[u]`, numbers to [`DIGITS`] significant digits.
 pub fn table(info: &MechanismInfo, index: usize, rows: &[Row]) -> String {
-    let (mut out, width) = table_header(info, index);
+    let (head, width) = table_header(info, index);
+    let mut out = head.into_bytes();
     for r in rows {
         table_row(&mut out, info, index, width, &r.view());
     }
-    out
+    String::from_utf8_lossy(&out).into_owned()
 }
 
 /// The table's header line (with its newline) and its column width.
@@ -338,12 +230,13 @@ pub fn table_header(info: &MechanismInfo, index: usize) -> (String, usize) {
 
 /// One line of the table (with its newline), for columns of `width`, appended to `out`.
 pub fn table_row(
-    out: &mut String,
+    out: &mut Vec<u8>,
     info: &MechanismInfo,
     index: usize,
     width: usize,
     r: &RowRef<'_>,
 ) {
+    use std::io::Write as _;
     let input_kind = info.inputs[index].kind;
     push_significant(out, r.input * deg(input_kind), width);
     match &r.result {
@@ -407,7 +300,7 @@ pub fn table_row(
             };
         }
     }
-    out.push('\n');
+    out.push(b'\n');
 }
 
 fn deg(k: Kind) -> f64 {
@@ -427,23 +320,5 @@ fn unit(k: Kind, per: &str) -> String {
     match k {
         Kind::Angle => format!("[deg{per}]"),
         _ => format!("[u{per}]"),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::significant;
-
-    #[test]
-    fn significant_digits() {
-        assert_eq!(significant(0.0), "0");
-        assert_eq!(significant(1.0), "1.000000");
-        assert_eq!(significant(123.456789), "123.4568");
-        assert_eq!(significant(-0.000001234567), "-1.234567e-6");
-        assert_eq!(significant(0.0001234567), "0.0001234567");
-        assert_eq!(significant(1e303), "1.000000e303");
-        assert_eq!(significant(9.99999999), "10.00000");
-        assert_eq!(significant(12345678.0), "1.234568e7");
-        assert_eq!(significant(f64::NAN), "-");
     }
 }

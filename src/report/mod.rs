@@ -88,31 +88,37 @@ pub fn status_code(status: &str) -> u8 {
     i.unwrap_or(STATUSES.len()) as u8
 }
 
-/// A row's numbers after the input, in the order of [`csv_header`] up to `cond`, each handed to
-/// `put`: the CSV's cells, NaN where the CSV leaves a cell empty (a failed row's, a non-finite
-/// condition estimate's). Returns the row's status. What the CSV writer and the Python package's
-/// columns both read a row through.
-pub fn row_numbers(r: &RowRef<'_>, info: &MechanismInfo, mut put: impl FnMut(f64)) -> &'static str {
+/// A row's numbers after the input, in the order of [`csv_header`] up to `cond`, handed to `put`
+/// a run at a time (the unknowns, their rates, their accelerations, each point's six numbers, the
+/// condition estimate): the CSV's cells, NaN where the CSV leaves a cell empty (a failed row's, a
+/// non-finite condition estimate's). Returns the row's status. What the CSV writer and the Python
+/// package's columns both read a row through.
+pub fn row_numbers(
+    r: &RowRef<'_>,
+    info: &MechanismInfo,
+    mut put: impl FnMut(&[f64]),
+) -> &'static str {
     match &r.result {
         Ok(s) if all_finite(s) => {
-            s.q.iter().chain(s.qd).chain(s.qdd).for_each(|&v| put(v));
+            put(s.q);
+            put(s.qd);
+            put(s.qdd);
             for p in s.points {
-                p.position
-                    .iter()
-                    .chain(&p.velocity)
-                    .chain(&p.acceleration)
-                    .for_each(|&v| put(v));
+                let [x, y] = p.position;
+                let [vx, vy] = p.velocity;
+                let [ax, ay] = p.acceleration;
+                put(&[x, y, vx, vy, ax, ay]);
             }
-            put(if s.condition.is_finite() {
+            put(&[if s.condition.is_finite() {
                 s.condition
             } else {
                 f64::NAN
-            });
+            }]);
             "ok"
         }
         _ => {
             let cells = 3 * info.unknowns.len() + 6 * info.points.len() + 1;
-            (0..cells).for_each(|_| put(f64::NAN));
+            (0..cells).for_each(|_| put(&[f64::NAN]));
             status(r)
         }
     }
@@ -123,10 +129,12 @@ pub fn row_numbers(r: &RowRef<'_>, info: &MechanismInfo, mut put: impl FnMut(f64
 /// growth.
 pub fn csv_row(out: &mut Vec<u8>, info: &MechanismInfo, r: &RowRef<'_>) {
     push_float(out, r.input);
-    let status = row_numbers(r, info, |v| {
-        out.push(b',');
-        if !v.is_nan() {
-            push_float(out, v);
+    let status = row_numbers(r, info, |run| {
+        for &v in run {
+            out.push(b',');
+            if !v.is_nan() {
+                push_float(out, v);
+            }
         }
     });
     out.push(b',');

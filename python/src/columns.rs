@@ -1,0 +1,141 @@
+//! Rows straight into column buffers: each sweep row's numbers (`mechgen::report::row_numbers`,
+//! what the CSV writes) go to their place in one `f64` buffer per column and its status to one
+//! byte, with nothing made per row; the buffers become numpy arrays without a copy, and the
+//! statuses an object array of shared `str` (one per status kind).
+
+use mg::MechanismInfo;
+use mg::report::{STATUSES, row_numbers};
+use mg::sweep::RowRef;
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::exceptions::PyMemoryError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// A block of rows in column buffers: `columns[c][r]` is column `c` (the input, then the CSV's
+/// numbers up to `cond`) of row `r`, `codes[r]` the index of its status in [`STATUSES`].
+pub struct Block<'a> {
+    pub columns: Vec<&'a mut [f64]>,
+    pub codes: &'a mut [u8],
+}
+
+impl Block<'_> {
+    /// Row `r` written: its input, its numbers (NaN where the CSV leaves a cell empty), its
+    /// status code.
+    pub fn put(&mut self, r: usize, row: &RowRef<'_>, info: &MechanismInfo) {
+        let mut columns = self.columns.iter_mut();
+        if let Some(c) = columns.next() {
+            c[r] = row.input;
+        }
+        let status = row_numbers(row, info, |run| {
+            // The run first: zip asks it first, so no column is taken past its end.
+            for (&v, c) in run.iter().zip(columns.by_ref()) {
+                c[r] = v;
+            }
+        });
+        self.codes[r] = mg::report::status_code(status);
+    }
+}
+
+/// Buffers for `rows` rows of `ncols` columns and their status codes, each column one vector:
+/// `MemoryError` naming the size when the machine cannot hold them (checked before anything is
+/// allocated).
+pub struct Buffers {
+    pub columns: Vec<Vec<f64>>,
+    pub codes: Vec<u8>,
+}
+
+impl Buffers {
+    pub fn new(ncols: usize, rows: usize, what: &str) -> PyResult<Buffers> {
+        let per_row = ncols * 8 + 1 + 8;
+        let too_big = || {
+            PyMemoryError::new_err(format!(
+                "{what}: {rows} rows × {ncols} columns need {} of memory (numbers, statuses), more than this machine has ({} in all)",
+                bytes(rows as f64 * per_row as f64),
+                bytes(physical_memory() as f64)
+            ))
+        };
+        let need = rows.checked_mul(per_row).ok_or_else(too_big)?;
+        if need > physical_memory() {
+            return Err(too_big());
+        }
+        // Zeroed memory (the allocator's fresh pages, not written here): every cell is written
+        // by its row.
+        let columns = (0..ncols).map(|_| vec![0.0; rows]).collect();
+        let codes = vec![0; rows];
+        Ok(Buffers { columns, codes })
+    }
+
+    /// The whole buffers as one block.
+    pub fn block(&mut self) -> Block<'_> {
+        Block {
+            columns: self.columns.iter_mut().map(|c| &mut c[..]).collect(),
+            codes: &mut self.codes,
+        }
+    }
+
+    /// The buffers cut into blocks of `rows` rows each (the last one shorter).
+    pub fn blocks(&mut self, rows: usize) -> Vec<Block<'_>> {
+        let rows = rows.max(1);
+        let mut blocks: Vec<Block<'_>> = self
+            .codes
+            .chunks_mut(rows)
+            .map(|codes| Block {
+                columns: Vec::with_capacity(self.columns.len()),
+                codes,
+            })
+            .collect();
+        for column in &mut self.columns {
+            for (b, chunk) in blocks.iter_mut().zip(column.chunks_mut(rows)) {
+                b.columns.push(chunk);
+            }
+        }
+        blocks
+    }
+
+    /// The dict of numpy arrays: `header[c]` → column `c`, then `status`; each of `shape`.
+    pub fn into_dict<'py>(
+        self,
+        py: Python<'py>,
+        header: &[String],
+        shape: &[usize],
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let out = PyDict::new(py);
+        for (name, column) in header.iter().zip(self.columns) {
+            let a = PyArray1::from_vec(py, column);
+            out.set_item(name, a.reshape(shape.to_vec())?)?;
+        }
+        let codes = PyArray1::from_vec(py, self.codes).reshape(shape.to_vec())?;
+        out.set_item("status", statuses(py)?.get_item(codes)?)?;
+        Ok(out)
+    }
+}
+
+/// The statuses as a numpy object array, indexed by status code: one `str` object per status
+/// kind, which every row's status refers to (8 bytes a row; `==` and pandas work as on strings).
+fn statuses(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
+    let mut names: Vec<&str> = STATUSES.to_vec();
+    names.push("unknown");
+    let np = py.import("numpy")?;
+    let kw = PyDict::new(py);
+    kw.set_item("dtype", "object")?;
+    np.call_method("array", (names,), Some(&kw))
+}
+
+/// The machine's physical memory in bytes (`usize::MAX` where it cannot be read).
+fn physical_memory() -> usize {
+    let meminfo = std::fs::read_to_string("/proc/meminfo").unwrap_or_default();
+    meminfo
+        .lines()
+        .find_map(|l| l.strip_prefix("MemTotal:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<usize>().ok())
+        .map_or(usize::MAX, |kb| kb.saturating_mul(1024))
+}
+
+/// A size in bytes, readable.
+fn bytes(b: f64) -> String {
+    if b >= 1e9 {
+        format!("{:.1} GB", b / 1e9)
+    } else {
+        format!("{:.1} MB", b / 1e6)
+    }
+}

@@ -1,0 +1,379 @@
+//! `mechgen.Mechanism`: one mechanism on its generated solvers (compiled in) or the generic
+//! engine (a loaded file), its description in file order, and `sweep`, `batch`, `sensitivity`.
+
+use std::collections::HashMap;
+
+use mg::batch::solver_with_params;
+use mg::design::{self, outputs, row_inputs};
+use mg::generic::Generic;
+use mg::report::csv_header;
+use mg::sweep::plan::{Plan, Range, plan};
+use mg::sweep::{Continuation, check_start, sweep_holding};
+use mg::{DynMechanism, MechanismInfo};
+use numpy::PyReadonlyArray1;
+use pyo3::exceptions::{PyKeyError, PyUserWarning, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+
+use crate::columns::Buffers;
+use crate::run::{Job, SETS_PER_BLOCK, sweep_sets};
+
+/// Where a mechanism's file came from (what a pickle carries to make it again).
+#[derive(Clone)]
+pub enum Source {
+    /// The file compiled in (generated solvers).
+    Compiled,
+    /// A file loaded at run time: its name and text.
+    File { name: String, text: String },
+}
+
+/// One mechanism: its generated solvers (compiled in) or the generic engine (a loaded file).
+#[pyclass(frozen, module = "mechgen")]
+pub struct Mechanism {
+    model: Generic,
+    info: MechanismInfo,
+    generated: bool,
+    /// The start check's warning for this mechanism, said when it is swept.
+    warning: Option<String>,
+    source: Source,
+}
+
+/// The sweep options every method takes.
+struct Options {
+    range: Range,
+    rate: f64,
+    input: Option<String>,
+    set: Vec<(String, f64)>,
+}
+
+impl Mechanism {
+    /// Every mechanism of `source`, in file order.
+    pub fn from_source(source: Source) -> PyResult<Vec<Mechanism>> {
+        let (name, text, generated) = match &source {
+            Source::Compiled => (mg::source::SOURCE_NAME, mg::source::SOURCE, true),
+            Source::File { name, text } => (name.as_str(), text.as_str(), false),
+        };
+        let loaded = mg::generic::load_with_start_warnings(name, text)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok(loaded
+            .into_iter()
+            .map(|(g, warning)| Mechanism {
+                info: DynMechanism::<f64>::info(&g),
+                model: g,
+                generated,
+                warning,
+                source: source.clone(),
+            })
+            .collect())
+    }
+
+    pub fn name(&self) -> &str {
+        &self.info.name
+    }
+
+    fn plan(&self, py: Python<'_>, o: &Options) -> PyResult<Plan> {
+        let p =
+            plan(&self.info, o.input.as_deref(), &o.set, o.range).map_err(PyValueError::new_err)?;
+        check_start(&self.info)
+            .map_err(|e| PyValueError::new_err(format!("{}: {e}", self.info.name)))?;
+        if let Some(w) = &self.warning {
+            PyErr::warn(py, &py.get_type::<PyUserWarning>(), &std::ffi::CString::new(w.trim_end()).unwrap_or_default(), 1)?;
+        }
+        Ok(p)
+    }
+
+    /// The base params with `given` (name → value) in place of the file's.
+    fn params_with(&self, given: &[(String, f64)]) -> PyResult<Vec<f64>> {
+        let mut values: Vec<f64> = self.info.params.iter().map(|p| p.value).collect();
+        for (name, v) in given {
+            let Some(i) = self.info.params.iter().position(|p| &p.name == name) else {
+                // A derived param is named with what it is derived from.
+                return Err(match self.model.clone().set_param(name, 0.0) {
+                    Err(e) if e.contains("derived") => PyValueError::new_err(e),
+                    _ => PyKeyError::new_err(format!("`{}` has no param `{name}`", self.info.name)),
+                });
+            };
+            if !v.is_finite() {
+                return Err(PyValueError::new_err(format!(
+                    "param `{name}` is not finite: {v}"
+                )));
+            }
+            values[i] = *v;
+        }
+        Ok(values)
+    }
+
+    fn job<'a>(&'a self, plan: &'a Plan, rate: f64) -> Job<'a> {
+        Job {
+            name: &self.info.name,
+            model: &self.model,
+            info: &self.info,
+            generated: self.generated,
+            plan,
+            rate,
+        }
+    }
+}
+
+fn options(
+    start: Option<f64>,
+    stop: Option<f64>,
+    step: Option<f64>,
+    rate: f64,
+    input: Option<String>,
+    set: Option<HashMap<String, f64>>,
+) -> PyResult<Options> {
+    for (name, v) in [
+        ("start", start),
+        ("stop", stop),
+        ("step", step),
+        ("rate", Some(rate)),
+    ] {
+        if let Some(v) = v
+            && !v.is_finite()
+        {
+            return Err(PyValueError::new_err(format!(
+                "`{name}` is not finite: {v}"
+            )));
+        }
+    }
+    let mut set: Vec<(String, f64)> = set.unwrap_or_default().into_iter().collect();
+    set.sort_by(|a, b| a.0.cmp(&b.0));
+    if let Some((name, v)) = set.iter().find(|(_, v)| !v.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "set: the value of input `{name}` is not finite: {v}"
+        )));
+    }
+    Ok(Options {
+        range: Range {
+            from: start,
+            to: stop,
+            step,
+        },
+        rate,
+        input,
+        set,
+    })
+}
+
+#[pymethods]
+impl Mechanism {
+    /// The mechanism's name in its file.
+    #[getter(name)]
+    fn py_name(&self) -> &str {
+        &self.info.name
+    }
+
+    /// The params (base params: the derived ones follow from them), name → value, file order.
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let out = PyDict::new(py);
+        for p in &self.info.params {
+            out.set_item(&p.name, p.value)?;
+        }
+        Ok(out)
+    }
+
+    /// The inputs, unknowns and points, by name, in file order.
+    #[getter]
+    fn inputs(&self) -> Vec<String> {
+        self.info.inputs.iter().map(|c| c.name.clone()).collect()
+    }
+    #[getter]
+    fn unknowns(&self) -> Vec<String> {
+        self.info.unknowns.iter().map(|c| c.name.clone()).collect()
+    }
+    #[getter]
+    fn points(&self) -> Vec<String> {
+        self.info.points.clone()
+    }
+
+    /// `"generated"` (compiled in) or `"generic"` (a file loaded at run time).
+    #[getter]
+    fn engine(&self) -> &str {
+        if self.generated {
+            "generated"
+        } else {
+            "generic"
+        }
+    }
+
+    /// One sweep, exactly as `mechgen sweep` sweeps it (start/stop/step in degrees for an angle
+    /// input, file units for a length input; `rate` rad/s or units/s; `set` holds other inputs).
+    /// Returns column name → numpy array: the CSV's columns (radians), `status` as str; the
+    /// numbers of a row that is not `ok` are NaN.
+    #[pyo3(signature = (start=None, stop=None, step=None, rate=1.0, input=None, set=None, params=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn sweep<'py>(
+        &self,
+        py: Python<'py>,
+        start: Option<f64>,
+        stop: Option<f64>,
+        step: Option<f64>,
+        rate: f64,
+        input: Option<String>,
+        set: Option<HashMap<String, f64>>,
+        params: Option<HashMap<String, f64>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let o = options(start, stop, step, rate, input, set)?;
+        let plan = self.plan(py, &o)?;
+        let given: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
+        let values = self.params_with(&given)?;
+        let header = csv_header(&self.info, plan.index);
+        let ncols = header.len() - 1;
+        let rows = plan.values.len();
+        let mut out = Buffers::new(ncols, rows, "sweep")?;
+        let job = self.job(&plan, o.rate);
+        sweep_sets(py, &job, &[values], vec![out.block()], rows, None)?;
+        out.into_dict(py, &header[..ncols], &[rows])
+    }
+
+    /// The design derivatives along a sweep, as `mechgen sensitivity` gives them (same options
+    /// and rows as `sweep`): the input, then for each unknown `u` and param `p` the column `u/p`,
+    /// for each point `P` the columns `P_x/p`, `P_y/p` (radians per param unit for angles), then
+    /// `status` (a row whose sensitivities fail, at a dead point, has that status, NaN numbers).
+    #[pyo3(signature = (start=None, stop=None, step=None, rate=1.0, input=None, set=None, params=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn sensitivity<'py>(
+        &self,
+        py: Python<'py>,
+        start: Option<f64>,
+        stop: Option<f64>,
+        step: Option<f64>,
+        rate: f64,
+        input: Option<String>,
+        set: Option<HashMap<String, f64>>,
+        params: Option<HashMap<String, f64>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let o = options(start, stop, step, rate, input, set)?;
+        let plan = self.plan(py, &o)?;
+        let given: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
+        let values = self.params_with(&given)?;
+        let info = &self.info;
+        let mut header = vec![info.inputs[plan.index].name.clone()];
+        for (out, _) in outputs(info) {
+            header.extend(info.params.iter().map(|p| format!("{out}/{}", p.name)));
+        }
+        let n = plan.values.len();
+        let mut out = Buffers::new(header.len(), n, "sensitivity")?;
+        py.detach(|| {
+            let k = solver_with_params(&info.name, &self.model, self.generated, &values);
+            let cont = Continuation::for_input(info.inputs[plan.index].kind, plan.span);
+            let rows = sweep_holding(
+                k.as_ref(),
+                plan.index,
+                &plan.values,
+                o.rate,
+                &plan.held,
+                &cont,
+            );
+            for (r, row) in rows.iter().enumerate() {
+                out.columns[0][r] = row.input;
+                let s = match &row.result {
+                    Ok(s) => {
+                        let x = row_inputs(info, plan.index, &plan.held, row.input);
+                        design::sensitivity(k.as_ref(), info, &x, &s.q).map_err(|e| e.status())
+                    }
+                    Err(_) => Err(row.status()),
+                };
+                let status = match s {
+                    Ok(v) => {
+                        for (j, v) in v.iter().enumerate() {
+                            out.columns[j + 1][r] = *v;
+                        }
+                        "ok"
+                    }
+                    Err(status) => status,
+                };
+                out.codes[r] = mg::report::status_code(status);
+            }
+        });
+        out.into_dict(py, &header, &[n])
+    }
+
+    /// Many param sets, each swept as `sweep` sweeps it, on `threads` worker threads (default
+    /// every core) with the GIL released. `params`: param name → 1-D array, one entry per set
+    /// (all of one length); the params not named keep the file's values. Returns column name →
+    /// 2-D array (sets, rows). `MemoryError` (naming the size) before anything is allocated when
+    /// the result cannot fit; `Ctrl-C` stops the workers and raises `KeyboardInterrupt`.
+    #[pyo3(signature = (params, start=None, stop=None, step=None, rate=1.0, input=None, set=None, threads=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn batch<'py>(
+        &self,
+        py: Python<'py>,
+        params: HashMap<String, Bound<'py, PyAny>>,
+        start: Option<f64>,
+        stop: Option<f64>,
+        step: Option<f64>,
+        rate: f64,
+        input: Option<String>,
+        set: Option<HashMap<String, f64>>,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        if threads == Some(0) {
+            return Err(PyValueError::new_err("threads must be at least 1"));
+        }
+        let o = options(start, stop, step, rate, input, set)?;
+        let plan = self.plan(py, &o)?;
+        let mut names: Vec<&String> = params.keys().collect();
+        names.sort();
+        let np = py.import("numpy")?;
+        let mut columns: Vec<(String, Vec<f64>)> = Vec::new();
+        for name in names {
+            // Any array-like of numbers, one per set, in any memory layout.
+            let a = np.call_method1("asarray", (&params[name], "float64"))?;
+            let shape: Vec<usize> = a.getattr("shape")?.extract()?;
+            if shape.len() != 1 {
+                return Err(PyValueError::new_err(format!(
+                    "param `{name}` has shape {shape:?}: it needs a 1-D array, one value per set"
+                )));
+            }
+            let a: PyReadonlyArray1<'py, f64> = a.extract()?;
+            columns.push((name.clone(), a.as_array().to_vec()));
+        }
+        let count = columns.first().map_or(0, |c| c.1.len());
+        if let Some((name, c)) = columns.iter().find(|c| c.1.len() != count) {
+            return Err(PyValueError::new_err(format!(
+                "param `{name}` has {} values, `{}` has {count}: every array needs one per set",
+                c.len(),
+                columns[0].0
+            )));
+        }
+        let rows = plan.values.len();
+        let header = csv_header(&self.info, plan.index);
+        let ncols = header.len() - 1;
+        let what = format!("batch of {count} sets × {rows} rows");
+        let total = count
+            .checked_mul(rows)
+            .ok_or_else(|| pyo3::exceptions::PyMemoryError::new_err(what.clone()))?;
+        let mut out = Buffers::new(ncols, total, &what)?;
+        let sets: Vec<Vec<f64>> = (0..count)
+            .map(|s| {
+                let given: Vec<(String, f64)> =
+                    columns.iter().map(|(n, c)| (n.clone(), c[s])).collect();
+                self.params_with(&given)
+            })
+            .collect::<PyResult<_>>()?;
+        let job = self.job(&plan, o.rate);
+        let blocks = out.blocks(SETS_PER_BLOCK * rows);
+        sweep_sets(py, &job, &sets, blocks, rows, threads)?;
+        out.into_dict(py, &header[..ncols], &[count, rows])
+    }
+
+    /// Pickling (so that `client.submit(m.batch, …)` works on Dask): the mechanism's name and
+    /// the text of the file it was loaded from (nothing for a compiled-in one).
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+        let restore = py.import("mechgen")?.getattr("_restore")?;
+        let args = match &self.source {
+            Source::Compiled => (self.info.name.clone(), None::<String>, None::<String>),
+            Source::File { name, text } => {
+                (self.info.name.clone(), Some(name.clone()), Some(text.clone()))
+            }
+        };
+        Ok((restore, args.into_pyobject(py)?))
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<mechgen.Mechanism {} ({})>", self.info.name, self.engine())
+    }
+}

@@ -1,0 +1,148 @@
+"""The Python API as a Python user relies on it: pickling (Dask ships mechanisms to workers), a
+batch too large for memory raising MemoryError before anything is allocated, Ctrl-C raising
+KeyboardInterrupt promptly, the start warning, NaN options, dtypes of empty results, file order,
+and the worker count."""
+
+import pickle
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+import pytest
+
+import mechgen
+
+FOUR_BAR = """
+[mechanism.zeta]
+inputs = ["q1"]
+unknowns = ["q2", "q3"]
+loops = ["l1*e(q1) + l2*e(q2) - l4 - l3*e(q3)"]
+[mechanism.zeta.params]
+l4 = 0.4
+l1 = 0.1
+l3 = 0.3
+l2 = 0.35
+[mechanism.zeta.points]
+P = "l1*e(q1) + l2/2*e(q2)"
+[mechanism.zeta.start]
+q1 = 0.0
+q2 = {q2}
+q3 = {q3}
+
+[mechanism.alpha]
+inputs = ["q1"]
+unknowns = ["q2", "sC"]
+loops = ["r*e(q1) + l*e(q2) - sC"]
+[mechanism.alpha.params]
+r = 0.05
+l = 0.2
+[mechanism.alpha.start]
+q1 = 0.0
+q2 = 0.0
+sC = 0.25
+"""
+
+
+def four_bar_file(tmp_path, q2=0.9479697413828936, q3=1.8959394827657874):
+    f = tmp_path / "order.toml"
+    f.write_text(FOUR_BAR.format(q2=q2, q3=q3))
+    return f
+
+
+def same(a, b):
+    assert a.keys() == b.keys()
+    for c in a:
+        if a[c].dtype == object:
+            assert (a[c] == b[c]).all(), c
+        else:
+            assert ((a[c] == b[c]) | (np.isnan(a[c]) & np.isnan(b[c]))).all(), c
+
+
+def test_mechanisms_and_params_come_in_file_order(tmp_path):
+    loaded = mechgen.load(str(four_bar_file(tmp_path)))
+    assert list(loaded) == ["zeta", "alpha"]
+    assert list(loaded["zeta"].params) == ["l4", "l1", "l3", "l2"]
+    compiled = mechgen.mechanisms()
+    assert list(compiled)[:3] == ["sixbar", "shaper", "four_bar"]
+    # Made once: the same objects each call.
+    assert mechgen.mechanisms()["sixbar"] is compiled["sixbar"]
+
+
+def test_a_mechanism_pickles_and_sweeps_alike(tmp_path):
+    for m in [mechgen.mechanisms()["four_bar"], mechgen.load(str(four_bar_file(tmp_path)))["zeta"]]:
+        back = pickle.loads(pickle.dumps(m))
+        assert (back.name, back.engine, back.params) == (m.name, m.engine, m.params)
+        same(back.sweep(step=7.0), m.sweep(step=7.0))
+
+
+def test_statuses_are_shared_str_objects_and_empty_batches_keep_their_dtypes():
+    m = mechgen.mechanisms()["rocker_four_bar"]
+    cols = m.batch({"l1": [m.params["l1"], m.params["l1"] * 1.01]})
+    status = cols["status"]
+    assert status.dtype == object and status.shape[0] == 2
+    assert all(isinstance(s, str) for s in status.ravel())
+    assert len({id(s) for s in status.ravel()}) == len(set(status.ravel()))
+    empty = m.batch({"l1": np.array([])})
+    assert empty.keys() == cols.keys()
+    for c in cols:
+        assert empty[c].dtype == cols[c].dtype, c
+        assert empty[c].shape == (0, cols[c].shape[1]), c
+
+
+def test_threads_give_the_same_batch():
+    m = mechgen.mechanisms()["sixbar"]
+    sets = {"l2": m.params["l2"] * (1 + 0.01 * np.arange(40))}
+    same(m.batch(sets, threads=1), m.batch(sets))
+    with pytest.raises(ValueError, match="threads"):
+        m.batch(sets, threads=0)
+
+
+def test_a_batch_too_large_raises_memory_error_naming_its_size():
+    m = mechgen.mechanisms()["four_bar"]
+    with pytest.raises(MemoryError, match=r"1000000 sets × 360001 rows"):
+        m.batch({"l1": np.full(1_000_000, 0.1)}, step=0.001)
+
+
+def test_a_nan_in_set_raises_value_error():
+    m = mechgen.mechanisms()["four_bar"]
+    with pytest.raises(ValueError, match="not finite"):
+        m.sweep(set={"q1": float("nan")})
+
+
+def test_the_start_warning_is_a_python_warning(tmp_path):
+    m = mechgen.load(str(four_bar_file(tmp_path, q2=0.5, q3=1.5)))["zeta"]
+    with pytest.warns(UserWarning, match="start configuration of `zeta`"):
+        m.sweep(step=30.0)
+
+
+def test_ctrl_c_stops_a_batch_with_keyboard_interrupt():
+    child = textwrap.dedent(
+        """
+        import sys, time, numpy as np, mechgen
+        m = mechgen.load(sys.argv[1])["sixbar"]
+        print("started", flush=True)
+        try:
+            m.batch({"l2": np.full(20_000, m.params["l2"])}, step=0.5)
+        except KeyboardInterrupt:
+            print("interrupted", time.monotonic(), flush=True)
+            sys.exit(3)
+        print("finished", flush=True)
+        """
+    )
+    from conftest import ROOT
+    # The interpreter (about 1.5 µs a row): 14 million rows, far more than the second it runs.
+    p = subprocess.Popen(
+        [sys.executable, "-c", child, str(ROOT / "mechanism.toml")], stdout=subprocess.PIPE, text=True
+    )
+    assert p.stdout.readline().strip() == "started"
+    time.sleep(1.0)
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out = p.stdout.readline().split()
+    assert p.wait(timeout=30) == 3, out
+    assert out[0] == "interrupted"
+    assert float(out[1]) - sent < 0.5, float(out[1]) - sent
+    p.stdout.close()

@@ -34,7 +34,8 @@ class Mechanism:
         set: Optional[Mapping[str, float]] = None,
         params: Optional[Mapping[str, float]] = None,
     ) -> dict[str, np.ndarray]:
-        """One sweep as `mechgen sweep` sweeps it: CSV column -> 1-D array (status as str)."""
+        """One sweep as `mechgen sweep` sweeps it: CSV column -> 1-D array (status: an object
+        array of shared str)."""
     def batch(
         self,
         params: Mapping[str, Union[npt.ArrayLike, Sequence[float]]],
@@ -44,8 +45,11 @@ class Mechanism:
         rate: float = 1.0,
         input: Optional[str] = None,
         set: Optional[Mapping[str, float]] = None,
+        threads: Optional[int] = None,
     ) -> dict[str, np.ndarray]:
-        """Every param set swept on every core: CSV column -> 2-D array (sets, rows)."""
+        """Every param set swept on `threads` worker threads (default every core), the GIL
+        released: CSV column -> 2-D array (sets, rows). MemoryError (naming the size) before
+        anything is allocated when the result cannot fit; Ctrl-C raises KeyboardInterrupt."""
     def sensitivity(
         self,
         start: Optional[float] = None,
@@ -59,8 +63,11 @@ class Mechanism:
         """d(output)/d(param) along a sweep, as `mechgen sensitivity --csv`: column `u/p` per
         unknown u and param p, `P_x/p`, `P_y/p` per point, then status."""
 
-def mechanisms() -> dict[str, Mechanism]:
-    """The compiled-in mechanisms, name -> Mechanism (generated solvers)."""
+    def __reduce__(self) -> tuple: ...
 
-def load(path: Union[str, PathLike[str]]) -> dict[str, Mechanism]:
-    """Every mechanism of a file, on the generic engine; ValueError with every diagnostic."""
+def mechanisms() -> dict[str, Mechanism]:
+    """The compiled-in mechanisms, name -> Mechanism (generated solvers), in file order."""
+
+def load(path: Union[str, PathLike[str]], engine: Optional[str] = None) -> dict[str, Mechanism]:
+    """Every mechanism of a file, in file order, on the generic engine (`engine="generic"`);
+    ValueError with every diagnostic."""

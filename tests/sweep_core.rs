@@ -48,3 +48,60 @@ fn rows_past_the_end_of_the_branch_cost_no_solve() {
         assert!(short > 136, "{engine}: the counter counts ({short})");
     }
 }
+
+/// A Strandbeest leg (python/bench/strandbeest.toml) with lengths 1 % off Jansen's, whose knee
+/// reaches a dead point near 192°: swept from its start (0°) in rows of 1° and of 0.05° on the
+/// interpreter, the rows the two sweeps share have the same statuses and the same configuration
+/// (1e-9), and no angle winds off by whole turns (the interpreter's tick keeps its closed-form
+/// unknowns as the guess, as a generated tick does: an extrapolated guess near the dead point
+/// once crossed it onto another branch, turns away).
+#[test]
+fn a_coarse_sweep_keeps_to_the_branch_of_a_fine_one_near_a_dead_point() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/python/bench/strandbeest.toml");
+    let mut g = mechgen::generic::load_file(std::path::Path::new(path))
+        .expect("loads")
+        .remove(0);
+    for (p, v) in [
+        ("m", 15.144749354839064),
+        ("b", 41.63244073754208),
+        ("lc", 38.93706334139929),
+        ("d", 39.993608204747424),
+        ("le", 56.186381957254135),
+        ("f", 39.68136689924513),
+        ("g", 36.744482104346865),
+        ("h", 65.66791505880639),
+        ("li", 49.180891961036835),
+        ("j", 50.3620377035005),
+        ("k", 62.43945899561173),
+    ] {
+        g.set_param(p, v).expect("a param");
+    }
+    let sweep_by = |step: f64| {
+        let n = (359.0 / step).round() as usize;
+        let values: Vec<f64> = (0..=n)
+            .map(|i| (1.0 + step * i as f64).to_radians())
+            .collect();
+        let c = Continuation::for_input(Kind::Angle, values[n] - values[0]);
+        sweep(&g, 0, &values, 1.0, &c)
+    };
+    let (coarse, fine) = (sweep_by(1.0), sweep_by(0.05));
+    let ok = coarse.iter().filter(|r| r.result.is_ok()).count();
+    assert!((150..359).contains(&ok), "{ok} rows on the branch");
+    for (i, r) in coarse.iter().enumerate() {
+        let f = &fine[i * 20];
+        assert!((r.input - f.input).abs() < 1e-12);
+        assert_eq!(r.status(), f.status(), "row {i}");
+        if let (Ok(a), Ok(b)) = (&r.result, &f.result) {
+            for (u, v) in a.points.iter().zip(&b.points) {
+                for c in 0..2 {
+                    let d = (u.position[c] - v.position[c]).abs();
+                    assert!(d < 1e-9, "row {i}: {d:e}");
+                }
+            }
+            assert!(
+                a.q.iter().all(|q| q.abs() < 4.0 * std::f64::consts::PI),
+                "row {i}"
+            );
+        }
+    }
+}

@@ -73,7 +73,9 @@ fn _restore(
     text: Option<String>,
 ) -> PyResult<Py<Mechanism>> {
     let all = match (file, text) {
-        (Some(name), Some(text)) => into_dict(py, Mechanism::from_source(Source::File { name, text })?)?,
+        (Some(name), Some(text)) => {
+            into_dict(py, Mechanism::from_source(Source::File { name, text })?)?
+        }
         _ => mechanisms(py)?,
     };
     let m = all

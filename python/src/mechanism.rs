@@ -77,7 +77,12 @@ impl Mechanism {
         check_start(&self.info)
             .map_err(|e| PyValueError::new_err(format!("{}: {e}", self.info.name)))?;
         if let Some(w) = &self.warning {
-            PyErr::warn(py, &py.get_type::<PyUserWarning>(), &std::ffi::CString::new(w.trim_end()).unwrap_or_default(), 1)?;
+            PyErr::warn(
+                py,
+                &py.get_type::<PyUserWarning>(),
+                &std::ffi::CString::new(w.trim_end()).unwrap_or_default(),
+                1,
+            )?;
         }
         Ok(p)
     }
@@ -362,13 +367,18 @@ impl Mechanism {
 
     /// Pickling (so that `client.submit(m.batch, …)` works on Dask): the mechanism's name and
     /// the text of the file it was loaded from (nothing for a compiled-in one).
-    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
+    fn __reduce__<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
         let restore = py.import("mechgen")?.getattr("_restore")?;
         let args = match &self.source {
             Source::Compiled => (self.info.name.clone(), None::<String>, None::<String>),
-            Source::File { name, text } => {
-                (self.info.name.clone(), Some(name.clone()), Some(text.clone()))
-            }
+            Source::File { name, text } => (
+                self.info.name.clone(),
+                Some(name.clone()),
+                Some(text.clone()),
+            ),
         };
         Ok((restore, args.into_pyobject(py)?))
     }

@@ -146,3 +146,23 @@ def test_ctrl_c_stops_a_batch_with_keyboard_interrupt():
     assert out[0] == "interrupted"
     assert float(out[1]) - sent < 0.5, float(out[1]) - sent
     p.stdout.close()
+
+
+def test_a_batch_peaks_near_its_result():
+    child = textwrap.dedent(
+        """
+        import resource, numpy as np, mechgen
+        m = mechgen.mechanisms()["four_bar"]
+        sets = {"l1": np.full(2000, m.params["l1"])}
+        m.batch({"l1": sets["l1"][:2]}, step=0.5)  # pools and caches made before the baseline
+        before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+        cols = m.batch(sets, step=0.5)
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+        size = sum(a.nbytes for a in cols.values())
+        print(size, peak - before)
+        """
+    )
+    out = subprocess.run([sys.executable, "-c", child], capture_output=True, text=True, check=True)
+    size, grown = map(int, out.stdout.split())
+    assert size > 200e6
+    assert grown <= 1.3 * size, (grown / size, size, grown)

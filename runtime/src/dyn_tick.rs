@@ -19,6 +19,9 @@ use crate::tick::{step_to, taylor};
 /// A solved state seen through slices (what [`DynTick::state`] shows).
 pub type StateRef<'a, T> = State<&'a [T], &'a [T], &'a [PointMotion<T>], T>;
 
+/// What [`DynTick::tick_checked`] asks of a tick: `(q, q̇, q̈ before, q after)` → accepted.
+pub type Accept<'a, T> = dyn FnMut(&[T], &[T], &[T], &[T]) -> bool + 'a;
+
 /// A mechanism's tick on slices. Slices of the wrong length give [`SolveError::BadLength`].
 pub trait DynTick<T: Real> {
     /// The first tick: a whole solve at `input` from `guess` (on the guess's branch). On error
@@ -39,6 +42,17 @@ pub trait DynTick<T: Real> {
     ) -> Result<(), SolveError>;
     /// The state of the last successful start or tick (`None` before one).
     fn state(&self) -> Option<StateRef<'_, T>>;
+    /// [`DynTick::tick`], then `accept(q, q̇, q̈ before, q after)`: `Ok(true)` when it accepts.
+    /// When it does not, `Ok(false)`, `before` holds the unknowns before the tick, and the tick's
+    /// state is the refused one (start again from `before` to go on). On error the state is
+    /// unchanged.
+    fn tick_checked(
+        &mut self,
+        input: InputMotion<&[T]>,
+        options: &SolveOptions<T>,
+        accept: &mut Accept<'_, T>,
+        before: &mut [T],
+    ) -> Result<bool, SolveError>;
 }
 
 /// [`DynTick`] of a generated mechanism: its own [`StaticMechanism::tick`].
@@ -80,6 +94,25 @@ impl<T: Real, M: StaticMechanism<T>> DynTick<T> for StaticTick<'_, T, M> {
         self.mechanism.tick(t, &input, options)
     }
 
+    fn tick_checked(
+        &mut self,
+        input: InputMotion<&[T]>,
+        options: &SolveOptions<T>,
+        accept: &mut Accept<'_, T>,
+        before: &mut [T],
+    ) -> Result<bool, SolveError> {
+        let input = arrays(input)?;
+        let t = self.tick.as_mut().ok_or(SolveError::NotStarted)?;
+        let (q, qd, qdd) = (t.q, t.qd, t.qdd);
+        self.mechanism.tick(t, &input, options)?;
+        if accept(q.as_ref(), qd.as_ref(), qdd.as_ref(), t.q.as_ref()) {
+            return Ok(true);
+        }
+        len(before, q.as_ref().len())?;
+        before.copy_from_slice(q.as_ref());
+        Ok(false)
+    }
+
     fn state(&self) -> Option<StateRef<'_, T>> {
         self.tick.as_ref().map(|t| State {
             x: t.x.as_ref(),
@@ -94,10 +127,15 @@ impl<T: Real, M: StaticMechanism<T>> DynTick<T> for StaticTick<'_, T, M> {
     }
 }
 
-/// [`DynTick`] of any [`DynMechanism`]: the runtime's predictor from the last state as the guess
-/// of one [`DynMechanism::solve_in_place`] (allocation-free once made, if the engine's solve is).
+/// [`DynTick`] of any [`DynMechanism`]: the runtime's predictor from the last state (closed-form
+/// unknowns kept, as a generated tick keeps them) as the guess of one
+/// [`DynMechanism::solve_in_place`] (allocation-free once made, if the engine's solve is).
 pub struct SolveTick<'a, T: Real, M: ?Sized> {
     mechanism: &'a M,
+    /// The unknowns of closed-form blocks: they keep their last values as the guess (a closed form
+    /// reads the guess only for its branch, which an extrapolated guess could cross near a dead
+    /// point), as a generated tick keeps them.
+    keep: Vec<bool>,
     state: DynState<T>,
     /// The last good state's inputs and unknowns while a tick solves (restored on error).
     saved: DynState<T>,
@@ -108,6 +146,14 @@ impl<'a, T: Real, M: DynMechanism<T> + ?Sized> SolveTick<'a, T, M> {
     pub fn new(mechanism: &'a M) -> Self {
         let info = mechanism.info();
         let (ni, nu) = (info.inputs.len(), info.unknowns.len());
+        let mut keep = vec![false; nu];
+        for (block, closed) in info.blocks.iter().zip(&info.closed) {
+            for &k in block.iter().filter(|_| *closed) {
+                if let Some(v) = keep.get_mut(k) {
+                    *v = true;
+                }
+            }
+        }
         let zeros = vec![T::zero(); ni];
         let guess: Vec<T> = vec![T::zero(); nu];
         let state = DynState::new(
@@ -117,6 +163,7 @@ impl<'a, T: Real, M: DynMechanism<T> + ?Sized> SolveTick<'a, T, M> {
         );
         SolveTick {
             mechanism,
+            keep,
             saved: state.clone(),
             state,
             started: false,
@@ -160,7 +207,12 @@ impl<T: Real, M: DynMechanism<T> + ?Sized> DynTick<T> for SolveTick<'_, T, M> {
         len(input.xdd, s.x.len())?;
         copy_state(&mut self.saved, s);
         let dt = step_to(&s.x, input.x, &s.xd);
-        taylor(&self.saved.q, &s.qd, &s.qdd, dt, &[], &mut s.q);
+        let keep: &[bool] = if options.closed_forms {
+            &self.keep
+        } else {
+            &[]
+        };
+        taylor(&self.saved.q, &s.qd, &s.qdd, dt, keep, &mut s.q);
         s.x.copy_from_slice(input.x);
         s.xd.copy_from_slice(input.xd);
         s.xdd.copy_from_slice(input.xdd);
@@ -169,6 +221,23 @@ impl<T: Real, M: DynMechanism<T> + ?Sized> DynTick<T> for SolveTick<'_, T, M> {
             core::mem::swap(&mut self.state, &mut self.saved);
         }
         solved
+    }
+
+    fn tick_checked(
+        &mut self,
+        input: InputMotion<&[T]>,
+        options: &SolveOptions<T>,
+        accept: &mut Accept<'_, T>,
+        before: &mut [T],
+    ) -> Result<bool, SolveError> {
+        self.tick(input, options)?;
+        let (b, s) = (&self.saved, &self.state);
+        if accept(&b.q, &b.qd, &b.qdd, &s.q) {
+            return Ok(true);
+        }
+        len(before, b.q.len())?;
+        before.copy_from_slice(&b.q);
+        Ok(false)
     }
 
     fn state(&self) -> Option<StateRef<'_, T>> {

@@ -211,7 +211,12 @@ mod tests {
     #[test]
     fn rounding_is_the_exact_one() {
         let reference = |v: f64| {
-            let exp: i32 = format!("{:.6e}", v).split('e').nth(1).unwrap().parse().unwrap();
+            let exp: i32 = format!("{:.6e}", v)
+                .split('e')
+                .nth(1)
+                .unwrap()
+                .parse()
+                .unwrap();
             if (-4..7).contains(&exp) {
                 let decimals = (6 - exp).max(0) as usize;
                 format!("{v:.decimals$}")
@@ -236,13 +241,21 @@ mod tests {
             let mantissa = (next() % 90_000_000 + 10_000_000) as f64;
             let scale = 10f64.powi((next() % 40) as i32 - 20);
             let tie = mantissa * scale;
-            values.extend([tie, f64::from_bits(tie.to_bits() + 1), f64::from_bits(tie.to_bits() - 1)]);
+            values.extend([
+                tie,
+                f64::from_bits(tie.to_bits() + 1),
+                f64::from_bits(tie.to_bits() - 1),
+            ]);
             let short = ((next() % 9_000_000 + 1_000_000) * 10 + 5) as f64 * scale;
             values.extend([short, -short]);
         }
         for k in -30..30 {
             let p = 10f64.powi(k);
-            values.extend([p, f64::from_bits(p.to_bits() + 1), f64::from_bits(p.to_bits() - 1)]);
+            values.extend([
+                p,
+                f64::from_bits(p.to_bits() + 1),
+                f64::from_bits(p.to_bits() - 1),
+            ]);
             values.push(9.9999995 * p);
         }
         for v in values {

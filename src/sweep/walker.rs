@@ -30,9 +30,6 @@ pub(super) struct Walker<'k> {
     synced: bool,
     /// Whether the tick has a state (its last start succeeded).
     started: bool,
-    /// Whether each substep of the tick is checked against its prediction: not when every block
-    /// is solved in closed form (on the guess's side, so a tick cannot leave the branch).
-    guarded: bool,
     /// Substeps left of the sweep's budget.
     pub(super) allowance: usize,
     /// Where the branch ended at a dead point and the direction of travel there (±1): rows
@@ -78,7 +75,6 @@ impl<'k> Walker<'k> {
             )
         });
         let h_max = largest_substep(c, info.inputs[index].kind, follower.scale());
-        let closed = info.closed.len() == info.blocks.len() && info.closed.iter().all(|&c| c);
         Ok(Walker {
             k,
             c,
@@ -91,7 +87,6 @@ impl<'k> Walker<'k> {
             qdd: vec![0.0; nu],
             synced: true,
             started: false,
-            guarded: !(closed && c.options.closed_forms),
             allowance,
             dead: None,
             xd,
@@ -198,7 +193,7 @@ impl<'k> Walker<'k> {
     }
 
     /// The tick to `target` in equal substeps of at most the largest substep, each (when
-    /// `guarded`) accepted when its solution moved no unknown too far and stayed near its
+    /// accepted when its solution moved no unknown too far and stayed near its
     /// prediction. False when one is not taken (the walk then stands at the last substep taken,
     /// the tick started there).
     fn tick_to(&mut self, target: f64) -> bool {
@@ -225,29 +220,30 @@ impl<'k> Walker<'k> {
             } else {
                 from + distance * (j as f64 / substeps as f64)
             };
-            if self.guarded {
-                self.sync();
-            }
             self.x[i] = xt;
+            // The tick's predictor over this substep (the swept input alone moves); every tick is
+            // checked against it: even a closed form, which keeps its guess's side, could step
+            // over a narrow window where the linkage does not assemble onto another branch.
+            let dt = (xt - x_before) / self.xd[i];
+            let f = &self.follower;
+            let mut keeps = |q: &[f64], qd: &[f64], qdd: &[f64], after: &[f64]| {
+                f.keeps_branch(q, qd, qdd, dt, after)
+            };
             let input = InputMotion::new(&self.x[..], &self.xd[..], &self.xdd[..]);
-            if self.ticker.tick(input, &self.c.options).is_err() {
-                self.x[i] = x_before;
-                return false;
-            }
-            self.synced = false;
-            if self.guarded {
-                // The tick's predictor over this substep (the swept input alone moves).
-                let dt = (xt - x_before) / self.xd[i];
-                let (f, q, qd, qdd) = (&self.follower, &self.q, &self.qd, &self.qdd);
-                let kept = self
-                    .ticker
-                    .state()
-                    .is_some_and(|s| f.keeps_branch(q, qd, qdd, dt, s.q));
-                if !kept {
+            match self
+                .ticker
+                .tick_checked(input, &self.c.options, &mut keeps, &mut self.q)
+            {
+                Ok(true) => self.synced = false,
+                Ok(false) => {
                     // The tick left the branch (or moved too far): start again where it stood.
                     self.x[i] = x_before;
                     self.synced = true;
                     let _ = self.restart();
+                    return false;
+                }
+                Err(_) => {
+                    self.x[i] = x_before;
                     return false;
                 }
             }

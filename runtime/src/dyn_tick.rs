@@ -10,6 +10,7 @@ use alloc::vec::Vec;
 
 use crate::dynamic::{DynMechanism, DynState, arrays, len};
 use crate::error::SolveError;
+use crate::guard::BranchGuard;
 use crate::info::PointMotion;
 use crate::mechanism::{InputMotion, State, StaticMechanism};
 use crate::scalar::Real;
@@ -18,9 +19,6 @@ use crate::tick::{step_to, taylor};
 
 /// A solved state seen through slices (what [`DynTick::state`] shows).
 pub type StateRef<'a, T> = State<&'a [T], &'a [T], &'a [PointMotion<T>], T>;
-
-/// What [`DynTick::tick_checked`] asks of a tick: `(q, q̇, q̈ before, q after)` → accepted.
-pub type Accept<'a, T> = dyn FnMut(&[T], &[T], &[T], &[T]) -> bool + 'a;
 
 /// A mechanism's tick on slices. Slices of the wrong length give [`SolveError::BadLength`].
 pub trait DynTick<T: Real> {
@@ -42,15 +40,16 @@ pub trait DynTick<T: Real> {
     ) -> Result<(), SolveError>;
     /// The state of the last successful start or tick (`None` before one).
     fn state(&self) -> Option<StateRef<'_, T>>;
-    /// [`DynTick::tick`], then `accept(q, q̇, q̈ before, q after)`: `Ok(true)` when it accepts.
-    /// When it does not, `Ok(false)`, `before` holds the unknowns before the tick, and the tick's
-    /// state is the refused one (start again from `before` to go on). On error the state is
-    /// unchanged.
+    /// [`DynTick::tick`], checked by `guard` against the prediction over the time `dt`
+    /// ([`BranchGuard::keeps`]): `Ok(true)` when it keeps to the branch. When not, `Ok(false)`,
+    /// `before` holds the unknowns before the tick, and the tick's state is the refused one
+    /// (start again from `before` to go on). On error the state is unchanged.
     fn tick_checked(
         &mut self,
         input: InputMotion<&[T]>,
         options: &SolveOptions<T>,
-        accept: &mut Accept<'_, T>,
+        guard: &BranchGuard,
+        dt: T,
         before: &mut [T],
     ) -> Result<bool, SolveError>;
 }
@@ -98,14 +97,15 @@ impl<T: Real, M: StaticMechanism<T>> DynTick<T> for StaticTick<'_, T, M> {
         &mut self,
         input: InputMotion<&[T]>,
         options: &SolveOptions<T>,
-        accept: &mut Accept<'_, T>,
+        guard: &BranchGuard,
+        dt: T,
         before: &mut [T],
     ) -> Result<bool, SolveError> {
         let input = arrays(input)?;
         let t = self.tick.as_mut().ok_or(SolveError::NotStarted)?;
         let (q, qd, qdd) = (t.q, t.qd, t.qdd);
         self.mechanism.tick(t, &input, options)?;
-        if accept(q.as_ref(), qd.as_ref(), qdd.as_ref(), t.q.as_ref()) {
+        if guard.keeps(q.as_ref(), qd.as_ref(), qdd.as_ref(), dt, t.q.as_ref()) {
             return Ok(true);
         }
         len(before, q.as_ref().len())?;
@@ -227,12 +227,13 @@ impl<T: Real, M: DynMechanism<T> + ?Sized> DynTick<T> for SolveTick<'_, T, M> {
         &mut self,
         input: InputMotion<&[T]>,
         options: &SolveOptions<T>,
-        accept: &mut Accept<'_, T>,
+        guard: &BranchGuard,
+        dt: T,
         before: &mut [T],
     ) -> Result<bool, SolveError> {
         self.tick(input, options)?;
         let (b, s) = (&self.saved, &self.state);
-        if accept(&b.q, &b.qd, &b.qdd, &s.q) {
+        if guard.keeps(&b.q, &b.qd, &b.qdd, dt, &s.q) {
             return Ok(true);
         }
         len(before, b.q.len())?;

@@ -29,6 +29,7 @@ pub mod dyn_tick;
 pub mod dynamic;
 pub mod elimination;
 pub mod error;
+pub mod guard;
 pub mod info;
 pub mod lanes;
 pub mod mechanism;

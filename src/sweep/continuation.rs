@@ -4,6 +4,7 @@
 
 use super::Continuation;
 use mechgen_runtime::error::SolveError;
+use mechgen_runtime::guard::{BranchGuard, MAX_JUMP};
 use mechgen_runtime::{DynMechanism, Kind, MechanismInfo};
 
 /// Substeps one continuation may always try (halvings near a dead point included).
@@ -20,10 +21,6 @@ pub const MAX_ROUTE: usize = 2000;
 /// The most substeps any one continuation tries: [`BASE_SUBSTEPS`] + [`SUBSTEPS_PER_STEP`] ×
 /// [`MAX_ROUTE`]. Each substep makes at most three solves (tangent, corrector, fallback).
 pub const MAX_SUBSTEPS: usize = BASE_SUBSTEPS + SUBSTEPS_PER_STEP * MAX_ROUTE;
-
-/// Largest change of an unknown a predictor substep may make: this many radians for an angle,
-/// this fraction of the mechanism's length scale for a length.
-const MAX_PREDICTED: f64 = 0.5;
 
 /// Why a continuation (or a row) stopped short of its input value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -128,7 +125,7 @@ pub fn continue_within(
 pub struct Follower {
     index: usize,
     kind: Kind,
-    unknowns: Vec<Kind>,
+    guard: BranchGuard,
     scale: f64,
     tangent: Vec<f64>,
     trial: Vec<f64>,
@@ -156,7 +153,7 @@ impl Follower {
         Ok(Follower {
             index,
             kind,
-            unknowns: info.unknowns.iter().map(|u| u.kind).collect(),
+            guard: BranchGuard::new(info, length_scale(info)),
             scale: length_scale(info),
             tangent: vec![0.0; n],
             trial: vec![0.0; n],
@@ -187,62 +184,9 @@ impl Follower {
         result
     }
 
-    /// Whether a tick's substep stays on the branch: from `before` (rates `qd`, `qdd`) over the
-    /// time `dt`, the second-order prediction `p` and the tick's solution `after` must not move
-    /// any unknown too far ([`MAX_PREDICTED`], as [`Follower::too_far`]) and `after` must stay
-    /// near `p` ([`jump`] at most [`MAX_JUMP`]). One pass, nothing stored.
-    pub fn keeps_branch(
-        &self,
-        before: &[f64],
-        qd: &[f64],
-        qdd: &[f64],
-        dt: f64,
-        after: &[f64],
-    ) -> bool {
-        let length = self.length_limit(before);
-        let (mut moved, mut scale, mut size) = (0.0f64, 1e-12f64, 0.0f64);
-        for k in 0..after.len() {
-            let p = before[k] + dt * (qd[k] + 0.5 * dt * qdd[k]);
-            let (step, change) = ((p - before[k]).abs(), (after[k] - before[k]).abs());
-            let limit = match self.unknowns[k] {
-                Kind::Angle => MAX_PREDICTED,
-                _ => MAX_PREDICTED * length,
-            };
-            // A NaN fails every comparison: it is refused.
-            if !(step <= limit && change <= limit) {
-                return false;
-            }
-            moved = moved.max((after[k] - p).abs());
-            scale = scale.max(step).max(change);
-            size = size.max(before[k].abs());
-        }
-        moved < 1e-9 * (1.0 + size) || moved / scale <= MAX_JUMP
-    }
-
-    /// Whether a predicted change of the unknowns from `before` to `predicted` is too far for one
-    /// substep ([`MAX_PREDICTED`]; a NaN change is too far).
-    pub fn too_far(&self, before: &[f64], predicted: &[f64]) -> bool {
-        let length = self.length_limit(before);
-        (0..predicted.len()).any(|i| {
-            let change = (predicted[i] - before[i]).abs();
-            let limit = match self.unknowns[i] {
-                Kind::Angle => MAX_PREDICTED,
-                _ => MAX_PREDICTED * length,
-            };
-            change.is_nan() || change > limit
-        })
-    }
-
-    /// The length a length unknown's predicted change is measured against: the mechanism's length
-    /// scale or the largest current length unknown, whichever is larger, so that a state whose
-    /// lengths are all near zero is not a stop.
-    fn length_limit(&self, q: &[f64]) -> f64 {
-        let current = q
-            .iter()
-            .zip(&self.unknowns)
-            .filter(|(v, u)| **u == Kind::Length && v.is_finite())
-            .fold(0.0f64, |m, (v, _)| m.max(v.abs()));
-        self.scale.max(current)
+    /// The branch rule this continuation checks its substeps with (and a sweep its ticks).
+    pub fn guard(&self) -> &BranchGuard {
+        &self.guard
     }
 
     /// The continuation itself, at most `allowance` substeps, counted in `used`.
@@ -262,7 +206,7 @@ impl Follower {
             reason: StopReason::Solver,
         };
         let index = self.index;
-        let n = self.unknowns.len();
+        let n = self.trial.len();
         if x.len() != self.xt.len() || q.len() != n {
             return Err(solver(SolveError::BadLength {
                 expected: n,
@@ -319,7 +263,7 @@ impl Follower {
             self.predicted.copy_from_slice(&self.trial);
             // Leaving a dead point the tangent is huge: a substep it would carry far is shortened
             // before Newton sees it (else angles land many turns away and lose their precision).
-            let too_far = self.too_far(q, &self.predicted);
+            let too_far = self.guard.too_far(q, &self.predicted);
             let corrected = if too_far {
                 None
             } else {
@@ -327,7 +271,9 @@ impl Follower {
             };
             let accepted = match corrected {
                 // Accept only a corrector that stayed near the prediction: no silent branch jump.
-                Some(Ok(report)) if jump(&self.predicted, &self.trial, q) <= MAX_JUMP => {
+                Some(Ok(report))
+                    if BranchGuard::jump(&self.predicted, &self.trial, q) <= MAX_JUMP =>
+                {
                     Some(report)
                 }
                 // Already at the target: nothing smaller to try.
@@ -377,10 +323,6 @@ impl Follower {
     }
 }
 
-/// The largest accepted move of a corrector away from its prediction, relative to the substep's
-/// change of the state ([`jump`]): beyond it a substep is taken for a jump to another branch.
-pub const MAX_JUMP: f64 = 0.25;
-
 /// Whether the move from `before` to `corrected` goes the way of the tangent prediction (cosine
 /// above 0.9) and not farther: true of a move away from a dead point along the branch (√δ is
 /// concave), false of a jump to the other branch there (it goes backwards).
@@ -393,22 +335,4 @@ fn leaves_along(predicted: &[f64], corrected: &[f64], before: &[f64]) -> bool {
         cc += c * c;
     }
     cc > 0.0 && cc <= pp && dot >= 0.9 * (pp * cc).sqrt()
-}
-
-/// How far the corrector moved from the prediction, relative to the substep's change of the state.
-pub fn jump(predicted: &[f64], corrected: &[f64], before: &[f64]) -> f64 {
-    let mut moved: f64 = 0.0;
-    let mut scale: f64 = 1e-12;
-    for i in 0..predicted.len() {
-        moved = moved.max((corrected[i] - predicted[i]).abs());
-        scale = scale
-            .max((predicted[i] - before[i]).abs())
-            .max((corrected[i] - before[i]).abs());
-    }
-    // Absolute floor: corrections of a converged Newton are tiny compared with a branch flip.
-    if moved < 1e-9 * (1.0 + before.iter().fold(0.0f64, |m, v| m.max(v.abs()))) {
-        0.0
-    } else {
-        moved / scale
-    }
 }

@@ -2,7 +2,7 @@
 //! reach the row nearest the start, then walk row by row each way (`walker.rs`), the rows below
 //! the start kept to be handed out in input order. Part of [`crate::sweep`].
 
-use super::walker::{Outcome, Walker};
+use super::walker::Walker;
 use super::{
     Continuation, Row, RowRef, Solved, StopReason, Stopped, check_start, continue_within,
     nearest_turn, sweep_budget,
@@ -187,24 +187,25 @@ pub fn sweep_each(
 }
 
 /// The row at `input` with `outcome`, borrowed from the walk.
-fn view<'w>(w: &'w mut Walker<'_>, input: f64, outcome: Outcome) -> RowRef<'w> {
-    match outcome {
-        Ok(()) => match w.solved() {
-            Some(s) => Row {
-                input,
-                result: Ok(s),
-                stopped: None,
-            },
-            None => Row {
-                input,
-                result: Err(SolveError::NotStarted),
-                stopped: Some(stopped(input, f64::INFINITY, StopReason::Solver)),
-            },
-        },
-        Err((error, at)) => Row {
+fn view<'w>(w: &'w mut Walker<'_>, input: f64, solved: bool) -> RowRef<'w> {
+    if !solved {
+        let (error, at) = w.failure();
+        return Row {
             input,
             result: Err(error),
             stopped: Some(at),
+        };
+    }
+    match w.solved() {
+        Some(s) => Row {
+            input,
+            result: Ok(s),
+            stopped: None,
+        },
+        None => Row {
+            input,
+            result: Err(SolveError::NotStarted),
+            stopped: Some(stopped(input, f64::INFINITY, StopReason::Solver)),
         },
     }
 }
@@ -242,8 +243,8 @@ impl RowStore {
     }
 
     /// The row at `input` with `outcome` (its numbers read from the walk).
-    fn push(&mut self, w: &mut Walker<'_>, input: f64, outcome: Outcome) {
-        let row = view(w, input, outcome);
+    fn push(&mut self, w: &mut Walker<'_>, input: f64, solved: bool) {
+        let row = view(w, input, solved);
         let outcome = match &row.result {
             Ok(s) => {
                 self.numbers.extend_from_slice(s.q);

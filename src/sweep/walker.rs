@@ -43,6 +43,8 @@ pub(super) struct Walker<'k> {
     at_rest: Option<(Vec<f64>, Vec<PointMotion<f64>>)>,
     h_max: f64,
     settled: Vec<f64>,
+    /// What [`Walker::failure`] reports.
+    failure: (SolveError, Stopped),
 }
 
 /// Where a walk stands, to walk again from there later (a checkpoint).
@@ -94,6 +96,14 @@ impl<'k> Walker<'k> {
             at_rest,
             h_max,
             settled: vec![0.0; nu],
+            failure: (
+                SolveError::NotStarted,
+                Stopped {
+                    input: 0.0,
+                    condition: f64::INFINITY,
+                    reason: StopReason::Solver,
+                },
+            ),
         })
     }
 
@@ -150,8 +160,24 @@ impl<'k> Walker<'k> {
         Ok(())
     }
 
-    /// The row at input `target`: the branch followed to it, then its rates and points.
-    pub(super) fn solve(&mut self, target: f64) -> Outcome {
+    /// The row at input `target`: the branch followed to it, then its rates and points. False
+    /// when it fails ([`Walker::failure`] says how).
+    pub(super) fn solve(&mut self, target: f64) -> bool {
+        match self.solve_row(target) {
+            Ok(()) => true,
+            Err(failure) => {
+                self.failure = failure;
+                false
+            }
+        }
+    }
+
+    /// The last failed row's error and where the branch stopped.
+    pub(super) fn failure(&self) -> (SolveError, Stopped) {
+        self.failure
+    }
+
+    fn solve_row(&mut self, target: f64) -> Outcome {
         if let Some((error, stopped, direction)) = self.dead {
             if (target - stopped.input) * direction > 0.0 {
                 return Err((error, stopped));
@@ -166,6 +192,7 @@ impl<'k> Walker<'k> {
 
     /// The solved row's numbers (the tick's state; rates and point rates zero for a walk at
     /// rest) and the condition estimate of its position solve.
+    #[inline]
     pub(super) fn solved(&mut self) -> Option<SolvedRef<'_>> {
         let s = self.ticker.state()?;
         let condition = s.report.condition();
@@ -225,14 +252,11 @@ impl<'k> Walker<'k> {
             // checked against it: even a closed form, which keeps its guess's side, could step
             // over a narrow window where the linkage does not assemble onto another branch.
             let dt = (xt - x_before) / self.xd[i];
-            let f = &self.follower;
-            let mut keeps = |q: &[f64], qd: &[f64], qdd: &[f64], after: &[f64]| {
-                f.keeps_branch(q, qd, qdd, dt, after)
-            };
             let input = InputMotion::new(&self.x[..], &self.xd[..], &self.xdd[..]);
+            let guard = self.follower.guard();
             match self
                 .ticker
-                .tick_checked(input, &self.c.options, &mut keeps, &mut self.q)
+                .tick_checked(input, &self.c.options, guard, dt, &mut self.q)
             {
                 Ok(true) => self.synced = false,
                 Ok(false) => {

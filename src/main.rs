@@ -31,7 +31,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(msg) => {
-            eprintln!("mechgen: {msg}");
+            tell!("mechgen: {msg}");
             ExitCode::FAILURE
         }
     }
@@ -46,7 +46,7 @@ fn report_peak_memory() {
     }
     let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
     if let Some(line) = status.lines().find(|l| l.starts_with("VmHWM:")) {
-        eprintln!("mechgen: peak memory {}", line["VmHWM:".len()..].trim());
+        tell!("mechgen: peak memory {}", line["VmHWM:".len()..].trim());
     }
 }
 
@@ -61,7 +61,7 @@ fn clap_exit(e: &clap::Error) -> ExitCode {
         }
         _ => {
             let text = text.strip_prefix("error: ").unwrap_or(&text);
-            eprint!("mechgen: {text}");
+            tell_raw!("mechgen: {text}");
             ExitCode::from(2)
         }
     }

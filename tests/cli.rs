@@ -267,3 +267,36 @@ fn the_main_job_writes_a_csv_and_two_plots_per_mechanism() {
         check_csv_format(&dir.join("mechgen-out").join(format!("{name}.csv")));
     }
 }
+
+/// A closed stderr or stdout (`mechgen check --file bad.toml 2>&1 | true`, `mechgen check | head`)
+/// ends the output, not the command: it exits with its own status, never a panic's 101.
+#[test]
+fn closed_pipes_keep_the_commands_status() {
+    let bad = std::env::temp_dir().join("mechgen-closed-pipe-bad.toml");
+    std::fs::write(
+        &bad,
+        "[mechanism.m]\ninputs = [\"q1\"]\nunknowns = [\"q2\"]\nloops = [\"zz\"]\n",
+    )
+    .expect("temp file");
+    let closed = || {
+        let (reader, writer) = std::io::pipe().expect("a pipe");
+        drop(reader);
+        writer
+    };
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_mechgen"))
+            .args(args)
+            .stdout(closed())
+            .stderr(closed())
+            .status()
+            .expect("runs")
+            .code()
+    };
+    assert_eq!(
+        run(&["check", "--file", bad.to_str().expect("utf-8")]),
+        Some(1)
+    );
+    assert_eq!(run(&["check"]), Some(0));
+    assert_eq!(run(&["sweep", "nope"]), Some(1));
+    assert_eq!(run(&["--bogus"]), Some(2));
+}

@@ -87,6 +87,27 @@ impl Mechanism {
         Ok(p)
     }
 
+    /// A one-sweep call's options, its plan and its base params (`params`: name → value in place
+    /// of the file's).
+    #[allow(clippy::too_many_arguments)]
+    fn prepare(
+        &self,
+        py: Python<'_>,
+        start: Option<f64>,
+        stop: Option<f64>,
+        step: Option<f64>,
+        rate: f64,
+        input: Option<String>,
+        set: Option<HashMap<String, f64>>,
+        params: Option<HashMap<String, f64>>,
+    ) -> PyResult<(Options, Plan, Vec<f64>)> {
+        let o = options(start, stop, step, rate, input, set)?;
+        let plan = self.plan(py, &o)?;
+        let given: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
+        let values = self.params_with(&given)?;
+        Ok((o, plan, values))
+    }
+
     /// The base params with `given` (name → value) in place of the file's.
     fn params_with(&self, given: &[(String, f64)]) -> PyResult<Vec<f64>> {
         let mut values: Vec<f64> = self.info.params.iter().map(|p| p.value).collect();
@@ -220,10 +241,7 @@ impl Mechanism {
         set: Option<HashMap<String, f64>>,
         params: Option<HashMap<String, f64>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let o = options(start, stop, step, rate, input, set)?;
-        let plan = self.plan(py, &o)?;
-        let given: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
-        let values = self.params_with(&given)?;
+        let (o, plan, values) = self.prepare(py, start, stop, step, rate, input, set, params)?;
         let header = csv_header(&self.info, plan.index);
         let ncols = header.len() - 1;
         let rows = plan.values.len();
@@ -250,10 +268,7 @@ impl Mechanism {
         set: Option<HashMap<String, f64>>,
         params: Option<HashMap<String, f64>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let o = options(start, stop, step, rate, input, set)?;
-        let plan = self.plan(py, &o)?;
-        let given: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
-        let values = self.params_with(&given)?;
+        let (o, plan, values) = self.prepare(py, start, stop, step, rate, input, set, params)?;
         let info = &self.info;
         let mut header = vec![info.inputs[plan.index].name.clone()];
         for (out, _) in outputs(info) {

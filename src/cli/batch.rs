@@ -131,14 +131,14 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
             failed_start += usize::from(summary.ok_rows == 0);
             if progress && ((set + 1) % mechgen::batch::CHUNK == 0 || set + 1 == count) {
                 let done = (set + 1) * 40 / count;
-                eprint!(
+                tell_raw!(
                     "\r[{}{}] {}/{count} sets",
                     "=".repeat(done),
                     " ".repeat(40 - done),
                     set + 1
                 );
                 if set + 1 == count {
-                    eprintln!();
+                    tell!();
                 }
             }
         },

@@ -21,7 +21,7 @@ pub fn run(file: Option<&Path>) -> Result<(), String> {
 pub fn check(name: &str, text: &str) -> Result<(), String> {
     match generic::load_with_warnings(name, text) {
         Ok((mechs, warnings)) => {
-            eprint!("{warnings}");
+            tell_raw!("{warnings}");
             for m in &mechs {
                 print_structure(&mechgen::DynMechanism::<f64>::info(m), &m.block_kinds());
             }
@@ -34,7 +34,7 @@ pub fn check(name: &str, text: &str) -> Result<(), String> {
             Ok(())
         }
         Err(e) => {
-            eprint!("{}", e.rendered);
+            tell_raw!("{}", e.rendered);
             let n = e.diagnostics.iter().filter(|d| d.is_error()).count();
             Err(format!("{name}: {n} error(s)"))
         }

@@ -31,7 +31,7 @@ fn swept(options: &SweepOptions) -> Result<(Selected, MechanismInfo, Swept), Str
     let loaded = Loaded::read(file)?;
     let sel = select(&loaded, &options.name, file, options.engine)?;
     if let Some(w) = loaded.start_warning(&options.name) {
-        eprint!("{w}");
+        tell_raw!("{w}");
     }
     let info = sel.solver.info();
     let range = Range {

@@ -255,7 +255,7 @@ pub(super) fn write_plots(
     }
     if report {
         for p in written {
-            eprintln!("wrote {}", p.display());
+            tell!("wrote {}", p.display());
         }
     }
     Ok(())

@@ -20,7 +20,7 @@ pub fn run(args: &MetricsArgs) -> Result<(), String> {
     let loaded = Loaded::read(file)?;
     let sel = select(&loaded, &args.name, file, args.engine)?;
     if let Some(w) = loaded.start_warning(&args.name) {
-        eprint!("{w}");
+        tell_raw!("{w}");
     }
     let info = sel.solver.info();
     let index = match &args.input {

@@ -17,6 +17,23 @@ macro_rules! say_raw {
     }};
 }
 
+/// `eprintln!` that ignores a closed stderr (`mechgen check --file bad.toml 2>&1 | true` must
+/// exit with the command's status, not a panic).
+macro_rules! tell {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($t)*);
+    }};
+}
+
+/// `eprint!` that ignores a closed stderr.
+macro_rules! tell_raw {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stderr(), $($t)*);
+    }};
+}
+
 /// Bytes buffered before a table or CSV is written out: large writes, few system calls.
 pub(crate) const OUTPUT_BUFFER: usize = 1 << 20;
 

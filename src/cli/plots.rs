@@ -46,11 +46,11 @@ pub fn write(
     };
     match motion_svg(info, index, rows) {
         Ok(svg) => save(format!("{}-motion.svg", info.name), svg)?,
-        Err(e) => eprintln!("mechgen: {}: no motion plot: {e}", info.name),
+        Err(e) => tell!("mechgen: {}: no motion plot: {e}", info.name),
     }
     let frames = frames(model, index, x, rows);
     if frames.is_empty() {
-        eprintln!("mechgen: {}: no drawing: no row solved", info.name);
+        tell!("mechgen: {}: no drawing: no row solved", info.name);
     } else {
         let CoordDesc { name, kind, .. } = &info.inputs[index];
         let shown: Vec<String> = frames
@@ -68,7 +68,7 @@ pub fn write(
         );
         match drawing_svg(&title, &frames, &point_paths(info, rows)) {
             Ok(svg) => save(format!("{}-drawing.svg", info.name), svg)?,
-            Err(e) => eprintln!("mechgen: {}: no drawing: {e}", info.name),
+            Err(e) => tell!("mechgen: {}: no drawing: {e}", info.name),
         }
     }
     Ok(written)

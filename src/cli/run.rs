@@ -20,7 +20,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
     }
     let sel = select(&loaded, &args.name, file, args.engine)?;
     if let Some(w) = loaded.start_warning(&args.name) {
-        eprint!("{w}");
+        tell_raw!("{w}");
     }
     let info = sel.solver.info();
     let range = Range {
@@ -225,7 +225,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), String> {
     let mut failed = Vec::new();
     for name in &names {
         if let Err(e) = main_job_one(&loaded, name, file, dir, args.animate.as_deref()) {
-            eprintln!("mechgen: {name}: {e}");
+            tell!("mechgen: {name}: {e}");
             failed.push(name.as_str());
         }
     }
@@ -239,7 +239,7 @@ pub fn main_job(args: &MainArgs) -> Result<(), String> {
         if let Err(e) = super::scene::main_job_scene(&loaded, name, file, dir, |info| {
             main_job_range(info, file)
         }) {
-            eprintln!("mechgen: {name}: {e}");
+            tell!("mechgen: {name}: {e}");
             failed.push(name.as_str());
         }
     }
@@ -264,7 +264,7 @@ fn main_job_one(
 ) -> Result<(), String> {
     let sel = select(loaded, name, file, None)?;
     if let Some(w) = loaded.start_warning(name) {
-        eprint!("{w}");
+        tell_raw!("{w}");
     }
     let info = sel.solver.info();
     let range = main_job_range(&info, file);
@@ -282,7 +282,7 @@ fn main_job_one(
     if let Some(span) = span {
         match super::metrics::main_job_table(sel.solver.as_ref(), &info, file, span) {
             Ok(t) => say_raw!("{t}"),
-            Err(e) => eprintln!("mechgen: {name}: metrics: {e}"),
+            Err(e) => tell!("mechgen: {name}: metrics: {e}"),
         }
     }
     let path = dir.join(format!("{name}.csv"));

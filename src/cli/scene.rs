@@ -109,7 +109,7 @@ impl SceneSweep {
 /// `mechgen sweep SCENE [options]`.
 pub fn sweep(loaded: &Loaded, mech: &Generic, args: &SweepArgs) -> Result<(), String> {
     if let Some(w) = loaded.start_warning(mech.name()) {
-        eprint!("{w}");
+        tell_raw!("{w}");
     }
     let range = Range {
         from: args.from,

@@ -41,12 +41,14 @@ pub use mechgen_runtime::__private;
 /// SIMD lanes: `mechgen::lanes::F64x4` and the other lane types, the [`Lanes`] trait.
 pub use mechgen_runtime::lanes;
 pub use mechgen_runtime::nalgebra;
+/// The ticks on slices every engine gives (`DynMechanism::ticker`): `StaticTick`, `SolveTick`.
+pub use mechgen_runtime::ticks;
 pub use mechgen_runtime::{
-    Array, CoordDesc, CoordInfo, DynMechanism, DynScene, DynSceneState, DynState, InputMotion,
-    Kind, LaneMechanism, LaneScene, LaneState, LaneTick, Lanes, MechanismInfo, NewtonOptions,
-    NewtonReport, ParamDesc, ParamInfo, PointMotion, Quantity, Real, RowMajor, Scene,
-    SceneDescription, SceneInfo, SceneState, SceneTick, SceneVisitor, SolveError, SolveOptions,
-    Stage, State, StaticInfo, StaticMechanism, StaticVisitor, Tick,
+    Array, CoordDesc, CoordInfo, DynMechanism, DynScene, DynSceneState, DynState, DynTick,
+    InputMotion, Kind, LaneMechanism, LaneScene, LaneState, LaneTick, Lanes, MechanismInfo,
+    NewtonOptions, NewtonReport, ParamDesc, ParamInfo, PointMotion, Quantity, Real, RowMajor,
+    Scene, SceneDescription, SceneInfo, SceneState, SceneTick, SceneVisitor, SolveError,
+    SolveOptions, Stage, State, StaticInfo, StaticMechanism, StaticVisitor, Tick,
 };
 
 #[cfg(feature = "sweep")]

@@ -9,10 +9,10 @@ use alloc::boxed::Box;
 use alloc::vec;
 use alloc::vec::Vec;
 
-use crate::dyn_tick::{DynTick, SolveTick, StaticTick};
+use crate::dyn_tick::DynTick;
 use crate::error::SolveError;
 use crate::info::{MechanismInfo, PointMotion};
-use crate::mechanism::{Array, InputMotion, RowMajor, State, StaticMechanism};
+use crate::mechanism::{Array, InputMotion, State};
 use crate::scalar::Real;
 use crate::solve::{NewtonReport, SolveOptions};
 
@@ -104,11 +104,10 @@ pub trait DynMechanism<T: Real> {
         options: &SolveOptions<T>,
     ) -> Result<(), SolveError>;
     /// A tick of this mechanism on slices, not yet started (see [`DynTick`]): a generated
-    /// mechanism's own tick, or (the default) the runtime's predictor with
-    /// [`DynMechanism::solve_in_place`]. Made once per run (it allocates); its ticks do not.
-    fn ticker(&self) -> Box<dyn DynTick<T> + '_> {
-        Box::new(SolveTick::new(self))
-    }
+    /// mechanism's own tick (`crate::ticks::StaticTick`), or for any other engine
+    /// `crate::ticks::SolveTick::new(self)` (the runtime's predictor with
+    /// [`DynMechanism::solve_in_place`]). Made once per run (it allocates); its ticks do not.
+    fn ticker(&self) -> Box<dyn DynTick<T> + '_>;
 }
 
 /// The [`State`] of a [`DynMechanism`]: vectors of the mechanism's sizes.
@@ -146,7 +145,7 @@ pub(crate) fn arr<T: Real, A: Array<T>>(s: &[T]) -> Result<A, SolveError> {
     Ok(a)
 }
 
-fn put<T: Copy>(dst: &mut [T], src: &[T]) -> Result<(), SolveError> {
+pub(crate) fn put<T: Copy>(dst: &mut [T], src: &[T]) -> Result<(), SolveError> {
     len(dst, src.len())?;
     dst.copy_from_slice(src);
     Ok(())
@@ -160,121 +159,4 @@ pub(crate) fn arrays<T: Real, A: Array<T>>(
         xd: arr(m.xd)?,
         xdd: arr(m.xdd)?,
     })
-}
-
-impl<T: Real, M: StaticMechanism<T>> DynMechanism<T> for M {
-    fn info(&self) -> MechanismInfo {
-        StaticMechanism::info(self).into()
-    }
-    fn residual(&self, x: &[T], q: &[T], out: &mut [T]) -> Result<(), SolveError> {
-        let r = StaticMechanism::residual(self, &arr(x)?, &arr(q)?);
-        put(out, r.as_ref())
-    }
-    fn jacobian(&self, x: &[T], q: &[T], out: &mut [T]) -> Result<(), SolveError> {
-        StaticMechanism::jacobian(self, &arr(x)?, &arr(q)?).write_row_major(out)
-    }
-    fn input_jacobian(&self, x: &[T], q: &[T], out: &mut [T]) -> Result<(), SolveError> {
-        StaticMechanism::input_jacobian(self, &arr(x)?, &arr(q)?).write_row_major(out)
-    }
-    fn jacobian_dot(
-        &self,
-        x: &[T],
-        q: &[T],
-        xd: &[T],
-        qd: &[T],
-        out: &mut [T],
-    ) -> Result<(), SolveError> {
-        StaticMechanism::jacobian_dot(self, &arr(x)?, &arr(q)?, &arr(xd)?, &arr(qd)?)
-            .write_row_major(out)
-    }
-    fn acceleration_rhs(
-        &self,
-        x: &[T],
-        q: &[T],
-        xd: &[T],
-        qd: &[T],
-        xdd: &[T],
-        out: &mut [T],
-    ) -> Result<(), SolveError> {
-        let (x, q, xd, qd, xdd) = (arr(x)?, arr(q)?, arr(xd)?, arr(qd)?, arr(xdd)?);
-        let g = StaticMechanism::acceleration_rhs(self, &x, &q, &xd, &qd, &xdd);
-        put(out, g.as_ref())
-    }
-    fn solve_position(
-        &self,
-        x: &[T],
-        q: &mut [T],
-        options: &SolveOptions<T>,
-    ) -> Result<NewtonReport<T>, SolveError> {
-        let mut qa: M::Q = arr(q)?;
-        let report = StaticMechanism::solve_position(self, &arr(x)?, &mut qa, options)?;
-        put(q, qa.as_ref())?;
-        Ok(report)
-    }
-    fn solve_velocity(&self, x: &[T], q: &[T], xd: &[T], qd: &mut [T]) -> Result<(), SolveError> {
-        len(qd, M::UNKNOWNS)?;
-        let v = StaticMechanism::solve_velocity(self, &arr(x)?, &arr(q)?, &arr(xd)?)?;
-        put(qd, v.as_ref())
-    }
-    fn solve_acceleration(
-        &self,
-        x: &[T],
-        q: &[T],
-        xd: &[T],
-        qd: &[T],
-        xdd: &[T],
-        qdd: &mut [T],
-    ) -> Result<(), SolveError> {
-        len(qdd, M::UNKNOWNS)?;
-        let (x, q, xd, qd, xdd) = (arr(x)?, arr(q)?, arr(xd)?, arr(qd)?, arr(xdd)?);
-        let a = StaticMechanism::solve_acceleration(self, &x, &q, &xd, &qd, &xdd)?;
-        put(qdd, a.as_ref())
-    }
-    fn sensitivities(
-        &self,
-        x: &[T],
-        q: &[T],
-        unknowns: &mut [T],
-        points: &mut [T],
-    ) -> Result<(), SolveError> {
-        let s = StaticMechanism::sensitivities(self, &arr(x)?, &arr(q)?)?;
-        s.unknowns.write_row_major(unknowns)?;
-        s.points.write_row_major(points)
-    }
-    fn points(
-        &self,
-        input: InputMotion<&[T]>,
-        q: &[T],
-        qd: &[T],
-        qdd: &[T],
-        out: &mut [PointMotion<T>],
-    ) -> Result<(), SolveError> {
-        len(out, M::POINTS)?;
-        let p = StaticMechanism::points(self, &arrays(input)?, &arr(q)?, &arr(qd)?, &arr(qdd)?);
-        put(out, p.as_ref())
-    }
-    fn solve_in_place(
-        &self,
-        state: &mut DynState<T>,
-        options: &SolveOptions<T>,
-    ) -> Result<(), SolveError> {
-        len(&state.qd, M::UNKNOWNS)?;
-        len(&state.qdd, M::UNKNOWNS)?;
-        len(&state.points, M::POINTS)?;
-        let s = StaticMechanism::solve(
-            self,
-            &arrays(state.input_slices())?,
-            &arr(&state.q)?,
-            options,
-        )?;
-        state.q.copy_from_slice(s.q.as_ref());
-        state.qd.copy_from_slice(s.qd.as_ref());
-        state.qdd.copy_from_slice(s.qdd.as_ref());
-        state.points.copy_from_slice(s.points.as_ref());
-        state.report = s.report;
-        Ok(())
-    }
-    fn ticker(&self) -> Box<dyn DynTick<T> + '_> {
-        Box::new(StaticTick::new(self))
-    }
 }

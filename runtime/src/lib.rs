@@ -7,21 +7,18 @@
 //! A crate that embeds generated solvers depends on this crate alone (with `mechgen-codegen` as a
 //! build-dependency: `mechgen_codegen::compile("mechanism.toml")` in `build.rs`, then
 //! [`include_mechanisms!`]); applications depend on `mechgen`, which re-exports it. This crate
-//! depends on nalgebra, num-traits and wide (SIMD vectors for [`lanes`]) only and is `no_std` (with `alloc` for the owned `MechanismInfo`): the one use of std is the
-//! float functions (`sin`, `cos`, `sqrt`, …), which num-traits takes from std.
+//! depends on nalgebra, num-traits and wide (SIMD vectors for [`lanes`]) only and is `no_std` (with `alloc` for the owned `MechanismInfo`): the float
+//! functions (`sin`, `cos`, `sqrt`, …) come through num-traits, from std with the default `std`
+//! feature, from libm without it (`--no-default-features`, checked by CI).
 
 #![no_std]
 #![forbid(unsafe_code)]
 
 // `MechanismInfo` (the owned description run-time engines share) holds strings and vectors.
 extern crate alloc;
-// The float functions of f64 and f32 (`sin_cos`, `sqrt`, …) live in std.
+// With `std`, num-traits takes the float functions of f64 and f32 (`sin_cos`, `sqrt`, …) from std.
 #[cfg(feature = "std")]
 extern crate std;
-// Without std, `Real`'s float functions would resolve to themselves: refuse to build until a
-// `libm` backend exists.
-#[cfg(not(feature = "std"))]
-compile_error!("mechgen-runtime needs its `std` feature (the float functions come from std)");
 
 pub mod closed_form;
 pub mod dyad;
@@ -40,6 +37,7 @@ pub mod sensitivity;
 pub mod simd;
 pub mod solve;
 pub mod tick;
+pub mod ticks;
 pub mod trig;
 pub mod twofold;
 

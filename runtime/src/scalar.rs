@@ -73,63 +73,63 @@ macro_rules! impl_real {
             }
             #[inline(always)]
             fn sin(self) -> Self {
-                <$t>::sin(self)
+                num_traits::Float::sin(self)
             }
             #[inline(always)]
             fn cos(self) -> Self {
-                <$t>::cos(self)
+                num_traits::Float::cos(self)
             }
             #[inline(always)]
             fn sin_cos(self) -> (Self, Self) {
-                <$t>::sin_cos(self)
+                num_traits::Float::sin_cos(self)
             }
             #[inline(always)]
             fn tan(self) -> Self {
-                <$t>::tan(self)
+                num_traits::Float::tan(self)
             }
             #[inline(always)]
             fn sqrt(self) -> Self {
-                <$t>::sqrt(self)
+                num_traits::Float::sqrt(self)
             }
             #[inline(always)]
             fn asin(self) -> Self {
-                <$t>::asin(self)
+                num_traits::Float::asin(self)
             }
             #[inline(always)]
             fn acos(self) -> Self {
-                <$t>::acos(self)
+                num_traits::Float::acos(self)
             }
             #[inline(always)]
             fn atan(self) -> Self {
-                <$t>::atan(self)
+                num_traits::Float::atan(self)
             }
             #[inline(always)]
             fn hypot(self, other: Self) -> Self {
-                <$t>::hypot(self, other)
+                num_traits::Float::hypot(self, other)
             }
             #[inline(always)]
             fn atan2(self, other: Self) -> Self {
-                <$t>::atan2(self, other)
+                num_traits::Float::atan2(self, other)
             }
             #[inline(always)]
             fn abs(self) -> Self {
-                <$t>::abs(self)
+                num_traits::Float::abs(self)
             }
             #[inline(always)]
             fn max(self, other: Self) -> Self {
-                <$t>::max(self, other)
+                num_traits::Float::max(self, other)
             }
             #[inline(always)]
             fn min(self, other: Self) -> Self {
-                <$t>::min(self, other)
+                num_traits::Float::min(self, other)
             }
             #[inline(always)]
             fn is_finite(self) -> bool {
-                <$t>::is_finite(self)
+                num_traits::Float::is_finite(self)
             }
             #[inline(always)]
             fn is_normal(self) -> bool {
-                <$t>::is_normal(self)
+                num_traits::Float::is_normal(self)
             }
         }
     };

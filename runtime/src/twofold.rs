@@ -89,7 +89,7 @@ impl Twofold {
             let nan = Twofold::from(f64::NAN);
             return (nan, nan);
         }
-        let k = (self.hi / HALF_PI[0]).round();
+        let k = num_traits::Float::round(self.hi / HALF_PI[0]);
         let mut r = self;
         for part in HALF_PI {
             let (p, e) = two_prod(k, part);

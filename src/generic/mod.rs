@@ -133,6 +133,9 @@ impl Generic {
 macro_rules! kinematics {
     ($t:ty) => {
         impl DynMechanism<$t> for Generic {
+            fn ticker(&self) -> Box<dyn mechgen_runtime::DynTick<$t> + '_> {
+                Box::new(mechgen_runtime::ticks::SolveTick::new(self))
+            }
             fn info(&self) -> MechanismInfo {
                 self.info.clone()
             }

@@ -33,6 +33,10 @@ impl<'a> Counting<'a> {
 }
 
 impl DynMechanism<f64> for Counting<'_> {
+    /// The runtime's tick on slices: every solve it makes goes through the counted methods.
+    fn ticker(&self) -> Box<dyn mechgen::DynTick<f64> + '_> {
+        Box::new(mechgen::ticks::SolveTick::new(self))
+    }
     fn info(&self) -> MechanismInfo {
         self.info.clone()
     }

@@ -5,7 +5,7 @@
 //! common path (or fail), the lane is cleared in the mask `ok` and its values are not used.
 
 use super::Lanes;
-use super::newton::LaneLu;
+use super::lu::LaneLu;
 use crate::scalar::Real;
 
 /// The unknowns of W instances with their sines and cosines (`sc[k]` = (sin, cos) of `q[k]`
@@ -217,7 +217,7 @@ pub fn factor_block<L: Lanes, const K: usize>(
     } else {
         return LaneFactored {
             inv,
-            lu: Some(super::newton::lu(jac, ok)),
+            lu: Some(super::lu::lu(jac, ok)),
         };
     }
     LaneFactored { inv, lu: None }

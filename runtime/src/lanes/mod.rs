@@ -11,6 +11,7 @@
 
 mod closed;
 mod kernels;
+mod lu;
 mod newton;
 mod start;
 mod state;
@@ -21,7 +22,8 @@ pub use closed::{solve_angle1, solve_length1, solve_linear2, solve_rpr, solve_rr
 pub use kernels::{
     LaneFactored, LaneTrig, factor_block, rotate, rotate_inputs, solve_dyad, solve_dyad_angles,
 };
-pub use newton::{LaneLu, LaneReport, lu, newton_block};
+pub use lu::{LaneLu, lu};
+pub use newton::{LaneReport, newton_block};
 pub use start::tick_start;
 pub use state::{LaneFixed, LaneRates, LaneState, LaneTick, Memo, fresh_params_id};
 pub use tick::{LanePath, LaneShape, ScalarLane, tick};

@@ -9,16 +9,21 @@
 use crate::MechanismInfo;
 use crate::sweep::RowRef;
 
-/// Param sets read from CSV: `names` (the header), one row of values per set.
+/// Param sets read from CSV: `names` (the header), one row of values per set, and a note for each
+/// value that is a number but not finite (`nan`, `inf`): that set is swept all the same, and
+/// every row of it gets the status `non-finite-input`, while the other sets go on.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParamSets {
     pub names: Vec<String>,
     pub sets: Vec<Vec<f64>>,
+    /// `FILE:LINE: set S: `nan` for `p` is not finite: …`, one per such value.
+    pub notes: Vec<String>,
 }
 
 impl ParamSets {
     /// Parses `text` (named `file` in errors, which give `FILE:LINE`): a header of param names,
-    /// then one row of finite numbers per set. Blank lines are skipped.
+    /// then one row of numbers per set (a cell that is no number is an error; one that is not
+    /// finite, a note). Blank lines are skipped.
     pub fn parse(file: &str, text: &str) -> Result<ParamSets, String> {
         let mut lines = text
             .lines()
@@ -36,7 +41,7 @@ impl ParamSets {
                 return Err(format!("{file}:1: param `{n}` is named twice"));
             }
         }
-        let mut sets = Vec::new();
+        let (mut sets, mut notes) = (Vec::new(), Vec::new());
         for (i, line) in lines {
             let fields: Vec<&str> = line.split(',').map(str::trim).collect();
             if fields.len() != names.len() {
@@ -51,17 +56,22 @@ impl ParamSets {
             for (f, n) in fields.iter().zip(&names) {
                 match f.parse::<f64>() {
                     Ok(v) if v.is_finite() => row.push(v),
-                    _ => {
-                        return Err(format!(
-                            "{file}:{}: `{f}` for `{n}` is not a finite number",
-                            i + 1
+                    Ok(v) => {
+                        notes.push(format!(
+                            "{file}:{}: set {}: `{f}` for `{n}` is not finite: its rows are `non-finite-input`",
+                            i + 1,
+                            sets.len()
                         ));
+                        row.push(v);
+                    }
+                    Err(_) => {
+                        return Err(format!("{file}:{}: `{f}` for `{n}` is not a number", i + 1));
                     }
                 }
             }
             sets.push(row);
         }
-        Ok(ParamSets { names, sets })
+        Ok(ParamSets { names, sets, notes })
     }
 
     /// Each column's index among the mechanism's (base) params; a name it lacks is an error

@@ -233,10 +233,7 @@ fn errors_name_the_file_and_line() {
     let p = |x: &std::path::Path| x.to_str().unwrap().to_string();
     for (body, want) in [
         ("l1,zz\n0.1,2\n", ":1: no param `zz` in `four_bar`"),
-        (
-            "l1\n0.1\nabc\n",
-            ":3: `abc` for `l1` is not a finite number",
-        ),
+        ("l1\n0.1\nabc\n", ":3: `abc` for `l1` is not a number"),
         ("l1,l2\n0.1\n", ":2: 1 values for 2 params"),
         ("l1,l1\n0.1,0.1\n", ":1: param `l1` is named twice"),
     ] {
@@ -296,4 +293,49 @@ fn ten_thousand_sets_keep_memory_flat() {
     let _ = std::fs::remove_file(&csv);
     assert_eq!((rows, sums), (360_000 + 10_000, 10_000));
     assert!(peak < 100_000.0, "peak {peak} kB");
+}
+
+/// A value that is a number but not finite (`nan`, `inf`) fails its own set, not the batch: every
+/// row of that set is `non-finite-input`, the others are swept as usual, and stderr names the
+/// file, the line and the set.
+#[test]
+fn a_non_finite_value_fails_its_set_only() {
+    let p = |x: &std::path::Path| x.to_str().unwrap().to_string();
+    let sets = temp("batch-nan", "sets.csv");
+    std::fs::write(&sets, "l1,l2\n0.1,0.35\nnan,0.35\n0.1,-inf\n0.11,0.35\n").unwrap();
+    for engine in ["generated", "generic"] {
+        let csv = temp("batch-nan", &format!("rows-{engine}.csv"));
+        let out = mechgen(&[
+            "batch",
+            "four_bar",
+            "--params",
+            &p(&sets),
+            "--step",
+            "60",
+            "--csv",
+            &p(&csv),
+            "--engine",
+            engine,
+        ]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let err = text(&out.stderr);
+        for want in [
+            ":3: set 1: `nan` for `l1` is not finite",
+            ":4: set 2: `-inf` for `l2` is not finite",
+        ] {
+            assert!(err.contains(&format!("{}{want}", p(&sets))), "{err}");
+        }
+        let rows = std::fs::read_to_string(&csv).unwrap();
+        for line in rows.lines().skip(1) {
+            let set = line.split(',').next().unwrap();
+            let status = line.rsplit(',').next().unwrap();
+            let want = if set == "1" || set == "2" {
+                "non-finite-input"
+            } else {
+                "ok"
+            };
+            assert_eq!(status, want, "{engine}: {line}");
+        }
+        assert_eq!(rows.lines().count(), 1 + 4 * 7);
+    }
 }

@@ -57,6 +57,9 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
     let text = std::fs::read_to_string(&args.params)
         .map_err(|e| format!("cannot read {sets_name}: {e}"))?;
     let sets = ParamSets::parse(&sets_name, &text)?;
+    for note in &sets.notes {
+        tell!("mechgen: {note}");
+    }
     for n in &sets.names {
         // A derived param is named with what it is derived from.
         if !info.params.iter().any(|p| &p.name == n)

@@ -300,3 +300,31 @@ fn closed_pipes_keep_the_commands_status() {
     assert_eq!(run(&["sweep", "nope"]), Some(1));
     assert_eq!(run(&["--bogus"]), Some(2));
 }
+
+/// A range a sweep cannot resolve (beyond a thousand turns of an angle input: f64 no longer tells
+/// a degree there) is refused with a message naming the option and the limit, not swept into rows
+/// that all read `unassemblable`.
+#[test]
+fn a_range_beyond_a_thousand_turns_is_refused() {
+    for args in [
+        &["sweep", "four_bar", "--from", "1e20", "--to", "1e20"][..],
+        &["sweep", "four_bar", "--from", "0", "--to", "-4e5"][..],
+    ] {
+        let out = mechgen(args);
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        let err = text(&out.stderr);
+        assert!(
+            err.contains("is beyond what a sweep of input `q1` resolves: at most 3.6e5 deg"),
+            "{err}"
+        );
+    }
+    let out = mechgen(&[
+        "sweep", "four_bar", "--from", "-360000", "--to", "-359990", "--step", "5",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let table = text(&out.stdout);
+    assert!(
+        table.contains("-359995.0") && !table.contains("unassemblable"),
+        "{table}"
+    );
+}

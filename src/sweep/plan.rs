@@ -90,6 +90,20 @@ pub fn plan(
         },
     };
     let step = if step == 0.0 && from == to { 1.0 } else { step };
+    // The range a sweep can resolve: a thousand turns of an angle (in degrees here), a million
+    // times the largest length param of a length, as for the start values (`check_start`).
+    let limit = match kind {
+        Kind::Angle => super::MAX_START_ANGLE.to_degrees(),
+        _ => super::MAX_START_LENGTH * super::length_scale(info),
+    };
+    for (option, v) in [("--from", from), ("--to", to)] {
+        if v.is_nan() || v.abs() > limit {
+            let unit = if *kind == Kind::Angle { " deg" } else { "" };
+            return Err(format!(
+                "{option} {v:e}{unit} is beyond what a sweep of input `{name}` resolves: at most {limit:e}{unit} in magnitude (a thousand turns for an angle input, a million times the largest length param for a length input)"
+            ));
+        }
+    }
     let mut values = sweep_values(from, to, step)?;
     let note = match values.as_slice() {
         [.., before, last] if (last - before).abs() < step.abs() * (1.0 - 1e-9) => Some(format!(

@@ -18,9 +18,9 @@
 //! - `sensitivity/generated`: the generated tick followed by every sensitivity (dq/dp, dP/dp)
 //!   at its state, so that their cost reads off against `step/generated`.
 //!
-//! - `step/lanes`: W instances in the build's widest f64 lanes (`WithLanes`: `F64x4`, `F64x8` with
-//!   AVX-512; `NAME::Lanes`), each with its own params and its own place on the walk, one lane
-//!   tick per iteration; the time per instance.
+//! - `step/lanes`: W instances in f64 lanes (`WithLanes`: `Vf64<8>`; `NAME::Lanes`), ticked with
+//!   the CPU's widest vectors chosen at run time (`tick_widest`), each with its own params and its
+//!   own place on the walk, one lane tick per iteration; the time per instance.
 //! - `step/batch`: 4096 instances in lane groups of W, each lane walking the branch from its own
 //!   place, every group ticked once per iteration through `mechgen::batch::for_each_mut` on every
 //!   core (the loop on a worker of `mechgen::batch::workers`, as a simulator's frame loop); the
@@ -296,7 +296,7 @@ impl StaticVisitor<f64> for Generated<'_> {
                             walk.next();
                         }
                         let input = InputMotion::new(lane_x(&walks), lane_xd, Default::default());
-                        lanes.tick(&mut lane_tick, black_box(&input), &opts);
+                        lanes.tick_widest(&mut lane_tick, black_box(&input), &opts);
                     }
                     black_box(&lane_tick);
                     start.elapsed() / w as u32
@@ -327,7 +327,7 @@ impl StaticVisitor<f64> for Generated<'_> {
                                 }
                                 let input =
                                     InputMotion::new(lane_x(walks), lane_xd, Default::default());
-                                lanes.tick(t, &input, &opts);
+                                lanes.tick_widest(t, &input, &opts);
                             });
                         }
                         black_box(&fleet);
@@ -421,7 +421,7 @@ impl SceneVisitor<f64> for Scenes<'_> {
                             walk.next();
                         }
                         let input = InputMotion::new(lane_x(&walks), lane_xd, Default::default());
-                        lanes.tick(&mut lane_tick, black_box(&input), &opts);
+                        lanes.tick_widest(&mut lane_tick, black_box(&input), &opts);
                     }
                     black_box(&lane_tick);
                     start.elapsed() / w as u32

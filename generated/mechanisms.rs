@@ -3490,12 +3490,15 @@ pub mod sixbar {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -3508,7 +3511,7 @@ pub mod sixbar {
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
         /// that fails reports its error in `status` and keeps its last state; no lane changes
         /// another. No allocation.
-        #[inline]
+        #[inline(always)]
         pub fn tick(
             &self,
             t: &mut LaneTick<L>,
@@ -3522,12 +3525,15 @@ pub mod sixbar {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -3773,7 +3779,7 @@ pub mod sixbar {
         ) -> Self::Tick {
             Lanes::tick_start(self, input, guess, options)
         }
-        #[inline]
+        #[inline(always)]
         fn tick(
             &self,
             t: &mut Self::Tick,
@@ -6461,12 +6467,15 @@ pub mod shaper {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -6479,7 +6488,7 @@ pub mod shaper {
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
         /// that fails reports its error in `status` and keeps its last state; no lane changes
         /// another. No allocation.
-        #[inline]
+        #[inline(always)]
         pub fn tick(
             &self,
             t: &mut LaneTick<L>,
@@ -6493,12 +6502,15 @@ pub mod shaper {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -6724,7 +6736,7 @@ pub mod shaper {
         ) -> Self::Tick {
             Lanes::tick_start(self, input, guess, options)
         }
-        #[inline]
+        #[inline(always)]
         fn tick(
             &self,
             t: &mut Self::Tick,
@@ -8931,12 +8943,15 @@ pub mod four_bar {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -8949,7 +8964,7 @@ pub mod four_bar {
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
         /// that fails reports its error in `status` and keeps its last state; no lane changes
         /// another. No allocation.
-        #[inline]
+        #[inline(always)]
         pub fn tick(
             &self,
             t: &mut LaneTick<L>,
@@ -8963,12 +8978,15 @@ pub mod four_bar {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -9175,7 +9193,7 @@ pub mod four_bar {
         ) -> Self::Tick {
             Lanes::tick_start(self, input, guess, options)
         }
-        #[inline]
+        #[inline(always)]
         fn tick(
             &self,
             t: &mut Self::Tick,
@@ -11012,12 +11030,15 @@ pub mod slider_crank {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 3>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 3>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -11030,7 +11051,7 @@ pub mod slider_crank {
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
         /// that fails reports its error in `status` and keeps its last state; no lane changes
         /// another. No allocation.
-        #[inline]
+        #[inline(always)]
         pub fn tick(
             &self,
             t: &mut LaneTick<L>,
@@ -11044,12 +11065,15 @@ pub mod slider_crank {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 3>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 3>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -11236,7 +11260,7 @@ pub mod slider_crank {
         ) -> Self::Tick {
             Lanes::tick_start(self, input, guess, options)
         }
-        #[inline]
+        #[inline(always)]
         fn tick(
             &self,
             t: &mut Self::Tick,
@@ -12970,12 +12994,15 @@ pub mod rocker_four_bar {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 4>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 4>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -12988,7 +13015,7 @@ pub mod rocker_four_bar {
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
         /// that fails reports its error in `status` and keeps its last state; no lane changes
         /// another. No allocation.
-        #[inline]
+        #[inline(always)]
         pub fn tick(
             &self,
             t: &mut LaneTick<L>,
@@ -13002,12 +13029,15 @@ pub mod rocker_four_bar {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 4>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 4>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -13180,7 +13210,7 @@ pub mod rocker_four_bar {
         ) -> Self::Tick {
             Lanes::tick_start(self, input, guess, options)
         }
-        #[inline]
+        #[inline(always)]
         fn tick(
             &self,
             t: &mut Self::Tick,
@@ -15561,12 +15591,15 @@ pub mod sixbar_g {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -15579,7 +15612,7 @@ pub mod sixbar_g {
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
         /// that fails reports its error in `status` and keeps its last state; no lane changes
         /// another. No allocation.
-        #[inline]
+        #[inline(always)]
         pub fn tick(
             &self,
             t: &mut LaneTick<L>,
@@ -15593,12 +15626,15 @@ pub mod sixbar_g {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -15896,7 +15932,7 @@ pub mod sixbar_g {
         ) -> Self::Tick {
             Lanes::tick_start(self, input, guess, options)
         }
-        #[inline]
+        #[inline(always)]
         fn tick(
             &self,
             t: &mut Self::Tick,
@@ -16053,12 +16089,24 @@ pub mod sixbar_e_path {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok, true) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        {
+                            self.motion_lanes(
+                                fixed,
+                                st,
+                                &options.newton,
+                                report,
+                                ok,
+                                true,
+                            )
+                        },
+                    ),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 1, 10>,
@@ -16071,7 +16119,7 @@ pub mod sixbar_e_path {
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
         /// that fails reports its error in `status` and keeps its last state; no lane changes
         /// another. No allocation.
-        #[inline]
+        #[inline(always)]
         pub fn tick(
             &self,
             t: &mut LaneTick<L>,
@@ -16085,14 +16133,24 @@ pub mod sixbar_e_path {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    {
-                        self.motion_lanes(fixed, st, &options.newton, report, ok, false)
-                    }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        {
+                            self.motion_lanes(
+                                fixed,
+                                st,
+                                &options.newton,
+                                report,
+                                ok,
+                                false,
+                            )
+                        },
+                    ),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 1, 10>,
@@ -16234,7 +16292,7 @@ pub mod sixbar_e_path {
         ) -> Self::Tick {
             Lanes::tick_start(self, input, guess, options)
         }
-        #[inline]
+        #[inline(always)]
         fn tick(
             &self,
             t: &mut Self::Tick,
@@ -16592,12 +16650,24 @@ pub mod sixbar_output {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok, true) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        {
+                            self.motion_lanes(
+                                fixed,
+                                st,
+                                &options.newton,
+                                report,
+                                ok,
+                                true,
+                            )
+                        },
+                    ),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 10>,
@@ -16610,7 +16680,7 @@ pub mod sixbar_output {
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
         /// that fails reports its error in `status` and keeps its last state; no lane changes
         /// another. No allocation.
-        #[inline]
+        #[inline(always)]
         pub fn tick(
             &self,
             t: &mut LaneTick<L>,
@@ -16624,14 +16694,24 @@ pub mod sixbar_output {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    {
-                        self.motion_lanes(fixed, st, &options.newton, report, ok, false)
-                    }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 10>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        {
+                            self.motion_lanes(
+                                fixed,
+                                st,
+                                &options.newton,
+                                report,
+                                ok,
+                                false,
+                            )
+                        },
+                    ),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 10>,
@@ -16879,7 +16959,7 @@ pub mod sixbar_output {
         ) -> Self::Tick {
             Lanes::tick_start(self, input, guess, options)
         }
-        #[inline]
+        #[inline(always)]
         fn tick(
             &self,
             t: &mut Self::Tick,
@@ -17232,12 +17312,24 @@ pub mod shaper_ram {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok, true) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        {
+                            self.motion_lanes(
+                                fixed,
+                                st,
+                                &options.newton,
+                                report,
+                                ok,
+                                true,
+                            )
+                        },
+                    ),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 5>,
@@ -17250,7 +17342,7 @@ pub mod shaper_ram {
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
         /// that fails reports its error in `status` and keeps its last state; no lane changes
         /// another. No allocation.
-        #[inline]
+        #[inline(always)]
         pub fn tick(
             &self,
             t: &mut LaneTick<L>,
@@ -17264,14 +17356,24 @@ pub mod shaper_ram {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    {
-                        self.motion_lanes(fixed, st, &options.newton, report, ok, false)
-                    }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 5>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 4>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        {
+                            self.motion_lanes(
+                                fixed,
+                                st,
+                                &options.newton,
+                                report,
+                                ok,
+                                false,
+                            )
+                        },
+                    ),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 4, 0, 5>,
@@ -17488,7 +17590,7 @@ pub mod shaper_ram {
         ) -> Self::Tick {
             Lanes::tick_start(self, input, guess, options)
         }
-        #[inline]
+        #[inline(always)]
         fn tick(
             &self,
             t: &mut Self::Tick,
@@ -17850,12 +17952,24 @@ pub mod coupler_curve {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok, true) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        {
+                            self.motion_lanes(
+                                fixed,
+                                st,
+                                &options.newton,
+                                report,
+                                ok,
+                                true,
+                            )
+                        },
+                    ),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 1, 6>,
@@ -17868,7 +17982,7 @@ pub mod coupler_curve {
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
         /// that fails reports its error in `status` and keeps its last state; no lane changes
         /// another. No allocation.
-        #[inline]
+        #[inline(always)]
         pub fn tick(
             &self,
             t: &mut LaneTick<L>,
@@ -17882,14 +17996,24 @@ pub mod coupler_curve {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    {
-                        self.motion_lanes(fixed, st, &options.newton, report, ok, false)
-                    }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 6>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        {
+                            self.motion_lanes(
+                                fixed,
+                                st,
+                                &options.newton,
+                                report,
+                                ok,
+                                false,
+                            )
+                        },
+                    ),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 1, 6>,
@@ -18053,7 +18177,7 @@ pub mod coupler_curve {
         ) -> Self::Tick {
             Lanes::tick_start(self, input, guess, options)
         }
-        #[inline]
+        #[inline(always)]
         fn tick(
             &self,
             t: &mut Self::Tick,

@@ -95,8 +95,9 @@ impl<M: StaticMechanism<L::Scalar>, L: Lanes> Fleet<M, L> {
     }
 
     /// One tick of every instance to `inputs[i]` (one per instance, else `BadLength` and nothing
-    /// ticks), the lane groups across every core. A failed instance keeps its last state and its
-    /// error; no instance changes another.
+    /// ticks), the lane groups across every core, each with the CPU's widest vector
+    /// instructions (`tick_widest`). A failed instance keeps its last state and its error; no
+    /// instance changes another.
     pub fn tick(
         &mut self,
         inputs: &[InputMotion<M::X>],
@@ -104,7 +105,7 @@ impl<M: StaticMechanism<L::Scalar>, L: Lanes> Fleet<M, L> {
     ) -> Result<(), SolveError> {
         mechgen_runtime::error::len(inputs, self.len)?;
         crate::batch::for_each_mut(&mut self.groups, |g, (lanes, t)| {
-            lanes.tick(t, &group_input::<M, L>(inputs, g), options);
+            lanes.tick_widest(t, &group_input::<M, L>(inputs, g), options);
         });
         Ok(())
     }

@@ -281,4 +281,56 @@ pub trait LaneMechanism<L: Lanes>: Sized + Send + Sync {
     /// Instance `i`: the status of its last tick and its state as the scalar tick (`None` for
     /// `i ≥ W`).
     fn lane(t: &Self::Tick, i: usize) -> Option<LaneOf<L, Self>>;
+    /// [`tick`](Self::tick) compiled with the widest vector instructions of the CPU, chosen at
+    /// run time ([`dispatch`](crate::simd::dispatch)): with [`Vf64<8>`](crate::simd::Vf64)
+    /// lanes one AVX-512 register, two AVX2 ones or four SSE2 ones. The same results as `tick`.
+    #[inline]
+    fn tick_widest(
+        &self,
+        t: &mut Self::Tick,
+        input: &InputMotion<Self::X>,
+        options: &SolveOptions<L::Scalar>,
+    ) {
+        crate::simd::dispatch(LaneTickKernel {
+            lanes: self,
+            t,
+            input,
+            options,
+        });
+    }
+    /// [`tick`](Self::tick) compiled with the instruction set `isa`
+    /// ([`dispatch_on`](crate::simd::dispatch_on)); false (and `t` unchanged) where this CPU
+    /// does not have it. The same results on every instruction set.
+    #[inline]
+    fn tick_on(
+        &self,
+        isa: crate::simd::Isa,
+        t: &mut Self::Tick,
+        input: &InputMotion<Self::X>,
+        options: &SolveOptions<L::Scalar>,
+    ) -> bool {
+        let kernel = LaneTickKernel {
+            lanes: self,
+            t,
+            input,
+            options,
+        };
+        crate::simd::dispatch_on(isa, kernel).is_ok()
+    }
+}
+
+/// [`LaneMechanism::tick`] as a [`Kernel`](crate::simd::Kernel).
+struct LaneTickKernel<'a, L: Lanes, M: LaneMechanism<L>> {
+    lanes: &'a M,
+    t: &'a mut M::Tick,
+    input: &'a InputMotion<M::X>,
+    options: &'a SolveOptions<L::Scalar>,
+}
+
+impl<L: Lanes, M: LaneMechanism<L>> crate::simd::Kernel for LaneTickKernel<'_, L, M> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self) {
+        self.lanes.tick(self.t, self.input, self.options);
+    }
 }

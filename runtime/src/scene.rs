@@ -162,6 +162,57 @@ pub trait LaneScene<L: Lanes>: Sized + Send + Sync {
     /// Instance `i`: the status of its last tick and its state as the scalar tick (`None` for
     /// `i ≥ W`).
     fn lane(t: &Self::Tick, i: usize) -> Option<LaneSceneOf<L, Self>>;
+    /// [`tick`](Self::tick) with the widest vector instructions of the CPU, chosen at run time
+    /// (as [`LaneMechanism::tick_widest`](crate::LaneMechanism::tick_widest)).
+    #[inline]
+    fn tick_widest(
+        &self,
+        t: &mut Self::Tick,
+        input: &InputMotion<Self::X>,
+        options: &SolveOptions<L::Scalar>,
+    ) {
+        crate::simd::dispatch(LaneTickKernel {
+            lanes: self,
+            t,
+            input,
+            options,
+        });
+    }
+    /// [`tick`](Self::tick) compiled with the instruction set `isa`
+    /// ([`dispatch_on`](crate::simd::dispatch_on)); false (and `t` unchanged) where this CPU
+    /// does not have it. The same results on every instruction set.
+    #[inline]
+    fn tick_on(
+        &self,
+        isa: crate::simd::Isa,
+        t: &mut Self::Tick,
+        input: &InputMotion<Self::X>,
+        options: &SolveOptions<L::Scalar>,
+    ) -> bool {
+        let kernel = LaneTickKernel {
+            lanes: self,
+            t,
+            input,
+            options,
+        };
+        crate::simd::dispatch_on(isa, kernel).is_ok()
+    }
+}
+
+/// [`LaneScene::tick`] as a [`Kernel`](crate::simd::Kernel).
+struct LaneTickKernel<'a, L: Lanes, S: LaneScene<L>> {
+    lanes: &'a S,
+    t: &'a mut S::Tick,
+    input: &'a InputMotion<S::X>,
+    options: &'a SolveOptions<L::Scalar>,
+}
+
+impl<L: Lanes, S: LaneScene<L>> crate::simd::Kernel for LaneTickKernel<'_, L, S> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self) {
+        self.lanes.tick(self.t, self.input, self.options);
+    }
 }
 
 /// What [`LaneScene::lane`] gives for one lane: its status and scalar tick state.

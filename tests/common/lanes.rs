@@ -4,7 +4,7 @@
 //! its state (and caches) the scalar tick's to the last bit, whether it passed a dead point, failed
 //! to start, or ran next to lanes that did.
 
-use mechgen::lanes::{F64x2, F64x4, Lanes};
+use mechgen::lanes::{F64x2, F64x4, Isa, Lanes, Vf64};
 use mechgen::{
     Array, InputMotion, Kind, LaneMechanism, LaneScene, MechanismInfo, Scene, SceneVisitor,
     SolveOptions, StaticMechanism, StaticVisitor,
@@ -56,6 +56,7 @@ fn spread(i: usize, w: usize, last: f64) -> f64 {
 /// up to `last`; the root crate: 40 %, so that it meets dead points), each input stepped at its own rate for `ticks`
 /// ticks (a length input by its own span per tick), every lane checked against its scalar tick.
 fn case<M: StaticMechanism<f64>, L: Lanes<Scalar = f64>>(
+    isa: Option<Isa>,
     m: &M,
     last: f64,
     u: &[f64],
@@ -118,7 +119,10 @@ fn case<M: StaticMechanism<f64>, L: Lanes<Scalar = f64>>(
             let a = x.as_mut();
             a[0] = a[0] + L::from_fn(|i| step[i]);
             let input = InputMotion::new(x, xd, Default::default());
-            lanes.tick(&mut t, &input, &opts);
+            match isa {
+                None => lanes.tick(&mut t, &input, &opts),
+                Some(isa) => assert!(lanes.tick_on(isa, &mut t, &input, &opts)),
+            }
         }
         let statuses: Vec<bool> = (0..w)
             .map(|i| {
@@ -175,7 +179,8 @@ fn case<M: StaticMechanism<f64>, L: Lanes<Scalar = f64>>(
     Ok(())
 }
 
-/// One mechanism in `F64x4` and `F64x2` lanes over `cases` random cases of `ticks` ticks each
+/// One mechanism in `F64x4` and `F64x2` lanes, and in `Vf64<8>` lanes on every instruction set
+/// this CPU has ([`Isa`]), over `cases` random cases of `ticks` ticks each
 /// (random params and input rates per lane, the last lane's params up to `last` off): the first
 /// failing case, if any. Also what a crate with mechanisms of its own runs
 /// (`tests/odd-files/tests/lanes.rs`).
@@ -193,15 +198,22 @@ pub fn check_mechanism_lanes<M: StaticMechanism<f64>>(
         ..Config::default()
     });
     let strategy = (
-        proptest::collection::vec(-1.0f64..1.0, 4 * npar),
-        proptest::collection::vec(0.3f64..4.0, 4),
+        proptest::collection::vec(-1.0f64..1.0, 8 * npar),
+        proptest::collection::vec(0.3f64..4.0, 8),
     );
     let seen = std::cell::RefCell::new(seen);
     runner
         .run(&strategy, |(u, steps)| {
             let seen = &mut **seen.borrow_mut();
-            case::<M, F64x4>(m, last, &u, &steps, ticks, seen).map_err(TestCaseError::fail)?;
-            case::<M, F64x2>(m, last, &u, &steps, ticks, seen).map_err(TestCaseError::fail)?;
+            case::<M, F64x4>(None, m, last, &u, &steps, ticks, seen)
+                .map_err(TestCaseError::fail)?;
+            case::<M, F64x2>(None, m, last, &u, &steps, ticks, seen)
+                .map_err(TestCaseError::fail)?;
+            // The eight lanes of `WithLanes`, compiled for every instruction set this CPU has.
+            for isa in Isa::ALL.into_iter().filter(|isa| isa.available()) {
+                case::<M, Vf64<8>>(Some(isa), m, last, &u, &steps, ticks, seen)
+                    .map_err(TestCaseError::fail)?;
+            }
             Ok(())
         })
         .map_err(|e| format!("{}: {e}", m.info().name))
@@ -239,6 +251,7 @@ pub fn check_lanes(cases: u32, ticks: usize) -> (Vec<String>, Seen) {
 /// (every lane then ticks in scalar, its Newton predictor on the lane's own rate history); every
 /// lane's status, state and outputs are its scalar scene tick's.
 fn scene_case<S: Scene<f64>, L: Lanes<Scalar = f64>>(
+    isa: Option<Isa>,
     info: &MechanismInfo,
     u: &[f64],
     steps: &[f64],
@@ -313,7 +326,11 @@ fn scene_case<S: Scene<f64>, L: Lanes<Scalar = f64>>(
         if tick > 0 {
             let a = x.as_mut();
             a[0] = a[0] + L::from_fn(|i| step[i]);
-            lanes.tick(&mut t, &InputMotion::new(x, xd, Default::default()), &opts);
+            let input = InputMotion::new(x, xd, Default::default());
+            match isa {
+                None => lanes.tick(&mut t, &input, &opts),
+                Some(isa) => assert!(lanes.tick_on(isa, &mut t, &input, &opts)),
+            }
             for i in 0..w {
                 let input = lane_input(&x, i);
                 status[i] = match &mut scalar[i] {
@@ -362,7 +379,7 @@ fn scene_case<S: Scene<f64>, L: Lanes<Scalar = f64>>(
     Ok(())
 }
 
-/// Every compiled-in scene in `F64x4` and `F64x2` lanes over `cases` random cases of `ticks`
+/// Every compiled-in scene in `F64x4`, `F64x2` and (every instruction set) `Vf64<8>` lanes over `cases` random cases of `ticks`
 /// ticks each (as [`check_lanes`]): the failures and what was seen.
 pub fn check_scene_lanes(cases: u32, ticks: usize) -> (Vec<String>, Seen) {
     struct Visit {
@@ -382,17 +399,21 @@ pub fn check_scene_lanes(cases: u32, ticks: usize) -> (Vec<String>, Seen) {
                 ..Config::default()
             });
             let strategy = (
-                proptest::collection::vec(-1.0f64..1.0, 4 * npar),
-                proptest::collection::vec(0.3f64..4.0, 4),
+                proptest::collection::vec(-1.0f64..1.0, 8 * npar),
+                proptest::collection::vec(0.3f64..4.0, 8),
             );
             let seen = std::cell::RefCell::new(std::mem::take(&mut self.seen));
             let ticks = self.ticks;
             let r = runner.run(&strategy, |(u, steps)| {
                 let seen = &mut *seen.borrow_mut();
-                scene_case::<S, F64x4>(&info, &u, &steps, ticks, seen)
+                scene_case::<S, F64x4>(None, &info, &u, &steps, ticks, seen)
                     .map_err(TestCaseError::fail)?;
-                scene_case::<S, F64x2>(&info, &u, &steps, ticks, seen)
+                scene_case::<S, F64x2>(None, &info, &u, &steps, ticks, seen)
                     .map_err(TestCaseError::fail)?;
+                for isa in Isa::ALL.into_iter().filter(|isa| isa.available()) {
+                    scene_case::<S, Vf64<8>>(Some(isa), &info, &u, &steps, ticks, seen)
+                        .map_err(TestCaseError::fail)?;
+                }
                 Ok(())
             });
             self.seen = seen.into_inner();

@@ -71,6 +71,7 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
         let every = s.sub.values_read.map(|_| quote!(#every));
         quote! {
             options.closed_forms.then_some(
+                #[inline(always)]
                 |fixed: #rt::lanes::LaneFixed<'_, #lt, #ni, #npar>, st: &mut #rt::lanes::LaneTrig<#lt, #nu>,
                     report: &mut #rt::lanes::LaneReport<#lt>, ok: &mut #lt::Mask| {
                     self.motion_lanes(fixed, st, &options.newton, report, ok, #every)
@@ -167,7 +168,7 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
             /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
             /// that fails reports its error in `status` and keeps its last state; no lane changes
             /// another. No allocation.
-            #[inline]
+            #[inline(always)]
             pub fn tick(&self, t: &mut #lane_tick_ty<#lt>, input: &#rt::InputMotion<[#lt; #ni]>, options: &#rt::SolveOptions<#lt::Scalar>) {
                 #rt::lanes::tick(t, (&self.params, self.params_id), [&input.x, &input.xd, &input.xdd], &Self::SHAPE, #fast_arg, #scalar)
             }
@@ -241,7 +242,7 @@ pub(crate) fn mechanism(c: &Compiled, args: &Args) -> TokenStream {
             fn tick_start(&self, input: &#rt::InputMotion<Self::X>, guess: &Self::Q, options: &#rt::SolveOptions<#lt::Scalar>) -> Self::Tick {
                 #lanes_ty::tick_start(self, input, guess, options)
             }
-            #[inline]
+            #[inline(always)]
             fn tick(&self, t: &mut Self::Tick, input: &#rt::InputMotion<Self::X>, options: &#rt::SolveOptions<#lt::Scalar>) {
                 #lanes_ty::tick(self, t, input, options)
             }
@@ -336,7 +337,7 @@ pub(crate) fn scene(c: &Compiled, plan: &ScenePlan, rt: &TokenStream, ncols: usi
             fn tick_start(&self, input: &#rt::InputMotion<Self::X>, guess: &Self::Q, options: &#rt::SolveOptions<#lt::Scalar>) -> Self::Tick {
                 #lanes_ty::tick_start(self, input, guess, options)
             }
-            #[inline]
+            #[inline(always)]
             fn tick(&self, t: &mut Self::Tick, input: &#rt::InputMotion<Self::X>, options: &#rt::SolveOptions<#lt::Scalar>) {
                 #lanes_ty::tick(self, t, input, options)
             }

@@ -1715,12 +1715,15 @@ pub mod slider {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -1733,7 +1736,7 @@ pub mod slider {
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
         /// that fails reports its error in `status` and keeps its last state; no lane changes
         /// another. No allocation.
-        #[inline]
+        #[inline(always)]
         pub fn tick(
             &self,
             t: &mut LaneTick<L>,
@@ -1747,12 +1750,15 @@ pub mod slider {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut Tick<L::Scalar>,
@@ -1903,7 +1909,7 @@ pub mod slider {
         ) -> Self::Tick {
             Lanes::tick_start(self, input, guess, options)
         }
-        #[inline]
+        #[inline(always)]
         fn tick(
             &self,
             t: &mut Self::Tick,

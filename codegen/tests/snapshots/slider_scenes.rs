@@ -291,12 +291,15 @@ pub mod rod {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 0, 2>,
@@ -309,7 +312,7 @@ pub mod rod {
         /// One tick of every instance to its lane of `input` (see the scalar `tick`). A lane
         /// that fails reports its error in `status` and keeps its last state; no lane changes
         /// another. No allocation.
-        #[inline]
+        #[inline(always)]
         pub fn tick(
             &self,
             t: &mut LaneTick<L>,
@@ -323,12 +326,15 @@ pub mod rod {
                 &Self::SHAPE,
                 options
                     .closed_forms
-                    .then_some(|
-                        fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
-                        st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
-                        report: &mut ::mechgen::__private::lanes::LaneReport<L>,
-                        ok: &mut L::Mask|
-                    { self.motion_lanes(fixed, st, &options.newton, report, ok) }),
+                    .then_some(
+                        #[inline(always)]
+                        |
+                            fixed: ::mechgen::__private::lanes::LaneFixed<'_, L, 1, 2>,
+                            st: &mut ::mechgen::__private::lanes::LaneTrig<L, 2>,
+                            report: &mut ::mechgen::__private::lanes::LaneReport<L>,
+                            ok: &mut L::Mask|
+                        { self.motion_lanes(fixed, st, &options.newton, report, ok) },
+                    ),
                 |
                     i: usize,
                     t: &mut ::mechgen::__private::Tick<L::Scalar, 1, 2, 0, 2>,
@@ -433,7 +439,7 @@ pub mod rod {
         ) -> Self::Tick {
             Lanes::tick_start(self, input, guess, options)
         }
-        #[inline]
+        #[inline(always)]
         fn tick(
             &self,
             t: &mut Self::Tick,

@@ -37,6 +37,35 @@ pub fn solve_dyad<L: Lanes, const N: usize>(
     solve_dyad_angles(st, (a, b), k, (ma, mb), tolerance, pivot, ok, [true; 2]);
 }
 
+/// A link's squared length and length from its (along, across) lengths `(p, r)`; a lane where
+/// `r` is zero at run time is cleared (the scalar takes its plain-scaling path there).
+#[inline(always)]
+fn link<L: Lanes>((p, r): (L, Option<L>), ok: &mut L::Mask) -> (L, L) {
+    match r {
+        None => (p * p, p.abs()),
+        Some(r) => {
+            *ok = *ok & !r.eq(L::zero());
+            let l2 = p * p + r * r;
+            (l2, l2.sqrt())
+        }
+    }
+}
+
+/// The unit direction `(cos, sin)` of a link whose (along, across) lengths `(p, r)` reach `(x, y)`.
+#[inline(always)]
+fn unapply<L: Lanes>((p, r): (L, Option<L>), (x, y): (L, L)) -> (L, L) {
+    match r {
+        None => {
+            let inv = L::one() / p;
+            (x * inv, y * inv)
+        }
+        Some(r) => {
+            let inv = L::one() / (p * p + r * r);
+            ((p * x + r * y) * inv, (p * y - r * x) * inv)
+        }
+    }
+}
+
 /// [`solve_dyad`] computing only the angles with `values[i]` (`a`, then `b`), as
 /// [`crate::dyad::solve_dyad_angles`] does for a scene's tick: an angle nobody reads keeps its
 /// value, only its sine and cosine are solved (generated code passes constants).
@@ -55,14 +84,6 @@ pub fn solve_dyad_angles<L: Lanes, const N: usize>(
     let (ga, gb) = (st.sc[a], st.sc[b]);
     let (ea, eb) = ((ga.1, ga.0), (gb.1, gb.0));
     // The scalar takes its plain-scaling path where r is zero at run time: leave such lanes to it.
-    let link = |(p, r): (L, Option<L>), ok: &mut L::Mask| match r {
-        None => (p * p, p.abs()),
-        Some(r) => {
-            *ok = *ok & !r.eq(L::zero());
-            let l2 = p * p + r * r;
-            (l2, l2.sqrt())
-        }
-    };
     let ((la2, la), (lb2, lb)) = (link(ma, ok), link(mb, ok));
     let d = (-k[0], -k[1]);
     let l2 = d.0 * d.0 + d.1 * d.1;
@@ -89,16 +110,6 @@ pub fn solve_dyad_angles<L: Lanes, const N: usize>(
     );
     let big_a = (along * d.0 + s * n.0, along * d.1 + s * n.1);
     let big_b = (d.0 - big_a.0, d.1 - big_a.1);
-    let unapply = |(p, r): (L, Option<L>), (x, y): (L, L)| match r {
-        None => {
-            let inv = L::one() / p;
-            (x * inv, y * inv)
-        }
-        Some(r) => {
-            let inv = L::one() / (p * p + r * r);
-            ((p * x + r * y) * inv, (p * y - r * x) * inv)
-        }
-    };
     let (ca, sa) = unapply(ma, big_a);
     let (cb, sb) = unapply(mb, big_b);
     // The turns from the guess by the series of `near_pair` (both small) or `near` (one

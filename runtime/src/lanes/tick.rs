@@ -37,7 +37,7 @@ where
 /// sines and cosines in `st` it solves every block and the rates and points, clearing in the mask
 /// each lane that leaves it.
 pub trait LanePath<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>:
-    FnOnce(
+    Fn(
     LaneFixed<'_, L, NI, NPAR>,
     &mut LaneTrig<L, NU>,
     &mut LaneReport<L>,
@@ -49,7 +49,7 @@ pub trait LanePath<L: Lanes, const NI: usize, const NU: usize, const NP: usize, 
 impl<L: Lanes, F, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>
     LanePath<L, NI, NU, NP, NPAR> for F
 where
-    F: FnOnce(
+    F: Fn(
         LaneFixed<'_, L, NI, NPAR>,
         &mut LaneTrig<L, NU>,
         &mut LaneReport<L>,
@@ -115,7 +115,9 @@ pub struct LaneShape<const NI: usize, const NU: usize, const NPAR: usize> {
 /// rates and points, clearing in the mask each lane that leaves the common path. Each lane that
 /// was not started, saw new params or non-finite inputs, or that `fast` cleared is ticked by
 /// `scalar` from its state before this tick; the others store the common path's results. Every
-/// lane ends with the scalar tick's result or error.
+/// lane ends with the scalar tick's result or error. Inlined always, so that a kernel run by
+/// [`dispatch`](crate::simd::dispatch) compiles it with the CPU's widest vectors.
+#[inline(always)]
 pub fn tick<
     L: Lanes,
     const NI: usize,

@@ -2,8 +2,12 @@
 //! arithmetic that rounds lane by lane as the scalar does, comparisons to masks and selection.
 //! The lane solvers of [`crate::lanes`] are written over [`Lanes`].
 
+mod array;
+mod dispatch;
 mod wide;
 
+pub use array::{ArrayMask, Vf32, Vf64};
+pub use dispatch::{Isa, Kernel, dispatch, dispatch_on};
 pub use wide::{F32x8, F32x16, F64x2, F64x4, F64x8, Mask};
 
 use core::fmt::Debug;
@@ -148,30 +152,18 @@ pub trait Lanes:
     }
 }
 
-/// The widest lanes of a scalar for the target the crate is compiled for: with AVX-512
-/// (`-C target-cpu=native` on such a machine, or `-C target-feature=+avx512f`) [`F64x8`] for f64
-/// and [`F32x16`] for f32, one 512-bit register; otherwise [`F64x4`] and [`F32x8`] (256 bits: one
-/// AVX register, or two SSE2 halves on baseline x86-64).
+/// The lanes of a scalar for code that runs with the CPU's widest vectors: eight f64 lanes
+/// ([`Vf64<8>`]), sixteen f32 lanes ([`Vf32<16>`]), plain arrays that a kernel run by
+/// [`dispatch`] compiles to one AVX-512 register, two AVX2 ones or four SSE2 ones, whichever the
+/// CPU has (chosen at run time; the same results on every path).
 pub trait WithLanes: Real {
     type Lanes: Lanes<Scalar = Self>;
 }
 
-#[cfg(target_feature = "avx512f")]
 impl WithLanes for f64 {
-    type Lanes = F64x8;
+    type Lanes = Vf64<8>;
 }
 
-#[cfg(target_feature = "avx512f")]
 impl WithLanes for f32 {
-    type Lanes = F32x16;
-}
-
-#[cfg(not(target_feature = "avx512f"))]
-impl WithLanes for f64 {
-    type Lanes = F64x4;
-}
-
-#[cfg(not(target_feature = "avx512f"))]
-impl WithLanes for f32 {
-    type Lanes = F32x8;
+    type Lanes = Vf32<16>;
 }

@@ -1,0 +1,108 @@
+//! The widest vector instructions of the CPU, chosen at run time: [`dispatch`] runs a [`Kernel`]
+//! compiled for AVX-512, for AVX2 and for baseline x86-64, whichever the CPU has (by `pulp`,
+//! which keeps the `unsafe` of calling a function with target features in one audited crate).
+//! Lane code over [`Vf64`](super::Vf64) / [`Vf32`](super::Vf32) inlined into a kernel's `run`
+//! takes those instructions; the results are the same bit for bit on every path.
+
+/// Work to run with the CPU's widest vectors. `run` should be `#[inline(always)]`, and so should
+/// what it calls on its fast path, so that it is compiled inside each instruction set's copy
+/// (every lane tick generated code emits, and the runtime's lane kernels, are).
+pub trait Kernel {
+    type Output;
+    fn run(self) -> Self::Output;
+}
+
+/// An instruction set [`dispatch_on`] can run kernels with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Isa {
+    /// The build's own target features (SSE2 on baseline x86-64; anything on other CPUs).
+    Baseline,
+    /// x86-64-v3: AVX2, FMA, BMI1/2 (fused multiply-add is never contracted into: Rust does not).
+    Avx2,
+    /// x86-64-v4: AVX-512 F, BW, CD, DQ, VL.
+    Avx512,
+}
+
+impl Isa {
+    /// Every instruction set, narrowest first.
+    pub const ALL: [Isa; 3] = [Isa::Baseline, Isa::Avx2, Isa::Avx512];
+
+    /// The widest instruction set this CPU has.
+    pub fn widest() -> Isa {
+        Isa::ALL
+            .into_iter()
+            .rev()
+            .find(|isa| isa.available())
+            .unwrap_or(Isa::Baseline)
+    }
+
+    /// Whether this CPU runs kernels with `self`.
+    pub fn available(self) -> bool {
+        self.arch().is_some()
+    }
+
+    /// `baseline`, `avx2` or `avx512`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Isa::Baseline => "baseline",
+            Isa::Avx2 => "avx2",
+            Isa::Avx512 => "avx512",
+        }
+    }
+
+    #[cfg(all(feature = "std", target_arch = "x86_64"))]
+    fn arch(self) -> Option<pulp::Arch> {
+        use pulp::x86::{V3, V4};
+        match self {
+            Isa::Baseline => Some(pulp::Arch::Scalar),
+            Isa::Avx2 => V3::try_new().map(pulp::Arch::V3),
+            Isa::Avx512 => V4::try_new().map(pulp::Arch::V4),
+        }
+    }
+
+    #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+    fn arch(self) -> Option<()> {
+        (self == Isa::Baseline).then_some(())
+    }
+}
+
+/// Runs `kernel` with the widest instruction set of this CPU ([`Isa::widest`]).
+#[inline(always)]
+pub fn dispatch<K: Kernel>(kernel: K) -> K::Output {
+    #[cfg(all(feature = "std", target_arch = "x86_64"))]
+    {
+        // Detected once (pulp asks the CPU on every `Arch::new`).
+        static ARCH: std::sync::OnceLock<pulp::Arch> = std::sync::OnceLock::new();
+        ARCH.get_or_init(pulp::Arch::new).dispatch(Op(kernel))
+    }
+    #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+    {
+        kernel.run()
+    }
+}
+
+/// Runs `kernel` with `isa`, or gives it back where this CPU does not have `isa`.
+#[inline(always)]
+pub fn dispatch_on<K: Kernel>(isa: Isa, kernel: K) -> Result<K::Output, K> {
+    match isa.arch() {
+        #[cfg(all(feature = "std", target_arch = "x86_64"))]
+        Some(arch) => Ok(arch.dispatch(Op(kernel))),
+        #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+        Some(()) => Ok(kernel.run()),
+        None => Err(kernel),
+    }
+}
+
+/// A kernel as pulp's operation: `with_simd` inlined into each instruction set's copy.
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+struct Op<K>(K);
+
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+impl<K: Kernel> pulp::WithSimd for Op<K> {
+    type Output = K::Output;
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> K::Output {
+        self.0.run()
+    }
+}

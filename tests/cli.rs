@@ -266,6 +266,27 @@ fn the_main_job_writes_a_csv_and_two_plots_per_mechanism() {
         }
         check_csv_format(&dir.join("mechgen-out").join(format!("{name}.csv")));
     }
+    // A rocking input's start branch is swept whole, from one dead point to the other, every row
+    // on it: the triple-rocker's dead points are at ±acos((a² + d² − (b + c)²) / 2ad) = ±135.95°.
+    let csv = std::fs::read_to_string(dir.join("mechgen-out").join("rocker_four_bar.csv"))
+        .expect("written");
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert!(rows.iter().all(|r| r.last() == Some(&"ok")), "{csv}");
+    let dead = ((0.3f64 * 0.3 + 0.4 * 0.4 - 0.65 * 0.65) / (2.0 * 0.3 * 0.4)).acos();
+    let input = |r: &[&str]| r[0].parse::<f64>().expect("input");
+    let (first, last) = (input(&rows[0]), input(&rows[rows.len() - 1]));
+    assert!(
+        (first + dead).abs() < 1e-5 && (last - dead).abs() < 1e-5,
+        "{first} {last}"
+    );
+    assert!(
+        stdout.contains("q1 from 224.0486256741 deg to 495.9513743259 deg"),
+        "{stdout}"
+    );
 }
 
 /// A closed stderr or stdout (`mechgen check --file bad.toml 2>&1 | true`, `mechgen check | head`)

@@ -271,3 +271,91 @@ fn the_command_prints_the_table_and_writes_the_csv() {
         text(&out.stderr)
     );
 }
+
+/// The triple-rocker's input rocks between its dead points at ±acos((a² + d² − (b + c)²) / 2ad):
+/// `metrics` without a range covers that whole branch on both sides of the start (the input
+/// below 0 included), so the extremes are those of the geometry: B_y down to −a, and q2's maximum
+/// where the analytic solution of the dyad (computed here from the params, by a golden-section
+/// search over the branch) has it.
+#[test]
+fn a_rocking_input_is_analysed_over_its_whole_branch() {
+    let info = mechgen::lookup::<f64>("rocker_four_bar")
+        .expect("compiled in")
+        .info();
+    let (a, b, c, d) = (
+        param(&info, "l1"),
+        param(&info, "l2"),
+        param(&info, "l3"),
+        param(&info, "l4"),
+    );
+    let dead = ((a * a + d * d - (b + c) * (b + c)) / (2.0 * a * d)).acos();
+    // q2 on the start's assembly mode (the coupler's angle: C = B + b·e(q2) on the circle of
+    // radius c about D).
+    let sign = {
+        let (q2, q1) = (info.unknowns[0].start, info.inputs[0].start);
+        let (bx, by) = (a * q1.cos(), a * q1.sin());
+        let base = (-by).atan2(d - bx);
+        if (q2 - base).sin() > 0.0 { 1.0 } else { -1.0 }
+    };
+    let q2 = |q1: f64| {
+        let (bx, by) = (a * q1.cos(), a * q1.sin());
+        let (dx, dy) = (d - bx, -by);
+        let l = dx.hypot(dy);
+        let cos = ((b * b + l * l - c * c) / (2.0 * b * l)).clamp(-1.0, 1.0);
+        dy.atan2(dx) + sign * cos.acos()
+    };
+    // The maximum of q2 over (−dead, dead): a grid, then golden sections around its best.
+    let n = 20_000;
+    let best = (0..=n)
+        .map(|i| -dead + 2.0 * dead * i as f64 / n as f64)
+        .max_by(|x, y| q2(*x).total_cmp(&q2(*y)))
+        .expect("grid");
+    let (mut lo, mut hi) = (best - 2.0 * dead / n as f64, best + 2.0 * dead / n as f64);
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    for _ in 0..200 {
+        let (m1, m2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        if q2(m1) < q2(m2) {
+            lo = m1;
+        } else {
+            hi = m2;
+        }
+    }
+    let q2_max = q2((lo + hi) / 2.0);
+    let csv = common::cli::temp("metrics", "rocker_four_bar.csv");
+    let out = mechgen(&["metrics", "rocker_four_bar", "--csv", csv.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let body = std::fs::read_to_string(&csv).expect("csv");
+    let cells = |name: &str| -> Vec<f64> {
+        let line = body
+            .lines()
+            .find(|l| l.starts_with(&format!("{name},")))
+            .expect("row");
+        line.split(',')
+            .skip(1)
+            .take(4)
+            .map(|v| v.parse().expect("number"))
+            .collect()
+    };
+    let q2_row = cells("q2");
+    assert!(
+        (q2_row[1] - q2_max).abs() < 1e-9,
+        "{q2_row:?} against {q2_max}"
+    );
+    assert!(
+        q2_row[3] < 0.0,
+        "the maximum lies below the start: {q2_row:?}"
+    );
+    let by = cells("B_y");
+    assert!((by[0] + a).abs() < 1e-12, "{by:?}");
+    // The range is the branch: its ends within 1e-5 rad of the dead points.
+    let q1_range = cells("q3");
+    assert!(
+        (q1_range[3].abs() - dead).abs() < 1e-5,
+        "q3's maximum at the lower dead point: {q1_range:?}"
+    );
+    assert!(
+        text(&out.stdout).contains("106.068459"),
+        "{}",
+        text(&out.stdout)
+    );
+}

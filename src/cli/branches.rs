@@ -31,26 +31,46 @@ pub(super) fn compile(path: Option<&Path>) -> Result<Vec<Compiled>, String> {
     Ok(compiled)
 }
 
-/// The input range of the start's branch of mechanism `name` when its first input is a length:
-/// between the dead points that bound it (the branch analysis over the start ± four length
-/// scales, at least ± 1), or that window's end where no dead point bounds it. `None` for an angle
-/// input or when the analysis has no answer.
+/// The input range of the start's branch of mechanism `name` (radians or file units): between
+/// the dead points that bound it. For a length input, the branch analysis over the start ± four
+/// length scales (at least ± 1), or that window's end where no dead point bounds it; for an angle
+/// input, the analysis over a full turn, the range shifted by whole turns to hold the start, and
+/// `None` for a branch that turns fully (no dead point on it). `None` also when the analysis has
+/// no answer.
 pub(super) fn start_branch(path: Option<&Path>, name: &str) -> Option<(f64, f64)> {
     let compiled = compile(path).ok()?;
     let c = compiled.iter().find(|c| c.model.name.text == name)?;
     let setup = Setup::new(c, 0).ok()?;
-    if setup.input_is_angle {
-        return None;
-    }
     let x0 = c.model.inputs.first()?.start;
     let q0: Vec<f64> = c.model.unknowns.iter().map(|u| u.start).collect();
-    let w = 4.0 * setup.scale.max(x0.abs()).max(1.0);
-    let a = setup.analyze(x0 - w, x0 + w, &[x0]).ok()?;
+    let (from, to, at) = if setup.input_is_angle {
+        let tau = std::f64::consts::TAU;
+        (0.0, tau, x0.rem_euclid(tau))
+    } else {
+        let w = 4.0 * setup.scale.max(x0.abs()).max(1.0);
+        (x0 - w, x0 + w, x0)
+    };
+    let a = setup.analyze(from, to, &[at]).ok()?;
     let mine =
         a.at.iter()
             .min_by(|x, y| setup.dist(&x.q, &q0).total_cmp(&setup.dist(&y.q, &q0)))?;
     let b = a.branches.get(mine.branch)?;
-    (b.from.is_finite() && b.to.is_finite() && b.from < b.to).then_some((b.from, b.to))
+    if !(b.from.is_finite() && b.to.is_finite() && b.from < b.to) || b.full_turn {
+        return None;
+    }
+    if !setup.input_is_angle {
+        return Some((b.from, b.to));
+    }
+    // Both ends must be dead points (a branch of a full turn's analysis may end at the range's
+    // seam only when it turns fully, handled above).
+    if b.dead.iter().any(Option::is_none) {
+        return None;
+    }
+    // The turn that holds the start: the range moved by whole turns so that from ≤ x0 ≤ to.
+    let tau = std::f64::consts::TAU;
+    let shift = ((x0 - b.from) / tau).floor() * tau;
+    let (lo, hi) = (b.from + shift, b.to + shift);
+    (lo <= x0 && x0 <= hi).then_some((lo, hi))
 }
 
 /// The analysis of one mechanism over a range given in the CLI's units (degrees for an angle).

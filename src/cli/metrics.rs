@@ -33,6 +33,7 @@ pub fn run(args: &MetricsArgs) -> Result<(), String> {
     };
     let angle = info.inputs.get(index).map(|i| i.kind) == Some(Kind::Angle);
     let (from, to) = match (angle, args.from, args.to) {
+        (true, None, None) if index == 0 && args.set.is_empty() => angle_range(&info, file),
         (true, from, to) => {
             let from = from.unwrap_or_else(|| info.inputs[index].start.to_degrees());
             (from, to.unwrap_or(from + 360.0))
@@ -54,6 +55,23 @@ pub fn run(args: &MetricsArgs) -> Result<(), String> {
             .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     }
     Ok(())
+}
+
+/// The default range of the first input, an angle (degrees): the start's branch between its
+/// dead points where it has them (each end moved inside by 1e-6 of the span), else a full turn
+/// from the start.
+pub(super) fn angle_range(info: &MechanismInfo, file: Option<&std::path::Path>) -> (f64, f64) {
+    match super::branches::start_branch(file, &info.name) {
+        Some((a, b)) => {
+            let (a, b) = (a.to_degrees(), b.to_degrees());
+            let inset = (b - a) * 1e-6;
+            (a + inset, b - inset)
+        }
+        None => {
+            let from = info.inputs[0].start.to_degrees();
+            (from, from + 360.0)
+        }
+    }
 }
 
 /// The range in [`ROWS`] steps (degrees or file units).
@@ -89,8 +107,8 @@ fn compute(
     ))
 }
 
-/// The main job's metrics of one mechanism, over its range (`from`, `to` in CLI units; a full
-/// turn of an angle input from its start, a length input's start branch).
+/// The main job's metrics of one mechanism, over its range (`from`, `to` in CLI units: an angle
+/// input's [`angle_range`], a length input's start branch).
 pub(super) fn main_job_table(
     k: &dyn mechgen::DynMechanism<f64>,
     info: &MechanismInfo,

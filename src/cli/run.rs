@@ -161,14 +161,27 @@ fn with_column_bytes(line: &mut Vec<u8>, effort: Option<f64>) {
     line.splice(at..at, cell);
 }
 
-/// The main job's range: a full turn for an angle input, from its start value rounded down to
-/// 10° (so that the start's branch is swept from where it is, not from a dead point it would have
-/// to cross to reach 0°; a start of 0 gives the `sweep` defaults); for a length input, which has no
-/// default range, the start's branch between its dead points from the branch analysis
+/// The main job's range: the start's branch between its dead points where it has them
 /// ([`super::branches::start_branch`], each end moved inside by 1e-6 of the span), in 36 steps;
-/// where that analysis has no answer, the start value ± a quarter of the mechanism's length scale
-/// (or of the start value, if larger).
+/// else, for an angle input, a full turn from its start value rounded down to 10° (so that the
+/// start's branch is swept from where it is, not from a dead point it would have to cross to
+/// reach 0°; a start of 0 gives the `sweep` defaults); for a length input without that analysis,
+/// the start value ± a quarter of the mechanism's length scale (or of the start value, if larger).
 pub(super) fn main_job_range(info: &MechanismInfo, file: Option<&Path>) -> Range {
+    let angle = info.inputs.first().map(|i| i.kind) == Some(Kind::Angle);
+    if let Some((a, b)) = super::branches::start_branch(file, &info.name) {
+        let (a, b) = if angle {
+            (a.to_degrees(), b.to_degrees())
+        } else {
+            (a, b)
+        };
+        let inset = (b - a) * 1e-6;
+        return Range {
+            from: Some(a + inset),
+            to: Some(b - inset),
+            step: Some((b - a - 2.0 * inset) / 36.0),
+        };
+    }
     match info.inputs.first() {
         Some(CoordDesc {
             kind: Kind::Angle,
@@ -185,14 +198,6 @@ pub(super) fn main_job_range(info: &MechanismInfo, file: Option<&Path>) -> Range
         }
         // A length input.
         Some(CoordDesc { start, .. }) => {
-            if let Some((a, b)) = super::branches::start_branch(file, &info.name) {
-                let inset = (b - a) * 1e-6;
-                return Range {
-                    from: Some(a + inset),
-                    to: Some(b - inset),
-                    step: Some((b - a - 2.0 * inset) / 36.0),
-                };
-            }
             let scale = info
                 .params
                 .iter()
@@ -274,9 +279,10 @@ fn main_job_one(
     say!("{}", swept.table(&info));
     let lengths = (range.from.unwrap_or(-1.0), range.to.unwrap_or(1.0));
     say_raw!("{}", super::branches::summary(file, name, lengths));
-    // The metrics over the same range (an angle input: a full turn from its start).
-    let span = match info.inputs.first().map(|i| (i.kind, i.start)) {
-        Some((Kind::Angle, start)) => Some((start.to_degrees(), start.to_degrees() + 360.0)),
+    // The metrics over the start's branch (an angle input: between its dead points, else a
+    // full turn from its start).
+    let span = match info.inputs.first().map(|i| i.kind) {
+        Some(Kind::Angle) => Some(super::metrics::angle_range(&info, file)),
         _ => range.from.zip(range.to),
     };
     if let Some(span) = span {

@@ -493,3 +493,63 @@ fn rows_of_lengths_whose_squares_overflow_say_overflow() {
         .collect();
     assert_eq!(statuses, ["overflow"; 4], "{rows}");
 }
+
+/// The dead-point refinement on the command line's path: `sweep` of one row 1e-6° inside each of
+/// `sixbar_g`'s dead points (its 4×4 Newton block at condition ~6e3), and `batch` of the same row,
+/// on both engines, against the 30-digit reference at exactly the input the command line reaches
+/// from that degree value (`tests/data/stress/sixbar_g_cli.csv`, mpmath, closed form in the crank
+/// angle). Positions to 1e-15, velocities to 5e-9, accelerations to 1e-8 of their largest value
+/// (without the refinement: ~1e-7).
+#[test]
+fn the_refinement_holds_on_the_command_lines_path_near_a_dead_point() {
+    let reference = Table::read(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/stress/sixbar_g_cli.csv")
+            .to_str()
+            .expect("utf-8"),
+    );
+    let sets = temp("refine-sets.csv");
+    std::fs::write(&sets, "l1\n26.5\n").expect("sets");
+    let groups = [
+        ["q1", "q2", "q3", "q5"],
+        ["q1_vel", "q2_vel", "q3_vel", "q5_vel"],
+        ["q1_acc", "q2_acc", "q3_acc", "q5_acc"],
+    ];
+    let bounds = [1e-15, 5e-9, 1e-8];
+    for row in &reference.rows {
+        let deg = row[1].as_str();
+        for engine in ["generated", "generic"] {
+            for command in ["sweep", "batch"] {
+                let csv = temp(&format!("refine-{engine}-{command}-{}.csv", row[0]));
+                let path = csv.to_str().expect("utf-8");
+                let mut args = vec![command, "sixbar_g", "--from", deg, "--to", deg];
+                args.extend(["--engine", engine, "--csv", path]);
+                if command == "batch" {
+                    args.extend(["--params", sets.to_str().expect("utf-8")]);
+                }
+                let out = mechgen(&args);
+                assert!(out.status.success(), "{args:?}: {}", text(&out.stderr));
+                let got = Table::read(path);
+                assert_eq!(got.rows.len(), 1, "{args:?}");
+                let cell = |t: &Table, r: &[String], name: &str| -> f64 {
+                    let i = t.header.iter().position(|h| h == name).expect(name);
+                    r[i].parse().unwrap_or_else(|_| panic!("{name} = {:?}", r[i]))
+                };
+                let status = got.rows[0].last().expect("status");
+                assert_eq!(status, "ok", "{args:?}");
+                let input = cell(&got, &got.rows[0], "q6");
+                assert_eq!(input, cell(&reference, row, "q6"), "{args:?}: the same input");
+                for (names, bound) in groups.iter().zip(bounds) {
+                    let scale = names
+                        .iter()
+                        .map(|n| cell(&reference, row, n).abs())
+                        .fold(0.0, f64::max);
+                    for n in names {
+                        let e = (cell(&got, &got.rows[0], n) - cell(&reference, row, n)).abs();
+                        assert!(e <= bound * scale, "{args:?}: {n} off by {:e}", e / scale);
+                    }
+                }
+            }
+        }
+    }
+}

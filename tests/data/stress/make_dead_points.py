@@ -4,6 +4,9 @@
     python3 tests/data/stress/make_dead_points.py          # writes the CSVs next to this script
     python3 tests/data/stress/make_dead_points.py --check  # recomputes and compares with the files
 
+Also `NAME_cli.csv`: the rows 1e-6 degree inside each dead point at the inputs a command line gives
+in degrees (`mechgen sweep NAME --from D --to D`), converted to radians as the CLI converts them.
+
 Independent of the mechgen crate and of Newton's method: every configuration is written in closed
 form (mpmath, 80 significant digits), on the branch of the file's `start` configuration.
 
@@ -264,6 +267,28 @@ def header(m):
     return cols
 
 
+def row_at(m, side, label, x, p_dead):
+    """The reference row at input x (an f64) on the branch ending at the dead point p_dead."""
+    p = m.param_of_input(x, side, p_dead)
+    q, pts, x_back = m.at_param(p)
+    assert abs(x_back - x) < mpf(10) ** -60, f"{m.name}: input {x_back} != {x}"
+    res = max(abs(v) for v in m.residual(x, q)) / m.scale()
+    assert res < mpf(10) ** -60, f"{m.name}: residual {res}"
+    assert abs(det_rel(m.jacobian(x, q))) > mpf(10) ** -8, f"{m.name}: singular at {label}"
+    vel, acc = motion(m, p)
+    # the same rates from central differences at an explicit, different step
+    vel2, acc2 = motion(m, p, h=mpf(10) ** -25)
+    for a, b in zip(vel + acc, vel2 + acc2):
+        assert abs(a - b) <= mpf(10) ** -25 * (1 + abs(a)), f"{m.name}: rates {a} {b}"
+    nq = len(q)
+    qd, qdd = vel[:nq], acc[:nq]
+    cols = [side, label, x] + q + qd + qdd
+    for k in range(len(m.points)):
+        i = nq + 2 * k
+        cols += [pts[2 * k], pts[2 * k + 1], vel[i], vel[i + 1], acc[i], acc[i + 1]]
+    return cols
+
+
 def rows(m):
     deads, out = [], []
     for side, x_dead, p_dead in m.dead_points():
@@ -274,25 +299,23 @@ def rows(m):
         direction = 1 if side == "upper" else -1
         for off in OFFSETS:
             x = f64(x_dead - direction * mpf(off) * mp.pi / 180)
-            p = m.param_of_input(x, side, p_dead)
-            q, pts, x_back = m.at_param(p)
-            assert abs(x_back - x) < mpf(10) ** -60, f"{m.name}: input {x_back} != {x}"
-            res = max(abs(v) for v in m.residual(x, q)) / m.scale()
-            assert res < mpf(10) ** -60, f"{m.name}: residual {res}"
-            assert abs(det_rel(m.jacobian(x, q))) > mpf(10) ** -8, f"{m.name}: singular at {off}"
-            vel, acc = motion(m, p)
-            # the same rates from central differences at an explicit, different step
-            vel2, acc2 = motion(m, p, h=mpf(10) ** -25)
-            for a, b in zip(vel + acc, vel2 + acc2):
-                assert abs(a - b) <= mpf(10) ** -25 * (1 + abs(a)), f"{m.name}: rates {a} {b}"
-            nq = len(q)
-            qd, qdd = vel[:nq], acc[:nq]
-            cols = [side, off, x] + q + qd + qdd
-            for k in range(len(m.points)):
-                i = nq + 2 * k
-                cols += [pts[2 * k], pts[2 * k + 1], vel[i], vel[i + 1], acc[i], acc[i + 1]]
-            out.append(cols)
+            out.append(row_at(m, side, off, x, p_dead))
     return deads, out
+
+
+def cli_rows(m):
+    """Rows 1e-6 degree inside each dead point at the input the command line reaches from a degree
+    value: `offset_deg` holds that value (the f64 nearest to the dead point's input in degrees
+    minus or plus 1e-6, printed shortest), the input is its f64 conversion to radians exactly as
+    Rust's `f64::to_radians` does it (the value times the f64 nearest to pi/180, rounded)."""
+    import math
+    out = []
+    for side, x_dead, p_dead in m.dead_points():
+        direction = 1 if side == "upper" else -1
+        deg = float(x_dead * 180 / mp.pi - direction * mpf("1e-6"))
+        x = mpf(deg * (math.pi / 180.0))
+        out.append(row_at(m, side, repr(deg), x, p_dead))
+    return out
 
 
 def fmt(v):
@@ -310,6 +333,9 @@ def main():
         text = ",".join(header(m)) + "\n"
         text += "".join(",".join(fmt(v) for v in r) + "\n" for r in table)
         files[f"{m.name}.csv"] = text
+        cli = ",".join(header(m)) + "\n"
+        cli += "".join(",".join(fmt(v) for v in r) + "\n" for r in cli_rows(m))
+        files[f"{m.name}_cli.csv"] = cli
         print(f"{m.name}: " + ", ".join(f"{s} {nstr(x * 180 / mp.pi, 12)} deg" for s, x in deads))
     files["dead_points.csv"] = "\n".join(dead_lines) + "\n"
     for name, text in files.items():

@@ -464,3 +464,57 @@ start = { q1 = 0.0, q2 = "deg(50.1)", q3 = "deg(102.7)", q5 = "deg(117.2)", q6 =
         assert_pivots(&sketch, &[a, d, g], &what);
     }
 }
+
+/// A Peaucellier–Lipkin linkage, whose third loop (B–P–D) has no ground term, drawn with the
+/// same links whatever the order of that loop's terms: O–B, O–D, A–C, C–B, C–D, B–P, D–P, pivots
+/// at O and A, at every row (the joints from the solved unknowns); P on its straight line.
+#[test]
+fn a_loop_without_ground_terms_is_drawn_through_its_joints_in_any_order() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/peaucellier.toml");
+    let text = std::fs::read_to_string(&path).expect("peaucellier.toml");
+    let written = "L*e(qB) + s*e(qBP) - L*e(qD) - s*e(qDP)";
+    assert!(text.contains(written));
+    for order in [
+        written,
+        "L*e(qB) + s*e(qBP) - s*e(qDP) - L*e(qD)",
+        "s*e(qBP) - L*e(qD) + L*e(qB) - s*e(qDP)",
+    ] {
+        let mut all =
+            generic::load("peaucellier.toml", &text.replace(written, order)).expect("loads");
+        let model = all.remove(0);
+        let (info, rows) = sweep_degrees(&model, -80, 80, 10);
+        assert!(rows.iter().all(|r| r.result.is_ok()), "{order}");
+        let p = |n| param(&info, n);
+        let (a, l, s) = (p("a"), p("L"), p("s"));
+        for row in &rows {
+            let sol = row.result.as_ref().expect("solved");
+            let u = |n| unknown(&info, &sol.q, n);
+            let (o, pa) = ([0.0, 0.0], [a, 0.0]);
+            let c = at(pa, a, row.input);
+            let (b, d) = (at(o, l, u("qB")), at(o, l, u("qD")));
+            let pp = at(b, s, u("qBP"));
+            assert!(
+                (pp[0] - (l * l - s * s) / (2.0 * a)).abs() < 1e-12,
+                "P on its line"
+            );
+            let mut x = vec![0.0; info.inputs.len()];
+            x[0] = row.input;
+            let sketch = model.sketch(&x, &sol.q).expect("sketch");
+            let what = format!("{order} at {:.1} deg", row.input.to_degrees());
+            assert_links(
+                &sketch,
+                &[
+                    vec![o, b],
+                    vec![o, d],
+                    vec![pa, c],
+                    vec![c, b],
+                    vec![c, d],
+                    vec![b, pp],
+                    vec![d, pp],
+                ],
+                &what,
+            );
+            assert_pivots(&sketch, &[o, pa], &what);
+        }
+    }
+}

@@ -533,12 +533,17 @@ fn the_refinement_holds_on_the_command_lines_path_near_a_dead_point() {
                 assert_eq!(got.rows.len(), 1, "{args:?}");
                 let cell = |t: &Table, r: &[String], name: &str| -> f64 {
                     let i = t.header.iter().position(|h| h == name).expect(name);
-                    r[i].parse().unwrap_or_else(|_| panic!("{name} = {:?}", r[i]))
+                    r[i].parse()
+                        .unwrap_or_else(|_| panic!("{name} = {:?}", r[i]))
                 };
                 let status = got.rows[0].last().expect("status");
                 assert_eq!(status, "ok", "{args:?}");
                 let input = cell(&got, &got.rows[0], "q6");
-                assert_eq!(input, cell(&reference, row, "q6"), "{args:?}: the same input");
+                assert_eq!(
+                    input,
+                    cell(&reference, row, "q6"),
+                    "{args:?}: the same input"
+                );
                 for (names, bound) in groups.iter().zip(bounds) {
                     let scale = names
                         .iter()

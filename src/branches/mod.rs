@@ -107,6 +107,9 @@ pub struct Analysis {
     pub at_inputs: Vec<f64>,
     /// Every configuration at each `at` input, in the order asked, then by circuit and branch.
     pub at: Vec<Labelled>,
+    /// The mode combinations left out because they make a block degenerate (two of its points
+    /// coincide for every input): (that block, the earlier blocks' mode indices).
+    pub degenerate: Vec<(usize, Vec<u8>)>,
 }
 
 impl Setup {
@@ -128,6 +131,7 @@ impl Setup {
                 steps,
                 params: m.params.iter().map(|p| p.value).collect(),
                 unknowns: m.unknowns.len(),
+                degenerate: Default::default(),
             },
             tapes: singular::Tapes::new(c),
             inputs: m.inputs.iter().map(|i| i.start).collect(),
@@ -154,9 +158,10 @@ impl Setup {
         }
         let mut inputs = self.inputs.clone();
         inputs[self.input] = x;
-        self.solver
-            .with_margins(&inputs)
-            .map_err(|e| format!("`{}` at {} = {x}: {e}", self.name, self.input_name))
+        self.solver.with_margins(&inputs).map_err(|e| {
+            let at = self.show_input(x);
+            format!("`{}` at {} = {at}: {e}", self.name, self.input_name)
+        })
     }
 
     /// Pairs of `a` and `b` matched by increasing distance (each used once).
@@ -186,6 +191,7 @@ impl Setup {
             return Err(format!("the range {from} to {to} is empty or not finite"));
         }
         self.cache.borrow_mut().clear();
+        self.solver.degenerate.borrow_mut().clear();
         let circular = self.input_is_angle && to - from >= TAU * (1.0 - 1e-12);
         let to = if circular { from + TAU } else { to };
         for &x in at {

@@ -9,7 +9,7 @@ use super::{Analysis, Setup};
 
 impl Setup {
     /// An input value as printed: degrees for an angle input.
-    fn show_input(&self, x: f64) -> String {
+    pub(super) fn show_input(&self, x: f64) -> String {
         if self.input_is_angle {
             format!("{:.10} deg", x.to_degrees())
         } else {
@@ -52,6 +52,19 @@ impl Setup {
             a.dead_points.len(),
             a.crossings.len()
         );
+        for (block, modes) in &a.degenerate {
+            let modes: Vec<String> = modes
+                .iter()
+                .enumerate()
+                .map(|(b, m)| format!("block {b} mode {m}"))
+                .collect();
+            let _ = writeln!(
+                s,
+                "  degenerate: {} makes block {block} degenerate (two of its points coincide): \
+                 those configurations are left out",
+                modes.join(", ")
+            );
+        }
         for (i, b) in a.branches.iter().enumerate() {
             let what = if b.full_turn {
                 "full turn (no dead point)".to_string()

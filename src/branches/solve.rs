@@ -17,6 +17,8 @@ pub struct Solver {
     pub(super) steps: Vec<Step>,
     pub(super) params: Vec<f64>,
     pub(super) unknowns: usize,
+    /// Mode combinations seen to make a block degenerate (see [`Solver::degenerate`]).
+    pub(super) degenerate: std::cell::RefCell<std::collections::BTreeSet<(usize, Vec<u8>)>>,
 }
 
 thread_local! {
@@ -69,8 +71,9 @@ fn expand(
 
 impl Solver {
     /// Every configuration at the inputs `x`, in a fixed order (block by block, mode by mode,
-    /// cut roots ascending). An error only for a degenerate state (a block singular for every
-    /// value of its unknowns, overflow).
+    /// cut roots ascending). A combination of modes that makes a later block singular (two of its
+    /// points coincide: no isolated configuration) is left out and noted ([`Solver::degenerate`]).
+    /// An error only for overflow or a non-finite value.
     pub fn configurations(&self, x: &[f64]) -> Result<Vec<Vec<f64>>, SolveError> {
         self.walk(x, None)
     }
@@ -88,10 +91,18 @@ impl Solver {
         x: &[f64],
         mut margins: Option<&mut Vec<f64>>,
     ) -> Result<Vec<Vec<f64>>, SolveError> {
-        let mut all = vec![vec![0.0; self.unknowns]];
+        // Each partial configuration with the modes that made it (one label per block so far).
+        let mut all = vec![(vec![0.0; self.unknowns], Vec::new())];
         for (b, step) in self.steps.iter().enumerate() {
             let mut next = Vec::new();
-            for q in &all {
+            for (q, modes) in &all {
+                let with = |out: &mut Vec<(Vec<f64>, Vec<u8>)>, qs: Vec<Vec<f64>>| {
+                    for (m, q) in qs.into_iter().enumerate() {
+                        let mut modes: Vec<u8> = modes.clone();
+                        modes.push(u8::try_from(m).unwrap_or(u8::MAX));
+                        out.push((q, modes));
+                    }
+                };
                 match step {
                     Step::Closed(f) => {
                         if let Some(ms) = margins.as_deref_mut()
@@ -100,9 +111,21 @@ impl Solver {
                         {
                             ms.push(m);
                         }
-                        next.extend(expand(b, f, x, q, &self.params)?)
+                        match expand(b, f, x, q, &self.params) {
+                            Ok(qs) => with(&mut next, qs),
+                            // The earlier blocks' modes make this block degenerate (two of its
+                            // points coincide, as when two dyads on the same circles pick the
+                            // same intersection): that combination is left out, and noted.
+                            Err(SolveError::Singular { .. }) => {
+                                self.degenerate.borrow_mut().insert((b, modes.clone()));
+                            }
+                            Err(e) => return Err(e),
+                        }
                     }
-                    Step::Torn(t) => next.extend(self.torn(b, t, x, q, margins.as_deref_mut())),
+                    Step::Torn(t) => {
+                        let qs = self.torn(b, t, x, q, margins.as_deref_mut());
+                        with(&mut next, qs);
+                    }
                 }
             }
             all = next;
@@ -110,7 +133,13 @@ impl Solver {
                 break;
             }
         }
-        Ok(all)
+        Ok(all.into_iter().map(|(q, _)| q).collect())
+    }
+
+    /// The mode combinations met so far that make a later block degenerate: (that block, the
+    /// earlier blocks' mode indices), in order.
+    pub fn degenerate(&self) -> Vec<(usize, Vec<u8>)> {
+        self.degenerate.borrow().iter().cloned().collect()
     }
 
     /// The configurations of a torn block at cut roots; into `margins` (when given) the values

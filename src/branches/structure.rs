@@ -242,6 +242,7 @@ impl Setup {
             crossings: crossing_list.into_iter().map(|c| c.0).collect(),
             at_inputs: at.to_vec(),
             at: labelled,
+            degenerate: self.solver.degenerate(),
         })
     }
 }

@@ -52,23 +52,34 @@ impl Linkage {
                 let wrap = |m: Vec<Term>| -> Vec<Term> {
                     ground(true).chain(m).chain(ground(false)).collect()
                 };
-                if moving.len() == terms.len() {
-                    // No ground terms: a closed walk as written.
-                    return vec![wrap(moving)];
-                }
-                // As written; as two sides (added terms out, subtracted ones back in either
-                // order); each backwards. Kept: those that leave and rejoin the ground at the
-                // tails of their end links, in this order of preference.
+                // No ground terms: a closed walk, whose joints depend on the order of its terms
+                // (`L*e(qB) + s*e(qBP) - L*e(qD) - s*e(qDP)` as written passes P − D, no joint):
+                // every reading below is kept, and the sketch takes the one through the most
+                // named points.
+                let floating = moving.len() == terms.len();
+                // As written; as two sides (added terms out in either order, subtracted ones
+                // back in either order); each backwards. Kept: those that leave and rejoin the ground at the
+                // tails of their end links (any, for a loop without ground terms), in this order
+                // of preference.
                 let (plus, minus): (Vec<Term>, Vec<Term>) =
                     moving.iter().cloned().partition(|t| t.sign > 0.0);
-                let sides = |reverse: bool| {
-                    let mut m = minus.clone();
+                let sides = |reverse_plus: bool, reverse: bool| {
+                    let (mut p, mut m) = (plus.clone(), minus.clone());
+                    if reverse_plus {
+                        p.reverse();
+                    }
                     if reverse {
                         m.reverse();
                     }
-                    plus.iter().cloned().chain(m).collect::<Vec<Term>>()
+                    p.into_iter().chain(m).collect::<Vec<Term>>()
                 };
-                let mut readings = vec![moving.clone(), sides(false), sides(true)];
+                let mut readings = vec![
+                    moving.clone(),
+                    sides(false, false),
+                    sides(false, true),
+                    sides(true, false),
+                    sides(true, true),
+                ];
                 let backwards: Vec<Vec<Term>> = readings
                     .iter()
                     .map(|r| r.iter().rev().cloned().collect())
@@ -76,7 +87,10 @@ impl Linkage {
                 readings.extend(backwards);
                 let best = readings.iter().map(|r| tails(r)).max().unwrap_or(0);
                 let mut kept: Vec<Vec<Term>> = Vec::new();
-                for r in readings.into_iter().filter(|r| tails(r) == best) {
+                for r in readings
+                    .into_iter()
+                    .filter(|r| floating || tails(r) == best)
+                {
                     let w = wrap(r);
                     if !kept.contains(&w) {
                         kept.push(w);

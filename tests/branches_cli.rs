@@ -206,15 +206,29 @@ fn toggle_press_crossings_csv() {
 #[test]
 fn degenerate_modes_are_named_and_the_rest_analysed() {
     let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/peaucellier.toml");
-    let out = mechgen(&["branches", "peaucellier", "--file", file.to_str().expect("utf-8")]);
+    let out = mechgen(&[
+        "branches",
+        "peaucellier",
+        "--file",
+        file.to_str().expect("utf-8"),
+    ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let s = text(&out.stdout);
     assert!(s.contains("2 circuit(s), 4 branch(es)"), "{s}");
     let degenerate: Vec<&str> = s.lines().filter(|l| l.contains("degenerate:")).collect();
     assert_eq!(degenerate.len(), 2, "{s}");
-    assert!(degenerate.iter().all(|l| l.contains("makes block 2 degenerate")), "{s}");
+    assert!(
+        degenerate
+            .iter()
+            .all(|l| l.contains("makes block 2 degenerate")),
+        "{s}"
+    );
     let dead = (2.0 * 0.75f64.acos()).to_degrees();
-    let range = format!("q1 from {:.10} deg to {:.10} deg", 360.0 - dead, 360.0 + dead);
+    let range = format!(
+        "q1 from {:.10} deg to {:.10} deg",
+        360.0 - dead,
+        360.0 + dead
+    );
     let branches: Vec<&str> = s.lines().filter(|l| l.contains("  branch ")).collect();
     assert_eq!(branches.len(), 4, "{s}");
     assert!(branches.iter().all(|l| l.contains(&range)), "{range}\n{s}");

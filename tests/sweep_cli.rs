@@ -411,7 +411,11 @@ fn the_sweep_starts_at_the_row_nearest_the_start_and_goes_both_ways() {
                 "{row}"
             );
         } else {
-            assert!(line.contains("unassemblable"), "{line}");
+            // Past the branch's dead points: the other circuit of `mechgen branches sixbar_g`
+            // (q6 from 40.93° to 176.19°) assembles; nothing else does.
+            let other = (40.94..176.19).contains(&input);
+            let want = if other { "other-branch" } else { "unassemblable" };
+            assert_eq!(status, want, "q6 = {input} deg: {line}");
         }
     }
     assert!(table.contains("-21.09482"), "{table}");
@@ -556,5 +560,76 @@ fn the_refinement_holds_on_the_command_lines_path_near_a_dead_point() {
                 }
             }
         }
+    }
+}
+
+/// Statuses past the dead point that ends the followed branch tell the truth: `other-branch` where
+/// the linkage assembles all the same, `unassemblable` where it does not, against the geometry
+/// (the Peaucellier assembles where |OC| = 2a|cos(q1/2)| ≥ L − s; the triple-rocker where
+/// |BD| ≤ b + c), in `sweep` (the default full turn) and `batch` (each set with its own a).
+#[test]
+fn rows_past_the_branch_end_are_other_branch_where_the_linkage_assembles() {
+    let peaucellier =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/peaucellier.toml");
+    let pf = peaucellier.to_str().expect("utf-8");
+    let check = |rows: &[Vec<String>], col: usize, assembles: &dyn Fn(f64) -> bool, what: &str| {
+        let mut seen = [0; 3];
+        for r in rows {
+            let x: f64 = r[col].parse().expect("input");
+            let status = r.last().expect("status").as_str();
+            let want = match (status, assembles(x)) {
+                ("ok", true) => 0,
+                ("other-branch", true) => 1,
+                ("unassemblable", false) => 2,
+                (s, a) => panic!("{what}: {s} at {} deg (assembles: {a})", x.to_degrees()),
+            };
+            seen[want] += 1;
+        }
+        assert!(seen.iter().all(|&n| n > 0), "{what}: {seen:?}");
+    };
+    // The Peaucellier (a = 1, L = 3, s = 1.5), a full turn from its start at 0.
+    let csv = temp("other-branch-peaucellier.csv");
+    let out = mechgen(&[
+        "sweep",
+        "peaucellier",
+        "--file",
+        pf,
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stdout).contains("other-branch: the linkage assembles here, on another branch"),
+        "{}",
+        text(&out.stdout)
+    );
+    let t = Table::read(csv.to_str().unwrap());
+    let reach = |a: f64| move |x: f64| 2.0 * a * (x / 2.0).cos().abs() >= 1.5 - 1e-12;
+    check(&t.rows, 0, &reach(1.0), "peaucellier");
+    // The triple-rocker (a, b, c, d = 0.3, 0.35, 0.3, 0.4), compiled in.
+    let csv = temp("other-branch-rocker.csv");
+    let out = mechgen(&["sweep", "rocker_four_bar", "--csv", csv.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let t = Table::read(csv.to_str().unwrap());
+    let rocker = |x: f64| (0.3f64 * x.cos() - 0.4).hypot(0.3 * x.sin()) <= 0.65 + 1e-12;
+    check(&t.rows, 0, &rocker, "rocker_four_bar");
+    // A batch: each set's own linkage (a = 0.9 reaches |q1| ≤ 2 acos(1.5/1.8)).
+    let sets = temp("other-branch-sets.csv");
+    std::fs::write(&sets, "a\n1.0\n0.9\n").expect("sets");
+    let csv = temp("other-branch-batch.csv");
+    let args = [
+        "batch",
+        "peaucellier",
+        "--file",
+        pf,
+        "--params",
+        sets.to_str().unwrap(),
+    ];
+    let out = mechgen(&[&args[..], &["--csv", csv.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let t = Table::read(csv.to_str().unwrap());
+    for (set, a) in [("0", 1.0), ("1", 0.9)] {
+        let rows: Vec<Vec<String>> = t.rows.iter().filter(|r| r[0] == set).cloned().collect();
+        check(&rows, 1, &reach(a), &format!("batch set {set}"));
     }
 }

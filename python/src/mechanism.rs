@@ -1,6 +1,7 @@
 //! `mechgen.Mechanism`: one mechanism on its generated solvers (compiled in) or the generic
 //! engine (a loaded file), its description in file order, and `sweep`, `batch`, `sensitivity`.
 
+use mg::branches::Assembly;
 use std::collections::HashMap;
 
 use mg::batch::solver_with_params;
@@ -36,6 +37,9 @@ pub struct Mechanism {
     /// The start check's warning for this mechanism, said when it is swept.
     warning: Option<String>,
     source: Source,
+    /// Where it assembles along each input swept so far (the branch analysis, made once per
+    /// input): what tells `other-branch` rows from `unassemblable` ones.
+    assembly: std::sync::Mutex<Vec<(usize, Option<std::sync::Arc<Assembly>>)>>,
 }
 
 /// The sweep options every method takes.
@@ -63,6 +67,7 @@ impl Mechanism {
                 generated,
                 warning,
                 source: source.clone(),
+                assembly: Default::default(),
             })
             .collect())
     }
@@ -137,7 +142,23 @@ impl Mechanism {
             generated: self.generated,
             plan,
             rate,
+            assembly: self.assembly(plan.index),
         }
+    }
+
+    /// The branch analysis along input `index`, made at its first use.
+    fn assembly(&self, index: usize) -> Option<std::sync::Arc<Assembly>> {
+        let mut made = self.assembly.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((_, a)) = made.iter().find(|(i, _)| *i == index) {
+            return a.clone();
+        }
+        let (file, text) = match &self.source {
+            Source::Compiled => (mg::source::SOURCE_NAME, mg::source::SOURCE),
+            Source::File { name, text } => (name.as_str(), text.as_str()),
+        };
+        let a = Assembly::from_text(file, text, &self.info.name, index).map(std::sync::Arc::new);
+        made.push((index, a.clone()));
+        a
     }
 }
 

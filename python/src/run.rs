@@ -9,9 +9,10 @@ use std::time::Duration;
 
 use mg::MechanismInfo;
 use mg::batch::solver_with_params;
+use mg::branches::Assembly;
 use mg::generic::Generic;
 use mg::sweep::plan::Plan;
-use mg::sweep::{Continuation, sweep_each};
+use mg::sweep::{Continuation, sweep_each_with};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -25,6 +26,8 @@ pub struct Job<'a> {
     pub generated: bool,
     pub plan: &'a Plan,
     pub rate: f64,
+    /// Where the mechanism assembles (its file's branch analysis), when it could be made.
+    pub assembly: Option<std::sync::Arc<Assembly>>,
 }
 
 impl Job<'_> {
@@ -33,13 +36,24 @@ impl Job<'_> {
         let k = solver_with_params(self.name, self.model, self.generated, params);
         let c = Continuation::for_input(self.info.inputs[self.plan.index].kind, self.plan.span);
         let mut r = at;
-        sweep_each(
+        // Made for this set when a row past the dead point that ends its branch asks.
+        let setup = std::cell::OnceCell::new();
+        let assembles = |x: &[f64]| {
+            setup
+                .get_or_init(|| self.assembly.as_ref()?.with_params(params))
+                .as_ref()
+                .is_some_and(|s| s.assembles(x))
+        };
+        let oracle: Option<mg::sweep::Assembles<'_>> =
+            self.assembly.is_some().then_some(&assembles);
+        sweep_each_with(
             k.as_ref(),
             self.plan.index,
             &self.plan.values,
             self.rate,
             &self.plan.held,
             &c,
+            oracle,
             &mut |row| {
                 block.put(r, &row, self.info);
                 r += 1;

@@ -166,3 +166,16 @@ def test_a_batch_peaks_near_its_result():
     size, grown = map(int, out.stdout.split())
     assert size > 200e6
     assert grown <= 1.3 * size, (grown / size, size, grown)
+
+
+def test_rows_past_the_branch_end_say_whether_the_linkage_assembles():
+    # The triple-rocker (a, b, c, d = 0.3, 0.35, 0.3, 0.4) rocks between +-135.95 deg: over a
+    # full turn from 0, rows where |BD| <= b + c that the branch does not reach are
+    # `other-branch`, the rows where it does not assemble `unassemblable` (geometry here).
+    m = mechgen.mechanisms()["rocker_four_bar"]
+    for cols in [m.sweep(), {k: v[0] for k, v in m.batch({"l1": [m.params["l1"]]}).items()}]:
+        x = cols["q1"]
+        reach = np.hypot(0.3 * np.cos(x) - 0.4, 0.3 * np.sin(x)) <= 0.65
+        status = cols["status"]
+        assert set(status[~reach]) == {"unassemblable"}
+        assert set(status[reach]) == {"ok", "other-branch"}

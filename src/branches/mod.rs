@@ -27,6 +27,36 @@ use trace::{Interval, Traced};
 /// The configurations at an input and the closed-form blocks' margins met on the way.
 type Solved = (Vec<Vec<f64>>, Vec<f64>);
 
+/// Where a mechanism assembles, for sweeps on any thread: a [`Setup`] kept as a template, each
+/// sweep (each param set) taking its own copy with its params ([`Assembly::with_params`]) when it
+/// first meets a row past the dead point that ends its branch.
+pub struct Assembly(std::sync::Mutex<Setup>);
+
+impl Assembly {
+    /// Mechanism `c` along input `index` (the file's params).
+    pub fn new(c: &Compiled, index: usize) -> Option<Assembly> {
+        Setup::new(c, index)
+            .ok()
+            .map(|s| Assembly(std::sync::Mutex::new(s)))
+    }
+
+    /// Mechanism `name` of the file text `text` (named `file` in messages) along input `index`;
+    /// `None` where the file does not analyse.
+    pub fn from_text(file: &str, text: &str, name: &str, index: usize) -> Option<Assembly> {
+        let source = mechgen_codegen::SourceFile::new(file, text);
+        let (compiled, _) = mechgen_codegen::analyze(&source);
+        let c = compiled.iter().find(|c| c.model.name.text == name)?;
+        Assembly::new(c, index)
+    }
+
+    /// A copy with the base params `params` (in `MechanismInfo::params` order); `None` for a
+    /// wrong count.
+    pub fn with_params(&self, params: &[f64]) -> Option<Setup> {
+        let mut s = self.0.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        s.set_params(params).then_some(s)
+    }
+}
+
 /// A mechanism prepared for branch identification along one input (the others held).
 #[derive(Clone, Debug)]
 pub struct Setup {
@@ -144,6 +174,25 @@ impl Setup {
             unknown_names: m.unknowns.iter().map(|u| u.name.text.clone()).collect(),
             cache: RefCell::default(),
         })
+    }
+
+    /// Whether the linkage assembles at the inputs `x` (every input, radians or file units): one
+    /// configuration at least (a mode combination that leaves a block degenerate does not count).
+    /// What a sweep asks for the rows past the dead point that ended its branch
+    /// ([`crate::sweep::sweep_each_with`]).
+    pub fn assembles(&self, x: &[f64]) -> bool {
+        x.len() == self.inputs.len() && self.solver.configurations(x).is_ok_and(|qs| !qs.is_empty())
+    }
+
+    /// The same mechanism with the base params `values` (in the file's order, as
+    /// `MechanismInfo::params`); false (nothing changed) for a wrong count.
+    pub fn set_params(&mut self, values: &[f64]) -> bool {
+        if values.len() != self.solver.params.len() {
+            return false;
+        }
+        self.solver.params.copy_from_slice(values);
+        self.cache.borrow_mut().clear();
+        true
     }
 
     /// Every assembly configuration at input value `x` (radians or file units).

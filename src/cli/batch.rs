@@ -5,7 +5,7 @@
 use std::io::{IsTerminal as _, Write as _};
 
 use mechgen::batch::{ParamSets, SetSummary, for_each_ordered, solver_with_params};
-use mechgen::sweep::{Continuation, check_start, sweep_each};
+use mechgen::sweep::{Continuation, check_start, sweep_each_with};
 use mechgen::{DynMechanism, report};
 
 use super::args::{BatchArgs, Engine};
@@ -84,17 +84,37 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
     };
     let want_rows = args.csv.is_some();
     // One set: its CSV rows (when asked for) and its summary.
+    // The file's analysis, for the rows past the dead point that ends a set's branch (made for a
+    // set when it first has one: `other-branch` where the linkage assembles all the same).
+    let compiled = super::branches::compile(file).ok();
+    let analysed = compiled
+        .as_ref()
+        .and_then(|cs| cs.iter().find(|c| c.model.name.text == s.name))
+        .and_then(|c| mechgen::branches::Assembly::new(c, plan.index));
     let solve = |set: usize| -> (Vec<u8>, SetSummary) {
         let k = engine(set);
         let mut rows = Vec::new();
         let mut summary = SetSummary::new(&info);
-        sweep_each(
+        let setup = std::cell::OnceCell::new();
+        let assembles = |x: &[f64]| {
+            setup
+                .get_or_init(|| {
+                    let params = sets.params_of(set, &indices, &info);
+                    analysed.as_ref()?.with_params(&params)
+                })
+                .as_ref()
+                .is_some_and(|setup| setup.assembles(x))
+        };
+        let oracle: Option<mechgen::sweep::Assembles<'_>> =
+            analysed.is_some().then_some(&assembles);
+        sweep_each_with(
             k.as_ref(),
             plan.index,
             &plan.values,
             s.rate,
             &plan.held,
             &continuation,
+            oracle,
             &mut |r| {
                 summary.add(&r);
                 if want_rows {

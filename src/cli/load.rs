@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use mechgen::generic::Generic;
-use mechgen::sweep::{Continuation, Row, RowRef, check_start, sweep_each, sweep_holding};
+use mechgen::sweep::{Assembles, Continuation, Row, RowRef, check_start, sweep_each_with};
 use mechgen::{DynMechanism, MechanismInfo, report};
 use mechgen_codegen::diagnostic::{Diagnostic, Severity, SourceFile, render};
 
@@ -152,11 +152,44 @@ pub(super) fn run_plan(
     plan: Plan,
     rate: f64,
 ) -> Result<Swept, String> {
+    run_plan_with(k, info, plan, rate, None)
+}
+
+/// [`run_plan`] told where the linkage assembles (see [`sweep_each_with`]).
+pub(super) fn run_plan_with(
+    k: &dyn DynMechanism<f64>,
+    info: &MechanismInfo,
+    plan: Plan,
+    rate: f64,
+    assembles: Option<Assembles<'_>>,
+) -> Result<Swept, String> {
     check_start(info).map_err(|e| format!("{}: {e}", info.name))?;
     let kind = info.inputs[plan.index].kind;
     let continuation = Continuation::for_input(kind, plan.span);
-    let rows = sweep_holding(k, plan.index, &plan.values, rate, &plan.held, &continuation);
+    let mut rows = Vec::with_capacity(plan.values.len());
+    sweep_each_with(
+        k,
+        plan.index,
+        &plan.values,
+        rate,
+        &plan.held,
+        &continuation,
+        assembles,
+        &mut |r| rows.push(r.to_row()),
+    );
     Ok(Swept { plan, rate, rows })
+}
+
+/// The branch analysis of mechanism `name` along input `index` (the file's params), to tell a
+/// sweep where the linkage assembles; `None` where the file cannot be analysed.
+pub(super) fn assembly(
+    file: Option<&std::path::Path>,
+    name: &str,
+    index: usize,
+) -> Option<mechgen::branches::Setup> {
+    let compiled = super::branches::compile(file).ok()?;
+    let c = compiled.iter().find(|c| c.model.name.text == name)?;
+    mechgen::branches::Setup::new(c, index).ok()
 }
 
 /// Rows kept of a streamed sweep for what reads rows afterwards (plots, the branch note): at
@@ -172,6 +205,7 @@ pub(super) fn stream_plan(
     info: &MechanismInfo,
     plan: Plan,
     rate: f64,
+    assembles: Option<Assembles<'_>>,
     each: &mut dyn FnMut(&RowRef<'_>),
 ) -> Result<Swept, String> {
     check_start(info).map_err(|e| format!("{}: {e}", info.name))?;
@@ -185,13 +219,14 @@ pub(super) fn stream_plan(
     let mut pending = false;
     let mut last_status: Option<&'static str> = None;
     let mut i = 0;
-    sweep_each(
+    sweep_each_with(
         k,
         plan.index,
         &plan.values,
         rate,
         &plan.held,
         &continuation,
+        assembles,
         &mut |r| {
             each(&r);
             let status = r.status();

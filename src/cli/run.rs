@@ -8,7 +8,7 @@ use std::path::Path;
 use mechgen::{CoordDesc, Kind, MechanismInfo, design, report};
 
 use super::args::{MainArgs, SweepArgs};
-use super::load::{Loaded, run_plan, select, stream_plan, table_preamble, write_plots};
+use super::load::{Loaded, run_plan_with, select, stream_plan, table_preamble, write_plots};
 use mechgen::sweep::plan::{Range, plan};
 
 /// `mechgen sweep NAME [options]`.
@@ -76,31 +76,43 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
     let mut csv_error: Option<std::io::Error> = None;
     let (mut line, mut row): (Vec<u8>, Vec<u8>) = (Vec::new(), Vec::new());
     let (index, rate) = (plan.index, args.rate);
-    let swept = stream_plan(sel.solver.as_ref(), &info, plan, args.rate, &mut |r| {
-        // A closed stdout (`mechgen sweep … | head`) ends the table, not the sweep or its CSV.
-        let effort = match (&r.result, loads.is_empty()) {
-            (Ok(s), false) => design::input_effort(s, &loads, rate).filter(|e| e.is_finite()),
-            _ => None,
-        };
-        row.clear();
-        report::table_row(&mut row, &info, index, width, r);
-        if let Some(e) = effort {
-            row.pop();
-            report::push_significant(&mut row, e, width);
-            row.push(b'\n');
-        }
-        let _ = table.write_all(&row);
-        if let Some((_, w)) = &mut csv
-            && csv_error.is_none()
-        {
-            line.clear();
-            report::csv_row(&mut line, &info, r);
-            if !loads.is_empty() {
-                with_column_bytes(&mut line, effort);
+    // Rows past the dead point that ends the branch: `other-branch` where the linkage assembles
+    // all the same (the branch analysis at the row's inputs), else `unassemblable`.
+    let setup = super::load::assembly(file, &args.name, plan.index);
+    let assembles = |x: &[f64]| setup.as_ref().is_some_and(|s| s.assembles(x));
+    let oracle: Option<mechgen::sweep::Assembles<'_>> = setup.is_some().then_some(&assembles);
+    let swept = stream_plan(
+        sel.solver.as_ref(),
+        &info,
+        plan,
+        args.rate,
+        oracle,
+        &mut |r| {
+            // A closed stdout (`mechgen sweep … | head`) ends the table, not the sweep or its CSV.
+            let effort = match (&r.result, loads.is_empty()) {
+                (Ok(s), false) => design::input_effort(s, &loads, rate).filter(|e| e.is_finite()),
+                _ => None,
+            };
+            row.clear();
+            report::table_row(&mut row, &info, index, width, r);
+            if let Some(e) = effort {
+                row.pop();
+                report::push_significant(&mut row, e, width);
+                row.push(b'\n');
             }
-            csv_error = w.write_all(&line).err();
-        }
-    })?;
+            let _ = table.write_all(&row);
+            if let Some((_, w)) = &mut csv
+                && csv_error.is_none()
+            {
+                line.clear();
+                report::csv_row(&mut line, &info, r);
+                if !loads.is_empty() {
+                    with_column_bytes(&mut line, effort);
+                }
+                csv_error = w.write_all(&line).err();
+            }
+        },
+    )?;
     let _ = table.flush();
     drop(table);
     if let Some((path, mut w)) = csv
@@ -274,7 +286,10 @@ fn main_job_one(
     let info = sel.solver.info();
     let range = main_job_range(&info, file);
     let plan = plan(&info, None, &[], range)?;
-    let swept = run_plan(sel.solver.as_ref(), &info, plan, 1.0)?;
+    let setup = super::load::assembly(file, name, plan.index);
+    let assembles = |x: &[f64]| setup.as_ref().is_some_and(|s| s.assembles(x));
+    let oracle: Option<mechgen::sweep::Assembles<'_>> = setup.is_some().then_some(&assembles);
+    let swept = run_plan_with(sel.solver.as_ref(), &info, plan, 1.0, oracle)?;
     say!("{} — {}", info.name, info.description);
     say!("{}", swept.table(&info));
     let lengths = (range.from.unwrap_or(-1.0), range.to.unwrap_or(1.0));

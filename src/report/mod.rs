@@ -71,6 +71,7 @@ pub fn status(r: &RowRef<'_>) -> &'static str {
 pub const STATUSES: &[&str] = &[
     "ok",
     "unassemblable",
+    "other-branch",
     "singular",
     "no-convergence",
     "non-finite-input",
@@ -271,6 +272,12 @@ pub fn table_row(
             };
             let status = r.status();
             let _ = match r.stopped {
+                Some(s) if r.dead_point().is_some() && s.assembles == Some(true) => write!(
+                    out,
+                    "  {status}: the linkage assembles here, on another branch; the branch followed ends at the dead point near {} (cond {:.1e})",
+                    at(s.input),
+                    s.condition
+                ),
                 Some(s) if r.dead_point().is_some() => write!(
                     out,
                     "  {status}: dead point near {} (cond {:.1e}), the branch cannot be continued past it",

@@ -147,8 +147,20 @@ impl<S> Row<S> {
     }
 
     /// The CSV status: `ok`, the solver error's status, or `substep-limit` (the continuation used
-    /// up its substeps before reaching the row) or `unusable-start`.
+    /// up its substeps before reaching the row) or `unusable-start`; past the dead point that
+    /// ended the branch, where the sweep could tell, `other-branch` (the linkage assembles at the
+    /// row's input, on another branch) or `unassemblable` (it does not).
     pub fn status(&self) -> &'static str {
+        if self.result.is_err()
+            && let Some(s) = self.dead_point()
+            && let Some(assembles) = s.assembles
+        {
+            return if assembles {
+                "other-branch"
+            } else {
+                "unassemblable"
+            };
+        }
         match (&self.result, self.stopped.map(|s| s.reason)) {
             (Ok(_), _) => "ok",
             (Err(_), Some(StopReason::SubstepLimit)) => "substep-limit",
@@ -172,6 +184,10 @@ pub struct Stopped {
     pub condition: f64,
     /// Why it stopped there.
     pub reason: StopReason,
+    /// For a row past the dead point that ended its branch: whether the linkage assembles at the
+    /// row's input all the same (on another branch), where the sweep was given a way to tell
+    /// ([`sweep_each_with`]); `None` where it was not.
+    pub assembles: Option<bool>,
 }
 
 impl Stopped {
@@ -278,4 +294,7 @@ pub fn sweep_budget(rows: usize) -> usize {
 mod rows;
 mod walker;
 
-pub use rows::{SEGMENT, nearest_row, sweep, sweep_each, sweep_holding};
+pub use rows::{SEGMENT, nearest_row, sweep, sweep_each, sweep_each_with, sweep_holding};
+
+/// Whether the linkage assembles at the inputs given (every input, in sweep units).
+pub type Assembles<'a> = &'a dyn Fn(&[f64]) -> bool;

@@ -4,8 +4,8 @@
 
 use super::walker::Walker;
 use super::{
-    Continuation, Row, RowRef, Solved, StopReason, Stopped, check_start, continue_within,
-    nearest_turn, sweep_budget,
+    Assembles, Continuation, Row, RowRef, Solved, StopReason, Stopped, check_start,
+    continue_within, nearest_turn, sweep_budget,
 };
 use mechgen_runtime::error::SolveError;
 use mechgen_runtime::{DynMechanism, Kind, MechanismInfo, PointMotion};
@@ -68,6 +68,24 @@ pub fn sweep_each(
     rate: f64,
     held: &[(usize, f64)],
     c: &Continuation,
+    emit: &mut dyn FnMut(RowRef<'_>),
+) {
+    sweep_each_with(k, index, values, rate, held, c, None, emit);
+}
+
+/// [`sweep_each`] told whether the linkage assembles at given inputs (all of them, the held
+/// ones at their values; e.g. by the branch analysis, [`crate::branches::Setup::assembles`]): a
+/// row past the dead point that ended the followed branch is then `other-branch` where it does
+/// and `unassemblable` where it does not ([`Stopped::assembles`]). Asked only for such rows.
+#[allow(clippy::too_many_arguments)]
+pub fn sweep_each_with(
+    k: &dyn DynMechanism<f64>,
+    index: usize,
+    values: &[f64],
+    rate: f64,
+    held: &[(usize, f64)],
+    c: &Continuation,
+    assembles: Option<Assembles<'_>>,
     emit: &mut dyn FnMut(RowRef<'_>),
 ) {
     let info: MechanismInfo = k.info();
@@ -134,7 +152,7 @@ pub fn sweep_each(
     if info.inputs[index].kind == Kind::Angle {
         x[index] = nearest_turn(x[index], values[nearest]);
     }
-    let mut w = match Walker::new(k, &info, index, rate, c, (x, q, allowance)) {
+    let mut w = match Walker::new(k, &info, index, rate, c, (x, q, allowance), assembles) {
         Ok(w) => w,
         Err(error) => return fail_all(error, stopped(0.0, f64::INFINITY, StopReason::Solver)),
     };
@@ -318,6 +336,7 @@ fn stopped(input: f64, condition: f64, reason: StopReason) -> Stopped {
         input,
         condition,
         reason,
+        assembles: None,
     }
 }
 

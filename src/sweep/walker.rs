@@ -7,7 +7,7 @@
 //! [`crate::sweep`].
 
 use super::continuation::largest_substep;
-use super::{Continuation, Follower, SolvedRef, Stop, StopReason, Stopped};
+use super::{Assembles, Continuation, Follower, SolvedRef, Stop, StopReason, Stopped};
 use mechgen_runtime::error::SolveError;
 use mechgen_runtime::{DynMechanism, DynTick, InputMotion, MechanismInfo, PointMotion};
 
@@ -45,6 +45,12 @@ pub(super) struct Walker<'k> {
     settled: Vec<f64>,
     /// What [`Walker::failure`] reports.
     failure: (SolveError, Stopped),
+    /// Asked, for a row past a dead point, whether the linkage assembles there; with the inputs
+    /// it is asked at.
+    assembles: Option<Assembles<'k>>,
+    probe: Vec<f64>,
+    /// The swept input's value at the start of the walk.
+    origin: f64,
 }
 
 /// Where a walk stands, to walk again from there later (a checkpoint).
@@ -65,8 +71,10 @@ impl<'k> Walker<'k> {
         rate: f64,
         c: &'k Continuation,
         (x, q, allowance): (Vec<f64>, Vec<f64>, usize),
+        assembles: Option<Assembles<'k>>,
     ) -> Result<Walker<'k>, SolveError> {
         let follower = Follower::new(info, index, x.len())?;
+        let origin = x.get(index).copied().unwrap_or(f64::NAN);
         let (ni, nu) = (x.len(), q.len());
         let mut xd = vec![0.0; ni];
         xd[index] = if rate == 0.0 { 1.0 } else { rate };
@@ -102,8 +110,12 @@ impl<'k> Walker<'k> {
                     input: 0.0,
                     condition: f64::INFINITY,
                     reason: StopReason::Solver,
+                    assembles: None,
                 },
             ),
+            probe: vec![0.0; ni],
+            assembles,
+            origin,
         })
     }
 
@@ -165,8 +177,22 @@ impl<'k> Walker<'k> {
     pub(super) fn solve(&mut self, target: f64) -> bool {
         match self.solve_row(target) {
             Ok(()) => true,
-            Err(failure) => {
-                self.failure = failure;
+            Err((error, mut stopped)) => {
+                // A branch that ended at a dead point after it left the start (not a start that
+                // does not assemble, not a non-finite value).
+                if let Some(assembles) = self.assembles
+                    && stopped.at_dead_point()
+                    && stopped.input != self.origin
+                    && matches!(
+                        error,
+                        SolveError::Unassemblable { .. } | SolveError::Singular { .. }
+                    )
+                {
+                    self.probe.copy_from_slice(&self.x);
+                    self.probe[self.index] = target;
+                    stopped.assembles = Some(assembles(&self.probe));
+                }
+                self.failure = (error, stopped);
                 false
             }
         }
@@ -305,6 +331,7 @@ impl<'k> Walker<'k> {
             input: self.x[i],
             condition: self.condition_here(),
             reason: stop.reason,
+            assembles: None,
         };
         if stopped.at_dead_point() {
             self.dead = Some((stop.error, stopped, (target - stopped.input).signum()));

@@ -414,7 +414,11 @@ fn the_sweep_starts_at_the_row_nearest_the_start_and_goes_both_ways() {
             // Past the branch's dead points: the other circuit of `mechgen branches sixbar_g`
             // (q6 from 40.93° to 176.19°) assembles; nothing else does.
             let other = (40.94..176.19).contains(&input);
-            let want = if other { "other-branch" } else { "unassemblable" };
+            let want = if other {
+                "other-branch"
+            } else {
+                "unassemblable"
+            };
             assert_eq!(status, want, "q6 = {input} deg: {line}");
         }
     }

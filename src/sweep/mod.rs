@@ -291,6 +291,7 @@ pub fn sweep_budget(rows: usize) -> usize {
         .saturating_add(SWEEP_RESERVE)
 }
 
+mod crossing;
 mod rows;
 mod walker;
 

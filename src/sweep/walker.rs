@@ -7,6 +7,7 @@
 //! [`crate::sweep`].
 
 use super::continuation::largest_substep;
+use super::crossing::{Between, Node};
 use super::{Assembles, Continuation, Follower, SolvedRef, Stop, StopReason, Stopped};
 use mechgen_runtime::error::SolveError;
 use mechgen_runtime::{DynMechanism, DynTick, InputMotion, MechanismInfo, PointMotion};
@@ -51,6 +52,13 @@ pub(super) struct Walker<'k> {
     probe: Vec<f64>,
     /// The swept input's value at the start of the walk.
     origin: f64,
+    /// The last row lay on a crossing: its state is `between` (interpolated along the branch),
+    /// the walk stands past the crossing.
+    at_crossing: bool,
+    between: Between,
+    /// The walk's inputs and unknowns before its last continuation.
+    from_x: Vec<f64>,
+    from_q: Vec<f64>,
 }
 
 /// Where a walk stands, to walk again from there later (a checkpoint).
@@ -116,6 +124,10 @@ impl<'k> Walker<'k> {
             probe: vec![0.0; ni],
             assembles,
             origin,
+            at_crossing: false,
+            between: Between::default(),
+            from_x: vec![0.0; ni],
+            from_q: vec![0.0; nu],
         })
     }
 
@@ -175,6 +187,7 @@ impl<'k> Walker<'k> {
     /// The row at input `target`: the branch followed to it, then its rates and points. False
     /// when it fails ([`Walker::failure`] says how).
     pub(super) fn solve(&mut self, target: f64) -> bool {
+        self.at_crossing = false;
         match self.solve_row(target) {
             Ok(()) => true,
             Err((error, mut stopped)) => {
@@ -220,6 +233,30 @@ impl<'k> Walker<'k> {
     /// rest) and the condition estimate of its position solve.
     #[inline]
     pub(super) fn solved(&mut self) -> Option<SolvedRef<'_>> {
+        if self.at_crossing {
+            let b = &self.between;
+            return Some(match &mut self.at_rest {
+                None => SolvedRef {
+                    q: &b.q,
+                    qd: &b.qd,
+                    qdd: &b.qdd,
+                    points: &b.points,
+                    condition: f64::INFINITY,
+                },
+                Some((zeros, points)) => {
+                    for (p, t) in points.iter_mut().zip(&b.points) {
+                        p.position = t.position;
+                    }
+                    SolvedRef {
+                        q: &b.q,
+                        qd: zeros,
+                        qdd: zeros,
+                        points,
+                        condition: f64::INFINITY,
+                    }
+                }
+            });
+        }
         let s = self.ticker.state()?;
         let condition = s.report.condition();
         Some(match &mut self.at_rest {
@@ -306,6 +343,9 @@ impl<'k> Walker<'k> {
     fn continue_to(&mut self, target: f64) -> Outcome {
         self.sync();
         let i = self.index;
+        // Where the walk stood (on the branch), should it meet a crossing on the way.
+        self.from_x.copy_from_slice(&self.x);
+        self.from_q.copy_from_slice(&self.q);
         let result = self.follower.continue_within(
             self.k,
             &mut self.x,
@@ -333,10 +373,98 @@ impl<'k> Walker<'k> {
             reason: stop.reason,
             assembles: None,
         };
+        // A singular point on the way (the position solve's condition, or a singular rate
+        // solve where the positions solved): the branch may go on past it.
+        let singular = stopped.at_dead_point() || matches!(stop.error, SolveError::Singular { .. });
+        if singular && self.cross(target) {
+            return Ok(());
+        }
         if stopped.at_dead_point() {
             self.dead = Some((stop.error, stopped, (target - stopped.input).signum()));
         }
         Err((stop.error, stopped))
+    }
+
+    /// The walk stopped at a singular point on its way from `from` to `target`: where the branch
+    /// goes on past it (a crossing, not a dead point, which the branch cannot pass), the row at
+    /// `target` on it (solved where it lies past the crossing, else interpolated along the branch
+    /// from states at `target ± h`, `± 2h`: [`Between`]) and the walk standing past the crossing.
+    /// False (the walk where it stopped) at a dead point.
+    fn cross(&mut self, target: f64) -> bool {
+        let i = self.index;
+        let from = self.from_x[i];
+        if target == from || !target.is_finite() {
+            return false;
+        }
+        let d = (target - from).signum();
+        let h = self.h_max / 2.0;
+        // Where the walk stopped (the singular point), and the state it left on the branch.
+        let xs = self.x.clone();
+        let (mut x, mut q) = (self.from_x.clone(), self.from_q.clone());
+        let go = |walker: &mut Self, x: &mut Vec<f64>, q: &mut Vec<f64>, to: f64| {
+            walker
+                .follower
+                .continue_within(walker.k, x, q, to, walker.c, &mut walker.allowance)
+                .is_ok()
+        };
+        // To a regular point before it, then past it in one substep along the branch's tangent
+        // there (a dead point has no branch past it), then on past the row.
+        let at = xs[i];
+        if !go(self, &mut x, &mut q, at - d * h) {
+            return false;
+        }
+        let before = (x.clone(), q.clone());
+        if !go(self, &mut x, &mut q, at + d * h) || !go(self, &mut x, &mut q, target + 2.0 * d * h)
+        {
+            return false;
+        }
+        let beyond = (x.clone(), q.clone());
+        // The row itself, reached back from beyond and solved there when it lies past the
+        // crossing.
+        if go(self, &mut x, &mut q, target) {
+            (self.x, self.q) = (x, q);
+            self.synced = true;
+            if self.restart().is_ok() {
+                return true;
+            }
+        }
+        // On the crossing: four states on the branch, two on each side.
+        let mut nodes: [Node; 4] = Default::default();
+        for (k, t) in [-2.0, -1.0, 1.0, 2.0].into_iter().enumerate() {
+            // Past the crossing from `beyond`, before it from where the walk stopped.
+            let (mut x, mut q) = if t * d > 0.0 {
+                beyond.clone()
+            } else {
+                before.clone()
+            };
+            if !go(self, &mut x, &mut q, target + t * h) {
+                return false;
+            }
+            let input = InputMotion::new(&x[..], &self.xd[..], &self.xdd[..]);
+            if self.ticker.start(input, &q, &self.c.options).is_err() {
+                return false;
+            }
+            let Some(s) = self.ticker.state() else {
+                return false;
+            };
+            nodes[k] = Node {
+                q: s.q.to_vec(),
+                qd: s.qd.to_vec(),
+                qdd: s.qdd.to_vec(),
+                points: s.points.to_vec(),
+            };
+        }
+        self.between.fill(&nodes, h, self.xd[i]);
+        // The walk goes on from the state past the crossing nearest the row.
+        let next = usize::from(d > 0.0) + 1;
+        (self.x, self.q) = (xs, nodes[next].q.clone());
+        self.x[i] = target + if d > 0.0 { h } else { -h };
+        self.synced = true;
+        if self.restart().is_err() {
+            return false;
+        }
+        self.at_crossing = true;
+        true
     }
 
     /// Condition estimate at the walk's (converged) state; infinite when the solve fails there.

@@ -15,4 +15,7 @@ fn main() {
     mechgen_codegen::Config::new()
         .out_file("unread.rs")
         .compile("unread.toml");
+    mechgen_codegen::Config::new()
+        .out_file("crossings.rs")
+        .compile("crossings.toml");
 }

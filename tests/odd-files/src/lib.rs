@@ -29,3 +29,9 @@ pub mod closed {
 pub mod unread {
     ::mechgen::include_mechanisms!("unread.rs");
 }
+
+/// `crossings.toml`: linkages whose branches cross (a parallelogram, a kite, an isosceles
+/// slider-crank), swept through their crossings in `tests/crossings.rs`.
+pub mod crossings {
+    ::mechgen::include_mechanisms!("crossings.rs");
+}

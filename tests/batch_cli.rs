@@ -339,3 +339,33 @@ fn a_non_finite_value_fails_its_set_only() {
         assert_eq!(rows.lines().count(), 1 + 4 * 7);
     }
 }
+
+/// A batch too large to write is refused before anything is solved or written, naming its size;
+/// the same batch without `--csv` starts, saying its size first.
+#[test]
+fn a_batch_too_large_for_its_csv_is_refused_naming_its_size() {
+    let sets = temp("batch", "thirty.csv");
+    let body: String = std::iter::once("l1\n".to_string())
+        .chain((0..30).map(|_| "0.1\n".to_string()))
+        .collect();
+    std::fs::write(&sets, body).unwrap();
+    let csv = temp("batch", "too-large.csv");
+    let _ = std::fs::remove_file(&csv);
+    let out = mechgen(&[
+        "batch",
+        "four_bar",
+        "--params",
+        sets.to_str().unwrap(),
+        "--step",
+        "1e-4",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("30 set(s) × 3600001 rows = 108000030 rows") && err.contains("--summary"),
+        "{err}"
+    );
+    assert!(!csv.exists(), "nothing written");
+}

@@ -77,6 +77,9 @@ fixtures! {
     toml_cascade: Error(None),
     params_only_function: Error(Some("atan2")),
     many_errors: Error(Some("q3")),
+    param_degrees: Warning("gam"),
+    missing_bracket: Error(None),
+    singular_start: Warning("rocker"),
 }
 
 fn relative(name: &str) -> String {

@@ -30,6 +30,7 @@ fn analyze_mechanism(model: Model, diags: &mut Vec<Diagnostic>) -> Option<Compil
     let derivatives = differentiate::differentiate(&mut system, ni, nu, model.params.len());
     let before = diags.len();
     lints::usage(&model, &system, diags);
+    lints::degrees(&model, diags);
     let blocks = match analysis::blocks(&derivatives, &system.dag, nu) {
         Ok(blocks) => blocks,
         Err(e) => {
@@ -53,6 +54,7 @@ fn analyze_mechanism(model: Model, diags: &mut Vec<Diagnostic>) -> Option<Compil
     if failed {
         return None;
     }
+    diags.extend(start::singular(&model, &system, &derivatives));
     let blocks = plan::block_forms(&mut system, &model, &derivatives, &blocks);
     // Planning folds constants too.
     if let Some(d) = lints::overflow(&model, &system) {

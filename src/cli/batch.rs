@@ -47,6 +47,11 @@ impl Out {
 }
 
 /// `mechgen batch NAME --params SETS.csv [options]`.
+/// Rows (sets × rows per set) a batch writes to `--csv` at most.
+const MAX_CSV_ROWS: usize = 100_000_000;
+/// Rows from which a batch says its size before it starts.
+const LONG_BATCH: usize = 10_000_000;
+
 pub fn run(args: &BatchArgs) -> Result<(), String> {
     let s = &args.sweep;
     let file = s.file.as_deref();
@@ -75,6 +80,24 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
         step: s.step,
     };
     let plan = plan(&info, s.input.as_deref(), &s.set, range)?;
+    // Sets × rows, checked before anything is solved or written: a CSV beyond MAX_CSV_ROWS would
+    // fill a disk (about 200 bytes a row), and a long batch says how long it is.
+    let total = sets.sets.len().saturating_mul(plan.values.len());
+    if args.csv.is_some() && total > MAX_CSV_ROWS {
+        return Err(format!(
+            "{} set(s) × {} rows = {total} rows: a CSV of about {:.0} GB; --csv writes at most {MAX_CSV_ROWS} rows (ask for --summary only, or fewer sets, or a larger --step)",
+            sets.sets.len(),
+            plan.values.len(),
+            total as f64 * 200e-9
+        ));
+    }
+    if total > LONG_BATCH {
+        tell!(
+            "mechgen: {} set(s) × {} rows = {total} rows to solve (at some 100 ns a row per core)",
+            sets.sets.len(),
+            plan.values.len()
+        );
+    }
     check_start(&info).map_err(|e| format!("{}: {e}", info.name))?;
     let continuation = Continuation::for_input(info.inputs[plan.index].kind, plan.span);
     let generated = s.engine != Some(Engine::Generic) && file.is_none();

@@ -10,9 +10,10 @@ use toml::de::{DeTable, DeValue};
 use crate::diagnostic::{Diagnostic, SourceFile, Span};
 use crate::front::ast::{Expr, ExprKind, File, Mechanism, Name, Scene};
 
-/// TOML syntax errors reported at most: after the first ones the parser's recovery mostly reports
-/// noise, and each rendering costs the length of its lines.
-pub const MAX_SYNTAX_ERRORS: usize = 20;
+/// TOML syntax errors reported: the first only (in the file's order). After it the parser's
+/// recovery guesses, and what it reports next mostly follows from the first (one missing `]`
+/// gave 59 errors); each rendering also costs the length of its lines.
+pub const MAX_SYNTAX_ERRORS: usize = 1;
 
 /// Most inputs, unknowns, loops, params or points a mechanism may have (variables are numbered
 /// in 16 bits, and no linkage comes near).
@@ -45,14 +46,20 @@ pub fn parse(file: &SourceFile) -> (File, Vec<Diagnostic>) {
         .collect();
     located.sort_by_key(|(span, _)| (span.start, span.end));
     for (span, message) in located.into_iter().take(MAX_SYNTAX_ERRORS) {
-        p.diags.push(Diagnostic::error(
-            span,
-            format!("TOML syntax error: {message}"),
-        ));
+        let mut d = Diagnostic::error(span, format!("TOML syntax error: {message}"));
+        if let Some(line) = unclosed_array_before(&file.text, span.start) {
+            d = d.with_note(format!(
+                "line {line} opens an array with `[` that it does not close: a missing `]` there?"
+            ));
+        }
+        p.diags.push(d);
     }
     if let Some(last) = p.diags.last_mut().filter(|_| more > 0) {
-        last.notes
-            .push(format!("{more} more TOML syntax errors follow (not shown)"));
+        last.notes.push(format!(
+            "{more} more TOML syntax errors follow (not shown): after a syntax error the parser \
+             guesses, and most of what it reports next follows from the first; fix it and check \
+             again"
+        ));
     }
     let mut out = File {
         syntax_errors,
@@ -422,4 +429,40 @@ fn is_identifier(s: &str) -> bool {
 
 fn int_value(i: &toml::de::DeInteger<'_>) -> Option<i64> {
     i64::from_str_radix(&i.as_str().replace('_', ""), i.radix()).ok()
+}
+
+/// The 1-based number of the last non-blank line before `offset` when it opens more arrays
+/// (`[` outside strings, after a `=`) than it closes: the usual cause of a syntax error reported
+/// at the start of the line after it.
+fn unclosed_array_before(text: &str, offset: usize) -> Option<usize> {
+    let before = text.get(..offset)?;
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    // The error is at the start of its line (only blanks before it): look at the line above.
+    if !before[line_start..].trim().is_empty() {
+        return None;
+    }
+    let lines: Vec<&str> = before[..line_start].lines().collect();
+    let (k, line) = lines
+        .iter()
+        .enumerate()
+        .rev()
+        .find(|(_, l)| !l.trim().is_empty())?;
+    let value = line.split_once('=')?.1;
+    // A line that ends open (`key = [`, an element and a comma) goes on below: not a missing `]`.
+    if value.trim_end().ends_with(['[', ',']) {
+        return None;
+    }
+    let (mut depth, mut quoted) = (0i32, None::<char>);
+    for c in value.chars() {
+        match (quoted, c) {
+            (Some(q), c) if c == q => quoted = None,
+            (Some(_), _) => {}
+            (None, '"' | '\'') => quoted = Some(c),
+            (None, '#') => break,
+            (None, '[') => depth += 1,
+            (None, ']') => depth -= 1,
+            _ => {}
+        }
+    }
+    (depth > 0).then_some(k + 1)
 }

@@ -200,6 +200,70 @@ pub fn check(model: &Model, system: &System, derivatives: &Derivatives) -> Optio
     }
 }
 
+/// Condition number (largest over smallest singular value of the Jacobian, length columns scaled
+/// by the length scale) above which a start configuration is singular for the sweeps: a dead point
+/// or a crossing, which they cannot leave in a chosen direction.
+pub const SINGULAR: f64 = 1e6;
+
+/// A warning where the start configuration (the start values, or Newton's from them) is singular.
+pub fn singular(model: &Model, system: &System, derivatives: &Derivatives) -> Option<Diagnostic> {
+    let q: Vec<f64> = match newton_from_start(model, system, derivatives) {
+        Outcome::Closed(_) => model.unknowns.iter().map(|u| u.start).collect(),
+        Outcome::Converged(_, q) => q,
+        Outcome::Failed(..) => return None,
+    };
+    let n = q.len();
+    if n == 0 {
+        return None;
+    }
+    let scale = model
+        .params
+        .iter()
+        .filter(|p| p.kind == Kind::Length)
+        .map(|p| p.value.abs())
+        .fold(0.0, f64::max);
+    let scale = if scale > 0.0 { scale } else { 1.0 };
+    let roots: Vec<_> = derivatives.jacobian.iter().flatten().copied().collect();
+    let var = |v: Var| match v {
+        Var::X(i) => model.inputs.get(i as usize).map_or(0.0, |c| c.start),
+        Var::Q(k) => q.get(k as usize).copied().unwrap_or(0.0),
+        Var::P(i) => model.params.get(i as usize).map_or(0.0, |p| p.value),
+        _ => 0.0,
+    };
+    let values = system.dag.eval(&roots, &var);
+    let j = DMatrix::from_fn(n, n, |i, k| {
+        let d = derivatives.jacobian[i][k];
+        let unit = if model.unknowns[k].kind == Kind::Length {
+            scale
+        } else {
+            1.0
+        };
+        values[d.index()] * unit / scale
+    });
+    if j.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let sv = j.singular_values();
+    let (hi, lo) = (sv.max(), sv.min());
+    let condition = if lo > 0.0 { hi / lo } else { f64::INFINITY };
+    (condition > SINGULAR).then(|| {
+        Diagnostic::warning(
+            model.start_span,
+            format!(
+                "start configuration of `{}` is singular (condition number {condition:.1e}): a \
+                 dead point or a crossing",
+                model.name.text
+            ),
+        )
+        .with_label("the loops' Jacobian is singular here")
+        .with_note(
+            "a sweep cannot choose its branch from here: its rows would read `singular`; start a \
+             little way along the branch instead (`mechgen branches` lists the dead points and \
+             crossings)",
+        )
+    })
+}
+
 /// Angle unknowns that Newton moved by more than [`MOVED_DEGREES`] from their start values
 /// (modulo whole turns), as `` `q2` by 33.1° ``.
 fn moved_angles(model: &Model, converged: &[f64]) -> Vec<String> {

@@ -97,3 +97,11 @@ pub mod branches;
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 pub struct ReadmeDoctests;
+
+#[cfg(doctest)]
+#[doc = include_str!("../docs/rust.md")]
+pub struct RustDocDoctests;
+
+#[cfg(doctest)]
+#[doc = include_str!("../docs/cli.md")]
+pub struct CliDocDoctests;

@@ -1,7 +1,8 @@
-//! The README's Rust code cannot rot (issue 18 item 5): its `rust` and `rust,no_run` blocks are
-//! doctests of the crate (`ReadmeDoctests` in `src/lib.rs`); the one block that needs a crate of
-//! its own (`rust,ignore`: the downstream example's `src/main.rs`) must be that file's text, and
-//! the `build.rs` block must call what the example's `build.rs` calls.
+//! The Rust code of the README and the docs cannot rot: their `rust` and `rust,no_run` blocks are
+//! doctests of the crate (`ReadmeDoctests`, `RustDocDoctests`, `CliDocDoctests` in `src/lib.rs`);
+//! the one block that needs a crate of its own (`rust,ignore`: the downstream example's
+//! `src/main.rs`, in docs/rust.md) must be that file's text, and the `build.rs` block must call
+//! what the example's `build.rs` calls.
 
 fn blocks(readme: &str) -> Vec<(String, String)> {
     let mut out = Vec::new();
@@ -18,7 +19,9 @@ fn blocks(readme: &str) -> Vec<(String, String)> {
 #[test]
 fn every_rust_block_is_compiled() {
     let readme = include_str!("../README.md");
-    let blocks = blocks(readme);
+    let rust = include_str!("../docs/rust.md");
+    let cli = include_str!("../docs/cli.md");
+    let blocks: Vec<(String, String)> = [readme, rust, cli].into_iter().flat_map(blocks).collect();
     assert!(blocks.len() >= 5, "{} rust blocks", blocks.len());
     let main_rs = include_str!("../examples/simulator/src/main.rs");
     let mut ignored = 0;
@@ -41,5 +44,5 @@ fn every_rust_block_is_compiled() {
     assert_eq!(ignored, 1);
     let build_rs = include_str!("../examples/simulator/build.rs");
     assert!(build_rs.contains("mechgen_codegen::compile(\"mechanism.toml\");"));
-    assert!(readme.contains(build_rs.trim_end().lines().nth(1).unwrap()));
+    assert!(rust.contains(build_rs.trim_end().lines().nth(1).unwrap()));
 }

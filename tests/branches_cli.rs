@@ -233,3 +233,41 @@ fn degenerate_modes_are_named_and_the_rest_analysed() {
     assert_eq!(branches.len(), 4, "{s}");
     assert!(branches.iter().all(|l| l.contains(&range)), "{range}\n{s}");
 }
+
+/// The branch CSVs write numbers as the sweep's CSV does (shortest round-trip, an exponent where
+/// shorter): every cell parses back to a finite value and none spells out a run of zeros.
+#[test]
+fn branch_csv_numbers_are_shortest_round_trip() {
+    // The parallelogram's crossings have q2 within rounding of 0 (1.8e-16 and the like).
+    let d = dir("numbers");
+    let file =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/odd-files/crossings.toml");
+    let (f, o) = (file.to_str().unwrap(), d.to_str().unwrap());
+    let out = mechgen(&[
+        "branches",
+        "parallelogram",
+        "--file",
+        f,
+        "--csv",
+        o,
+        "--at",
+        "0",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let crossings = std::fs::read_to_string(d.join("parallelogram-crossings.csv")).unwrap();
+    assert_eq!(crossings.lines().count(), 3, "{crossings}");
+    for name in ["dead-points", "branches", "crossings", "at"] {
+        let path = d.join(format!("parallelogram-{name}.csv"));
+        let Ok(body) = std::fs::read_to_string(&path) else {
+            continue;
+        };
+        for line in body.lines().skip(1) {
+            for cell in line.split(',') {
+                assert!(!cell.contains("00000000"), "{name}: {cell} in {line}");
+                if let Ok(v) = cell.parse::<f64>() {
+                    assert!(v.is_finite(), "{name}: {line}");
+                }
+            }
+        }
+    }
+}

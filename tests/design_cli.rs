@@ -133,7 +133,7 @@ fn input_effort_of_a_slider_crank_is_the_textbook_torque() {
         csv.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
-    assert!(text(&out.stdout).contains("input_effort [force*len/rad]"));
+    assert!(text(&out.stdout).contains("input_effort [force*u/rad]"));
     let table = Table::read(csv.to_str().unwrap());
     let (r, l, f) = (0.1, 0.35, 3.0);
     let (theta, effort) = (table.column("theta"), table.column("input_effort"));

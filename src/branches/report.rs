@@ -136,7 +136,7 @@ impl Setup {
     pub fn dead_points_csv(&self, a: &Analysis) -> String {
         let mut s = format!("input,{},circuit\n", self.unknown_names.join(","));
         for d in &a.dead_points {
-            let _ = writeln!(s, "{},{},{}", d.input, join(&d.q), d.circuit);
+            let _ = writeln!(s, "{},{},{}", num(d.input), join(&d.q), d.circuit);
         }
         s
     }
@@ -146,7 +146,7 @@ impl Setup {
         let mut s = format!("input,{},branches\n", self.unknown_names.join(","));
         for c in &a.crossings {
             let labels: Vec<String> = c.branches.iter().map(usize::to_string).collect();
-            let _ = writeln!(s, "{},{},{}", c.input, join(&c.q), labels.join(";"));
+            let _ = writeln!(s, "{},{},{}", num(c.input), join(&c.q), labels.join(";"));
         }
         s
     }
@@ -158,7 +158,7 @@ impl Setup {
             if b.full_turn {
                 let _ = writeln!(s, "{i},{},,,true", b.circuit);
             } else {
-                let _ = writeln!(s, "{i},{},{},{},false", b.circuit, b.from, b.to);
+                let _ = writeln!(s, "{i},{},{},{},false", b.circuit, num(b.from), num(b.to));
             }
         }
         s
@@ -168,12 +168,27 @@ impl Setup {
     pub fn at_csv(&self, a: &Analysis) -> String {
         let mut s = format!("input,{},circuit,branch\n", self.unknown_names.join(","));
         for c in &a.at {
-            let _ = writeln!(s, "{},{},{},{}", c.input, join(&c.q), c.circuit, c.branch);
+            let _ = writeln!(
+                s,
+                "{},{},{},{}",
+                num(c.input),
+                join(&c.q),
+                c.circuit,
+                c.branch
+            );
         }
         s
     }
 }
 
 fn join(q: &[f64]) -> String {
-    q.iter().map(f64::to_string).collect::<Vec<_>>().join(",")
+    q.iter().map(|&v| num(v)).collect::<Vec<_>>().join(",")
+}
+
+/// A CSV number as the sweep's CSV writes it: shortest round-trip, with an exponent where that is
+/// shorter (`1.8216e-16`, not `0.00000000000000018216`).
+fn num(v: f64) -> String {
+    let mut out = Vec::new();
+    crate::report::push_float(&mut out, v);
+    String::from_utf8(out).unwrap_or_default()
 }

@@ -21,8 +21,10 @@ fn per_unit(kind: Kind) -> f64 {
     }
 }
 
+/// The unit word of a kind in tables: `deg`, or `u` for the file's length unit (as the sweep's
+/// tables write it).
 fn unit(kind: Kind) -> &'static str {
-    if kind == Kind::Angle { "deg" } else { "len" }
+    if kind == Kind::Angle { "deg" } else { "u" }
 }
 
 /// The sweep `options` ask for, every row kept.

@@ -36,7 +36,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
         );
     }
     let effort_unit = match info.inputs[plan.index].kind {
-        Kind::Angle => "force*len/rad",
+        Kind::Angle => "force*u/rad",
         _ => "force",
     };
     // Rows are printed and written as they are solved; only what plots and the branch note read

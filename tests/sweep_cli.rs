@@ -112,6 +112,9 @@ fn two_inputs_one_swept_one_held() {
     let (q2v, q3v) = (t.column("q2_vel"), t.column("q3_vel"));
     assert_eq!(q4.len(), 13);
     let q1 = 60f64.to_radians();
+    // The held input is recorded, after the swept one, on every row.
+    assert_eq!(t.header[1], "q1");
+    assert!(t.column("q1").iter().all(|&v| v == q1), "{:?}", t.column("q1"));
     for i in 0..q4.len() {
         let want = support::fivebar(q1, q4[i]);
         assert!(

@@ -100,6 +100,8 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
     }
     check_start(&info).map_err(|e| format!("{}: {e}", info.name))?;
     let continuation = Continuation::for_input(info.inputs[plan.index].kind, plan.span);
+    // Every input not swept, with its value, in the CSV after the swept one.
+    let held = report::held_inputs(&info, plan.index, &plan.held);
     let generated = s.engine != Some(Engine::Generic) && file.is_none();
     let engine = |set: usize| -> Box<dyn DynMechanism<f64>> {
         let params = sets.params_of(set, &indices, &info);
@@ -142,7 +144,7 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
                 summary.add(&r);
                 if want_rows {
                     let _ = write!(rows, "{set},");
-                    report::csv_row(&mut rows, &info, &r);
+                    report::csv_row_held(&mut rows, &info, &r, &held);
                 }
             },
         );
@@ -151,7 +153,10 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
     let mut csv = match &args.csv {
         Some(p) => Some(Out::create(
             p,
-            &format!("set,{}", report::csv_header_line(&info, plan.index)),
+            &format!(
+                "set,{}",
+                report::csv_header_line_held(&info, plan.index, &held)
+            ),
         )?),
         None => None,
     };

@@ -56,6 +56,8 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
             format!("input_effort [{effort_unit}]")
         );
     }
+    // Every input not swept, with its value, in the CSV after the swept one.
+    let held = report::held_inputs(&info, plan.index, &plan.held);
     let stdout = std::io::stdout();
     let mut table = std::io::BufWriter::with_capacity(super::OUTPUT_BUFFER, stdout.lock());
     let _ = table.write_all(header.as_bytes());
@@ -64,7 +66,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
             let file = std::fs::File::create(path)
                 .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
             let mut w = std::io::BufWriter::with_capacity(super::OUTPUT_BUFFER, file);
-            let mut head = report::csv_header_line(&info, plan.index);
+            let mut head = report::csv_header_line_held(&info, plan.index, &held);
             if !loads.is_empty() {
                 with_column(&mut head, "input_effort");
             }
@@ -105,7 +107,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
                 && csv_error.is_none()
             {
                 line.clear();
-                report::csv_row(&mut line, &info, r);
+                report::csv_row_held(&mut line, &info, r, &held);
                 if !loads.is_empty() {
                     with_column_bytes(&mut line, effort);
                 }

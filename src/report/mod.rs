@@ -45,6 +45,59 @@ pub fn csv_header_line(info: &MechanismInfo, index: usize) -> String {
     out
 }
 
+/// The inputs a sweep of input `index` holds (every other input) with their values: the `--set`
+/// value where one was given, else the start value; what [`csv_header_line_held`] and
+/// [`csv_row_held`] record.
+pub fn held_inputs(info: &MechanismInfo, index: usize, held: &[(usize, f64)]) -> Vec<(usize, f64)> {
+    (0..info.inputs.len())
+        .filter(|&i| i != index)
+        .map(|i| {
+            let v = held
+                .iter()
+                .rev()
+                .find(|h| h.0 == i)
+                .map_or(info.inputs[i].start, |h| h.1);
+            (i, v)
+        })
+        .collect()
+}
+
+/// [`csv_header_line`] with a column for each held input (its name) after the swept input's.
+pub fn csv_header_line_held(info: &MechanismInfo, index: usize, held: &[(usize, f64)]) -> String {
+    let mut h = csv_header(info, index);
+    for (k, &(i, _)) in held.iter().enumerate() {
+        h.insert(1 + k, info.inputs[i].name.clone());
+    }
+    let mut out = h.join(",");
+    out.push('\n');
+    out
+}
+
+/// [`csv_row`] with the held inputs' values (radians or file units) after the swept input's.
+pub fn csv_row_held(
+    out: &mut Vec<u8>,
+    info: &MechanismInfo,
+    r: &RowRef<'_>,
+    held: &[(usize, f64)],
+) {
+    let start = out.len();
+    csv_row(out, info, r);
+    if held.is_empty() {
+        return;
+    }
+    // After the first cell (the swept input).
+    let at = out[start..]
+        .iter()
+        .position(|&b| b == b',')
+        .map_or(out.len(), |p| start + p);
+    let mut cells = Vec::new();
+    for &(_, v) in held {
+        cells.push(b',');
+        push_float(&mut cells, v);
+    }
+    out.splice(at..at, cells);
+}
+
 /// Whether every number of a solved row is finite (a row with one that is not is written as
 /// failed, status `non-finite`: no cell is ever NaN or inf).
 pub fn all_finite(s: &SolvedRef<'_>) -> bool {

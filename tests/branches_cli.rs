@@ -271,3 +271,45 @@ fn branch_csv_numbers_are_shortest_round_trip() {
         }
     }
 }
+
+/// `--input` and `--set` as for `sweep`: the two-input five-bar analysed along q4 with q1 held at
+/// 60° has two full-turn branches, and the sweep of the same along q4 solves every row of a turn
+/// on its start's branch; `--set` of the analysed input and an unknown input are errors naming
+/// them.
+#[test]
+fn input_and_set_choose_the_input_analysed() {
+    let file =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/sweep/fivebar.toml");
+    let f = file.to_str().unwrap();
+    let out = mechgen(&[
+        "branches", "fivebar", "--file", f, "--input", "q4", "--set", "q1=60",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let s = text(&out.stdout);
+    assert!(s.contains("fivebar: branches along q4 over a full turn: 2 circuit(s), 2 branch(es), 0 dead point(s)"), "{s}");
+    let sweep = mechgen(&[
+        "sweep", "fivebar", "--file", f, "--input", "q4", "--set", "q1=60",
+    ]);
+    assert!(sweep.status.success());
+    let rows = text(&sweep.stdout);
+    assert!(
+        !rows.contains("unassemblable") && !rows.contains("other-branch"),
+        "{rows}"
+    );
+    let bad = mechgen(&[
+        "branches", "fivebar", "--file", f, "--input", "q4", "--set", "q4=60",
+    ]);
+    assert!(!bad.status.success());
+    assert!(
+        text(&bad.stderr).contains("`q4` is the input analysed along"),
+        "{}",
+        text(&bad.stderr)
+    );
+    let bad = mechgen(&["branches", "fivebar", "--file", f, "--input", "q9"]);
+    assert!(!bad.status.success());
+    assert!(
+        text(&bad.stderr).contains("has no input `q9` (its inputs: q1, q4)"),
+        "{}",
+        text(&bad.stderr)
+    );
+}

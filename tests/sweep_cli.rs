@@ -114,7 +114,11 @@ fn two_inputs_one_swept_one_held() {
     let q1 = 60f64.to_radians();
     // The held input is recorded, after the swept one, on every row.
     assert_eq!(t.header[1], "q1");
-    assert!(t.column("q1").iter().all(|&v| v == q1), "{:?}", t.column("q1"));
+    assert!(
+        t.column("q1").iter().all(|&v| v == q1),
+        "{:?}",
+        t.column("q1")
+    );
     for i in 0..q4.len() {
         let want = support::fivebar(q1, q4[i]);
         assert!(

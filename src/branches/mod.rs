@@ -184,6 +184,17 @@ impl Setup {
         x.len() == self.inputs.len() && self.solver.configurations(x).is_ok_and(|qs| !qs.is_empty())
     }
 
+    /// Holds input `i` (not the one analysed along) at `value` (radians or file units) instead of
+    /// its start value; false (nothing changed) for the analysed input or one the mechanism lacks.
+    pub fn hold(&mut self, i: usize, value: f64) -> bool {
+        if i == self.input || i >= self.inputs.len() || !value.is_finite() {
+            return false;
+        }
+        self.inputs[i] = value;
+        self.cache.borrow_mut().clear();
+        true
+    }
+
     /// The same mechanism with the base params `values` (in the file's order, as
     /// `MechanismInfo::params`); false (nothing changed) for a wrong count.
     pub fn set_params(&mut self, values: &[f64]) -> bool {

@@ -154,6 +154,13 @@ pub struct BranchesArgs {
     /// An input at which to list every assembly configuration (repeatable).
     #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
     pub at: Vec<f64>,
+    /// Which input to analyse along, for a mechanism with several [default: the first].
+    #[arg(long, value_name = "NAME")]
+    pub input: Option<String>,
+    /// The value of an input held during the analysis (degrees for an angle, file units for a
+    /// length); repeatable; inputs not set stay at their start values.
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = assignment)]
+    pub set: Vec<(String, f64)>,
     /// Write NAME-dead-points.csv, NAME-branches.csv, NAME-at.csv and NAME-crossings.csv into DIR.
     #[arg(long, value_name = "DIR")]
     pub csv: Option<PathBuf>,

@@ -73,15 +73,62 @@ pub(super) fn start_branch(path: Option<&Path>, name: &str) -> Option<(f64, f64)
     (lo <= x0 && x0 <= hi).then_some((lo, hi))
 }
 
-/// The analysis of one mechanism over a range given in the CLI's units (degrees for an angle).
+/// The analysis of one mechanism over a range given in the CLI's units (degrees for an angle),
+/// along its first input, the others at their start values.
 fn analyse(
     c: &Compiled,
     from: Option<f64>,
     to: Option<f64>,
     at: &[f64],
 ) -> Result<(Setup, Analysis), String> {
-    let setup = Setup::new(c, 0)?;
-    let angle = c.model.inputs.first().map(|i| i.kind) == Some(Kind::Angle);
+    analyse_along(c, None, &[], (from, to), at)
+}
+
+/// [`analyse`] along input `input` (default the first), the inputs of `set` held at their values
+/// (degrees for an angle), the others at their start values.
+fn analyse_along(
+    c: &Compiled,
+    input: Option<&str>,
+    set: &[(String, f64)],
+    (from, to): (Option<f64>, Option<f64>),
+    at: &[f64],
+) -> Result<(Setup, Analysis), String> {
+    let m = &c.model;
+    let names = || {
+        m.inputs
+            .iter()
+            .map(|i| i.name.text.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let find = |name: &str| {
+        m.inputs
+            .iter()
+            .position(|i| i.name.text == name)
+            .ok_or_else(|| {
+                format!(
+                    "`{}` has no input `{name}` (its inputs: {})",
+                    m.name.text,
+                    names()
+                )
+            })
+    };
+    let index = input.map_or(Ok(0), find)?;
+    let mut setup = Setup::new(c, index)?;
+    for (name, value) in set {
+        let i = find(name)?;
+        let v = if m.inputs[i].kind == Kind::Angle {
+            value.to_radians()
+        } else {
+            *value
+        };
+        if !setup.hold(i, v) {
+            return Err(format!(
+                "--set {name}=…: `{name}` is the input analysed along (use --from/--to, or --input to analyse along another)"
+            ));
+        }
+    }
+    let angle = m.inputs[index].kind == Kind::Angle;
     let (from, to) = match (angle, from, to) {
         (true, from, to) => {
             let from = from.unwrap_or(0.0);
@@ -156,7 +203,13 @@ pub fn run(args: &BranchesArgs) -> Result<(), String> {
         return Err(format!("no compiled-in mechanism `{}`", args.name));
     }
     let started = std::time::Instant::now();
-    let (setup, analysis) = analyse(c, args.from, args.to, &args.at)?;
+    let (setup, analysis) = analyse_along(
+        c,
+        args.input.as_deref(),
+        &args.set,
+        (args.from, args.to),
+        &args.at,
+    )?;
     let elapsed = started.elapsed();
     say_raw!("{}", setup.summary(&analysis));
     say!("(analysis: {:.1} ms)", elapsed.as_secs_f64() * 1e3);

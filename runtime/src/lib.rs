@@ -7,7 +7,8 @@
 //! A crate that embeds generated solvers depends on this crate alone (with `mechgen-codegen` as a
 //! build-dependency: `mechgen_codegen::compile("mechanism.toml")` in `build.rs`, then
 //! [`include_mechanisms!`]); applications depend on `mechgen`, which re-exports it. This crate
-//! depends on nalgebra, num-traits and wide (SIMD vectors for [`lanes`]) only and is `no_std` (with `alloc` for the owned `MechanismInfo`): the float
+//! depends on nalgebra, num-traits, wide (SIMD vectors for [`lanes`]) and, with `std`, pulp (the
+//! run-time choice of vector instructions, [`simd::dispatch`]) only and is `no_std` (with `alloc` for the owned `MechanismInfo`): the float
 //! functions (`sin`, `cos`, `sqrt`, …) come through num-traits, from std with the default `std`
 //! feature, from libm without it (`--no-default-features`, checked by CI).
 

@@ -15,6 +15,17 @@ use mechgen_runtime::{DynMechanism, DynTick, InputMotion, MechanismInfo, PointMo
 /// A row's outcome: solved (the tick holds it), or its error and where the branch stopped.
 pub(super) type Outcome = Result<(), (SolveError, Stopped)>;
 
+/// Condition estimate of a ticked row's position solve from which the walker checks whether the
+/// row lies on a crossing (rows that close to a dead point have it too, and keep their tick's
+/// state: the branch does not go on past a dead point).
+const CROSSING_CONDITION: f64 = 1e6;
+
+/// Condition estimate of a ticked row's position solve from which the row is solved afresh at
+/// its input (a whole solve from the ticked positions, caches recomputed). Regular rows of the
+/// compiled-in mechanisms are below 1e2 (and keep the tick's state, so that the sweep runs at a
+/// tick's cost).
+const RESOLVE_CONDITION: f64 = 30.0;
+
 /// The state of a sweep between rows and the workspace that moves it.
 pub(super) struct Walker<'k> {
     k: &'k dyn DynMechanism<f64>,
@@ -223,8 +234,36 @@ impl<'k> Walker<'k> {
             }
             self.dead = None;
         }
-        if self.started && self.tick_to(target) {
-            return Ok(());
+        if self.started {
+            // The walk's state before the row, should the row turn out to lie on a crossing.
+            if let Some(s) = self.ticker.state() {
+                self.from_x.copy_from_slice(s.x);
+                self.from_q.copy_from_slice(s.q);
+            }
+            if self.tick_to(target) {
+                let condition = self.ticker.state().map_or(0.0, |s| s.report.condition());
+                if condition >= RESOLVE_CONDITION {
+                    // Near a singular point the tick's rotated sines and cosines and its
+                    // predictor cost digits of the rates (1e-9 relative at 1° from a crossing):
+                    // the row solved afresh there, from the ticked positions.
+                    self.sync();
+                    let _ = self.restart();
+                }
+                // A tick that landed on a crossing solves its positions only to about √ε (the
+                // two assembly modes meet there): the row along the branch instead.
+                let singular = condition >= CROSSING_CONDITION;
+                if singular && self.from_x[self.index] != target {
+                    self.sync();
+                    let (x, q) = (self.x.clone(), self.q.clone());
+                    if !self.cross(target) {
+                        // A dead point (no branch past it): the ticked row stands.
+                        (self.x, self.q) = (x, q);
+                        self.synced = true;
+                        let _ = self.restart();
+                    }
+                }
+                return Ok(());
+            }
         }
         self.continue_to(target)
     }
@@ -420,8 +459,16 @@ impl<'k> Walker<'k> {
         }
         let beyond = (x.clone(), q.clone());
         // The row itself, reached back from beyond and solved there when it lies past the
-        // crossing.
-        if go(self, &mut x, &mut q, target) {
+        // crossing (a regular state: next to it positions are known only to √ε).
+        let reached = self.follower.continue_within(
+            self.k,
+            &mut x,
+            &mut q,
+            target,
+            self.c,
+            &mut self.allowance,
+        );
+        if reached.is_ok_and(|condition| condition < super::DEAD_POINT_CONDITION) {
             (self.x, self.q) = (x, q);
             self.synced = true;
             if self.restart().is_ok() {

@@ -30,8 +30,8 @@ pub mod unread {
     ::mechgen::include_mechanisms!("unread.rs");
 }
 
-/// `crossings.toml`: linkages whose branches cross (a parallelogram, a kite, an isosceles
-/// slider-crank), swept through their crossings in `tests/crossings.rs`.
+/// `crossings.toml`: linkages whose branches cross (a parallelogram, a kite, a deltoid, an
+/// isosceles slider-crank), swept through their crossings in `tests/crossings.rs`.
 pub mod crossings {
     ::mechgen::include_mechanisms!("crossings.rs");
 }

@@ -35,10 +35,14 @@ pub trait DynTick<T: Real> {
     ) -> Result<(), SolveError>;
     /// The state of the last successful start or tick (`None` before one).
     fn state(&self) -> Option<StateRef<'_, T>>;
+    /// The condition estimate of the last successful start's or tick's position solve.
+    fn condition(&self) -> Option<T> {
+        self.state().map(|s| s.report.condition())
+    }
     /// [`DynTick::tick`], checked by `guard` against the prediction over the time `dt`
     /// ([`BranchGuard::keeps`]): `Ok(true)` when it keeps to the branch. When not, `Ok(false)`,
-    /// `before` holds the unknowns before the tick, and the tick's state is the refused one
-    /// (start again from `before` to go on). On error the state is unchanged.
+    /// and the tick's state is the refused one (start again from `before` to go on). Either way
+    /// `before` holds the unknowns before the tick. On error the state is unchanged.
     fn tick_checked(
         &mut self,
         input: InputMotion<&[T]>,

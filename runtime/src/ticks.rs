@@ -68,12 +68,9 @@ impl<T: Real, M: StaticMechanism<T>> DynTick<T> for StaticTick<'_, T, M> {
         let t = self.tick.as_mut().ok_or(SolveError::NotStarted)?;
         let (q, qd, qdd) = (t.q, t.qd, t.qdd);
         self.mechanism.tick(t, &input, options)?;
-        if guard.keeps(q.as_ref(), qd.as_ref(), qdd.as_ref(), dt, t.q.as_ref()) {
-            return Ok(true);
-        }
         len(before, q.as_ref().len())?;
         before.copy_from_slice(q.as_ref());
-        Ok(false)
+        Ok(guard.keeps(q.as_ref(), qd.as_ref(), qdd.as_ref(), dt, t.q.as_ref()))
     }
 
     fn state(&self) -> Option<StateRef<'_, T>> {
@@ -87,6 +84,10 @@ impl<T: Real, M: StaticMechanism<T>> DynTick<T> for StaticTick<'_, T, M> {
             points: t.points.as_ref(),
             report: t.report,
         })
+    }
+
+    fn condition(&self) -> Option<T> {
+        self.tick.as_ref().map(|t| t.report.condition())
     }
 }
 
@@ -196,12 +197,9 @@ impl<T: Real, M: DynMechanism<T> + ?Sized> DynTick<T> for SolveTick<'_, T, M> {
     ) -> Result<bool, SolveError> {
         self.tick(input, options)?;
         let (b, s) = (&self.saved, &self.state);
-        if guard.keeps(&b.q, &b.qd, &b.qdd, dt, &s.q) {
-            return Ok(true);
-        }
         len(before, b.q.len())?;
         before.copy_from_slice(&b.q);
-        Ok(false)
+        Ok(guard.keeps(&b.q, &b.qd, &b.qdd, dt, &s.q))
     }
 
     fn state(&self) -> Option<StateRef<'_, T>> {

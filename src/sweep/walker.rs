@@ -67,9 +67,12 @@ pub(super) struct Walker<'k> {
     /// the walk stands past the crossing.
     at_crossing: bool,
     between: Between,
-    /// The walk's inputs and unknowns before its last continuation.
+    /// The walk's inputs and unknowns before its last continuation (or, for a ticked row that
+    /// lies on a crossing, before its last substep).
     from_x: Vec<f64>,
     from_q: Vec<f64>,
+    /// The swept input before the last substep a tick took.
+    before_x: f64,
 }
 
 /// Where a walk stands, to walk again from there later (a checkpoint).
@@ -139,6 +142,7 @@ impl<'k> Walker<'k> {
             between: Between::default(),
             from_x: vec![0.0; ni],
             from_q: vec![0.0; nu],
+            before_x: f64::NAN,
         })
     }
 
@@ -234,36 +238,34 @@ impl<'k> Walker<'k> {
             }
             self.dead = None;
         }
-        if self.started {
-            // The walk's state before the row, should the row turn out to lie on a crossing.
-            if let Some(s) = self.ticker.state() {
-                self.from_x.copy_from_slice(s.x);
-                self.from_q.copy_from_slice(s.q);
+        if self.started && self.tick_to(target) {
+            let condition = self.ticker.condition().unwrap_or(0.0);
+            if condition >= RESOLVE_CONDITION {
+                // The walk's state before the row's last substep (the tick left its
+                // unknowns in `q`), should the row lie on a crossing.
+                self.from_x.copy_from_slice(&self.x);
+                self.from_x[self.index] = self.before_x;
+                self.from_q.copy_from_slice(&self.q);
+                // Near a singular point the tick's rotated sines and cosines and its
+                // predictor cost digits of the rates (1e-9 relative at 1° from a crossing):
+                // the row solved afresh there, from the ticked positions.
+                self.sync();
+                let _ = self.restart();
             }
-            if self.tick_to(target) {
-                let condition = self.ticker.state().map_or(0.0, |s| s.report.condition());
-                if condition >= RESOLVE_CONDITION {
-                    // Near a singular point the tick's rotated sines and cosines and its
-                    // predictor cost digits of the rates (1e-9 relative at 1° from a crossing):
-                    // the row solved afresh there, from the ticked positions.
-                    self.sync();
+            // A tick that landed on a crossing solves its positions only to about √ε (the
+            // two assembly modes meet there): the row along the branch instead.
+            let singular = condition >= CROSSING_CONDITION;
+            if singular && self.before_x != target {
+                self.sync();
+                let (x, q) = (self.x.clone(), self.q.clone());
+                if !self.cross(target) {
+                    // A dead point (no branch past it): the ticked row stands.
+                    (self.x, self.q) = (x, q);
+                    self.synced = true;
                     let _ = self.restart();
                 }
-                // A tick that landed on a crossing solves its positions only to about √ε (the
-                // two assembly modes meet there): the row along the branch instead.
-                let singular = condition >= CROSSING_CONDITION;
-                if singular && self.from_x[self.index] != target {
-                    self.sync();
-                    let (x, q) = (self.x.clone(), self.q.clone());
-                    if !self.cross(target) {
-                        // A dead point (no branch past it): the ticked row stands.
-                        (self.x, self.q) = (x, q);
-                        self.synced = true;
-                        let _ = self.restart();
-                    }
-                }
-                return Ok(());
             }
+            return Ok(());
         }
         self.continue_to(target)
     }
@@ -354,6 +356,7 @@ impl<'k> Walker<'k> {
             // checked against it: even a closed form, which keeps its guess's side, could step
             // over a narrow window where the linkage does not assemble onto another branch.
             let dt = (xt - x_before) / self.xd[i];
+            self.before_x = x_before;
             let input = InputMotion::new(&self.x[..], &self.xd[..], &self.xdd[..]);
             let guard = self.follower.guard();
             match self

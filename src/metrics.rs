@@ -64,6 +64,9 @@ pub fn rrr_links(c: &Compiled) -> Vec<RrrLinks> {
 /// other inputs at `held`): rows that fail (past a dead point) are left out, so the extremes of an
 /// input that cannot complete a turn lie on its branch, the last solved rows at the latest.
 /// `full_turn`: `values` cover one whole turn of an angle input (for the time ratio).
+/// `dead_ends`: the states (input, unknowns) of the dead points that end the branch just outside
+/// `values` (as [`crate::branches`] finds them), whose outputs are candidates too: an output's
+/// extreme at a dead point is read there, not at the last row before it.
 pub fn metrics(
     k: &dyn DynMechanism<f64>,
     index: usize,
@@ -71,6 +74,7 @@ pub fn metrics(
     held: &[(usize, f64)],
     full_turn: bool,
     rrr: &[RrrLinks],
+    dead_ends: &[(f64, Vec<f64>)],
 ) -> Vec<OutputMetrics> {
     let info = k.info();
     let kind = info.inputs[index].kind;
@@ -94,6 +98,7 @@ pub fn metrics(
     for &(i, v) in held {
         x0[i] = v;
     }
+    let dead = dead_states(k, &x0, index, &ok, dead_ends);
     let probe = Probe { k, index, x: x0, c };
     let mut outputs: Vec<(String, Kind, Output)> = Vec::new();
     for (i, u) in info.unknowns.iter().enumerate() {
@@ -113,8 +118,90 @@ pub fn metrics(
     }
     outputs
         .into_iter()
-        .map(|(name, kind, out)| extremes(&probe, &ok, &ends, name, kind, out, full_turn))
+        .map(|(name, kind, out)| {
+            let mut m = extremes(&probe, &ok, &ends, name, kind, out, full_turn);
+            widen(&mut m, &dead, out);
+            m
+        })
         .collect()
+}
+
+/// A dead point's state: its input, unknowns (angles moved by whole turns to the nearest solved
+/// row's) and point positions.
+struct DeadState {
+    input: f64,
+    q: Vec<f64>,
+    points: Vec<PointMotion<f64>>,
+}
+
+/// The states of `dead_ends` with their point positions (rates left zero: they are infinite at a
+/// dead point and no extreme needs them); ends the mechanism cannot evaluate are left out.
+fn dead_states(
+    k: &dyn DynMechanism<f64>,
+    x0: &[f64],
+    index: usize,
+    ok: &[&Row],
+    dead_ends: &[(f64, Vec<f64>)],
+) -> Vec<DeadState> {
+    let info = k.info();
+    let mut out = Vec::new();
+    for (input, q) in dead_ends {
+        let Some(near) = ok
+            .iter()
+            .min_by(|a, b| (a.input - input).abs().total_cmp(&(b.input - input).abs()))
+            .and_then(|r| r.result.as_ref().ok())
+        else {
+            continue;
+        };
+        let tau = std::f64::consts::TAU;
+        let q: Vec<f64> = q
+            .iter()
+            .zip(&near.q)
+            .zip(&info.unknowns)
+            .map(|((&v, &n), u)| match u.kind {
+                Kind::Angle => v + ((n - v) / tau).round() * tau,
+                _ => v,
+            })
+            .collect();
+        let mut x = x0.to_vec();
+        x[index] = *input;
+        let zeros = vec![0.0; q.len()];
+        let xz = vec![0.0; x.len()];
+        let mut points = vec![PointMotion::default(); info.points.len()];
+        let motion = InputMotion::new(&x[..], &xz[..], &xz[..]);
+        if k.points(motion, &q, &zeros, &zeros, &mut points).is_ok() {
+            out.push(DeadState {
+                input: *input,
+                q,
+                points,
+            });
+        }
+    }
+    out
+}
+
+/// `m` widened by the outputs' values at the dead points that end the branch.
+fn widen(m: &mut OutputMetrics, dead: &[DeadState], out: Output) {
+    if m.input_at_min.is_none() {
+        return; // an output that does not vary
+    }
+    let zeros = vec![0.0; dead.first().map_or(0, |d| d.q.len())];
+    for d in dead {
+        let mut v = out.at(&d.q, &zeros, &d.points).0;
+        if matches!(out, Output::Transmission(_)) {
+            let m = v.rem_euclid(std::f64::consts::PI);
+            v = m.min(std::f64::consts::PI - m);
+        }
+        if !v.is_finite() {
+            continue;
+        }
+        if v < m.min {
+            (m.min, m.input_at_min) = (v, Some(d.input));
+        }
+        if v > m.max {
+            (m.max, m.input_at_max) = (v, Some(d.input));
+        }
+    }
 }
 
 /// What an output reads of a solved state.

@@ -35,8 +35,8 @@ fn both(name: &str) -> (MechanismInfo, Vec<OutputMetrics>, Vec<OutputMetrics>) {
     let x0 = info.inputs[0].start;
     let values: Vec<f64> = (0..=720).map(|i| x0 + f64::from(i) * TAU / 720.0).collect();
     let rrr = rrr_links(&compiled(name));
-    let a = metrics(generated.as_ref(), 0, &values, &[], true, &rrr);
-    let b = metrics(&generic, 0, &values, &[], true, &rrr);
+    let a = metrics(generated.as_ref(), 0, &values, &[], true, &rrr, &[]);
+    let b = metrics(&generic, 0, &values, &[], true, &rrr, &[]);
     (info, a, b)
 }
 
@@ -347,11 +347,28 @@ fn a_rocking_input_is_analysed_over_its_whole_branch() {
     );
     let by = cells("B_y");
     assert!((by[0] + a).abs() < 1e-12, "{by:?}");
-    // The range is the branch: its ends within 1e-5 rad of the dead points.
+    // The range is the branch, its extremes at the dead points read there (not at the last row
+    // before them): q3's maximum at the lower dead point, q2's minimum at the upper one (coupler
+    // and rocker in line: q2 there from the geometry), the transmission angle down to zero.
     let q1_range = cells("q3");
     assert!(
-        (q1_range[3].abs() - dead).abs() < 1e-5,
+        (q1_range[3].abs() - dead).abs() < 1e-9,
         "q3's maximum at the lower dead point: {q1_range:?}"
+    );
+    let q2_min = q2(dead);
+    assert!(
+        (q2_row[0] - q2_min).abs() < 1e-7 && (q2_row[2] - dead).abs() < 1e-9,
+        "{q2_row:?} against {q2_min} at {dead}"
+    );
+    let mu = body
+        .lines()
+        .find(|l| l.starts_with("\"transmission("))
+        .and_then(|l| l.split(',').nth(2))
+        .and_then(|v| v.parse::<f64>().ok())
+        .expect("transmission row");
+    assert!(
+        mu.abs() < 1e-6,
+        "transmission angle at the dead point: {mu}"
     );
     assert!(
         text(&out.stdout).contains("106.068459"),

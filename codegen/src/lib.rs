@@ -23,6 +23,7 @@ pub mod diagnostic;
 mod emit;
 mod front;
 mod ir;
+mod keywords;
 mod lints;
 mod sema;
 mod suggest;

@@ -37,7 +37,7 @@ pub(super) fn compile(path: Option<&Path>) -> Result<Vec<Compiled>, String> {
 /// input, the analysis over a full turn, the range shifted by whole turns to hold the start, and
 /// `None` for a branch that turns fully (no dead point on it). `None` also when the analysis has
 /// no answer.
-pub(super) fn start_branch(path: Option<&Path>, name: &str) -> Option<(f64, f64)> {
+pub(super) fn start_branch(path: Option<&Path>, name: &str) -> Option<StartBranch> {
     let compiled = compile(path).ok()?;
     let c = compiled.iter().find(|c| c.model.name.text == name)?;
     let setup = Setup::new(c, 0).ok()?;
@@ -58,8 +58,20 @@ pub(super) fn start_branch(path: Option<&Path>, name: &str) -> Option<(f64, f64)
     if !(b.from.is_finite() && b.to.is_finite() && b.from < b.to) || b.full_turn {
         return None;
     }
+    // The dead points' states at the range's ends (`dead[0]` at `from`, `dead[1]` at `to`).
+    let ends = |from: f64, to: f64| -> Vec<(f64, Vec<f64>)> {
+        b.dead
+            .iter()
+            .zip([from, to])
+            .filter_map(|(d, x)| Some((x, a.dead_points.get((*d)?)?.q.clone())))
+            .collect()
+    };
     if !setup.input_is_angle {
-        return Some((b.from, b.to));
+        return Some(StartBranch {
+            from: b.from,
+            to: b.to,
+            ends: ends(b.from, b.to),
+        });
     }
     // Both ends must be dead points (a branch of a full turn's analysis may end at the range's
     // seam only when it turns fully, handled above).
@@ -70,7 +82,19 @@ pub(super) fn start_branch(path: Option<&Path>, name: &str) -> Option<(f64, f64)
     let tau = std::f64::consts::TAU;
     let shift = ((x0 - b.from) / tau).floor() * tau;
     let (lo, hi) = (b.from + shift, b.to + shift);
-    (lo <= x0 && x0 <= hi).then_some((lo, hi))
+    (lo <= x0 && x0 <= hi).then(|| StartBranch {
+        from: lo,
+        to: hi,
+        ends: ends(lo, hi),
+    })
+}
+
+/// The start's branch: its input range (radians for an angle, file units) and the states
+/// (input, unknowns) of the dead points that end it.
+pub(super) struct StartBranch {
+    pub from: f64,
+    pub to: f64,
+    pub ends: Vec<(f64, Vec<f64>)>,
 }
 
 /// The analysis of one mechanism over a range given in the CLI's units (degrees for an angle),

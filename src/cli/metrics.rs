@@ -32,8 +32,13 @@ pub fn run(args: &MetricsArgs) -> Result<(), String> {
         None => 0,
     };
     let angle = info.inputs.get(index).map(|i| i.kind) == Some(Kind::Angle);
+    let mut dead_ends = Vec::new();
     let (from, to) = match (angle, args.from, args.to) {
-        (true, None, None) if index == 0 && args.set.is_empty() => angle_range(&info, file),
+        (true, None, None) if index == 0 && args.set.is_empty() => {
+            let r = angle_range(&info, file);
+            dead_ends = r.dead_ends;
+            r.span
+        }
         (true, from, to) => {
             let from = from.unwrap_or_else(|| info.inputs[index].start.to_degrees());
             (from, to.unwrap_or(from + 360.0))
@@ -48,7 +53,14 @@ pub fn run(args: &MetricsArgs) -> Result<(), String> {
     };
     let plan = plan(&info, args.input.as_deref(), &args.set, range_of(from, to))?;
     let full_turn = angle && ((to - from).abs() - 360.0).abs() < 1e-9;
-    let rows = compute(sel.solver.as_ref(), file, &args.name, &plan, full_turn)?;
+    let rows = compute(
+        sel.solver.as_ref(),
+        file,
+        &args.name,
+        &plan,
+        full_turn,
+        &dead_ends,
+    )?;
     say_raw!("{}", table(&info, plan.index, &rows));
     if let Some(path) = &args.csv {
         std::fs::write(path, csv(&rows))
@@ -60,18 +72,31 @@ pub fn run(args: &MetricsArgs) -> Result<(), String> {
 /// The default range of the first input, an angle (degrees): the start's branch between its
 /// dead points where it has them (each end moved inside by 1e-6 of the span), else a full turn
 /// from the start.
-pub(super) fn angle_range(info: &MechanismInfo, file: Option<&std::path::Path>) -> (f64, f64) {
+pub(super) fn angle_range(info: &MechanismInfo, file: Option<&std::path::Path>) -> AngleRange {
     match super::branches::start_branch(file, &info.name) {
-        Some((a, b)) => {
-            let (a, b) = (a.to_degrees(), b.to_degrees());
-            let inset = (b - a) * 1e-6;
-            (a + inset, b - inset)
+        Some(b) => {
+            let (a, c) = (b.from.to_degrees(), b.to.to_degrees());
+            let inset = (c - a) * 1e-6;
+            AngleRange {
+                span: (a + inset, c - inset),
+                dead_ends: b.ends,
+            }
         }
         None => {
             let from = info.inputs[0].start.to_degrees();
-            (from, from + 360.0)
+            AngleRange {
+                span: (from, from + 360.0),
+                dead_ends: Vec::new(),
+            }
         }
     }
+}
+
+/// An angle input's default metrics range: `span` in degrees, and the dead points' states
+/// (radians) that end it, if any.
+pub(super) struct AngleRange {
+    pub span: (f64, f64),
+    pub dead_ends: Vec<(f64, Vec<f64>)>,
 }
 
 /// The range in [`ROWS`] steps (degrees or file units).
@@ -90,6 +115,7 @@ fn compute(
     name: &str,
     plan: &mechgen::sweep::plan::Plan,
     full_turn: bool,
+    dead_ends: &[(f64, Vec<f64>)],
 ) -> Result<Vec<OutputMetrics>, String> {
     let compiled = super::branches::compile(file)?;
     let rrr = compiled
@@ -104,6 +130,7 @@ fn compute(
         &plan.held,
         full_turn,
         &rrr,
+        dead_ends,
     ))
 }
 
@@ -114,11 +141,12 @@ pub(super) fn main_job_table(
     info: &MechanismInfo,
     file: Option<&std::path::Path>,
     (from, to): (f64, f64),
+    dead_ends: &[(f64, Vec<f64>)],
 ) -> Result<String, String> {
     let plan = plan(info, None, &[], range_of(from, to))?;
     let angle = info.inputs.first().map(|i| i.kind) == Some(Kind::Angle);
     let full_turn = angle && ((to - from).abs() - 360.0).abs() < 1e-9;
-    let rows = compute(k, file, &info.name, &plan, full_turn)?;
+    let rows = compute(k, file, &info.name, &plan, full_turn, dead_ends)?;
     Ok(table(info, plan.index, &rows))
 }
 
@@ -132,19 +160,28 @@ pub fn table(info: &MechanismInfo, index: usize, rows: &[OutputMetrics]) -> Stri
     );
     for r in rows {
         let (u, k) = unit(r.kind);
-        let at = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{:.6}", x * ik));
+        let at = |x: Option<f64>| x.map_or("-".to_string(), |x| fixed(x * ik, 6));
         let _ = writeln!(
             out,
             "{:<24}{:>16}{:>16}{:>16}{:>16}{:>12}",
             format!("{} [{u}]", r.name),
-            format!("{:.8}", r.min * k),
-            format!("{:.8}", r.max * k),
+            fixed(r.min * k, 8),
+            fixed(r.max * k, 8),
             at(r.input_at_min),
             at(r.input_at_max),
             r.time_ratio.map_or("-".to_string(), |t| format!("{t:.6}")),
         );
     }
     out
+}
+
+/// `v` with `digits` decimals, without the sign of a value that prints as zero (`-0.000000`).
+fn fixed(v: f64, digits: usize) -> String {
+    let s = format!("{v:.digits$}");
+    match s.strip_prefix('-') {
+        Some(rest) if rest.bytes().all(|b| b == b'0' || b == b'.') => rest.to_string(),
+        _ => s,
+    }
 }
 
 fn unit(k: Kind) -> (&'static str, f64) {

@@ -183,7 +183,8 @@ fn with_column_bytes(line: &mut Vec<u8>, effort: Option<f64>) {
 /// the start value ± a quarter of the mechanism's length scale (or of the start value, if larger).
 pub(super) fn main_job_range(info: &MechanismInfo, file: Option<&Path>) -> Range {
     let angle = info.inputs.first().map(|i| i.kind) == Some(Kind::Angle);
-    if let Some((a, b)) = super::branches::start_branch(file, &info.name) {
+    if let Some(sb) = super::branches::start_branch(file, &info.name) {
+        let (a, b) = (sb.from, sb.to);
         let (a, b) = if angle {
             (a.to_degrees(), b.to_degrees())
         } else {
@@ -299,11 +300,14 @@ fn main_job_one(
     // The metrics over the start's branch (an angle input: between its dead points, else a
     // full turn from its start).
     let span = match info.inputs.first().map(|i| i.kind) {
-        Some(Kind::Angle) => Some(super::metrics::angle_range(&info, file)),
-        _ => range.from.zip(range.to),
+        Some(Kind::Angle) => {
+            let r = super::metrics::angle_range(&info, file);
+            Some((r.span, r.dead_ends))
+        }
+        _ => range.from.zip(range.to).map(|s| (s, Vec::new())),
     };
-    if let Some(span) = span {
-        match super::metrics::main_job_table(sel.solver.as_ref(), &info, file, span) {
+    if let Some((span, dead_ends)) = span {
+        match super::metrics::main_job_table(sel.solver.as_ref(), &info, file, span, &dead_ends) {
             Ok(t) => say_raw!("{t}"),
             Err(e) => tell!("mechgen: {name}: metrics: {e}"),
         }

@@ -135,7 +135,10 @@ pub fn sweep_values(from: f64, to: f64, step: f64) -> Result<Vec<f64>, String> {
     }
     let n = ((to - from) / step).abs();
     if n > 10_000_000.0 {
-        return Err("too many sweep rows (more than 10 000 000)".into());
+        return Err(format!(
+            "--step {step} from {from} to {to} makes {:.3e} rows; a sweep has at most 10 000 000 (a larger --step, or a shorter range)",
+            n + 1.0
+        ));
     }
     let count = (n + 1e-9).floor() as usize;
     let dir = if to >= from { 1.0 } else { -1.0 };

@@ -18,4 +18,7 @@ fn main() {
     mechgen_codegen::Config::new()
         .out_file("crossings.rs")
         .compile("crossings.toml");
+    mechgen_codegen::Config::new()
+        .out_file("weak.rs")
+        .compile("weak.toml");
 }

@@ -27,23 +27,15 @@ pub enum Local {
     TempCos(usize),
 }
 
-/// Rust's strict and reserved keywords (2024 edition) and the names that cannot be bound: a
-/// proposal equal to one of them is never handed out.
-const KEYWORDS: &[&str] = &[
-    "Self", "abstract", "as", "async", "await", "become", "box", "break", "const", "continue",
-    "crate", "do", "dyn", "else", "enum", "extern", "false", "final", "fn", "for", "gen", "if",
-    "impl", "in", "let", "loop", "macro", "match", "mod", "move", "mut", "override", "priv", "pub",
-    "ref", "return", "self", "static", "struct", "super", "trait", "true", "try", "type", "typeof",
-    "union", "unsafe", "unsized", "use", "virtual", "where", "while", "yield", "_",
-];
-
 /// Whether `s` is usable as a plain (non-raw) Rust identifier.
 pub fn is_plain_ident(s: &str) -> bool {
     let mut chars = s.chars();
     let first_ok = chars
         .next()
         .is_some_and(|c| c.is_ascii_alphabetic() || c == '_');
-    first_ok && chars.all(|c| c.is_ascii_alphanumeric() || c == '_') && !KEYWORDS.contains(&s)
+    first_ok
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && !crate::keywords::is_keyword(s)
 }
 
 /// One scope's identifiers: the reserved ones (arguments, fixed locals, other items) and those

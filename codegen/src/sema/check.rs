@@ -12,19 +12,9 @@ use crate::diagnostic::{Diagnostic, Span};
 use crate::front::ast::ExprKind;
 use crate::front::ast::{self, Name};
 
-/// Rust's keywords (strict and reserved, edition 2024) and `_`: names become modules and fields of
-/// the generated code, so these cannot be names.
-pub const RUST_KEYWORDS: [&str; 52] = [
-    "_", "abstract", "as", "async", "await", "become", "box", "break", "const", "continue",
-    "crate", "do", "dyn", "else", "enum", "extern", "false", "final", "fn", "for", "gen", "if",
-    "impl", "in", "let", "loop", "macro", "match", "mod", "move", "mut", "override", "priv", "pub",
-    "ref", "return", "self", "Self", "static", "struct", "super", "trait", "true", "try", "type",
-    "typeof", "unsafe", "unsized", "use", "virtual", "where", "while",
-];
-
 /// The error for a name that is a Rust keyword.
 fn keyword(name: &Name, what: &str) -> Option<Diagnostic> {
-    RUST_KEYWORDS.contains(&name.text.as_str()).then(|| {
+    crate::keywords::is_keyword(&name.text).then(|| {
         Diagnostic::error(
             name.span,
             format!("{what} `{}` is a Rust keyword", name.text),

@@ -16,7 +16,6 @@ pub mod resolved;
 mod typing;
 
 #[allow(unused_imports)] // the emitters' names table reads it
-pub(crate) use check::RUST_KEYWORDS;
 pub use check::check;
 
 #[cfg(test)]

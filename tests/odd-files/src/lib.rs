@@ -35,3 +35,9 @@ pub mod unread {
 pub mod crossings {
     ::mechgen::include_mechanisms!("crossings.rs");
 }
+
+/// `weak.toml`: a mechanism, an input, an unknown, params and a point named after Rust's weak
+/// keywords (`union`, `raw`, `safe`, `macro_rules`), which are identifiers (`tests/weak.rs`).
+pub mod weak {
+    ::mechgen::include_mechanisms!("weak.rs");
+}

@@ -72,7 +72,15 @@ fn analyze_mechanism(model: Model, diags: &mut Vec<Diagnostic>) -> Option<Compil
         .model
         .scenes
         .iter()
-        .map(|s| analysis::scene::plan_scene(&c, s))
+        .map(|s| {
+            let parts = analysis::scene::Parts {
+                model: &c.model,
+                system: &c.system,
+                derivatives: &c.derivatives,
+                blocks: &c.blocks,
+            };
+            analysis::scene::plan_scene(&parts, s)
+        })
         .collect();
     Some(c)
 }

@@ -30,9 +30,10 @@ mod suggest;
 
 pub use analysis::Compiled;
 pub use analysis::closed_form::{ClosedForm, closed_form as classify_closed_form};
+pub use analysis::compiled::plan_scenes;
 pub use analysis::dyad::Dyad;
 pub use analysis::plan::BlockForms;
-pub use analysis::scene::{Order, ScenePlan, plan_scenes};
+pub use analysis::scene::{Order, ScenePlan};
 pub use analysis::structure::{Block, BlockId};
 pub use compile::analyze;
 pub use config::{Config, Generated, compile, generate_source, runtime_of_manifest};

@@ -8,8 +8,8 @@
 
 use std::f64::consts::TAU;
 
-use super::Setup;
 use super::dead::GUARD;
+use super::setup::Setup;
 use super::trace::Interval;
 
 /// A crossing found on the tracks of an interval.

@@ -6,7 +6,7 @@
 //! small against how much it can change over the cell, the cell is searched by golden section on
 //! the margin, and an input where the count differs is added to the grid.
 
-use super::Setup;
+use super::setup::Setup;
 
 /// Grid cells over the range.
 pub(super) const CELLS: usize = 720;

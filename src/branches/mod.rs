@@ -10,22 +10,21 @@ mod grid;
 mod plan;
 mod report;
 mod roots;
+mod setup;
 mod singular;
 mod solve;
 mod trace;
 
 use std::cell::RefCell;
-use std::collections::HashMap;
 use std::f64::consts::TAU;
 
 use mechgen_codegen::{Compiled, Kind};
 
 use dead::Dead;
+pub use setup::Setup;
+use setup::Solved;
 pub use solve::Solver;
 use trace::{Interval, Traced};
-
-/// The configurations at an input and the closed-form blocks' margins met on the way.
-type Solved = (Vec<Vec<f64>>, Vec<f64>);
 
 /// Where a mechanism assembles, for sweeps on any thread: a [`Setup`] kept as a template, each
 /// sweep (each param set) taking its own copy with its params ([`Assembly::with_params`]) when it
@@ -55,27 +54,6 @@ impl Assembly {
         let mut s = self.0.lock().unwrap_or_else(|e| e.into_inner()).clone();
         s.set_params(params).then_some(s)
     }
-}
-
-/// A mechanism prepared for branch identification along one input (the others held).
-#[derive(Clone, Debug)]
-pub struct Setup {
-    solver: Solver,
-    /// The whole mechanism's residuals and Jacobians (for singular configurations).
-    tapes: singular::Tapes,
-    inputs: Vec<f64>,
-    /// Index of the analysed input.
-    pub input: usize,
-    pub input_is_angle: bool,
-    /// Per unknown: whether it is an angle.
-    pub angle: Vec<bool>,
-    /// The largest length param (or 1): lengths are compared relative to it.
-    pub scale: f64,
-    pub name: String,
-    pub input_name: String,
-    pub unknown_names: Vec<String>,
-    /// Configurations already computed in this analysis, by the input's bits.
-    cache: RefCell<HashMap<u64, Solved>>,
 }
 
 /// A dead point: the input where the configuration curve turns back, its configuration, circuit.

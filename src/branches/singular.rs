@@ -185,25 +185,3 @@ impl Tapes {
         (settled > 0 && moved <= 1e-5).then_some((x, q))
     }
 }
-
-impl super::Setup {
-    /// The dead point near the bisected `(x0, q0)` to rounding level, or `(x0, q0)` itself when
-    /// the bordered system does not settle there.
-    pub(super) fn refine_fold(&self, x0: f64, q0: Vec<f64>) -> (f64, Vec<f64>) {
-        let unit = |angle: bool| if angle { 1.0 } else { 1.0 / self.scale };
-        let weights: Vec<f64> = (self.angle.iter().map(|&a| unit(a)))
-            .chain([unit(self.input_is_angle)])
-            .collect();
-        match self.tapes.fold(
-            &self.inputs,
-            self.input,
-            x0,
-            &q0,
-            &self.solver.params,
-            &weights,
-        ) {
-            Some((x, q)) => (x, q),
-            None => (x0, q0),
-        }
-    }
-}

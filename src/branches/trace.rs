@@ -9,8 +9,8 @@
 
 use std::f64::consts::TAU;
 
-use super::Setup;
 use super::dead::{Dead, GUARD, Zone, near_zone};
+use super::setup::Setup;
 
 /// One traced configuration: its samples `(input, configuration)` in increasing input.
 pub(super) type Track = Vec<(f64, Vec<f64>)>;

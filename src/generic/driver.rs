@@ -14,8 +14,8 @@ use mechgen_runtime::solve::{NewtonReport, NewtonWork, SolveOptions, check_finit
 use mechgen_runtime::trig::TrigSlices;
 use mechgen_runtime::twofold::{REFINE_BELOW, refinement_in_place};
 
-use super::Generic;
 use super::closed;
+use super::engine::Generic;
 use super::tape::Env;
 
 /// Which rates a run solves after (or without) the positions.

@@ -67,9 +67,9 @@ pub struct Generic {
     pub(super) chains: Tape,
     pub(super) chain_shape: Vec<(usize, usize)>,
     /// The drawing structure (terms classified by how they move).
-    pub(super) linkage: super::Linkage,
+    pub(super) linkage: super::linkage::Linkage,
     /// The file's scenes on this mechanism, each from its `ScenePlan`.
-    pub(super) scenes: Vec<super::scene::SceneTapes>,
+    pub(super) scenes: Vec<super::scene_tapes::SceneTapes>,
 }
 
 /// A block's unknowns as indices (what the run-time descriptions and tapes index by).
@@ -237,11 +237,11 @@ impl Generic {
                 .iter()
                 .map(|ch| (ch.vertices.len(), ch.ground_segments))
                 .collect(),
-            linkage: super::Linkage::new(m),
+            linkage: super::linkage::Linkage::new(m),
             scenes: c
                 .scenes
                 .iter()
-                .map(|plan| super::scene::SceneTapes::new(c, &dag, plan))
+                .map(|plan| super::scene_tapes::SceneTapes::new(c, &dag, plan))
                 .collect(),
             info,
             model: m.clone(),

@@ -9,6 +9,7 @@ mod driver;
 mod engine;
 mod linkage;
 mod scene;
+mod scene_tapes;
 mod sketch;
 pub mod tape;
 mod terms;

@@ -3,7 +3,6 @@
 //! Newton or closed forms on the kept blocks only, rates only up to the order, a tape of the
 //! scene's points only.
 
-use mechgen_codegen::{Compiled, Dag, ScenePlan};
 use mechgen_runtime::dynamic::len;
 use mechgen_runtime::error::SolveError;
 use mechgen_runtime::mechanism::InputMotion;
@@ -11,65 +10,9 @@ use mechgen_runtime::scalar::Real;
 use mechgen_runtime::scene::{DynScene, DynSceneState, SceneDescription};
 use mechgen_runtime::solve::{NewtonReport, SolveOptions};
 
-use super::Generic;
 use super::driver::{Plan, Run};
-use super::tape::{Env, Tape};
-
-/// One scene's plan and its points' tape (per point: positions, then rates up to the order).
-#[derive(Clone, Debug)]
-pub(super) struct SceneTapes {
-    desc: SceneDescription,
-    unknowns: Vec<usize>,
-    points: Tape,
-    point_values: usize,
-    /// The base params the scene's code reads: its tolerances are relative to the largest
-    /// length among them (`ScenePlan::params_read`, as the generated scene's).
-    params_read: Vec<bool>,
-}
-
-impl SceneTapes {
-    pub(super) fn new(c: &Compiled, dag: &Dag, plan: &ScenePlan) -> SceneTapes {
-        let order = plan.order.as_number();
-        let mut roots = Vec::new();
-        for &p in &plan.points {
-            roots.extend(c.system.points[p]);
-            if order >= 1 {
-                roots.extend(c.derivatives.point_velocity[p]);
-            }
-            if order >= 2 {
-                roots.extend(c.derivatives.point_acceleration[p]);
-            }
-        }
-        let m = &c.model;
-        SceneTapes {
-            desc: SceneDescription {
-                name: plan.name.clone(),
-                mechanism: plan.mechanism.clone(),
-                order,
-                blocks: plan.block_indices(),
-                solved: plan.solved.clone(),
-                // The generic engine computes every angle; what a generated tick skips is listed
-                // all the same, so that `check` describes the scene the same way.
-                angles_skipped: plan.angles_skipped.clone(),
-                unknowns: plan
-                    .unknowns
-                    .iter()
-                    .map(|&u| m.unknowns[u].name.text.clone())
-                    .collect(),
-                points: plan
-                    .points
-                    .iter()
-                    .map(|&p| m.points[p].0.text.clone())
-                    .collect(),
-                columns: plan.columns.clone(),
-            },
-            unknowns: plan.unknowns.clone(),
-            points: Tape::new(dag, &roots),
-            point_values: roots.len(),
-            params_read: plan.params_read.clone(),
-        }
-    }
-}
+use super::engine::Generic;
+use super::tape::Env;
 
 /// A scene of a [`Generic`] mechanism (`Generic::scene`).
 #[derive(Clone, Debug)]

@@ -5,39 +5,16 @@
 //! read.
 
 pub mod closed_form;
+pub mod compiled;
 pub mod dyad;
 pub mod plan;
 pub mod scene;
 pub mod structure;
 
+pub use compiled::Compiled;
+
 use crate::ir::dag::Dag;
 use crate::ir::differentiate::Derivatives;
-use crate::ir::lower::System;
-use crate::sema::model::Model;
-
-/// One mechanism through every analysis stage: what code generation and the generic engine need.
-#[derive(Clone, Debug)]
-pub struct Compiled {
-    pub model: Model,
-    pub system: System,
-    pub derivatives: Derivatives,
-    /// The diagonal blocks in solve order, each with its forms and position solver.
-    pub blocks: Vec<plan::BlockForms>,
-    /// The plan of each of the mechanism's scenes, in file order (computed once, here).
-    pub scenes: Vec<scene::ScenePlan>,
-}
-
-impl Compiled {
-    /// Block `id`'s forms.
-    pub fn block(&self, id: structure::BlockId) -> &plan::BlockForms {
-        &self.blocks[id.index()]
-    }
-
-    /// Every block's id, in solve order.
-    pub fn block_ids(&self) -> impl Iterator<Item = structure::BlockId> + use<> {
-        (0..self.blocks.len()).map(structure::BlockId::new)
-    }
-}
 
 /// The block structure of a lowered system: which unknowns each equation's row of J touches.
 pub fn blocks(

@@ -7,12 +7,30 @@
 //! dependencies are kept and come before it); every output unknown lies in a kept block and every
 //! unknown an output point reads does too.
 
-use super::Compiled;
 use super::closed_form::ClosedForm;
+use super::plan::BlockForms;
 use super::structure::BlockId;
 use crate::ir::dag::{Node, NodeId, Var};
+use crate::ir::differentiate::Derivatives;
+use crate::ir::lower::System;
+use crate::sema::model::Model;
 use crate::sema::model::Scene;
 use crate::sema::resolved::UnknownId;
+
+/// What a scene's plan reads of its mechanism's analysis (the parts of [`crate::Compiled`] that
+/// exist before the scenes are planned).
+pub(crate) struct Parts<'a> {
+    pub model: &'a Model,
+    pub system: &'a System,
+    pub derivatives: &'a Derivatives,
+    pub blocks: &'a [BlockForms],
+}
+
+impl Parts<'_> {
+    fn block(&self, id: BlockId) -> &BlockForms {
+        &self.blocks[id.index()]
+    }
+}
 
 /// How far a scene differentiates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -37,7 +55,7 @@ impl Order {
     }
 }
 
-/// What a scene computes, as indices into its mechanism's [`Compiled`].
+/// What a scene computes, as indices into its mechanism's analysis ([`crate::Compiled`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ScenePlan {
     pub name: String,
@@ -69,7 +87,7 @@ impl ScenePlan {
     }
 
     /// Every unknown a kept block solves, in block order: what the scene's solver keeps as state.
-    fn find_solved_unknowns(&self, c: &Compiled) -> Vec<usize> {
+    fn find_solved_unknowns(&self, c: &Parts<'_>) -> Vec<usize> {
         self.blocks
             .iter()
             .flat_map(|&b| c.block(b).block.unknowns.iter().map(|u| u.index()))
@@ -82,7 +100,7 @@ impl ScenePlan {
     /// blocks' equations and in its points' expressions. Derivatives read no other params, so
     /// these are all a scene's results depend on (its Newton tolerances too: they are relative to
     /// the largest length param it reads); a tick compares and checks only these.
-    fn find_params_read(&self, c: &Compiled) -> Vec<bool> {
+    fn find_params_read(&self, c: &Parts<'_>) -> Vec<bool> {
         let mut read = vec![false; c.model.params.len()];
         let equations = self
             .blocks
@@ -108,7 +126,7 @@ impl ScenePlan {
     /// kept Newton block). A closed-form block may skip an angle nobody reads (only its sine and
     /// cosine are needed, to place a point on the link, say). Conservative: whole Jacobian rows of
     /// the kept equations are counted.
-    fn find_values_read(&self, c: &Compiled) -> Vec<bool> {
+    fn find_values_read(&self, c: &Parts<'_>) -> Vec<bool> {
         let dag = &c.system.dag;
         let d = &c.derivatives;
         let order = self.order.as_number();
@@ -169,7 +187,7 @@ impl ScenePlan {
     /// The angles of kept closed-form blocks (RRR, RRP, RPR, one angle) whose value the scene does
     /// not read ([`ScenePlan::values_read`]), in unknown order: its tick solves only their sines
     /// and cosines.
-    fn find_angles_skipped(&self, c: &Compiled) -> Vec<usize> {
+    fn find_angles_skipped(&self, c: &Parts<'_>) -> Vec<usize> {
         let read = self.find_values_read(c);
         let mut skipped: Vec<usize> = self
             .blocks
@@ -198,7 +216,7 @@ impl ScenePlan {
     /// The output columns (interfaces.md, "Scenes on the command line"): each output unknown up
     /// to the order (`u`, `u_vel`, `u_acc`), then each point (`P_x, P_y`, `P_vx, P_vy`,
     /// `P_ax, P_ay`).
-    fn find_columns(&self, c: &Compiled) -> Vec<String> {
+    fn find_columns(&self, c: &Parts<'_>) -> Vec<String> {
         let orders = 0..=usize::from(self.order.as_number());
         let mut cols = Vec::new();
         for &u in &self.unknowns {
@@ -220,7 +238,7 @@ impl ScenePlan {
 }
 
 /// The plan of `scene` on the compiled mechanism `c`.
-pub(crate) fn plan_scene(c: &Compiled, scene: &Scene) -> ScenePlan {
+pub(crate) fn plan_scene(c: &Parts<'_>, scene: &Scene) -> ScenePlan {
     let dag = &c.system.dag;
     let block_of = |k: usize| {
         c.blocks
@@ -258,7 +276,10 @@ pub(crate) fn plan_scene(c: &Compiled, scene: &Scene) -> ScenePlan {
         name: scene.name.text.clone(),
         mechanism: c.model.name.text.clone(),
         order: Order::from_file(scene.order),
-        blocks: c.block_ids().filter(|b| needed[b.index()]).collect(),
+        blocks: (0..c.blocks.len())
+            .map(BlockId::new)
+            .filter(|b| needed[b.index()])
+            .collect(),
         unknowns: scene.unknowns.clone(),
         points: scene.points.clone(),
         solved: Vec::new(),
@@ -275,18 +296,10 @@ pub(crate) fn plan_scene(c: &Compiled, scene: &Scene) -> ScenePlan {
     plan
 }
 
-/// The plans of every scene of the file, mechanism by mechanism, in file order (as each
-/// [`Compiled`] carries them).
-pub fn plan_scenes(compiled: &[Compiled]) -> Vec<ScenePlan> {
-    compiled
-        .iter()
-        .flat_map(|c| c.scenes.iter().cloned())
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::analysis::compiled::{Compiled, plan_scenes};
     use crate::{SourceFile, analyze};
 
     /// The seed six-bar (four-bar block, then the dyad on E) with scenes that keep one block or

@@ -6,7 +6,7 @@ use proc_macro2::{Ident, TokenStream};
 use quote::quote;
 
 use crate::analysis::Compiled;
-use crate::emit::Args;
+use crate::emit::args::Args;
 use crate::emit::body::VarSource;
 use crate::ir::dag::{Node, Var};
 

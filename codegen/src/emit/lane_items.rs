@@ -9,7 +9,7 @@ use quote::{format_ident, quote};
 use crate::analysis::Compiled;
 use crate::analysis::scene::ScenePlan;
 use crate::analysis::structure::BlockId;
-use crate::emit::Args;
+use crate::emit::args::Args;
 use crate::emit::cache::{Cached, trig_masks};
 use crate::emit::lanes::{LaneSubset, LaneVars, has_lane_path, motion_lanes};
 use crate::emit::names::ModuleItems;
@@ -42,7 +42,7 @@ fn common(c: &Compiled, s: &Spec) -> TokenStream {
     let (rt, it) = (&s.args.rt, &s.args.items);
     let (ty, lt) = (&it.ty, &it.lane_scalar);
     let (lanes_ty, lane_tick_ty) = (&it.lanes, &it.lane_tick);
-    let (ni, nu, _, npar) = crate::emit::sizes(&c.model);
+    let (ni, nu, _, npar) = crate::emit::args::sizes(&c.model);
     let np = s.sub.points.len();
     let (xm, qm, pm) = trig_masks(c);
     let cached = Cached {
@@ -192,7 +192,7 @@ pub(crate) fn mechanism(c: &Compiled, args: &Args) -> TokenStream {
     let lt = &it.lane_scalar;
     let gt = quote!(#lt::Scalar);
     let (ty, lanes_ty, lane_tick_ty, tick_ty) = (&it.ty, &it.lanes, &it.lane_tick, &it.tick);
-    let (ni, nu, np, npar) = crate::emit::sizes(&c.model);
+    let (ni, nu, np, npar) = crate::emit::args::sizes(&c.model);
     let blocks: Vec<BlockId> = c.block_ids().collect();
     let points: Vec<usize> = (0..np).collect();
     let scalar = quote! {
@@ -267,7 +267,7 @@ pub(crate) fn scene(c: &Compiled, plan: &ScenePlan, rt: &TokenStream, ncols: usi
     let lt = &it.lane_scalar;
     let gt = quote!(#lt::Scalar);
     let (ty, lanes_ty, lane_tick_ty, outputs_ty) = (&it.ty, &it.lanes, &it.lane_tick, &it.outputs);
-    let (ni, nu, _, npar) = crate::emit::sizes(&c.model);
+    let (ni, nu, _, npar) = crate::emit::args::sizes(&c.model);
     let np = plan.points.len();
     let (tick_fn, start_fn, scale_fn) = (
         format_ident!("scene_{}_tick", plan.name),

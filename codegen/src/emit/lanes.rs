@@ -11,7 +11,7 @@ use crate::analysis::Compiled;
 use crate::analysis::closed_form::ClosedForm;
 use crate::analysis::plan::BlockForms;
 use crate::analysis::structure::BlockId;
-use crate::emit::Args;
+use crate::emit::args::Args;
 use crate::emit::body::{Builder, VarSource};
 use crate::emit::cache::Cached;
 use crate::ir::dag::Var;
@@ -125,7 +125,7 @@ pub(crate) fn motion_lanes(
     let (rt, lt) = (&args.rt, vars.lane);
     let m = &c.model;
     let dag = &c.system.dag;
-    let (ni, nu, _, npar) = crate::emit::sizes(m);
+    let (ni, nu, _, npar) = crate::emit::args::sizes(m);
     let np = sub.points.len();
     // Whether a kernel computes angle `k`'s value: read, or (unread) when `every_angle` says so.
     let read = |k: usize| sub.values_read.is_none_or(|read| read[k]);

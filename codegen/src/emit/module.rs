@@ -8,7 +8,7 @@ use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
 use crate::analysis::Compiled;
-use crate::emit::Args;
+use crate::emit::args::Args;
 use crate::emit::names::ModuleItems;
 use crate::sema::model::Kind;
 
@@ -33,7 +33,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     let (ty, gt) = (&it.ty, &it.scalar);
     let (params_ty, inputs_ty, unknowns_ty) = (&it.params, &it.inputs, &it.unknowns);
     let (points_ty, tick_ty, motion_ty) = (&it.points, &it.tick, &it.motion);
-    let (ni, nu, np, npar) = crate::emit::sizes(m);
+    let (ni, nu, np, npar) = crate::emit::args::sizes(m);
     let np2 = 2 * np;
     let mod_name = format_ident!("{}", m.name.text);
     let name = &m.name.text;
@@ -101,7 +101,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
             quote!(self.#p)
         })
         .collect();
-    let length_scale = crate::emit::largest_length(gt, &length_params);
+    let length_scale = crate::emit::args::largest_length(gt, &length_params);
 
     let coords = |cs: &[crate::sema::model::Coord], ty: &Ident, what: &str| {
         let fields: Vec<Ident> = cs
@@ -146,7 +146,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
         "non_snake_case: fields and locals keep the file's names (`E`, `sE`).",
     ]
     .iter()
-    .map(|t| crate::emit::comment(t))
+    .map(|t| crate::emit::comments::comment(t))
     .collect();
     let system_fns = crate::emit::system::system_fns(c, &args);
     let solvers = crate::emit::solve::solvers(c, &args);

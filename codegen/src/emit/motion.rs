@@ -11,7 +11,7 @@ use crate::analysis::Compiled;
 use crate::analysis::structure::BlockId;
 use crate::emit::body::{Builder, VarSource};
 use crate::emit::closed::AngleValues;
-use crate::emit::comment;
+use crate::emit::comments::comment;
 use crate::ir::dag::Var;
 use crate::sema::model::Kind;
 
@@ -175,7 +175,7 @@ fn rate_steps(
 pub(crate) fn stages(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> TokenStream {
     let gt = cached.scalar();
     let dag = &c.system.dag;
-    let (ni, nu, _, npar) = crate::emit::sizes(&c.model);
+    let (ni, nu, _, npar) = crate::emit::args::sizes(&c.model);
     let fused = Fused(cached);
     let all: Vec<BlockId> = c.block_ids().collect();
     let position = position_steps(
@@ -280,7 +280,7 @@ pub(crate) fn motion_subset(
     let gt = cached.scalar();
     let m = &c.model;
     let dag = &c.system.dag;
-    let (ni, nu, _, npar) = crate::emit::sizes(m);
+    let (ni, nu, _, npar) = crate::emit::args::sizes(m);
     let np = sub.points.len();
     let fused = Fused(cached);
     let mut b = Builder::new(dag, &fused);

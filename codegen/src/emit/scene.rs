@@ -9,10 +9,11 @@ use quote::{format_ident, quote};
 
 use crate::analysis::Compiled;
 use crate::analysis::scene::ScenePlan;
+use crate::emit::args::Args;
 use crate::emit::body::VarSource;
+use crate::emit::comments::comment;
 use crate::emit::motion::{Subset, motion_subset};
 use crate::emit::names::{ModuleItems, Names};
-use crate::emit::{Args, comment};
 
 fn method(plan: &ScenePlan, what: &str) -> Ident {
     format_ident!("scene_{}_{}", plan.name, what)
@@ -35,7 +36,7 @@ fn masks(c: &Compiled, plan: &ScenePlan) -> (Vec<bool>, Vec<bool>, Vec<bool>) {
 /// The hidden methods of every scene of `c`, inside the mechanism's `impl`.
 pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> TokenStream {
     let (rt, gt) = (&args.rt, &args.items.scalar);
-    let (ni, nu, _, npar) = crate::emit::sizes(&c.model);
+    let (ni, nu, _, npar) = crate::emit::args::sizes(&c.model);
     let (x_trig, _, _) = crate::emit::cache::trig_masks(c);
     let mut out = TokenStream::new();
     for plan in &c.scenes {
@@ -53,7 +54,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
                 quote!(self.params.#p)
             })
             .collect();
-        let scale_body = crate::emit::largest_length(gt, &read_lengths);
+        let scale_body = crate::emit::args::largest_length(gt, &read_lengths);
         let angles_skipped = plan.angles_skipped.clone();
         let skipped: Vec<bool> = (0..c.model.unknowns.len())
             .map(|k| angles_skipped.contains(&k))
@@ -276,7 +277,7 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
         (&mech.params, &mech.inputs, &mech.unknowns, &mech.ty);
     let mech_mod = format_ident!("{}", m.name.text);
     let mod_name = format_ident!("{}", plan.name);
-    let (ni, nu, _, npar) = crate::emit::sizes(m);
+    let (ni, nu, _, npar) = crate::emit::args::sizes(m);
     let np = plan.points.len();
     let cols = columns(c, plan);
     let ncols = cols.len();

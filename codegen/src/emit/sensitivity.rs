@@ -9,9 +9,10 @@ use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
 use crate::analysis::Compiled;
+use crate::emit::args::{Args, equations_text};
 use crate::emit::body::body;
 use crate::emit::cache::{Cached, trig_masks};
-use crate::emit::{Args, comment, equations_text};
+use crate::emit::comments::comment;
 use crate::ir::dag::{Dag, NodeId};
 
 /// `entries` (rows × `cols`, row-major among `roots` from `at`) as an `SMatrix` named `name`,
@@ -49,7 +50,7 @@ pub(crate) fn sensitivity_fns(c: &Compiled, args: &Args) -> TokenStream {
     let m = &c.model;
     let dag = &c.system.dag;
     let d = &c.derivatives;
-    let (ni, nu, np, npar) = crate::emit::sizes(m);
+    let (ni, nu, np, npar) = crate::emit::args::sizes(m);
     let rows = 2 * np;
     // J, Φp, ∂P/∂q and ∂P/∂p in one body: one set of products, the sines and cosines read from
     // the caches the caller passes.

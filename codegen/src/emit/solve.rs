@@ -8,7 +8,7 @@ use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
 use crate::analysis::Compiled;
-use crate::emit::Args;
+use crate::emit::args::Args;
 use crate::emit::body::body;
 use crate::emit::cache::{Cached, trig_masks};
 use crate::emit::motion::jacobian_sets;
@@ -18,7 +18,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
     let (rt, gt, tick_ty) = (&args.rt, &args.items.scalar, &args.items.tick);
     let m = &c.model;
     let dag = &c.system.dag;
-    let (ni, nu, np, npar) = crate::emit::sizes(m);
+    let (ni, nu, np, npar) = crate::emit::args::sizes(m);
     let (xm, qm, pm) = trig_masks(c);
     let cached = Cached {
         args,
@@ -60,7 +60,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         let header = format!(
             "Block {bi}: {} from {}.",
             members.join(", "),
-            crate::emit::equations_text(&bf.block.equations)
+            crate::emit::args::equations_text(&bf.block.equations)
         );
         let mut roots = bf.residual.clone();
         roots.extend(bf.jacobian.iter().flatten());

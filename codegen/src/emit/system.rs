@@ -6,8 +6,9 @@ use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
 use crate::analysis::Compiled;
+use crate::emit::args::{Args, equation_name};
 use crate::emit::body::body;
-use crate::emit::{Args, comment, equation_name};
+use crate::emit::comments::comment;
 use crate::ir::dag::NodeId;
 
 /// The whole-system methods (inside the mechanism type's `impl<T: Real>` block).

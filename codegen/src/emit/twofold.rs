@@ -7,7 +7,7 @@ use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
 use crate::analysis::Compiled;
-use crate::emit::Args;
+use crate::emit::args::Args;
 use crate::ir::dag::{Func, Node, NodeId, Var};
 
 /// The nodes `roots` reach, children before parents (ids increase from children to parents).
@@ -33,7 +33,7 @@ fn cone(c: &Compiled, roots: &[NodeId]) -> Vec<NodeId> {
 pub(crate) fn residual_fns(c: &Compiled, args: &Args) -> TokenStream {
     let (rt, gt, m) = (&args.rt, &args.items.scalar, &c.model);
     let dag = &c.system.dag;
-    let (ni, nu, _, npar) = crate::emit::sizes(m);
+    let (ni, nu, _, npar) = crate::emit::args::sizes(m);
     let tw = quote!(#rt::Twofold);
     let mut out = TokenStream::new();
     for (bi, bf) in c.blocks.iter().enumerate() {

@@ -6,6 +6,8 @@
 //! holds one chunk, however many sets. [`for_each_mut`] is the same for many instances held in
 //! memory (a fleet of mechanisms each ticked once, say).
 
+pub mod lanes;
+
 use crate::MechanismInfo;
 use crate::sweep::RowRef;
 
@@ -134,13 +136,21 @@ impl SetSummary {
         match &r.result {
             Ok(s) => {
                 self.ok_rows += 1;
-                let values =
-                    s.q.iter()
-                        .copied()
-                        .chain(s.points.iter().flat_map(|p| p.position));
-                for (k, v) in values.enumerate() {
-                    self.min[k] = self.min[k].min(v);
-                    self.max[k] = self.max[k].max(v);
+                let n = s.q.len();
+                let (min, max) = (&mut self.min[..], &mut self.max[..]);
+                if min.len() != n + 2 * s.points.len() || max.len() != min.len() {
+                    return;
+                }
+                let mut take = |k: usize, v: f64| {
+                    min[k] = min[k].min(v);
+                    max[k] = max[k].max(v);
+                };
+                for (k, &v) in s.q.iter().enumerate() {
+                    take(k, v);
+                }
+                for (j, p) in s.points.iter().enumerate() {
+                    take(n + 2 * j, p.position[0]);
+                    take(n + 2 * j + 1, p.position[1]);
                 }
             }
             Err(_) => {
@@ -215,8 +225,21 @@ pub fn for_each_ordered<T: Send>(
     count: usize,
     threads: Option<usize>,
     solve: impl Fn(usize) -> T + Sync,
+    emit: impl FnMut(usize, T),
+) -> Result<(), String> {
+    for_each_ordered_by(count, CHUNK, threads, solve, emit)
+}
+
+/// [`for_each_ordered`] in chunks of `chunk` items (at least one): for items that are groups of
+/// sets (a lane group's, say), so that a chunk still holds about [`CHUNK`] sets.
+pub fn for_each_ordered_by<T: Send>(
+    count: usize,
+    chunk: usize,
+    threads: Option<usize>,
+    solve: impl Fn(usize) -> T + Sync,
     mut emit: impl FnMut(usize, T),
 ) -> Result<(), String> {
+    let chunk = chunk.max(1);
     #[cfg(feature = "parallel")]
     {
         use rayon::prelude::*;
@@ -224,8 +247,8 @@ pub fn for_each_ordered<T: Send>(
             .num_threads(threads.unwrap_or(0))
             .build()
             .map_err(|e| format!("cannot start worker threads: {e}"))?;
-        for start in (0..count).step_by(CHUNK) {
-            let end = (start + CHUNK).min(count);
+        for start in (0..count).step_by(chunk) {
+            let end = (start + chunk).min(count);
             let done: Vec<T> = pool.install(|| (start..end).into_par_iter().map(&solve).collect());
             for (s, t) in (start..end).zip(done) {
                 emit(s, t);
@@ -235,7 +258,7 @@ pub fn for_each_ordered<T: Send>(
     }
     #[cfg(not(feature = "parallel"))]
     {
-        let _ = threads;
+        let _ = (threads, chunk);
         for s in 0..count {
             emit(s, solve(s));
         }

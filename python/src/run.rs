@@ -8,6 +8,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use mg::MechanismInfo;
+use mg::batch::lanes::{Group, LANES, sweep_group};
 use mg::batch::solver_with_params;
 use mg::branches::Assembly;
 use mg::generic::Generic;
@@ -62,6 +63,35 @@ impl Job<'_> {
     }
 }
 
+impl Job<'_> {
+    /// The sets `chunk` (at most [`LANES`]) swept side by side in SIMD lanes into `block`, set
+    /// `i` from its row `at + i·rows`; the sets (a bit each) that left the lanes, to be swept by
+    /// [`Job::sweep_into`].
+    fn sweep_lanes_into(
+        &self,
+        chunk: &[Vec<f64>],
+        block: &mut Block<'_>,
+        at: usize,
+        rows: usize,
+    ) -> u32 {
+        let c = Continuation::for_input(self.info.inputs[self.plan.index].kind, self.plan.span);
+        let group = Group {
+            params: chunk,
+            index: self.plan.index,
+            values: &self.plan.values,
+            rate: self.rate,
+            held: &self.plan.held,
+            continuation: &c,
+        };
+        let mut next: Vec<usize> = (0..chunk.len()).map(|i| at + i * rows).collect();
+        sweep_group(self.name, &group, &mut |i, row| {
+            block.put(next[i], &row, self.info);
+            next[i] += 1;
+        })
+        .unwrap_or(u32::MAX)
+    }
+}
+
 /// Sets per block of the buffers: what one worker sweeps before it takes the next block.
 pub const SETS_PER_BLOCK: usize = 16;
 
@@ -85,12 +115,26 @@ pub fn sweep_sets(
 ) -> PyResult<()> {
     let stop = AtomicBool::new(false);
     let sweep_block = |b: usize, block: &mut Block<'_>| {
-        let mine = sets.iter().skip(b * SETS_PER_BLOCK).take(SETS_PER_BLOCK);
-        for (i, params) in mine.enumerate() {
+        let mine = &sets[(b * SETS_PER_BLOCK).min(sets.len())..];
+        let mine = &mine[..mine.len().min(SETS_PER_BLOCK)];
+        // A compiled-in mechanism's sets in lane groups, each set that leaves the lanes swept
+        // again by the scalar sweep (its rows overwrite the lane's).
+        let group = if job.generated { LANES } else { 1 };
+        for (g, chunk) in mine.chunks(group).enumerate() {
             if stop.load(Ordering::Relaxed) {
                 return;
             }
-            job.sweep_into(params, block, i * rows);
+            let at = g * group * rows;
+            let left = if group > 1 {
+                job.sweep_lanes_into(chunk, block, at, rows)
+            } else {
+                u32::MAX
+            };
+            for (i, params) in chunk.iter().enumerate() {
+                if left >> i & 1 == 1 {
+                    job.sweep_into(params, block, at + i * rows);
+                }
+            }
         }
     };
     if sets.len().saturating_mul(rows) <= INLINE_ROWS {

@@ -8,6 +8,7 @@ use alloc::vec::Vec;
 
 use crate::info::{Kind, MechanismInfo};
 use crate::scalar::Real;
+use crate::simd::Lanes;
 
 /// Largest change of an unknown one step may make: this many radians for an angle, this fraction
 /// of the mechanism's length scale (or of the largest current length unknown) for a length.
@@ -119,5 +120,142 @@ impl BranchGuard {
             size = size.max(before[k].abs());
         }
         moved < T::lit(1e-9) * (T::one() + size) || moved <= T::lit(MAX_JUMP) * scale
+    }
+
+    /// The length scale lengths are measured against.
+    pub fn scale(&self) -> f64 {
+        self.scale
+    }
+
+    /// Whether `other` is this rule for another length scale (the same unknowns' kinds).
+    pub fn same_kinds(&self, other: &BranchGuard) -> bool {
+        self.length == other.length
+    }
+
+    /// [`BranchGuard::keeps`] for W steps at once, one per lane, lane `i` under this rule with
+    /// the length scale of lane `i` of `scale` (the same operations in the same order, so the
+    /// same answer for each lane as `keeps` of the guard with that scale on that lane's
+    /// numbers): the bits of the lanes whose step stays on the branch.
+    #[inline]
+    pub fn keeps_lanes<L: Lanes>(
+        &self,
+        scale: L,
+        before: &[L],
+        qd: &[L],
+        qdd: &[L],
+        dt: L::Scalar,
+        after: &[L],
+    ) -> u32 {
+        let n = after.len();
+        if before.len() != n || qd.len() != n || qdd.len() != n || self.length.len() != n {
+            return 0;
+        }
+        let max = |a: L, b: L| L::select(a.lt(b), b, a);
+        let length = if self.any_length {
+            let mut current = L::zero();
+            for (v, _) in before.iter().zip(&self.length).filter(|(_, l)| **l) {
+                current = L::select(v.is_finite(), max(current, v.abs()), current);
+            }
+            L::lit(MAX_STEP) * max(scale, current)
+        } else {
+            L::lit(MAX_STEP)
+        };
+        let (dt, half) = (L::splat(dt), L::lit(0.5));
+        let (mut moved, mut spread, mut size) = (L::zero(), L::lit(1e-12), L::zero());
+        let mut good = L::all_bits();
+        for k in 0..n {
+            let p = before[k] + dt * (qd[k] + half * dt * qdd[k]);
+            let (step, change) = ((p - before[k]).abs(), (after[k] - before[k]).abs());
+            let limit = if self.length[k] {
+                length
+            } else {
+                L::lit(MAX_STEP)
+            };
+            let ok = step.is_finite() & change.is_finite() & step.le(limit) & change.le(limit);
+            good &= L::bits(ok);
+            moved = max(moved, (after[k] - p).abs());
+            spread = max(max(spread, step), change);
+            size = max(size, before[k].abs());
+        }
+        let near = moved.lt(L::lit(1e-9) * (L::one() + size)) | moved.le(L::lit(MAX_JUMP) * spread);
+        good & L::bits(near)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::info::CoordDesc;
+    use crate::simd::Vf64;
+    use alloc::string::String;
+
+    /// `keeps_lanes` answers as `keeps` on each lane: steps of every size around the limits, a
+    /// jump off the prediction, a non-finite solution, lengths and angles, each lane its scale.
+    #[test]
+    fn lanes_keep_what_each_lane_keeps() {
+        let unknown = |name: &str, kind| CoordDesc {
+            name: name.into(),
+            kind,
+            start: 0.0,
+        };
+        let info = MechanismInfo {
+            name: "test".into(),
+            description: String::new(),
+            inputs: Vec::new(),
+            unknowns: alloc::vec![unknown("a", Kind::Angle), unknown("s", Kind::Length)],
+            params: Vec::new(),
+            points: Vec::new(),
+            blocks: Vec::new(),
+            closed: Vec::new(),
+        };
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut seen = [0usize; 2];
+        for case in 0..4000 {
+            let dt = 0.3 * next();
+            let mut lanes: [[f64; 9]; 8] = [[0.0; 9]; 8];
+            for lane in &mut lanes {
+                let big = if case % 7 == 0 { 40.0 } else { 1.0 };
+                for v in lane.iter_mut() {
+                    *v = big * (2.0 * next() - 1.0);
+                }
+                lane[8] = 0.5 + 3.0 * next();
+                if case % 11 == 0 {
+                    lane[7] = f64::NAN;
+                }
+                if case % 3 == 0 {
+                    // `after` on the prediction, give or take a little.
+                    for k in 0..2 {
+                        let p = lane[k] + dt * (lane[2 + k] + 0.5 * dt * lane[4 + k]);
+                        lane[6 + k] = p + 1e-3 * (next() - 0.5);
+                    }
+                }
+            }
+            let col = |k: usize| Vf64::<8>::from_fn(|i| lanes[i][k]);
+            let guard = BranchGuard::new(&info, 1.0);
+            let bits = guard.keeps_lanes(
+                col(8),
+                &[col(0), col(1)],
+                &[col(2), col(3)],
+                &[col(4), col(5)],
+                dt,
+                &[col(6), col(7)],
+            );
+            for (i, l) in lanes.iter().enumerate() {
+                let g = BranchGuard::new(&info, l[8]);
+                let one = g.keeps(&l[0..2], &l[2..4], &l[4..6], dt, &l[6..8]);
+                assert_eq!(bits >> i & 1 == 1, one, "case {case}, lane {i}: {l:?}");
+                seen[usize::from(one)] += 1;
+            }
+        }
+        assert!(
+            seen[0] > 1000 && seen[1] > 1000,
+            "kept and refused: {seen:?}"
+        );
     }
 }

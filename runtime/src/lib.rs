@@ -48,7 +48,7 @@ pub use error::{Quantity, SolveError, Stage};
 pub use info::{
     CoordDesc, CoordInfo, Kind, MechanismInfo, ParamDesc, ParamInfo, PointMotion, StaticInfo,
 };
-pub use lanes::{LaneState, LaneTick};
+pub use lanes::{LaneState, LaneTick, LaneView};
 pub use mechanism::{
     Array, InputMotion, LaneMechanism, RowMajor, State, StateOf, StaticMechanism, StaticVisitor,
 };

@@ -259,7 +259,7 @@ pub trait LaneMechanism<L: Lanes>: Sized + Send + Sync {
     /// `[L; UNKNOWNS]`
     type Q: Copy + Default + AsRef<[L]> + AsMut<[L]> + Send + Sync;
     /// The state between lane ticks (`NAME::LaneTick<L>`).
-    type Tick: Clone + Send + Sync;
+    type Tick: Clone + Send + Sync + crate::lanes::LaneView<L>;
     /// Instance `i` is `f(i)`.
     fn from_fn(f: impl FnMut(usize) -> Self::Mechanism) -> Self;
     /// Sets instance `i` (`BadLength` for `i ≥ W`).

@@ -4,7 +4,8 @@
 
 use std::io::{IsTerminal as _, Write as _};
 
-use mechgen::batch::{ParamSets, SetSummary, for_each_ordered, solver_with_params};
+use mechgen::batch::lanes::{Group, LANES, sweep_group};
+use mechgen::batch::{CHUNK, ParamSets, SetSummary, for_each_ordered_by, solver_with_params};
 use mechgen::sweep::{Continuation, check_start, sweep_each_with};
 use mechgen::{DynMechanism, report};
 
@@ -165,32 +166,77 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
         None => None,
     };
     let count = sets.sets.len();
+    // A compiled-in mechanism's sets go in lane groups (`mechgen::batch::lanes`): each group's
+    // sets swept side by side, those that leave the lanes swept again by the scalar sweep.
+    let lanes = if generated { LANES } else { 1 };
+    let solve_group = |g: usize| -> Vec<(Vec<u8>, SetSummary)> {
+        let group_sets = g * lanes..((g + 1) * lanes).min(count);
+        if lanes == 1 {
+            return group_sets.map(solve).collect();
+        }
+        let params: Vec<Vec<f64>> = group_sets
+            .clone()
+            .map(|set| sets.params_of(set, &indices, &info))
+            .collect();
+        let mut out: Vec<(Vec<u8>, SetSummary)> = params
+            .iter()
+            .map(|_| (Vec::new(), SetSummary::new(&info)))
+            .collect();
+        let group = Group {
+            params: &params,
+            index: plan.index,
+            values: &plan.values,
+            rate: s.rate,
+            held: &plan.held,
+            continuation: &continuation,
+        };
+        let left = sweep_group(&s.name, &group, &mut |i, r| {
+            let (rows, summary) = &mut out[i];
+            summary.add(&r);
+            if want_rows {
+                let _ = write!(rows, "{},", group_sets.start + i);
+                report::csv_row_held(rows, &info, &r, &held);
+            }
+        })
+        .unwrap_or(u32::MAX);
+        for (i, set) in group_sets.enumerate() {
+            if left >> i & 1 == 1 {
+                out[i] = solve(set);
+            }
+        }
+        out
+    };
     let progress = count > mechgen::batch::CHUNK && std::io::stderr().is_terminal();
     let (mut whole, mut failed_start) = (0, 0);
-    for_each_ordered(
-        count,
+    let mut set = 0;
+    for_each_ordered_by(
+        count.div_ceil(lanes),
+        CHUNK.div_ceil(lanes),
         args.threads.map(usize::from),
-        solve,
-        |set, (rows, summary)| {
-            if let Some(c) = &mut csv {
-                c.write(&rows);
-            }
-            if let Some(o) = &mut summary_out {
-                o.write(summary.row(set).as_bytes());
-            }
-            whole += usize::from(summary.failed_rows == 0);
-            failed_start += usize::from(summary.ok_rows == 0);
-            if progress && ((set + 1) % mechgen::batch::CHUNK == 0 || set + 1 == count) {
-                let done = (set + 1) * 40 / count;
-                tell_raw!(
-                    "\r[{}{}] {}/{count} sets",
-                    "=".repeat(done),
-                    " ".repeat(40 - done),
-                    set + 1
-                );
-                if set + 1 == count {
-                    tell!();
+        solve_group,
+        |_, group| {
+            for (rows, summary) in group {
+                if let Some(c) = &mut csv {
+                    c.write(&rows);
                 }
+                if let Some(o) = &mut summary_out {
+                    o.write(summary.row(set).as_bytes());
+                }
+                whole += usize::from(summary.failed_rows == 0);
+                failed_start += usize::from(summary.ok_rows == 0);
+                if progress && ((set + 1) % mechgen::batch::CHUNK == 0 || set + 1 == count) {
+                    let done = (set + 1) * 40 / count;
+                    tell_raw!(
+                        "\r[{}{}] {}/{count} sets",
+                        "=".repeat(done),
+                        " ".repeat(40 - done),
+                        set + 1
+                    );
+                    if set + 1 == count {
+                        tell!();
+                    }
+                }
+                set += 1;
             }
         },
     )?;

@@ -3,6 +3,7 @@
 //! Works on any [`DynMechanism`] (generated or generic), written once; the CLI and reports sit on it.
 
 pub mod continuation;
+mod lanes;
 pub mod plan;
 pub mod scene;
 
@@ -295,6 +296,7 @@ mod crossing;
 mod rows;
 mod walker;
 
+pub use lanes::{LANES, sweep_sets_in_lanes};
 pub use rows::{SEGMENT, nearest_row, sweep, sweep_each, sweep_each_with, sweep_holding};
 
 /// Whether the linkage assembles at the inputs given (every input, in sweep units).

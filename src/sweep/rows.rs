@@ -89,6 +89,49 @@ pub fn sweep_each_with(
     emit: &mut dyn FnMut(RowRef<'_>),
 ) {
     let info: MechanismInfo = k.info();
+    let Some(mut first) = walk_to_first(k, &info, index, values, rate, held, c, assembles, emit)
+    else {
+        return;
+    };
+    // Up from the start row, with what the rows below left of the budget.
+    let w = &mut first.walker;
+    w.resume(&first.at_first);
+    w.allowance = first.after_down;
+    for (d, &target) in values[first.nearest + 1..].iter().enumerate() {
+        if d > 0 && d % SEGMENT == 0 {
+            w.renew();
+        }
+        let outcome = w.solve(target);
+        emit(view(w, target, outcome));
+    }
+}
+
+/// A sweep's walk at its start row, the rows below it and the start row handed out: the walker,
+/// where it stood at the start row, the budget the rows below left, and the start row's index.
+pub(super) struct First<'k> {
+    pub walker: Walker<'k>,
+    pub at_first: super::walker::Mark,
+    pub after_down: usize,
+    pub nearest: usize,
+    /// Whether the start row solved.
+    pub solved: bool,
+}
+
+/// The first part of [`sweep_each_with`]: the start settled, the held inputs moved, the start
+/// row reached, the rows below it solved and every row up to the start row handed to `emit`.
+/// `None` when nothing is left to walk (every row already handed out failed, or no rows).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn walk_to_first<'k>(
+    k: &'k dyn DynMechanism<f64>,
+    info: &MechanismInfo,
+    index: usize,
+    values: &[f64],
+    rate: f64,
+    held: &[(usize, f64)],
+    c: &'k Continuation,
+    assembles: Option<Assembles<'k>>,
+    emit: &mut dyn FnMut(RowRef<'_>),
+) -> Option<First<'k>> {
     let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
     let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
     let ni = x.len();
@@ -106,26 +149,35 @@ pub fn sweep_each_with(
             expected: ni,
             got: index,
         };
-        return fail_all(error, stopped(0.0, f64::INFINITY, StopReason::Solver));
+        {
+            fail_all(error, stopped(0.0, f64::INFINITY, StopReason::Solver));
+            return None;
+        }
     }
-    if check_start(&info).is_err() {
+    if check_start(info).is_err() {
         let error = SolveError::NonFinite {
             quantity: mechgen_runtime::error::Quantity::Input,
             index,
         };
-        return fail_all(
-            error,
-            stopped(x[index], f64::INFINITY, StopReason::UnusableStart),
-        );
+        {
+            fail_all(
+                error,
+                stopped(x[index], f64::INFINITY, StopReason::UnusableStart),
+            );
+            return None;
+        }
     }
     if !rate.is_finite() {
         let error = SolveError::NonFinite {
             quantity: mechgen_runtime::error::Quantity::InputRate,
             index,
         };
-        return fail_all(error, stopped(x[index], f64::INFINITY, StopReason::Solver));
+        {
+            fail_all(error, stopped(x[index], f64::INFINITY, StopReason::Solver));
+            return None;
+        }
     }
-    settle_start(k, &info, &x, &mut q, c);
+    settle_start(k, info, &x, &mut q, c);
     let mut allowance = sweep_budget(values.len());
     // Held inputs first, each along the branch from its start value to its value.
     for &(i, value) in held.iter().filter(|h| h.0 < ni && h.0 != index) {
@@ -140,31 +192,35 @@ pub fn sweep_each_with(
         };
         if let Err(stop) = continue_within(k, &mut x, &mut q, i, value, &held_c, &mut allowance) {
             let condition = condition_at(k, &x, &q, c);
-            return fail_all(
-                stop.error,
-                stopped(x[index], condition, StopReason::HeldInput),
-            );
+            {
+                fail_all(
+                    stop.error,
+                    stopped(x[index], condition, StopReason::HeldInput),
+                );
+                return None;
+            }
         }
     }
-    let Some(nearest) = nearest_row(info.inputs[index].kind, x[index], values) else {
-        return;
-    };
+    let nearest = nearest_row(info.inputs[index].kind, x[index], values)?;
     if info.inputs[index].kind == Kind::Angle {
         x[index] = nearest_turn(x[index], values[nearest]);
     }
-    let mut w = match Walker::new(k, &info, index, rate, c, (x, q, allowance), assembles) {
+    let mut w = match Walker::new(k, info, index, rate, c, (x, q, allowance), assembles) {
         Ok(w) => w,
-        Err(error) => return fail_all(error, stopped(0.0, f64::INFINITY, StopReason::Solver)),
+        Err(error) => {
+            fail_all(error, stopped(0.0, f64::INFINITY, StopReason::Solver));
+            return None;
+        }
     };
     let first = w.solve(values[nearest]);
     let at_first = w.mark();
-    let mut first_row = RowStore::new(&info, 1);
+    let mut first_row = RowStore::new(info, 1);
     first_row.push(&mut w, values[nearest], first);
     // Down to the first value: rows kept a segment at a time, the walk's state kept at the top
     // of every segment. The tick starts afresh there (and every SEGMENT rows up from the start
     // row), so that a segment solved again from its checkpoint, or the same rows in a sweep that
     // starts at the start row, have exactly these numbers.
-    let mut store = RowStore::new(&info, nearest.min(SEGMENT));
+    let mut store = RowStore::new(info, nearest.min(SEGMENT));
     let mut checkpoints = Vec::new();
     for i in (0..nearest).rev() {
         if (nearest - 1 - i) % SEGMENT == 0 {
@@ -192,16 +248,13 @@ pub fn sweep_each_with(
         store.emit_reversed(emit);
     }
     first_row.emit_reversed(emit);
-    // Up from the start row, with what the rows below left of the budget.
-    w.resume(&at_first);
-    w.allowance = after_down;
-    for (d, &target) in values[nearest + 1..].iter().enumerate() {
-        if d > 0 && d % SEGMENT == 0 {
-            w.renew();
-        }
-        let outcome = w.solve(target);
-        emit(view(&mut w, target, outcome));
-    }
+    Some(First {
+        walker: w,
+        at_first,
+        after_down,
+        nearest,
+        solved: first,
+    })
 }
 
 /// The row at `input` with `outcome`, borrowed from the walk.

@@ -24,7 +24,7 @@ const CROSSING_CONDITION: f64 = 1e6;
 /// its input (a whole solve from the ticked positions, caches recomputed). Regular rows of the
 /// compiled-in mechanisms are below 1e2 (and keep the tick's state, so that the sweep runs at a
 /// tick's cost).
-const RESOLVE_CONDITION: f64 = 30.0;
+pub(super) const RESOLVE_CONDITION: f64 = 30.0;
 
 /// The state of a sweep between rows and the workspace that moves it.
 pub(super) struct Walker<'k> {
@@ -84,7 +84,35 @@ pub(super) struct Mark {
     dead: Option<(SolveError, Stopped, f64)>,
 }
 
+impl Mark {
+    /// The inputs and unknowns of the walk at the mark; `None` when the walk had met a dead point
+    /// there (it goes on only back the way it came).
+    pub(super) fn state(&self) -> Option<(&[f64], &[f64])> {
+        self.dead.is_none().then_some((&self.x[..], &self.q[..]))
+    }
+}
+
+/// What a walk that goes on in SIMD lanes reads of its scalar walk (`lanes.rs`).
+#[derive(Clone, Copy)]
+pub(super) struct LaneWalk<'w> {
+    pub xd: &'w [f64],
+    pub xdd: &'w [f64],
+    pub h_max: f64,
+    pub guard: &'w mechgen_runtime::guard::BranchGuard,
+}
+
 impl<'k> Walker<'k> {
+    /// The input rates, the largest substep and the branch rule of this walk, for a walk on in
+    /// lanes; `None` for a walk at rest (rate 0), whose rows the lanes do not produce.
+    pub(super) fn lane_walk(&self) -> Option<LaneWalk<'_>> {
+        self.at_rest.is_none().then(|| LaneWalk {
+            xd: &self.xd,
+            xdd: &self.xdd,
+            h_max: self.h_max,
+            guard: self.follower.guard(),
+        })
+    }
+
     /// A walk of input `index` from `(x, q)` at input rate `rate` (finite).
     pub(super) fn new(
         k: &'k dyn DynMechanism<f64>,

@@ -28,5 +28,5 @@ pub use kernels::{
 pub use lu::{LaneLu, lu};
 pub use newton::{LaneReport, newton_block};
 pub use start::tick_start;
-pub use state::{LaneFixed, LaneRates, LaneState, LaneTick, Memo, fresh_params_id};
+pub use state::{LaneFixed, LaneRates, LaneState, LaneTick, LaneView, Memo, fresh_params_id};
 pub use tick::{LanePath, LaneShape, ScalarLane, tick};

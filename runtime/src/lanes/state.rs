@@ -241,3 +241,121 @@ impl<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: us
 pub trait Memo: Copy + core::fmt::Debug + Send + Sync + Default {}
 
 impl<M: Copy + core::fmt::Debug + Send + Sync + Default> Memo for M {}
+
+/// What a sweep reads of W instances after a lane tick, without making their scalar ticks: the
+/// [`LaneMechanism::Tick`](crate::LaneMechanism::Tick) of every generated mechanism and scene.
+pub trait LaneView<L: Lanes> {
+    /// The unknowns, their rates and their accelerations, in lanes.
+    fn lanes_q(&self) -> (&[L], &[L], &[L]);
+    /// The bits of the lanes whose last tick succeeded.
+    fn ok_bits(&self) -> u32;
+    /// Instance `i`'s last status and its condition estimate (what its scalar tick's
+    /// [`NewtonReport::condition`] gives); `BadLength` and ∞ for `i ≥ W`.
+    fn lane_status(&self, i: usize) -> (Result<(), SolveError>, L::Scalar);
+    /// Every instance's unknowns, rates, accelerations and points at once: instance `i`'s
+    /// unknowns at `q[i·NU..]` (rates, accelerations likewise) and its points at
+    /// `points[i·NP..]`; slices of W·NU and W·NP values (nothing written otherwise).
+    fn all_numbers(
+        &self,
+        q: &mut [L::Scalar],
+        qd: &mut [L::Scalar],
+        qdd: &mut [L::Scalar],
+        points: &mut [PointMotion<L::Scalar>],
+    );
+    /// Instance `i`'s unknowns, their rates and accelerations and its points, each written into
+    /// the slice given, up to its length (nothing for `i ≥ W`).
+    fn lane_numbers(
+        &self,
+        i: usize,
+        q: &mut [L::Scalar],
+        qd: &mut [L::Scalar],
+        qdd: &mut [L::Scalar],
+        points: &mut [PointMotion<L::Scalar>],
+    );
+}
+
+impl<L: Lanes, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize, M: Memo>
+    LaneView<L> for LaneTick<L, NI, NU, NP, NPAR, M>
+{
+    fn lanes_q(&self) -> (&[L], &[L], &[L]) {
+        (&self.state.q, &self.state.qd, &self.state.qdd)
+    }
+
+    #[inline]
+    fn all_numbers(
+        &self,
+        q: &mut [L::Scalar],
+        qd: &mut [L::Scalar],
+        qdd: &mut [L::Scalar],
+        points: &mut [PointMotion<L::Scalar>],
+    ) {
+        let w = L::W;
+        if q.len() != w * NU || qd.len() != w * NU || qdd.len() != w * NU || points.len() != w * NP
+        {
+            return;
+        }
+        let s = &self.state;
+        for k in 0..NU {
+            let (a, b, c) = (s.q[k], s.qd[k], s.qdd[k]);
+            for i in 0..w {
+                q[i * NU + k] = a.lane(i);
+                qd[i * NU + k] = b.lane(i);
+                qdd[i * NU + k] = c.lane(i);
+            }
+        }
+        for (k, p) in s.points.iter().enumerate() {
+            for i in 0..w {
+                let at = |v: [L; 2]| [v[0].lane(i), v[1].lane(i)];
+                points[i * NP + k] = PointMotion {
+                    position: at(p.position),
+                    velocity: at(p.velocity),
+                    acceleration: at(p.acceleration),
+                };
+            }
+        }
+    }
+
+    fn ok_bits(&self) -> u32 {
+        let ok = self.status.as_ref().iter().enumerate();
+        ok.filter(|(_, s)| s.is_ok())
+            .fold(0, |m, (i, _)| m | 1 << i)
+    }
+
+    fn lane_status(&self, i: usize) -> (Result<(), SolveError>, L::Scalar) {
+        match self.report(i) {
+            Some(r) => (self.status(i), r.condition()),
+            None => (self.status(i), crate::scalar::Real::lit(f64::INFINITY)),
+        }
+    }
+
+    fn lane_numbers(
+        &self,
+        i: usize,
+        q: &mut [L::Scalar],
+        qd: &mut [L::Scalar],
+        qdd: &mut [L::Scalar],
+        points: &mut [PointMotion<L::Scalar>],
+    ) {
+        if i >= L::W {
+            return;
+        }
+        let s = &self.state;
+        for (d, v) in q.iter_mut().zip(&s.q) {
+            *d = v.lane(i);
+        }
+        for (d, v) in qd.iter_mut().zip(&s.qd) {
+            *d = v.lane(i);
+        }
+        for (d, v) in qdd.iter_mut().zip(&s.qdd) {
+            *d = v.lane(i);
+        }
+        for (d, p) in points.iter_mut().zip(&s.points) {
+            let at = |v: [L; 2]| [v[0].lane(i), v[1].lane(i)];
+            *d = PointMotion {
+                position: at(p.position),
+                velocity: at(p.velocity),
+                acceleration: at(p.acceleration),
+            };
+        }
+    }
+}

@@ -1,0 +1,305 @@
+//! Sets of one generated mechanism swept side by side in SIMD lanes (what `batch` runs): each
+//! set is walked to its start row by the scalar sweep (`rows.rs`), then the sets' rows above it
+//! are ticked together, one lane per set, at the CPU's widest vectors. A lane tick is its scalar
+//! tick bit for bit, and every substep is held to the same branch rule and every row to the same
+//! condition bound as the scalar walk (`walker.rs`), so a lane's rows are the scalar sweep's rows.
+//! A set whose walk needs more than the tick (a substep the rule refuses, a row near a singular
+//! point, a failed row, the budget spent) leaves the lanes: its caller sweeps it again with the
+//! scalar sweep, whose rows then replace the lane's. Part of [`crate::sweep`].
+
+use super::rows::{First, walk_to_first};
+use super::walker::RESOLVE_CONDITION;
+use super::{Continuation, Row, RowRef, Solved};
+use mechgen_runtime::simd::{Vf64, WithLanes};
+use mechgen_runtime::{
+    DynMechanism, InputMotion, LaneMechanism, LaneView, Lanes, PointMotion, StaticMechanism,
+};
+
+/// The lanes of a group: f64's widest.
+type L = <f64 as WithLanes>::Lanes;
+/// Sets swept together: one per lane.
+pub const LANES: usize = <Vf64<8> as Lanes>::W;
+
+/// Fewer sets than this are left to the scalar sweep: a lane tick costs about what three or four
+/// scalar ticks cost, whatever the lanes in use.
+pub const MIN_LANES: usize = 4;
+
+/// Sweeps the sets `mechs` (at most [`LANES`], at least [`MIN_LANES`]; each a mechanism with its
+/// set's params) as
+/// [`super::sweep_each_with`] sweeps each (input `index` over `values`, rate `rate`, `held` inputs
+/// moved first), handing set `i`'s rows to `emit(i, row)` in row order. Returns the sets (a bit
+/// each) whose sweep left the lanes: the rows handed out for them are to be dropped and the set
+/// swept by the scalar sweep (with its branch oracle, for the statuses of failed rows).
+#[allow(clippy::too_many_arguments)]
+pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
+    mechs: &[M],
+    index: usize,
+    values: &[f64],
+    rate: f64,
+    held: &[(usize, f64)],
+    c: &Continuation,
+    emit: &mut dyn FnMut(usize, RowRef<'_>),
+) -> u32 {
+    let n = mechs.len().min(LANES);
+    let all = if n == 32 { u32::MAX } else { (1u32 << n) - 1 };
+    if n < MIN_LANES || mechs.len() > LANES {
+        return all;
+    }
+    let dyns: Vec<&dyn DynMechanism<f64>> =
+        mechs.iter().map(|m| m as &dyn DynMechanism<f64>).collect();
+    let info = dyns[0].info();
+    // Each set to its start row, by the scalar walk.
+    let mut leave = 0u32;
+    let mut firsts: Vec<Option<First<'_>>> = Vec::with_capacity(n);
+    for (i, k) in dyns.iter().enumerate() {
+        let mut failed = false;
+        let first = walk_to_first(*k, &info, index, values, rate, held, c, None, &mut |row| {
+            failed |= row.result.is_err();
+            emit(i, row);
+        });
+        // A failed row's status needs the branch oracle the scalar sweep is given.
+        if failed {
+            leave |= 1 << i;
+        }
+        firsts.push(first.filter(|f| f.solved));
+    }
+    let mut walks = Vec::with_capacity(n);
+    for (i, f) in firsts.iter().enumerate() {
+        let lane = f.as_ref().and_then(|f| {
+            let (x, q) = f.at_first.state()?;
+            Some((x, q, f.walker.lane_walk()?, f.after_down))
+        });
+        match lane {
+            Some(l) if leave >> i & 1 == 0 => walks.push(Some(l)),
+            _ => {
+                // Done (no rows above the start row) or not for the lanes.
+                if f.is_some() || firsts[i].is_none() && values.len() > 1 {
+                    leave |= 1 << i;
+                }
+                walks.push(None);
+            }
+        }
+    }
+    let Some(lead) = walks.iter().position(Option::is_some) else {
+        return leave;
+    };
+    let (x0, _, w0, _) = walks[lead].expect("lead");
+    // The lanes walk one input sequence in one substep sequence under one branch rule: the same
+    // inputs, rates and largest substep for every set, and guards that differ in their length
+    // scale at most.
+    for (i, w) in walks.iter_mut().enumerate() {
+        if let Some((x, _, lw, _)) = w
+            && (*x != x0
+                || lw.xd != w0.xd
+                || lw.xdd != w0.xdd
+                || lw.h_max != w0.h_max
+                || !lw.guard.same_kinds(w0.guard))
+        {
+            *w = None;
+            leave |= 1 << i;
+        }
+    }
+    let first = firsts[lead].as_ref().map_or(0, |f| f.nearest);
+    let active: u32 = (0..n)
+        .filter(|&i| walks[i].is_some())
+        .fold(0, |m, i| m | 1 << i);
+    if first + 1 >= values.len() {
+        return leave;
+    }
+    let lane_of = |i: usize| if walks[i].is_some() { i } else { lead };
+    let group =
+        <M::Lanes<L> as LaneMechanism<L>>::from_fn(|i| mechs[lane_of(i.min(n - 1))].clone());
+    let mut run = Run::<M> {
+        group,
+        tick: None,
+        x: x0.to_vec(),
+        xd: w0.xd.to_vec(),
+        xdd: w0.xdd.to_vec(),
+        allowance: [0; LANES],
+        active,
+        nu: info.unknowns.len(),
+        before: vec![L::splat(0.0); 3 * info.unknowns.len()],
+        q: vec![0.0; LANES * info.unknowns.len()],
+        qd: vec![0.0; LANES * info.unknowns.len()],
+        qdd: vec![0.0; LANES * info.unknowns.len()],
+        points: vec![PointMotion::default(); LANES * info.points.len()],
+        np: info.points.len(),
+    };
+    let mut guess = vec![0.0; LANES * run.nu];
+    for lane in 0..LANES {
+        let i = lane_of(lane.min(n - 1));
+        if let Some((_, q, _, after_down)) = &walks[i] {
+            guess[lane * run.nu..(lane + 1) * run.nu].copy_from_slice(q);
+            run.allowance[lane] = *after_down;
+        }
+    }
+    run.start(&guess, c);
+    let scales = L::from_fn(|lane| {
+        let i = lane_of(lane.min(n - 1));
+        walks[i].as_ref().map_or(1.0, |w| w.2.guard.scale())
+    });
+    for (d, &target) in values[first + 1..].iter().enumerate() {
+        if run.active == 0 {
+            break;
+        }
+        if d > 0 && d % super::SEGMENT == 0 {
+            run.renew(c);
+        }
+        run.tick_to(target, w0.h_max, index, c, (w0.guard, scales));
+        run.emit_rows(target, emit);
+    }
+    leave | (active & !run.active)
+}
+
+/// The lane walk: the group and its tick, the inputs all lanes share, each lane's budget and
+/// whether it is still in the lanes, and buffers for one lane's numbers.
+struct Run<M: StaticMechanism<f64>> {
+    group: M::Lanes<L>,
+    tick: Option<<M::Lanes<L> as LaneMechanism<L>>::Tick>,
+    x: Vec<f64>,
+    xd: Vec<f64>,
+    xdd: Vec<f64>,
+    allowance: [usize; LANES],
+    active: u32,
+    nu: usize,
+    /// The unknowns, rates and accelerations before the last substep, in lanes.
+    before: Vec<L>,
+    /// Every lane's numbers of the last row (lane after lane).
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    qdd: Vec<f64>,
+    points: Vec<PointMotion<f64>>,
+    np: usize,
+}
+
+impl<M: StaticMechanism<f64>> Run<M> {
+    /// The shared inputs as lanes.
+    fn input(&self) -> InputMotion<<M::Lanes<L> as LaneMechanism<L>>::X> {
+        let lanes = |v: &[f64]| {
+            let mut a = <M::Lanes<L> as LaneMechanism<L>>::X::default();
+            for (d, &s) in a.as_mut().iter_mut().zip(v) {
+                *d = L::splat(s);
+            }
+            a
+        };
+        InputMotion::new(lanes(&self.x), lanes(&self.xd), lanes(&self.xdd))
+    }
+
+    /// Every lane's tick started afresh from its unknowns in `guess` (lane after lane), as the
+    /// scalar walk restarts its tick; a lane that does not start leaves.
+    fn start(&mut self, guess: &[f64], c: &Continuation) {
+        let mut q = <M::Lanes<L> as LaneMechanism<L>>::Q::default();
+        for (k, v) in q.as_mut().iter_mut().enumerate() {
+            *v = L::from_fn(|lane| guess[lane * self.nu + k]);
+        }
+        let t = self.group.tick_start(&self.input(), &q, &c.options);
+        for lane in 0..LANES {
+            if t.lane_status(lane).0.is_err() {
+                self.active &= !(1 << lane);
+            }
+        }
+        self.tick = Some(t);
+    }
+
+    /// The tick started afresh where every lane stands (the scalar walk's `renew`).
+    fn renew(&mut self, c: &Continuation) {
+        let Some(t) = &self.tick else { return };
+        let mut guess = vec![0.0; LANES * self.nu];
+        for lane in 0..LANES {
+            let q = &mut guess[lane * self.nu..(lane + 1) * self.nu];
+            t.lane_numbers(lane, q, &mut [], &mut [], &mut []);
+        }
+        self.start(&guess, c);
+    }
+
+    /// Every lane ticked to `target` in the scalar walk's substeps, each held to the branch rule;
+    /// a lane whose substep fails, is refused or finds the budget spent leaves, as does one whose
+    /// row's condition estimate asks the scalar walk to solve it afresh. One rule for every lane
+    /// (the sets' guards differ in their length scales at most: `scales`).
+    fn tick_to(
+        &mut self,
+        target: f64,
+        h_max: f64,
+        index: usize,
+        c: &Continuation,
+        (guard, scales): (&mechgen_runtime::guard::BranchGuard, L),
+    ) {
+        let from = self.x[index];
+        let distance = target - from;
+        let substeps = if distance.abs() <= h_max {
+            1
+        } else {
+            let n = (distance.abs() / h_max).ceil();
+            if !(n.is_finite() && n <= super::MAX_ROUTE as f64) {
+                self.active = 0;
+                return;
+            }
+            n as usize
+        };
+        let nu = self.nu;
+        for j in 1..=substeps {
+            for lane in 0..LANES {
+                if self.active >> lane & 1 == 1 {
+                    if self.allowance[lane] == 0 {
+                        self.active &= !(1 << lane);
+                    } else {
+                        self.allowance[lane] -= 1;
+                    }
+                }
+            }
+            let Some(t) = &self.tick else { return };
+            let (q, qd, qdd) = t.lanes_q();
+            self.before[..nu].copy_from_slice(q);
+            self.before[nu..2 * nu].copy_from_slice(qd);
+            self.before[2 * nu..].copy_from_slice(qdd);
+            let x_before = self.x[index];
+            self.x[index] = if j == substeps {
+                target
+            } else {
+                from + distance * (j as f64 / substeps as f64)
+            };
+            let dt = (self.x[index] - x_before) / self.xd[index];
+            let input = self.input();
+            let Some(t) = &mut self.tick else { return };
+            self.group.tick_widest(t, &input, &c.options);
+            let b = &self.before;
+            let q_now = t.lanes_q().0;
+            let kept = guard.keeps_lanes(scales, &b[..nu], &b[nu..2 * nu], &b[2 * nu..], dt, q_now);
+            self.active &= kept & t.ok_bits();
+        }
+        let Some(t) = &self.tick else { return };
+        for lane in 0..LANES {
+            if self.active >> lane & 1 == 1 && t.lane_status(lane).1 >= RESOLVE_CONDITION {
+                self.active &= !(1 << lane);
+            }
+        }
+    }
+
+    /// The row at `target` of every lane still in the lanes.
+    fn emit_rows(&mut self, target: f64, emit: &mut dyn FnMut(usize, RowRef<'_>)) {
+        let Some(t) = &self.tick else { return };
+        t.all_numbers(&mut self.q, &mut self.qd, &mut self.qdd, &mut self.points);
+        let (nu, np) = (self.nu, self.np);
+        for lane in 0..LANES {
+            if self.active >> lane & 1 == 0 {
+                continue;
+            }
+            let condition = t.lane_status(lane).1;
+            let u = lane * nu..(lane + 1) * nu;
+            emit(
+                lane,
+                Row {
+                    input: target,
+                    result: Ok(Solved {
+                        q: &self.q[u.clone()],
+                        qd: &self.qd[u.clone()],
+                        qdd: &self.qdd[u],
+                        points: &self.points[lane * np..(lane + 1) * np],
+                        condition,
+                    }),
+                    stopped: None,
+                },
+            );
+        }
+    }
+}

@@ -75,10 +75,14 @@ fn write_number(dst: &mut [u8], negative: bool, n: u32, exp: i32) {
     if negative {
         put(b'-');
     }
-    let digit = |k: usize| {
-        let p = [1_000_000, 100_000, 10_000, 1000, 100, 10, 1][k];
-        b'0' + ((n / p) % 10) as u8
-    };
+    // The seven digits, first to last, by division by the constant 10 (a multiplication).
+    let mut digits = [b'0'; DIGITS];
+    let mut rest = n;
+    for d in digits.iter_mut().rev() {
+        *d = b'0' + (rest % 10) as u8;
+        rest /= 10;
+    }
+    let digit = |k: usize| digits[k];
     match exp {
         0..=6 => {
             for k in 0..DIGITS {

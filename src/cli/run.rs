@@ -61,7 +61,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
     let stdout = std::io::stdout();
     let mut table = std::io::BufWriter::with_capacity(super::OUTPUT_BUFFER, stdout.lock());
     let _ = table.write_all(header.as_bytes());
-    let mut csv = match &args.csv {
+    let csv = match &args.csv {
         Some(path) => {
             let file = std::fs::File::create(path)
                 .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
@@ -75,51 +75,64 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
         }
         None => None,
     };
-    let mut csv_error: Option<std::io::Error> = None;
-    let (mut line, mut row): (Vec<u8>, Vec<u8>) = (Vec::new(), Vec::new());
     let (index, rate) = (plan.index, args.rate);
     // Rows past the dead point that ends the branch: `other-branch` where the linkage assembles
     // all the same (the branch analysis at the row's inputs), else `unassemblable`.
     let setup = super::load::assembly(file, &args.name, plan.index);
     let assembles = |x: &[f64]| setup.as_ref().is_some_and(|s| s.assembles(x));
     let oracle: Option<mechgen::sweep::Assembles<'_>> = setup.is_some().then_some(&assembles);
-    let swept = stream_plan(
-        sel.solver.as_ref(),
-        &info,
-        plan,
-        args.rate,
-        oracle,
-        &mut |r| {
-            // A closed stdout (`mechgen sweep … | head`) ends the table, not the sweep or its CSV.
-            let effort = match (&r.result, loads.is_empty()) {
-                (Ok(s), false) => design::input_effort(s, &loads, rate).filter(|e| e.is_finite()),
-                _ => None,
-            };
-            row.clear();
-            report::table_row(&mut row, &info, index, width, r);
-            if let Some(e) = effort {
-                row.pop();
-                report::push_significant(&mut row, e, width);
-                row.push(b'\n');
-            }
-            let _ = table.write_all(&row);
-            if let Some((_, w)) = &mut csv
-                && csv_error.is_none()
-            {
-                line.clear();
-                report::csv_row_held(&mut line, &info, r, &held);
-                if !loads.is_empty() {
-                    with_column_bytes(&mut line, effort);
+    let mut row: Vec<u8> = Vec::new();
+    // The CSV is formatted on a second thread from batches of rows (the table on this one), so
+    // that the two outputs' formatting, most of a long sweep's time, runs on two cores.
+    let (swept, csv_result) = std::thread::scope(|scope| {
+        let mut csv_out = csv.map(|(path, w)| {
+            let (batches, back, worker) = csv_writer(scope, w, &info, &held, !loads.is_empty());
+            (path, batches, back, worker, Batch::default())
+        });
+        let swept = stream_plan(
+            sel.solver.as_ref(),
+            &info,
+            plan,
+            args.rate,
+            oracle,
+            &mut |r| {
+                // A closed stdout (`mechgen sweep … | head`) ends the table, not the sweep or
+                // its CSV.
+                let effort = match (&r.result, loads.is_empty()) {
+                    (Ok(s), false) => {
+                        design::input_effort(s, &loads, rate).filter(|e| e.is_finite())
+                    }
+                    _ => None,
+                };
+                row.clear();
+                report::table_row(&mut row, &info, index, width, r);
+                if let Some(e) = effort {
+                    row.pop();
+                    report::push_significant(&mut row, e, width);
+                    row.push(b'\n');
                 }
-                csv_error = w.write_all(&line).err();
-            }
-        },
-    )?;
+                let _ = table.write_all(&row);
+                if let Some((_, batches, back, _, batch)) = &mut csv_out {
+                    batch.push(r, effort);
+                    if batch.full() {
+                        let next = back.try_recv().unwrap_or_default();
+                        let _ = batches.send(std::mem::replace(batch, next));
+                    }
+                }
+            },
+        );
+        let csv_result = csv_out.map(|(path, batches, _back, worker, batch)| {
+            let _ = batches.send(batch);
+            drop(batches);
+            let e = worker.join().ok().flatten();
+            (path, e)
+        });
+        (swept, csv_result)
+    });
+    let swept = swept?;
     let _ = table.flush();
     drop(table);
-    if let Some((path, mut w)) = csv
-        && let Some(e) = csv_error.or_else(|| w.flush().err())
-    {
+    if let Some((path, Some(e))) = csv_result {
         return Err(format!("cannot write {}: {e}", path.display()));
     }
     let held = !swept.plan.held.is_empty();
@@ -137,6 +150,74 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
         true,
     )?;
     Ok(())
+}
+
+/// Rows handed to the CSV thread at a time.
+const BATCH_ROWS: usize = 1024;
+
+/// Rows for the CSV thread, with each row's input effort (`--load`): the rows' vectors are
+/// reused batch after batch (a batch comes back when written), so nothing is allocated per row
+/// once the first batches are made.
+#[derive(Default)]
+struct Batch {
+    rows: Vec<(mechgen::sweep::Row, Option<f64>)>,
+    len: usize,
+}
+
+impl Batch {
+    fn push(&mut self, r: &mechgen::sweep::RowRef<'_>, effort: Option<f64>) {
+        match self.rows.get_mut(self.len) {
+            Some((row, e)) => {
+                row.assign(r);
+                *e = effort;
+            }
+            None => self.rows.push((r.to_row(), effort)),
+        }
+        self.len += 1;
+    }
+
+    fn full(&self) -> bool {
+        self.len >= BATCH_ROWS
+    }
+}
+
+/// The CSV thread: writes each batch it is sent (lines as `csv_row_held`, with the effort column
+/// when `effort`) to `w` and sends it back emptied; at the end, the first write error.
+#[allow(clippy::type_complexity)]
+fn csv_writer<'scope, 'env: 'scope, W: std::io::Write + Send + 'scope>(
+    scope: &'scope std::thread::Scope<'scope, 'env>,
+    mut w: W,
+    info: &'env MechanismInfo,
+    held: &'env [(usize, f64)],
+    effort: bool,
+) -> (
+    std::sync::mpsc::SyncSender<Batch>,
+    std::sync::mpsc::Receiver<Batch>,
+    std::thread::ScopedJoinHandle<'scope, Option<std::io::Error>>,
+) {
+    let (batches, incoming) = std::sync::mpsc::sync_channel::<Batch>(2);
+    let (back, recycled) = std::sync::mpsc::channel::<Batch>();
+    let worker = scope.spawn(move || {
+        let mut line = Vec::new();
+        let mut error = None;
+        for mut batch in incoming {
+            for (r, e) in &batch.rows[..batch.len] {
+                if error.is_some() {
+                    break;
+                }
+                line.clear();
+                report::csv_row_held(&mut line, info, &r.view(), held);
+                if effort {
+                    with_column_bytes(&mut line, *e);
+                }
+                error = w.write_all(&line).err();
+            }
+            batch.len = 0;
+            let _ = back.send(batch);
+        }
+        error.or_else(|| w.flush().err())
+    });
+    (batches, recycled, worker)
 }
 
 /// `--load P=FX,FY` against the mechanism's points.

@@ -421,9 +421,7 @@ fn lane_batches() -> Vec<(String, usize, usize)> {
             .collect();
         let run = |step: f64| {
             let n = (360.0 / step) as usize;
-            let values: Vec<f64> = (0..=n)
-                .map(|i| (i as f64 * step).to_radians())
-                .collect();
+            let values: Vec<f64> = (0..=n).map(|i| (i as f64 * step).to_radians()).collect();
             let c = Continuation::for_input(mechgen::Kind::Angle, values[n] - values[0]);
             let group = Group {
                 params: &params,

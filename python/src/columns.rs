@@ -98,11 +98,20 @@ impl Buffers {
         py: Python<'py>,
         header: &[String],
         shape: &[usize],
+        held: &[(String, f64)],
     ) -> PyResult<Bound<'py, PyDict>> {
         let out = PyDict::new(py);
-        for (name, column) in header.iter().zip(self.columns) {
+        for (k, (name, column)) in header.iter().zip(self.columns).enumerate() {
             let a = PyArray1::from_vec(py, column);
             out.set_item(name, a.reshape(shape.to_vec())?)?;
+            if k == 0 {
+                // The inputs the sweep holds, each its value on every row, after the swept one
+                // (as the CSV has them).
+                let np = py.import("numpy")?;
+                for (name, v) in held {
+                    out.set_item(name, np.call_method1("full", (shape.to_vec(), *v))?)?;
+                }
+            }
         }
         let codes = PyArray1::from_vec(py, self.codes).reshape(shape.to_vec())?;
         out.set_item("status", statuses(py)?.get_item(codes)?)?;

@@ -134,6 +134,15 @@ impl Mechanism {
         Ok(values)
     }
 
+    /// The inputs a sweep of `plan` holds, by name, with their values (file units: radians for
+    /// an angle), as the CSV records them.
+    fn held(&self, plan: &Plan) -> Vec<(String, f64)> {
+        mg::report::held_inputs(&self.info, plan.index, &plan.held)
+            .into_iter()
+            .map(|(i, v)| (self.info.inputs[i].name.clone(), v))
+            .collect()
+    }
+
     fn job<'a>(&'a self, plan: &'a Plan, rate: f64) -> Job<'a> {
         Job {
             name: &self.info.name,
@@ -269,7 +278,7 @@ impl Mechanism {
         let mut out = Buffers::new(ncols, rows, "sweep")?;
         let job = self.job(&plan, o.rate);
         sweep_sets(py, &job, &[values], vec![out.block()], rows, None)?;
-        out.into_dict(py, &header[..ncols], &[rows])
+        out.into_dict(py, &header[..ncols], &[rows], &self.held(&plan))
     }
 
     /// The design derivatives along a sweep, as `mechgen sensitivity` gives them (same options
@@ -329,7 +338,7 @@ impl Mechanism {
                 out.codes[r] = mg::report::status_code(status);
             }
         });
-        out.into_dict(py, &header, &[n])
+        out.into_dict(py, &header, &[n], &[])
     }
 
     /// Many param sets, each swept as `sweep` sweeps it, on `threads` worker threads (default
@@ -398,7 +407,7 @@ impl Mechanism {
         let job = self.job(&plan, o.rate);
         let blocks = out.blocks(SETS_PER_BLOCK * rows);
         sweep_sets(py, &job, &sets, blocks, rows, threads)?;
-        out.into_dict(py, &header[..ncols], &[count, rows])
+        out.into_dict(py, &header[..ncols], &[count, rows], &self.held(&plan))
     }
 
     /// Pickling (so that `client.submit(m.batch, …)` works on Dask): the mechanism's name and

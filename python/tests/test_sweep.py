@@ -54,6 +54,25 @@ def test_options_are_the_commands(mechgen_bin, tmp_path):
     same_frames(got, pd.read_csv(csv))
 
 
+def test_held_inputs_are_columns_as_in_the_csv(mechgen_bin, tmp_path):
+    """A two-input five-bar swept along q4 with q1 held: the held input is a column after the
+    swept one, its value on every row, in `sweep` and `batch` as in the command's CSV."""
+    from conftest import ROOT
+    path = ROOT / "tests" / "data" / "sweep" / "fivebar.toml"
+    csv = tmp_path / "fivebar.csv"
+    run(mechgen_bin, "sweep", "fivebar", "--file", str(path), "--input", "q4", "--set", "q1=60",
+        "--from", "60", "--to", "120", "--step", "5", "--csv", str(csv))
+    m = mechgen.load(str(path))["fivebar"]
+    got = m.sweep(start=60, stop=120, step=5, input="q4", set={"q1": 60.0})
+    assert list(got)[:2] == ["q4", "q1"]
+    assert (got["q1"] == np.radians(60.0)).all()
+    same_frames(pd.DataFrame(got), pd.read_csv(csv))
+    sets = {"l1": np.array([0.1, 0.1])}
+    many = m.batch(sets, start=60, stop=120, step=5, input="q4", set={"q1": 60.0})
+    assert list(many)[:2] == ["q4", "q1"] and many["q1"].shape == (2, 13)
+    assert (many["q1"] == np.radians(60.0)).all()
+
+
 def test_the_generic_engine_loads_a_file_with_the_same_api(mechgen_bin, tmp_path):
     from conftest import ROOT
     csv = tmp_path / "generic.csv"

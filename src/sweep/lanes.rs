@@ -47,7 +47,9 @@ pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
     }
     let dyns: Vec<&dyn DynMechanism<f64>> =
         mechs.iter().map(|m| m as &dyn DynMechanism<f64>).collect();
-    let info = dyns[0].info();
+    let Some(info) = dyns.first().map(|k| k.info()) else {
+        return all;
+    };
     // Each set to its start row, by the scalar walk.
     let mut leave = 0u32;
     let mut firsts: Vec<Option<First<'_>>> = Vec::with_capacity(n);
@@ -80,10 +82,13 @@ pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
             }
         }
     }
-    let Some(lead) = walks.iter().position(Option::is_some) else {
+    let Some((lead, (x0, _, w0, _))) = walks
+        .iter()
+        .enumerate()
+        .find_map(|(i, w)| w.map(|w| (i, w)))
+    else {
         return leave;
     };
-    let (x0, _, w0, _) = walks[lead].expect("lead");
     // The lanes walk one input sequence in one substep sequence under one branch rule: the same
     // inputs, rates and largest substep for every set, and guards that differ in their length
     // scale at most.

@@ -80,6 +80,8 @@ fixtures! {
     param_degrees: Warning("gam"),
     missing_bracket: Error(None),
     singular_start: Warning("rocker"),
+    bodies_values: Error(Some("q1")),
+    bodies_keys: Error(Some("mas")),
 }
 
 fn relative(name: &str) -> String {

@@ -44,5 +44,6 @@ pub use ir::differentiate::Derivatives;
 pub use ir::lower::{Chain, Equation, System, chains};
 pub use sema::builtin::Builtin;
 pub use sema::eval::derived_values;
+pub use sema::model::{Body, Centre};
 pub use sema::model::{Coord, Kind, Model, Param, Scene, Symbol};
 pub use sema::resolved::{DerivedId, InputId, ParamId, UnknownId};

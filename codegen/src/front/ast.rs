@@ -49,6 +49,21 @@ pub struct Mechanism {
     pub params: Vec<(Name, Expr)>,
     pub points: Vec<(Name, Expr)>,
     pub start: Vec<(Name, Expr)>,
+    /// `gravity = "c(0, -9.81)"`: the acceleration of gravity (for dynamics only).
+    pub gravity: Option<Expr>,
+    /// `[mechanism.NAME.bodies.B]`: the moving bodies' mass properties (for dynamics only).
+    pub bodies: Vec<Body>,
+}
+
+/// `[mechanism.NAME.bodies.B]`: a body's orientation, mass, centre of mass and inertia as written
+/// (each `None` where the table does not give it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Body {
+    pub name: Name,
+    pub angle: Option<Expr>,
+    pub mass: Option<Expr>,
+    pub com: Option<Expr>,
+    pub inertia: Option<Expr>,
 }
 
 /// `[scene.NAME]`.

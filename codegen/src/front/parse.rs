@@ -8,7 +8,7 @@ use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
 use crate::diagnostic::{Diagnostic, SourceFile, Span};
-use crate::front::ast::{Expr, ExprKind, File, Mechanism, Name, Scene};
+use crate::front::ast::{Body, Expr, ExprKind, File, Mechanism, Name, Scene};
 
 /// TOML syntax errors reported: the first only (in the file's order). After it the parser's
 /// recovery guesses, and what it reports next mostly follows from the first (one missing `]`
@@ -180,9 +180,11 @@ impl Parser<'_> {
             params: vec![],
             points: vec![],
             start: vec![],
+            gravity: None,
+            bodies: vec![],
         };
         let mut seen = [false; 3];
-        const KEYS: [&str; 7] = [
+        const KEYS: [&str; 9] = [
             "description",
             "inputs",
             "unknowns",
@@ -190,6 +192,8 @@ impl Parser<'_> {
             "params",
             "points",
             "start",
+            "gravity",
+            "bodies",
         ];
         for (k, v) in sorted(table) {
             let mut key = k.get_ref().as_ref();
@@ -218,6 +222,14 @@ impl Parser<'_> {
                 "params" => m.params = self.assignments(v, "params", true),
                 "points" => m.points = self.assignments(v, "points", false),
                 "start" => m.start = self.assignments(v, "start", true),
+                "gravity" => match v.get_ref() {
+                    DeValue::String(_) => m.gravity = self.string_expr(v),
+                    _ => self.error(
+                        span_of(v),
+                        "`gravity` must be a vector expression string, e.g. \"c(0, -9.81)\"",
+                    ),
+                },
+                "bodies" => m.bodies = self.bodies(v, &m.name.text),
                 _ => {}
             }
         }
@@ -328,6 +340,85 @@ impl Parser<'_> {
                 }
                 _ => self.error(span_of(item), format!("`{what}` must hold names (strings)")),
             }
+        }
+        out
+    }
+
+    /// `[mechanism.NAME.bodies]`: one table per body with `angle`, `mass`, `com` (required) and
+    /// `inertia`; numbers or expression strings for `mass` and `inertia`, strings for the others.
+    fn bodies(&mut self, v: &Spanned<DeValue<'_>>, mechanism: &str) -> Vec<Body> {
+        const BODY_KEYS: [&str; 4] = ["angle", "mass", "com", "inertia"];
+        let Some(table) = self.table(v, "bodies") else {
+            return vec![];
+        };
+        let mut out = vec![];
+        for (k, v) in sorted(table) {
+            let name = name_of(k);
+            let Some(fields) = self.table(v, &format!("bodies.{}", name.text)) else {
+                continue;
+            };
+            let mut body = Body {
+                name,
+                angle: None,
+                mass: None,
+                com: None,
+                inertia: None,
+            };
+            for (fk, fv) in sorted(fields) {
+                let key = fk.get_ref().as_ref();
+                let place = format!("body `{}` of mechanism `{mechanism}`", body.name.text);
+                let key = if BODY_KEYS.contains(&key) {
+                    key
+                } else {
+                    match self.unknown_key(fk, key, &place, &BODY_KEYS) {
+                        Some(g) if !fields.contains_key(g) => g,
+                        _ => continue,
+                    }
+                };
+                let what = format!("bodies.{}", body.name.text);
+                let number_ok = matches!(key, "mass" | "inertia");
+                let expr = match fv.get_ref() {
+                    DeValue::String(_) => self.string_expr(fv),
+                    DeValue::Integer(_) | DeValue::Float(_) if number_ok => self.number(
+                        fv,
+                        &Name {
+                            text: key.to_string(),
+                            span: span_of(fk),
+                        },
+                        &what,
+                    ),
+                    _ => {
+                        let kind = if number_ok {
+                            "a number or an expression string"
+                        } else {
+                            "an expression string"
+                        };
+                        self.error(span_of(fv), format!("`{key}` of {what} must be {kind}"));
+                        None
+                    }
+                };
+                match key {
+                    "angle" => body.angle = expr,
+                    "mass" => body.mass = expr,
+                    "com" => body.com = expr,
+                    _ => body.inertia = expr,
+                }
+            }
+            for (key, given) in [
+                ("angle", body.angle.is_some()),
+                ("mass", body.mass.is_some()),
+                ("com", body.com.is_some()),
+            ] {
+                if !given && !fields.contains_key(key) {
+                    let d = Diagnostic::error(
+                        body.name.span,
+                        format!("body `{}` has no `{key}`", body.name.text),
+                    )
+                    .with_label(format!("`{key}` is required"));
+                    self.diags.push(d);
+                }
+            }
+            out.push(body);
         }
         out
     }

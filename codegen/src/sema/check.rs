@@ -234,6 +234,9 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
             ),
         ));
     }
+    // Bodies and gravity (their expressions typed with the rest, so a param only they put in an
+    // `e()` is an angle too).
+    let masses = super::bodies::check_bodies(m, &symbols, &values, &mut angles, diags);
     let kind_of = |s: Symbol| {
         if angles.contains(&s) {
             Kind::Angle
@@ -386,6 +389,8 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         scenes: Vec::new(),
         symbols,
         start_span: start_span(m),
+        bodies: masses.bodies,
+        gravity: masses.gravity,
     }
 }
 

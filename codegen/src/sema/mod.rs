@@ -8,6 +8,7 @@
 //! Dependencies inside the stage run one way: `resolved` and `builtin` are leaves, `model` uses
 //! `resolved`, `eval` and `typing` use them, `check` uses all.
 
+mod bodies;
 pub mod builtin;
 mod check;
 pub mod eval;

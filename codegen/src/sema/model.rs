@@ -84,4 +84,27 @@ pub struct Model {
     pub symbols: HashMap<String, Symbol>,
     /// Where the `start` values are written (the mechanism name when there are none).
     pub start_span: Span,
+    /// The moving bodies' mass properties and gravity, for dynamics (the kinematics never read
+    /// them); `None` without a `gravity` key.
+    pub bodies: Vec<Body>,
+    pub gravity: Option<Vector>,
+}
+
+/// A checked body: its orientation, centre of mass, mass and inertia about the centre.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Body {
+    pub name: Name,
+    pub angle: Scalar,
+    pub com: Centre,
+    pub mass: f64,
+    pub inertia: f64,
+    /// Its expressions as written (which params they name).
+    pub written: Vec<Expr>,
+}
+
+/// A body's centre of mass: one of the mechanism's points (by index) or a vector expression.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Centre {
+    Point(usize),
+    Vector(Vector),
 }

@@ -1,0 +1,165 @@
+//! Part of stage 2 (semantics): a mechanism's bodies and gravity, its mass properties for
+//! dynamics (the kinematics never read them). Each body's `angle` is a scalar and its `com` a
+//! vector expression of the mechanism's variables (or the name of one of its points), under the
+//! rules of points; `mass` and `inertia` are params-only values, finite and at least zero;
+//! `gravity` is a vector expression of params.
+
+use std::collections::HashMap;
+
+use super::eval::eval;
+use super::model::{Body, Centre, Symbol};
+use super::resolved::{Resolved, Vector};
+use super::typing::{collect_names, type_of};
+use crate::diagnostic::Diagnostic;
+use crate::front::ast::{self, Expr, ExprKind};
+
+/// What checking makes of a mechanism's bodies and gravity.
+pub(super) struct Checked {
+    pub bodies: Vec<Body>,
+    pub gravity: Option<Vector>,
+}
+
+/// The bodies and gravity of `m`, checked against its names (`symbols`), its params' values and
+/// its points; what is wrong goes to `diags` (that body or gravity is then left out).
+pub(super) fn check_bodies(
+    m: &ast::Mechanism,
+    symbols: &HashMap<String, Symbol>,
+    values: &HashMap<String, f64>,
+    angles: &mut Vec<Symbol>,
+    diags: &mut Vec<Diagnostic>,
+) -> Checked {
+    let mut bodies = Vec::new();
+    for b in &m.bodies {
+        let name = &b.name.text;
+        let angle =
+            b.angle
+                .as_ref()
+                .and_then(|e| match type_of(e, symbols, false, angles, diags)? {
+                    Resolved::Scalar(s) => Some(s),
+                    Resolved::Vector(_) => {
+                        diags.push(Diagnostic::error(
+                            e.span,
+                            format!("the `angle` of body `{name}` is a vector, not a scalar"),
+                        ));
+                        None
+                    }
+                });
+        let com = b
+            .com
+            .as_ref()
+            .and_then(|e| centre(e, m, name, symbols, angles, diags));
+        let mass = b
+            .mass
+            .as_ref()
+            .and_then(|e| amount(e, "mass", name, values, diags));
+        let inertia = match &b.inertia {
+            Some(e) => amount(e, "inertia", name, values, diags),
+            None => Some(0.0),
+        };
+        if let (Some(angle), Some(com), Some(mass), Some(inertia)) = (angle, com, mass, inertia) {
+            let written = [&b.angle, &b.mass, &b.com, &b.inertia];
+            bodies.push(Body {
+                name: b.name.clone(),
+                angle,
+                com,
+                mass,
+                inertia,
+                written: written.into_iter().flatten().cloned().collect(),
+            });
+        }
+    }
+    let gravity = m
+        .gravity
+        .as_ref()
+        .and_then(|e| gravity(e, symbols, angles, diags));
+    Checked { bodies, gravity }
+}
+
+/// A body's centre of mass: one of the mechanism's points by name, or a vector expression.
+fn centre(
+    e: &Expr,
+    m: &ast::Mechanism,
+    body: &str,
+    symbols: &HashMap<String, Symbol>,
+    angles: &mut Vec<Symbol>,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Centre> {
+    if let ExprKind::Name(n) = &e.kind
+        && let Some(i) = m.points.iter().position(|(p, _)| &p.text == n)
+    {
+        return Some(Centre::Point(i));
+    }
+    match type_of(e, symbols, false, angles, diags)? {
+        Resolved::Vector(v) => Some(Centre::Vector(v)),
+        Resolved::Scalar(_) => {
+            diags.push(
+                Diagnostic::error(
+                    e.span,
+                    format!("the `com` of body `{body}` is a scalar, not a vector"),
+                )
+                .with_note("give a vector expression, e.g. `0.5*l1*e(q1)`, or a point's name"),
+            );
+            None
+        }
+    }
+}
+
+/// A body's mass or inertia: a params-only value, finite and at least zero.
+fn amount(
+    e: &Expr,
+    what: &str,
+    body: &str,
+    values: &HashMap<String, f64>,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<f64> {
+    let v = eval(e, values, &format!("the {what} of body `{body}`"), diags)?;
+    if v < 0.0 {
+        diags.push(
+            Diagnostic::error(
+                e.span,
+                format!("the {what} of body `{body}` is negative ({v})"),
+            )
+            .with_note("masses and inertias are finite and at least zero"),
+        );
+        return None;
+    }
+    Some(v)
+}
+
+/// Gravity: a vector expression of params only.
+fn gravity(
+    e: &Expr,
+    symbols: &HashMap<String, Symbol>,
+    angles: &mut Vec<Symbol>,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Vector> {
+    let mut named = Vec::new();
+    collect_names(e, symbols, &mut named);
+    if let Some(s) = named
+        .iter()
+        .find(|s| matches!(s, Symbol::Input(_) | Symbol::Unknown(_)))
+    {
+        let n = symbols
+            .iter()
+            .find(|(_, v)| *v == s)
+            .map_or("?", |(k, _)| k.as_str());
+        diags.push(
+            Diagnostic::error(
+                e.span,
+                format!("`gravity` names `{n}`, which is not a param"),
+            )
+            .with_note("gravity is a vector expression of params, e.g. `c(0, -g)`"),
+        );
+        return None;
+    }
+    match type_of(e, symbols, true, angles, diags)? {
+        Resolved::Vector(v) => Some(v),
+        Resolved::Scalar(_) => {
+            diags.push(
+                Diagnostic::error(e.span, "`gravity` is a scalar, not a vector")
+                    .with_note("write it as a vector, e.g. `c(0, -9.81)`"),
+            );
+            None
+        }
+    }
+}

@@ -54,10 +54,17 @@ pub trait Real:
     fn is_finite(self) -> bool;
     /// Finite, non-zero and not subnormal.
     fn is_normal(self) -> bool;
+    /// The slice itself when `Self` is `f64`, else `None` (for a back end that runs in f64
+    /// only: the run-time compiled code of `mechgen`).
+    fn as_f64s(s: &[Self]) -> Option<&[f64]>;
+    /// [`Real::as_f64s`] of a mutable slice.
+    fn as_f64s_mut(s: &mut [Self]) -> Option<&mut [f64]>;
+    /// [`Real::as_f64s`] of a slice of pairs.
+    fn pairs_as_f64s(s: &[(Self, Self)]) -> Option<&[(f64, f64)]>;
 }
 
 macro_rules! impl_real {
-    ($t:ty, $tol:expr) => {
+    ($t:ty, $tol:expr, $f64:ident) => {
         impl Real for $t {
             const EPSILON: Self = <$t>::EPSILON;
             const MIN_POSITIVE: Self = <$t>::MIN_POSITIVE;
@@ -131,9 +138,33 @@ macro_rules! impl_real {
             fn is_normal(self) -> bool {
                 num_traits::Float::is_normal(self)
             }
+            fn as_f64s(s: &[Self]) -> Option<&[f64]> {
+                $f64!(s)
+            }
+            fn as_f64s_mut(s: &mut [Self]) -> Option<&mut [f64]> {
+                $f64!(s)
+            }
+            fn pairs_as_f64s(s: &[(Self, Self)]) -> Option<&[(f64, f64)]> {
+                $f64!(s)
+            }
         }
     };
 }
 
-impl_real!(f64, 1e-12);
-impl_real!(f32, 1e-5);
+/// `Some` of the slice (`Self` is f64).
+macro_rules! is_f64 {
+    ($s:expr) => {
+        Some($s)
+    };
+}
+
+/// `None` (`Self` is not f64).
+macro_rules! not_f64 {
+    ($s:expr) => {{
+        let _ = $s;
+        None
+    }};
+}
+
+impl_real!(f64, 1e-12, is_f64);
+impl_real!(f32, 1e-5, not_f64);

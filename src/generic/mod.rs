@@ -4,10 +4,15 @@
 //! comparison for the generated solvers. [`DynMechanism`] is implemented here, and the drawings'
 //! structure ([`Linkage`], [`Sketch`]) is read from the loaded model.
 
+#[cfg(feature = "jit")]
+mod backend;
 mod closed;
 mod driver;
 mod engine;
+#[cfg(feature = "jit")]
+pub mod jit;
 mod linkage;
+mod op;
 mod scene;
 mod scene_tapes;
 mod sketch;

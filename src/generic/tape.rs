@@ -2,35 +2,12 @@
 //! program (a tape) and interpreted. Only the nodes the roots need are kept, children before
 //! parents, and a `sin` and `cos` of the same argument become one `sin_cos`.
 
-use mechgen_codegen::{Dag, Func, Node, NodeId, Var};
+use mechgen_codegen::{Dag, Node, NodeId, Var};
 
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::twofold::{Arith, Twofold};
 
-/// One instruction; operands are register numbers (every instruction writes the next register).
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Op {
-    Const(f64),
-    Var(Var),
-    Add(u32, u32),
-    Sub(u32, u32),
-    Mul(u32, u32),
-    Div(u32, u32),
-    Neg(u32),
-    /// Writes `sin` to this register and `cos` to the next one (whose op is [`Op::Cos2`]).
-    SinCos(u32),
-    /// [`Op::SinCos`] of unknown `k` (in register `a`): read from the state's sines and cosines
-    /// ([`Env::sc`]) when it has them, as generated code reads its `TrigState`.
-    SinCosQ(u32, u32),
-    /// Placeholder for the `cos` half of the preceding [`Op::SinCos`] or [`Op::SinCosQ`].
-    Cos2,
-    Sin(u32),
-    Cos(u32),
-    Tan(u32),
-    Sqrt(u32),
-    /// A params-only function of one or two registers.
-    Func(Func, u32, u32),
-}
+use super::op::Op;
 
 /// The values the variables of a tape take. Slices a tape does not read may be empty; a missing
 /// value reads as zero (callers check lengths before evaluating).
@@ -79,10 +56,13 @@ impl<'a, T: Real> Env<'a, T> {
 }
 
 /// A compiled program: evaluates some roots of a DAG.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default)]
 pub struct Tape {
     ops: Vec<Op>,
     outputs: Vec<u32>,
+    /// The same program as machine code (the JIT back end), run in f64 when set.
+    #[cfg(feature = "jit")]
+    compiled: Option<super::jit::Function>,
 }
 
 impl Tape {
@@ -93,12 +73,7 @@ impl Tape {
         let mut stack: Vec<NodeId> = roots.to_vec();
         while let Some(n) = stack.pop() {
             if !std::mem::replace(&mut needed[n.index()], true) {
-                match nodes[n.index()] {
-                    // `-(a - b)` is computed as `b - a` (the same value): the difference itself
-                    // only when something else reads it.
-                    Node::Neg(d) if let Node::Sub(a, b) = nodes[d.index()] => stack.extend([a, b]),
-                    node => stack.extend(node.children()),
-                }
+                stack.extend(nodes[n.index()].children());
             }
         }
         // Arguments of both a needed sin and a needed cos.
@@ -131,10 +106,9 @@ impl Tape {
                 Node::Sub(a, b) => Op::Sub(r(a), r(b)),
                 Node::Mul(a, b) => Op::Mul(r(a), r(b)),
                 Node::Div(a, b) => Op::Div(r(a), r(b)),
-                Node::Neg(d) => match nodes[d.index()] {
-                    Node::Sub(a, b) => Op::Sub(r(b), r(a)),
-                    _ => Op::Neg(r(d)),
-                },
+                // `-(a - b)` as generated code computes it: the difference, then its negation
+                // (`b - a` would be `+0.0` where it is `-0.0`).
+                Node::Neg(d) => Op::Neg(r(d)),
                 Node::Sin(a) | Node::Cos(a)
                     if (has_sin[a.index()] && has_cos[a.index()]) || unknown(a).is_some() =>
                 {
@@ -161,7 +135,50 @@ impl Tape {
             ops.push(op);
         }
         let outputs = roots.iter().map(|r| reg[r.index()]).collect();
-        Tape { ops, outputs }
+        Tape {
+            ops,
+            outputs,
+            #[cfg(feature = "jit")]
+            compiled: None,
+        }
+    }
+
+    /// The instructions and the output registers (what a back end lowers).
+    #[cfg(feature = "jit")]
+    pub(super) fn program(&self) -> (&[Op], &[u32]) {
+        (&self.ops, &self.outputs)
+    }
+
+    /// Runs `f` (this program compiled) instead of interpreting it, from now on.
+    #[cfg(feature = "jit")]
+    pub(super) fn set_compiled(&mut self, f: Option<super::jit::Function>) {
+        self.compiled = f;
+    }
+
+    /// Whether the compiled program runs.
+    pub fn is_compiled(&self) -> bool {
+        #[cfg(feature = "jit")]
+        return self.compiled.is_some();
+        #[cfg(not(feature = "jit"))]
+        false
+    }
+
+    /// The compiled program on `env` in f64, if there is one and every slice it reads is long
+    /// enough; `false`: not run.
+    #[cfg(feature = "jit")]
+    fn run_compiled<T: Real>(&self, env: &Env<'_, T>, out: &mut [T]) -> bool {
+        let Some(f) = &self.compiled else {
+            return false;
+        };
+        let s = T::as_f64s;
+        let vars = [env.x, env.q, env.xd, env.qd, env.xdd, env.qdd].map(s);
+        let [Some(x), Some(q), Some(xd), Some(qd), Some(xdd), Some(qdd)] = vars else {
+            return false;
+        };
+        let (Some(sc), Some(out)) = (T::pairs_as_f64s(env.sc), T::as_f64s_mut(out)) else {
+            return false;
+        };
+        f.call([x, q, env.p, xd, qd, xdd, qdd], sc, out)
     }
 
     /// Number of instructions.
@@ -181,6 +198,10 @@ impl Tape {
     /// Runs the program; `regs` is workspace (resized as needed). Returns the root values through
     /// `out` (as many as fit).
     pub fn eval<T: Real>(&self, env: &Env<'_, T>, regs: &mut Vec<T>, out: &mut [T]) {
+        #[cfg(feature = "jit")]
+        if self.run_compiled(env, out) {
+            return;
+        }
         let sc = |k: u32| env.sc.get(k as usize).copied();
         self.run(|v| env.get(v), sc, regs);
         for (o, &r) in out.iter_mut().zip(&self.outputs) {

@@ -1,0 +1,225 @@
+//! The JIT back end against the interpreter and the generated solvers: the same sweeps row for
+//! row **bit for bit** (unknowns, rates, points, condition, statuses), on every compiled-in
+//! mechanism (also against the generated solvers, stepping alike), every fixture and sweep test
+//! file, random params around each, closed forms on and off, every scene and the single
+//! evaluations (J, Φx, J̇, γ, sensitivities, drawing chains).
+#![cfg(feature = "jit")]
+
+mod common;
+
+use common::sweep::Counting;
+use mechgen::generic::{self, Generic};
+use mechgen::sweep::{Continuation, Row, sweep};
+use mechgen::{DynMechanism, DynScene, InputMotion, Kind, SolveOptions};
+use proptest::prelude::*;
+
+/// Every bit of two sweeps' rows: `None` when equal, else the first difference.
+fn first_difference(a: &[Row], b: &[Row]) -> Option<String> {
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    for (ra, rb) in a.iter().zip(b) {
+        let same = match (&ra.result, &rb.result) {
+            (Ok(sa), Ok(sb)) => {
+                let pa: Vec<_> = sa.points.iter().flat_map(|p| p.position.into_iter().chain(p.velocity).chain(p.acceleration)).collect();
+                let pb: Vec<_> = sb.points.iter().flat_map(|p| p.position.into_iter().chain(p.velocity).chain(p.acceleration)).collect();
+                bits(&sa.q) == bits(&sb.q)
+                    && bits(&sa.qd) == bits(&sb.qd)
+                    && bits(&sa.qdd) == bits(&sb.qdd)
+                    && bits(&pa) == bits(&pb)
+                    && sa.condition.to_bits() == sb.condition.to_bits()
+            }
+            (Err(ea), Err(eb)) => ea == eb && ra.stopped == rb.stopped,
+            _ => false,
+        };
+        if !same {
+            return Some(format!("input {}: {:?} vs {:?}", ra.input, ra.result, rb.result));
+        }
+    }
+    (a.len() != b.len()).then(|| "row counts differ".into())
+}
+
+/// A full turn around the start (a length input: ±20 % of it) in 2° rows.
+fn values_and_continuation(g: &Generic) -> (Vec<f64>, Continuation) {
+    let info = DynMechanism::<f64>::info(g);
+    let input = &info.inputs[0];
+    if input.kind == Kind::Length {
+        let s = input.start;
+        let v = (0..=40).map(|i| s * (0.8 + 0.01 * f64::from(i))).collect();
+        (v, Continuation::for_input(Kind::Length, 0.2 * s.abs().max(1.0)))
+    } else {
+        let first = input.start.to_degrees() - 180.0;
+        let v = (0..=180).map(|i| (first + 2.0 * f64::from(i)).to_radians()).collect();
+        (v, Continuation::for_input(Kind::Angle, 1.0))
+    }
+}
+
+fn compiled(g: &Generic) -> Generic {
+    let mut j = g.clone();
+    let took = j.compile().expect("the host has a Cranelift back end");
+    assert!(j.is_compiled() && !g.is_compiled());
+    assert!(took.as_secs_f64() < 5.0, "{}: compiled in {took:?}", g.name());
+    j
+}
+
+/// The interpreter and the JIT over the sweep, closed forms on and off: bit for bit.
+fn check_sweeps(g: &Generic, fails: &mut Vec<String>) -> usize {
+    let j = compiled(g);
+    let (values, c) = values_and_continuation(g);
+    let mut ok = 0;
+    for closed_forms in [true, false] {
+        let c = Continuation {
+            options: SolveOptions {
+                closed_forms,
+                ..c.options
+            },
+            ..c.clone()
+        };
+        let a = sweep(g, 0, &values, 1.3, &c);
+        let b = sweep(&j, 0, &values, 1.3, &c);
+        ok += a.iter().filter(|r| r.result.is_ok()).count();
+        if let Some(d) = first_difference(&a, &b) {
+            fails.push(format!("{} (closed forms {closed_forms}): {d}", g.name()));
+        }
+    }
+    ok
+}
+
+/// Every file the tests sweep: the compiled-in one, the fixtures, the sweep tests' mechanisms.
+fn files() -> Vec<(String, String)> {
+    let mut all = vec![(
+        mechgen::source::SOURCE_NAME.to_string(),
+        mechgen::source::SOURCE.to_string(),
+    )];
+    for dir in ["tests/fixtures", "tests/data/sweep", "tests/odd-files"] {
+        let mut paths: Vec<_> = std::fs::read_dir(dir)
+            .expect("test data")
+            .map(|e| e.expect("entry").path())
+            .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+            .filter(|p| !p.ends_with("Cargo.toml"))
+            .collect();
+        paths.sort();
+        for p in paths {
+            let text = std::fs::read_to_string(&p).expect("readable");
+            all.push((p.display().to_string(), text));
+        }
+    }
+    all
+}
+
+fn loaded() -> Vec<Generic> {
+    let mut all = Vec::new();
+    for (name, text) in files() {
+        match generic::load(&name, &text) {
+            Ok(ms) => all.extend(ms),
+            Err(e) if name.contains("diagnostics") => drop(e),
+            Err(e) => panic!("{name}: {e}"),
+        }
+    }
+    all
+}
+
+#[test]
+fn jit_equals_interpreter_bit_for_bit_on_every_file() {
+    let (mut fails, mut solved, mut n) = (Vec::new(), 0, 0);
+    for g in loaded() {
+        solved += check_sweeps(&g, &mut fails);
+        n += 1;
+    }
+    eprintln!("{n} mechanisms, {solved} rows solved");
+    assert!(n >= 15 && solved > 3000, "{n} mechanisms, {solved} rows");
+    assert!(fails.is_empty(), "{}", fails.join("\n"));
+}
+
+#[test]
+fn jit_equals_generated_bit_for_bit() {
+    let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
+        .expect("the compiled-in file loads");
+    for g in loaded {
+        let k = mechgen::lookup::<f64>(g.name()).expect("compiled in");
+        let j = compiled(&g);
+        let (values, c) = values_and_continuation(&g);
+        // Both step alike (the runtime's predictor and a whole solve), as in tests/generic.rs.
+        let counted = Counting::new(k.as_ref());
+        let a = sweep(&counted, 0, &values, 1.3, &c);
+        let b = sweep(&j, 0, &values, 1.3, &c);
+        assert!(a.iter().filter(|r| r.result.is_ok()).count() > 20);
+        if let Some(d) = first_difference(&a, &b) {
+            panic!("{}: generated and JIT differ: {d}", g.name());
+        }
+    }
+}
+
+#[test]
+fn single_evaluations_and_scenes_bit_for_bit() {
+    let mut scenes = 0;
+    for g in loaded() {
+        let j = compiled(&g);
+        let info = DynMechanism::<f64>::info(&g);
+        let (ni, nu, np) = (info.inputs.len(), info.unknowns.len(), info.params.len());
+        let x: Vec<f64> = info.inputs.iter().map(|i| i.start + 0.01).collect();
+        let q: Vec<f64> = info.unknowns.iter().map(|u| u.start * 1.001 + 0.002).collect();
+        let xd = vec![1.1; ni];
+        let qd: Vec<f64> = (0..nu).map(|i| -0.4 + 0.3 * i as f64).collect();
+        let xdd = vec![0.25; ni];
+        let run = |m: &Generic| {
+            let mut out = vec![0.0; nu * nu.max(ni)];
+            let mut all = Vec::new();
+            m.residual(&x, &q, &mut out[..nu]).unwrap();
+            all.extend_from_slice(&out[..nu]);
+            m.jacobian(&x, &q, &mut out[..nu * nu]).unwrap();
+            all.extend_from_slice(&out[..nu * nu]);
+            m.input_jacobian(&x, &q, &mut out[..nu * ni]).unwrap();
+            all.extend_from_slice(&out[..nu * ni]);
+            m.jacobian_dot(&x, &q, &xd, &qd, &mut out[..nu * nu]).unwrap();
+            all.extend_from_slice(&out[..nu * nu]);
+            m.acceleration_rhs(&x, &q, &xd, &qd, &xdd, &mut out[..nu]).unwrap();
+            all.extend_from_slice(&out[..nu]);
+            let (mut s, mut p) = (vec![0.0; nu * np], vec![0.0; 2 * info.points.len() * np]);
+            if m.sensitivities(&x, &q, &mut s, &mut p).is_ok() {
+                all.extend(s.into_iter().chain(p));
+            }
+            for ch in m.chains(&x, &q).unwrap() {
+                all.extend(ch.vertices.into_iter().flatten());
+            }
+            all.into_iter().map(f64::to_bits).collect::<Vec<_>>()
+        };
+        assert_eq!(run(&g), run(&j), "{}", g.name());
+        // Scenes: each solved from the start on both.
+        for name in g.scene_names() {
+            let (a, b) = (g.scene(name).unwrap(), j.scene(name).unwrap());
+            let guess: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
+            let xs: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+            let input = InputMotion::new(&xs[..], &xd[..], &xdd[..]);
+            let o = SolveOptions::default();
+            let (ra, rb) = (a.solve(input, &guess, &o), b.solve(input, &guess, &o));
+            let bits = |r: &Result<mechgen::DynSceneState<f64>, mechgen::SolveError>| match r {
+                Ok(s) => Ok(s.out.iter().chain(&s.q).map(|v: &f64| v.to_bits()).collect::<Vec<_>>()),
+                Err(e) => Err(*e),
+            };
+            assert_eq!(bits(&ra), bits(&rb), "scene {name}");
+            scenes += 1;
+        }
+    }
+    assert!(scenes >= 3, "{scenes} scenes");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+
+    /// Random params (each length and angle param within ±5 %) on every compiled-in mechanism:
+    /// the interpreter and the JIT still agree bit for bit, through dead points and failures.
+    #[test]
+    fn random_params_bit_for_bit(seed in any::<u64>()) {
+        let mut fails = Vec::new();
+        let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE).unwrap();
+        for (i, mut g) in loaded.into_iter().enumerate() {
+            let info = DynMechanism::<f64>::info(&g);
+            for (k, p) in info.params.iter().enumerate() {
+                let h = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15).rotate_left((7 * (i + k)) as u32);
+                let f = 1.0 + 0.1 * ((h >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
+                let _ = g.set_param(&p.name, p.value * f);
+            }
+            check_sweeps(&g, &mut fails);
+        }
+        prop_assert!(fails.is_empty(), "{}", fails.join("\n"));
+    }
+}

@@ -432,8 +432,9 @@ impl SceneVisitor<f64> for Scenes<'_> {
     }
 }
 
-/// The generic engine: interpreted tapes, slices, `DMatrix`.
-fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
+/// The generic engine (`engine` `generic`: interpreted tapes; `jit`: the same tapes compiled by
+/// Cranelift), slices, `DMatrix`.
+fn generic(c: &mut Criterion, k: &mechgen::generic::Generic, engine: &str) {
     let k: &dyn DynMechanism<f64> = k;
     let info = k.info();
     let (states, _) = states(k);
@@ -446,7 +447,7 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
     let mut q = vec![0.0; nu];
     let mut qd = vec![0.0; nu];
     let mut qdd = vec![0.0; nu];
-    g.bench_function("position/generic", |b| {
+    g.bench_function(format!("position/{engine}"), |b| {
         b.iter(|| {
             i = (i + 1) % n;
             let s = &states[i];
@@ -454,14 +455,14 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
             black_box(k.solve_position(black_box(&s.x_next), &mut q, &opts)).ok();
         })
     });
-    g.bench_function("velocity/generic", |b| {
+    g.bench_function(format!("velocity/{engine}"), |b| {
         b.iter(|| {
             i = (i + 1) % n;
             let s = &states[i];
             black_box(k.solve_velocity(black_box(&s.x), &s.q, &xd, &mut qd)).ok();
         })
     });
-    g.bench_function("acceleration/generic", |b| {
+    g.bench_function(format!("acceleration/{engine}"), |b| {
         b.iter(|| {
             i = (i + 1) % n;
             let s = &states[i];
@@ -474,7 +475,7 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
     let (mut x, mut qs) = (states[0].x.clone(), states[0].q.clone());
     let (mut qds, mut qdds) = (states[0].qd.clone(), states[0].qdd.clone());
     let mut st = DynState::new(InputMotion::new(&x, &xd, &xdd), &qs, info.points.len());
-    g.bench_function("step/generic", |b| {
+    g.bench_function(format!("step/{engine}"), |b| {
         b.iter(|| {
             let j = walk.next();
             let xn = black_box(&states[j].x);
@@ -496,7 +497,7 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic) {
             black_box((&st.points, tick)).1.ok();
         })
     });
-    sweep_rows(&mut g, "sweep/generic", k, &states);
+    sweep_rows(&mut g, &format!("sweep/{engine}"), k, &states);
     g.finish();
 }
 
@@ -548,7 +549,11 @@ fn benches(c: &mut Criterion) {
     let loaded = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
         .expect("the compiled-in file loads");
     for k in &loaded {
-        generic(c, k);
+        generic(c, k, "generic");
+        let mut jit = k.clone();
+        if jit.compile().is_ok() {
+            generic(c, &jit, "jit");
+        }
     }
 }
 

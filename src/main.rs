@@ -20,7 +20,7 @@ fn main() -> ExitCode {
     let result = match parsed.command {
         None => cli::run::main_job(&parsed.main),
         Some(Command::Sweep(args)) => cli::run::sweep(&args),
-        Some(Command::Check(args)) => cli::check::run(args.file.as_deref()),
+        Some(Command::Check(args)) => cli::check::run(args.file.as_deref(), args.verbose),
         Some(Command::Branches(args)) => cli::branches::run(&args),
         Some(Command::Metrics(args)) => cli::metrics::run(&args),
         Some(Command::Batch(args)) => cli::batch::run(&args),

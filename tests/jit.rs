@@ -19,8 +19,26 @@ fn first_difference(a: &[Row], b: &[Row]) -> Option<String> {
     for (ra, rb) in a.iter().zip(b) {
         let same = match (&ra.result, &rb.result) {
             (Ok(sa), Ok(sb)) => {
-                let pa: Vec<_> = sa.points.iter().flat_map(|p| p.position.into_iter().chain(p.velocity).chain(p.acceleration)).collect();
-                let pb: Vec<_> = sb.points.iter().flat_map(|p| p.position.into_iter().chain(p.velocity).chain(p.acceleration)).collect();
+                let pa: Vec<_> = sa
+                    .points
+                    .iter()
+                    .flat_map(|p| {
+                        p.position
+                            .into_iter()
+                            .chain(p.velocity)
+                            .chain(p.acceleration)
+                    })
+                    .collect();
+                let pb: Vec<_> = sb
+                    .points
+                    .iter()
+                    .flat_map(|p| {
+                        p.position
+                            .into_iter()
+                            .chain(p.velocity)
+                            .chain(p.acceleration)
+                    })
+                    .collect();
                 bits(&sa.q) == bits(&sb.q)
                     && bits(&sa.qd) == bits(&sb.qd)
                     && bits(&sa.qdd) == bits(&sb.qdd)
@@ -31,7 +49,10 @@ fn first_difference(a: &[Row], b: &[Row]) -> Option<String> {
             _ => false,
         };
         if !same {
-            return Some(format!("input {}: {:?} vs {:?}", ra.input, ra.result, rb.result));
+            return Some(format!(
+                "input {}: {:?} vs {:?}",
+                ra.input, ra.result, rb.result
+            ));
         }
     }
     (a.len() != b.len()).then(|| "row counts differ".into())
@@ -44,10 +65,15 @@ fn values_and_continuation(g: &Generic) -> (Vec<f64>, Continuation) {
     if input.kind == Kind::Length {
         let s = input.start;
         let v = (0..=40).map(|i| s * (0.8 + 0.01 * f64::from(i))).collect();
-        (v, Continuation::for_input(Kind::Length, 0.2 * s.abs().max(1.0)))
+        (
+            v,
+            Continuation::for_input(Kind::Length, 0.2 * s.abs().max(1.0)),
+        )
     } else {
         let first = input.start.to_degrees() - 180.0;
-        let v = (0..=180).map(|i| (first + 2.0 * f64::from(i)).to_radians()).collect();
+        let v = (0..=180)
+            .map(|i| (first + 2.0 * f64::from(i)).to_radians())
+            .collect();
         (v, Continuation::for_input(Kind::Angle, 1.0))
     }
 }
@@ -56,7 +82,11 @@ fn compiled(g: &Generic) -> Generic {
     let mut j = g.clone();
     let took = j.compile().expect("the host has a Cranelift back end");
     assert!(j.is_compiled() && !g.is_compiled());
-    assert!(took.as_secs_f64() < 5.0, "{}: compiled in {took:?}", g.name());
+    assert!(
+        took.as_secs_f64() < 5.0,
+        "{}: compiled in {took:?}",
+        g.name()
+    );
     j
 }
 
@@ -71,7 +101,7 @@ fn check_sweeps(g: &Generic, fails: &mut Vec<String>) -> usize {
                 closed_forms,
                 ..c.options
             },
-            ..c.clone()
+            ..c
         };
         let a = sweep(g, 0, &values, 1.3, &c);
         let b = sweep(&j, 0, &values, 1.3, &c);
@@ -156,7 +186,11 @@ fn single_evaluations_and_scenes_bit_for_bit() {
         let info = DynMechanism::<f64>::info(&g);
         let (ni, nu, np) = (info.inputs.len(), info.unknowns.len(), info.params.len());
         let x: Vec<f64> = info.inputs.iter().map(|i| i.start + 0.01).collect();
-        let q: Vec<f64> = info.unknowns.iter().map(|u| u.start * 1.001 + 0.002).collect();
+        let q: Vec<f64> = info
+            .unknowns
+            .iter()
+            .map(|u| u.start * 1.001 + 0.002)
+            .collect();
         let xd = vec![1.1; ni];
         let qd: Vec<f64> = (0..nu).map(|i| -0.4 + 0.3 * i as f64).collect();
         let xdd = vec![0.25; ni];
@@ -169,9 +203,11 @@ fn single_evaluations_and_scenes_bit_for_bit() {
             all.extend_from_slice(&out[..nu * nu]);
             m.input_jacobian(&x, &q, &mut out[..nu * ni]).unwrap();
             all.extend_from_slice(&out[..nu * ni]);
-            m.jacobian_dot(&x, &q, &xd, &qd, &mut out[..nu * nu]).unwrap();
+            m.jacobian_dot(&x, &q, &xd, &qd, &mut out[..nu * nu])
+                .unwrap();
             all.extend_from_slice(&out[..nu * nu]);
-            m.acceleration_rhs(&x, &q, &xd, &qd, &xdd, &mut out[..nu]).unwrap();
+            m.acceleration_rhs(&x, &q, &xd, &qd, &xdd, &mut out[..nu])
+                .unwrap();
             all.extend_from_slice(&out[..nu]);
             let (mut s, mut p) = (vec![0.0; nu * np], vec![0.0; 2 * info.points.len() * np]);
             if m.sensitivities(&x, &q, &mut s, &mut p).is_ok() {
@@ -192,7 +228,12 @@ fn single_evaluations_and_scenes_bit_for_bit() {
             let o = SolveOptions::default();
             let (ra, rb) = (a.solve(input, &guess, &o), b.solve(input, &guess, &o));
             let bits = |r: &Result<mechgen::DynSceneState<f64>, mechgen::SolveError>| match r {
-                Ok(s) => Ok(s.out.iter().chain(&s.q).map(|v: &f64| v.to_bits()).collect::<Vec<_>>()),
+                Ok(s) => Ok(s
+                    .out
+                    .iter()
+                    .chain(&s.q)
+                    .map(|v: &f64| v.to_bits())
+                    .collect::<Vec<_>>()),
                 Err(e) => Err(*e),
             };
             assert_eq!(bits(&ra), bits(&rb), "scene {name}");

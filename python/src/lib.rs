@@ -10,7 +10,7 @@ mod columns;
 mod mechanism;
 mod run;
 
-use mechanism::{Mechanism, Source};
+use mechanism::{FileEngine, Mechanism, Source};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
@@ -39,7 +39,8 @@ fn mechanisms(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
 
 /// Every mechanism of the file at `path`, loaded at run time, name → Mechanism in file order. A
 /// file with errors raises ValueError with every diagnostic (FILE:LINE:COLUMN). `engine`:
-/// `"generic"` (the interpreter; the default, as no run-time compiler is built in yet).
+/// `"jit"` (compiled to machine code by Cranelift: the default where the host has a back end),
+/// or `"generic"` (the interpreter; the default elsewhere).
 #[pyfunction]
 #[pyo3(signature = (path, engine=None))]
 fn load<'py>(
@@ -47,34 +48,44 @@ fn load<'py>(
     path: std::path::PathBuf,
     engine: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    match engine {
-        None | Some("generic") => {}
-        Some(other) => {
-            return Err(PyValueError::new_err(format!(
-                "engine `{other}` is not available here: this build runs loaded files on `generic`"
-            )));
-        }
-    }
+    let engine = file_engine(engine)?;
     let name = path.display().to_string();
     let text = std::fs::read_to_string(&path).map_err(|e| {
         PyValueError::new_err(format!("{name}: error: cannot read mechanism file: {e}"))
     })?;
-    into_dict(py, Mechanism::from_source(Source::File { name, text })?)
+    into_dict(
+        py,
+        Mechanism::from_source(Source::File { name, text, engine })?,
+    )
+}
+
+/// The engine `load` runs a file on: the one asked for, else `jit` where the host has it.
+fn file_engine(engine: Option<&str>) -> PyResult<FileEngine> {
+    match engine {
+        None if mg::generic::jit::available() => Ok(FileEngine::Jit { asked: false }),
+        None | Some("generic") => Ok(FileEngine::Generic),
+        Some("jit") => Ok(FileEngine::Jit { asked: true }),
+        Some(other) => Err(PyValueError::new_err(format!(
+            "engine `{other}`: a loaded file runs on `jit` or `generic`"
+        ))),
+    }
 }
 
 /// A pickled Mechanism, made again: the compiled-in one of that name, or that mechanism of the
-/// file text it was loaded from.
+/// file text it was loaded from, on the same engine.
 #[pyfunction]
-#[pyo3(signature = (mechanism, file=None, text=None))]
+#[pyo3(signature = (mechanism, file=None, text=None, engine=None))]
 fn _restore(
     py: Python<'_>,
     mechanism: &str,
     file: Option<String>,
     text: Option<String>,
+    engine: Option<&str>,
 ) -> PyResult<Py<Mechanism>> {
     let all = match (file, text) {
         (Some(name), Some(text)) => {
-            into_dict(py, Mechanism::from_source(Source::File { name, text })?)?
+            let engine = file_engine(engine)?;
+            into_dict(py, Mechanism::from_source(Source::File { name, text, engine })?)?
         }
         _ => mechanisms(py)?,
     };

@@ -24,8 +24,21 @@ use crate::run::{Job, SETS_PER_BLOCK, sweep_sets};
 pub enum Source {
     /// The file compiled in (generated solvers).
     Compiled,
-    /// A file loaded at run time: its name and text.
-    File { name: String, text: String },
+    /// A file loaded at run time: its name, its text and the engine it runs on.
+    File {
+        name: String,
+        text: String,
+        engine: FileEngine,
+    },
+}
+
+/// How a loaded file runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FileEngine {
+    /// The interpreter.
+    Generic,
+    /// Compiled by the JIT (`asked`: a failure to compile is an error, else the interpreter runs).
+    Jit { asked: bool },
 }
 
 /// One mechanism: its generated solvers (compiled in) or the generic engine (a loaded file).
@@ -53,23 +66,36 @@ struct Options {
 impl Mechanism {
     /// Every mechanism of `source`, in file order.
     pub fn from_source(source: Source) -> PyResult<Vec<Mechanism>> {
-        let (name, text, generated) = match &source {
-            Source::Compiled => (mg::source::SOURCE_NAME, mg::source::SOURCE, true),
-            Source::File { name, text } => (name.as_str(), text.as_str(), false),
+        let (name, text, generated, engine) = match &source {
+            Source::Compiled => (mg::source::SOURCE_NAME, mg::source::SOURCE, true, None),
+            Source::File { name, text, engine } => {
+                (name.as_str(), text.as_str(), false, Some(*engine))
+            }
         };
         let loaded = mg::generic::load_with_start_warnings(name, text)
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        Ok(loaded
+        loaded
             .into_iter()
-            .map(|(g, warning)| Mechanism {
-                info: DynMechanism::<f64>::info(&g),
-                model: g,
-                generated,
-                warning,
-                source: source.clone(),
-                assembly: Default::default(),
+            .map(|(mut g, warning)| {
+                if let Some(FileEngine::Jit { asked }) = engine {
+                    match g.compile() {
+                        Ok(_) => {}
+                        Err(e) if asked => {
+                            return Err(PyValueError::new_err(format!("{}: {e}", g.name())));
+                        }
+                        Err(_) => {}
+                    }
+                }
+                Ok(Mechanism {
+                    info: DynMechanism::<f64>::info(&g),
+                    model: g,
+                    generated,
+                    warning,
+                    source: source.clone(),
+                    assembly: Default::default(),
+                })
             })
-            .collect())
+            .collect()
     }
 
     pub fn name(&self) -> &str {
@@ -163,7 +189,7 @@ impl Mechanism {
         }
         let (file, text) = match &self.source {
             Source::Compiled => (mg::source::SOURCE_NAME, mg::source::SOURCE),
-            Source::File { name, text } => (name.as_str(), text.as_str()),
+            Source::File { name, text, .. } => (name.as_str(), text.as_str()),
         };
         let a = Assembly::from_text(file, text, &self.info.name, index).map(std::sync::Arc::new);
         made.push((index, a.clone()));
@@ -244,11 +270,14 @@ impl Mechanism {
         self.info.points.clone()
     }
 
-    /// `"generated"` (compiled in) or `"generic"` (a file loaded at run time).
+    /// `"generated"` (compiled in), `"jit"` (a loaded file compiled at run time) or
+    /// `"generic"` (a loaded file interpreted).
     #[getter]
     fn engine(&self) -> &str {
         if self.generated {
             "generated"
+        } else if self.model.is_compiled() {
+            "jit"
         } else {
             "generic"
         }
@@ -418,11 +447,12 @@ impl Mechanism {
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
         let restore = py.import("mechgen")?.getattr("_restore")?;
         let args = match &self.source {
-            Source::Compiled => (self.info.name.clone(), None::<String>, None::<String>),
-            Source::File { name, text } => (
+            Source::Compiled => (self.info.name.clone(), None, None, None),
+            Source::File { name, text, .. } => (
                 self.info.name.clone(),
                 Some(name.clone()),
                 Some(text.clone()),
+                Some(self.engine().to_string()),
             ),
         };
         Ok((restore, args.into_pyobject(py)?))

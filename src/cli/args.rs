@@ -174,6 +174,9 @@ pub struct BranchesArgs {
 pub enum Engine {
     /// The solvers generated at build time (compiled-in mechanisms only).
     Generated,
+    /// The mechanism file compiled to machine code at run time (Cranelift); the default for
+    /// `--file` where the host has a back end.
+    Jit,
     /// The run-time engine that interprets the mechanism file.
     Generic,
 }
@@ -266,6 +269,9 @@ pub struct CheckArgs {
     /// The mechanism file to check [default: the compiled-in mechanism.toml].
     #[arg(long, value_name = "PATH")]
     pub file: Option<PathBuf>,
+    /// Also compile each mechanism with the JIT and print how long it took.
+    #[arg(short, long)]
+    pub verbose: bool,
 }
 
 /// A finite number.

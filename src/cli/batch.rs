@@ -103,7 +103,7 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
     let continuation = Continuation::for_input(info.inputs[plan.index].kind, plan.span);
     // Every input not swept, with its value, in the CSV after the swept one.
     let held = report::held_inputs(&info, plan.index, &plan.held);
-    let generated = s.engine != Some(Engine::Generic) && file.is_none();
+    let generated = super::load::engine_for(file, s.engine) == Engine::Generated;
     let engine = |set: usize| -> Box<dyn DynMechanism<f64>> {
         let params = sets.params_of(set, &indices, &info);
         solver_with_params(&s.name, &sel.model, generated, &params)

@@ -187,7 +187,7 @@ fn write(dir: &Path, file: String, text: &str) -> Result<(), String> {
 pub fn run(args: &BranchesArgs) -> Result<(), String> {
     if args.file.is_some() && args.engine == Some(Engine::Generated) {
         return Err(
-            "--engine generated exists only for compiled-in mechanisms; use --engine generic with --file"
+            "--engine generated exists only for compiled-in mechanisms; use --engine jit or generic with --file"
                 .into(),
         );
     }

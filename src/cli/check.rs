@@ -5,25 +5,33 @@ use std::path::Path;
 
 use mechgen::{CoordDesc, Kind, MechanismInfo, SceneDescription, generic};
 
-/// `mechgen check [--file PATH]`: the file given, or the compiled-in one.
-pub fn run(file: Option<&Path>) -> Result<(), String> {
+/// `mechgen check [--file PATH] [-v]`: the file given, or the compiled-in one.
+pub fn run(file: Option<&Path>, verbose: bool) -> Result<(), String> {
     match file {
         Some(path) => {
             let text = std::fs::read_to_string(path)
                 .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-            check(&path.display().to_string(), &text)
+            check(&path.display().to_string(), &text, verbose)
         }
-        None => check(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE),
+        None => check(
+            mechgen::source::SOURCE_NAME,
+            mechgen::source::SOURCE,
+            verbose,
+        ),
     }
 }
 
-/// Checks `name`/`text`; prints structure to stdout and diagnostics to stderr.
-pub fn check(name: &str, text: &str) -> Result<(), String> {
+/// Checks `name`/`text`; prints structure to stdout and diagnostics to stderr; `verbose`: the
+/// JIT's compile time of each mechanism too.
+pub fn check(name: &str, text: &str, verbose: bool) -> Result<(), String> {
     match generic::load_with_warnings(name, text) {
         Ok((mechs, warnings)) => {
             tell_raw!("{warnings}");
             for m in &mechs {
                 print_structure(&mechgen::DynMechanism::<f64>::info(m), &m.block_kinds());
+                if verbose {
+                    print_jit(m);
+                }
             }
             for m in &mechs {
                 let info = mechgen::DynMechanism::<f64>::info(m);
@@ -38,6 +46,19 @@ pub fn check(name: &str, text: &str) -> Result<(), String> {
             let n = e.diagnostics.iter().filter(|d| d.is_error()).count();
             Err(format!("{name}: {n} error(s)"))
         }
+    }
+}
+
+/// The JIT's line of `check -v`: the compile time of every tape of `m`, or why there is none.
+fn print_jit(m: &generic::Generic) {
+    match m.clone().compile() {
+        Ok(took) => say!(
+            "  jit:      compiled in {:.1} ms ({} tapes, {} instructions)",
+            took.as_secs_f64() * 1e3,
+            m.tape_count(),
+            m.instruction_count()
+        ),
+        Err(e) => say!("  jit:      {e}; the interpreter runs it"),
     }
 }
 

@@ -67,6 +67,31 @@ pub struct Selected {
     pub model: Generic,
 }
 
+/// The engine a command runs: the one asked for, else `generated` for the compiled-in file and
+/// `jit` (where the host has a Cranelift back end, else `generic`) for `--file`.
+pub(super) fn engine_for(file: Option<&Path>, engine: Option<Engine>) -> Engine {
+    engine.unwrap_or(if file.is_none() {
+        Engine::Generated
+    } else if mechgen::generic::jit::available() {
+        Engine::Jit
+    } else {
+        Engine::Generic
+    })
+}
+
+/// `model` ready to run as `engine`: compiled by the JIT for `Engine::Jit` (a failure is an
+/// error when `--engine jit` was asked for, else the interpreter runs).
+pub(super) fn prepare(model: &mut Generic, engine: Engine, asked: bool) -> Result<(), String> {
+    if engine != Engine::Jit {
+        return Ok(());
+    }
+    match model.compile() {
+        Ok(_) => Ok(()),
+        Err(e) if asked => Err(format!("{}: {e} (use --engine generic)", model.name())),
+        Err(_) => Ok(()),
+    }
+}
+
 /// Mechanism `name` of `loaded` with the engine asked for (generated only for the compiled-in file).
 pub(super) fn select(
     loaded: &Loaded,
@@ -74,18 +99,15 @@ pub(super) fn select(
     file: Option<&Path>,
     engine: Option<Engine>,
 ) -> Result<Selected, String> {
-    let engine = engine.unwrap_or(if file.is_some() {
-        Engine::Generic
-    } else {
-        Engine::Generated
-    });
+    let asked = engine.is_some();
+    let engine = engine_for(file, engine);
     if file.is_some() && engine == Engine::Generated {
         return Err(
-            "--engine generated exists only for compiled-in mechanisms; use --engine generic with --file"
+            "--engine generated exists only for compiled-in mechanisms; use --engine jit or generic with --file"
                 .into(),
         );
     }
-    let model = loaded
+    let mut model = loaded
         .mechs
         .iter()
         .find(|m| m.name() == name)
@@ -98,8 +120,9 @@ pub(super) fn select(
                 names.join(", ")
             )
         })?;
+    prepare(&mut model, engine, asked)?;
     let solver: Box<dyn DynMechanism<f64>> = match engine {
-        Engine::Generic => Box::new(model.clone()),
+        Engine::Generic | Engine::Jit => Box::new(model.clone()),
         Engine::Generated => mechgen::lookup::<f64>(name)
             .ok_or_else(|| format!("no compiled-in mechanism `{name}`"))?,
     };

@@ -28,16 +28,16 @@ fn select_scene(
     file: Option<&Path>,
     engine: Option<Engine>,
 ) -> Result<Box<dyn DynScene<f64>>, String> {
-    let default = if file.is_some() {
-        Engine::Generic
-    } else {
-        Engine::Generated
-    };
-    let scene: Option<Box<dyn DynScene<f64>>> = match engine.unwrap_or(default) {
+    let asked = engine.is_some();
+    let engine = super::load::engine_for(file, engine);
+    let scene: Option<Box<dyn DynScene<f64>>> = match engine {
         Engine::Generated => mechgen::lookup_scene::<f64>(name),
-        Engine::Generic => mech
-            .scene(name)
-            .map(|s| Box::new(s) as Box<dyn DynScene<f64>>),
+        Engine::Generic | Engine::Jit => {
+            let mut mech = mech.clone();
+            super::load::prepare(&mut mech, engine, asked)?;
+            mech.scene(name)
+                .map(|s| Box::new(s) as Box<dyn DynScene<f64>>)
+        }
     };
     scene.ok_or_else(|| format!("no compiled-in scene `{name}`"))
 }

@@ -36,6 +36,16 @@ impl Generic {
         self.points.is_compiled()
     }
 
+    /// How many tapes [`Generic::compile`] compiles.
+    pub fn tape_count(&self) -> usize {
+        self.clone().tapes_mut().len()
+    }
+
+    /// How many instructions they hold in all.
+    pub fn instruction_count(&self) -> usize {
+        self.clone().tapes_mut().iter().map(|t| t.len()).sum()
+    }
+
     /// Every tape, in a fixed order.
     fn tapes_mut(&mut self) -> Vec<&mut Tape> {
         let mut all = vec![

@@ -7,15 +7,16 @@
 use mechgen_runtime::elimination::{Factored, factor_block, factor_in_place, solve_factored};
 use mechgen_runtime::error::{Quantity, SolveError, Stage};
 use mechgen_runtime::mechanism::InputMotion;
-use mechgen_runtime::nalgebra::{DMatrix, DVector, Dyn, SMatrix, SVector};
+use mechgen_runtime::nalgebra::{DMatrix, DVector, SMatrix, SVector};
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::sensitivity::{BlockSolve, block_sensitivities, point_sensitivities};
-use mechgen_runtime::solve::{NewtonReport, NewtonWork, SolveOptions, check_finite};
+use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
 use mechgen_runtime::trig::TrigSlices;
 use mechgen_runtime::twofold::{REFINE_BELOW, refinement_in_place};
 
 use super::closed;
 use super::engine::Generic;
+use super::scratch::{Scratch, Sized, sized};
 use super::tape::Env;
 
 /// Which rates a run solves after (or without) the positions.
@@ -38,15 +39,6 @@ pub(super) struct Plan<'a> {
     pub order: u8,
 }
 
-/// What a whole solve leaves besides the unknowns and rates.
-#[derive(Clone, Debug)]
-pub(super) struct Run<T> {
-    pub report: NewtonReport<T>,
-    /// The angles' sines and cosines, kept in step through the solve as generated code keeps
-    /// them (what the points are then computed from).
-    pub sc: Vec<(T, T)>,
-}
-
 impl Generic {
     /// Every block up to accelerations, tolerances relative to the mechanism's largest length
     /// param.
@@ -61,7 +53,8 @@ impl Generic {
     /// One whole solve of `plan`: every argument checked (params, inputs, guess, input rates, in
     /// this order, as generated solvers check them), positions from the guess in `q` (written only
     /// on success), then velocities into `qd` (`order` ≥ 1) and accelerations into `qdd` (`order` 2).
-    /// Returns the report and the solved angles' sines and cosines ([`Run`]).
+    /// Returns the report; the solved angles' sines and cosines are left in `ws.sc`.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn drive<T: Real>(
         &self,
         plan: Plan<'_>,
@@ -70,68 +63,76 @@ impl Generic {
         qd: &mut [T],
         qdd: &mut [T],
         options: &SolveOptions<T>,
-    ) -> Result<Run<T>, SolveError> {
+        ws: &mut Scratch<T>,
+    ) -> Result<NewtonReport<T>, SolveError> {
         let InputMotion { x, xd, xdd } = input;
         check_finite(Quantity::Param, &self.params)?;
         check_finite(Quantity::Input, x)?;
         check_finite(Quantity::Guess, q)?;
         check_finite(Quantity::InputRate, xd)?;
         check_finite(Quantity::InputAcceleration, xdd)?;
-        let mut sc = vec![(T::zero(), T::one()); q.len()];
-        let report = self.positions(plan, x, q, &mut sc, options)?;
+        let report = self.positions(plan, x, q, options, ws)?;
         let rates = match plan.order {
-            0 => return Ok(Run { report, sc }),
+            0 => return Ok(report),
             1 => Rates::Velocity,
             _ => Rates::Both,
         };
+        let sc = std::mem::take(&mut ws.sc);
         let env = Env {
             xd,
             xdd,
             sc: &sc,
             ..Env::position(x, q, &self.params)
         };
-        self.rates(plan.blocks, rates, env, qd, qdd)?;
-        Ok(Run { report, sc })
+        let solved = self.rates(plan.blocks, rates, env, qd, qdd, ws);
+        ws.sc = sc;
+        solved.map(|()| report)
     }
 
     /// The positions of `plan`'s blocks in order, from the guess in `q`; `q` and the angles'
-    /// sines and cosines `sc` are written only on success (as the generated solvers do).
+    /// sines and cosines `ws.sc` are written only on success (as the generated solvers do).
     pub(super) fn positions<T: Real>(
         &self,
         plan: Plan<'_>,
         x: &[T],
         q: &mut [T],
-        sc: &mut [(T, T)],
         options: &SolveOptions<T>,
+        ws: &mut Scratch<T>,
     ) -> Result<NewtonReport<T>, SolveError> {
         check_finite(Quantity::Param, &self.params)?;
         check_finite(Quantity::Input, x)?;
         check_finite(Quantity::Guess, q)?;
         let scale = T::lit(plan.scale);
         let mut report = NewtonReport::new();
-        let (mut trial, mut trial_sc) = (q.to_vec(), sc.to_vec());
+        let Scratch {
+            regs,
+            out,
+            trial,
+            trial_sc,
+            sc,
+            by_size,
+            ..
+        } = ws;
+        trial.clear();
+        trial.extend_from_slice(q);
+        trial_sc.clear();
+        trial_sc.resize(q.len(), (T::zero(), T::one()));
         let mut st = TrigSlices {
-            q: &mut trial,
-            sc: &mut trial_sc,
+            q: trial,
+            sc: trial_sc,
             angle: &self.angle,
         };
         st.init();
-        let (mut regs, mut out) = (Vec::new(), Vec::new());
         for &bi in plan.blocks {
             let b = &self.blocks[bi];
             let k = b.unknowns.len();
             if let Some(c) = b.closed.as_ref().filter(|_| options.closed_forms) {
                 out.resize(c.form.roots().len(), T::zero());
-                c.roots.eval(&self.env(x, &st), &mut regs, &mut out);
+                c.roots.eval(&self.env(x, &st), regs, out);
                 let tolerance = options.newton.tolerance;
-                closed::solve(bi, &c.form, &out, &mut st, scale, tolerance, &mut report)?;
+                closed::solve(bi, &c.form, out, &mut st, scale, tolerance, &mut report)?;
                 continue;
             }
-            let mut work: NewtonWork<T, Dyn> = NewtonWork {
-                residual: DVector::zeros(k),
-                jacobian: DMatrix::zeros(k, k),
-                scale: DVector::zeros(k),
-            };
             out.resize(k + k * k, T::zero());
             mechgen_runtime::solve::newton_in_place(
                 bi,
@@ -141,18 +142,19 @@ impl Generic {
                 scale,
                 &options.newton,
                 &mut report,
-                &mut work,
+                &mut sized(by_size, k).newton,
                 |st, r, j| {
-                    b.position.eval(&self.env(x, st), &mut regs, &mut out);
-                    fill(&out, k, r, j);
+                    b.position.eval(&self.env(x, st), regs, out);
+                    fill(out, k, r, j);
                 },
             )?;
         }
         if report.pivot_ratio < T::lit(REFINE_BELOW) {
             self.refine(plan.blocks, x, &mut st);
         }
-        q.copy_from_slice(&trial);
-        sc.copy_from_slice(&trial_sc);
+        q.copy_from_slice(trial);
+        sc.clear();
+        sc.extend_from_slice(trial_sc);
         Ok(report)
     }
 
@@ -199,6 +201,7 @@ impl Generic {
         env: Env<'_, T>,
         qd: &mut [T],
         qdd: &mut [T],
+        ws: &mut Scratch<T>,
     ) -> Result<(), SolveError> {
         let velocity = rates != Rates::Acceleration;
         let acceleration = rates != Rates::Velocity;
@@ -214,19 +217,27 @@ impl Generic {
         } else {
             Stage::Acceleration
         };
-        let (mut regs, mut out) = (Vec::new(), Vec::new());
+        let Scratch {
+            regs, out, by_size, ..
+        } = ws;
         for &bi in which {
             let b = &self.blocks[bi];
             let k = b.unknowns.len();
             out.resize(k + k * k, T::zero());
             // Earlier blocks' velocities are on the right-hand side.
             let env_v = Env { qd: &*qd, ..env };
-            b.velocity.eval(&env_v, &mut regs, &mut out);
-            let (mut rhs, mut jac) = (DVector::zeros(k), DMatrix::zeros(k, k));
-            fill(&out, k, &mut rhs, &mut jac);
-            let lu = Factors::new(bi, stage, jac)?;
+            b.velocity.eval(&env_v, regs, out);
+            let Sized {
+                rhs,
+                jac,
+                scale,
+                swaps,
+                ..
+            } = sized(by_size, k);
+            fill(out, k, rhs, jac);
+            let lu = Factors::new(bi, stage, jac, scale, swaps)?;
             if velocity {
-                lu.solve(bi, Stage::Velocity, &mut rhs)?;
+                lu.solve(bi, Stage::Velocity, rhs)?;
                 for (&u, v) in b.unknowns.iter().zip(rhs.iter()) {
                     qd[u] = *v;
                 }
@@ -237,9 +248,9 @@ impl Generic {
                     qdd: &*qdd,
                     ..env
                 };
-                b.acceleration.eval(&env, &mut regs, &mut out[..k]);
-                let mut rhs = DVector::from_column_slice(&out[..k]);
-                lu.solve(bi, Stage::Acceleration, &mut rhs)?;
+                b.acceleration.eval(&env, regs, &mut out[..k]);
+                rhs.as_mut_slice().copy_from_slice(&out[..k]);
+                lu.solve(bi, Stage::Acceleration, rhs)?;
                 for (&u, v) in b.unknowns.iter().zip(rhs.iter()) {
                     qdd[u] = *v;
                 }
@@ -274,8 +285,9 @@ impl Generic {
         for &bi in &self.order {
             let b = &self.blocks[bi];
             let k = b.unknowns.len();
-            let jb = DMatrix::from_fn(k, k, |i, j| jac[b.equations[i] * nu + b.unknowns[j]]);
-            let lu = Factors::new(bi, Stage::Sensitivity, jb)?;
+            let mut jb = DMatrix::from_fn(k, k, |i, j| jac[b.equations[i] * nu + b.unknowns[j]]);
+            let (mut scale, mut swaps) = (DVector::zeros(k), vec![0; k]);
+            let lu = Factors::new(bi, Stage::Sensitivity, &mut jb, &mut scale, &mut swaps)?;
             let (j, f) = (|e, c| jac[e * nu + c], |e, p| phi_p[e * npar + p]);
             let mut rhs = vec![T::zero(); k];
             block_sensitivities(bi, &b.equations, &b.unknowns, &lu, j, f, npar, s, &mut rhs)?;
@@ -286,7 +298,7 @@ impl Generic {
     }
 }
 
-impl<T: Real> BlockSolve<T> for Factors<T> {
+impl<T: Real> BlockSolve<T> for Factors<'_, T> {
     fn solve_slice(&self, block: usize, stage: Stage, rhs: &mut [T]) -> Result<(), SolveError> {
         let mut v = DVector::from_column_slice(rhs);
         self.solve(block, stage, &mut v)?;
@@ -297,19 +309,26 @@ impl<T: Real> BlockSolve<T> for Factors<T> {
 
 /// A block Jacobian factored for its rates: a 1×1 or 2×2 block by the runtime's `factor_block`
 /// (the reciprocal, Cramer's inverse), exactly as generated code factors it; a larger one by
-/// elimination on the `DMatrix` (the same `lu_in_place` generated code runs on its `SMatrix`).
-enum Factors<T: Real> {
+/// elimination in place on the workspace's `DMatrix` (the same `lu_in_place` generated code runs
+/// on its `SMatrix`).
+enum Factors<'a, T: Real> {
     One(Factored<T, 1>),
     Two(Factored<T, 2>),
     Any {
-        lu: DMatrix<T>,
-        scale: DVector<T>,
-        swaps: Vec<usize>,
+        lu: &'a DMatrix<T>,
+        scale: &'a DVector<T>,
+        swaps: &'a [usize],
     },
 }
 
-impl<T: Real> Factors<T> {
-    fn new(block: usize, stage: Stage, mut jac: DMatrix<T>) -> Result<Self, SolveError> {
+impl<'a, T: Real> Factors<'a, T> {
+    fn new(
+        block: usize,
+        stage: Stage,
+        jac: &'a mut DMatrix<T>,
+        scale: &'a mut DVector<T>,
+        swaps: &'a mut [usize],
+    ) -> Result<Self, SolveError> {
         Ok(match jac.nrows() {
             1 => Factors::One(factor_block(
                 block,
@@ -321,9 +340,8 @@ impl<T: Real> Factors<T> {
                 stage,
                 SMatrix::from_fn(|i, j| jac[(i, j)]),
             )?),
-            k => {
-                let (mut scale, mut swaps) = (DVector::zeros(k), vec![0; k]);
-                factor_in_place(block, stage, &mut jac, &mut scale, &mut swaps)?;
+            _ => {
+                factor_in_place(block, stage, jac, scale, swaps)?;
                 Factors::Any {
                     lu: jac,
                     scale,

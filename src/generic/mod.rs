@@ -15,6 +15,7 @@ mod linkage;
 mod op;
 mod scene;
 mod scene_tapes;
+mod scratch;
 mod sketch;
 pub mod tape;
 mod terms;
@@ -33,6 +34,7 @@ use mechgen_runtime::error::{Quantity, SolveError};
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
 use mechgen_runtime::{DynMechanism, DynState, MechanismInfo, PointMotion, dynamic::len};
+use scratch::{Scratch, Scratched};
 use tape::Env;
 
 /// One chain of the mechanism drawing at a configuration.
@@ -71,10 +73,16 @@ impl Generic {
         Ok(())
     }
 
-    /// Every point's position, velocity and acceleration at `env`.
-    fn eval_points<T: Real>(&self, env: Env<'_, T>, out: &mut [PointMotion<T>]) {
-        let mut v = vec![T::zero(); 6 * self.info.points.len()];
-        self.points.eval(&env, &mut Vec::new(), &mut v);
+    /// Every point's position, velocity and acceleration at `env` (`regs` and `v` workspace).
+    fn eval_points<T: Real>(
+        &self,
+        env: Env<'_, T>,
+        out: &mut [PointMotion<T>],
+        regs: &mut Vec<T>,
+        v: &mut Vec<T>,
+    ) {
+        v.resize(6 * self.info.points.len(), T::zero());
+        self.points.eval(&env, regs, v);
         for (o, c) in out.iter_mut().zip(v.chunks_exact(6)) {
             *o = PointMotion {
                 position: [c[0], c[1]],
@@ -219,8 +227,7 @@ macro_rules! kinematics {
                 options: &SolveOptions<$t>,
             ) -> Result<NewtonReport<$t>, SolveError> {
                 self.lengths(&[x, q])?;
-                let mut sc = vec![(0.0, 1.0); q.len()];
-                self.positions(self.whole(), x, q, &mut sc, options)
+                <$t>::with_scratch(|ws| self.positions(self.whole(), x, q, options, ws))
             }
 
             fn solve_velocity(
@@ -236,7 +243,9 @@ macro_rules! kinematics {
                     xd,
                     ..Env::position(x, q, &self.params)
                 };
-                self.rates(&self.order, Rates::Velocity, env, qd, &mut [])
+                <$t>::with_scratch(|ws| {
+                    self.rates(&self.order, Rates::Velocity, env, qd, &mut [], ws)
+                })
             }
 
             fn solve_acceleration(
@@ -256,7 +265,9 @@ macro_rules! kinematics {
                     ..Env::position(x, q, &self.params)
                 };
                 let mut qd = qd.to_vec();
-                self.rates(&self.order, Rates::Acceleration, env, &mut qd, qdd)
+                <$t>::with_scratch(|ws| {
+                    self.rates(&self.order, Rates::Acceleration, env, &mut qd, qdd, ws)
+                })
             }
 
             fn solve_in_place(
@@ -276,27 +287,42 @@ macro_rules! kinematics {
                 } = state;
                 self.lengths(&[x, q, xd, qd, xdd, qdd])?;
                 len(points, self.info.points.len())?;
-                // Solved into one scratch vector: on error the state is unchanged.
-                let nu = q.len();
-                let mut scratch = [&q[..], &qd[..], &qdd[..]].concat();
-                let (q_new, rates) = scratch.split_at_mut(nu);
-                let (qd_new, qdd_new) = rates.split_at_mut(nu);
-                let input = InputMotion::new(&x[..], &xd[..], &xdd[..]);
-                let run = self.drive(self.whole(), input, q_new, qd_new, qdd_new, options)?;
-                let env = Env {
-                    xd,
-                    qd: qd_new,
-                    xdd,
-                    qdd: qdd_new,
-                    sc: &run.sc,
-                    ..Env::position(x, q_new, &self.params)
-                };
-                self.eval_points(env, points);
-                q.copy_from_slice(q_new);
-                qd.copy_from_slice(qd_new);
-                qdd.copy_from_slice(qdd_new);
-                *report = run.report;
-                Ok(())
+                <$t>::with_scratch(|ws| {
+                    // Solved into the workspace: on error the state is unchanged.
+                    let nu = q.len();
+                    let mut solved = std::mem::take(&mut ws.state);
+                    solved.clear();
+                    solved.extend_from_slice(q);
+                    solved.extend_from_slice(qd);
+                    solved.extend_from_slice(qdd);
+                    let (q_new, rates) = solved.split_at_mut(nu);
+                    let (qd_new, qdd_new) = rates.split_at_mut(nu);
+                    let input = InputMotion::new(&x[..], &xd[..], &xdd[..]);
+                    let run = self.drive(self.whole(), input, q_new, qd_new, qdd_new, options, ws);
+                    if let Ok(r) = run {
+                        let Scratch {
+                            sc,
+                            regs,
+                            points: v,
+                            ..
+                        } = ws;
+                        let env = Env {
+                            xd,
+                            qd: qd_new,
+                            xdd,
+                            qdd: qdd_new,
+                            sc,
+                            ..Env::position(x, q_new, &self.params)
+                        };
+                        self.eval_points(env, points, regs, v);
+                        q.copy_from_slice(q_new);
+                        qd.copy_from_slice(qd_new);
+                        qdd.copy_from_slice(qdd_new);
+                        *report = r;
+                    }
+                    ws.state = solved;
+                    run.map(|_| ())
+                })
             }
 
             fn points(
@@ -317,7 +343,12 @@ macro_rules! kinematics {
                     qdd,
                     ..Env::position(x, q, &self.params)
                 };
-                self.eval_points(env, out);
+                <$t>::with_scratch(|ws| {
+                    let Scratch {
+                        regs, points: v, ..
+                    } = ws;
+                    self.eval_points(env, out, regs, v)
+                });
                 Ok(())
             }
         }

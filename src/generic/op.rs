@@ -27,4 +27,3 @@ pub(crate) enum Op {
     /// A params-only function of one or two registers.
     Func(Func, u32, u32),
 }
-

@@ -10,8 +10,9 @@ use mechgen_runtime::scalar::Real;
 use mechgen_runtime::scene::{DynScene, DynSceneState, SceneDescription};
 use mechgen_runtime::solve::{NewtonReport, SolveOptions};
 
-use super::driver::{Plan, Run};
+use super::driver::Plan;
 use super::engine::Generic;
+use super::scratch::{Scratch, Scratched};
 use super::tape::Env;
 
 /// A scene of a [`Generic`] mechanism (`Generic::scene`).
@@ -38,7 +39,7 @@ impl Generic {
 }
 
 impl GenericScene {
-    fn solve<T: Real>(
+    fn solve<T: Scratched>(
         &self,
         input: InputMotion<&[T]>,
         q: &mut [T],
@@ -59,9 +60,39 @@ impl GenericScene {
             scale: g.length_scale_of(Some(&s.params_read)),
             order,
         };
-        let (mut qd, mut qdd) = (vec![T::zero(); nu], vec![T::zero(); nu]);
-        let Run { report, sc } = g.drive(plan, input, q, &mut qd, &mut qdd, options)?;
-        let rates = [&*q, &qd, &qdd];
+        T::with_scratch(|ws| {
+            let mut rates = std::mem::take(&mut ws.state);
+            rates.clear();
+            rates.resize(2 * nu, T::zero());
+            let (qd, qdd) = rates.split_at_mut(nu);
+            let solved = g.drive(plan, input, q, qd, qdd, options, ws);
+            if let Ok(report) = solved {
+                let Scratch { sc, regs, .. } = ws;
+                self.write(x, xd, xdd, q, (qd, qdd), sc, regs, out);
+                ws.state = rates;
+                return Ok(report);
+            }
+            ws.state = rates;
+            solved
+        })
+    }
+
+    /// The scene's outputs at a solved state: its unknowns and their rates, then its points.
+    #[allow(clippy::too_many_arguments)]
+    fn write<T: Real>(
+        &self,
+        x: &[T],
+        xd: &[T],
+        xdd: &[T],
+        q: &[T],
+        (qd, qdd): (&[T], &[T]),
+        sc: &[(T, T)],
+        regs: &mut Vec<T>,
+        out: &mut [T],
+    ) {
+        let (g, s) = (&self.mechanism, &self.mechanism.scenes[self.index]);
+        let order = s.desc.order;
+        let rates = [q, qd, qdd];
         let mut at = 0;
         for &u in &s.unknowns {
             for r in rates.iter().take(usize::from(order) + 1) {
@@ -74,14 +105,12 @@ impl GenericScene {
             q,
             p: &g.params,
             xd,
-            qd: &qd,
+            qd,
             xdd,
-            qdd: &qdd,
-            sc: &sc,
+            qdd,
+            sc,
         };
-        s.points
-            .eval(&env, &mut Vec::new(), &mut out[at..at + s.point_values]);
-        Ok(report)
+        s.points.eval(&env, regs, &mut out[at..at + s.point_values]);
     }
 }
 

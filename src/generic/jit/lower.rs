@@ -6,8 +6,8 @@
 use cranelift_codegen::Context;
 use cranelift_codegen::ir::condcodes::IntCC;
 use cranelift_codegen::ir::{
-    AbiParam, Function as IrFunction, InstBuilder, MemFlagsData, StackSlotData, StackSlotKind, Type,
-    UserFuncName, Value, types,
+    AbiParam, Function as IrFunction, InstBuilder, MemFlagsData, StackSlotData, StackSlotKind,
+    Type, UserFuncName, Value, types,
 };
 use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
@@ -16,8 +16,8 @@ use cranelift_module::{FuncId, Linkage, Module, default_libcall_names};
 use mechgen_codegen::{Func, Var};
 use mechgen_runtime::twofold::Arith;
 
-use super::JitError;
 use super::code::{self, Reads};
+use super::error::JitError;
 use crate::generic::op::Op;
 
 /// The params-only functions, in the order of their callbacks ([`FUNC_ENTRIES`]).
@@ -36,12 +36,7 @@ extern "C" fn func<const I: usize>(a: f64, b: f64) -> f64 {
 
 type Binary = extern "C" fn(f64, f64) -> f64;
 const FUNC_ENTRIES: [Binary; 6] = [
-    func::<0>,
-    func::<1>,
-    func::<2>,
-    func::<3>,
-    func::<4>,
-    func::<5>,
+    func::<0>, func::<1>, func::<2>, func::<3>, func::<4>, func::<5>,
 ];
 
 extern "C" fn sin(x: f64) -> f64 {
@@ -201,8 +196,10 @@ impl Lowering {
             base[8] = Some(b.ins().load(ptr, trusted, args, slot_bytes * 8));
         }
         let module = &mut self.module;
-        let mut callee = |b: &mut FunctionBuilder, id: FuncId| module.declare_func_in_func(id, b.func);
-        let pair_slot = b.create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, 16, 3));
+        let mut callee =
+            |b: &mut FunctionBuilder, id: FuncId| module.declare_func_in_func(id, b.func);
+        let pair_slot =
+            b.create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, 16, 3));
         let mut reads = Reads::default();
         let mut regs: Vec<Value> = Vec::with_capacity(ops.len());
         let mut pending_cos = None;

@@ -39,8 +39,8 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use mechgen::lanes::WithLanes;
 use mechgen::sweep::{Continuation, sweep, sweep_each};
 use mechgen::{
-    Array, CoordDesc, DynMechanism, DynState, InputMotion, Kind, LaneMechanism, LaneScene, Lanes,
-    Scene, SceneVisitor, SolveOptions, StaticMechanism, StaticVisitor,
+    Array, CoordDesc, DynMechanism, InputMotion, Kind, LaneMechanism, LaneScene, Lanes, Scene,
+    SceneVisitor, SolveOptions, StaticMechanism, StaticVisitor,
 };
 
 /// A solved state and the input one step further (which is solvable too).
@@ -469,34 +469,24 @@ fn generic(c: &mut Criterion, k: &mechgen::generic::Generic, engine: &str) {
             black_box(k.solve_acceleration(black_box(&s.x), &s.q, &xd, &s.qd, &xdd, &mut qdd)).ok();
         })
     });
-    // Ticking in place along the same walk: the predicted guess from the previous state, then
-    // `solve_in_place`.
+    // Ticking along the same walk with the engine's own tick (`DynMechanism::ticker`: the
+    // runtime's predictor, rotated sines and cosines, then the block driver from there).
     let mut walk = Walk::new(n);
-    let (mut x, mut qs) = (states[0].x.clone(), states[0].q.clone());
-    let (mut qds, mut qdds) = (states[0].qd.clone(), states[0].qdd.clone());
-    let mut st = DynState::new(InputMotion::new(&x, &xd, &xdd), &qs, info.points.len());
-    g.bench_function(format!("step/{engine}"), |b| {
-        b.iter(|| {
-            let j = walk.next();
-            let xn = black_box(&states[j].x);
-            let h = xn[0] - x[0];
-            st.x.copy_from_slice(xn);
-            for (((v, q0), d), a) in st.q.iter_mut().zip(&qs).zip(&qds).zip(&qdds) {
-                *v = q0 + h * (d + 0.5 * h * a);
-            }
-            let tick = k.solve_in_place(&mut st, &opts);
-            if tick.is_ok() {
-                x.copy_from_slice(xn);
-                qs.copy_from_slice(&st.q);
-                qds.copy_from_slice(&st.qd);
-                qdds.copy_from_slice(&st.qdd);
-            } else {
-                let s = &states[j];
-                (x, qs, qds, qdds) = (s.x.clone(), s.q.clone(), s.qd.clone(), s.qdd.clone());
-            }
-            black_box((&st.points, tick)).1.ok();
-        })
-    });
+    let input = |j: usize| InputMotion::new(&states[j].x[..], &xd[..], &xdd[..]);
+    let mut ticker = k.ticker();
+    let started = ticker.start(input(0), &states[0].q, &opts).is_ok();
+    if started {
+        g.bench_function(format!("step/{engine}"), |b| {
+            b.iter(|| {
+                let j = walk.next();
+                if ticker.tick(black_box(input(j)), &opts).is_err() {
+                    // Off the branch (not expected along solved states): start again there.
+                    ticker.start(input(j), &states[j].q, &opts).ok();
+                }
+                black_box(ticker.state().map(|s| s.points.len()));
+            })
+        });
+    }
     sweep_rows(&mut g, &format!("sweep/{engine}"), k, &states);
     g.finish();
 }

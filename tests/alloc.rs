@@ -364,16 +364,29 @@ fn scenes<T: mechgen::lanes::WithLanes>() -> Outcome {
 }
 
 /// The sweep core allocates nothing per row: for every compiled-in mechanism on the generated
-/// engine, a sweep of 721 rows (0° to 360° by 0.5°) makes exactly the allocations of one of 181
-/// rows (by 2°): its workspace, made once per sweep. The rows are read through the borrowed view
-/// `sweep_each` hands out. Returns (name, allocations of the short sweep, of the long one).
+/// engine, the interpreter and the JIT, a sweep of 721 rows (0° to 360° by 0.5°) makes exactly
+/// the allocations of one of 181 rows (by 2°): its workspace, made once per sweep (the run-time
+/// engines' per-thread solve workspace grown by a first sweep). The rows are read through the
+/// borrowed view `sweep_each` hands out. Returns (name, allocations of the short sweep, of the
+/// long one).
 fn sweeps() -> Vec<(String, usize, usize)> {
     use mechgen::sweep::{Continuation, sweep_each};
     let mut out = Vec::new();
     let loaded = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
         .expect("the compiled-in file loads");
+    let mut engines: Vec<(String, Box<dyn mechgen::DynMechanism<f64>>)> = Vec::new();
     for g in &loaded {
         let k = mechgen::lookup::<f64>(g.name()).expect("compiled in");
+        engines.push((format!("{} (generated)", g.name()), k));
+        engines.push((format!("{} (generic)", g.name()), Box::new(g.clone())));
+        #[cfg(feature = "jit")]
+        {
+            let mut j = g.clone();
+            j.compile().expect("the host has a Cranelift back end");
+            engines.push((format!("{} (jit)", g.name()), Box::new(j)));
+        }
+    }
+    for (name, k) in &engines {
         let info = k.info();
         let kind = info.inputs[0].kind;
         let run = |step: f64| {
@@ -395,10 +408,11 @@ fn sweeps() -> Vec<(String, usize, usize)> {
             });
             (allocations, ok)
         };
+        run(2.0);
         let (short, ok_short) = run(2.0);
         let (long, ok_long) = run(0.5);
-        assert!(ok_short > 20 && ok_long > 80, "{}: rows solved", g.name());
-        out.push((g.name().to_string(), short, long));
+        assert!(ok_short > 20 && ok_long > 80, "{name}: rows solved");
+        out.push((name.clone(), short, long));
     }
     out
 }

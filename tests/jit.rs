@@ -1,8 +1,8 @@
 //! The JIT back end against the interpreter and the generated solvers: the same sweeps row for
 //! row **bit for bit** (unknowns, rates, points, condition, statuses), on every compiled-in
-//! mechanism (also against the generated solvers, stepping alike), every fixture and sweep test
-//! file, random params around each, closed forms on and off, every scene and the single
-//! evaluations (J, Φx, J̇, γ, sensitivities, drawing chains).
+//! mechanism against the generated solvers (their own ticks, and whole solves), every fixture and
+//! sweep test file against the interpreter, random params around each, closed forms on and off,
+//! every scene and the single evaluations (J, Φx, J̇, γ, sensitivities, drawing chains).
 #![cfg(feature = "jit")]
 
 mod common;
@@ -160,20 +160,52 @@ fn jit_equals_interpreter_bit_for_bit_on_every_file() {
 }
 
 #[test]
-fn jit_equals_generated_bit_for_bit() {
+fn jit_whole_solves_equal_generated_bit_for_bit() {
     let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
         .expect("the compiled-in file loads");
     for g in loaded {
         let k = mechgen::lookup::<f64>(g.name()).expect("compiled in");
         let j = compiled(&g);
         let (values, c) = values_and_continuation(&g);
-        // Both step alike (the runtime's predictor and a whole solve), as in tests/generic.rs.
-        let counted = Counting::new(k.as_ref());
-        let a = sweep(&counted, 0, &values, 1.3, &c);
-        let b = sweep(&j, 0, &values, 1.3, &c);
+        // Whole solves: both stepped by the runtime's `SolveTick` (the predictor, then one
+        // whole solve), as in tests/generic.rs.
+        let (ka, kb) = (Counting::new(k.as_ref()), Counting::new(&j));
+        let a = sweep(&ka, 0, &values, 1.3, &c);
+        let b = sweep(&kb, 0, &values, 1.3, &c);
         assert!(a.iter().filter(|r| r.result.is_ok()).count() > 20);
         if let Some(d) = first_difference(&a, &b) {
             panic!("{}: generated and JIT differ: {d}", g.name());
+        }
+    }
+}
+
+/// The default tickers: the generated `Tick` and the JIT's (the runtime's one predictor on
+/// slices, rotated sines and cosines): every row bit for bit, closed forms on and off.
+#[test]
+fn jit_ticks_equal_generated_ticks_bit_for_bit() {
+    let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
+        .expect("the compiled-in file loads");
+    for g in loaded {
+        let k = mechgen::lookup::<f64>(g.name()).expect("compiled in");
+        let j = compiled(&g);
+        let (values, c) = values_and_continuation(&g);
+        for closed_forms in [true, false] {
+            let c = Continuation {
+                options: SolveOptions {
+                    closed_forms,
+                    ..c.options
+                },
+                ..c
+            };
+            let a = sweep(k.as_ref(), 0, &values, 1.3, &c);
+            let b = sweep(&j, 0, &values, 1.3, &c);
+            assert!(a.iter().filter(|r| r.result.is_ok()).count() > 20);
+            if let Some(d) = first_difference(&a, &b) {
+                panic!(
+                    "{} (closed forms {closed_forms}): generated and JIT ticks differ: {d}",
+                    g.name()
+                );
+            }
         }
     }
 }
@@ -262,5 +294,48 @@ proptest! {
             check_sweeps(&g, &mut fails);
         }
         prop_assert!(fails.is_empty(), "{}", fails.join("\n"));
+    }
+}
+
+/// The command: `sweep NAME --file F` (the JIT, the default for a file) writes the same CSV bytes
+/// as `sweep NAME` on the build that compiled F in, for every compiled-in mechanism and scene
+/// (CI does the same for every fixture file compiled in through `MECHGEN_MECHANISM`); and
+/// `--engine generic` the same again.
+#[cfg(feature = "cli")]
+#[test]
+fn a_file_sweeps_to_the_bytes_of_the_build_that_compiled_it_in() {
+    use common::cli::{mechgen, temp, text};
+    let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE).unwrap();
+    let mut names: Vec<String> = loaded.iter().map(|g| g.name().to_string()).collect();
+    names.extend(
+        loaded
+            .iter()
+            .flat_map(|g| g.scene_names())
+            .map(str::to_string),
+    );
+    let path = temp("jit", "compiled-in.toml");
+    std::fs::write(&path, mechgen::source::SOURCE).unwrap();
+    let file = path.to_str().unwrap();
+    for name in &names {
+        let csv = |engine: &[&str]| {
+            let path = temp("jit", &format!("{name}-{}.csv", engine.len()));
+            let p = path.to_str().unwrap();
+            let mut args = vec!["sweep", name.as_str(), "--step", "2", "--csv", p];
+            args.extend_from_slice(engine);
+            let out = mechgen(&args);
+            assert!(
+                out.status.success(),
+                "{name} {engine:?}: {}",
+                text(&out.stderr)
+            );
+            std::fs::read(&path).unwrap()
+        };
+        let generated = csv(&[]);
+        assert!(generated.len() > 1000, "{name}");
+        assert!(generated == csv(&["--file", file]), "{name}: jit");
+        assert!(
+            generated == csv(&["--file", file, "--engine", "generic"]),
+            "{name}: generic"
+        );
     }
 }

@@ -85,7 +85,10 @@ fn _restore(
     let all = match (file, text) {
         (Some(name), Some(text)) => {
             let engine = file_engine(engine)?;
-            into_dict(py, Mechanism::from_source(Source::File { name, text, engine })?)?
+            into_dict(
+                py,
+                Mechanism::from_source(Source::File { name, text, engine })?,
+            )?
         }
         _ => mechanisms(py)?,
     };

@@ -73,14 +73,25 @@ def test_held_inputs_are_columns_as_in_the_csv(mechgen_bin, tmp_path):
     assert (many["q1"] == np.radians(60.0)).all()
 
 
-def test_the_generic_engine_loads_a_file_with_the_same_api(mechgen_bin, tmp_path):
+def test_a_loaded_file_runs_compiled_or_interpreted_with_the_same_api(mechgen_bin, tmp_path):
+    import pickle
     from conftest import ROOT
-    csv = tmp_path / "generic.csv"
     path = ROOT / "mechanism.toml"
-    run(mechgen_bin, "sweep", "shaper", "--file", str(path), "--csv", str(csv))
-    g = mechgen.load(str(path))["shaper"]
-    assert g.engine == "generic"
-    same_frames(pd.DataFrame(g.sweep()), pd.read_csv(csv))
+    jit_csv, generic_csv = tmp_path / "jit.csv", tmp_path / "generic.csv"
+    run(mechgen_bin, "sweep", "shaper", "--file", str(path), "--csv", str(jit_csv))
+    run(mechgen_bin, "sweep", "shaper", "--file", str(path), "--engine", "generic", "--csv", str(generic_csv))
+    # The JIT is the interpreter in machine code: the same bytes.
+    assert jit_csv.read_bytes() == generic_csv.read_bytes()
+    j = mechgen.load(str(path))["shaper"]
+    g = mechgen.load(str(path), engine="generic")["shaper"]
+    assert (j.engine, g.engine) == ("jit", "generic")
+    assert mechgen.load(str(path), engine="jit")["shaper"].engine == "jit"
+    same_frames(pd.DataFrame(j.sweep()), pd.read_csv(jit_csv))
+    same_frames(pd.DataFrame(g.sweep()), pd.read_csv(generic_csv))
+    assert pickle.loads(pickle.dumps(g)).engine == "generic"
+    assert pickle.loads(pickle.dumps(j)).engine == "jit"
+    with pytest.raises(ValueError, match="jit` or `generic"):
+        mechgen.load(str(path), engine="generated")
 
 
 def test_batch_equals_mechgen_batch_row_for_row(mechgen_bin, tmp_path):

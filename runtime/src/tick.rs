@@ -197,6 +197,71 @@ pub fn taylor<T: Real>(q: &[T], qd: &[T], qdd: &[T], dt: T, keep: &[bool], out: 
     }
 }
 
+/// The inputs' sines and cosines at `x` into `out` (`angle[i]`: input `i` appears in a sin or
+/// cos; the others are left as they are): rotated from `tx`, the cached ones at `x_last`, or
+/// recomputed when `resync`. The one rule of every tick (a generated `Tick` on arrays, the
+/// generic engine's on slices).
+#[inline(always)]
+pub fn inputs_trig<T: Real>(
+    tx: &[(T, T)],
+    x_last: &[T],
+    x: &[T],
+    angle: &[bool],
+    resync: bool,
+    out: &mut [(T, T)],
+) {
+    for i in 0..out.len().min(angle.len()) {
+        if angle[i] {
+            out[i] = if resync {
+                sin_cos_cold(x[i])
+            } else {
+                rotate(tx[i], x[i], x_last[i] - x[i])
+            };
+        }
+    }
+}
+
+/// What the predictor reads of the last tick: its inputs and their rates, its unknowns with
+/// their rates, and the unknowns' cached sines and cosines.
+#[derive(Clone, Copy, Debug)]
+pub struct Last<'a, T> {
+    pub x: &'a [T],
+    pub xd: &'a [T],
+    pub q: &'a [T],
+    pub qd: &'a [T],
+    pub qdd: &'a [T],
+    pub tq: &'a [(T, T)],
+}
+
+/// The guess for input `x` into `q` and `sc` (which hold the last tick's unknowns and their
+/// sines and cosines): q + q̇ dt + q̈ dt²/2 ([`taylor`], dt by [`step_to`]), the sines and
+/// cosines of the predicted angles rotated from the cached ones (recomputed when `fresh`).
+/// Unknowns with `keep[k]` (a closed form's: it reads the guess only for its branch and measures
+/// its turn from it, and leaves exact sines and cosines) stay as they are. The one predictor of
+/// every tick.
+#[inline(always)]
+pub fn predict<T: Real>(
+    last: Last<'_, T>,
+    x: &[T],
+    angle: &[bool],
+    keep: &[bool],
+    fresh: bool,
+    q: &mut [T],
+    sc: &mut [(T, T)],
+) {
+    let dt = step_to(last.x, x, last.xd);
+    taylor(last.q, last.qd, last.qdd, dt, keep, q);
+    for k in 0..q.len().min(sc.len()).min(angle.len()) {
+        if angle[k] && !keep.get(k).copied().unwrap_or(false) {
+            sc[k] = if fresh {
+                sin_cos_cold(q[k])
+            } else {
+                rotate(last.tq[k], q[k], last.q[k] - q[k])
+            };
+        }
+    }
+}
+
 impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usize>
     Tick<T, NI, NU, NP, NPAR>
 {
@@ -260,16 +325,7 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
     #[inline]
     fn inputs_trig(&self, x: &[T; NI], angle: [bool; NI]) -> [(T, T); NI] {
         let mut tx = self.tx;
-        let resync = self.resync();
-        for i in 0..NI {
-            if angle[i] {
-                tx[i] = if resync {
-                    sin_cos_cold(x[i])
-                } else {
-                    rotate(self.tx[i], x[i], self.state.x[i] - x[i])
-                };
-            }
-        }
+        inputs_trig(&self.tx, &self.state.x, x, &angle, self.resync(), &mut tx);
         tx
     }
 
@@ -304,23 +360,18 @@ impl<T: Real, const NI: usize, const NU: usize, const NP: usize, const NPAR: usi
             // Nothing to predict: every unknown is solved in closed form.
             return TrigState::from_parts(self.state.q, self.tq, angle);
         }
-        let dt = self.step_to(x, &self.state.xd);
-        let mut q = self.state.q;
-        let s = &self.state;
-        taylor(&s.q, &s.qd, &s.qdd, dt, &keep, &mut q);
-        // Kept unknowns keep their sines and cosines (a closed form's are exact, and a scene
-        // may have left such an angle's value stale).
+        let (mut q, mut sc) = (self.state.q, self.tq);
         let fresh = !same_params || self.resync();
-        let mut sc = self.tq;
-        for k in 0..NU {
-            if angle[k] && !keep[k] {
-                sc[k] = if fresh {
-                    sin_cos_cold(q[k])
-                } else {
-                    rotate(self.tq[k], q[k], self.state.q[k] - q[k])
-                };
-            }
-        }
+        let s = &self.state;
+        let last = Last {
+            x: &s.x,
+            xd: &s.xd,
+            q: &s.q,
+            qd: &s.qd,
+            qdd: &s.qdd,
+            tq: &self.tq,
+        };
+        predict(last, x, &angle, &keep, fresh, &mut q, &mut sc);
         TrigState::from_parts(q, sc, angle)
     }
 

@@ -102,6 +102,33 @@ impl Generic {
         check_finite(Quantity::Param, &self.params)?;
         check_finite(Quantity::Input, x)?;
         check_finite(Quantity::Guess, q)?;
+        ws.trial.clear();
+        ws.trial.extend_from_slice(q);
+        ws.trial_sc.clear();
+        ws.trial_sc.resize(q.len(), (T::zero(), T::one()));
+        TrigSlices {
+            q: &mut ws.trial,
+            sc: &mut ws.trial_sc,
+            angle: &self.angle,
+        }
+        .init();
+        let report = self.positions_from(plan, x, &[], options, ws)?;
+        q.copy_from_slice(&ws.trial);
+        Ok(report)
+    }
+
+    /// The positions of `plan`'s blocks in order from the guess in `ws.trial` with its sines and
+    /// cosines in `ws.trial_sc` (a whole solve's, or a tick's prediction); the inputs' sines and
+    /// cosines `sx` (a tick's; empty: computed). On success `ws.trial` holds the unknowns and
+    /// `ws.sc` their sines and cosines.
+    pub(super) fn positions_from<T: Real>(
+        &self,
+        plan: Plan<'_>,
+        x: &[T],
+        sx: &[(T, T)],
+        options: &SolveOptions<T>,
+        ws: &mut Scratch<T>,
+    ) -> Result<NewtonReport<T>, SolveError> {
         let scale = T::lit(plan.scale);
         let mut report = NewtonReport::new();
         let Scratch {
@@ -113,22 +140,17 @@ impl Generic {
             by_size,
             ..
         } = ws;
-        trial.clear();
-        trial.extend_from_slice(q);
-        trial_sc.clear();
-        trial_sc.resize(q.len(), (T::zero(), T::one()));
         let mut st = TrigSlices {
             q: trial,
             sc: trial_sc,
             angle: &self.angle,
         };
-        st.init();
         for &bi in plan.blocks {
             let b = &self.blocks[bi];
             let k = b.unknowns.len();
             if let Some(c) = b.closed.as_ref().filter(|_| options.closed_forms) {
                 out.resize(c.form.roots().len(), T::zero());
-                c.roots.eval(&self.env(x, &st), regs, out);
+                c.roots.eval(&self.env(x, sx, &st), regs, out);
                 let tolerance = options.newton.tolerance;
                 closed::solve(bi, &c.form, out, &mut st, scale, tolerance, &mut report)?;
                 continue;
@@ -144,31 +166,36 @@ impl Generic {
                 &mut report,
                 &mut sized(by_size, k).newton,
                 |st, r, j| {
-                    b.position.eval(&self.env(x, st), regs, out);
+                    b.position.eval(&self.env(x, sx, st), regs, out);
                     fill(out, k, r, j);
                 },
             )?;
         }
         if report.pivot_ratio < T::lit(REFINE_BELOW) {
-            self.refine(plan.blocks, x, &mut st);
+            self.refine(plan.blocks, x, sx, &mut st);
         }
-        q.copy_from_slice(trial);
         sc.clear();
-        sc.extend_from_slice(trial_sc);
+        sc.extend_from_slice(st.sc);
         Ok(report)
     }
 
     /// The positions `(x, st)` with the kept sines and cosines.
-    fn env<'a, T: Real>(&'a self, x: &'a [T], st: &'a TrigSlices<'_, T>) -> Env<'a, T> {
+    fn env<'a, T: Real>(
+        &'a self,
+        x: &'a [T],
+        sx: &'a [(T, T)],
+        st: &'a TrigSlices<'_, T>,
+    ) -> Env<'a, T> {
         Env {
             sc: st.sc,
+            sx,
             ..Env::position(x, st.q, &self.params)
         }
     }
 
     /// Near a dead point: per block in order, one Newton step with the residual in double-word
     /// arithmetic (the runtime's `refinement_in_place`, as generated code's `refine_block`).
-    fn refine<T: Real>(&self, which: &[usize], x: &[T], st: &mut TrigSlices<'_, T>) {
+    fn refine<T: Real>(&self, which: &[usize], x: &[T], sx: &[(T, T)], st: &mut TrigSlices<'_, T>) {
         let x64: Vec<f64> = x.iter().map(|v| v.to_f64()).collect();
         let mut regs = Vec::new();
         for b in which.iter().map(|&bi| &self.blocks[bi]) {
@@ -176,7 +203,7 @@ impl Generic {
             let q64: Vec<f64> = st.q.iter().map(|v| v.to_f64()).collect();
             let exact = b.residual.eval_twofold(&x64, &q64, &self.params);
             let mut out = vec![T::zero(); k + k * k];
-            b.position.eval(&self.env(x, st), &mut regs, &mut out);
+            b.position.eval(&self.env(x, sx, st), &mut regs, &mut out);
             let (mut r, mut jac, mut scale) =
                 (DVector::zeros(k), DMatrix::zeros(k, k), DVector::zeros(k));
             fill(&out, k, &mut r, &mut jac);

@@ -19,6 +19,7 @@ mod scratch;
 mod sketch;
 pub mod tape;
 mod terms;
+mod tick;
 
 pub use engine::{
     Generic, LoadError, load, load_file, load_with_start_warnings, load_with_warnings,
@@ -148,7 +149,7 @@ macro_rules! kinematics {
     ($t:ty) => {
         impl DynMechanism<$t> for Generic {
             fn ticker(&self) -> Box<dyn mechgen_runtime::DynTick<$t> + '_> {
-                Box::new(mechgen_runtime::ticks::SolveTick::new(self))
+                Box::new(tick::GenericTick::<$t>::new(self))
             }
             fn info(&self) -> MechanismInfo {
                 self.info.clone()

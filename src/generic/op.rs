@@ -18,6 +18,9 @@ pub(crate) enum Op {
     /// [`Op::SinCos`] of unknown `k` (in register `a`): read from the state's sines and cosines
     /// (`Env::sc` of `tape.rs`) when it has them, as generated code reads its `TrigState`.
     SinCosQ(u32, u32),
+    /// [`Op::SinCos`] of input `i` (in register `a`): read from the tick's rotated sines and
+    /// cosines of the inputs (`Env::sx`) when it has them, as generated code reads its `tx`.
+    SinCosX(u32, u32),
     /// Placeholder for the `cos` half of the preceding [`Op::SinCos`] or [`Op::SinCosQ`].
     Cos2,
     Sin(u32),

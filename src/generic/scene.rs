@@ -109,6 +109,7 @@ impl GenericScene {
             xdd,
             qdd,
             sc,
+            sx: &[],
         };
         s.points.eval(&env, regs, &mut out[at..at + s.point_values]);
     }

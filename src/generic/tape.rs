@@ -23,6 +23,9 @@ pub struct Env<'a, T> {
     /// (sin, cos) of each unknown kept in step with `q` through a solve (the runtime's
     /// `TrigSlices`); empty: computed from `q`.
     pub sc: &'a [(T, T)],
+    /// (sin, cos) of each input as the tick keeps them (rotated from the last tick's); empty:
+    /// computed from `x`.
+    pub sx: &'a [(T, T)],
 }
 
 impl<'a, T: Real> Env<'a, T> {
@@ -37,6 +40,7 @@ impl<'a, T: Real> Env<'a, T> {
             xdd: &[],
             qdd: &[],
             sc: &[],
+            sx: &[],
         }
     }
 
@@ -90,8 +94,10 @@ impl Tape {
         // Register of the sin of each paired argument (its cos is the next register).
         let mut sincos = vec![u32::MAX; nodes.len()];
         let mut ops = Vec::new();
-        let unknown = |a: NodeId| match nodes[a.index()] {
-            Node::Var(Var::Q(k)) => Some(u32::from(k)),
+        // An unknown's or an input's sine and cosine may be kept by the state.
+        let kept = |a: NodeId, r: u32| match nodes[a.index()] {
+            Node::Var(Var::Q(k)) => Some(Op::SinCosQ(r, u32::from(k))),
+            Node::Var(Var::X(i)) => Some(Op::SinCosX(r, u32::from(i))),
             _ => None,
         };
         for (i, n) in nodes.iter().enumerate() {
@@ -110,15 +116,12 @@ impl Tape {
                 // (`b - a` would be `+0.0` where it is `-0.0`).
                 Node::Neg(d) => Op::Neg(r(d)),
                 Node::Sin(a) | Node::Cos(a)
-                    if (has_sin[a.index()] && has_cos[a.index()]) || unknown(a).is_some() =>
+                    if (has_sin[a.index()] && has_cos[a.index()]) || kept(a, 0).is_some() =>
                 {
                     let at = a.index();
                     if sincos[at] == u32::MAX {
                         sincos[at] = ops.len() as u32;
-                        ops.push(match unknown(a) {
-                            Some(k) => Op::SinCosQ(r(a), k),
-                            None => Op::SinCos(r(a)),
-                        });
+                        ops.push(kept(a, r(a)).unwrap_or(Op::SinCos(r(a))));
                         ops.push(Op::Cos2);
                     }
                     let cos = matches!(n, Node::Cos(_));
@@ -175,10 +178,11 @@ impl Tape {
         let [Some(x), Some(q), Some(xd), Some(qd), Some(xdd), Some(qdd)] = vars else {
             return false;
         };
-        let (Some(sc), Some(out)) = (T::pairs_as_f64s(env.sc), T::as_f64s_mut(out)) else {
+        let kept = (T::pairs_as_f64s(env.sc), T::pairs_as_f64s(env.sx));
+        let ((Some(sc), Some(sx)), Some(out)) = (kept, T::as_f64s_mut(out)) else {
             return false;
         };
-        f.call([x, q, env.p, xd, qd, xdd, qdd], sc, out)
+        f.call([x, q, env.p, xd, qd, xdd, qdd], [sc, sx], out)
     }
 
     /// Number of instructions.
@@ -203,7 +207,8 @@ impl Tape {
             return;
         }
         let sc = |k: u32| env.sc.get(k as usize).copied();
-        self.run(|v| env.get(v), sc, regs);
+        let sx = |i: u32| env.sx.get(i as usize).copied();
+        self.run(|v| env.get(v), sc, sx, regs);
         for (o, &r) in out.iter_mut().zip(&self.outputs) {
             *o = regs[r as usize];
         }
@@ -214,16 +219,17 @@ impl Tape {
     pub fn eval_twofold(&self, x: &[f64], q: &[f64], p: &[f64]) -> Vec<Twofold> {
         let env = Env::position(x, q, p);
         let mut regs = Vec::new();
-        self.run(|v| Twofold::from(env.get(v)), |_| None, &mut regs);
+        self.run(|v| Twofold::from(env.get(v)), |_| None, |_| None, &mut regs);
         self.outputs.iter().map(|&r| regs[r as usize]).collect()
     }
 
     /// The interpreter: every instruction in order, in the arithmetic `A`, into `regs`.
-    /// `sc` gives an unknown's kept sine and cosine, if any.
+    /// `sc` gives an unknown's kept sine and cosine, if any, `sx` an input's.
     fn run<A: Arith>(
         &self,
         var: impl Fn(Var) -> A,
         sc: impl Fn(u32) -> Option<(A, A)>,
+        sx: impl Fn(u32) -> Option<(A, A)>,
         regs: &mut Vec<A>,
     ) {
         regs.clear();
@@ -238,9 +244,10 @@ impl Tape {
                 Op::Mul(a, b) => g(a) * g(b),
                 Op::Div(a, b) => g(a) / g(b),
                 Op::Neg(a) => -g(a),
-                Op::SinCos(a) | Op::SinCosQ(a, _) => {
+                Op::SinCos(a) | Op::SinCosQ(a, _) | Op::SinCosX(a, _) => {
                     let kept = match self.ops[i] {
                         Op::SinCosQ(_, k) => sc(k),
+                        Op::SinCosX(_, k) => sx(k),
                         _ => None,
                     };
                     let (s, c) = kept.unwrap_or_else(|| g(a).sin_cos_of());

@@ -7,7 +7,8 @@
 //!    the memory is freed (in `Code`'s `Drop`) only when no `Function` can call it any more.
 //! 2. The entry was compiled by `lower.rs` with the signature `extern "C" fn(*const Args, *mut
 //!    f64)`: it reads `Args`' pointers only at the indices its [`Reads`] counts (unknown `k`'s
-//!    kept sine and cosine only when `k < sc_len`), writes `out[..outputs]`, and nothing else.
+//!    kept sine and cosine only when `k < sc_len`, input `i`'s only when `i < sx_len`), writes
+//!    `out[..outputs]`, and nothing else.
 //!    [`Function::call`] checks every slice length against [`Reads`] before the call.
 //! 3. After `finalize_definitions` nothing touches the `JITModule` but `free_memory` in `Drop`;
 //!    the code is immutable, so `Code` is shared between threads.
@@ -35,6 +36,9 @@ pub(super) struct Args {
     /// (sin, cos) pairs of the unknowns, `sc_len` of them.
     pub sc: *const f64,
     pub sc_len: usize,
+    /// (sin, cos) pairs of the inputs, `sx_len` of them.
+    pub sx: *const f64,
+    pub sx_len: usize,
 }
 
 // The pairs of kept sines and cosines are read as two f64 at offsets 0 and 8.
@@ -108,9 +112,9 @@ impl Function {
     }
 
     /// Runs the compiled code on `vars` (`x, q, p, xd, qd, xdd, qdd`) and the kept sines and
-    /// cosines `sc`, writing `out`. `false` (nothing run) when a slice is shorter than what the
-    /// code reads or `out` shorter than its outputs.
-    pub fn call(&self, vars: [&[f64]; 7], sc: &[(f64, f64)], out: &mut [f64]) -> bool {
+    /// cosines of the unknowns and inputs `[sc, sx]`, writing `out`. `false` (nothing run) when a
+    /// slice is shorter than what the code reads or `out` shorter than its outputs.
+    pub fn call(&self, vars: [&[f64]; 7], [sc, sx]: [&[(f64, f64)]; 2], out: &mut [f64]) -> bool {
         let short = vars.iter().zip(self.reads.0).any(|(v, n)| v.len() < n);
         if short || out.len() < self.outputs {
             return false;
@@ -126,6 +130,8 @@ impl Function {
             qdd,
             sc: sc.as_ptr().cast::<f64>(),
             sc_len: sc.len(),
+            sx: sx.as_ptr().cast::<f64>(),
+            sx_len: sx.len(),
         };
         // Invariant 2: every read is within the slices checked above, every write within `out`.
         (self.entry)(&args, out.as_mut_ptr());

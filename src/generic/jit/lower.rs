@@ -179,21 +179,20 @@ impl Lowering {
         b.append_block_params_for_function_params(entry);
         b.switch_to_block(entry);
         let (args, out) = (b.block_params(entry)[0], b.block_params(entry)[1]);
-        // Which slots are read: the seven variable slices, then the kept sines and cosines.
-        let mut used = [false; 8];
+        // Which slots are read: the seven variable slices, then the kept sines and cosines of
+        // the unknowns (slots 7 and 8: pointer, length) and of the inputs (9 and 10).
+        let mut used = [false; 11];
         for op in ops {
             match *op {
                 Op::Var(v) => used[slot(v).0] = true,
-                Op::SinCosQ(..) => used[7] = true,
+                Op::SinCosQ(..) => (used[7], used[8]) = (true, true),
+                Op::SinCosX(..) => (used[9], used[10]) = (true, true),
                 _ => {}
             }
         }
-        let mut base = [None; 9];
+        let mut base = [None; 11];
         for (i, _) in used.iter().enumerate().filter(|(_, u)| **u) {
             base[i] = Some(b.ins().load(ptr, trusted, args, slot_bytes * i as i32));
-        }
-        if used[7] {
-            base[8] = Some(b.ins().load(ptr, trusted, args, slot_bytes * 8));
         }
         let module = &mut self.module;
         let mut callee =
@@ -236,7 +235,7 @@ impl Lowering {
                     let call = b.ins().call(f, &[g(x)?, g(y)?]);
                     b.inst_results(call)[0]
                 }
-                Op::SinCos(x) | Op::SinCosQ(x, _) => {
+                Op::SinCos(x) | Op::SinCosQ(x, _) | Op::SinCosX(x, _) => {
                     let x = g(x)?;
                     let f = callee(&mut b, self.imports.sin_cos);
                     let computed = |b: &mut FunctionBuilder| {
@@ -247,10 +246,10 @@ impl Lowering {
                         (s, c)
                     };
                     let (s, c) = match *op {
-                        Op::SinCosQ(_, k) => {
-                            let (sc, len) = (base[7], base[8]);
-                            let (sc, len) = sc.zip(len).ok_or(JitError::Tape)?;
-                            kept_or(&mut b, sc, len, k, computed)?
+                        Op::SinCosQ(_, k) | Op::SinCosX(_, k) => {
+                            let at = if matches!(op, Op::SinCosQ(..)) { 7 } else { 9 };
+                            let (pairs, len) = base[at].zip(base[at + 1]).ok_or(JitError::Tape)?;
+                            kept_or(&mut b, pairs, len, k, computed)?
                         }
                         _ => computed(&mut b),
                     };

@@ -1,0 +1,241 @@
+//! Generic engine, its tick ([`GenericTick`], what `DynMechanism::ticker` gives): a generated
+//! `Tick`'s rule on slices. The runtime's one predictor (`tick::predict`: unknowns by Taylor,
+//! closed-form unknowns kept, cached sines and cosines rotated, recomputed every
+//! `RESYNC_TICKS`; `tick::inputs_trig` for the inputs), then the block driver from that guess with
+//! those sines and cosines, so that a tick of the interpreter or the JIT has the bits of the
+//! generated tick.
+
+use mechgen_runtime::dyn_tick::{DynTick, StateRef};
+use mechgen_runtime::dynamic::{DynMechanism, DynState, len};
+use mechgen_runtime::error::{Quantity, SolveError};
+use mechgen_runtime::guard::BranchGuard;
+use mechgen_runtime::mechanism::{InputMotion, State};
+use mechgen_runtime::scalar::Real;
+use mechgen_runtime::solve::{SolveOptions, check_finite};
+use mechgen_runtime::tick::{Last, RESYNC_TICKS, inputs_trig, predict};
+use mechgen_runtime::{Kind, MechanismInfo};
+
+use super::driver::Rates;
+use super::engine::Generic;
+use super::scratch::{Scratch, Scratched};
+use super::tape::Env;
+
+/// The tick of a [`Generic`] mechanism: its state with the sines and cosines of its inputs and
+/// unknowns as the next tick rotates them.
+pub struct GenericTick<'a, T: Real> {
+    g: &'a Generic,
+    state: DynState<T>,
+    /// The unknowns and their rates before the last tick (what the branch rule checks).
+    before: [Vec<T>; 3],
+    tx: Vec<(T, T)>,
+    tq: Vec<(T, T)>,
+    next_tx: Vec<(T, T)>,
+    /// Ticks since the caches were computed afresh.
+    age: u32,
+    /// Which inputs are angles; which unknowns a closed form solves (kept by the predictor).
+    input_angle: Vec<bool>,
+    keep: Vec<bool>,
+    all_closed: bool,
+    started: bool,
+}
+
+impl<'a, T: Scratched> GenericTick<'a, T> {
+    pub fn new(g: &'a Generic) -> Self {
+        let info: MechanismInfo = DynMechanism::<f64>::info(g);
+        let (ni, nu) = (info.inputs.len(), info.unknowns.len());
+        let mut keep = vec![false; nu];
+        for b in g.blocks.iter().filter(|b| b.closed.is_some()) {
+            for &u in &b.unknowns {
+                keep[u] = true;
+            }
+        }
+        let zeros = vec![T::zero(); ni];
+        let guess = vec![T::zero(); nu];
+        GenericTick {
+            g,
+            state: DynState::new(
+                InputMotion::new(&zeros[..], &zeros[..], &zeros[..]),
+                &guess,
+                info.points.len(),
+            ),
+            before: [guess.clone(), guess.clone(), guess],
+            tx: vec![(T::zero(), T::one()); ni],
+            tq: vec![(T::zero(), T::one()); nu],
+            next_tx: vec![(T::zero(), T::one()); ni],
+            age: 0,
+            input_angle: info.inputs.iter().map(|i| i.kind == Kind::Angle).collect(),
+            all_closed: keep.iter().all(|&k| k),
+            keep,
+            started: false,
+        }
+    }
+
+    /// One tick into the workspace and, on success, the state.
+    fn advance(
+        &mut self,
+        input: InputMotion<&[T]>,
+        options: &SolveOptions<T>,
+        ws: &mut Scratch<T>,
+    ) -> Result<(), SolveError> {
+        let InputMotion { x, xd, xdd } = input;
+        let s = &self.state;
+        check_finite(Quantity::Input, x)?;
+        check_finite(Quantity::InputRate, xd)?;
+        check_finite(Quantity::InputAcceleration, xdd)?;
+        let resync = self.age >= RESYNC_TICKS;
+        self.next_tx.copy_from_slice(&self.tx);
+        let angle = &self.input_angle;
+        inputs_trig(&self.tx, &s.x, x, angle, resync, &mut self.next_tx);
+        ws.trial.clear();
+        ws.trial.extend_from_slice(&s.q);
+        ws.trial_sc.clear();
+        ws.trial_sc.extend_from_slice(&self.tq);
+        // A mechanism solved in closed form throughout starts from the last tick as it is.
+        if !(options.closed_forms && self.all_closed) {
+            let keep: &[bool] = if options.closed_forms {
+                &self.keep
+            } else {
+                &[]
+            };
+            let last = Last {
+                x: &s.x,
+                xd: &s.xd,
+                q: &s.q,
+                qd: &s.qd,
+                qdd: &s.qdd,
+                tq: &self.tq,
+            };
+            let (q, sc) = (&mut ws.trial, &mut ws.trial_sc);
+            predict(last, x, &self.g.angle, keep, resync, q, sc);
+        }
+        let g = self.g;
+        let report = g.positions_from(g.whole(), x, &self.next_tx, options, ws)?;
+        let nu = s.q.len();
+        let (mut q, sc) = (std::mem::take(&mut ws.trial), std::mem::take(&mut ws.sc));
+        let mut rates = std::mem::take(&mut ws.state);
+        rates.clear();
+        rates.resize(2 * nu, T::zero());
+        let (qd, qdd) = rates.split_at_mut(nu);
+        let env = Env {
+            xd,
+            xdd,
+            sc: &sc,
+            sx: &self.next_tx,
+            ..Env::position(x, &q, &g.params)
+        };
+        let solved = g.rates(&g.order, Rates::Both, env, qd, qdd, ws);
+        if solved.is_ok() {
+            let env = Env {
+                qd: &*qd,
+                qdd: &*qdd,
+                ..env
+            };
+            let Scratch { regs, points, .. } = ws;
+            g.eval_points(env, &mut self.state.points, regs, points);
+            let s = &mut self.state;
+            for (b, now) in self.before.iter_mut().zip([&s.q, &s.qd, &s.qdd]) {
+                b.copy_from_slice(now);
+            }
+            std::mem::swap(&mut s.q, &mut q);
+            s.qd.copy_from_slice(qd);
+            s.qdd.copy_from_slice(qdd);
+            s.x.copy_from_slice(x);
+            s.xd.copy_from_slice(xd);
+            s.xdd.copy_from_slice(xdd);
+            s.report = report;
+            self.tq.copy_from_slice(&sc);
+            std::mem::swap(&mut self.tx, &mut self.next_tx);
+            self.age = if resync { 0 } else { self.age + 1 };
+        }
+        (ws.trial, ws.sc, ws.state) = (q, sc, rates);
+        solved
+    }
+
+    fn lengths(&self, input: InputMotion<&[T]>) -> Result<(), SolveError> {
+        let n = self.state.x.len();
+        len(input.x, n)?;
+        len(input.xd, n)?;
+        len(input.xdd, n)
+    }
+}
+
+impl<T: Scratched> DynTick<T> for GenericTick<'_, T>
+where
+    Generic: DynMechanism<T>,
+{
+    fn start(
+        &mut self,
+        input: InputMotion<&[T]>,
+        guess: &[T],
+        options: &SolveOptions<T>,
+    ) -> Result<(), SolveError> {
+        self.started = false;
+        self.lengths(input)?;
+        len(guess, self.state.q.len())?;
+        let s = &mut self.state;
+        s.x.copy_from_slice(input.x);
+        s.xd.copy_from_slice(input.xd);
+        s.xdd.copy_from_slice(input.xdd);
+        s.q.copy_from_slice(guess);
+        self.g.solve_in_place(s, options)?;
+        // The caches afresh, as a generated tick's start makes them.
+        for ((t, x), &angle) in self.tx.iter_mut().zip(&s.x).zip(&self.input_angle) {
+            *t = if angle {
+                x.sin_cos()
+            } else {
+                (T::zero(), T::one())
+            };
+        }
+        for ((t, q), &angle) in self.tq.iter_mut().zip(&s.q).zip(&self.g.angle) {
+            *t = if angle {
+                q.sin_cos()
+            } else {
+                (T::zero(), T::one())
+            };
+        }
+        self.age = 0;
+        self.started = true;
+        Ok(())
+    }
+
+    fn tick(
+        &mut self,
+        input: InputMotion<&[T]>,
+        options: &SolveOptions<T>,
+    ) -> Result<(), SolveError> {
+        if !self.started {
+            return Err(SolveError::NotStarted);
+        }
+        self.lengths(input)?;
+        T::with_scratch(|ws| self.advance(input, options, ws))
+    }
+
+    fn tick_checked(
+        &mut self,
+        input: InputMotion<&[T]>,
+        options: &SolveOptions<T>,
+        guard: &BranchGuard,
+        dt: T,
+        before: &mut [T],
+    ) -> Result<bool, SolveError> {
+        self.tick(input, options)?;
+        let [q, qd, qdd] = &self.before;
+        len(before, q.len())?;
+        before.copy_from_slice(q);
+        Ok(guard.keeps(q, qd, qdd, dt, &self.state.q))
+    }
+
+    fn state(&self) -> Option<StateRef<'_, T>> {
+        let s = &self.state;
+        self.started.then(|| State {
+            x: &s.x[..],
+            xd: &s.xd[..],
+            xdd: &s.xdd[..],
+            q: &s.q[..],
+            qd: &s.qd[..],
+            qdd: &s.qdd[..],
+            points: &s.points[..],
+            report: s.report,
+        })
+    }
+}

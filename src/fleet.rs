@@ -5,6 +5,7 @@
 //! scalar tick's, to the last bit, whatever the threads. [`DynFleet`] is the same API for
 //! run-time engines (the generic engine of `--file`): one instance at a time, across every core.
 
+use mechgen_runtime::tick::{step_to, taylor};
 use mechgen_runtime::{
     DynMechanism, DynState, InputMotion, LaneMechanism, Lanes, Real, SolveError, SolveOptions,
     StaticMechanism,
@@ -137,35 +138,15 @@ pub struct DynFleet<T: Real, M> {
 }
 
 /// One instance of a [`DynFleet`]: the engine, its state, the status of its last tick and
-/// whether it has started.
+/// whether it has started; the unknowns a closed form solves (the predictor keeps them) and the
+/// state being solved.
 struct DynMember<T: Real, M> {
     engine: M,
     state: DynState<T>,
     status: Result<(), SolveError>,
     started: bool,
-}
-
-/// `q + q̇ dt + q̈ dt²/2` with `dt` fitted to the change of the inputs over their last rates
-/// (Σ Δx·ẋ / Σ ẋ², no prediction at rest), or `q` where that is not finite.
-fn predicted<T: Real>(s: &DynState<T>, x: &[T]) -> Vec<T> {
-    let (mut num, mut den) = (T::zero(), T::zero());
-    for ((x1, x0), v) in x.iter().zip(&s.x).zip(&s.xd) {
-        num += (*x1 - *x0) * *v;
-        den += *v * *v;
-    }
-    let dt = if den > T::zero() {
-        num / den
-    } else {
-        T::zero()
-    };
-    let q: Vec<T> = (0..s.q.len())
-        .map(|k| s.q[k] + dt * (s.qd[k] + T::lit(0.5) * dt * s.qdd[k]))
-        .collect();
-    if q.iter().all(|v| v.is_finite()) {
-        q
-    } else {
-        s.q.clone()
-    }
+    keep: Vec<bool>,
+    next: DynState<T>,
 }
 
 impl<T: Real, M: DynMechanism<T> + Send + Sync> DynFleet<T, M> {
@@ -189,11 +170,19 @@ impl<T: Real, M: DynMechanism<T> + Send + Sync> DynFleet<T, M> {
                 guess,
                 info.points.len(),
             );
+            let mut keep = vec![false; info.unknowns.len()];
+            for (block, _) in info.blocks.iter().zip(&info.closed).filter(|(_, c)| **c) {
+                for &k in block {
+                    keep[k] = true;
+                }
+            }
             members.push(DynMember {
                 engine,
+                next: state.clone(),
                 state,
                 status: Ok(()),
                 started: false,
+                keep,
             });
         }
         let mut fleet = DynFleet { members };
@@ -226,16 +215,20 @@ impl<T: Real, M: DynMechanism<T> + Send + Sync> DynFleet<T, M> {
         }
         crate::batch::for_each_mut(&mut self.members, |i, m| {
             let input = &inputs[i];
-            let mut next = m.state.clone();
+            let (s, next) = (&m.state, &mut m.next);
+            next.clone_from(s);
             if m.started {
-                next.q = predicted(&m.state, &input.x);
+                // The runtime's predictor, closed-form unknowns kept, as every tick predicts.
+                let dt = step_to(&s.x, &input.x, &s.xd);
+                let keep: &[bool] = if options.closed_forms { &m.keep } else { &[] };
+                taylor(&s.q, &s.qd, &s.qdd, dt, keep, &mut next.q);
             }
             next.x.clone_from(&input.x);
             next.xd.clone_from(&input.xd);
             next.xdd.clone_from(&input.xdd);
-            m.status = m.engine.solve_in_place(&mut next, options);
+            m.status = m.engine.solve_in_place(next, options);
             if m.status.is_ok() {
-                m.state = next;
+                std::mem::swap(&mut m.state, &mut m.next);
                 m.started = true;
             }
         });

@@ -9,7 +9,7 @@ use alloc::boxed::Box;
 use alloc::vec;
 use alloc::vec::Vec;
 
-use crate::dyn_tick::DynTick;
+use crate::dyn_tick::{DynTick, StateRef};
 use crate::error::SolveError;
 use crate::info::{MechanismInfo, PointMotion};
 use crate::mechanism::{Array, InputMotion, State};
@@ -126,6 +126,20 @@ impl<T: Real> DynState<T> {
             qdd: vec![T::zero(); guess.len()],
             points: vec![PointMotion::default(); points],
             report: NewtonReport::new(),
+        }
+    }
+
+    /// The whole state seen through slices (what a tick's `DynTick::state` shows).
+    pub fn view(&self) -> StateRef<'_, T> {
+        State {
+            x: &self.x[..],
+            xd: &self.xd[..],
+            xdd: &self.xdd[..],
+            q: &self.q[..],
+            qd: &self.qd[..],
+            qdd: &self.qdd[..],
+            points: &self.points[..],
+            report: self.report,
         }
     }
 

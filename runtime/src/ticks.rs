@@ -203,17 +203,7 @@ impl<T: Real, M: DynMechanism<T> + ?Sized> DynTick<T> for SolveTick<'_, T, M> {
     }
 
     fn state(&self) -> Option<StateRef<'_, T>> {
-        let s = &self.state;
-        self.started.then(|| State {
-            x: &s.x[..],
-            xd: &s.xd[..],
-            xdd: &s.xdd[..],
-            q: &s.q[..],
-            qd: &s.qd[..],
-            qdd: &s.qdd[..],
-            points: &s.points[..],
-            report: s.report,
-        })
+        self.started.then(|| self.state.view())
     }
 }
 

@@ -9,7 +9,7 @@ use mechgen_runtime::dyn_tick::{DynTick, StateRef};
 use mechgen_runtime::dynamic::{DynMechanism, DynState, len};
 use mechgen_runtime::error::{Quantity, SolveError};
 use mechgen_runtime::guard::BranchGuard;
-use mechgen_runtime::mechanism::{InputMotion, State};
+use mechgen_runtime::mechanism::InputMotion;
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::solve::{SolveOptions, check_finite};
 use mechgen_runtime::tick::{Last, RESYNC_TICKS, inputs_trig, predict};
@@ -226,16 +226,6 @@ where
     }
 
     fn state(&self) -> Option<StateRef<'_, T>> {
-        let s = &self.state;
-        self.started.then(|| State {
-            x: &s.x[..],
-            xd: &s.xd[..],
-            xdd: &s.xdd[..],
-            q: &s.q[..],
-            qd: &s.qd[..],
-            qdd: &s.qdd[..],
-            points: &s.points[..],
-            report: s.report,
-        })
+        self.started.then(|| self.state.view())
     }
 }

@@ -19,26 +19,16 @@ fn first_difference(a: &[Row], b: &[Row]) -> Option<String> {
     for (ra, rb) in a.iter().zip(b) {
         let same = match (&ra.result, &rb.result) {
             (Ok(sa), Ok(sb)) => {
-                let pa: Vec<_> = sa
-                    .points
-                    .iter()
-                    .flat_map(|p| {
+                let points = |ps: &[mechgen::PointMotion<f64>]| {
+                    let all = ps.iter().flat_map(|p| {
                         p.position
                             .into_iter()
                             .chain(p.velocity)
                             .chain(p.acceleration)
-                    })
-                    .collect();
-                let pb: Vec<_> = sb
-                    .points
-                    .iter()
-                    .flat_map(|p| {
-                        p.position
-                            .into_iter()
-                            .chain(p.velocity)
-                            .chain(p.acceleration)
-                    })
-                    .collect();
+                    });
+                    all.collect::<Vec<_>>()
+                };
+                let (pa, pb) = (points(&sa.points), points(&sb.points));
                 bits(&sa.q) == bits(&sb.q)
                     && bits(&sa.qd) == bits(&sb.qd)
                     && bits(&sa.qdd) == bits(&sb.qdd)

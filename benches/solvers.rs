@@ -17,6 +17,11 @@
 //!   branch.
 //! - `sensitivity/generated`: the generated tick followed by every sensitivity (dq/dp, dP/dp)
 //!   at its state, so that their cost reads off against `step/generated`.
+//! - `dynamics/generated` (mechanisms with bodies): the generated tick followed by the inverse
+//!   dynamics of its state (`mechgen::dynamics`: effort, generalized inertia, energies, shaking).
+//! - `simulate/generated` (mechanisms with bodies): one error-controlled step of `simulate`'s
+//!   integrator (Dormand–Prince 5(4): six new stages, each a tick and the inverse dynamics),
+//!   released from rest at the start under gravity; time per step.
 //!
 //! - `step/lanes`: W instances in f64 lanes (`WithLanes`: `Vf64<8>`; `NAME::Lanes`), ticked with
 //!   the CPU's widest vectors chosen at run time (`tick_widest`), each with its own params and its
@@ -36,7 +41,9 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use mechgen::dynamics::{DynamicsWork, dynamics};
 use mechgen::lanes::WithLanes;
+use mechgen::simulate::{Simulation, SimulationOptions};
 use mechgen::sweep::{Continuation, sweep, sweep_each};
 use mechgen::{
     Array, CoordDesc, DynMechanism, InputMotion, Kind, LaneMechanism, LaneScene, Lanes, Scene,
@@ -254,6 +261,57 @@ impl StaticVisitor<f64> for Generated<'_> {
                     black_box(m.tick_sensitivities(t)).ok();
                 })
             });
+            // `dynamics/generated` (a mechanism with bodies): the same tick, then the inverse
+            // dynamics of its state (effort, generalized inertia, energies, shaking).
+            if !m.info().bodies.is_empty() {
+                let mut walk = Walk::new(inputs.len());
+                let mut tick = m.tick_start(&inputs[0], &typed[0].1, &opts).ok();
+                let mut ws = DynamicsWork::new(&DynMechanism::info(m));
+                g.bench_function("dynamics/generated", |b| {
+                    b.iter(|| {
+                        let j = walk.next();
+                        let Some(t) = tick.as_mut() else { return };
+                        if m.tick(t, black_box(&inputs[j]), &opts).is_err() {
+                            tick = m.tick_start(&inputs[j], &typed[j].1, &opts).ok();
+                            return;
+                        }
+                        let state = mechgen::State {
+                            x: t.x.as_ref(),
+                            xd: t.xd.as_ref(),
+                            xdd: t.xdd.as_ref(),
+                            q: t.q.as_ref(),
+                            qd: t.qd.as_ref(),
+                            qdd: t.qdd.as_ref(),
+                            points: t.points.as_ref(),
+                            report: t.report,
+                        };
+                        black_box(dynamics(m, &state, 0, &[], &mut ws)).ok();
+                    })
+                });
+                // `simulate/generated`: one error-controlled step of `simulate`'s integrator (all
+                // its stages, each a tick and the inverse dynamics), released from rest at the
+                // start under gravity.
+                let info = DynMechanism::info(m);
+                let x0: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+                let q0: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
+                let mut free = |_: f64, _: f64, _: f64| 0.0;
+                let options = SimulationOptions::default();
+                let start = |free: &mut dyn FnMut(f64, f64, f64) -> f64| {
+                    Simulation::new(m, 0, &x0, 0.0, &q0, &[], options, free).ok()
+                };
+                let mut sim = start(&mut free);
+                if sim.is_some() {
+                    g.bench_function("simulate/generated", |b| {
+                        b.iter(|| {
+                            let stepped = sim.as_mut().map(|s| s.step(&mut free));
+                            if !matches!(stepped, Some(Ok(_))) {
+                                sim = start(&mut free);
+                            }
+                            black_box(stepped);
+                        })
+                    });
+                }
+            }
             // `step/lanes`: W instances in the widest SIMD lanes of the build (4 f64, 8 with
             // AVX-512), each with its own params (the file's,
             // scaled by 1 + 1e-9·i: different in every lane, solvable along the same walk) and

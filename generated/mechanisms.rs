@@ -299,6 +299,7 @@ pub mod sixbar {
         points: &["E"],
         blocks: &[&[0, 1], &[2, 3]],
         closed: &[true, true],
+        bodies: &["crank", "coupler", "rocker", "link5", "link6"],
     };
     /// Point names, in the order of point outputs.
     pub const POINT_NAMES: [&str; 1] = ["E"];
@@ -1086,6 +1087,290 @@ pub mod sixbar {
                     acceleration: [t39, t42],
                 },
             ]
+        }
+        /// Each body's centre of mass and angle with their velocities and accelerations, in `INFO.bodies` order.
+        pub fn body_motion(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            xd: &[T; 1],
+            qd: &[T; 4],
+            xdd: &[T; 1],
+            qdd: &[T; 4],
+        ) -> [::mechgen::__private::BodyMotion<T>; 5] {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let v_q3 = q[1];
+            let v_q5 = q[2];
+            let v_q6 = q[3];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let p_l5 = self.params.l5;
+            let p_l6 = self.params.l6;
+            let p_l2e = self.params.l2e;
+            let p_xg = self.params.xg;
+            let p_yg = self.params.yg;
+            let p_alpha = self.params.alpha;
+            let v_q1_d = xd[0];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q5_d = qd[2];
+            let v_q6_d = qd[3];
+            let v_q1_dd = xdd[0];
+            let v_q2_dd = qdd[0];
+            let v_q3_dd = qdd[1];
+            let v_q5_dd = qdd[2];
+            let v_q6_dd = qdd[3];
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let t1 = p_l1 * c_v_q1;
+            let t2 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
+            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
+            let t8 = c_v_q2 * c_p_alpha;
+            let t9 = s_v_q2 * s_p_alpha;
+            let t10 = s_v_q2 * c_p_alpha;
+            let t11 = c_v_q2 * s_p_alpha;
+            let t12 = t8 + t9;
+            let t13 = t10 - t11;
+            let (s_v_q5, c_v_q5) = v_q5.sin_cos();
+            let (s_v_q6, c_v_q6) = v_q6.sin_cos();
+            let t16 = p_l6 * c_v_q6;
+            let t17 = p_l6 * s_v_q6;
+            let t18 = T::lit(0.5) * p_l1;
+            let t19 = c_v_q1 * t18;
+            let t20 = s_v_q1 * t18;
+            let t21 = p_l2 * p_l2;
+            let t22 = t21 / T::lit(2.0);
+            let t23 = c_v_q2 * t22;
+            let t24 = s_v_q2 * t22;
+            let t25 = p_l2e / T::lit(2.0);
+            let t26 = t12 * t25;
+            let t27 = t13 * t25;
+            let t28 = t4 + t26;
+            let t29 = t5 + t27;
+            let t30 = p_l2e * t28;
+            let t31 = p_l2e * t29;
+            let t32 = t23 + t30;
+            let t33 = t24 + t31;
+            let t34 = p_l2 + p_l2e;
+            let t35 = t32 / t34;
+            let t36 = t33 / t34;
+            let t37 = t1 + t35;
+            let t38 = t2 + t36;
+            let t39 = T::lit(0.5) * p_l3;
+            let t40 = c_v_q3 * t39;
+            let t41 = s_v_q3 * t39;
+            let t42 = p_l4 + t40;
+            let t43 = t16 + p_xg;
+            let t44 = t17 + p_yg;
+            let t45 = T::lit(0.5) * p_l5;
+            let t46 = c_v_q5 * t45;
+            let t47 = s_v_q5 * t45;
+            let t48 = t43 + t46;
+            let t49 = t44 + t47;
+            let t50 = T::lit(0.5) * p_l6;
+            let t51 = c_v_q6 * t50;
+            let t52 = s_v_q6 * t50;
+            let t53 = p_xg + t51;
+            let t54 = p_yg + t52;
+            let t55 = t16 * v_q6_d;
+            let t56 = t17 * v_q6_d;
+            let t57 = t2 * v_q1_d;
+            let t58 = t1 * v_q1_d;
+            let t59 = v_q1_d * t58;
+            let t60 = t2 * v_q1_dd;
+            let t61 = v_q1_d * t57;
+            let t62 = t1 * v_q1_dd;
+            let t63 = v_q6_d * t55;
+            let t64 = v_q6_d * t56;
+            let t65 = t20 * v_q1_d;
+            let t66 = -t65;
+            let t67 = t19 * v_q1_d;
+            let t68 = t36 * v_q2_d;
+            let t69 = t57 + t68;
+            let t70 = -t69;
+            let t71 = t35 * v_q2_d;
+            let t72 = t58 + t71;
+            let t73 = t41 * v_q3_d;
+            let t74 = -t73;
+            let t75 = t40 * v_q3_d;
+            let t76 = t47 * v_q5_d;
+            let t77 = t56 + t76;
+            let t78 = -t77;
+            let t79 = t46 * v_q5_d;
+            let t80 = t55 + t79;
+            let t81 = t52 * v_q6_d;
+            let t82 = -t81;
+            let t83 = t51 * v_q6_d;
+            let t84 = v_q1_d * t67;
+            let t85 = t20 * v_q1_dd;
+            let t86 = t84 + t85;
+            let t87 = -t86;
+            let t88 = v_q1_d * t65;
+            let t89 = t19 * v_q1_dd;
+            let t90 = t88 - t89;
+            let t91 = -t90;
+            let t92 = v_q2_d * t71;
+            let t93 = t59 + t92;
+            let t94 = t60 + t93;
+            let t95 = t36 * v_q2_dd;
+            let t96 = t94 + t95;
+            let t97 = -t96;
+            let t98 = v_q2_d * t68;
+            let t99 = t61 + t98;
+            let t100 = t62 - t99;
+            let t101 = t35 * v_q2_dd;
+            let t102 = t100 + t101;
+            let t103 = v_q3_d * t75;
+            let t104 = t41 * v_q3_dd;
+            let t105 = t103 + t104;
+            let t106 = -t105;
+            let t107 = v_q3_d * t73;
+            let t108 = t40 * v_q3_dd;
+            let t109 = t107 - t108;
+            let t110 = -t109;
+            let t111 = v_q5_d * t79;
+            let t112 = t63 + t111;
+            let t113 = t47 * v_q5_dd;
+            let t114 = t112 + t113;
+            let t115 = t17 * v_q6_dd;
+            let t116 = t114 + t115;
+            let t117 = -t116;
+            let t118 = v_q5_d * t76;
+            let t119 = t64 + t118;
+            let t120 = t46 * v_q5_dd;
+            let t121 = t119 - t120;
+            let t122 = t16 * v_q6_dd;
+            let t123 = t121 - t122;
+            let t124 = -t123;
+            let t125 = v_q6_d * t83;
+            let t126 = t52 * v_q6_dd;
+            let t127 = t125 + t126;
+            let t128 = -t127;
+            let t129 = v_q6_d * t81;
+            let t130 = t51 * v_q6_dd;
+            let t131 = t129 - t130;
+            let t132 = -t131;
+            [
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t19, t20],
+                        velocity: [t66, t67],
+                        acceleration: [t87, t91],
+                    },
+                    angle: [v_q1, v_q1_d, v_q1_dd],
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t37, t38],
+                        velocity: [t70, t72],
+                        acceleration: [t97, t102],
+                    },
+                    angle: [v_q2, v_q2_d, v_q2_dd],
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t42, t41],
+                        velocity: [t74, t75],
+                        acceleration: [t106, t110],
+                    },
+                    angle: [v_q3, v_q3_d, v_q3_dd],
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t48, t49],
+                        velocity: [t78, t80],
+                        acceleration: [t117, t124],
+                    },
+                    angle: [v_q5, v_q5_d, v_q5_dd],
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t53, t54],
+                        velocity: [t82, t83],
+                        acceleration: [t128, t132],
+                    },
+                    angle: [v_q6, v_q6_d, v_q6_dd],
+                },
+            ]
+        }
+        /// The acceleration of gravity (zero without a `gravity` key), and each body's mass and inertia about its centre of mass at the params, in `INFO.bodies` order.
+        pub fn mass_properties(
+            &self,
+        ) -> ([T; 2], [::mechgen::__private::BodyMass<T>; 5]) {
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l5 = self.params.l5;
+            let p_l6 = self.params.l6;
+            let p_l2e = self.params.l2e;
+            let p_alpha = self.params.alpha;
+            let t0 = p_alpha.cos();
+            let t1 = T::lit(0.0003925) * p_l1;
+            let t2 = p_l1 * t1;
+            let t3 = p_l1 * t2;
+            let t4 = t3 / T::lit(12.0);
+            let t5 = p_l2 * p_l2;
+            let t6 = p_l2 + p_l2e;
+            let t7 = T::lit(0.0003925) * t6;
+            let t8 = p_l2 * t5;
+            let t9 = p_l2e * p_l2e;
+            let t10 = p_l2e * t9;
+            let t11 = t8 + t10;
+            let t12 = t11 / T::lit(12.0);
+            let t13 = p_l2 * p_l2e;
+            let t14 = t13 / t6;
+            let t15 = t5 + t9;
+            let t16 = T::lit(2.0) * p_l2;
+            let t17 = p_l2e * t16;
+            let t18 = t0 * t17;
+            let t19 = t15 + t18;
+            let t20 = t14 * t19;
+            let t21 = t20 / T::lit(4.0);
+            let t22 = t12 + t21;
+            let t23 = T::lit(0.0003925) * t22;
+            let t24 = T::lit(0.0003925) * p_l3;
+            let t25 = p_l3 * t24;
+            let t26 = p_l3 * t25;
+            let t27 = t26 / T::lit(12.0);
+            let t28 = T::lit(0.0003925) * p_l5;
+            let t29 = p_l5 * t28;
+            let t30 = p_l5 * t29;
+            let t31 = t30 / T::lit(12.0);
+            let t32 = T::lit(0.0003925) * p_l6;
+            let t33 = p_l6 * t32;
+            let t34 = p_l6 * t33;
+            let t35 = t34 / T::lit(12.0);
+            (
+                [T::zero(), T::lit(-9810.0)],
+                [
+                    ::mechgen::__private::BodyMass {
+                        mass: t1,
+                        inertia: t4,
+                    },
+                    ::mechgen::__private::BodyMass {
+                        mass: t7,
+                        inertia: t23,
+                    },
+                    ::mechgen::__private::BodyMass {
+                        mass: t24,
+                        inertia: t27,
+                    },
+                    ::mechgen::__private::BodyMass {
+                        mass: t28,
+                        inertia: t31,
+                    },
+                    ::mechgen::__private::BodyMass {
+                        mass: t32,
+                        inertia: t35,
+                    },
+                ],
+            )
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its residual and Jacobian block (Newton).
         #[inline]
@@ -3361,6 +3646,33 @@ pub mod sixbar {
         ) -> Self::Points {
             Sixbar::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
         }
+        fn bodies(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            q: &Self::Q,
+            qd: &Self::Q,
+            qdd: &Self::Q,
+            out: &mut [::mechgen::__private::BodyMotion<T>],
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let b = Sixbar::body_motion(
+                self,
+                &input.x,
+                q,
+                &input.xd,
+                qd,
+                &input.xdd,
+                qdd,
+            );
+            ::mechgen::__private::put_slice(out, &b)
+        }
+        fn mass_properties(
+            &self,
+            out: &mut [::mechgen::__private::BodyMass<T>],
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let (gravity, masses) = Sixbar::mass_properties(self);
+            ::mechgen::__private::put_slice(out, &masses)?;
+            Ok(gravity)
+        }
         #[inline]
         fn solve(
             &self,
@@ -3869,6 +4181,7 @@ pub mod shaper {
         points: &["E", "D"],
         blocks: &[&[0, 1], &[2], &[3]],
         closed: &[true, true, true],
+        bodies: &["crank", "block", "guide", "link", "ram"],
     };
     /// Point names, in the order of point outputs.
     pub const POINT_NAMES: [&str; 2] = ["E", "D"];
@@ -4399,6 +4712,181 @@ pub mod shaper {
                 },
             ]
         }
+        /// Each body's centre of mass and angle with their velocities and accelerations, in `INFO.bodies` order.
+        pub fn body_motion(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            xd: &[T; 1],
+            qd: &[T; 4],
+            xdd: &[T; 1],
+            qdd: &[T; 4],
+        ) -> [::mechgen::__private::BodyMotion<T>; 5] {
+            let v_q1 = x[0];
+            let v_q3 = q[1];
+            let v_q4 = q[2];
+            let v_sE = q[3];
+            let p_l1 = self.params.l1;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let p_lAC = self.params.lAC;
+            let p_yE = self.params.yE;
+            let v_q1_d = xd[0];
+            let v_q3_d = qd[1];
+            let v_q4_d = qd[2];
+            let v_sE_d = qd[3];
+            let v_q1_dd = xdd[0];
+            let v_q3_dd = qdd[1];
+            let v_q4_dd = qdd[2];
+            let v_sE_dd = qdd[3];
+            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let t2 = p_l1 * c_v_q1;
+            let t3 = p_l1 * s_v_q1;
+            let t4 = c_v_q3 * p_l3;
+            let t5 = s_v_q3 * p_l3;
+            let (s_v_q4, c_v_q4) = v_q4.sin_cos();
+            let t7 = T::lit(0.5) * p_l1;
+            let t8 = c_v_q1 * t7;
+            let t9 = s_v_q1 * t7;
+            let t10 = p_lAC + t9;
+            let t11 = t3 + p_lAC;
+            let t12 = T::lit(0.5) * p_l3;
+            let t13 = c_v_q3 * t12;
+            let t14 = s_v_q3 * t12;
+            let t15 = T::lit(0.5) * p_l4;
+            let t16 = c_v_q4 * t15;
+            let t17 = s_v_q4 * t15;
+            let t18 = t4 + t16;
+            let t19 = t5 + t17;
+            let t20 = t4 * v_q3_d;
+            let t21 = t5 * v_q3_d;
+            let t22 = t3 * v_q1_d;
+            let t23 = -t22;
+            let t24 = t2 * v_q1_d;
+            let t25 = v_q1_d * t24;
+            let t26 = t3 * v_q1_dd;
+            let t27 = v_q1_d * t22;
+            let t28 = t2 * v_q1_dd;
+            let t29 = v_q3_d * t20;
+            let t30 = v_q3_d * t21;
+            let t31 = t5 * v_q3_dd;
+            let t32 = t4 * v_q3_dd;
+            let t33 = t9 * v_q1_d;
+            let t34 = -t33;
+            let t35 = t8 * v_q1_d;
+            let t36 = t14 * v_q3_d;
+            let t37 = -t36;
+            let t38 = t13 * v_q3_d;
+            let t39 = t17 * v_q4_d;
+            let t40 = t21 + t39;
+            let t41 = -t40;
+            let t42 = t16 * v_q4_d;
+            let t43 = t20 + t42;
+            let t44 = v_q1_d * t35;
+            let t45 = t9 * v_q1_dd;
+            let t46 = t44 + t45;
+            let t47 = -t46;
+            let t48 = v_q1_d * t33;
+            let t49 = t8 * v_q1_dd;
+            let t50 = t48 - t49;
+            let t51 = -t50;
+            let t52 = t25 + t26;
+            let t53 = -t52;
+            let t54 = t27 - t28;
+            let t55 = -t54;
+            let t56 = v_q3_d * t38;
+            let t57 = t14 * v_q3_dd;
+            let t58 = t56 + t57;
+            let t59 = -t58;
+            let t60 = v_q3_d * t36;
+            let t61 = t13 * v_q3_dd;
+            let t62 = t60 - t61;
+            let t63 = -t62;
+            let t64 = v_q4_d * t42;
+            let t65 = t29 + t64;
+            let t66 = t31 + t65;
+            let t67 = t17 * v_q4_dd;
+            let t68 = t66 + t67;
+            let t69 = -t68;
+            let t70 = v_q4_d * t39;
+            let t71 = t30 + t70;
+            let t72 = t32 - t71;
+            let t73 = t16 * v_q4_dd;
+            let t74 = t72 + t73;
+            [
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t8, t10],
+                        velocity: [t34, t35],
+                        acceleration: [t47, t51],
+                    },
+                    angle: [v_q1, v_q1_d, v_q1_dd],
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t2, t11],
+                        velocity: [t23, t24],
+                        acceleration: [t53, t55],
+                    },
+                    angle: [v_q3, v_q3_d, v_q3_dd],
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t13, t14],
+                        velocity: [t37, t38],
+                        acceleration: [t59, t63],
+                    },
+                    angle: [v_q3, v_q3_d, v_q3_dd],
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t18, t19],
+                        velocity: [t41, t43],
+                        acceleration: [t69, t74],
+                    },
+                    angle: [v_q4, v_q4_d, v_q4_dd],
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [v_sE, p_yE],
+                        velocity: [v_sE_d, T::zero()],
+                        acceleration: [v_sE_dd, T::zero()],
+                    },
+                    angle: [T::zero(), T::zero(), T::zero()],
+                },
+            ]
+        }
+        /// The acceleration of gravity (zero without a `gravity` key), and each body's mass and inertia about its centre of mass at the params, in `INFO.bodies` order.
+        pub fn mass_properties(
+            &self,
+        ) -> ([T; 2], [::mechgen::__private::BodyMass<T>; 5]) {
+            (
+                [T::zero(), T::lit(-9.81)],
+                [
+                    ::mechgen::__private::BodyMass {
+                        mass: T::lit(0.3),
+                        inertia: T::lit(0.0004),
+                    },
+                    ::mechgen::__private::BodyMass {
+                        mass: T::lit(0.2),
+                        inertia: T::lit(0.0001),
+                    },
+                    ::mechgen::__private::BodyMass {
+                        mass: T::lit(1.4),
+                        inertia: T::lit(0.042),
+                    },
+                    ::mechgen::__private::BodyMass {
+                        mass: T::lit(0.35),
+                        inertia: T::lit(0.00066),
+                    },
+                    ::mechgen::__private::BodyMass {
+                        mass: T::lit(5.0),
+                        inertia: T::zero(),
+                    },
+                ],
+            )
+        }
         /// Block 0: s3, q3 from loop 1 (x, y). Its residual and Jacobian block (Newton).
         #[inline]
         fn block0_position(
@@ -4640,16 +5128,16 @@ pub mod shaper {
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let t2 = -t0;
-            let t3 = t1 + p_lAC;
-            let t4 = -t3;
+            let t2 = t1 + p_lAC;
+            let t3 = -t0;
+            let t4 = -t2;
             if options.closed_forms {
                 ::mechgen::__private::closed_form::solve_rpr(
                     0,
                     st,
                     1,
                     0,
-                    [t2, t4],
+                    [t3, t4],
                     (T::zero(), T::zero()),
                     (T::one(), T::zero()),
                     || self.params.length_scale(),
@@ -4984,16 +5472,16 @@ pub mod shaper {
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let t2 = -t0;
-            let t3 = t1 + p_lAC;
-            let t4 = -t3;
+            let t2 = t1 + p_lAC;
+            let t3 = -t0;
+            let t4 = -t2;
             if options.closed_forms {
                 ::mechgen::__private::closed_form::solve_rpr(
                     0,
                     st,
                     1,
                     0,
-                    [t2, t4],
+                    [t3, t4],
                     (T::zero(), T::zero()),
                     (T::one(), T::zero()),
                     || self.params.length_scale(),
@@ -5275,16 +5763,16 @@ pub mod shaper {
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let t2 = -t0;
-            let t3 = t1 + p_lAC;
-            let t4 = -t3;
+            let t2 = t1 + p_lAC;
+            let t3 = -t0;
+            let t4 = -t2;
             if options.closed_forms {
                 ::mechgen::__private::closed_form::solve_rpr(
                     0,
                     st,
                     1,
                     0,
-                    [t2, t4],
+                    [t3, t4],
                     (T::zero(), T::zero()),
                     (T::one(), T::zero()),
                     || self.scene_shaper_ram_length_scale(),
@@ -6340,6 +6828,33 @@ pub mod shaper {
         ) -> Self::Points {
             Shaper::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
         }
+        fn bodies(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            q: &Self::Q,
+            qd: &Self::Q,
+            qdd: &Self::Q,
+            out: &mut [::mechgen::__private::BodyMotion<T>],
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let b = Shaper::body_motion(
+                self,
+                &input.x,
+                q,
+                &input.xd,
+                qd,
+                &input.xdd,
+                qdd,
+            );
+            ::mechgen::__private::put_slice(out, &b)
+        }
+        fn mass_properties(
+            &self,
+            out: &mut [::mechgen::__private::BodyMass<T>],
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let (gravity, masses) = Shaper::mass_properties(self);
+            ::mechgen::__private::put_slice(out, &masses)?;
+            Ok(gravity)
+        }
         #[inline]
         fn solve(
             &self,
@@ -6565,13 +7080,13 @@ pub mod shaper {
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let t2 = -t0;
-            let t3 = t1 + p_lAC;
-            let t4 = -t3;
+            let t2 = t1 + p_lAC;
+            let t3 = -t0;
+            let t4 = -t2;
             ::mechgen::__private::lanes::solve_rpr(
                 st,
                 (1, 0),
-                [t2, t4],
+                [t3, t4],
                 (L::zero(), L::zero()),
                 (L::one(), L::zero()),
                 newton.tolerance,
@@ -6821,6 +7336,7 @@ pub mod four_bar {
         points: &["B", "C", "P"],
         blocks: &[&[0, 1]],
         closed: &[true],
+        bodies: &["crank", "coupler", "rocker"],
     };
     /// Point names, in the order of point outputs.
     pub const POINT_NAMES: [&str; 3] = ["B", "C", "P"];
@@ -7405,6 +7921,149 @@ pub mod four_bar {
                     acceleration: [t51, t56],
                 },
             ]
+        }
+        /// Each body's centre of mass and angle with their velocities and accelerations, in `INFO.bodies` order.
+        pub fn body_motion(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            xd: &[T; 1],
+            qd: &[T; 2],
+            xdd: &[T; 1],
+            qdd: &[T; 2],
+        ) -> [::mechgen::__private::BodyMotion<T>; 3] {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let v_q3 = q[1];
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let v_q1_d = xd[0];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let v_q2_dd = qdd[0];
+            let v_q3_dd = qdd[1];
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let t1 = p_l1 * c_v_q1;
+            let t2 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
+            let t5 = T::lit(0.5) * p_l1;
+            let t6 = c_v_q1 * t5;
+            let t7 = s_v_q1 * t5;
+            let t8 = T::lit(0.5) * p_l2;
+            let t9 = c_v_q2 * t8;
+            let t10 = s_v_q2 * t8;
+            let t11 = t1 + t9;
+            let t12 = t2 + t10;
+            let t13 = T::lit(0.5) * p_l3;
+            let t14 = c_v_q3 * t13;
+            let t15 = s_v_q3 * t13;
+            let t16 = p_l4 + t14;
+            let t17 = t2 * v_q1_d;
+            let t18 = t1 * v_q1_d;
+            let t19 = v_q1_d * t18;
+            let t20 = t2 * v_q1_dd;
+            let t21 = v_q1_d * t17;
+            let t22 = t1 * v_q1_dd;
+            let t23 = t7 * v_q1_d;
+            let t24 = -t23;
+            let t25 = t6 * v_q1_d;
+            let t26 = t10 * v_q2_d;
+            let t27 = t17 + t26;
+            let t28 = -t27;
+            let t29 = t9 * v_q2_d;
+            let t30 = t18 + t29;
+            let t31 = t15 * v_q3_d;
+            let t32 = -t31;
+            let t33 = t14 * v_q3_d;
+            let t34 = v_q1_d * t25;
+            let t35 = t7 * v_q1_dd;
+            let t36 = t34 + t35;
+            let t37 = -t36;
+            let t38 = v_q1_d * t23;
+            let t39 = t6 * v_q1_dd;
+            let t40 = t38 - t39;
+            let t41 = -t40;
+            let t42 = v_q2_d * t29;
+            let t43 = t19 + t42;
+            let t44 = t20 + t43;
+            let t45 = t10 * v_q2_dd;
+            let t46 = t44 + t45;
+            let t47 = -t46;
+            let t48 = v_q2_d * t26;
+            let t49 = t21 + t48;
+            let t50 = t22 - t49;
+            let t51 = t9 * v_q2_dd;
+            let t52 = t50 + t51;
+            let t53 = v_q3_d * t33;
+            let t54 = t15 * v_q3_dd;
+            let t55 = t53 + t54;
+            let t56 = -t55;
+            let t57 = v_q3_d * t31;
+            let t58 = t14 * v_q3_dd;
+            let t59 = t57 - t58;
+            let t60 = -t59;
+            [
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t6, t7],
+                        velocity: [t24, t25],
+                        acceleration: [t37, t41],
+                    },
+                    angle: [v_q1, v_q1_d, v_q1_dd],
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t11, t12],
+                        velocity: [t28, t30],
+                        acceleration: [t47, t52],
+                    },
+                    angle: [v_q2, v_q2_d, v_q2_dd],
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t16, t15],
+                        velocity: [t32, t33],
+                        acceleration: [t56, t60],
+                    },
+                    angle: [v_q3, v_q3_d, v_q3_dd],
+                },
+            ]
+        }
+        /// The acceleration of gravity (zero without a `gravity` key), and each body's mass and inertia about its centre of mass at the params, in `INFO.bodies` order.
+        pub fn mass_properties(
+            &self,
+        ) -> ([T; 2], [::mechgen::__private::BodyMass<T>; 3]) {
+            let p_l1 = self.params.l1;
+            let p_l3 = self.params.l3;
+            let t0 = T::lit(2.4) * p_l1;
+            let t1 = p_l1 * t0;
+            let t2 = p_l1 * t1;
+            let t3 = t2 / T::lit(12.0);
+            let t4 = T::lit(2.4) * p_l3;
+            let t5 = p_l3 * t4;
+            let t6 = p_l3 * t5;
+            let t7 = t6 / T::lit(12.0);
+            (
+                [T::zero(), T::lit(-9.81)],
+                [
+                    ::mechgen::__private::BodyMass {
+                        mass: t0,
+                        inertia: t3,
+                    },
+                    ::mechgen::__private::BodyMass {
+                        mass: T::lit(0.7),
+                        inertia: T::lit(0.0075),
+                    },
+                    ::mechgen::__private::BodyMass {
+                        mass: t4,
+                        inertia: t7,
+                    },
+                ],
+            )
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its residual and Jacobian block (Newton).
         #[inline]
@@ -8813,6 +9472,33 @@ pub mod four_bar {
         ) -> Self::Points {
             FourBar::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
         }
+        fn bodies(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            q: &Self::Q,
+            qd: &Self::Q,
+            qdd: &Self::Q,
+            out: &mut [::mechgen::__private::BodyMotion<T>],
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let b = FourBar::body_motion(
+                self,
+                &input.x,
+                q,
+                &input.xd,
+                qd,
+                &input.xdd,
+                qdd,
+            );
+            ::mechgen::__private::put_slice(out, &b)
+        }
+        fn mass_properties(
+            &self,
+            out: &mut [::mechgen::__private::BodyMass<T>],
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let (gravity, masses) = FourBar::mass_properties(self);
+            ::mechgen::__private::put_slice(out, &masses)?;
+            Ok(gravity)
+        }
         #[inline]
         fn solve(
             &self,
@@ -9263,6 +9949,7 @@ pub mod slider_crank {
         points: &["B", "C", "M"],
         blocks: &[&[0], &[1]],
         closed: &[true, true],
+        bodies: &["crank", "rod", "slider"],
     };
     /// Point names, in the order of point outputs.
     pub const POINT_NAMES: [&str; 3] = ["B", "C", "M"];
@@ -9718,6 +10405,122 @@ pub mod slider_crank {
                     acceleration: [t30, t35],
                 },
             ]
+        }
+        /// Each body's centre of mass and angle with their velocities and accelerations, in `INFO.bodies` order.
+        pub fn body_motion(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            xd: &[T; 1],
+            qd: &[T; 2],
+            xdd: &[T; 1],
+            qdd: &[T; 2],
+        ) -> [::mechgen::__private::BodyMotion<T>; 3] {
+            let v_q1 = x[0];
+            let v_q2 = q[0];
+            let v_sC = q[1];
+            let p_r = self.params.r;
+            let p_l = self.params.l;
+            let p_off = self.params.off;
+            let v_q1_d = xd[0];
+            let v_q2_d = qd[0];
+            let v_sC_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let v_q2_dd = qdd[0];
+            let v_sC_dd = qdd[1];
+            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
+            let t1 = p_r * c_v_q1;
+            let t2 = p_r * s_v_q1;
+            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
+            let t4 = p_l / T::lit(2.0);
+            let t5 = c_v_q2 * t4;
+            let t6 = s_v_q2 * t4;
+            let t7 = t1 + t5;
+            let t8 = t2 + t6;
+            let t9 = T::lit(0.5) * p_r;
+            let t10 = c_v_q1 * t9;
+            let t11 = s_v_q1 * t9;
+            let t12 = t2 * v_q1_d;
+            let t13 = t1 * v_q1_d;
+            let t14 = v_q1_d * t13;
+            let t15 = t2 * v_q1_dd;
+            let t16 = v_q1_d * t12;
+            let t17 = t1 * v_q1_dd;
+            let t18 = t6 * v_q2_d;
+            let t19 = t12 + t18;
+            let t20 = -t19;
+            let t21 = t5 * v_q2_d;
+            let t22 = t13 + t21;
+            let t23 = v_q2_d * t21;
+            let t24 = t14 + t23;
+            let t25 = t15 + t24;
+            let t26 = t6 * v_q2_dd;
+            let t27 = t25 + t26;
+            let t28 = -t27;
+            let t29 = v_q2_d * t18;
+            let t30 = t16 + t29;
+            let t31 = t17 - t30;
+            let t32 = t5 * v_q2_dd;
+            let t33 = t31 + t32;
+            let t34 = t11 * v_q1_d;
+            let t35 = -t34;
+            let t36 = t10 * v_q1_d;
+            let t37 = v_q1_d * t36;
+            let t38 = t11 * v_q1_dd;
+            let t39 = t37 + t38;
+            let t40 = -t39;
+            let t41 = v_q1_d * t34;
+            let t42 = t10 * v_q1_dd;
+            let t43 = t41 - t42;
+            let t44 = -t43;
+            [
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t10, t11],
+                        velocity: [t35, t36],
+                        acceleration: [t40, t44],
+                    },
+                    angle: [v_q1, v_q1_d, v_q1_dd],
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t7, t8],
+                        velocity: [t20, t22],
+                        acceleration: [t28, t33],
+                    },
+                    angle: [v_q2, v_q2_d, v_q2_dd],
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [v_sC, p_off],
+                        velocity: [v_sC_d, T::zero()],
+                        acceleration: [v_sC_dd, T::zero()],
+                    },
+                    angle: [T::zero(), T::zero(), T::zero()],
+                },
+            ]
+        }
+        /// The acceleration of gravity (zero without a `gravity` key), and each body's mass and inertia about its centre of mass at the params, in `INFO.bodies` order.
+        pub fn mass_properties(
+            &self,
+        ) -> ([T; 2], [::mechgen::__private::BodyMass<T>; 3]) {
+            (
+                [T::zero(), T::lit(-9.81)],
+                [
+                    ::mechgen::__private::BodyMass {
+                        mass: T::lit(0.1),
+                        inertia: T::lit(0.00002),
+                    },
+                    ::mechgen::__private::BodyMass {
+                        mass: T::lit(0.3),
+                        inertia: T::lit(0.001),
+                    },
+                    ::mechgen::__private::BodyMass {
+                        mass: T::lit(0.5),
+                        inertia: T::zero(),
+                    },
+                ],
+            )
         }
         /// Block 0: q2 from loop 1 (y). Its residual and Jacobian block (Newton).
         #[inline]
@@ -10900,6 +11703,33 @@ pub mod slider_crank {
         ) -> Self::Points {
             SliderCrank::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
         }
+        fn bodies(
+            &self,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            q: &Self::Q,
+            qd: &Self::Q,
+            qdd: &Self::Q,
+            out: &mut [::mechgen::__private::BodyMotion<T>],
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            let b = SliderCrank::body_motion(
+                self,
+                &input.x,
+                q,
+                &input.xd,
+                qd,
+                &input.xdd,
+                qdd,
+            );
+            ::mechgen::__private::put_slice(out, &b)
+        }
+        fn mass_properties(
+            &self,
+            out: &mut [::mechgen::__private::BodyMass<T>],
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let (gravity, masses) = SliderCrank::mass_properties(self);
+            ::mechgen::__private::put_slice(out, &masses)?;
+            Ok(gravity)
+        }
         #[inline]
         fn solve(
             &self,
@@ -11335,6 +12165,7 @@ pub mod rocker_four_bar {
         points: &["B", "C"],
         blocks: &[&[0, 1]],
         closed: &[true],
+        bodies: &[],
     };
     /// Point names, in the order of point outputs.
     pub const POINT_NAMES: [&str; 2] = ["B", "C"];
@@ -13325,6 +14156,7 @@ pub mod sixbar_g {
         points: &["E"],
         blocks: &[&[0, 1, 2, 3]],
         closed: &[false],
+        bodies: &[],
     };
     /// Point names, in the order of point outputs.
     pub const POINT_NAMES: [&str; 1] = ["E"];
@@ -17434,13 +18266,13 @@ pub mod shaper_ram {
             let (s_v_q1, c_v_q1) = tx[0];
             let t0 = p_l1 * c_v_q1;
             let t1 = p_l1 * s_v_q1;
-            let t2 = -t0;
-            let t3 = t1 + p_lAC;
-            let t4 = -t3;
+            let t2 = t1 + p_lAC;
+            let t3 = -t0;
+            let t4 = -t2;
             ::mechgen::__private::lanes::solve_rpr(
                 st,
                 (1, 0),
-                [t2, t4],
+                [t3, t4],
                 (L::zero(), L::zero()),
                 (L::one(), L::zero()),
                 newton.tolerance,

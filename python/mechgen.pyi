@@ -62,6 +62,36 @@ class Mechanism:
     ) -> dict[str, np.ndarray]:
         """d(output)/d(param) along a sweep, as `mechgen sensitivity --csv`: column `u/p` per
         unknown u and param p, `P_x/p`, `P_y/p` per point, then status."""
+    def dynamics(
+        self,
+        start: Optional[float] = None,
+        stop: Optional[float] = None,
+        step: Optional[float] = None,
+        rate: float = 1.0,
+        acc: float = 0.0,
+        loads: Optional[Sequence[tuple]] = None,
+        input: Optional[str] = None,
+        set: Optional[Mapping[str, float]] = None,
+        params: Optional[Mapping[str, float]] = None,
+    ) -> dict[str, np.ndarray]:
+        """Inverse dynamics along a sweep (a mechanism with bodies), as `mechgen dynamics --csv`:
+        the input, every unknown, effort_X, inertia_X_X, kinetic_energy, potential_energy,
+        shaking_fx, shaking_fy, shaking_moment, status. `loads`: (point, fx, fy) or
+        (point, fx, fy, (a, b)) acting while the angle input lies in [a, b] degrees."""
+    def simulate(
+        self,
+        time: float,
+        dt: float,
+        torque: float = 0.0,
+        rate: float = 0.0,
+        loads: Optional[Sequence[tuple]] = None,
+        input: Optional[str] = None,
+        set: Optional[Mapping[str, float]] = None,
+        params: Optional[Mapping[str, float]] = None,
+    ) -> dict[str, np.ndarray]:
+        """Forward dynamics from the start configuration (a mechanism with bodies), as `mechgen
+        simulate --csv`: t, the input, X_vel, X_acc, every unknown, kinetic_energy,
+        potential_energy, status; a row every dt to time (a dead point ends it)."""
 
     def __reduce__(self) -> tuple: ...
 

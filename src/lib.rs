@@ -40,16 +40,20 @@ pub use mechgen_runtime as runtime;
 pub use mechgen_runtime::__private;
 // The kernels (`dyad`, `closed_form`, `elimination`, `solve`, `trig`) are reached through
 // `mechgen::runtime::…`; generated code reaches what it calls through `__private`.
+/// Inverse dynamics, written once for every engine: `dynamics`, `inverse_dynamics`.
+pub use mechgen_runtime::dynamics;
 /// SIMD lanes: `mechgen::lanes::F64x4` and the other lane types, the [`Lanes`] trait.
 pub use mechgen_runtime::lanes;
 pub use mechgen_runtime::nalgebra;
+/// Forward dynamics of one input (`Simulation`, error-controlled Dormand–Prince steps).
+pub use mechgen_runtime::simulate;
 /// The ticks on slices every engine gives (`DynMechanism::ticker`): `StaticTick`, `SolveTick`.
 pub use mechgen_runtime::ticks;
 pub use mechgen_runtime::{
-    Array, CoordDesc, CoordInfo, DynMechanism, DynScene, DynSceneState, DynState, DynTick,
-    InputMotion, Kind, LaneMechanism, LaneScene, LaneState, LaneTick, Lanes, MechanismInfo,
-    NewtonOptions, NewtonReport, ParamDesc, ParamInfo, PointMotion, Quantity, Real, RowMajor,
-    Scene, SceneDescription, SceneInfo, SceneState, SceneTick, SceneVisitor, SolveError,
+    Array, BodyMass, BodyMotion, CoordDesc, CoordInfo, DynMechanism, DynScene, DynSceneState,
+    DynState, DynTick, InputMotion, Kind, LaneMechanism, LaneScene, LaneState, LaneTick, Lanes,
+    MechanismInfo, NewtonOptions, NewtonReport, ParamDesc, ParamInfo, PointMotion, Quantity, Real,
+    RowMajor, Scene, SceneDescription, SceneInfo, SceneState, SceneTick, SceneVisitor, SolveError,
     SolveOptions, Stage, State, StaticInfo, StaticMechanism, StaticVisitor, Tick,
 };
 
@@ -61,12 +65,15 @@ pub mod design;
 pub mod fleet;
 #[cfg(feature = "runtime")]
 pub mod generic;
+#[cfg(feature = "sweep")]
+pub mod kinetics;
 #[cfg(feature = "runtime")]
 pub mod metrics;
 #[cfg(feature = "plot")]
 pub mod plot;
 #[cfg(feature = "sweep")]
 pub mod report;
+pub mod simulation;
 #[cfg(feature = "sweep")]
 pub mod sweep;
 

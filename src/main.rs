@@ -25,6 +25,8 @@ fn main() -> ExitCode {
         Some(Command::Metrics(args)) => cli::metrics::run(&args),
         Some(Command::Batch(args)) => cli::batch::run(&args),
         Some(Command::Sensitivity(args)) => cli::design::sensitivity(&args),
+        Some(Command::Dynamics(args)) => cli::dynamics::dynamics_command(&args),
+        Some(Command::Simulate(args)) => cli::simulate::run(&args),
         Some(Command::Tolerance(args)) => cli::design::tolerance(&args),
     };
     report_peak_memory();

@@ -7,6 +7,7 @@
 //! ([`run`]).
 
 mod columns;
+mod dynamics;
 mod mechanism;
 mod run;
 

@@ -370,6 +370,55 @@ impl Mechanism {
         out.into_dict(py, &header, &[n], &[])
     }
 
+    /// Inverse dynamics along a sweep, as `mechgen dynamics` gives it (same options and rows as
+    /// `sweep`; a mechanism with bodies): the input at `rate` accelerating at `acc`, `loads` a
+    /// list of `(point, fx, fy)` or `(point, fx, fy, (a, b))` acting only while the angle input
+    /// lies in [a, b] degrees. Columns: the input, every unknown, `effort_X`, `inertia_X_X`,
+    /// `kinetic_energy`, `potential_energy`, `shaking_fx`, `shaking_fy`, `shaking_moment`,
+    /// `status`.
+    #[pyo3(signature = (start=None, stop=None, step=None, rate=1.0, acc=0.0, loads=None, input=None, set=None, params=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn dynamics<'py>(
+        &self,
+        py: Python<'py>,
+        start: Option<f64>,
+        stop: Option<f64>,
+        step: Option<f64>,
+        rate: f64,
+        acc: f64,
+        loads: Option<Vec<Bound<'py, PyTuple>>>,
+        input: Option<String>,
+        set: Option<HashMap<String, f64>>,
+        params: Option<HashMap<String, f64>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        crate::dynamics::dynamics(
+            self, py, start, stop, step, rate, acc, loads, input, set, params,
+        )
+    }
+
+    /// Forward dynamics, as `mechgen simulate` gives it (a mechanism with bodies): the input
+    /// (`input`, default the first; the others held at rest, `set` their values in degrees or
+    /// file units) from the start configuration at `rate`, under gravity, `loads` (a list of
+    /// `(point, fx, fy)`) and the constant driving effort `torque`, a row every `dt` seconds to
+    /// `time`. Columns: `t`, the input, `X_vel`, `X_acc`, every unknown, `kinetic_energy`,
+    /// `potential_energy`, `status` (a dead point stops it: its row is the last).
+    #[pyo3(signature = (time, dt, torque=0.0, rate=0.0, loads=None, input=None, set=None, params=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn simulate<'py>(
+        &self,
+        py: Python<'py>,
+        time: f64,
+        dt: f64,
+        torque: f64,
+        rate: f64,
+        loads: Option<Vec<Bound<'py, PyTuple>>>,
+        input: Option<String>,
+        set: Option<HashMap<String, f64>>,
+        params: Option<HashMap<String, f64>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        crate::dynamics::simulate(self, py, time, dt, torque, rate, loads, input, set, params)
+    }
+
     /// Many param sets, each swept as `sweep` sweeps it, on `threads` worker threads (default
     /// every core) with the GIL released. `params`: param name → 1-D array, one entry per set
     /// (all of one length); the params not named keep the file's values. Returns column name →
@@ -460,5 +509,28 @@ impl Mechanism {
 
     fn __repr__(&self) -> String {
         format!("<mechgen.Mechanism {} ({})>", self.info.name, self.engine())
+    }
+}
+
+impl crate::dynamics::Source for Mechanism {
+    fn info(&self) -> &MechanismInfo {
+        &self.info
+    }
+    fn prepared(
+        &self,
+        py: Python<'_>,
+        start: Option<f64>,
+        stop: Option<f64>,
+        step: Option<f64>,
+        rate: f64,
+        input: Option<String>,
+        set: Option<HashMap<String, f64>>,
+        params: Option<HashMap<String, f64>>,
+    ) -> PyResult<(f64, Plan, Vec<f64>)> {
+        let (o, plan, values) = self.prepare(py, start, stop, step, rate, input, set, params)?;
+        Ok((o.rate, plan, values))
+    }
+    fn solver(&self, values: &[f64]) -> Box<dyn DynMechanism<f64>> {
+        solver_with_params(&self.info.name, &self.model, self.generated, values)
     }
 }

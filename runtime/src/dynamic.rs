@@ -11,7 +11,7 @@ use alloc::vec::Vec;
 
 use crate::dyn_tick::{DynTick, StateRef};
 use crate::error::SolveError;
-use crate::info::{MechanismInfo, PointMotion};
+use crate::info::{BodyMass, BodyMotion, MechanismInfo, PointMotion};
 use crate::mechanism::{Array, InputMotion, State};
 use crate::scalar::Real;
 use crate::solve::{NewtonReport, SolveOptions};
@@ -82,6 +82,25 @@ pub trait DynMechanism<T: Real> {
         qdd: &[T],
         out: &mut [PointMotion<T>],
     ) -> Result<(), SolveError>;
+    /// Every body's motion at a solved state into `out` (one per `info().bodies`; the default,
+    /// for a mechanism without bodies: `out` must be empty).
+    fn bodies(
+        &self,
+        input: InputMotion<&[T]>,
+        q: &[T],
+        qd: &[T],
+        qdd: &[T],
+        out: &mut [BodyMotion<T>],
+    ) -> Result<(), SolveError> {
+        let _ = (input, q, qd, qdd);
+        len(out, 0)
+    }
+    /// Every body's mass and inertia at the current params into `out` (one per
+    /// `info().bodies`); returns the acceleration of gravity (zero without a `gravity` key).
+    fn mass_properties(&self, out: &mut [BodyMass<T>]) -> Result<[T; 2], SolveError> {
+        len(out, 0)?;
+        Ok([T::zero(); 2])
+    }
     /// One whole tick from `guess`: positions, velocities, accelerations and points, as a new
     /// [`DynState`] (the allocating form of [`DynMechanism::solve_in_place`]).
     fn solve(
@@ -159,7 +178,8 @@ pub(crate) fn arr<T: Real, A: Array<T>>(s: &[T]) -> Result<A, SolveError> {
     Ok(a)
 }
 
-pub(crate) fn put<T: Copy>(dst: &mut [T], src: &[T]) -> Result<(), SolveError> {
+/// `src` copied into `dst`, which must have its length (else `SolveError::BadLength`).
+pub fn put<T: Copy>(dst: &mut [T], src: &[T]) -> Result<(), SolveError> {
     len(dst, src.len())?;
     dst.copy_from_slice(src);
     Ok(())

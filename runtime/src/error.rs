@@ -65,6 +65,11 @@ pub enum SolveError {
     Overflow { block: usize, stage: Stage },
     /// A tick was asked for before a successful first tick (`DynTick::start`).
     NotStarted,
+    /// An index given to the object-safe API (an input, a point) is not below `len`.
+    OutOfRange { index: usize, len: usize },
+    /// A body's mass or inertia, at the params given, is negative or not finite (the file's
+    /// values are checked when it is read; params changed at run time can make them so).
+    BadMass { body: usize },
 }
 
 impl SolveError {
@@ -78,6 +83,8 @@ impl SolveError {
             SolveError::BadLength { .. } => "bad-length",
             SolveError::Overflow { .. } => "overflow",
             SolveError::NotStarted => "not-started",
+            SolveError::OutOfRange { .. } => "out-of-range",
+            SolveError::BadMass { .. } => "bad-mass",
         }
     }
 }
@@ -122,6 +129,15 @@ impl fmt::Display for SolveError {
                 write!(f, "overflow in block {block} ({stage:?} solve)")
             }
             SolveError::NotStarted => write!(f, "tick before a first successful tick"),
+            SolveError::OutOfRange { index, len } => {
+                write!(f, "index {index} out of range (there are {len})")
+            }
+            SolveError::BadMass { body } => {
+                write!(
+                    f,
+                    "body {body} has a negative or non-finite mass or inertia"
+                )
+            }
         }
     }
 }

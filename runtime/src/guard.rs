@@ -207,6 +207,7 @@ mod tests {
             points: Vec::new(),
             blocks: Vec::new(),
             closed: Vec::new(),
+            bodies: Vec::new(),
         };
         let mut seed = 0x2545_f491_4f6c_dd1du64;
         let mut next = move || {

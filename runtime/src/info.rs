@@ -1,6 +1,6 @@
 //! What a mechanism is made of, as data: [`StaticInfo`] (compiled into generated code) and
 //! [`MechanismInfo`] (owned, for mechanisms loaded at run time), with the descriptions of their
-//! coordinates and params, and [`PointMotion`].
+//! coordinates and params, [`PointMotion`], and a body's [`BodyMotion`] and [`BodyMass`].
 
 use alloc::string::{String, ToString};
 use alloc::vec::Vec;
@@ -44,6 +44,8 @@ pub struct StaticInfo {
     /// Whether each block is solved in closed form (on its guess's side: a tick with closed
     /// forms on cannot leave the branch there); else by Newton.
     pub closed: &'static [bool],
+    /// The moving bodies (`[mechanism.NAME.bodies.B]`, file order), for dynamics; empty without.
+    pub bodies: &'static [&'static str],
 }
 
 /// An input or unknown, owned: its name, kind and value in the file's `start` configuration.
@@ -76,6 +78,8 @@ pub struct MechanismInfo {
     pub blocks: Vec<Vec<usize>>,
     /// Whether each block is solved in closed form (else by Newton).
     pub closed: Vec<bool>,
+    /// The moving bodies, in file order (empty: no dynamics).
+    pub bodies: Vec<String>,
 }
 
 impl From<&CoordInfo> for CoordDesc {
@@ -109,6 +113,7 @@ impl From<&StaticInfo> for MechanismInfo {
             points: s.points.iter().map(|p| p.to_string()).collect(),
             blocks: s.blocks.iter().map(|b| b.to_vec()).collect(),
             closed: s.closed.to_vec(),
+            bodies: s.bodies.iter().map(|b| b.to_string()).collect(),
         }
     }
 }
@@ -119,4 +124,20 @@ pub struct PointMotion<T> {
     pub position: [T; 2],
     pub velocity: [T; 2],
     pub acceleration: [T; 2],
+}
+
+/// A body's motion: its centre of mass (position, velocity, acceleration) and its angle with
+/// the angle's first and second time derivatives.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodyMotion<T> {
+    pub com: PointMotion<T>,
+    /// φ, φ̇, φ̈.
+    pub angle: [T; 3],
+}
+
+/// A body's mass and its moment of inertia about its centre of mass (the file's units).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BodyMass<T> {
+    pub mass: T,
+    pub inertia: T,
 }

@@ -25,6 +25,7 @@ pub mod closed_form;
 pub mod dyad;
 pub mod dyn_tick;
 pub mod dynamic;
+pub mod dynamics;
 pub mod elimination;
 pub mod error;
 pub mod guard;
@@ -36,6 +37,7 @@ pub mod scene;
 pub mod scene_tick;
 pub mod sensitivity;
 pub mod simd;
+pub mod simulate;
 pub mod solve;
 pub mod tick;
 pub mod ticks;
@@ -44,9 +46,11 @@ pub mod twofold;
 
 pub use dyn_tick::{DynTick, StateRef};
 pub use dynamic::{DynMechanism, DynState};
+pub use dynamics::{Dynamics, DynamicsWork, PointLoad, dynamics, inverse_dynamics};
 pub use error::{Quantity, SolveError, Stage};
 pub use info::{
-    CoordDesc, CoordInfo, Kind, MechanismInfo, ParamDesc, ParamInfo, PointMotion, StaticInfo,
+    BodyMass, BodyMotion, CoordDesc, CoordInfo, Kind, MechanismInfo, ParamDesc, ParamInfo,
+    PointMotion, StaticInfo,
 };
 pub use lanes::{LaneState, LaneTick, LaneView};
 pub use mechanism::{
@@ -61,6 +65,7 @@ pub use scene::{
 pub use scene_tick::{SceneMemo, SceneTick};
 pub use sensitivity::Sensitivities;
 pub use simd::{Lanes, WithLanes};
+pub use simulate::{Simulation, SimulationOptions};
 pub use solve::{NewtonOptions, NewtonReport, SolveOptions};
 pub use tick::{Tick, TickStateOf};
 
@@ -84,10 +89,12 @@ macro_rules! include_mechanisms {
 pub mod __private {
     pub use crate::closed_form;
     pub use crate::dyad::{solve_dyad, solve_dyad_angles};
-    pub use crate::dynamic::DynMechanism;
+    pub use crate::dynamic::{DynMechanism, put as put_slice};
     pub use crate::elimination::factor_block;
     pub use crate::error::{Quantity, SolveError, Stage};
-    pub use crate::info::{CoordInfo, Kind, ParamInfo, PointMotion, StaticInfo};
+    pub use crate::info::{
+        BodyMass, BodyMotion, CoordInfo, Kind, ParamInfo, PointMotion, StaticInfo,
+    };
     pub use crate::lanes::{self, LaneTick, Lanes};
     pub use crate::mechanism::{
         InputMotion, LaneMechanism, State, StateOf, StaticMechanism, StaticVisitor,

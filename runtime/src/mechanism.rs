@@ -5,7 +5,7 @@
 //! slices is [`crate::DynMechanism`].
 
 use crate::error::SolveError;
-use crate::info::{PointMotion, StaticInfo};
+use crate::info::{BodyMass, BodyMotion, PointMotion, StaticInfo};
 use crate::scalar::Real;
 use crate::sensitivity::Sensitivities;
 use crate::simd::Lanes;
@@ -201,6 +201,25 @@ pub trait StaticMechanism<T: Real>: Clone + Send + Sync {
         qd: &Self::Q,
         qdd: &Self::Q,
     ) -> Self::Points;
+    /// Every body's motion at a solved state into `out` (one per `info().bodies`). A
+    /// mechanism without bodies has the default: `out` must be empty.
+    fn bodies(
+        &self,
+        input: &InputMotion<Self::X>,
+        q: &Self::Q,
+        qd: &Self::Q,
+        qdd: &Self::Q,
+        out: &mut [BodyMotion<T>],
+    ) -> Result<(), SolveError> {
+        let _ = (input, q, qd, qdd);
+        crate::error::len(out, 0)
+    }
+    /// Every body's mass and inertia at the current params into `out` (one per
+    /// `info().bodies`); returns the acceleration of gravity (zero without a `gravity` key).
+    fn mass_properties(&self, out: &mut [BodyMass<T>]) -> Result<[T; 2], SolveError> {
+        crate::error::len(out, 0)?;
+        Ok([T::zero(); 2])
+    }
     /// One whole tick from `guess`: positions, velocities, accelerations and points, sharing the
     /// trigonometry between the stages (the fastest way to a full state without a [`Self::Tick`]).
     fn solve(

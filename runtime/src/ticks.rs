@@ -11,7 +11,7 @@ use crate::dyn_tick::{DynTick, StateRef};
 use crate::dynamic::{DynMechanism, DynState, arr, arrays, len, put};
 use crate::error::SolveError;
 use crate::guard::BranchGuard;
-use crate::info::{MechanismInfo, PointMotion};
+use crate::info::{BodyMass, BodyMotion, MechanismInfo, PointMotion};
 use crate::mechanism::{InputMotion, RowMajor, State, StaticMechanism};
 use crate::scalar::Real;
 use crate::solve::{NewtonReport, SolveOptions};
@@ -309,6 +309,20 @@ impl<T: Real, M: StaticMechanism<T>> DynMechanism<T> for M {
         len(out, M::POINTS)?;
         let p = StaticMechanism::points(self, &arrays(input)?, &arr(q)?, &arr(qd)?, &arr(qdd)?);
         put(out, p.as_ref())
+    }
+    fn bodies(
+        &self,
+        input: InputMotion<&[T]>,
+        q: &[T],
+        qd: &[T],
+        qdd: &[T],
+        out: &mut [BodyMotion<T>],
+    ) -> Result<(), SolveError> {
+        let input = arrays(input)?;
+        StaticMechanism::bodies(self, &input, &arr(q)?, &arr(qd)?, &arr(qdd)?, out)
+    }
+    fn mass_properties(&self, out: &mut [BodyMass<T>]) -> Result<[T; 2], SolveError> {
+        StaticMechanism::mass_properties(self, out)
     }
     fn solve_in_place(
         &self,

@@ -57,6 +57,98 @@ pub enum Command {
     /// The worst-case and root-sum-square deviation of every unknown and point coordinate for
     /// given param tolerances, along a sweep, at each output's worst row.
     Tolerance(Box<ToleranceArgs>),
+    /// Inverse dynamics along a sweep (a mechanism with bodies): the effort the input's driver
+    /// applies against inertia, gravity and loads, the generalized inertia, the energies, the
+    /// shaking force and moment; `--flywheel` for the flywheel a turn needs.
+    Dynamics(Box<DynamicsArgs>),
+    /// Forward dynamics (a mechanism with bodies): the motion of an input under gravity, loads
+    /// and a constant driving effort, from the start configuration, a row every --dt.
+    Simulate(Box<SimulateArgs>),
+}
+
+/// `mechgen simulate NAME --time T --dt DT [options]`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// The mechanism, as named in the file ([mechanism.NAME]).
+    pub name: String,
+    /// Load the mechanism from this file at run time instead of the compiled-in mechanism.toml.
+    #[arg(long, value_name = "PATH")]
+    pub file: Option<PathBuf>,
+    /// Which solvers to use [default: generated when compiled in, else jit (or generic)].
+    #[arg(long, value_enum)]
+    pub engine: Option<Engine>,
+    /// How long to simulate (seconds).
+    #[arg(long, value_name = "T", value_parser = finite)]
+    pub time: f64,
+    /// The time between rows (seconds); the integrator's steps are chosen by its error control.
+    #[arg(long, value_name = "DT", value_parser = finite)]
+    pub dt: f64,
+    /// The constant driving effort on the input (torque for an angle input, force for a length).
+    #[arg(long, value_name = "Q", default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite)]
+    pub torque: f64,
+    /// The input's rate at the start (rad/s, or file units/s).
+    #[arg(long, value_name = "W0", default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite)]
+    pub rate: f64,
+    /// A constant force (FX, FY) on point P; repeatable.
+    #[arg(long = "load", value_name = "P=FX,FY", value_parser = load)]
+    pub load: Vec<(String, [f64; 2])>,
+    /// Which input moves, for a mechanism with several [default: the first]; the others are held
+    /// at rest.
+    #[arg(long, value_name = "NAME")]
+    pub input: Option<String>,
+    /// The value of a held input (degrees for an angle, file units for a length); repeatable.
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = assignment)]
+    pub set: Vec<(String, f64)>,
+    /// Every row as CSV: `t`, the input, `X_vel`, `X_acc`, every unknown, `kinetic_energy`,
+    /// `potential_energy`, `status`.
+    #[arg(long, value_name = "PATH")]
+    pub csv: Option<PathBuf>,
+}
+
+/// `mechgen dynamics NAME [options]`.
+#[derive(Debug, Args)]
+pub struct DynamicsArgs {
+    #[command(flatten)]
+    pub sweep: SweepOptions,
+    /// The swept input's acceleration (rad/s² for an angle input, file units/s² for a length).
+    #[arg(long, value_name = "A", default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite)]
+    pub acc: f64,
+    /// A constant force (FX, FY) on point P, or `P=FX,FY@A:B` acting only while the angle input
+    /// lies in [A, B] degrees (modulo a turn; B < A wraps through 0); repeatable.
+    #[arg(long = "load", value_name = "P=FX,FY[@A:B]", value_parser = ranged_load)]
+    pub load: Vec<LoadArg>,
+    /// Every row as CSV: the input, every unknown, `effort_X`, `inertia_X_X`, `kinetic_energy`,
+    /// `potential_energy`, `shaking_fx`, `shaking_fy`, `shaking_moment`, `status`.
+    #[arg(long, value_name = "PATH")]
+    pub csv: Option<PathBuf>,
+    /// The flywheel for a speed within ±DELTA/2 of --rate over one turn from the start (an angle
+    /// input): mean effort, largest swing of the work excess, flywheel inertia (exact integrals).
+    #[arg(long, value_name = "DELTA", value_parser = finite)]
+    pub flywheel: Option<f64>,
+    /// Also write DIR/NAME-dynamics.svg: the effort and the energies against the input.
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
+    /// With --flywheel: also write `mean_effort,max_energy_fluctuation,flywheel_inertia` to PATH.
+    #[arg(long, value_name = "PATH", requires = "flywheel")]
+    pub summary: Option<PathBuf>,
+}
+
+/// `P=FX,FY` or `P=FX,FY@A:B` (degrees), every number finite.
+/// `--load P=FX,FY[@A:B]` as given: the point's name, the force, the range of degrees.
+pub type LoadArg = (String, [f64; 2], Option<(f64, f64)>);
+
+fn ranged_load(s: &str) -> Result<LoadArg, String> {
+    let (head, range) = match s.split_once('@') {
+        Some((h, r)) => {
+            let (a, b) = r
+                .split_once(':')
+                .ok_or_else(|| "needs P=FX,FY@A:B".to_string())?;
+            (h, Some((finite(a)?, finite(b)?)))
+        }
+        None => (s, None),
+    };
+    let (name, force) = load(head)?;
+    Ok((name, force, range))
 }
 
 /// `mechgen sensitivity NAME [options]`.
@@ -310,6 +402,16 @@ mod tests {
         assert!(load("E=1").is_err());
         assert!(load("=1,2").is_err());
         assert!(load("E=1,nan").is_err());
+        assert_eq!(
+            ranged_load("E=-7000,0@120:300").unwrap(),
+            ("E".into(), [-7000.0, 0.0], Some((120.0, 300.0)))
+        );
+        assert_eq!(
+            ranged_load("E=1,2").unwrap(),
+            ("E".into(), [1.0, 2.0], None)
+        );
+        assert!(ranged_load("E=1,2@120").is_err());
+        assert!(ranged_load("E=1,2@a:3").is_err());
     }
 
     #[test]

@@ -396,5 +396,15 @@ fn main_job_one(
     let path = dir.join(format!("{name}.csv"));
     std::fs::write(&path, report::csv(&info, swept.plan.index, &swept.rows))
         .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    // A mechanism with bodies: the effort its driver needs along the same rows (at the sweep's
+    // rate, no loads), NAME-dynamics.csv and NAME-dynamics.svg.
+    if !info.bodies.is_empty() {
+        let (table, csv, plotted) =
+            super::dynamics::rows(sel.solver.as_ref(), &info, &swept, 0.0, &[]);
+        say_raw!("{table}");
+        let path = dir.join(format!("{name}-dynamics.csv"));
+        std::fs::write(&path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        super::dynamics::write_plot(&info, &swept, &plotted, dir)?;
+    }
     write_plots(&sel, &info, &swept, Some(dir), animate, false)
 }

@@ -56,6 +56,8 @@ impl Generic {
             &mut self.jacobian_dot,
             &mut self.acceleration_rhs,
             &mut self.points,
+            &mut self.bodies,
+            &mut self.masses,
             &mut self.chains,
         ];
         for b in &mut self.blocks {

@@ -63,6 +63,11 @@ pub struct Generic {
     pub(super) acceleration_rhs: Tape,
     /// Per point: x, y, vx, vy, ax, ay.
     pub(super) points: Tape,
+    /// Per body: its centre's x, y and angle, their velocities, their accelerations.
+    pub(super) bodies: Tape,
+    /// Gravity's x, y (when the file gives it), then per body: mass, inertia.
+    pub(super) masses: Tape,
+    pub(super) gravity: bool,
     /// Joint positions of the drawing chains, and each chain's (vertex count, ground segments).
     pub(super) chains: Tape,
     pub(super) chain_shape: Vec<(usize, usize)>,
@@ -178,6 +183,7 @@ impl Generic {
             points: m.points.iter().map(|p| p.0.text.clone()).collect(),
             blocks: c.blocks.iter().map(|b| unknown_indices(&b.block)).collect(),
             closed: c.blocks.iter().map(|b| b.closed_form.is_some()).collect(),
+            bodies: m.bodies.iter().map(|b| b.name.text.clone()).collect(),
         };
         let blocks: Vec<BlockTapes> = c
             .blocks
@@ -214,6 +220,14 @@ impl Generic {
             point_roots.extend(d.point_velocity[p]);
             point_roots.extend(d.point_acceleration[p]);
         }
+        let mut body_roots = Vec::new();
+        for (b, n) in c.system.bodies.iter().enumerate() {
+            body_roots.extend([n.com[0], n.com[1], n.angle]);
+            body_roots.extend(d.body_velocity[b]);
+            body_roots.extend(d.body_acceleration[b]);
+        }
+        let mut mass_roots: Vec<_> = c.system.gravity.into_iter().flatten().collect();
+        mass_roots.extend(c.system.bodies.iter().flat_map(|n| [n.mass, n.inertia]));
         let chain_roots: Vec<_> = chains.iter().flat_map(|ch| ch.vertices.concat()).collect();
         let mut sensitivity_roots = flat(&d.param_jacobian);
         for per_point in [&d.point_jacobian, &d.point_param_jacobian] {
@@ -232,6 +246,9 @@ impl Generic {
             jacobian_dot: Tape::new(&dag, &flat(&d.jacobian_dot)),
             acceleration_rhs: Tape::new(&dag, &d.acceleration_rhs),
             points: Tape::new(&dag, &point_roots),
+            bodies: Tape::new(&dag, &body_roots),
+            masses: Tape::new(&dag, &mass_roots),
+            gravity: c.system.gravity.is_some(),
             chains: Tape::new(&dag, &chain_roots),
             chain_shape: chains
                 .iter()

@@ -34,7 +34,9 @@ use mechgen_runtime::InputMotion;
 use mechgen_runtime::error::{Quantity, SolveError};
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
-use mechgen_runtime::{DynMechanism, DynState, MechanismInfo, PointMotion, dynamic::len};
+use mechgen_runtime::{
+    BodyMass, BodyMotion, DynMechanism, DynState, MechanismInfo, PointMotion, dynamic::len,
+};
 use scratch::{Scratch, Scratched};
 use tape::Env;
 
@@ -351,6 +353,69 @@ macro_rules! kinematics {
                     self.eval_points(env, out, regs, v)
                 });
                 Ok(())
+            }
+
+            fn bodies(
+                &self,
+                input: InputMotion<&[$t]>,
+                q: &[$t],
+                qd: &[$t],
+                qdd: &[$t],
+                out: &mut [BodyMotion<$t>],
+            ) -> Result<(), SolveError> {
+                let InputMotion { x, xd, xdd } = input;
+                self.lengths(&[x, q, xd, qd, xdd, qdd])?;
+                len(out, self.info.bodies.len())?;
+                let env = Env {
+                    xd,
+                    qd,
+                    xdd,
+                    qdd,
+                    ..Env::position(x, q, &self.params)
+                };
+                <$t>::with_scratch(|ws| {
+                    let Scratch {
+                        regs, points: v, ..
+                    } = ws;
+                    v.resize(9 * out.len(), 0.0);
+                    self.bodies.eval(&env, regs, v);
+                    for (o, c) in out.iter_mut().zip(v.chunks_exact(9)) {
+                        *o = BodyMotion {
+                            com: PointMotion {
+                                position: [c[0], c[1]],
+                                velocity: [c[3], c[4]],
+                                acceleration: [c[6], c[7]],
+                            },
+                            angle: [c[2], c[5], c[8]],
+                        };
+                    }
+                });
+                Ok(())
+            }
+
+            fn mass_properties(&self, out: &mut [BodyMass<$t>]) -> Result<[$t; 2], SolveError> {
+                len(out, self.info.bodies.len())?;
+                let env = Env::position(&[], &[], &self.params);
+                let gravity = <$t>::with_scratch(|ws| {
+                    let Scratch {
+                        regs, points: v, ..
+                    } = ws;
+                    v.resize(self.masses.outputs(), 0.0);
+                    self.masses.eval(&env, regs, v);
+                    let (gravity, masses) = if self.gravity {
+                        ([v[0], v[1]], &v[2..])
+                    } else {
+                        ([0.0; 2], &v[..])
+                    };
+                    for (o, c) in out.iter_mut().zip(masses.chunks_exact(2)) {
+                        *o = BodyMass {
+                            mass: c[0],
+                            inertia: c[1],
+                        };
+                    }
+                    gravity
+                });
+                Ok(gravity)
             }
         }
     };

@@ -1,4 +1,4 @@
-//! SVG plots of sweeps (`motion_svg`), drawings of the mechanism (`drawing_svg`, frames from its
+//! SVG plots of sweeps (`motion_svg`, `dynamics_svg`), drawings of the mechanism (`drawing_svg`, frames from its
 //! structure by `sweep_frames`), its animation (`animation_svg`, `write_animation`) and labelled
 //! log-log scatter plots (`log_log_scatter_svg`), drawn with `plotters` into a `String`. Text is
 //! laid out with the bundled DejaVu Sans (no system fonts); non-finite values are never drawn, and
@@ -9,6 +9,7 @@ mod axis;
 #[cfg(feature = "runtime")]
 mod branches;
 mod drawing;
+mod dynamics;
 #[cfg(feature = "runtime")]
 mod frames;
 mod log_axis;
@@ -27,6 +28,7 @@ pub use animation::animation_svg;
 #[cfg(feature = "runtime")]
 pub use branches::branches_svg;
 pub use drawing::{drawing_svg, point_paths};
+pub use dynamics::{DynamicsRow, dynamics_svg};
 #[cfg(feature = "runtime")]
 pub use frames::{sweep_frames, write_animation};
 pub use motion::motion_svg;

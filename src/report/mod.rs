@@ -134,6 +134,8 @@ pub const STATUSES: &[&str] = &[
     "substep-limit",
     "unusable-start",
     "non-finite",
+    "out-of-range",
+    "bad-mass",
 ];
 
 /// `status`'s index in [`STATUSES`] (`STATUSES.len()` for a status it does not list).

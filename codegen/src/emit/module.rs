@@ -64,6 +64,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
         quote!(&[#(#u),*])
     });
     let closed_info = c.blocks.iter().map(|b| b.closed_form.is_some());
+    let body_names = m.bodies.iter().map(|b| b.name.text.as_str());
     let description = &m.description;
 
     // Params struct.
@@ -149,6 +150,23 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     .map(|t| crate::emit::comments::comment(t))
     .collect();
     let system_fns = crate::emit::system::system_fns(c, &args);
+    // A mechanism with bodies or gravity overrides the trait's bodiless defaults.
+    let body_impls = if m.bodies.is_empty() && m.gravity.is_none() {
+        TokenStream::new()
+    } else {
+        quote! {
+            fn bodies(&self, input: &#rt::InputMotion<Self::X>, q: &Self::Q, qd: &Self::Q, qdd: &Self::Q,
+                out: &mut [#rt::BodyMotion<#gt>]) -> ::core::result::Result<(), #rt::SolveError> {
+                let b = #ty::body_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd);
+                #rt::put_slice(out, &b)
+            }
+            fn mass_properties(&self, out: &mut [#rt::BodyMass<#gt>]) -> ::core::result::Result<[#gt; 2], #rt::SolveError> {
+                let (gravity, masses) = #ty::mass_properties(self);
+                #rt::put_slice(out, &masses)?;
+                Ok(gravity)
+            }
+        }
+    };
     let solvers = crate::emit::solve::solvers(c, &args);
     let sensitivity_fns = crate::emit::sensitivity::sensitivity_fns(c, &args);
     let lanes = crate::emit::lane_items::mechanism(c, &args);
@@ -171,6 +189,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                 points: &[#(#point_names),*],
                 blocks: &[#(#blocks_info),*],
                 closed: &[#(#closed_info),*],
+                bodies: &[#(#body_names),*],
             };
             /// Point names, in the order of point outputs.
             pub const POINT_NAMES: [&str; #np] = [#(#point_names),*];
@@ -326,6 +345,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                 fn points(&self, input: &#rt::InputMotion<Self::X>, q: &Self::Q, qd: &Self::Q, qdd: &Self::Q) -> Self::Points {
                     #ty::point_motion(self, &input.x, q, &input.xd, qd, &input.xdd, qdd)
                 }
+                #body_impls
                 #[inline]
                 fn solve(&self, input: &#rt::InputMotion<Self::X>, guess: &Self::Q, options: &#rt::SolveOptions<#gt>)
                     -> ::core::result::Result<#rt::StateOf<Self, #gt>, #rt::SolveError> {

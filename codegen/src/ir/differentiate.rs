@@ -29,6 +29,10 @@ pub struct Derivatives {
     pub param_jacobian: Vec<Vec<NodeId>>,
     /// `point_param_jacobian[p][c][j]` = ∂(point p, component c)/∂pj.
     pub point_param_jacobian: Vec<[Vec<NodeId>; 2]>,
+    /// Each body's (Ġx, Ġy, φ̇) and (G̈x, G̈y, φ̈): its centre of mass and angle differentiated
+    /// in time.
+    pub body_velocity: Vec<[NodeId; 3]>,
+    pub body_acceleration: Vec<[NodeId; 3]>,
 }
 
 /// Memoised partial derivatives on one DAG.
@@ -197,6 +201,7 @@ pub fn differentiate(
 ) -> Derivatives {
     let residuals = sys.residuals.clone();
     let points = sys.points.clone();
+    let bodies = sys.bodies.clone();
     let mut d = Differentiator::new(&mut sys.dag);
     let q: Vec<Var> = (0..n_unknowns).map(|k| Var::Q(k as u16)).collect();
     let x: Vec<Var> = (0..n_inputs).map(|j| Var::X(j as u16)).collect();
@@ -255,6 +260,15 @@ pub fn differentiate(
         .iter()
         .map(|pt| pt.map(|c| p.iter().map(|&v| d.partial(c, v)).collect()))
         .collect();
+    // The bodies' rates after everything else: a mechanism without bodies keeps its node ids.
+    let body_velocity: Vec<[NodeId; 3]> = bodies
+        .iter()
+        .map(|b| [b.com[0], b.com[1], b.angle].map(|c| d.time_derivative(c, &all)))
+        .collect();
+    let body_acceleration = body_velocity
+        .iter()
+        .map(|v| v.map(|c| d.time_derivative(c, &all)))
+        .collect();
     Derivatives {
         jacobian,
         input_jacobian,
@@ -266,5 +280,7 @@ pub fn differentiate(
         point_acceleration,
         param_jacobian,
         point_param_jacobian,
+        body_velocity,
+        body_acceleration,
     }
 }

@@ -3,7 +3,7 @@
 //! (x, y); a scalar term of a vector sum is the vector (s, 0).
 
 use crate::ir::dag::{Dag, Func, Node, NodeId, Var};
-use crate::sema::model::Model;
+use crate::sema::model::{Centre, Model};
 use crate::sema::resolved::{Fn1, Fn2, Op, Scalar, Term, Vector};
 
 /// The position-level system of one mechanism.
@@ -15,6 +15,19 @@ pub struct System {
     pub residuals: Vec<NodeId>,
     /// Each point's (x, y).
     pub points: Vec<[NodeId; 2]>,
+    /// Each body's centre of mass, angle, mass and inertia (`Model::bodies` order).
+    pub bodies: Vec<BodyNodes>,
+    /// The acceleration of gravity (`None` without a `gravity` key: zero).
+    pub gravity: Option<[NodeId; 2]>,
+}
+
+/// A body's kinematic and mass quantities as DAG nodes.
+#[derive(Clone, Copy, Debug)]
+pub struct BodyNodes {
+    pub com: [NodeId; 2],
+    pub angle: NodeId,
+    pub mass: NodeId,
+    pub inertia: NodeId,
 }
 
 /// Which component of its loop a scalar equation is.
@@ -86,11 +99,28 @@ pub fn lower(model: &Model) -> System {
     for l in &model.loop_vectors {
         residuals.extend(lw.vector(l));
     }
-    let points = model.point_vectors.iter().map(|p| lw.vector(p)).collect();
+    let points: Vec<[NodeId; 2]> = model.point_vectors.iter().map(|p| lw.vector(p)).collect();
+    // After the points, so that a mechanism without bodies keeps every node id.
+    let bodies = model
+        .bodies
+        .iter()
+        .map(|b| BodyNodes {
+            com: match &b.com {
+                Centre::Point(i) => points[*i],
+                Centre::Vector(v) => lw.vector(v),
+            },
+            angle: lw.scalar(&b.angle),
+            mass: lw.scalar(&b.mass_expr),
+            inertia: lw.scalar(&b.inertia_expr),
+        })
+        .collect();
+    let gravity = model.gravity.as_ref().map(|g| lw.vector(g));
     System {
         dag,
         residuals,
         points,
+        bodies,
+        gravity,
     }
 }
 

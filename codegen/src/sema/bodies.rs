@@ -8,7 +8,7 @@ use std::collections::HashMap;
 
 use super::eval::eval;
 use super::model::{Body, Centre, Symbol};
-use super::resolved::{Resolved, Vector};
+use super::resolved::{Resolved, Scalar, Vector};
 use super::typing::{collect_names, type_of};
 use crate::diagnostic::Diagnostic;
 use crate::front::ast::{self, Expr, ExprKind};
@@ -51,10 +51,10 @@ pub(super) fn check_bodies(
         let mass = b
             .mass
             .as_ref()
-            .and_then(|e| amount(e, "mass", name, values, diags));
+            .and_then(|e| amount(e, "mass", name, symbols, values, angles, diags));
         let inertia = match &b.inertia {
-            Some(e) => amount(e, "inertia", name, values, diags),
-            None => Some(0.0),
+            Some(e) => amount(e, "inertia", name, symbols, values, angles, diags),
+            None => Some((0.0, Scalar::Number(0.0))),
         };
         if let (Some(angle), Some(com), Some(mass), Some(inertia)) = (angle, com, mass, inertia) {
             let written = [&b.angle, &b.mass, &b.com, &b.inertia];
@@ -62,8 +62,10 @@ pub(super) fn check_bodies(
                 name: b.name.clone(),
                 angle,
                 com,
-                mass,
-                inertia,
+                mass: mass.0,
+                inertia: inertia.0,
+                mass_expr: mass.1,
+                inertia_expr: inertia.1,
                 written: written.into_iter().flatten().cloned().collect(),
             });
         }
@@ -104,14 +106,17 @@ fn centre(
     }
 }
 
-/// A body's mass or inertia: a params-only value, finite and at least zero.
+/// A body's mass or inertia: a params-only value, finite and at least zero at the file's params;
+/// its value there and its expression (which follows the params at run time).
 fn amount(
     e: &Expr,
     what: &str,
     body: &str,
+    symbols: &HashMap<String, Symbol>,
     values: &HashMap<String, f64>,
+    angles: &mut Vec<Symbol>,
     diags: &mut Vec<Diagnostic>,
-) -> Option<f64> {
+) -> Option<(f64, Scalar)> {
     let v = eval(e, values, &format!("the {what} of body `{body}`"), diags)?;
     if v < 0.0 {
         diags.push(
@@ -123,7 +128,16 @@ fn amount(
         );
         return None;
     }
-    Some(v)
+    match type_of(e, symbols, true, angles, diags)? {
+        Resolved::Scalar(s) => Some((v, s)),
+        Resolved::Vector(_) => {
+            diags.push(Diagnostic::error(
+                e.span,
+                format!("the {what} of body `{body}` is a vector, not a scalar"),
+            ));
+            None
+        }
+    }
 }
 
 /// Gravity: a vector expression of params only.

@@ -96,8 +96,12 @@ pub struct Body {
     pub name: Name,
     pub angle: Scalar,
     pub com: Centre,
+    /// Mass and inertia at the file's params (checked finite and at least zero).
     pub mass: f64,
     pub inertia: f64,
+    /// Their expressions of params, which the solvers evaluate (so they follow a param change).
+    pub mass_expr: Scalar,
+    pub inertia_expr: Scalar,
     /// Its expressions as written (which params they name).
     pub written: Vec<Expr>,
 }

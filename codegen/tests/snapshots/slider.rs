@@ -106,6 +106,7 @@ pub mod slider {
         points: &["B"],
         blocks: &[&[0], &[1]],
         closed: &[true, true],
+        bodies: &[],
     };
     /// Point names, in the order of point outputs.
     pub const POINT_NAMES: [&str; 1] = ["B"];

@@ -1,0 +1,201 @@
+//! Inverse dynamics, written once for every engine: from a solved state, the bodies' motion
+//! ([`DynMechanism::bodies`]) and their velocity coefficients along one input, the effort that
+//! input's driver must apply against inertia, gravity and loads at points, with the generalized
+//! inertia, the kinetic and potential energy and the shaking force and moment.
+//!
+//! With `x` the input, `G` a body's centre of mass, `φ` its angle, `c_G = ∂G/∂x` and
+//! `c_φ = ∂φ/∂x` its velocity coefficients along the loop (the other inputs held), and `c_P` a
+//! loaded point's, virtual work gives
+//!
+//! ```text
+//! effort  Q    = Σ m (a_G − g)·c_G + I φ̈ c_φ  −  Σ F·c_P
+//! inertia M_xx = Σ m |c_G|² + I c_φ²
+//! T = ½ Σ m |v_G|² + I φ̇²,  V = −Σ m g·G,  F_shake = −Σ m a_G,  M_shake = −Σ G × m a_G + I φ̈.
+//! ```
+
+use alloc::vec;
+use alloc::vec::Vec;
+
+use crate::dyn_tick::StateRef;
+use crate::dynamic::DynMechanism;
+use crate::error::SolveError;
+use crate::info::{BodyMass, BodyMotion, MechanismInfo, PointMotion};
+use crate::mechanism::InputMotion;
+use crate::scalar::Real;
+
+/// A force at a point (index into `info().points`), in the file's units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointLoad<T> {
+    pub point: usize,
+    pub force: [T; 2],
+}
+
+/// Inverse dynamics at one state, for the input it was asked about.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Dynamics<T> {
+    /// The generalized force the input's driver applies so that the mechanism follows the
+    /// state's motion: a torque for an angle input, a force for a length input.
+    pub effort: T,
+    /// The generalized inertia on the input, Σ m |∂G/∂x|² + I (∂φ/∂x)².
+    pub inertia: T,
+    pub kinetic: T,
+    /// Of gravity, zero at the origin.
+    pub potential: T,
+    /// −Σ m a_G: the force the moving bodies put on the frame, gravity apart.
+    pub shaking_force: [T; 2],
+    /// −Σ (G × m a_G + I φ̈), about the origin.
+    pub shaking_moment: T,
+}
+
+/// The sums of the module's formulas over bodies and loads. `coefficients` are the bodies'
+/// motions at unit input rate (only their velocities are read: `∂G/∂x`, `∂φ/∂x`); each load is a
+/// force with its point's coefficient `∂P/∂x`.
+pub fn inverse_dynamics<T: Real>(
+    gravity: [T; 2],
+    masses: &[BodyMass<T>],
+    motion: &[BodyMotion<T>],
+    coefficients: &[BodyMotion<T>],
+    loads: impl IntoIterator<Item = ([T; 2], [T; 2])>,
+) -> Dynamics<T> {
+    let zero = T::zero();
+    let half = T::lit(0.5);
+    let mut d = Dynamics {
+        effort: zero,
+        inertia: zero,
+        kinetic: zero,
+        potential: zero,
+        shaking_force: [zero; 2],
+        shaking_moment: zero,
+    };
+    for ((b, s), c) in masses.iter().zip(motion).zip(coefficients) {
+        let (m, i) = (b.mass, b.inertia);
+        let (g, v, a) = (s.com.position, s.com.velocity, s.com.acceleration);
+        let (cg, cphi) = (c.com.velocity, c.angle[1]);
+        let (phid, phidd) = (s.angle[1], s.angle[2]);
+        let dyn_x = m * (a[0] - gravity[0]);
+        let dyn_y = m * (a[1] - gravity[1]);
+        d.effort += dyn_x * cg[0] + dyn_y * cg[1] + i * phidd * cphi;
+        d.inertia += m * (cg[0] * cg[0] + cg[1] * cg[1]) + i * cphi * cphi;
+        d.kinetic += half * (m * (v[0] * v[0] + v[1] * v[1]) + i * phid * phid);
+        d.potential -= m * (gravity[0] * g[0] + gravity[1] * g[1]);
+        let (fx, fy) = (m * a[0], m * a[1]);
+        d.shaking_force[0] -= fx;
+        d.shaking_force[1] -= fy;
+        d.shaking_moment -= g[0] * fy - g[1] * fx + i * phidd;
+    }
+    for (cp, f) in loads {
+        d.effort -= f[0] * cp[0] + f[1] * cp[1];
+    }
+    d
+}
+
+/// What [`dynamics`] works in: grown once for a mechanism ([`DynamicsWork::new`]), then nothing
+/// is allocated.
+#[derive(Clone, Debug)]
+pub struct DynamicsWork<T> {
+    masses: Vec<BodyMass<T>>,
+    motion: Vec<BodyMotion<T>>,
+    unit: Vec<BodyMotion<T>>,
+    points: Vec<PointMotion<T>>,
+    xd: Vec<T>,
+    qd: Vec<T>,
+    zx: Vec<T>,
+    zq: Vec<T>,
+}
+
+impl<T: Real> DynamicsWork<T> {
+    /// Sized for the mechanism `info` describes.
+    pub fn new(info: &MechanismInfo) -> Self {
+        let (ni, nu, nb) = (info.inputs.len(), info.unknowns.len(), info.bodies.len());
+        DynamicsWork {
+            masses: vec![BodyMass::default(); nb],
+            motion: vec![BodyMotion::default(); nb],
+            unit: vec![BodyMotion::default(); nb],
+            points: vec![PointMotion::default(); info.points.len()],
+            xd: vec![T::zero(); ni],
+            qd: vec![T::zero(); nu],
+            zx: vec![T::zero(); ni],
+            zq: vec![T::zero(); nu],
+        }
+    }
+}
+
+/// Inverse dynamics of `m` at its solved `state` for the input `input`, under `loads` (the other
+/// inputs are taken at rest: their rates must be zero for the effort to mean the driver's).
+///
+/// The velocity coefficients come from the state itself when only `input` moves (`∂G/∂x` =
+/// `Ġ / ẋ`), else from a velocity solve at unit rate of `input`. Errors: an index out of range,
+/// slices of the wrong length, a negative or non-finite mass or inertia (`BadMass`: params
+/// changed at run time), and a singular velocity solve (a dead point) on the second way.
+pub fn dynamics<T: Real, M: DynMechanism<T> + ?Sized>(
+    m: &M,
+    state: &StateRef<'_, T>,
+    input: usize,
+    loads: &[PointLoad<T>],
+    ws: &mut DynamicsWork<T>,
+) -> Result<Dynamics<T>, SolveError> {
+    let (ni, np) = (state.x.len(), state.points.len());
+    if input >= ni {
+        return Err(SolveError::OutOfRange {
+            index: input,
+            len: ni,
+        });
+    }
+    if let Some(l) = loads.iter().find(|l| l.point >= np) {
+        return Err(SolveError::OutOfRange {
+            index: l.point,
+            len: np,
+        });
+    }
+    let gravity = m.mass_properties(&mut ws.masses)?;
+    let good = |v: T| v.is_finite() && v >= T::zero();
+    if let Some(body) = ws
+        .masses
+        .iter()
+        .position(|b| !good(b.mass) || !good(b.inertia))
+    {
+        return Err(SolveError::BadMass { body });
+    }
+    if !gravity.iter().all(|g| g.is_finite()) {
+        return Err(SolveError::NonFinite {
+            quantity: crate::error::Quantity::Param,
+            index: 0,
+        });
+    }
+    let at = InputMotion::new(state.x, state.xd, state.xdd);
+    m.bodies(at, state.q, state.qd, state.qdd, &mut ws.motion)?;
+    let rate = state.xd[input];
+    let alone = state
+        .xd
+        .iter()
+        .enumerate()
+        .all(|(j, &v)| j == input || v == T::zero());
+    if alone && rate != T::zero() {
+        // Ġ = (∂G/∂x) ẋ when x alone moves.
+        for (u, s) in ws.unit.iter_mut().zip(&ws.motion) {
+            let v = s.com.velocity;
+            u.com.velocity = [v[0] / rate, v[1] / rate];
+            u.angle[1] = s.angle[1] / rate;
+        }
+        let coefficient = |p: &PointMotion<T>| p.velocity.map(|v| v / rate);
+        let loads = loads
+            .iter()
+            .map(|l| (coefficient(&state.points[l.point]), l.force));
+        return Ok(inverse_dynamics(
+            gravity, &ws.masses, &ws.motion, &ws.unit, loads,
+        ));
+    }
+    ws.xd.fill(T::zero());
+    ws.xd[input] = T::one();
+    m.solve_velocity(state.x, state.q, &ws.xd, &mut ws.qd)?;
+    let unit = InputMotion::new(state.x, &ws.xd[..], &ws.zx[..]);
+    m.bodies(unit, state.q, &ws.qd, &ws.zq, &mut ws.unit)?;
+    if !loads.is_empty() {
+        m.points(unit, state.q, &ws.qd, &ws.zq, &mut ws.points)?;
+    }
+    let points = &ws.points;
+    let loads = loads.iter().map(|l| (points[l.point].velocity, l.force));
+    Ok(inverse_dynamics(
+        gravity, &ws.masses, &ws.motion, &ws.unit, loads,
+    ))
+}

@@ -41,7 +41,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use mechgen::dynamics::{DynamicsWork, dynamics};
+use mechgen::dynamics::{DynamicsWork, tick_dynamics};
 use mechgen::lanes::WithLanes;
 use mechgen::simulate::{Simulation, SimulationOptions};
 use mechgen::sweep::{Continuation, sweep, sweep_each};
@@ -275,17 +275,7 @@ impl StaticVisitor<f64> for Generated<'_> {
                             tick = m.tick_start(&inputs[j], &typed[j].1, &opts).ok();
                             return;
                         }
-                        let state = mechgen::State {
-                            x: t.x.as_ref(),
-                            xd: t.xd.as_ref(),
-                            xdd: t.xdd.as_ref(),
-                            q: t.q.as_ref(),
-                            qd: t.qd.as_ref(),
-                            qdd: t.qdd.as_ref(),
-                            points: t.points.as_ref(),
-                            report: t.report,
-                        };
-                        black_box(dynamics(m, &state, 0, &[], &mut ws)).ok();
+                        black_box(tick_dynamics(m, t, 0, &[], &mut ws)).ok();
                     })
                 });
                 // `simulate/generated`: one error-controlled step of `simulate`'s integrator (all

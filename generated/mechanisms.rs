@@ -1088,16 +1088,17 @@ pub mod sixbar {
                 },
             ]
         }
-        /// Each body's centre of mass and angle with their velocities and accelerations, in `INFO.bodies` order.
-        pub fn body_motion(
+        /// Every body's mass properties into `masses` and motion into `out`, with the sines and
+        /// cosines of the inputs, unknowns and params given; returns gravity.
+        #[inline]
+        fn body_motion_cached(
             &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-            xdd: &[T; 1],
-            qdd: &[T; 4],
-        ) -> [::mechgen::__private::BodyMotion<T>; 5] {
+            (x, xd, xdd): (&[T; 1], &[T; 1], &[T; 1]),
+            (q, qd, qdd): (&[T; 4], &[T; 4], &[T; 4]),
+            (tx, tq, tp): (&[(T, T); 1], &[(T, T); 4], &[(T, T); 10]),
+            masses: &mut [::mechgen::__private::BodyMass<T>; 5],
+            out: &mut [::mechgen::__private::BodyMotion<T>; 5],
+        ) -> [T; 2] {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -1112,7 +1113,6 @@ pub mod sixbar {
             let p_l2e = self.params.l2e;
             let p_xg = self.params.xg;
             let p_yg = self.params.yg;
-            let p_alpha = self.params.alpha;
             let v_q1_d = xd[0];
             let v_q2_d = qd[0];
             let v_q3_d = qd[1];
@@ -1123,186 +1123,264 @@ pub mod sixbar {
             let v_q3_dd = qdd[1];
             let v_q5_dd = qdd[2];
             let v_q6_dd = qdd[3];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l2 * c_v_q2;
-            let t5 = p_l2 * s_v_q2;
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let (s_p_alpha, c_p_alpha) = p_alpha.sin_cos();
-            let t8 = c_v_q2 * c_p_alpha;
-            let t9 = s_v_q2 * s_p_alpha;
-            let t10 = s_v_q2 * c_p_alpha;
-            let t11 = c_v_q2 * s_p_alpha;
-            let t12 = t8 + t9;
-            let t13 = t10 - t11;
-            let (s_v_q5, c_v_q5) = v_q5.sin_cos();
-            let (s_v_q6, c_v_q6) = v_q6.sin_cos();
-            let t16 = p_l6 * c_v_q6;
-            let t17 = p_l6 * s_v_q6;
-            let t18 = T::lit(0.5) * p_l1;
-            let t19 = c_v_q1 * t18;
-            let t20 = s_v_q1 * t18;
-            let t21 = p_l2 * p_l2;
-            let t22 = t21 / T::lit(2.0);
-            let t23 = c_v_q2 * t22;
-            let t24 = s_v_q2 * t22;
-            let t25 = p_l2e / T::lit(2.0);
-            let t26 = t12 * t25;
-            let t27 = t13 * t25;
-            let t28 = t4 + t26;
-            let t29 = t5 + t27;
-            let t30 = p_l2e * t28;
-            let t31 = p_l2e * t29;
-            let t32 = t23 + t30;
-            let t33 = t24 + t31;
-            let t34 = p_l2 + p_l2e;
-            let t35 = t32 / t34;
-            let t36 = t33 / t34;
-            let t37 = t1 + t35;
-            let t38 = t2 + t36;
-            let t39 = T::lit(0.5) * p_l3;
-            let t40 = c_v_q3 * t39;
-            let t41 = s_v_q3 * t39;
-            let t42 = p_l4 + t40;
-            let t43 = t16 + p_xg;
-            let t44 = t17 + p_yg;
-            let t45 = T::lit(0.5) * p_l5;
-            let t46 = c_v_q5 * t45;
-            let t47 = s_v_q5 * t45;
-            let t48 = t43 + t46;
-            let t49 = t44 + t47;
-            let t50 = T::lit(0.5) * p_l6;
-            let t51 = c_v_q6 * t50;
-            let t52 = s_v_q6 * t50;
-            let t53 = p_xg + t51;
-            let t54 = p_yg + t52;
-            let t55 = t16 * v_q6_d;
-            let t56 = t17 * v_q6_d;
-            let t57 = t2 * v_q1_d;
-            let t58 = t1 * v_q1_d;
-            let t59 = v_q1_d * t58;
-            let t60 = t2 * v_q1_dd;
-            let t61 = v_q1_d * t57;
-            let t62 = t1 * v_q1_dd;
-            let t63 = v_q6_d * t55;
-            let t64 = v_q6_d * t56;
-            let t65 = t20 * v_q1_d;
-            let t66 = -t65;
-            let t67 = t19 * v_q1_d;
-            let t68 = t36 * v_q2_d;
-            let t69 = t57 + t68;
-            let t70 = -t69;
-            let t71 = t35 * v_q2_d;
-            let t72 = t58 + t71;
-            let t73 = t41 * v_q3_d;
-            let t74 = -t73;
-            let t75 = t40 * v_q3_d;
-            let t76 = t47 * v_q5_d;
-            let t77 = t56 + t76;
-            let t78 = -t77;
-            let t79 = t46 * v_q5_d;
-            let t80 = t55 + t79;
-            let t81 = t52 * v_q6_d;
-            let t82 = -t81;
-            let t83 = t51 * v_q6_d;
-            let t84 = v_q1_d * t67;
-            let t85 = t20 * v_q1_dd;
-            let t86 = t84 + t85;
-            let t87 = -t86;
-            let t88 = v_q1_d * t65;
-            let t89 = t19 * v_q1_dd;
-            let t90 = t88 - t89;
-            let t91 = -t90;
-            let t92 = v_q2_d * t71;
-            let t93 = t59 + t92;
-            let t94 = t60 + t93;
-            let t95 = t36 * v_q2_dd;
-            let t96 = t94 + t95;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l2 * c_v_q2;
+            let t3 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t4 = c_v_q2 * c_p_alpha;
+            let t5 = s_v_q2 * s_p_alpha;
+            let t6 = s_v_q2 * c_p_alpha;
+            let t7 = c_v_q2 * s_p_alpha;
+            let t8 = t4 + t5;
+            let t9 = t6 - t7;
+            let (s_v_q5, c_v_q5) = tq[2];
+            let (s_v_q6, c_v_q6) = tq[3];
+            let t10 = p_l6 * c_v_q6;
+            let t11 = p_l6 * s_v_q6;
+            let t12 = T::lit(0.5) * p_l1;
+            let t13 = c_v_q1 * t12;
+            let t14 = s_v_q1 * t12;
+            let t15 = T::lit(0.0003925) * p_l1;
+            let t16 = p_l1 * t15;
+            let t17 = p_l1 * t16;
+            let t18 = t17 / T::lit(12.0);
+            let t19 = p_l2 * p_l2;
+            let t20 = t19 / T::lit(2.0);
+            let t21 = c_v_q2 * t20;
+            let t22 = s_v_q2 * t20;
+            let t23 = p_l2e / T::lit(2.0);
+            let t24 = t8 * t23;
+            let t25 = t9 * t23;
+            let t26 = t2 + t24;
+            let t27 = t3 + t25;
+            let t28 = p_l2e * t26;
+            let t29 = p_l2e * t27;
+            let t30 = t21 + t28;
+            let t31 = t22 + t29;
+            let t32 = p_l2 + p_l2e;
+            let t33 = t30 / t32;
+            let t34 = t31 / t32;
+            let t35 = t0 + t33;
+            let t36 = t1 + t34;
+            let t37 = T::lit(0.0003925) * t32;
+            let t38 = p_l2 * t19;
+            let t39 = p_l2e * p_l2e;
+            let t40 = p_l2e * t39;
+            let t41 = t38 + t40;
+            let t42 = t41 / T::lit(12.0);
+            let t43 = p_l2 * p_l2e;
+            let t44 = t43 / t32;
+            let t45 = t19 + t39;
+            let t46 = T::lit(2.0) * p_l2;
+            let t47 = p_l2e * t46;
+            let t48 = c_p_alpha * t47;
+            let t49 = t45 + t48;
+            let t50 = t44 * t49;
+            let t51 = t50 / T::lit(4.0);
+            let t52 = t42 + t51;
+            let t53 = T::lit(0.0003925) * t52;
+            let t54 = T::lit(0.5) * p_l3;
+            let t55 = c_v_q3 * t54;
+            let t56 = s_v_q3 * t54;
+            let t57 = p_l4 + t55;
+            let t58 = T::lit(0.0003925) * p_l3;
+            let t59 = p_l3 * t58;
+            let t60 = p_l3 * t59;
+            let t61 = t60 / T::lit(12.0);
+            let t62 = t10 + p_xg;
+            let t63 = t11 + p_yg;
+            let t64 = T::lit(0.5) * p_l5;
+            let t65 = c_v_q5 * t64;
+            let t66 = s_v_q5 * t64;
+            let t67 = t62 + t65;
+            let t68 = t63 + t66;
+            let t69 = T::lit(0.0003925) * p_l5;
+            let t70 = p_l5 * t69;
+            let t71 = p_l5 * t70;
+            let t72 = t71 / T::lit(12.0);
+            let t73 = T::lit(0.5) * p_l6;
+            let t74 = c_v_q6 * t73;
+            let t75 = s_v_q6 * t73;
+            let t76 = p_xg + t74;
+            let t77 = p_yg + t75;
+            let t78 = T::lit(0.0003925) * p_l6;
+            let t79 = p_l6 * t78;
+            let t80 = p_l6 * t79;
+            let t81 = t80 / T::lit(12.0);
+            let t82 = t10 * v_q6_d;
+            let t83 = t11 * v_q6_d;
+            let t84 = t1 * v_q1_d;
+            let t85 = t0 * v_q1_d;
+            let t86 = v_q1_d * t85;
+            let t87 = t1 * v_q1_dd;
+            let t88 = v_q1_d * t84;
+            let t89 = t0 * v_q1_dd;
+            let t90 = v_q6_d * t82;
+            let t91 = v_q6_d * t83;
+            let t92 = t14 * v_q1_d;
+            let t93 = -t92;
+            let t94 = t13 * v_q1_d;
+            let t95 = t34 * v_q2_d;
+            let t96 = t84 + t95;
             let t97 = -t96;
-            let t98 = v_q2_d * t68;
-            let t99 = t61 + t98;
-            let t100 = t62 - t99;
-            let t101 = t35 * v_q2_dd;
-            let t102 = t100 + t101;
-            let t103 = v_q3_d * t75;
-            let t104 = t41 * v_q3_dd;
-            let t105 = t103 + t104;
-            let t106 = -t105;
-            let t107 = v_q3_d * t73;
-            let t108 = t40 * v_q3_dd;
-            let t109 = t107 - t108;
-            let t110 = -t109;
-            let t111 = v_q5_d * t79;
-            let t112 = t63 + t111;
-            let t113 = t47 * v_q5_dd;
-            let t114 = t112 + t113;
-            let t115 = t17 * v_q6_dd;
-            let t116 = t114 + t115;
-            let t117 = -t116;
-            let t118 = v_q5_d * t76;
-            let t119 = t64 + t118;
-            let t120 = t46 * v_q5_dd;
-            let t121 = t119 - t120;
-            let t122 = t16 * v_q6_dd;
-            let t123 = t121 - t122;
+            let t98 = t33 * v_q2_d;
+            let t99 = t85 + t98;
+            let t100 = t56 * v_q3_d;
+            let t101 = -t100;
+            let t102 = t55 * v_q3_d;
+            let t103 = t66 * v_q5_d;
+            let t104 = t83 + t103;
+            let t105 = -t104;
+            let t106 = t65 * v_q5_d;
+            let t107 = t82 + t106;
+            let t108 = t75 * v_q6_d;
+            let t109 = -t108;
+            let t110 = t74 * v_q6_d;
+            let t111 = v_q1_d * t94;
+            let t112 = t14 * v_q1_dd;
+            let t113 = t111 + t112;
+            let t114 = -t113;
+            let t115 = v_q1_d * t92;
+            let t116 = t13 * v_q1_dd;
+            let t117 = t115 - t116;
+            let t118 = -t117;
+            let t119 = v_q2_d * t98;
+            let t120 = t86 + t119;
+            let t121 = t87 + t120;
+            let t122 = t34 * v_q2_dd;
+            let t123 = t121 + t122;
             let t124 = -t123;
-            let t125 = v_q6_d * t83;
-            let t126 = t52 * v_q6_dd;
-            let t127 = t125 + t126;
-            let t128 = -t127;
-            let t129 = v_q6_d * t81;
-            let t130 = t51 * v_q6_dd;
-            let t131 = t129 - t130;
-            let t132 = -t131;
-            [
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [t19, t20],
-                        velocity: [t66, t67],
-                        acceleration: [t87, t91],
-                    },
-                    angle: [v_q1, v_q1_d, v_q1_dd],
+            let t125 = v_q2_d * t95;
+            let t126 = t88 + t125;
+            let t127 = t89 - t126;
+            let t128 = t33 * v_q2_dd;
+            let t129 = t127 + t128;
+            let t130 = v_q3_d * t102;
+            let t131 = t56 * v_q3_dd;
+            let t132 = t130 + t131;
+            let t133 = -t132;
+            let t134 = v_q3_d * t100;
+            let t135 = t55 * v_q3_dd;
+            let t136 = t134 - t135;
+            let t137 = -t136;
+            let t138 = v_q5_d * t106;
+            let t139 = t90 + t138;
+            let t140 = t66 * v_q5_dd;
+            let t141 = t139 + t140;
+            let t142 = t11 * v_q6_dd;
+            let t143 = t141 + t142;
+            let t144 = -t143;
+            let t145 = v_q5_d * t103;
+            let t146 = t91 + t145;
+            let t147 = t65 * v_q5_dd;
+            let t148 = t146 - t147;
+            let t149 = t10 * v_q6_dd;
+            let t150 = t148 - t149;
+            let t151 = -t150;
+            let t152 = v_q6_d * t110;
+            let t153 = t75 * v_q6_dd;
+            let t154 = t152 + t153;
+            let t155 = -t154;
+            let t156 = v_q6_d * t108;
+            let t157 = t74 * v_q6_dd;
+            let t158 = t156 - t157;
+            let t159 = -t158;
+            masses[0] = ::mechgen::__private::BodyMass {
+                mass: t15,
+                inertia: t18,
+            };
+            masses[1] = ::mechgen::__private::BodyMass {
+                mass: t37,
+                inertia: t53,
+            };
+            masses[2] = ::mechgen::__private::BodyMass {
+                mass: t58,
+                inertia: t61,
+            };
+            masses[3] = ::mechgen::__private::BodyMass {
+                mass: t69,
+                inertia: t72,
+            };
+            masses[4] = ::mechgen::__private::BodyMass {
+                mass: t78,
+                inertia: t81,
+            };
+            out[0] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t13, t14],
+                    velocity: [t93, t94],
+                    acceleration: [t114, t118],
                 },
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [t37, t38],
-                        velocity: [t70, t72],
-                        acceleration: [t97, t102],
-                    },
-                    angle: [v_q2, v_q2_d, v_q2_dd],
+                angle: [v_q1, v_q1_d, v_q1_dd],
+            };
+            out[1] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t35, t36],
+                    velocity: [t97, t99],
+                    acceleration: [t124, t129],
                 },
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [t42, t41],
-                        velocity: [t74, t75],
-                        acceleration: [t106, t110],
-                    },
-                    angle: [v_q3, v_q3_d, v_q3_dd],
+                angle: [v_q2, v_q2_d, v_q2_dd],
+            };
+            out[2] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t57, t56],
+                    velocity: [t101, t102],
+                    acceleration: [t133, t137],
                 },
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [t48, t49],
-                        velocity: [t78, t80],
-                        acceleration: [t117, t124],
-                    },
-                    angle: [v_q5, v_q5_d, v_q5_dd],
+                angle: [v_q3, v_q3_d, v_q3_dd],
+            };
+            out[3] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t67, t68],
+                    velocity: [t105, t107],
+                    acceleration: [t144, t151],
                 },
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [t53, t54],
-                        velocity: [t82, t83],
-                        acceleration: [t128, t132],
-                    },
-                    angle: [v_q6, v_q6_d, v_q6_dd],
+                angle: [v_q5, v_q5_d, v_q5_dd],
+            };
+            out[4] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t76, t77],
+                    velocity: [t109, t110],
+                    acceleration: [t155, t159],
                 },
-            ]
+                angle: [v_q6, v_q6_d, v_q6_dd],
+            };
+            [T::zero(), T::lit(-9810.0)]
         }
-        /// The acceleration of gravity (zero without a `gravity` key), and each body's mass and inertia about its centre of mass at the params, in `INFO.bodies` order.
+        /// Each body's centre of mass and angle with their velocities and accelerations at a
+        /// solved state, in `INFO.bodies` order.
+        pub fn body_motion(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            xd: &[T; 1],
+            qd: &[T; 4],
+            xdd: &[T; 1],
+            qdd: &[T; 4],
+        ) -> [::mechgen::__private::BodyMotion<T>; 5] {
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            let mut masses = [::mechgen::__private::BodyMass::default(); 5];
+            let mut out = [::mechgen::__private::BodyMotion::default(); 5];
+            self.body_motion_cached(
+                (x, xd, xdd),
+                (q, qd, qdd),
+                (&tx, &st.sc, &tp),
+                &mut masses,
+                &mut out,
+            );
+            out
+        }
+        /// The acceleration of gravity (zero without a `gravity` key) and each body's mass and
+        /// inertia about its centre of mass at the params, in `INFO.bodies` order.
         pub fn mass_properties(
             &self,
         ) -> ([T; 2], [::mechgen::__private::BodyMass<T>; 5]) {
+            let mut masses = [::mechgen::__private::BodyMass::default(); 5];
             let p_l1 = self.params.l1;
             let p_l2 = self.params.l2;
             let p_l3 = self.params.l3;
@@ -1346,30 +1424,52 @@ pub mod sixbar {
             let t33 = p_l6 * t32;
             let t34 = p_l6 * t33;
             let t35 = t34 / T::lit(12.0);
-            (
-                [T::zero(), T::lit(-9810.0)],
-                [
-                    ::mechgen::__private::BodyMass {
-                        mass: t1,
-                        inertia: t4,
-                    },
-                    ::mechgen::__private::BodyMass {
-                        mass: t7,
-                        inertia: t23,
-                    },
-                    ::mechgen::__private::BodyMass {
-                        mass: t24,
-                        inertia: t27,
-                    },
-                    ::mechgen::__private::BodyMass {
-                        mass: t28,
-                        inertia: t31,
-                    },
-                    ::mechgen::__private::BodyMass {
-                        mass: t32,
-                        inertia: t35,
-                    },
-                ],
+            masses[0] = ::mechgen::__private::BodyMass {
+                mass: t1,
+                inertia: t4,
+            };
+            masses[1] = ::mechgen::__private::BodyMass {
+                mass: t7,
+                inertia: t23,
+            };
+            masses[2] = ::mechgen::__private::BodyMass {
+                mass: t24,
+                inertia: t27,
+            };
+            masses[3] = ::mechgen::__private::BodyMass {
+                mass: t28,
+                inertia: t31,
+            };
+            masses[4] = ::mechgen::__private::BodyMass {
+                mass: t32,
+                inertia: t35,
+            };
+            ([T::zero(), T::lit(-9810.0)], masses)
+        }
+        /// [`Self::mass_properties`] into `masses` and [`Self::body_motion`] at a tick's state
+        /// into `out`, with the sines and cosines the tick keeps (when the params are still those
+        /// of the last tick; else computed afresh); returns gravity.
+        #[inline]
+        pub fn tick_bodies(
+            &self,
+            t: &Tick<T>,
+            masses: &mut [::mechgen::__private::BodyMass<T>; 5],
+            out: &mut [::mechgen::__private::BodyMotion<T>; 5],
+        ) -> [T; 2] {
+            use ::mechgen::__private::TickCache as _;
+            if !t.same_params(&self.params.to_array()) {
+                let (g, m) = self.mass_properties();
+                *masses = m;
+                *out = self.body_motion(&t.x, &t.q, &t.xd, &t.qd, &t.xdd, &t.qdd);
+                return g;
+            }
+            let (tx, tq) = t.trig();
+            self.body_motion_cached(
+                (&t.x, &t.xd, &t.xdd),
+                (&t.q, &t.qd, &t.qdd),
+                (tx, tq, t.params_trig()),
+                masses,
+                out,
             )
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its residual and Jacobian block (Newton).
@@ -3674,6 +3774,25 @@ pub mod sixbar {
             Ok(gravity)
         }
         #[inline]
+        fn tick_bodies(
+            &self,
+            t: &Self::Tick,
+            masses: &mut [::mechgen::__private::BodyMass<T>],
+            out: &mut [::mechgen::__private::BodyMotion<T>],
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let bad = |got: usize| ::mechgen::__private::SolveError::BadLength {
+                expected: 5,
+                got,
+            };
+            let masses_len = masses.len();
+            let masses = <&mut [::mechgen::__private::BodyMass<T>; 5]>::try_from(masses)
+                .map_err(|_| bad(masses_len))?;
+            let out_len = out.len();
+            let out = <&mut [::mechgen::__private::BodyMotion<T>; 5]>::try_from(out)
+                .map_err(|_| bad(out_len))?;
+            Ok(Sixbar::tick_bodies(self, t, masses, out))
+        }
+        #[inline]
         fn solve(
             &self,
             input: &::mechgen::__private::InputMotion<Self::X>,
@@ -4712,16 +4831,17 @@ pub mod shaper {
                 },
             ]
         }
-        /// Each body's centre of mass and angle with their velocities and accelerations, in `INFO.bodies` order.
-        pub fn body_motion(
+        /// Every body's mass properties into `masses` and motion into `out`, with the sines and
+        /// cosines of the inputs, unknowns and params given; returns gravity.
+        #[inline]
+        fn body_motion_cached(
             &self,
-            x: &[T; 1],
-            q: &[T; 4],
-            xd: &[T; 1],
-            qd: &[T; 4],
-            xdd: &[T; 1],
-            qdd: &[T; 4],
-        ) -> [::mechgen::__private::BodyMotion<T>; 5] {
+            (x, xd, xdd): (&[T; 1], &[T; 1], &[T; 1]),
+            (q, qd, qdd): (&[T; 4], &[T; 4], &[T; 4]),
+            (tx, tq, _tp): (&[(T, T); 1], &[(T, T); 4], &[(T, T); 5]),
+            masses: &mut [::mechgen::__private::BodyMass<T>; 5],
+            out: &mut [::mechgen::__private::BodyMotion<T>; 5],
+        ) -> [T; 2] {
             let v_q1 = x[0];
             let v_q3 = q[1];
             let v_q4 = q[2];
@@ -4739,152 +4859,219 @@ pub mod shaper {
             let v_q3_dd = qdd[1];
             let v_q4_dd = qdd[2];
             let v_sE_dd = qdd[3];
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t2 = p_l1 * c_v_q1;
-            let t3 = p_l1 * s_v_q1;
-            let t4 = c_v_q3 * p_l3;
-            let t5 = s_v_q3 * p_l3;
-            let (s_v_q4, c_v_q4) = v_q4.sin_cos();
-            let t7 = T::lit(0.5) * p_l1;
-            let t8 = c_v_q1 * t7;
-            let t9 = s_v_q1 * t7;
-            let t10 = p_lAC + t9;
-            let t11 = t3 + p_lAC;
-            let t12 = T::lit(0.5) * p_l3;
-            let t13 = c_v_q3 * t12;
-            let t14 = s_v_q3 * t12;
-            let t15 = T::lit(0.5) * p_l4;
-            let t16 = c_v_q4 * t15;
-            let t17 = s_v_q4 * t15;
-            let t18 = t4 + t16;
-            let t19 = t5 + t17;
-            let t20 = t4 * v_q3_d;
-            let t21 = t5 * v_q3_d;
-            let t22 = t3 * v_q1_d;
-            let t23 = -t22;
-            let t24 = t2 * v_q1_d;
-            let t25 = v_q1_d * t24;
-            let t26 = t3 * v_q1_dd;
-            let t27 = v_q1_d * t22;
-            let t28 = t2 * v_q1_dd;
-            let t29 = v_q3_d * t20;
-            let t30 = v_q3_d * t21;
-            let t31 = t5 * v_q3_dd;
-            let t32 = t4 * v_q3_dd;
-            let t33 = t9 * v_q1_d;
+            let (s_v_q3, c_v_q3) = tq[1];
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = c_v_q3 * p_l3;
+            let t3 = s_v_q3 * p_l3;
+            let (s_v_q4, c_v_q4) = tq[2];
+            let t4 = T::lit(0.5) * p_l1;
+            let t5 = c_v_q1 * t4;
+            let t6 = s_v_q1 * t4;
+            let t7 = p_lAC + t6;
+            let t8 = t1 + p_lAC;
+            let t9 = T::lit(0.5) * p_l3;
+            let t10 = c_v_q3 * t9;
+            let t11 = s_v_q3 * t9;
+            let t12 = T::lit(0.5) * p_l4;
+            let t13 = c_v_q4 * t12;
+            let t14 = s_v_q4 * t12;
+            let t15 = t2 + t13;
+            let t16 = t3 + t14;
+            let t17 = t2 * v_q3_d;
+            let t18 = t3 * v_q3_d;
+            let t19 = t1 * v_q1_d;
+            let t20 = -t19;
+            let t21 = t0 * v_q1_d;
+            let t22 = v_q1_d * t21;
+            let t23 = t1 * v_q1_dd;
+            let t24 = v_q1_d * t19;
+            let t25 = t0 * v_q1_dd;
+            let t26 = v_q3_d * t17;
+            let t27 = v_q3_d * t18;
+            let t28 = t3 * v_q3_dd;
+            let t29 = t2 * v_q3_dd;
+            let t30 = t6 * v_q1_d;
+            let t31 = -t30;
+            let t32 = t5 * v_q1_d;
+            let t33 = t11 * v_q3_d;
             let t34 = -t33;
-            let t35 = t8 * v_q1_d;
-            let t36 = t14 * v_q3_d;
-            let t37 = -t36;
-            let t38 = t13 * v_q3_d;
-            let t39 = t17 * v_q4_d;
-            let t40 = t21 + t39;
-            let t41 = -t40;
-            let t42 = t16 * v_q4_d;
-            let t43 = t20 + t42;
-            let t44 = v_q1_d * t35;
-            let t45 = t9 * v_q1_dd;
-            let t46 = t44 + t45;
-            let t47 = -t46;
-            let t48 = v_q1_d * t33;
-            let t49 = t8 * v_q1_dd;
-            let t50 = t48 - t49;
-            let t51 = -t50;
-            let t52 = t25 + t26;
-            let t53 = -t52;
-            let t54 = t27 - t28;
-            let t55 = -t54;
-            let t56 = v_q3_d * t38;
-            let t57 = t14 * v_q3_dd;
-            let t58 = t56 + t57;
-            let t59 = -t58;
-            let t60 = v_q3_d * t36;
-            let t61 = t13 * v_q3_dd;
-            let t62 = t60 - t61;
-            let t63 = -t62;
-            let t64 = v_q4_d * t42;
-            let t65 = t29 + t64;
-            let t66 = t31 + t65;
-            let t67 = t17 * v_q4_dd;
-            let t68 = t66 + t67;
-            let t69 = -t68;
-            let t70 = v_q4_d * t39;
-            let t71 = t30 + t70;
-            let t72 = t32 - t71;
-            let t73 = t16 * v_q4_dd;
-            let t74 = t72 + t73;
-            [
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [t8, t10],
-                        velocity: [t34, t35],
-                        acceleration: [t47, t51],
-                    },
-                    angle: [v_q1, v_q1_d, v_q1_dd],
+            let t35 = t10 * v_q3_d;
+            let t36 = t14 * v_q4_d;
+            let t37 = t18 + t36;
+            let t38 = -t37;
+            let t39 = t13 * v_q4_d;
+            let t40 = t17 + t39;
+            let t41 = v_q1_d * t32;
+            let t42 = t6 * v_q1_dd;
+            let t43 = t41 + t42;
+            let t44 = -t43;
+            let t45 = v_q1_d * t30;
+            let t46 = t5 * v_q1_dd;
+            let t47 = t45 - t46;
+            let t48 = -t47;
+            let t49 = t22 + t23;
+            let t50 = -t49;
+            let t51 = t24 - t25;
+            let t52 = -t51;
+            let t53 = v_q3_d * t35;
+            let t54 = t11 * v_q3_dd;
+            let t55 = t53 + t54;
+            let t56 = -t55;
+            let t57 = v_q3_d * t33;
+            let t58 = t10 * v_q3_dd;
+            let t59 = t57 - t58;
+            let t60 = -t59;
+            let t61 = v_q4_d * t39;
+            let t62 = t26 + t61;
+            let t63 = t28 + t62;
+            let t64 = t14 * v_q4_dd;
+            let t65 = t63 + t64;
+            let t66 = -t65;
+            let t67 = v_q4_d * t36;
+            let t68 = t27 + t67;
+            let t69 = t29 - t68;
+            let t70 = t13 * v_q4_dd;
+            let t71 = t69 + t70;
+            masses[0] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.3),
+                inertia: T::lit(0.0004),
+            };
+            masses[1] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.2),
+                inertia: T::lit(0.0001),
+            };
+            masses[2] = ::mechgen::__private::BodyMass {
+                mass: T::lit(1.4),
+                inertia: T::lit(0.042),
+            };
+            masses[3] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.35),
+                inertia: T::lit(0.00066),
+            };
+            masses[4] = ::mechgen::__private::BodyMass {
+                mass: T::lit(5.0),
+                inertia: T::zero(),
+            };
+            out[0] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t5, t7],
+                    velocity: [t31, t32],
+                    acceleration: [t44, t48],
                 },
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [t2, t11],
-                        velocity: [t23, t24],
-                        acceleration: [t53, t55],
-                    },
-                    angle: [v_q3, v_q3_d, v_q3_dd],
+                angle: [v_q1, v_q1_d, v_q1_dd],
+            };
+            out[1] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t0, t8],
+                    velocity: [t20, t21],
+                    acceleration: [t50, t52],
                 },
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [t13, t14],
-                        velocity: [t37, t38],
-                        acceleration: [t59, t63],
-                    },
-                    angle: [v_q3, v_q3_d, v_q3_dd],
+                angle: [v_q3, v_q3_d, v_q3_dd],
+            };
+            out[2] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t10, t11],
+                    velocity: [t34, t35],
+                    acceleration: [t56, t60],
                 },
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [t18, t19],
-                        velocity: [t41, t43],
-                        acceleration: [t69, t74],
-                    },
-                    angle: [v_q4, v_q4_d, v_q4_dd],
+                angle: [v_q3, v_q3_d, v_q3_dd],
+            };
+            out[3] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t15, t16],
+                    velocity: [t38, t40],
+                    acceleration: [t66, t71],
                 },
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [v_sE, p_yE],
-                        velocity: [v_sE_d, T::zero()],
-                        acceleration: [v_sE_dd, T::zero()],
-                    },
-                    angle: [T::zero(), T::zero(), T::zero()],
+                angle: [v_q4, v_q4_d, v_q4_dd],
+            };
+            out[4] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [v_sE, p_yE],
+                    velocity: [v_sE_d, T::zero()],
+                    acceleration: [v_sE_dd, T::zero()],
                 },
-            ]
+                angle: [T::zero(), T::zero(), T::zero()],
+            };
+            [T::zero(), T::lit(-9.81)]
         }
-        /// The acceleration of gravity (zero without a `gravity` key), and each body's mass and inertia about its centre of mass at the params, in `INFO.bodies` order.
+        /// Each body's centre of mass and angle with their velocities and accelerations at a
+        /// solved state, in `INFO.bodies` order.
+        pub fn body_motion(
+            &self,
+            x: &[T; 1],
+            q: &[T; 4],
+            xd: &[T; 1],
+            qd: &[T; 4],
+            xdd: &[T; 1],
+            qdd: &[T; 4],
+        ) -> [::mechgen::__private::BodyMotion<T>; 5] {
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            let mut masses = [::mechgen::__private::BodyMass::default(); 5];
+            let mut out = [::mechgen::__private::BodyMotion::default(); 5];
+            self.body_motion_cached(
+                (x, xd, xdd),
+                (q, qd, qdd),
+                (&tx, &st.sc, &tp),
+                &mut masses,
+                &mut out,
+            );
+            out
+        }
+        /// The acceleration of gravity (zero without a `gravity` key) and each body's mass and
+        /// inertia about its centre of mass at the params, in `INFO.bodies` order.
         pub fn mass_properties(
             &self,
         ) -> ([T; 2], [::mechgen::__private::BodyMass<T>; 5]) {
-            (
-                [T::zero(), T::lit(-9.81)],
-                [
-                    ::mechgen::__private::BodyMass {
-                        mass: T::lit(0.3),
-                        inertia: T::lit(0.0004),
-                    },
-                    ::mechgen::__private::BodyMass {
-                        mass: T::lit(0.2),
-                        inertia: T::lit(0.0001),
-                    },
-                    ::mechgen::__private::BodyMass {
-                        mass: T::lit(1.4),
-                        inertia: T::lit(0.042),
-                    },
-                    ::mechgen::__private::BodyMass {
-                        mass: T::lit(0.35),
-                        inertia: T::lit(0.00066),
-                    },
-                    ::mechgen::__private::BodyMass {
-                        mass: T::lit(5.0),
-                        inertia: T::zero(),
-                    },
-                ],
+            let mut masses = [::mechgen::__private::BodyMass::default(); 5];
+            masses[0] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.3),
+                inertia: T::lit(0.0004),
+            };
+            masses[1] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.2),
+                inertia: T::lit(0.0001),
+            };
+            masses[2] = ::mechgen::__private::BodyMass {
+                mass: T::lit(1.4),
+                inertia: T::lit(0.042),
+            };
+            masses[3] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.35),
+                inertia: T::lit(0.00066),
+            };
+            masses[4] = ::mechgen::__private::BodyMass {
+                mass: T::lit(5.0),
+                inertia: T::zero(),
+            };
+            ([T::zero(), T::lit(-9.81)], masses)
+        }
+        /// [`Self::mass_properties`] into `masses` and [`Self::body_motion`] at a tick's state
+        /// into `out`, with the sines and cosines the tick keeps (when the params are still those
+        /// of the last tick; else computed afresh); returns gravity.
+        #[inline]
+        pub fn tick_bodies(
+            &self,
+            t: &Tick<T>,
+            masses: &mut [::mechgen::__private::BodyMass<T>; 5],
+            out: &mut [::mechgen::__private::BodyMotion<T>; 5],
+        ) -> [T; 2] {
+            use ::mechgen::__private::TickCache as _;
+            if !t.same_params(&self.params.to_array()) {
+                let (g, m) = self.mass_properties();
+                *masses = m;
+                *out = self.body_motion(&t.x, &t.q, &t.xd, &t.qd, &t.xdd, &t.qdd);
+                return g;
+            }
+            let (tx, tq) = t.trig();
+            self.body_motion_cached(
+                (&t.x, &t.xd, &t.xdd),
+                (&t.q, &t.qd, &t.qdd),
+                (tx, tq, t.params_trig()),
+                masses,
+                out,
             )
         }
         /// Block 0: s3, q3 from loop 1 (x, y). Its residual and Jacobian block (Newton).
@@ -6856,6 +7043,25 @@ pub mod shaper {
             Ok(gravity)
         }
         #[inline]
+        fn tick_bodies(
+            &self,
+            t: &Self::Tick,
+            masses: &mut [::mechgen::__private::BodyMass<T>],
+            out: &mut [::mechgen::__private::BodyMotion<T>],
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let bad = |got: usize| ::mechgen::__private::SolveError::BadLength {
+                expected: 5,
+                got,
+            };
+            let masses_len = masses.len();
+            let masses = <&mut [::mechgen::__private::BodyMass<T>; 5]>::try_from(masses)
+                .map_err(|_| bad(masses_len))?;
+            let out_len = out.len();
+            let out = <&mut [::mechgen::__private::BodyMotion<T>; 5]>::try_from(out)
+                .map_err(|_| bad(out_len))?;
+            Ok(Shaper::tick_bodies(self, t, masses, out))
+        }
+        #[inline]
         fn solve(
             &self,
             input: &::mechgen::__private::InputMotion<Self::X>,
@@ -7922,16 +8128,17 @@ pub mod four_bar {
                 },
             ]
         }
-        /// Each body's centre of mass and angle with their velocities and accelerations, in `INFO.bodies` order.
-        pub fn body_motion(
+        /// Every body's mass properties into `masses` and motion into `out`, with the sines and
+        /// cosines of the inputs, unknowns and params given; returns gravity.
+        #[inline]
+        fn body_motion_cached(
             &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-            xdd: &[T; 1],
-            qdd: &[T; 2],
-        ) -> [::mechgen::__private::BodyMotion<T>; 3] {
+            (x, xd, xdd): (&[T; 1], &[T; 1], &[T; 1]),
+            (q, qd, qdd): (&[T; 2], &[T; 2], &[T; 2]),
+            (tx, tq, _tp): (&[(T, T); 1], &[(T, T); 2], &[(T, T); 6]),
+            masses: &mut [::mechgen::__private::BodyMass<T>; 3],
+            out: &mut [::mechgen::__private::BodyMotion<T>; 3],
+        ) -> [T; 2] {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -7945,98 +8152,143 @@ pub mod four_bar {
             let v_q1_dd = xdd[0];
             let v_q2_dd = qdd[0];
             let v_q3_dd = qdd[1];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_l1 * c_v_q1;
-            let t2 = p_l1 * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let (s_v_q3, c_v_q3) = v_q3.sin_cos();
-            let t5 = T::lit(0.5) * p_l1;
-            let t6 = c_v_q1 * t5;
-            let t7 = s_v_q1 * t5;
-            let t8 = T::lit(0.5) * p_l2;
-            let t9 = c_v_q2 * t8;
-            let t10 = s_v_q2 * t8;
-            let t11 = t1 + t9;
-            let t12 = t2 + t10;
-            let t13 = T::lit(0.5) * p_l3;
-            let t14 = c_v_q3 * t13;
-            let t15 = s_v_q3 * t13;
-            let t16 = p_l4 + t14;
-            let t17 = t2 * v_q1_d;
-            let t18 = t1 * v_q1_d;
-            let t19 = v_q1_d * t18;
-            let t20 = t2 * v_q1_dd;
-            let t21 = v_q1_d * t17;
-            let t22 = t1 * v_q1_dd;
-            let t23 = t7 * v_q1_d;
-            let t24 = -t23;
-            let t25 = t6 * v_q1_d;
-            let t26 = t10 * v_q2_d;
-            let t27 = t17 + t26;
-            let t28 = -t27;
-            let t29 = t9 * v_q2_d;
-            let t30 = t18 + t29;
-            let t31 = t15 * v_q3_d;
-            let t32 = -t31;
-            let t33 = t14 * v_q3_d;
-            let t34 = v_q1_d * t25;
-            let t35 = t7 * v_q1_dd;
-            let t36 = t34 + t35;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let (s_v_q3, c_v_q3) = tq[1];
+            let t2 = T::lit(0.5) * p_l1;
+            let t3 = c_v_q1 * t2;
+            let t4 = s_v_q1 * t2;
+            let t5 = T::lit(2.4) * p_l1;
+            let t6 = p_l1 * t5;
+            let t7 = p_l1 * t6;
+            let t8 = t7 / T::lit(12.0);
+            let t9 = T::lit(0.5) * p_l2;
+            let t10 = c_v_q2 * t9;
+            let t11 = s_v_q2 * t9;
+            let t12 = t0 + t10;
+            let t13 = t1 + t11;
+            let t14 = T::lit(0.5) * p_l3;
+            let t15 = c_v_q3 * t14;
+            let t16 = s_v_q3 * t14;
+            let t17 = p_l4 + t15;
+            let t18 = T::lit(2.4) * p_l3;
+            let t19 = p_l3 * t18;
+            let t20 = p_l3 * t19;
+            let t21 = t20 / T::lit(12.0);
+            let t22 = t1 * v_q1_d;
+            let t23 = t0 * v_q1_d;
+            let t24 = v_q1_d * t23;
+            let t25 = t1 * v_q1_dd;
+            let t26 = v_q1_d * t22;
+            let t27 = t0 * v_q1_dd;
+            let t28 = t4 * v_q1_d;
+            let t29 = -t28;
+            let t30 = t3 * v_q1_d;
+            let t31 = t11 * v_q2_d;
+            let t32 = t22 + t31;
+            let t33 = -t32;
+            let t34 = t10 * v_q2_d;
+            let t35 = t23 + t34;
+            let t36 = t16 * v_q3_d;
             let t37 = -t36;
-            let t38 = v_q1_d * t23;
-            let t39 = t6 * v_q1_dd;
-            let t40 = t38 - t39;
-            let t41 = -t40;
-            let t42 = v_q2_d * t29;
-            let t43 = t19 + t42;
-            let t44 = t20 + t43;
-            let t45 = t10 * v_q2_dd;
-            let t46 = t44 + t45;
-            let t47 = -t46;
-            let t48 = v_q2_d * t26;
-            let t49 = t21 + t48;
-            let t50 = t22 - t49;
-            let t51 = t9 * v_q2_dd;
-            let t52 = t50 + t51;
-            let t53 = v_q3_d * t33;
-            let t54 = t15 * v_q3_dd;
-            let t55 = t53 + t54;
-            let t56 = -t55;
-            let t57 = v_q3_d * t31;
-            let t58 = t14 * v_q3_dd;
-            let t59 = t57 - t58;
-            let t60 = -t59;
-            [
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [t6, t7],
-                        velocity: [t24, t25],
-                        acceleration: [t37, t41],
-                    },
-                    angle: [v_q1, v_q1_d, v_q1_dd],
+            let t38 = t15 * v_q3_d;
+            let t39 = v_q1_d * t30;
+            let t40 = t4 * v_q1_dd;
+            let t41 = t39 + t40;
+            let t42 = -t41;
+            let t43 = v_q1_d * t28;
+            let t44 = t3 * v_q1_dd;
+            let t45 = t43 - t44;
+            let t46 = -t45;
+            let t47 = v_q2_d * t34;
+            let t48 = t24 + t47;
+            let t49 = t25 + t48;
+            let t50 = t11 * v_q2_dd;
+            let t51 = t49 + t50;
+            let t52 = -t51;
+            let t53 = v_q2_d * t31;
+            let t54 = t26 + t53;
+            let t55 = t27 - t54;
+            let t56 = t10 * v_q2_dd;
+            let t57 = t55 + t56;
+            let t58 = v_q3_d * t38;
+            let t59 = t16 * v_q3_dd;
+            let t60 = t58 + t59;
+            let t61 = -t60;
+            let t62 = v_q3_d * t36;
+            let t63 = t15 * v_q3_dd;
+            let t64 = t62 - t63;
+            let t65 = -t64;
+            masses[0] = ::mechgen::__private::BodyMass {
+                mass: t5,
+                inertia: t8,
+            };
+            masses[1] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.7),
+                inertia: T::lit(0.0075),
+            };
+            masses[2] = ::mechgen::__private::BodyMass {
+                mass: t18,
+                inertia: t21,
+            };
+            out[0] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t3, t4],
+                    velocity: [t29, t30],
+                    acceleration: [t42, t46],
                 },
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [t11, t12],
-                        velocity: [t28, t30],
-                        acceleration: [t47, t52],
-                    },
-                    angle: [v_q2, v_q2_d, v_q2_dd],
+                angle: [v_q1, v_q1_d, v_q1_dd],
+            };
+            out[1] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t12, t13],
+                    velocity: [t33, t35],
+                    acceleration: [t52, t57],
                 },
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [t16, t15],
-                        velocity: [t32, t33],
-                        acceleration: [t56, t60],
-                    },
-                    angle: [v_q3, v_q3_d, v_q3_dd],
+                angle: [v_q2, v_q2_d, v_q2_dd],
+            };
+            out[2] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t17, t16],
+                    velocity: [t37, t38],
+                    acceleration: [t61, t65],
                 },
-            ]
+                angle: [v_q3, v_q3_d, v_q3_dd],
+            };
+            [T::zero(), T::lit(-9.81)]
         }
-        /// The acceleration of gravity (zero without a `gravity` key), and each body's mass and inertia about its centre of mass at the params, in `INFO.bodies` order.
+        /// Each body's centre of mass and angle with their velocities and accelerations at a
+        /// solved state, in `INFO.bodies` order.
+        pub fn body_motion(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            xd: &[T; 1],
+            qd: &[T; 2],
+            xdd: &[T; 1],
+            qdd: &[T; 2],
+        ) -> [::mechgen::__private::BodyMotion<T>; 3] {
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            let mut masses = [::mechgen::__private::BodyMass::default(); 3];
+            let mut out = [::mechgen::__private::BodyMotion::default(); 3];
+            self.body_motion_cached(
+                (x, xd, xdd),
+                (q, qd, qdd),
+                (&tx, &st.sc, &tp),
+                &mut masses,
+                &mut out,
+            );
+            out
+        }
+        /// The acceleration of gravity (zero without a `gravity` key) and each body's mass and
+        /// inertia about its centre of mass at the params, in `INFO.bodies` order.
         pub fn mass_properties(
             &self,
         ) -> ([T; 2], [::mechgen::__private::BodyMass<T>; 3]) {
+            let mut masses = [::mechgen::__private::BodyMass::default(); 3];
             let p_l1 = self.params.l1;
             let p_l3 = self.params.l3;
             let t0 = T::lit(2.4) * p_l1;
@@ -8047,22 +8299,44 @@ pub mod four_bar {
             let t5 = p_l3 * t4;
             let t6 = p_l3 * t5;
             let t7 = t6 / T::lit(12.0);
-            (
-                [T::zero(), T::lit(-9.81)],
-                [
-                    ::mechgen::__private::BodyMass {
-                        mass: t0,
-                        inertia: t3,
-                    },
-                    ::mechgen::__private::BodyMass {
-                        mass: T::lit(0.7),
-                        inertia: T::lit(0.0075),
-                    },
-                    ::mechgen::__private::BodyMass {
-                        mass: t4,
-                        inertia: t7,
-                    },
-                ],
+            masses[0] = ::mechgen::__private::BodyMass {
+                mass: t0,
+                inertia: t3,
+            };
+            masses[1] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.7),
+                inertia: T::lit(0.0075),
+            };
+            masses[2] = ::mechgen::__private::BodyMass {
+                mass: t4,
+                inertia: t7,
+            };
+            ([T::zero(), T::lit(-9.81)], masses)
+        }
+        /// [`Self::mass_properties`] into `masses` and [`Self::body_motion`] at a tick's state
+        /// into `out`, with the sines and cosines the tick keeps (when the params are still those
+        /// of the last tick; else computed afresh); returns gravity.
+        #[inline]
+        pub fn tick_bodies(
+            &self,
+            t: &Tick<T>,
+            masses: &mut [::mechgen::__private::BodyMass<T>; 3],
+            out: &mut [::mechgen::__private::BodyMotion<T>; 3],
+        ) -> [T; 2] {
+            use ::mechgen::__private::TickCache as _;
+            if !t.same_params(&self.params.to_array()) {
+                let (g, m) = self.mass_properties();
+                *masses = m;
+                *out = self.body_motion(&t.x, &t.q, &t.xd, &t.qd, &t.xdd, &t.qdd);
+                return g;
+            }
+            let (tx, tq) = t.trig();
+            self.body_motion_cached(
+                (&t.x, &t.xd, &t.xdd),
+                (&t.q, &t.qd, &t.qdd),
+                (tx, tq, t.params_trig()),
+                masses,
+                out,
             )
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its residual and Jacobian block (Newton).
@@ -9500,6 +9774,25 @@ pub mod four_bar {
             Ok(gravity)
         }
         #[inline]
+        fn tick_bodies(
+            &self,
+            t: &Self::Tick,
+            masses: &mut [::mechgen::__private::BodyMass<T>],
+            out: &mut [::mechgen::__private::BodyMotion<T>],
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let bad = |got: usize| ::mechgen::__private::SolveError::BadLength {
+                expected: 3,
+                got,
+            };
+            let masses_len = masses.len();
+            let masses = <&mut [::mechgen::__private::BodyMass<T>; 3]>::try_from(masses)
+                .map_err(|_| bad(masses_len))?;
+            let out_len = out.len();
+            let out = <&mut [::mechgen::__private::BodyMotion<T>; 3]>::try_from(out)
+                .map_err(|_| bad(out_len))?;
+            Ok(FourBar::tick_bodies(self, t, masses, out))
+        }
+        #[inline]
         fn solve(
             &self,
             input: &::mechgen::__private::InputMotion<Self::X>,
@@ -10406,16 +10699,17 @@ pub mod slider_crank {
                 },
             ]
         }
-        /// Each body's centre of mass and angle with their velocities and accelerations, in `INFO.bodies` order.
-        pub fn body_motion(
+        /// Every body's mass properties into `masses` and motion into `out`, with the sines and
+        /// cosines of the inputs, unknowns and params given; returns gravity.
+        #[inline]
+        fn body_motion_cached(
             &self,
-            x: &[T; 1],
-            q: &[T; 2],
-            xd: &[T; 1],
-            qd: &[T; 2],
-            xdd: &[T; 1],
-            qdd: &[T; 2],
-        ) -> [::mechgen::__private::BodyMotion<T>; 3] {
+            (x, xd, xdd): (&[T; 1], &[T; 1], &[T; 1]),
+            (q, qd, qdd): (&[T; 2], &[T; 2], &[T; 2]),
+            (tx, tq, _tp): (&[(T, T); 1], &[(T, T); 2], &[(T, T); 3]),
+            masses: &mut [::mechgen::__private::BodyMass<T>; 3],
+            out: &mut [::mechgen::__private::BodyMotion<T>; 3],
+        ) -> [T; 2] {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_sC = q[1];
@@ -10428,98 +10722,157 @@ pub mod slider_crank {
             let v_q1_dd = xdd[0];
             let v_q2_dd = qdd[0];
             let v_sC_dd = qdd[1];
-            let (s_v_q1, c_v_q1) = v_q1.sin_cos();
-            let t1 = p_r * c_v_q1;
-            let t2 = p_r * s_v_q1;
-            let (s_v_q2, c_v_q2) = v_q2.sin_cos();
-            let t4 = p_l / T::lit(2.0);
-            let t5 = c_v_q2 * t4;
-            let t6 = s_v_q2 * t4;
-            let t7 = t1 + t5;
-            let t8 = t2 + t6;
-            let t9 = T::lit(0.5) * p_r;
-            let t10 = c_v_q1 * t9;
-            let t11 = s_v_q1 * t9;
-            let t12 = t2 * v_q1_d;
-            let t13 = t1 * v_q1_d;
-            let t14 = v_q1_d * t13;
-            let t15 = t2 * v_q1_dd;
-            let t16 = v_q1_d * t12;
-            let t17 = t1 * v_q1_dd;
-            let t18 = t6 * v_q2_d;
-            let t19 = t12 + t18;
-            let t20 = -t19;
-            let t21 = t5 * v_q2_d;
-            let t22 = t13 + t21;
-            let t23 = v_q2_d * t21;
-            let t24 = t14 + t23;
-            let t25 = t15 + t24;
-            let t26 = t6 * v_q2_dd;
-            let t27 = t25 + t26;
-            let t28 = -t27;
-            let t29 = v_q2_d * t18;
-            let t30 = t16 + t29;
-            let t31 = t17 - t30;
-            let t32 = t5 * v_q2_dd;
-            let t33 = t31 + t32;
-            let t34 = t11 * v_q1_d;
-            let t35 = -t34;
-            let t36 = t10 * v_q1_d;
-            let t37 = v_q1_d * t36;
-            let t38 = t11 * v_q1_dd;
-            let t39 = t37 + t38;
-            let t40 = -t39;
-            let t41 = v_q1_d * t34;
-            let t42 = t10 * v_q1_dd;
-            let t43 = t41 - t42;
-            let t44 = -t43;
-            [
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [t10, t11],
-                        velocity: [t35, t36],
-                        acceleration: [t40, t44],
-                    },
-                    angle: [v_q1, v_q1_d, v_q1_dd],
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_r * c_v_q1;
+            let t1 = p_r * s_v_q1;
+            let (s_v_q2, c_v_q2) = tq[0];
+            let t2 = p_l / T::lit(2.0);
+            let t3 = c_v_q2 * t2;
+            let t4 = s_v_q2 * t2;
+            let t5 = t0 + t3;
+            let t6 = t1 + t4;
+            let t7 = T::lit(0.5) * p_r;
+            let t8 = c_v_q1 * t7;
+            let t9 = s_v_q1 * t7;
+            let t10 = t1 * v_q1_d;
+            let t11 = t0 * v_q1_d;
+            let t12 = v_q1_d * t11;
+            let t13 = t1 * v_q1_dd;
+            let t14 = v_q1_d * t10;
+            let t15 = t0 * v_q1_dd;
+            let t16 = t4 * v_q2_d;
+            let t17 = t10 + t16;
+            let t18 = -t17;
+            let t19 = t3 * v_q2_d;
+            let t20 = t11 + t19;
+            let t21 = v_q2_d * t19;
+            let t22 = t12 + t21;
+            let t23 = t13 + t22;
+            let t24 = t4 * v_q2_dd;
+            let t25 = t23 + t24;
+            let t26 = -t25;
+            let t27 = v_q2_d * t16;
+            let t28 = t14 + t27;
+            let t29 = t15 - t28;
+            let t30 = t3 * v_q2_dd;
+            let t31 = t29 + t30;
+            let t32 = t9 * v_q1_d;
+            let t33 = -t32;
+            let t34 = t8 * v_q1_d;
+            let t35 = v_q1_d * t34;
+            let t36 = t9 * v_q1_dd;
+            let t37 = t35 + t36;
+            let t38 = -t37;
+            let t39 = v_q1_d * t32;
+            let t40 = t8 * v_q1_dd;
+            let t41 = t39 - t40;
+            let t42 = -t41;
+            masses[0] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.1),
+                inertia: T::lit(0.00002),
+            };
+            masses[1] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.3),
+                inertia: T::lit(0.001),
+            };
+            masses[2] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.5),
+                inertia: T::zero(),
+            };
+            out[0] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t8, t9],
+                    velocity: [t33, t34],
+                    acceleration: [t38, t42],
                 },
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [t7, t8],
-                        velocity: [t20, t22],
-                        acceleration: [t28, t33],
-                    },
-                    angle: [v_q2, v_q2_d, v_q2_dd],
+                angle: [v_q1, v_q1_d, v_q1_dd],
+            };
+            out[1] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t5, t6],
+                    velocity: [t18, t20],
+                    acceleration: [t26, t31],
                 },
-                ::mechgen::__private::BodyMotion {
-                    com: ::mechgen::__private::PointMotion {
-                        position: [v_sC, p_off],
-                        velocity: [v_sC_d, T::zero()],
-                        acceleration: [v_sC_dd, T::zero()],
-                    },
-                    angle: [T::zero(), T::zero(), T::zero()],
+                angle: [v_q2, v_q2_d, v_q2_dd],
+            };
+            out[2] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [v_sC, p_off],
+                    velocity: [v_sC_d, T::zero()],
+                    acceleration: [v_sC_dd, T::zero()],
                 },
-            ]
+                angle: [T::zero(), T::zero(), T::zero()],
+            };
+            [T::zero(), T::lit(-9.81)]
         }
-        /// The acceleration of gravity (zero without a `gravity` key), and each body's mass and inertia about its centre of mass at the params, in `INFO.bodies` order.
+        /// Each body's centre of mass and angle with their velocities and accelerations at a
+        /// solved state, in `INFO.bodies` order.
+        pub fn body_motion(
+            &self,
+            x: &[T; 1],
+            q: &[T; 2],
+            xd: &[T; 1],
+            qd: &[T; 2],
+            xdd: &[T; 1],
+            qdd: &[T; 2],
+        ) -> [::mechgen::__private::BodyMotion<T>; 3] {
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            let mut masses = [::mechgen::__private::BodyMass::default(); 3];
+            let mut out = [::mechgen::__private::BodyMotion::default(); 3];
+            self.body_motion_cached(
+                (x, xd, xdd),
+                (q, qd, qdd),
+                (&tx, &st.sc, &tp),
+                &mut masses,
+                &mut out,
+            );
+            out
+        }
+        /// The acceleration of gravity (zero without a `gravity` key) and each body's mass and
+        /// inertia about its centre of mass at the params, in `INFO.bodies` order.
         pub fn mass_properties(
             &self,
         ) -> ([T; 2], [::mechgen::__private::BodyMass<T>; 3]) {
-            (
-                [T::zero(), T::lit(-9.81)],
-                [
-                    ::mechgen::__private::BodyMass {
-                        mass: T::lit(0.1),
-                        inertia: T::lit(0.00002),
-                    },
-                    ::mechgen::__private::BodyMass {
-                        mass: T::lit(0.3),
-                        inertia: T::lit(0.001),
-                    },
-                    ::mechgen::__private::BodyMass {
-                        mass: T::lit(0.5),
-                        inertia: T::zero(),
-                    },
-                ],
+            let mut masses = [::mechgen::__private::BodyMass::default(); 3];
+            masses[0] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.1),
+                inertia: T::lit(0.00002),
+            };
+            masses[1] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.3),
+                inertia: T::lit(0.001),
+            };
+            masses[2] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.5),
+                inertia: T::zero(),
+            };
+            ([T::zero(), T::lit(-9.81)], masses)
+        }
+        /// [`Self::mass_properties`] into `masses` and [`Self::body_motion`] at a tick's state
+        /// into `out`, with the sines and cosines the tick keeps (when the params are still those
+        /// of the last tick; else computed afresh); returns gravity.
+        #[inline]
+        pub fn tick_bodies(
+            &self,
+            t: &Tick<T>,
+            masses: &mut [::mechgen::__private::BodyMass<T>; 3],
+            out: &mut [::mechgen::__private::BodyMotion<T>; 3],
+        ) -> [T; 2] {
+            use ::mechgen::__private::TickCache as _;
+            if !t.same_params(&self.params.to_array()) {
+                let (g, m) = self.mass_properties();
+                *masses = m;
+                *out = self.body_motion(&t.x, &t.q, &t.xd, &t.qd, &t.xdd, &t.qdd);
+                return g;
+            }
+            let (tx, tq) = t.trig();
+            self.body_motion_cached(
+                (&t.x, &t.xd, &t.xdd),
+                (&t.q, &t.qd, &t.qdd),
+                (tx, tq, t.params_trig()),
+                masses,
+                out,
             )
         }
         /// Block 0: q2 from loop 1 (y). Its residual and Jacobian block (Newton).
@@ -11729,6 +12082,25 @@ pub mod slider_crank {
             let (gravity, masses) = SliderCrank::mass_properties(self);
             ::mechgen::__private::put_slice(out, &masses)?;
             Ok(gravity)
+        }
+        #[inline]
+        fn tick_bodies(
+            &self,
+            t: &Self::Tick,
+            masses: &mut [::mechgen::__private::BodyMass<T>],
+            out: &mut [::mechgen::__private::BodyMotion<T>],
+        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
+            let bad = |got: usize| ::mechgen::__private::SolveError::BadLength {
+                expected: 3,
+                got,
+            };
+            let masses_len = masses.len();
+            let masses = <&mut [::mechgen::__private::BodyMass<T>; 3]>::try_from(masses)
+                .map_err(|_| bad(masses_len))?;
+            let out_len = out.len();
+            let out = <&mut [::mechgen::__private::BodyMotion<T>; 3]>::try_from(out)
+                .map_err(|_| bad(out_len))?;
+            Ok(SliderCrank::tick_bodies(self, t, masses, out))
         }
         #[inline]
         fn solve(

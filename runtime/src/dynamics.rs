@@ -20,7 +20,7 @@ use crate::dyn_tick::StateRef;
 use crate::dynamic::DynMechanism;
 use crate::error::SolveError;
 use crate::info::{BodyMass, BodyMotion, MechanismInfo, PointMotion};
-use crate::mechanism::InputMotion;
+use crate::mechanism::{InputMotion, State, StaticMechanism};
 use crate::scalar::Real;
 
 /// A force at a point (index into `info().points`), in the file's units.
@@ -57,6 +57,21 @@ pub fn inverse_dynamics<T: Real>(
     coefficients: &[BodyMotion<T>],
     loads: impl IntoIterator<Item = ([T; 2], [T; 2])>,
 ) -> Dynamics<T> {
+    let scaled = motion.iter().zip(coefficients).map(|(s, c)| {
+        let (cg, cphi) = (c.com.velocity, c.angle[1]);
+        (s, cg, cphi)
+    });
+    sums(gravity, masses, scaled, loads)
+}
+
+/// [`inverse_dynamics`] over each body's motion with its coefficients `(c_G, c_φ)`.
+#[inline(always)]
+fn sums<'a, T: Real>(
+    gravity: [T; 2],
+    masses: &[BodyMass<T>],
+    bodies: impl Iterator<Item = (&'a BodyMotion<T>, [T; 2], T)>,
+    loads: impl IntoIterator<Item = ([T; 2], [T; 2])>,
+) -> Dynamics<T> {
     let zero = T::zero();
     let half = T::lit(0.5);
     let mut d = Dynamics {
@@ -67,10 +82,9 @@ pub fn inverse_dynamics<T: Real>(
         shaking_force: [zero; 2],
         shaking_moment: zero,
     };
-    for ((b, s), c) in masses.iter().zip(motion).zip(coefficients) {
+    for (b, (s, cg, cphi)) in masses.iter().zip(bodies) {
         let (m, i) = (b.mass, b.inertia);
         let (g, v, a) = (s.com.position, s.com.velocity, s.com.acceleration);
-        let (cg, cphi) = (c.com.velocity, c.angle[1]);
         let (phid, phidd) = (s.angle[1], s.angle[2]);
         let dyn_x = m * (a[0] - gravity[0]);
         let dyn_y = m * (a[1] - gravity[1]);
@@ -134,6 +148,47 @@ pub fn dynamics<T: Real, M: DynMechanism<T> + ?Sized>(
     loads: &[PointLoad<T>],
     ws: &mut DynamicsWork<T>,
 ) -> Result<Dynamics<T>, SolveError> {
+    let gravity = m.mass_properties(&mut ws.masses)?;
+    let at = InputMotion::new(state.x, state.xd, state.xdd);
+    m.bodies(at, state.q, state.qd, state.qdd, &mut ws.motion)?;
+    finish(m, state, input, loads, gravity, ws)
+}
+
+/// [`dynamics`] right after a tick of a generated mechanism: its bodies on the sines and cosines
+/// the tick keeps (`StaticMechanism::tick_bodies`), then the same sums.
+#[inline]
+pub fn tick_dynamics<T: Real, M: StaticMechanism<T>>(
+    m: &M,
+    t: &M::Tick,
+    input: usize,
+    loads: &[PointLoad<T>],
+    ws: &mut DynamicsWork<T>,
+) -> Result<Dynamics<T>, SolveError> {
+    let gravity = m.tick_bodies(t, &mut ws.masses, &mut ws.motion)?;
+    let state = State {
+        x: t.x.as_ref(),
+        xd: t.xd.as_ref(),
+        xdd: t.xdd.as_ref(),
+        q: t.q.as_ref(),
+        qd: t.qd.as_ref(),
+        qdd: t.qdd.as_ref(),
+        points: t.points.as_ref(),
+        report: t.report,
+    };
+    finish(m, &state, input, loads, gravity, ws)
+}
+
+/// The sums, once `ws` holds the masses and the bodies' motion at `state`: the coefficients from
+/// the state's rates (or a velocity solve at unit rate), then [`inverse_dynamics`].
+#[inline(always)]
+fn finish<T: Real, M: DynMechanism<T> + ?Sized>(
+    m: &M,
+    state: &StateRef<'_, T>,
+    input: usize,
+    loads: &[PointLoad<T>],
+    gravity: [T; 2],
+    ws: &mut DynamicsWork<T>,
+) -> Result<Dynamics<T>, SolveError> {
     let (ni, np) = (state.x.len(), state.points.len());
     if input >= ni {
         return Err(SolveError::OutOfRange {
@@ -147,7 +202,6 @@ pub fn dynamics<T: Real, M: DynMechanism<T> + ?Sized>(
             len: np,
         });
     }
-    let gravity = m.mass_properties(&mut ws.masses)?;
     let good = |v: T| v.is_finite() && v >= T::zero();
     if let Some(body) = ws
         .masses
@@ -162,8 +216,6 @@ pub fn dynamics<T: Real, M: DynMechanism<T> + ?Sized>(
             index: 0,
         });
     }
-    let at = InputMotion::new(state.x, state.xd, state.xdd);
-    m.bodies(at, state.q, state.qd, state.qdd, &mut ws.motion)?;
     let rate = state.xd[input];
     let alone = state
         .xd
@@ -172,18 +224,16 @@ pub fn dynamics<T: Real, M: DynMechanism<T> + ?Sized>(
         .all(|(j, &v)| j == input || v == T::zero());
     if alone && rate != T::zero() {
         // Ġ = (∂G/∂x) ẋ when x alone moves.
-        for (u, s) in ws.unit.iter_mut().zip(&ws.motion) {
+        let inv = T::one() / rate;
+        let bodies = ws.motion.iter().map(|s| {
             let v = s.com.velocity;
-            u.com.velocity = [v[0] / rate, v[1] / rate];
-            u.angle[1] = s.angle[1] / rate;
-        }
-        let coefficient = |p: &PointMotion<T>| p.velocity.map(|v| v / rate);
+            (s, [v[0] * inv, v[1] * inv], s.angle[1] * inv)
+        });
+        let coefficient = |p: &PointMotion<T>| p.velocity.map(|v| v * inv);
         let loads = loads
             .iter()
             .map(|l| (coefficient(&state.points[l.point]), l.force));
-        return Ok(inverse_dynamics(
-            gravity, &ws.masses, &ws.motion, &ws.unit, loads,
-        ));
+        return Ok(sums(gravity, &ws.masses, bodies, loads));
     }
     ws.xd.fill(T::zero());
     ws.xd[input] = T::one();

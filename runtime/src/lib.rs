@@ -46,7 +46,7 @@ pub mod twofold;
 
 pub use dyn_tick::{DynTick, StateRef};
 pub use dynamic::{DynMechanism, DynState};
-pub use dynamics::{Dynamics, DynamicsWork, PointLoad, dynamics, inverse_dynamics};
+pub use dynamics::{Dynamics, DynamicsWork, PointLoad, dynamics, inverse_dynamics, tick_dynamics};
 pub use error::{Quantity, SolveError, Stage};
 pub use info::{
     BodyMass, BodyMotion, CoordDesc, CoordInfo, Kind, MechanismInfo, ParamDesc, ParamInfo,

@@ -220,6 +220,20 @@ pub trait StaticMechanism<T: Real>: Clone + Send + Sync {
         crate::error::len(out, 0)?;
         Ok([T::zero(); 2])
     }
+    /// [`StaticMechanism::mass_properties`] into `masses` and [`StaticMechanism::bodies`] at the
+    /// tick's state into `out`, on the sines and cosines the tick keeps: what inverse dynamics
+    /// after a tick reads ([`crate::dynamics::tick_dynamics`]).
+    fn tick_bodies(
+        &self,
+        t: &Self::Tick,
+        masses: &mut [BodyMass<T>],
+        out: &mut [BodyMotion<T>],
+    ) -> Result<[T; 2], SolveError> {
+        let gravity = self.mass_properties(masses)?;
+        let input = t.input();
+        self.bodies(&input, &t.q, &t.qd, &t.qdd, out)?;
+        Ok(gravity)
+    }
     /// One whole tick from `guess`: positions, velocities, accelerations and points, sharing the
     /// trigonometry between the stages (the fastest way to a full state without a [`Self::Tick`]).
     fn solve(

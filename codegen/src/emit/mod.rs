@@ -8,6 +8,7 @@ use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
 mod args;
+mod bodies;
 mod body;
 mod cache;
 mod closed;

@@ -150,7 +150,9 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
     .map(|t| crate::emit::comments::comment(t))
     .collect();
     let system_fns = crate::emit::system::system_fns(c, &args);
+    let body_fns = crate::emit::bodies::body_fns(c, &args);
     // A mechanism with bodies or gravity overrides the trait's bodiless defaults.
+    let nb = m.bodies.len();
     let body_impls = if m.bodies.is_empty() && m.gravity.is_none() {
         TokenStream::new()
     } else {
@@ -164,6 +166,16 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                 let (gravity, masses) = #ty::mass_properties(self);
                 #rt::put_slice(out, &masses)?;
                 Ok(gravity)
+            }
+            #[inline]
+            fn tick_bodies(&self, t: &Self::Tick, masses: &mut [#rt::BodyMass<#gt>], out: &mut [#rt::BodyMotion<#gt>])
+                -> ::core::result::Result<[#gt; 2], #rt::SolveError> {
+                let bad = |got: usize| #rt::SolveError::BadLength { expected: #nb, got };
+                let masses_len = masses.len();
+                let masses = <&mut [#rt::BodyMass<#gt>; #nb]>::try_from(masses).map_err(|_| bad(masses_len))?;
+                let out_len = out.len();
+                let out = <&mut [#rt::BodyMotion<#gt>; #nb]>::try_from(out).map_err(|_| bad(out_len))?;
+                Ok(#ty::tick_bodies(self, t, masses, out))
             }
         }
     };
@@ -251,6 +263,7 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                 }
 
                 #system_fns
+                #body_fns
                 #solvers
                 #sensitivity_fns
 

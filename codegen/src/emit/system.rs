@@ -208,63 +208,6 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
         },
     );
 
-    // `body_motion` (each body's centre of mass and angle with their rates) and
-    // `mass_properties` (gravity, each body's mass and inertia at the params): for a mechanism
-    // with bodies or gravity only.
-    let (sys, nb) = (&c.system, c.system.bodies.len());
-    let bodies = if nb == 0 && sys.gravity.is_none() {
-        TokenStream::new()
-    } else {
-        let d = &c.derivatives;
-        let mut roots = Vec::new();
-        for (b, n) in sys.bodies.iter().enumerate() {
-            roots.extend([n.com[0], n.com[1], n.angle]);
-            roots.extend(d.body_velocity[b]);
-            roots.extend(d.body_acceleration[b]);
-        }
-        let motion = vector_fn(
-            "body_motion",
-            "Each body's centre of mass and angle with their velocities and accelerations, in `INFO.bodies` order.",
-            &roots,
-            quote!(x: &[#gt; #ni], q: &[#gt; #nu], xd: &[#gt; #ni], qd: &[#gt; #nu], xdd: &[#gt; #ni], qdd: &[#gt; #nu]),
-            quote!([#rt::BodyMotion<#gt>; #nb]),
-            &|r: &[TokenStream]| {
-                let items = r.chunks(9).map(|b| {
-                    let (px, py, a, vx, vy, w, ax, ay, al) =
-                        (&b[0], &b[1], &b[2], &b[3], &b[4], &b[5], &b[6], &b[7], &b[8]);
-                    quote!(#rt::BodyMotion {
-                        com: #rt::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] },
-                        angle: [#a, #w, #al],
-                    })
-                });
-                quote!([#(#items),*])
-            },
-        );
-        let mut roots: Vec<NodeId> = sys.gravity.into_iter().flatten().collect();
-        let with_gravity = !roots.is_empty();
-        roots.extend(sys.bodies.iter().flat_map(|n| [n.mass, n.inertia]));
-        let masses = vector_fn(
-            "mass_properties",
-            "The acceleration of gravity (zero without a `gravity` key), and each body's mass and inertia about its centre of mass at the params, in `INFO.bodies` order.",
-            &roots,
-            quote!(),
-            quote!(([#gt; 2], [#rt::BodyMass<#gt>; #nb])),
-            &|r: &[TokenStream]| {
-                let (g, b) = if with_gravity {
-                    let (gx, gy) = (&r[0], &r[1]);
-                    (quote!([#gx, #gy]), &r[2..])
-                } else {
-                    (quote!([#gt::zero(); 2]), r)
-                };
-                let items = b.chunks(2).map(|b| {
-                    let (mass, inertia) = (&b[0], &b[1]);
-                    quote!(#rt::BodyMass { mass: #mass, inertia: #inertia })
-                });
-                quote!((#g, [#(#items),*]))
-            },
-        );
-        quote!(#motion #masses)
-    };
     quote! {
         #residual
         #jacobian
@@ -277,6 +220,5 @@ pub(crate) fn system_fns(c: &Compiled, args: &Args) -> TokenStream {
         #acceleration_rhs
         #point_positions
         #point_motion
-        #bodies
     }
 }

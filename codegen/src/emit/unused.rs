@@ -65,20 +65,30 @@ fn prune_lets(body: &mut syn::Block) {
     }
 }
 
-/// Renames the parameters of `sig` that `body` does not name.
-fn mark(sig: &mut syn::Signature, body: &mut syn::Block) {
-    prune_lets(body);
-    let mut used = HashSet::new();
-    idents(body.to_token_stream(), &mut used);
-    for arg in &mut sig.inputs {
-        if let syn::FnArg::Typed(pt) = arg
-            && let syn::Pat::Ident(pi) = pt.pat.as_mut()
-        {
+/// Renames the names bound by `pat` (a name, or a tuple of them) that are not in `used`.
+fn rename(pat: &mut syn::Pat, used: &HashSet<String>) {
+    match pat {
+        syn::Pat::Ident(pi) => {
             let name = pi.ident.to_string();
             if !name.starts_with('_') && !used.contains(&name) {
                 pi.ident = syn::Ident::new(&format!("_{name}"), pi.ident.span());
                 pi.mutability = None;
             }
+        }
+        syn::Pat::Tuple(t) => t.elems.iter_mut().for_each(|p| rename(p, used)),
+        _ => {}
+    }
+}
+
+/// Renames the parameters of `sig` (and the names of tuple parameters) that `body` does not
+/// name.
+fn mark(sig: &mut syn::Signature, body: &mut syn::Block) {
+    prune_lets(body);
+    let mut used = HashSet::new();
+    idents(body.to_token_stream(), &mut used);
+    for arg in &mut sig.inputs {
+        if let syn::FnArg::Typed(pt) = arg {
+            rename(pt.pat.as_mut(), &used);
         }
     }
 }
@@ -108,6 +118,7 @@ mod tests {
             fn f(x: &[f64; 1], q: &[f64; 2], tp: u8) -> f64 { q[0] + g(|| x[0]) }
             impl S { fn m(&self, a: u8, mut b: u8) -> u8 { a } }
             fn h(fixed: F) -> u8 { let F { x, y, z } = fixed; y + 1 }
+            fn t((x, xd): (u8, u8), y: u8) -> u8 { xd + y }
         })
         .unwrap();
         Unused.visit_file_mut(&mut file);
@@ -118,5 +129,6 @@ mod tests {
         );
         assert!(text.contains("fn m(&self, a: u8, _b: u8)"), "{text}");
         assert!(text.contains("let F { y, .. } = fixed;"), "{text}");
+        assert!(text.contains("fn t((_x, xd): (u8, u8), y: u8)"), "{text}");
     }
 }

@@ -1,0 +1,126 @@
+//! Stage 6d: a mechanism's bodies, for dynamics (only a mechanism with bodies or gravity has
+//! these): every body's centre of mass and angle with their velocities and accelerations, and
+//! gravity with every body's mass and inertia at the params, in one body on the sine and cosine
+//! caches (`body_motion_cached`); `body_motion` and `mass_properties` compute their own,
+//! `tick_bodies` reads a tick's.
+
+use proc_macro2::TokenStream;
+use quote::quote;
+
+use crate::analysis::Compiled;
+use crate::emit::args::Args;
+use crate::emit::body::body;
+use crate::emit::cache::{Cached, trig_masks};
+use crate::ir::dag::NodeId;
+
+/// `body_motion_cached`, `body_motion`, `mass_properties` and `tick_bodies` (inside the mechanism
+/// type's `impl<T: Real>` block); nothing for a mechanism without bodies or gravity.
+pub(crate) fn body_fns(c: &Compiled, args: &Args) -> TokenStream {
+    let sys = &c.system;
+    if sys.bodies.is_empty() && sys.gravity.is_none() {
+        return TokenStream::new();
+    }
+    let (rt, gt, tick_ty) = (&args.rt, &args.items.scalar, &args.items.tick);
+    let (ni, nu, _, npar) = crate::emit::args::sizes(&c.model);
+    let nb = sys.bodies.len();
+    let dag = &sys.dag;
+    let d = &c.derivatives;
+    // Gravity (when given), each body's mass and inertia, then each body's nine motion numbers.
+    let mut masses: Vec<NodeId> = sys.gravity.into_iter().flatten().collect();
+    let with_gravity = !masses.is_empty();
+    masses.extend(sys.bodies.iter().flat_map(|n| [n.mass, n.inertia]));
+    let mut roots = masses.clone();
+    for (b, n) in sys.bodies.iter().enumerate() {
+        roots.extend([n.com[0], n.com[1], n.angle]);
+        roots.extend(d.body_velocity[b]);
+        roots.extend(d.body_acceleration[b]);
+    }
+    let (xm, qm, pm) = trig_masks(c);
+    let cached = Cached {
+        args,
+        x: xm,
+        q: qm,
+        p: pm,
+    };
+    let fused = body(dag, &roots, &cached);
+    let fresh = body(dag, &masses, args);
+    // Gravity's expression, and `masses[i] = …;` / `out[i] = …;` per body.
+    let split = |r: &[TokenStream]| {
+        let (g, rest) = if with_gravity {
+            let (gx, gy) = (&r[0], &r[1]);
+            (quote!([#gx, #gy]), &r[2..])
+        } else {
+            (quote!([#gt::zero(); 2]), r)
+        };
+        let (m, motion) = rest.split_at(2 * nb);
+        let m = m.chunks(2).enumerate().map(|(i, b)| {
+            let (mass, inertia) = (&b[0], &b[1]);
+            quote!(masses[#i] = #rt::BodyMass { mass: #mass, inertia: #inertia };)
+        });
+        let motion = motion.chunks(9).enumerate().map(|(i, b)| {
+            let (px, py, a, vx, vy, w, ax, ay, al) =
+                (&b[0], &b[1], &b[2], &b[3], &b[4], &b[5], &b[6], &b[7], &b[8]);
+            quote!(out[#i] = #rt::BodyMotion {
+                com: #rt::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] },
+                angle: [#a, #w, #al],
+            };)
+        });
+        (g, quote!(#(#m)*), quote!(#(#motion)*))
+    };
+    let (g, m, motion) = split(&fused.roots);
+    let (fg, fm, _) = split(&fresh.roots);
+    let (stmts, fresh_stmts) = (&fused.stmts, &fresh.stmts);
+    let rates = quote!(x: &[#gt; #ni], q: &[#gt; #nu], xd: &[#gt; #ni], qd: &[#gt; #nu], xdd: &[#gt; #ni], qdd: &[#gt; #nu]);
+    let inputs = quote!((x, xd, xdd): (&[#gt; #ni], &[#gt; #ni], &[#gt; #ni]));
+    let unknowns = quote!((q, qd, qdd): (&[#gt; #nu], &[#gt; #nu], &[#gt; #nu]));
+    let ctx = quote!((tx, tq, tp): (&[(#gt, #gt); #ni], &[(#gt, #gt); #nu], &[(#gt, #gt); #npar]));
+    let arrays =
+        quote!(masses: &mut [#rt::BodyMass<#gt>; #nb], out: &mut [#rt::BodyMotion<#gt>; #nb]);
+    quote! {
+        /// Every body's mass properties into `masses` and motion into `out`, with the sines and
+        /// cosines of the inputs, unknowns and params given; returns gravity.
+        #[inline]
+        fn body_motion_cached(&self, #inputs, #unknowns, #ctx, #arrays) -> [#gt; 2] {
+            #stmts
+            #m
+            #motion
+            #g
+        }
+
+        /// Each body's centre of mass and angle with their velocities and accelerations at a
+        /// solved state, in `INFO.bodies` order.
+        pub fn body_motion(&self, #rates) -> [#rt::BodyMotion<#gt>; #nb] {
+            let (tx, tp) = self.trig_fixed(x);
+            let st = Self::trig_state(*q);
+            let mut masses = [#rt::BodyMass::default(); #nb];
+            let mut out = [#rt::BodyMotion::default(); #nb];
+            self.body_motion_cached((x, xd, xdd), (q, qd, qdd), (&tx, &st.sc, &tp), &mut masses, &mut out);
+            out
+        }
+
+        /// The acceleration of gravity (zero without a `gravity` key) and each body's mass and
+        /// inertia about its centre of mass at the params, in `INFO.bodies` order.
+        pub fn mass_properties(&self) -> ([#gt; 2], [#rt::BodyMass<#gt>; #nb]) {
+            let mut masses = [#rt::BodyMass::default(); #nb];
+            #fresh_stmts
+            #fm
+            (#fg, masses)
+        }
+
+        /// [`Self::mass_properties`] into `masses` and [`Self::body_motion`] at a tick's state
+        /// into `out`, with the sines and cosines the tick keeps (when the params are still those
+        /// of the last tick; else computed afresh); returns gravity.
+        #[inline]
+        pub fn tick_bodies(&self, t: &#tick_ty<#gt>, #arrays) -> [#gt; 2] {
+            use #rt::TickCache as _;
+            if !t.same_params(&self.params.to_array()) {
+                let (g, m) = self.mass_properties();
+                *masses = m;
+                *out = self.body_motion(&t.x, &t.q, &t.xd, &t.qd, &t.xdd, &t.qdd);
+                return g;
+            }
+            let (tx, tq) = t.trig();
+            self.body_motion_cached((&t.x, &t.xd, &t.xdd), (&t.q, &t.qd, &t.qdd), (tx, tq, t.params_trig()), masses, out)
+        }
+    }
+}

@@ -1095,7 +1095,7 @@ pub mod sixbar {
             &self,
             (x, xd, xdd): (&[T; 1], &[T; 1], &[T; 1]),
             (q, qd, qdd): (&[T; 4], &[T; 4], &[T; 4]),
-            (tx, tq, tp): (&[(T, T); 1], &[(T, T); 4], &[(T, T); 10]),
+            (tx, tq, tp): ::mechgen::__private::TrigRefs<'_, T, 1, 4, 10>,
             masses: &mut [::mechgen::__private::BodyMass<T>; 5],
             out: &mut [::mechgen::__private::BodyMotion<T>; 5],
         ) -> [T; 2] {
@@ -4838,7 +4838,7 @@ pub mod shaper {
             &self,
             (x, xd, xdd): (&[T; 1], &[T; 1], &[T; 1]),
             (q, qd, qdd): (&[T; 4], &[T; 4], &[T; 4]),
-            (tx, tq, _tp): (&[(T, T); 1], &[(T, T); 4], &[(T, T); 5]),
+            (tx, tq, _tp): ::mechgen::__private::TrigRefs<'_, T, 1, 4, 5>,
             masses: &mut [::mechgen::__private::BodyMass<T>; 5],
             out: &mut [::mechgen::__private::BodyMotion<T>; 5],
         ) -> [T; 2] {
@@ -8135,7 +8135,7 @@ pub mod four_bar {
             &self,
             (x, xd, xdd): (&[T; 1], &[T; 1], &[T; 1]),
             (q, qd, qdd): (&[T; 2], &[T; 2], &[T; 2]),
-            (tx, tq, _tp): (&[(T, T); 1], &[(T, T); 2], &[(T, T); 6]),
+            (tx, tq, _tp): ::mechgen::__private::TrigRefs<'_, T, 1, 2, 6>,
             masses: &mut [::mechgen::__private::BodyMass<T>; 3],
             out: &mut [::mechgen::__private::BodyMotion<T>; 3],
         ) -> [T; 2] {
@@ -10706,7 +10706,7 @@ pub mod slider_crank {
             &self,
             (x, xd, xdd): (&[T; 1], &[T; 1], &[T; 1]),
             (q, qd, qdd): (&[T; 2], &[T; 2], &[T; 2]),
-            (tx, tq, _tp): (&[(T, T); 1], &[(T, T); 2], &[(T, T); 3]),
+            (tx, tq, _tp): ::mechgen::__private::TrigRefs<'_, T, 1, 2, 3>,
             masses: &mut [::mechgen::__private::BodyMass<T>; 3],
             out: &mut [::mechgen::__private::BodyMotion<T>; 3],
         ) -> [T; 2] {

@@ -134,4 +134,11 @@ pub mod __private {
 
     /// The sines and cosines of the inputs and of the params: `(tx, tp)`.
     pub type TrigFixed<T, const NI: usize, const NP: usize> = ([(T, T); NI], [(T, T); NP]);
+
+    /// The sines and cosines of the inputs, unknowns and params, borrowed: `(tx, tq, tp)`.
+    pub type TrigRefs<'a, T, const NI: usize, const NU: usize, const NP: usize> = (
+        &'a [(T, T); NI],
+        &'a [(T, T); NU],
+        &'a [(T, T); NP],
+    );
 }

@@ -73,7 +73,7 @@ pub(crate) fn body_fns(c: &Compiled, args: &Args) -> TokenStream {
     let rates = quote!(x: &[#gt; #ni], q: &[#gt; #nu], xd: &[#gt; #ni], qd: &[#gt; #nu], xdd: &[#gt; #ni], qdd: &[#gt; #nu]);
     let inputs = quote!((x, xd, xdd): (&[#gt; #ni], &[#gt; #ni], &[#gt; #ni]));
     let unknowns = quote!((q, qd, qdd): (&[#gt; #nu], &[#gt; #nu], &[#gt; #nu]));
-    let ctx = quote!((tx, tq, tp): (&[(#gt, #gt); #ni], &[(#gt, #gt); #nu], &[(#gt, #gt); #npar]));
+    let ctx = quote!((tx, tq, tp): #rt::TrigRefs<'_, #gt, #ni, #nu, #npar>);
     let arrays =
         quote!(masses: &mut [#rt::BodyMass<#gt>; #nb], out: &mut [#rt::BodyMotion<#gt>; #nb]);
     quote! {

@@ -26,6 +26,18 @@ pub const COLUMNS: [&str; 5] = [
     "shaking_moment",
 ];
 
+/// `Ok` for a mechanism with bodies; else the message every surface gives (`what`: "use
+/// dynamics", "simulate it").
+pub fn require_bodies(info: &mechgen_runtime::MechanismInfo, what: &str) -> Result<(), String> {
+    if info.bodies.is_empty() {
+        return Err(format!(
+            "`{}` has no bodies: give each moving body a [mechanism.{}.bodies.NAME] table (angle, mass, com, inertia) to {what}",
+            info.name, info.name
+        ));
+    }
+    Ok(())
+}
+
 /// Every dynamics column's name for input `x`, in the CSV's order.
 pub fn column_names(x: &str) -> Vec<String> {
     let mut out = vec![format!("effort_{x}"), format!("inertia_{x}_{x}")];

@@ -51,12 +51,7 @@ pub fn dynamics<'py>(
     params: Option<HashMap<String, f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let info = m.info();
-    if info.bodies.is_empty() {
-        return Err(PyValueError::new_err(format!(
-            "`{}` has no bodies: give each moving body a [mechanism.{}.bodies.NAME] table to use dynamics",
-            info.name, info.name
-        )));
-    }
+    kinetics::require_bodies(info, "use dynamics").map_err(PyValueError::new_err)?;
     if !acc.is_finite() {
         return Err(PyValueError::new_err(format!("acc is not finite: {acc}")));
     }
@@ -133,12 +128,7 @@ pub fn simulate<'py>(
     params: Option<HashMap<String, f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let info = m.info();
-    if info.bodies.is_empty() {
-        return Err(PyValueError::new_err(format!(
-            "`{}` has no bodies: give each moving body a [mechanism.{}.bodies.NAME] table to simulate it",
-            info.name, info.name
-        )));
-    }
+    kinetics::require_bodies(info, "simulate it").map_err(PyValueError::new_err)?;
     if !torque.is_finite() || !rate.is_finite() {
         return Err(PyValueError::new_err("torque and rate must be finite"));
     }

@@ -136,9 +136,6 @@ pub mod __private {
     pub type TrigFixed<T, const NI: usize, const NP: usize> = ([(T, T); NI], [(T, T); NP]);
 
     /// The sines and cosines of the inputs, unknowns and params, borrowed: `(tx, tq, tp)`.
-    pub type TrigRefs<'a, T, const NI: usize, const NU: usize, const NP: usize> = (
-        &'a [(T, T); NI],
-        &'a [(T, T); NU],
-        &'a [(T, T); NP],
-    );
+    pub type TrigRefs<'a, T, const NI: usize, const NU: usize, const NP: usize> =
+        (&'a [(T, T); NI], &'a [(T, T); NU], &'a [(T, T); NP]);
 }

@@ -52,12 +52,7 @@ pub fn dynamics_command(args: &DynamicsArgs) -> Result<(), String> {
         tell_raw!("{w}");
     }
     let info = sel.solver.info();
-    if info.bodies.is_empty() {
-        return Err(format!(
-            "`{}` has no bodies: give each moving body a [mechanism.{}.bodies.NAME] table (angle, mass, com, inertia) to use dynamics",
-            info.name, info.name
-        ));
-    }
+    kinetics::require_bodies(&info, "use dynamics")?;
     let range = Range {
         from: options.from,
         to: options.to,

@@ -28,12 +28,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), String> {
         tell_raw!("{w}");
     }
     let info = sel.solver.info();
-    if info.bodies.is_empty() {
-        return Err(format!(
-            "`{}` has no bodies: give each moving body a [mechanism.{}.bodies.NAME] table (angle, mass, com, inertia) to simulate it",
-            info.name, info.name
-        ));
-    }
+    mechgen::kinetics::require_bodies(&info, "simulate it")?;
     let rows = row_count(args.time, args.dt, MAX_ROWS)?;
     // The input and the held values, as a sweep resolves them (a range of the start alone).
     let index = match &args.input {

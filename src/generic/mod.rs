@@ -95,6 +95,39 @@ impl Generic {
         }
     }
 
+    /// `tape` at a solved state (`width` outputs per item of `out`, each made by `make`):
+    /// the points' or the bodies' motion.
+    fn eval_motion<T: Real + Scratched, O>(
+        &self,
+        input: InputMotion<&[T]>,
+        [q, qd, qdd]: [&[T]; 3],
+        tape: &tape::Tape,
+        width: usize,
+        out: &mut [O],
+        make: impl Fn(&[T]) -> O,
+    ) -> Result<(), SolveError> {
+        let InputMotion { x, xd, xdd } = input;
+        self.lengths(&[x, q, xd, qd, xdd, qdd])?;
+        let env = Env {
+            xd,
+            qd,
+            xdd,
+            qdd,
+            ..Env::position(x, q, &self.params)
+        };
+        T::with_scratch(|ws| {
+            let Scratch {
+                regs, points: v, ..
+            } = ws;
+            v.resize(width * out.len(), T::zero());
+            tape.eval(&env, regs, v);
+            for (o, c) in out.iter_mut().zip(v.chunks_exact(width)) {
+                *o = make(c);
+            }
+        });
+        Ok(())
+    }
+
     /// The drawing chains (links and ground offsets of every loop) at `(x, q)`.
     pub fn chains(&self, x: &[f64], q: &[f64]) -> Result<Vec<ChainPosition>, SolveError> {
         self.lengths(&[x, q])?;
@@ -336,23 +369,12 @@ macro_rules! kinematics {
                 qdd: &[$t],
                 out: &mut [PointMotion<$t>],
             ) -> Result<(), SolveError> {
-                let InputMotion { x, xd, xdd } = input;
-                self.lengths(&[x, q, xd, qd, xdd, qdd])?;
                 len(out, self.info.points.len())?;
-                let env = Env {
-                    xd,
-                    qd,
-                    xdd,
-                    qdd,
-                    ..Env::position(x, q, &self.params)
-                };
-                <$t>::with_scratch(|ws| {
-                    let Scratch {
-                        regs, points: v, ..
-                    } = ws;
-                    self.eval_points(env, out, regs, v)
-                });
-                Ok(())
+                self.eval_motion(input, [q, qd, qdd], &self.points, 6, out, |c| PointMotion {
+                    position: [c[0], c[1]],
+                    velocity: [c[2], c[3]],
+                    acceleration: [c[4], c[5]],
+                })
             }
 
             fn bodies(
@@ -363,34 +385,15 @@ macro_rules! kinematics {
                 qdd: &[$t],
                 out: &mut [BodyMotion<$t>],
             ) -> Result<(), SolveError> {
-                let InputMotion { x, xd, xdd } = input;
-                self.lengths(&[x, q, xd, qd, xdd, qdd])?;
                 len(out, self.info.bodies.len())?;
-                let env = Env {
-                    xd,
-                    qd,
-                    xdd,
-                    qdd,
-                    ..Env::position(x, q, &self.params)
-                };
-                <$t>::with_scratch(|ws| {
-                    let Scratch {
-                        regs, points: v, ..
-                    } = ws;
-                    v.resize(9 * out.len(), 0.0);
-                    self.bodies.eval(&env, regs, v);
-                    for (o, c) in out.iter_mut().zip(v.chunks_exact(9)) {
-                        *o = BodyMotion {
-                            com: PointMotion {
-                                position: [c[0], c[1]],
-                                velocity: [c[3], c[4]],
-                                acceleration: [c[6], c[7]],
-                            },
-                            angle: [c[2], c[5], c[8]],
-                        };
-                    }
-                });
-                Ok(())
+                self.eval_motion(input, [q, qd, qdd], &self.bodies, 9, out, |c| BodyMotion {
+                    com: PointMotion {
+                        position: [c[0], c[1]],
+                        velocity: [c[3], c[4]],
+                        acceleration: [c[6], c[7]],
+                    },
+                    angle: [c[2], c[5], c[8]],
+                })
             }
 
             fn mass_properties(&self, out: &mut [BodyMass<$t>]) -> Result<[$t; 2], SolveError> {

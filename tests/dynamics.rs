@@ -354,6 +354,44 @@ mod cli {
         }
     }
 
+    /// A non-Grashof rocker driven into its dead point (q1 = 135.95°): the row that reaches it
+    /// has that status and is the last; the command says so and exits 0.
+    #[test]
+    fn simulate_stops_at_a_dead_point() {
+        let csv = temp("dynamics", "rocker.csv");
+        let file = "tests/data/dynamics/rocker.toml";
+        let out = mechgen(&[
+            "simulate",
+            "rocker",
+            "--file",
+            file,
+            "--time",
+            "2",
+            "--dt",
+            "0.01",
+            "--torque",
+            "5",
+            "--csv",
+            csv.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        assert!(text(&out.stderr).contains("the simulation stopped"));
+        let (h, rows) = read(&csv);
+        let (last, ok) = rows.split_last().expect("rows");
+        assert_eq!(last.last().map(String::as_str), Some("singular"));
+        assert!(
+            ok.iter()
+                .all(|r| r.last().map(String::as_str) == Some("ok"))
+        );
+        assert!(rows.len() < 201, "it stops before 2 s");
+        let q1 = h.iter().position(|c| c == "q1").expect("q1");
+        let reached = ok.last().expect("ok rows")[q1]
+            .parse::<f64>()
+            .unwrap()
+            .to_degrees();
+        assert!((125.0..135.96).contains(&reached), "{reached} deg");
+    }
+
     #[test]
     fn a_mechanism_without_bodies_is_refused() {
         let out = mechgen(&["dynamics", "rocker_four_bar"]);

@@ -86,6 +86,12 @@ fn print_structure(info: &MechanismInfo, kinds: &[String]) {
     say!("  unknowns: {}", names(&info.unknowns).join(", "));
     say!("  params:   {}", info.params.len());
     say!("  points:   {}", info.points.join(", "));
+    if !info.bodies.is_empty() {
+        say!(
+            "  bodies:   {} (dynamics: `mechgen dynamics`, `mechgen simulate`)",
+            info.bodies.join(", ")
+        );
+    }
     let blocks: Vec<String> = info
         .blocks
         .iter()

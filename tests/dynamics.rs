@@ -284,6 +284,29 @@ mod cli {
         for (g, w) in got.iter().zip(&want) {
             assert!((g - w).abs() <= 1e-9 * w.abs(), "{got:?} against {want:?}");
         }
+        // The shaper with a cutting force over its working stroke (wrapping through 0): the
+        // same figures whatever the rows.
+        let mut shaper = Vec::new();
+        for step in ["30", "0.7"] {
+            let path = temp("dynamics", &format!("shaper-flywheel-{step}.csv"));
+            let out = mechgen(&[
+                "dynamics",
+                "shaper",
+                "--rate",
+                "6.283",
+                "--step",
+                step,
+                "--load",
+                "E=5000,0@350:190",
+                "--flywheel",
+                "0.05",
+                "--summary",
+                path.to_str().unwrap(),
+            ]);
+            assert!(out.status.success(), "{}", text(&out.stderr));
+            shaper.push(std::fs::read_to_string(&path).expect("summary"));
+        }
+        assert_eq!(shaper[0], shaper[1]);
     }
 
     /// `mechgen simulate four_bar` for 10 s: the same bytes on every engine; from its CSV, the

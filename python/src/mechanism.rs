@@ -362,7 +362,13 @@ impl Mechanism {
                         }
                         "ok"
                     }
-                    Err(status) => status,
+                    Err(status) => {
+                        // A failed row's numbers are NaN (the CSV's empty cells).
+                        for c in out.columns[1..].iter_mut() {
+                            c[r] = f64::NAN;
+                        }
+                        status
+                    }
                 };
                 out.codes[r] = mg::report::status_code(status);
             }

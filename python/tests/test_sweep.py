@@ -111,7 +111,7 @@ def test_batch_equals_mechgen_batch_row_for_row(mechgen_bin, tmp_path):
     assert (want["set"].to_numpy() == np.repeat(np.arange(n), 37)).all()
 
 
-@pytest.mark.parametrize("name", ["sixbar", "slider_crank", "shaper"])
+@pytest.mark.parametrize("name", ["sixbar", "slider_crank", "shaper", "rocker_four_bar"])
 def test_sensitivity_frame_equals_the_csv_of_mechgen_sensitivity(name, mechgen_bin, tmp_path):
     csv = tmp_path / f"{name}-sens.csv"
     run(mechgen_bin, "sensitivity", name, "--csv", str(csv))

@@ -17,8 +17,9 @@
 //!   branch.
 //! - `sensitivity/generated`: the generated tick followed by every sensitivity (dq/dp, dP/dp)
 //!   at its state, so that their cost reads off against `step/generated`.
-//! - `dynamics/generated` (mechanisms with bodies): the generated tick followed by the inverse
-//!   dynamics of its state (`mechgen::dynamics`: effort, generalized inertia, energies, shaking).
+//! - `dynamics/generated` (mechanisms with bodies): one generated tick with the inverse dynamics
+//!   of its state (`mechgen::dynamics::tick_with_dynamics`: the bodies computed in the tick's own
+//!   body, then effort, generalized inertia, energies, shaking).
 //! - `simulate/generated` (mechanisms with bodies): one error-controlled step of `simulate`'s
 //!   integrator (Dormand–Prince 5(4): six new stages, each a tick and the inverse dynamics),
 //!   released from rest at the start under gravity; time per step.
@@ -41,7 +42,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use mechgen::dynamics::{DynamicsWork, tick_dynamics};
+use mechgen::dynamics::{DynamicsWork, tick_with_dynamics};
 use mechgen::lanes::WithLanes;
 use mechgen::simulate::{Simulation, SimulationOptions};
 use mechgen::sweep::{Continuation, sweep, sweep_each};
@@ -271,11 +272,18 @@ impl StaticVisitor<f64> for Generated<'_> {
                     b.iter(|| {
                         let j = walk.next();
                         let Some(t) = tick.as_mut() else { return };
-                        if m.tick(t, black_box(&inputs[j]), &opts).is_err() {
+                        let d = tick_with_dynamics(
+                            m,
+                            t,
+                            black_box(&inputs[j]),
+                            &opts,
+                            (0, &[]),
+                            &mut ws,
+                        );
+                        if d.is_err() {
                             tick = m.tick_start(&inputs[j], &typed[j].1, &opts).ok();
-                            return;
                         }
-                        black_box(tick_dynamics(m, t, 0, &[], &mut ws)).ok();
+                        black_box(&d);
                     })
                 });
                 // `simulate/generated`: one error-controlled step of `simulate`'s integrator (all

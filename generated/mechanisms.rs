@@ -2331,6 +2331,482 @@ pub mod sixbar {
                 ],
             ))
         }
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
+        #[inline(always)]
+        fn motion_bodies_cached(
+            &self,
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 10>,
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
+            options: &::mechgen::__private::SolveOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+            (
+                masses,
+                out,
+                gravity,
+            ): (
+                &mut [::mechgen::__private::BodyMass<T>; 5],
+                &mut [::mechgen::__private::BodyMotion<T>; 5],
+                &mut [T; 2],
+            ),
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Rates<T, 4, 1>,
+            ::mechgen::__private::SolveError,
+        > {
+            let ::mechgen::__private::Fixed { x, xd, xdd, tx, tp } = fixed;
+            let mut qd = [T::zero(); 4];
+            let mut qdd = [T::zero(); 4];
+            // Block 0: closed form (a dyad).
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
+            if options.closed_forms {
+                ::mechgen::__private::solve_dyad(
+                    0,
+                    st,
+                    0,
+                    1,
+                    [t3, t1],
+                    (p_l2, T::zero()),
+                    (t2, T::zero()),
+                    || self.params.length_scale(),
+                    options.newton.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [false, false],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: closed form (a dyad).
+            let p_l5 = self.params.l5;
+            let p_l6 = self.params.l6;
+            let p_l2e = self.params.l2e;
+            let p_xg = self.params.xg;
+            let p_yg = self.params.yg;
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let t6 = t0 + t4;
+            let t7 = t1 + t5;
+            let (s_p_alpha, c_p_alpha) = tp[9];
+            let t8 = c_v_q2 * c_p_alpha;
+            let t9 = s_v_q2 * s_p_alpha;
+            let t10 = s_v_q2 * c_p_alpha;
+            let t11 = c_v_q2 * s_p_alpha;
+            let t12 = t8 + t9;
+            let t13 = t10 - t11;
+            let t14 = p_l2e * t12;
+            let t15 = p_l2e * t13;
+            let t16 = t6 + t14;
+            let t17 = t7 + t15;
+            let t18 = -p_l5;
+            let t19 = -p_l6;
+            let t20 = t16 - p_xg;
+            let t21 = t17 - p_yg;
+            if options.closed_forms {
+                ::mechgen::__private::solve_dyad(
+                    1,
+                    st,
+                    2,
+                    3,
+                    [t20, t21],
+                    (t18, T::zero()),
+                    (t19, T::zero()),
+                    || self.params.length_scale(),
+                    options.newton.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [2, 3],
+                    [false, false],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                self.block0_refine(x, st, tx, tp);
+                self.block1_refine(x, st, tx, tp);
+            }
+            // Block 0: velocities and accelerations.
+            let v_q1_d = xd[0];
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t22 = p_l3 * c_v_q3;
+            let t23 = p_l3 * s_v_q3;
+            let t24 = -t5;
+            let t25 = -t22;
+            let t26 = t1 * v_q1_d;
+            let t27 = t0 * v_q1_d;
+            let t28 = -t27;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t24;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t23;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t4;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t25;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t26, t28]),
+                )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t29 = t4 * v_q2_d;
+            let t30 = t22 * v_q3_d;
+            let t31 = t5 * v_q2_d;
+            let t32 = t23 * v_q3_d;
+            let t33 = v_q1_d * t27;
+            let t34 = v_q2_d * t29;
+            let t35 = t33 + t34;
+            let t36 = v_q3_d * t30;
+            let t37 = t35 - t36;
+            let t38 = t1 * v_q1_dd;
+            let t39 = t37 + t38;
+            let t40 = v_q1_d * t26;
+            let t41 = v_q2_d * t31;
+            let t42 = t40 + t41;
+            let t43 = v_q3_d * t32;
+            let t44 = t42 - t43;
+            let t45 = t0 * v_q1_dd;
+            let t46 = t44 - t45;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t39, t46]),
+                )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            // Block 1: velocities and accelerations.
+            let (s_v_q5, c_v_q5) = st.sc[2];
+            let t47 = p_l5 * c_v_q5;
+            let t48 = p_l5 * s_v_q5;
+            let (s_v_q6, c_v_q6) = st.sc[3];
+            let t49 = p_l6 * c_v_q6;
+            let t50 = p_l6 * s_v_q6;
+            let t51 = t5 + t15;
+            let t52 = t4 + t14;
+            let t53 = -t47;
+            let t54 = -t49;
+            let t55 = t52 * v_q2_d;
+            let t56 = t51 * v_q2_d;
+            let t57 = t56 + t26;
+            let t58 = t55 + t27;
+            let t59 = -t58;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[2][2] = ∂Φ2/∂q5
+            jac[(0, 0)] = t48;
+            // J[2][3] = ∂Φ2/∂q6
+            jac[(0, 1)] = t50;
+            // J[3][2] = ∂Φ3/∂q5
+            jac[(1, 0)] = t53;
+            // J[3][3] = ∂Φ3/∂q6
+            jac[(1, 1)] = t54;
+            let lu = ::mechgen::__private::factor_block(
+                1,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t57, t59]),
+                )?;
+            qd[2] = z[0];
+            qd[3] = z[1];
+            let v_q5_d = qd[2];
+            let v_q6_d = qd[3];
+            let v_q2_dd = qdd[0];
+            let t60 = t47 * v_q5_d;
+            let t61 = t49 * v_q6_d;
+            let t62 = t48 * v_q5_d;
+            let t63 = t50 * v_q6_d;
+            let t64 = v_q2_d * t55;
+            let t65 = t33 + t64;
+            let t66 = v_q5_d * t60;
+            let t67 = t65 - t66;
+            let t68 = v_q6_d * t61;
+            let t69 = t67 - t68;
+            let t70 = t38 + t69;
+            let t71 = v_q2_d * t56;
+            let t72 = t40 + t71;
+            let t73 = v_q5_d * t62;
+            let t74 = t72 - t73;
+            let t75 = v_q6_d * t63;
+            let t76 = t74 - t75;
+            let t77 = t45 - t76;
+            let t78 = t51 * v_q2_dd;
+            let t79 = t52 * v_q2_dd;
+            let t80 = t70 + t78;
+            let t81 = t77 + t79;
+            let t82 = -t81;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t80, t82]),
+                )?;
+            qdd[2] = z[0];
+            qdd[3] = z[1];
+            // Points.
+            let v_q1 = x[0];
+            let v_q2 = st.q[0];
+            let v_q3 = st.q[1];
+            let v_q5 = st.q[2];
+            let v_q6 = st.q[3];
+            let v_q3_dd = qdd[1];
+            let v_q5_dd = qdd[2];
+            let v_q6_dd = qdd[3];
+            let t83 = T::lit(0.5) * p_l1;
+            let t84 = c_v_q1 * t83;
+            let t85 = s_v_q1 * t83;
+            let t86 = T::lit(0.0003925) * p_l1;
+            let t87 = p_l1 * t86;
+            let t88 = p_l1 * t87;
+            let t89 = t88 / T::lit(12.0);
+            let t90 = p_l2 * p_l2;
+            let t91 = t90 / T::lit(2.0);
+            let t92 = c_v_q2 * t91;
+            let t93 = s_v_q2 * t91;
+            let t94 = p_l2e / T::lit(2.0);
+            let t95 = t12 * t94;
+            let t96 = t13 * t94;
+            let t97 = t4 + t95;
+            let t98 = t5 + t96;
+            let t99 = p_l2e * t97;
+            let t100 = p_l2e * t98;
+            let t101 = t92 + t99;
+            let t102 = t93 + t100;
+            let t103 = p_l2 + p_l2e;
+            let t104 = t101 / t103;
+            let t105 = t102 / t103;
+            let t106 = t0 + t104;
+            let t107 = t1 + t105;
+            let t108 = T::lit(0.0003925) * t103;
+            let t109 = p_l2 * t90;
+            let t110 = p_l2e * p_l2e;
+            let t111 = p_l2e * t110;
+            let t112 = t109 + t111;
+            let t113 = t112 / T::lit(12.0);
+            let t114 = p_l2 * p_l2e;
+            let t115 = t114 / t103;
+            let t116 = t90 + t110;
+            let t117 = T::lit(2.0) * p_l2;
+            let t118 = p_l2e * t117;
+            let t119 = c_p_alpha * t118;
+            let t120 = t116 + t119;
+            let t121 = t115 * t120;
+            let t122 = t121 / T::lit(4.0);
+            let t123 = t113 + t122;
+            let t124 = T::lit(0.0003925) * t123;
+            let t125 = T::lit(0.5) * p_l3;
+            let t126 = c_v_q3 * t125;
+            let t127 = s_v_q3 * t125;
+            let t128 = p_l4 + t126;
+            let t129 = T::lit(0.0003925) * p_l3;
+            let t130 = p_l3 * t129;
+            let t131 = p_l3 * t130;
+            let t132 = t131 / T::lit(12.0);
+            let t133 = t49 + p_xg;
+            let t134 = t50 + p_yg;
+            let t135 = T::lit(0.5) * p_l5;
+            let t136 = c_v_q5 * t135;
+            let t137 = s_v_q5 * t135;
+            let t138 = t133 + t136;
+            let t139 = t134 + t137;
+            let t140 = T::lit(0.0003925) * p_l5;
+            let t141 = p_l5 * t140;
+            let t142 = p_l5 * t141;
+            let t143 = t142 / T::lit(12.0);
+            let t144 = T::lit(0.5) * p_l6;
+            let t145 = c_v_q6 * t144;
+            let t146 = s_v_q6 * t144;
+            let t147 = p_xg + t145;
+            let t148 = p_yg + t146;
+            let t149 = T::lit(0.0003925) * p_l6;
+            let t150 = p_l6 * t149;
+            let t151 = p_l6 * t150;
+            let t152 = t151 / T::lit(12.0);
+            let t153 = -t57;
+            let t154 = t38 + t65;
+            let t155 = t154 + t78;
+            let t156 = -t155;
+            let t157 = t45 - t72;
+            let t158 = t157 + t79;
+            let t159 = t85 * v_q1_d;
+            let t160 = -t159;
+            let t161 = t84 * v_q1_d;
+            let t162 = t105 * v_q2_d;
+            let t163 = t26 + t162;
+            let t164 = -t163;
+            let t165 = t104 * v_q2_d;
+            let t166 = t27 + t165;
+            let t167 = t127 * v_q3_d;
+            let t168 = -t167;
+            let t169 = t126 * v_q3_d;
+            let t170 = t137 * v_q5_d;
+            let t171 = t63 + t170;
+            let t172 = -t171;
+            let t173 = t136 * v_q5_d;
+            let t174 = t61 + t173;
+            let t175 = t146 * v_q6_d;
+            let t176 = -t175;
+            let t177 = t145 * v_q6_d;
+            let t178 = v_q1_d * t161;
+            let t179 = t85 * v_q1_dd;
+            let t180 = t178 + t179;
+            let t181 = -t180;
+            let t182 = v_q1_d * t159;
+            let t183 = t84 * v_q1_dd;
+            let t184 = t182 - t183;
+            let t185 = -t184;
+            let t186 = v_q2_d * t165;
+            let t187 = t33 + t186;
+            let t188 = t38 + t187;
+            let t189 = t105 * v_q2_dd;
+            let t190 = t188 + t189;
+            let t191 = -t190;
+            let t192 = v_q2_d * t162;
+            let t193 = t40 + t192;
+            let t194 = t45 - t193;
+            let t195 = t104 * v_q2_dd;
+            let t196 = t194 + t195;
+            let t197 = v_q3_d * t169;
+            let t198 = t127 * v_q3_dd;
+            let t199 = t197 + t198;
+            let t200 = -t199;
+            let t201 = v_q3_d * t167;
+            let t202 = t126 * v_q3_dd;
+            let t203 = t201 - t202;
+            let t204 = -t203;
+            let t205 = v_q5_d * t173;
+            let t206 = t68 + t205;
+            let t207 = t137 * v_q5_dd;
+            let t208 = t206 + t207;
+            let t209 = t50 * v_q6_dd;
+            let t210 = t208 + t209;
+            let t211 = -t210;
+            let t212 = v_q5_d * t170;
+            let t213 = t75 + t212;
+            let t214 = t136 * v_q5_dd;
+            let t215 = t213 - t214;
+            let t216 = t49 * v_q6_dd;
+            let t217 = t215 - t216;
+            let t218 = -t217;
+            let t219 = v_q6_d * t177;
+            let t220 = t146 * v_q6_dd;
+            let t221 = t219 + t220;
+            let t222 = -t221;
+            let t223 = v_q6_d * t175;
+            let t224 = t145 * v_q6_dd;
+            let t225 = t223 - t224;
+            let t226 = -t225;
+            masses[0] = ::mechgen::__private::BodyMass {
+                mass: t86,
+                inertia: t89,
+            };
+            masses[1] = ::mechgen::__private::BodyMass {
+                mass: t108,
+                inertia: t124,
+            };
+            masses[2] = ::mechgen::__private::BodyMass {
+                mass: t129,
+                inertia: t132,
+            };
+            masses[3] = ::mechgen::__private::BodyMass {
+                mass: t140,
+                inertia: t143,
+            };
+            masses[4] = ::mechgen::__private::BodyMass {
+                mass: t149,
+                inertia: t152,
+            };
+            out[0] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t84, t85],
+                    velocity: [t160, t161],
+                    acceleration: [t181, t185],
+                },
+                angle: [v_q1, v_q1_d, v_q1_dd],
+            };
+            out[1] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t106, t107],
+                    velocity: [t164, t166],
+                    acceleration: [t191, t196],
+                },
+                angle: [v_q2, v_q2_d, v_q2_dd],
+            };
+            out[2] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t128, t127],
+                    velocity: [t168, t169],
+                    acceleration: [t200, t204],
+                },
+                angle: [v_q3, v_q3_d, v_q3_dd],
+            };
+            out[3] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t138, t139],
+                    velocity: [t172, t174],
+                    acceleration: [t211, t218],
+                },
+                angle: [v_q5, v_q5_d, v_q5_dd],
+            };
+            out[4] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t147, t148],
+                    velocity: [t176, t177],
+                    acceleration: [t222, t226],
+                },
+                angle: [v_q6, v_q6_d, v_q6_dd],
+            };
+            *gravity = [T::zero(), T::lit(-9810.0)];
+            Ok((
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [t16, t17],
+                        velocity: [t153, t58],
+                        acceleration: [t156, t158],
+                    },
+                ],
+            ))
+        }
         // Scene sixbar_e_path: blocks [0], order 0, points [0].
         /// The largest length param the scene reads (1 when there is none).
         #[doc(hidden)]
@@ -3336,6 +3812,89 @@ pub mod sixbar {
             );
             Ok(())
         }
+        /// `tick_arrays`, and every body's mass properties into `masses`, motion into
+        /// `out` and gravity into `gravity`, computed in the same body as the points
+        /// (sharing their subexpressions). On error `t` is unchanged.
+        fn tick_dynamics_arrays(
+            &self,
+            t: &mut Tick<T>,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::SolveOptions<T>,
+            (
+                masses,
+                out,
+                gravity,
+            ): (
+                &mut [::mechgen::__private::BodyMass<T>; 5],
+                &mut [::mechgen::__private::BodyMotion<T>; 5],
+                &mut [T; 2],
+            ),
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
+            let params = self.params.to_array();
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::__private::check_finite(
+                    ::mechgen::__private::Quantity::Param,
+                    &params,
+                )?;
+            }
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
+            let mut fresh_tp = None;
+            let (tx, tp) = if same {
+                (t.inputs_trig(x, [true]), t.params_trig())
+            } else {
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
+            };
+            let mut st = if options.closed_forms {
+                t.carried([true, true, true, true])
+            } else {
+                t.predicted(x, [true, true, true, true], [false; 4], same)
+            };
+            let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp,
+            };
+            let (qd, qdd, points) = self
+                .motion_bodies_cached(
+                    fixed,
+                    &mut st,
+                    options,
+                    &mut report,
+                    (masses, out, gravity),
+                )?;
+            t.update(
+                x,
+                xd,
+                xdd,
+                &st,
+                qd,
+                qdd,
+                points,
+                report,
+                tx,
+                fresh_tp.as_ref().map(|tp| (&params, tp)),
+            );
+            Ok(())
+        }
         /// [`Self::sensitivities`] with the sines and cosines of the inputs, unknowns and params
         /// given.
         fn sensitivity_cached(
@@ -3774,23 +4333,40 @@ pub mod sixbar {
             Ok(gravity)
         }
         #[inline]
-        fn tick_bodies(
+        fn with_tick_bodies<R>(
             &self,
             t: &Self::Tick,
-            masses: &mut [::mechgen::__private::BodyMass<T>],
-            out: &mut [::mechgen::__private::BodyMotion<T>],
-        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
-            let bad = |got: usize| ::mechgen::__private::SolveError::BadLength {
-                expected: 5,
-                got,
-            };
-            let masses_len = masses.len();
-            let masses = <&mut [::mechgen::__private::BodyMass<T>; 5]>::try_from(masses)
-                .map_err(|_| bad(masses_len))?;
-            let out_len = out.len();
-            let out = <&mut [::mechgen::__private::BodyMotion<T>; 5]>::try_from(out)
-                .map_err(|_| bad(out_len))?;
-            Ok(Sixbar::tick_bodies(self, t, masses, out))
+            f: impl FnOnce(::mechgen::__private::TickBodies<'_, T>) -> R,
+        ) -> R {
+            let mut masses = [::mechgen::__private::BodyMass::default(); 5];
+            let mut out = [::mechgen::__private::BodyMotion::default(); 5];
+            let gravity = Sixbar::tick_bodies(self, t, &mut masses, &mut out);
+            f((gravity, &masses, &out))
+        }
+        #[inline]
+        fn tick_with_bodies<R>(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
+            f: impl FnOnce(
+                &Self::Tick,
+                ::mechgen::__private::TickBodies<'_, T>,
+            ) -> ::core::result::Result<R, ::mechgen::__private::SolveError>,
+        ) -> ::core::result::Result<R, ::mechgen::__private::SolveError> {
+            let mut masses = [::mechgen::__private::BodyMass::default(); 5];
+            let mut out = [::mechgen::__private::BodyMotion::default(); 5];
+            let mut gravity = [T::zero(); 2];
+            Sixbar::tick_dynamics_arrays(
+                self,
+                t,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                options,
+                (&mut masses, &mut out, &mut gravity),
+            )?;
+            f(t, (gravity, &masses, &out))
         }
         #[inline]
         fn solve(
@@ -5912,6 +6488,409 @@ pub mod shaper {
                 ],
             ))
         }
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
+        #[inline(always)]
+        fn motion_bodies_cached(
+            &self,
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 5>,
+            st: &mut ::mechgen::__private::TrigState<T, 4>,
+            options: &::mechgen::__private::SolveOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+            (
+                masses,
+                out,
+                gravity,
+            ): (
+                &mut [::mechgen::__private::BodyMass<T>; 5],
+                &mut [::mechgen::__private::BodyMotion<T>; 5],
+                &mut [T; 2],
+            ),
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Rates<T, 4, 2>,
+            ::mechgen::__private::SolveError,
+        > {
+            let ::mechgen::__private::Fixed { x, xd, xdd, tx, tp } = fixed;
+            let mut qd = [T::zero(); 4];
+            let mut qdd = [T::zero(); 4];
+            // Block 0: closed form (RPR).
+            let p_l1 = self.params.l1;
+            let p_lAC = self.params.lAC;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = t1 + p_lAC;
+            let t3 = -t0;
+            let t4 = -t2;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_rpr(
+                    0,
+                    st,
+                    1,
+                    0,
+                    [t3, t4],
+                    (T::zero(), T::zero()),
+                    (T::one(), T::zero()),
+                    || self.params.length_scale(),
+                    options.newton.tolerance,
+                    report,
+                    true,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [true, false],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: closed form (one angle).
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let p_yE = self.params.yE;
+            let (s_v_q3, _) = st.sc[1];
+            let t5 = s_v_q3 * p_l3;
+            let t6 = t5 - p_yE;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_angle1(
+                    1,
+                    st,
+                    2,
+                    t6,
+                    (T::zero(), p_l4),
+                    || self.params.length_scale(),
+                    options.newton.tolerance,
+                    report,
+                    true,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [2],
+                    [false],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 2: closed form (one length).
+            let (_, c_v_q3) = st.sc[1];
+            let t7 = c_v_q3 * p_l3;
+            let (_, c_v_q4) = st.sc[2];
+            let t8 = p_l4 * c_v_q4;
+            let t9 = t7 + t8;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_length1(
+                    2,
+                    st,
+                    3,
+                    t9,
+                    T::lit(-1.0),
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    2,
+                    st,
+                    [3],
+                    [true],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block2_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                self.block0_refine(x, st, tx, tp);
+                self.block1_refine(x, st, tx, tp);
+                self.block2_refine(x, st, tx, tp);
+            }
+            // Block 0: velocities and accelerations.
+            let v_s3 = st.q[0];
+            let v_q1_d = xd[0];
+            let t10 = v_s3 * c_v_q3;
+            let t11 = v_s3 * s_v_q3;
+            let t12 = -t11;
+            let t13 = t1 * v_q1_d;
+            let t14 = -t13;
+            let t15 = t0 * v_q1_d;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂s3
+            jac[(0, 0)] = c_v_q3;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t12;
+            // J[1][0] = ∂Φ1/∂s3
+            jac[(1, 0)] = s_v_q3;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t10;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t14, t15]),
+                )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_s3_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t16 = s_v_q3 * v_q3_d;
+            let t17 = s_v_q3 * v_s3_d;
+            let t18 = t10 * v_q3_d;
+            let t19 = t17 + t18;
+            let t20 = c_v_q3 * v_q3_d;
+            let t21 = c_v_q3 * v_s3_d;
+            let t22 = t11 * v_q3_d;
+            let t23 = t21 - t22;
+            let t24 = v_q1_d * t15;
+            let t25 = t16 * v_s3_d;
+            let t26 = t24 - t25;
+            let t27 = v_q3_d * t19;
+            let t28 = t26 - t27;
+            let t29 = t1 * v_q1_dd;
+            let t30 = t28 + t29;
+            let t31 = -t30;
+            let t32 = v_q1_d * t13;
+            let t33 = v_s3_d * t20;
+            let t34 = t32 + t33;
+            let t35 = v_q3_d * t23;
+            let t36 = t34 + t35;
+            let t37 = t0 * v_q1_dd;
+            let t38 = t36 - t37;
+            let t39 = -t38;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t31, t39]),
+                )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            // Block 1: velocities and accelerations.
+            let t40 = t7 * v_q3_d;
+            let t41 = -t40;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[3][2] = ∂Φ3/∂q4
+            jac[(0, 0)] = t8;
+            let lu = ::mechgen::__private::factor_block(
+                1,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t41]),
+                )?;
+            qd[2] = z[0];
+            let v_q4_d = qd[2];
+            let v_q3_dd = qdd[1];
+            let (s_v_q4, _) = st.sc[2];
+            let t42 = p_l4 * s_v_q4;
+            let t43 = t5 * v_q3_d;
+            let t44 = t42 * v_q4_d;
+            let t45 = v_q3_d * t43;
+            let t46 = v_q4_d * t44;
+            let t47 = t45 + t46;
+            let t48 = t7 * v_q3_dd;
+            let t49 = t47 - t48;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t49]),
+                )?;
+            qdd[2] = z[0];
+            // Block 2: velocities and accelerations.
+            let t50 = t43 + t44;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[2][3] = ∂Φ2/∂sE
+            jac[(0, 0)] = T::lit(-1.0);
+            let lu = ::mechgen::__private::factor_block(
+                2,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    2,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t50]),
+                )?;
+            qd[3] = z[0];
+            let v_q4_dd = qdd[2];
+            let t51 = t8 * v_q4_d;
+            let t52 = v_q3_d * t40;
+            let t53 = v_q4_d * t51;
+            let t54 = t52 + t53;
+            let t55 = t5 * v_q3_dd;
+            let t56 = t42 * v_q4_dd;
+            let t57 = t55 + t56;
+            let t58 = t54 + t57;
+            let z = lu
+                .solve(
+                    2,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t58]),
+                )?;
+            qdd[3] = z[0];
+            // Points.
+            let v_q1 = x[0];
+            let v_q3 = st.q[1];
+            let v_q4 = st.q[2];
+            let v_sE = st.q[3];
+            let v_sE_d = qd[3];
+            let v_sE_dd = qdd[3];
+            let t59 = T::lit(0.5) * p_l1;
+            let t60 = c_v_q1 * t59;
+            let t61 = s_v_q1 * t59;
+            let t62 = p_lAC + t61;
+            let t63 = T::lit(0.5) * p_l3;
+            let t64 = c_v_q3 * t63;
+            let t65 = s_v_q3 * t63;
+            let t66 = T::lit(0.5) * p_l4;
+            let t67 = c_v_q4 * t66;
+            let t68 = s_v_q4 * t66;
+            let t69 = t7 + t67;
+            let t70 = t5 + t68;
+            let t71 = -t43;
+            let t72 = t52 + t55;
+            let t73 = -t72;
+            let t74 = t45 - t48;
+            let t75 = -t74;
+            let t76 = t61 * v_q1_d;
+            let t77 = -t76;
+            let t78 = t60 * v_q1_d;
+            let t79 = t65 * v_q3_d;
+            let t80 = -t79;
+            let t81 = t64 * v_q3_d;
+            let t82 = t68 * v_q4_d;
+            let t83 = t43 + t82;
+            let t84 = -t83;
+            let t85 = t67 * v_q4_d;
+            let t86 = t40 + t85;
+            let t87 = v_q1_d * t78;
+            let t88 = t61 * v_q1_dd;
+            let t89 = t87 + t88;
+            let t90 = -t89;
+            let t91 = v_q1_d * t76;
+            let t92 = t60 * v_q1_dd;
+            let t93 = t91 - t92;
+            let t94 = -t93;
+            let t95 = t24 + t29;
+            let t96 = -t95;
+            let t97 = t32 - t37;
+            let t98 = -t97;
+            let t99 = v_q3_d * t81;
+            let t100 = t65 * v_q3_dd;
+            let t101 = t99 + t100;
+            let t102 = -t101;
+            let t103 = v_q3_d * t79;
+            let t104 = t64 * v_q3_dd;
+            let t105 = t103 - t104;
+            let t106 = -t105;
+            let t107 = v_q4_d * t85;
+            let t108 = t52 + t107;
+            let t109 = t55 + t108;
+            let t110 = t68 * v_q4_dd;
+            let t111 = t109 + t110;
+            let t112 = -t111;
+            let t113 = v_q4_d * t82;
+            let t114 = t45 + t113;
+            let t115 = t48 - t114;
+            let t116 = t67 * v_q4_dd;
+            let t117 = t115 + t116;
+            masses[0] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.3),
+                inertia: T::lit(0.0004),
+            };
+            masses[1] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.2),
+                inertia: T::lit(0.0001),
+            };
+            masses[2] = ::mechgen::__private::BodyMass {
+                mass: T::lit(1.4),
+                inertia: T::lit(0.042),
+            };
+            masses[3] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.35),
+                inertia: T::lit(0.00066),
+            };
+            masses[4] = ::mechgen::__private::BodyMass {
+                mass: T::lit(5.0),
+                inertia: T::zero(),
+            };
+            out[0] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t60, t62],
+                    velocity: [t77, t78],
+                    acceleration: [t90, t94],
+                },
+                angle: [v_q1, v_q1_d, v_q1_dd],
+            };
+            out[1] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t0, t2],
+                    velocity: [t14, t15],
+                    acceleration: [t96, t98],
+                },
+                angle: [v_q3, v_q3_d, v_q3_dd],
+            };
+            out[2] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t64, t65],
+                    velocity: [t80, t81],
+                    acceleration: [t102, t106],
+                },
+                angle: [v_q3, v_q3_d, v_q3_dd],
+            };
+            out[3] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t69, t70],
+                    velocity: [t84, t86],
+                    acceleration: [t112, t117],
+                },
+                angle: [v_q4, v_q4_d, v_q4_dd],
+            };
+            out[4] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [v_sE, p_yE],
+                    velocity: [v_sE_d, T::zero()],
+                    acceleration: [v_sE_dd, T::zero()],
+                },
+                angle: [T::zero(), T::zero(), T::zero()],
+            };
+            *gravity = [T::zero(), T::lit(-9.81)];
+            Ok((
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [v_sE, p_yE],
+                        velocity: [v_sE_d, T::zero()],
+                        acceleration: [v_sE_dd, T::zero()],
+                    },
+                    ::mechgen::__private::PointMotion {
+                        position: [t7, t5],
+                        velocity: [t71, t40],
+                        acceleration: [t73, t75],
+                    },
+                ],
+            ))
+        }
         // Scene shaper_ram: blocks [0, 1, 2], order 2, points [].
         /// The largest length param the scene reads (1 when there is none).
         #[doc(hidden)]
@@ -6627,6 +7606,89 @@ pub mod shaper {
             );
             Ok(())
         }
+        /// `tick_arrays`, and every body's mass properties into `masses`, motion into
+        /// `out` and gravity into `gravity`, computed in the same body as the points
+        /// (sharing their subexpressions). On error `t` is unchanged.
+        fn tick_dynamics_arrays(
+            &self,
+            t: &mut Tick<T>,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::SolveOptions<T>,
+            (
+                masses,
+                out,
+                gravity,
+            ): (
+                &mut [::mechgen::__private::BodyMass<T>; 5],
+                &mut [::mechgen::__private::BodyMotion<T>; 5],
+                &mut [T; 2],
+            ),
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
+            let params = self.params.to_array();
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::__private::check_finite(
+                    ::mechgen::__private::Quantity::Param,
+                    &params,
+                )?;
+            }
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
+            let mut fresh_tp = None;
+            let (tx, tp) = if same {
+                (t.inputs_trig(x, [true]), t.params_trig())
+            } else {
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
+            };
+            let mut st = if options.closed_forms {
+                t.carried([false, true, true, false])
+            } else {
+                t.predicted(x, [false, true, true, false], [false; 4], same)
+            };
+            let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp,
+            };
+            let (qd, qdd, points) = self
+                .motion_bodies_cached(
+                    fixed,
+                    &mut st,
+                    options,
+                    &mut report,
+                    (masses, out, gravity),
+                )?;
+            t.update(
+                x,
+                xd,
+                xdd,
+                &st,
+                qd,
+                qdd,
+                points,
+                report,
+                tx,
+                fresh_tp.as_ref().map(|tp| (&params, tp)),
+            );
+            Ok(())
+        }
         /// [`Self::sensitivities`] with the sines and cosines of the inputs, unknowns and params
         /// given.
         fn sensitivity_cached(
@@ -7043,23 +8105,40 @@ pub mod shaper {
             Ok(gravity)
         }
         #[inline]
-        fn tick_bodies(
+        fn with_tick_bodies<R>(
             &self,
             t: &Self::Tick,
-            masses: &mut [::mechgen::__private::BodyMass<T>],
-            out: &mut [::mechgen::__private::BodyMotion<T>],
-        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
-            let bad = |got: usize| ::mechgen::__private::SolveError::BadLength {
-                expected: 5,
-                got,
-            };
-            let masses_len = masses.len();
-            let masses = <&mut [::mechgen::__private::BodyMass<T>; 5]>::try_from(masses)
-                .map_err(|_| bad(masses_len))?;
-            let out_len = out.len();
-            let out = <&mut [::mechgen::__private::BodyMotion<T>; 5]>::try_from(out)
-                .map_err(|_| bad(out_len))?;
-            Ok(Shaper::tick_bodies(self, t, masses, out))
+            f: impl FnOnce(::mechgen::__private::TickBodies<'_, T>) -> R,
+        ) -> R {
+            let mut masses = [::mechgen::__private::BodyMass::default(); 5];
+            let mut out = [::mechgen::__private::BodyMotion::default(); 5];
+            let gravity = Shaper::tick_bodies(self, t, &mut masses, &mut out);
+            f((gravity, &masses, &out))
+        }
+        #[inline]
+        fn tick_with_bodies<R>(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
+            f: impl FnOnce(
+                &Self::Tick,
+                ::mechgen::__private::TickBodies<'_, T>,
+            ) -> ::core::result::Result<R, ::mechgen::__private::SolveError>,
+        ) -> ::core::result::Result<R, ::mechgen::__private::SolveError> {
+            let mut masses = [::mechgen::__private::BodyMass::default(); 5];
+            let mut out = [::mechgen::__private::BodyMotion::default(); 5];
+            let mut gravity = [T::zero(); 2];
+            Shaper::tick_dynamics_arrays(
+                self,
+                t,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                options,
+                (&mut masses, &mut out, &mut gravity),
+            )?;
+            f(t, (gravity, &masses, &out))
         }
         #[inline]
         fn solve(
@@ -8811,6 +9890,299 @@ pub mod four_bar {
                 ],
             ))
         }
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
+        #[inline(always)]
+        fn motion_bodies_cached(
+            &self,
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 6>,
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
+            options: &::mechgen::__private::SolveOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+            (
+                masses,
+                out,
+                gravity,
+            ): (
+                &mut [::mechgen::__private::BodyMass<T>; 3],
+                &mut [::mechgen::__private::BodyMotion<T>; 3],
+                &mut [T; 2],
+            ),
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Rates<T, 2, 3>,
+            ::mechgen::__private::SolveError,
+        > {
+            let ::mechgen::__private::Fixed { x, xd, xdd, tx, tp } = fixed;
+            let mut qd = [T::zero(); 2];
+            let mut qdd = [T::zero(); 2];
+            // Block 0: closed form (a dyad).
+            let p_l1 = self.params.l1;
+            let p_l2 = self.params.l2;
+            let p_l3 = self.params.l3;
+            let p_l4 = self.params.l4;
+            let (s_v_q1, c_v_q1) = tx[0];
+            let t0 = p_l1 * c_v_q1;
+            let t1 = p_l1 * s_v_q1;
+            let t2 = -p_l3;
+            let t3 = t0 - p_l4;
+            if options.closed_forms {
+                ::mechgen::__private::solve_dyad(
+                    0,
+                    st,
+                    0,
+                    1,
+                    [t3, t1],
+                    (p_l2, T::zero()),
+                    (t2, T::zero()),
+                    || self.params.length_scale(),
+                    options.newton.tolerance,
+                    report,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0, 1],
+                    [false, false],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                self.block0_refine(x, st, tx, tp);
+            }
+            // Block 0: velocities and accelerations.
+            let v_q1_d = xd[0];
+            let (s_v_q2, c_v_q2) = st.sc[0];
+            let t4 = p_l2 * c_v_q2;
+            let t5 = p_l2 * s_v_q2;
+            let (s_v_q3, c_v_q3) = st.sc[1];
+            let t6 = p_l3 * c_v_q3;
+            let t7 = p_l3 * s_v_q3;
+            let t8 = -t5;
+            let t9 = -t6;
+            let t10 = t1 * v_q1_d;
+            let t11 = t0 * v_q1_d;
+            let t12 = -t11;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 2, 2>::zeros();
+            // J[0][0] = ∂Φ0/∂q2
+            jac[(0, 0)] = t8;
+            // J[0][1] = ∂Φ0/∂q3
+            jac[(0, 1)] = t7;
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(1, 0)] = t4;
+            // J[1][1] = ∂Φ1/∂q3
+            jac[(1, 1)] = t9;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t10, t12]),
+                )?;
+            qd[0] = z[0];
+            qd[1] = z[1];
+            let v_q2_d = qd[0];
+            let v_q3_d = qd[1];
+            let v_q1_dd = xdd[0];
+            let t13 = t4 * v_q2_d;
+            let t14 = t6 * v_q3_d;
+            let t15 = t5 * v_q2_d;
+            let t16 = t7 * v_q3_d;
+            let t17 = v_q1_d * t11;
+            let t18 = v_q2_d * t13;
+            let t19 = t17 + t18;
+            let t20 = v_q3_d * t14;
+            let t21 = t19 - t20;
+            let t22 = t1 * v_q1_dd;
+            let t23 = t21 + t22;
+            let t24 = v_q1_d * t10;
+            let t25 = v_q2_d * t15;
+            let t26 = t24 + t25;
+            let t27 = v_q3_d * t16;
+            let t28 = t26 - t27;
+            let t29 = t0 * v_q1_dd;
+            let t30 = t28 - t29;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t23, t30]),
+                )?;
+            qdd[0] = z[0];
+            qdd[1] = z[1];
+            // Points.
+            let v_q1 = x[0];
+            let v_q2 = st.q[0];
+            let v_q3 = st.q[1];
+            let p_lp = self.params.lp;
+            let v_q2_dd = qdd[0];
+            let v_q3_dd = qdd[1];
+            let t31 = p_l4 + t6;
+            let (s_p_beta, c_p_beta) = tp[5];
+            let t32 = c_v_q2 * c_p_beta;
+            let t33 = s_v_q2 * s_p_beta;
+            let t34 = s_v_q2 * c_p_beta;
+            let t35 = c_v_q2 * s_p_beta;
+            let t36 = t32 - t33;
+            let t37 = t34 + t35;
+            let t38 = p_lp * t36;
+            let t39 = p_lp * t37;
+            let t40 = t0 + t38;
+            let t41 = t1 + t39;
+            let t42 = T::lit(0.5) * p_l1;
+            let t43 = c_v_q1 * t42;
+            let t44 = s_v_q1 * t42;
+            let t45 = T::lit(2.4) * p_l1;
+            let t46 = p_l1 * t45;
+            let t47 = p_l1 * t46;
+            let t48 = t47 / T::lit(12.0);
+            let t49 = T::lit(0.5) * p_l2;
+            let t50 = c_v_q2 * t49;
+            let t51 = s_v_q2 * t49;
+            let t52 = t0 + t50;
+            let t53 = t1 + t51;
+            let t54 = T::lit(0.5) * p_l3;
+            let t55 = c_v_q3 * t54;
+            let t56 = s_v_q3 * t54;
+            let t57 = p_l4 + t55;
+            let t58 = T::lit(2.4) * p_l3;
+            let t59 = p_l3 * t58;
+            let t60 = p_l3 * t59;
+            let t61 = t60 / T::lit(12.0);
+            let t62 = -t10;
+            let t63 = -t16;
+            let t64 = t39 * v_q2_d;
+            let t65 = t10 + t64;
+            let t66 = -t65;
+            let t67 = t38 * v_q2_d;
+            let t68 = t11 + t67;
+            let t69 = t17 + t22;
+            let t70 = -t69;
+            let t71 = t24 - t29;
+            let t72 = -t71;
+            let t73 = t7 * v_q3_dd;
+            let t74 = t20 + t73;
+            let t75 = -t74;
+            let t76 = t6 * v_q3_dd;
+            let t77 = t27 - t76;
+            let t78 = -t77;
+            let t79 = v_q2_d * t67;
+            let t80 = t17 + t79;
+            let t81 = t22 + t80;
+            let t82 = t39 * v_q2_dd;
+            let t83 = t81 + t82;
+            let t84 = -t83;
+            let t85 = v_q2_d * t64;
+            let t86 = t24 + t85;
+            let t87 = t29 - t86;
+            let t88 = t38 * v_q2_dd;
+            let t89 = t87 + t88;
+            let t90 = t44 * v_q1_d;
+            let t91 = -t90;
+            let t92 = t43 * v_q1_d;
+            let t93 = t51 * v_q2_d;
+            let t94 = t10 + t93;
+            let t95 = -t94;
+            let t96 = t50 * v_q2_d;
+            let t97 = t11 + t96;
+            let t98 = t56 * v_q3_d;
+            let t99 = -t98;
+            let t100 = t55 * v_q3_d;
+            let t101 = v_q1_d * t92;
+            let t102 = t44 * v_q1_dd;
+            let t103 = t101 + t102;
+            let t104 = -t103;
+            let t105 = v_q1_d * t90;
+            let t106 = t43 * v_q1_dd;
+            let t107 = t105 - t106;
+            let t108 = -t107;
+            let t109 = v_q2_d * t96;
+            let t110 = t17 + t109;
+            let t111 = t22 + t110;
+            let t112 = t51 * v_q2_dd;
+            let t113 = t111 + t112;
+            let t114 = -t113;
+            let t115 = v_q2_d * t93;
+            let t116 = t24 + t115;
+            let t117 = t29 - t116;
+            let t118 = t50 * v_q2_dd;
+            let t119 = t117 + t118;
+            let t120 = v_q3_d * t100;
+            let t121 = t56 * v_q3_dd;
+            let t122 = t120 + t121;
+            let t123 = -t122;
+            let t124 = v_q3_d * t98;
+            let t125 = t55 * v_q3_dd;
+            let t126 = t124 - t125;
+            let t127 = -t126;
+            masses[0] = ::mechgen::__private::BodyMass {
+                mass: t45,
+                inertia: t48,
+            };
+            masses[1] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.7),
+                inertia: T::lit(0.0075),
+            };
+            masses[2] = ::mechgen::__private::BodyMass {
+                mass: t58,
+                inertia: t61,
+            };
+            out[0] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t43, t44],
+                    velocity: [t91, t92],
+                    acceleration: [t104, t108],
+                },
+                angle: [v_q1, v_q1_d, v_q1_dd],
+            };
+            out[1] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t52, t53],
+                    velocity: [t95, t97],
+                    acceleration: [t114, t119],
+                },
+                angle: [v_q2, v_q2_d, v_q2_dd],
+            };
+            out[2] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t57, t56],
+                    velocity: [t99, t100],
+                    acceleration: [t123, t127],
+                },
+                angle: [v_q3, v_q3_d, v_q3_dd],
+            };
+            *gravity = [T::zero(), T::lit(-9.81)];
+            Ok((
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [t0, t1],
+                        velocity: [t62, t11],
+                        acceleration: [t70, t72],
+                    },
+                    ::mechgen::__private::PointMotion {
+                        position: [t31, t7],
+                        velocity: [t63, t14],
+                        acceleration: [t75, t78],
+                    },
+                    ::mechgen::__private::PointMotion {
+                        position: [t40, t41],
+                        velocity: [t66, t68],
+                        acceleration: [t84, t89],
+                    },
+                ],
+            ))
+        }
         // Scene coupler_curve: blocks [0], order 1, points [2].
         /// The largest length param the scene reads (1 when there is none).
         #[doc(hidden)]
@@ -9394,6 +10766,89 @@ pub mod four_bar {
             );
             Ok(())
         }
+        /// `tick_arrays`, and every body's mass properties into `masses`, motion into
+        /// `out` and gravity into `gravity`, computed in the same body as the points
+        /// (sharing their subexpressions). On error `t` is unchanged.
+        fn tick_dynamics_arrays(
+            &self,
+            t: &mut Tick<T>,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::SolveOptions<T>,
+            (
+                masses,
+                out,
+                gravity,
+            ): (
+                &mut [::mechgen::__private::BodyMass<T>; 3],
+                &mut [::mechgen::__private::BodyMotion<T>; 3],
+                &mut [T; 2],
+            ),
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
+            let params = self.params.to_array();
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::__private::check_finite(
+                    ::mechgen::__private::Quantity::Param,
+                    &params,
+                )?;
+            }
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
+            let mut fresh_tp = None;
+            let (tx, tp) = if same {
+                (t.inputs_trig(x, [true]), t.params_trig())
+            } else {
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
+            };
+            let mut st = if options.closed_forms {
+                t.carried([true, true])
+            } else {
+                t.predicted(x, [true, true], [false; 2], same)
+            };
+            let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp,
+            };
+            let (qd, qdd, points) = self
+                .motion_bodies_cached(
+                    fixed,
+                    &mut st,
+                    options,
+                    &mut report,
+                    (masses, out, gravity),
+                )?;
+            t.update(
+                x,
+                xd,
+                xdd,
+                &st,
+                qd,
+                qdd,
+                points,
+                report,
+                tx,
+                fresh_tp.as_ref().map(|tp| (&params, tp)),
+            );
+            Ok(())
+        }
         /// [`Self::sensitivities`] with the sines and cosines of the inputs, unknowns and params
         /// given.
         fn sensitivity_cached(
@@ -9774,23 +11229,40 @@ pub mod four_bar {
             Ok(gravity)
         }
         #[inline]
-        fn tick_bodies(
+        fn with_tick_bodies<R>(
             &self,
             t: &Self::Tick,
-            masses: &mut [::mechgen::__private::BodyMass<T>],
-            out: &mut [::mechgen::__private::BodyMotion<T>],
-        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
-            let bad = |got: usize| ::mechgen::__private::SolveError::BadLength {
-                expected: 3,
-                got,
-            };
-            let masses_len = masses.len();
-            let masses = <&mut [::mechgen::__private::BodyMass<T>; 3]>::try_from(masses)
-                .map_err(|_| bad(masses_len))?;
-            let out_len = out.len();
-            let out = <&mut [::mechgen::__private::BodyMotion<T>; 3]>::try_from(out)
-                .map_err(|_| bad(out_len))?;
-            Ok(FourBar::tick_bodies(self, t, masses, out))
+            f: impl FnOnce(::mechgen::__private::TickBodies<'_, T>) -> R,
+        ) -> R {
+            let mut masses = [::mechgen::__private::BodyMass::default(); 3];
+            let mut out = [::mechgen::__private::BodyMotion::default(); 3];
+            let gravity = FourBar::tick_bodies(self, t, &mut masses, &mut out);
+            f((gravity, &masses, &out))
+        }
+        #[inline]
+        fn tick_with_bodies<R>(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
+            f: impl FnOnce(
+                &Self::Tick,
+                ::mechgen::__private::TickBodies<'_, T>,
+            ) -> ::core::result::Result<R, ::mechgen::__private::SolveError>,
+        ) -> ::core::result::Result<R, ::mechgen::__private::SolveError> {
+            let mut masses = [::mechgen::__private::BodyMass::default(); 3];
+            let mut out = [::mechgen::__private::BodyMotion::default(); 3];
+            let mut gravity = [T::zero(); 2];
+            FourBar::tick_dynamics_arrays(
+                self,
+                t,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                options,
+                (&mut masses, &mut out, &mut gravity),
+            )?;
+            f(t, (gravity, &masses, &out))
         }
         #[inline]
         fn solve(
@@ -11427,6 +12899,269 @@ pub mod slider_crank {
                 ],
             ))
         }
+        /// Positions block by block from the guess in `st`, then velocities and accelerations
+        /// (each block's Jacobian factored once for both), then the points: one body, shared
+        /// subexpressions computed once.
+        #[inline(always)]
+        fn motion_bodies_cached(
+            &self,
+            fixed: ::mechgen::__private::Fixed<'_, T, 1, 3>,
+            st: &mut ::mechgen::__private::TrigState<T, 2>,
+            options: &::mechgen::__private::SolveOptions<T>,
+            report: &mut ::mechgen::__private::NewtonReport<T>,
+            (
+                masses,
+                out,
+                gravity,
+            ): (
+                &mut [::mechgen::__private::BodyMass<T>; 3],
+                &mut [::mechgen::__private::BodyMotion<T>; 3],
+                &mut [T; 2],
+            ),
+        ) -> ::core::result::Result<
+            ::mechgen::__private::Rates<T, 2, 3>,
+            ::mechgen::__private::SolveError,
+        > {
+            let ::mechgen::__private::Fixed { x, xd, xdd, tx, tp } = fixed;
+            let mut qd = [T::zero(); 2];
+            let mut qdd = [T::zero(); 2];
+            // Block 0: closed form (one angle).
+            let p_r = self.params.r;
+            let p_l = self.params.l;
+            let p_off = self.params.off;
+            let (s_v_q1, _) = tx[0];
+            let t0 = p_r * s_v_q1;
+            let t1 = t0 - p_off;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_angle1(
+                    0,
+                    st,
+                    0,
+                    t1,
+                    (T::zero(), p_l),
+                    || self.params.length_scale(),
+                    options.newton.tolerance,
+                    report,
+                    true,
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    0,
+                    st,
+                    [0],
+                    [false],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block0_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Block 1: closed form (one length).
+            let (_, c_v_q1) = tx[0];
+            let t2 = p_r * c_v_q1;
+            let (_, c_v_q2) = st.sc[0];
+            let t3 = p_l * c_v_q2;
+            let t4 = t2 + t3;
+            if options.closed_forms {
+                ::mechgen::__private::closed_form::solve_length1(
+                    1,
+                    st,
+                    1,
+                    t4,
+                    T::lit(-1.0),
+                )?;
+            } else {
+                ::mechgen::__private::newton_block(
+                    1,
+                    st,
+                    [1],
+                    [true],
+                    self.params.length_scale(),
+                    &options.newton,
+                    report,
+                    |st| self.block1_position(x, &st.q, tx, tp, &st.sc),
+                )?;
+            }
+            // Near a dead point: one Newton step per block with its residual in double words.
+            if report.pivot_ratio < T::lit(::mechgen::__private::REFINE_BELOW) {
+                self.block0_refine(x, st, tx, tp);
+                self.block1_refine(x, st, tx, tp);
+            }
+            // Block 0: velocities and accelerations.
+            let v_q1_d = xd[0];
+            let t5 = t2 * v_q1_d;
+            let t6 = -t5;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[1][0] = ∂Φ1/∂q2
+            jac[(0, 0)] = t3;
+            let lu = ::mechgen::__private::factor_block(
+                0,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t6]),
+                )?;
+            qd[0] = z[0];
+            let v_q2_d = qd[0];
+            let v_q1_dd = xdd[0];
+            let (s_v_q2, _) = st.sc[0];
+            let t7 = p_l * s_v_q2;
+            let t8 = t7 * v_q2_d;
+            let t9 = t0 * v_q1_d;
+            let t10 = v_q1_d * t9;
+            let t11 = v_q2_d * t8;
+            let t12 = t10 + t11;
+            let t13 = t2 * v_q1_dd;
+            let t14 = t12 - t13;
+            let z = lu
+                .solve(
+                    0,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t14]),
+                )?;
+            qdd[0] = z[0];
+            // Block 1: velocities and accelerations.
+            let t15 = t8 + t9;
+            let mut jac = ::mechgen::__private::nalgebra::SMatrix::<T, 1, 1>::zeros();
+            // J[0][1] = ∂Φ0/∂sC
+            jac[(0, 0)] = T::lit(-1.0);
+            let lu = ::mechgen::__private::factor_block(
+                1,
+                ::mechgen::__private::Stage::Velocity,
+                jac,
+            )?;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Velocity,
+                    ::mechgen::__private::nalgebra::SVector::from([t15]),
+                )?;
+            qd[1] = z[0];
+            let v_q2_dd = qdd[0];
+            let t16 = t3 * v_q2_d;
+            let t17 = v_q1_d * t5;
+            let t18 = v_q2_d * t16;
+            let t19 = t17 + t18;
+            let t20 = t0 * v_q1_dd;
+            let t21 = t19 + t20;
+            let t22 = t7 * v_q2_dd;
+            let t23 = t21 + t22;
+            let z = lu
+                .solve(
+                    1,
+                    ::mechgen::__private::Stage::Acceleration,
+                    ::mechgen::__private::nalgebra::SVector::from([t23]),
+                )?;
+            qdd[1] = z[0];
+            // Points.
+            let v_q1 = x[0];
+            let v_q2 = st.q[0];
+            let v_sC = st.q[1];
+            let v_sC_d = qd[1];
+            let v_sC_dd = qdd[1];
+            let t24 = p_l / T::lit(2.0);
+            let t25 = c_v_q2 * t24;
+            let t26 = s_v_q2 * t24;
+            let t27 = t2 + t25;
+            let t28 = t0 + t26;
+            let t29 = T::lit(0.5) * p_r;
+            let t30 = c_v_q1 * t29;
+            let t31 = s_v_q1 * t29;
+            let t32 = -t9;
+            let t33 = t26 * v_q2_d;
+            let t34 = t9 + t33;
+            let t35 = -t34;
+            let t36 = t25 * v_q2_d;
+            let t37 = t5 + t36;
+            let t38 = t17 + t20;
+            let t39 = -t38;
+            let t40 = t10 - t13;
+            let t41 = -t40;
+            let t42 = v_q2_d * t36;
+            let t43 = t17 + t42;
+            let t44 = t20 + t43;
+            let t45 = t26 * v_q2_dd;
+            let t46 = t44 + t45;
+            let t47 = -t46;
+            let t48 = v_q2_d * t33;
+            let t49 = t10 + t48;
+            let t50 = t13 - t49;
+            let t51 = t25 * v_q2_dd;
+            let t52 = t50 + t51;
+            let t53 = t31 * v_q1_d;
+            let t54 = -t53;
+            let t55 = t30 * v_q1_d;
+            let t56 = v_q1_d * t55;
+            let t57 = t31 * v_q1_dd;
+            let t58 = t56 + t57;
+            let t59 = -t58;
+            let t60 = v_q1_d * t53;
+            let t61 = t30 * v_q1_dd;
+            let t62 = t60 - t61;
+            let t63 = -t62;
+            masses[0] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.1),
+                inertia: T::lit(0.00002),
+            };
+            masses[1] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.3),
+                inertia: T::lit(0.001),
+            };
+            masses[2] = ::mechgen::__private::BodyMass {
+                mass: T::lit(0.5),
+                inertia: T::zero(),
+            };
+            out[0] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t30, t31],
+                    velocity: [t54, t55],
+                    acceleration: [t59, t63],
+                },
+                angle: [v_q1, v_q1_d, v_q1_dd],
+            };
+            out[1] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [t27, t28],
+                    velocity: [t35, t37],
+                    acceleration: [t47, t52],
+                },
+                angle: [v_q2, v_q2_d, v_q2_dd],
+            };
+            out[2] = ::mechgen::__private::BodyMotion {
+                com: ::mechgen::__private::PointMotion {
+                    position: [v_sC, p_off],
+                    velocity: [v_sC_d, T::zero()],
+                    acceleration: [v_sC_dd, T::zero()],
+                },
+                angle: [T::zero(), T::zero(), T::zero()],
+            };
+            *gravity = [T::zero(), T::lit(-9.81)];
+            Ok((
+                qd,
+                qdd,
+                [
+                    ::mechgen::__private::PointMotion {
+                        position: [t2, t0],
+                        velocity: [t32, t5],
+                        acceleration: [t39, t41],
+                    },
+                    ::mechgen::__private::PointMotion {
+                        position: [v_sC, p_off],
+                        velocity: [v_sC_d, T::zero()],
+                        acceleration: [v_sC_dd, T::zero()],
+                    },
+                    ::mechgen::__private::PointMotion {
+                        position: [t27, t28],
+                        velocity: [t35, t37],
+                        acceleration: [t47, t52],
+                    },
+                ],
+            ))
+        }
         /// Solves the positions block by block by Newton's method from the guess in `q`;
         /// on success `q` holds the solution on the guess's branch.
         pub fn solve_position(
@@ -11689,6 +13424,89 @@ pub mod slider_crank {
             };
             let (qd, qdd, points) = self
                 .motion_cached(fixed, &mut st, options, &mut report)?;
+            t.update(
+                x,
+                xd,
+                xdd,
+                &st,
+                qd,
+                qdd,
+                points,
+                report,
+                tx,
+                fresh_tp.as_ref().map(|tp| (&params, tp)),
+            );
+            Ok(())
+        }
+        /// `tick_arrays`, and every body's mass properties into `masses`, motion into
+        /// `out` and gravity into `gravity`, computed in the same body as the points
+        /// (sharing their subexpressions). On error `t` is unchanged.
+        fn tick_dynamics_arrays(
+            &self,
+            t: &mut Tick<T>,
+            x: &[T; 1],
+            xd: &[T; 1],
+            xdd: &[T; 1],
+            options: &::mechgen::__private::SolveOptions<T>,
+            (
+                masses,
+                out,
+                gravity,
+            ): (
+                &mut [::mechgen::__private::BodyMass<T>; 3],
+                &mut [::mechgen::__private::BodyMotion<T>; 3],
+                &mut [T; 2],
+            ),
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            use ::mechgen::__private::TickCache as _;
+            let params = self.params.to_array();
+            let same = t.same_params(&params);
+            if !same {
+                ::mechgen::__private::check_finite(
+                    ::mechgen::__private::Quantity::Param,
+                    &params,
+                )?;
+            }
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::Input,
+                x,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputRate,
+                xd,
+            )?;
+            ::mechgen::__private::check_finite(
+                ::mechgen::__private::Quantity::InputAcceleration,
+                xdd,
+            )?;
+            let mut fresh_tp = None;
+            let (tx, tp) = if same {
+                (t.inputs_trig(x, [true]), t.params_trig())
+            } else {
+                let (tx, tp) = self.trig_fixed(x);
+                (tx, &*fresh_tp.insert(tp))
+            };
+            let mut st = if options.closed_forms {
+                t.carried([true, false])
+            } else {
+                t.predicted(x, [true, false], [false; 2], same)
+            };
+            let mut report = ::mechgen::__private::NewtonReport::new();
+            let fixed = ::mechgen::__private::Fixed {
+                x,
+                xd,
+                xdd,
+                tx: &tx,
+                tp,
+            };
+            let (qd, qdd, points) = self
+                .motion_bodies_cached(
+                    fixed,
+                    &mut st,
+                    options,
+                    &mut report,
+                    (masses, out, gravity),
+                )?;
             t.update(
                 x,
                 xd,
@@ -12084,23 +13902,40 @@ pub mod slider_crank {
             Ok(gravity)
         }
         #[inline]
-        fn tick_bodies(
+        fn with_tick_bodies<R>(
             &self,
             t: &Self::Tick,
-            masses: &mut [::mechgen::__private::BodyMass<T>],
-            out: &mut [::mechgen::__private::BodyMotion<T>],
-        ) -> ::core::result::Result<[T; 2], ::mechgen::__private::SolveError> {
-            let bad = |got: usize| ::mechgen::__private::SolveError::BadLength {
-                expected: 3,
-                got,
-            };
-            let masses_len = masses.len();
-            let masses = <&mut [::mechgen::__private::BodyMass<T>; 3]>::try_from(masses)
-                .map_err(|_| bad(masses_len))?;
-            let out_len = out.len();
-            let out = <&mut [::mechgen::__private::BodyMotion<T>; 3]>::try_from(out)
-                .map_err(|_| bad(out_len))?;
-            Ok(SliderCrank::tick_bodies(self, t, masses, out))
+            f: impl FnOnce(::mechgen::__private::TickBodies<'_, T>) -> R,
+        ) -> R {
+            let mut masses = [::mechgen::__private::BodyMass::default(); 3];
+            let mut out = [::mechgen::__private::BodyMotion::default(); 3];
+            let gravity = SliderCrank::tick_bodies(self, t, &mut masses, &mut out);
+            f((gravity, &masses, &out))
+        }
+        #[inline]
+        fn tick_with_bodies<R>(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
+            f: impl FnOnce(
+                &Self::Tick,
+                ::mechgen::__private::TickBodies<'_, T>,
+            ) -> ::core::result::Result<R, ::mechgen::__private::SolveError>,
+        ) -> ::core::result::Result<R, ::mechgen::__private::SolveError> {
+            let mut masses = [::mechgen::__private::BodyMass::default(); 3];
+            let mut out = [::mechgen::__private::BodyMotion::default(); 3];
+            let mut gravity = [T::zero(); 2];
+            SliderCrank::tick_dynamics_arrays(
+                self,
+                t,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                options,
+                (&mut masses, &mut out, &mut gravity),
+            )?;
+            f(t, (gravity, &masses, &out))
         }
         #[inline]
         fn solve(

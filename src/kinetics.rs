@@ -1,5 +1,6 @@
 //! Inverse dynamics along a sweep, what `mechgen dynamics` and Python's `Mechanism.dynamics`
-//! print: loads that act over an angle range ([`RangedLoad`], `--load P=FX,FY@A:B`), a solved
+//! print: loads that act over an angle range (the runtime's [`PointLoad`] with a range,
+//! `--load P=FX,FY@A:B`), a solved
 //! row's dynamics at an input rate and acceleration ([`row_dynamics`], on the runtime's one
 //! [`dynamics`]), the CSV's column names ([`COLUMNS`]), and the [`flywheel`] an angle input needs
 //! over one turn at constant speed: the mean effort, the largest swing of the work excess
@@ -67,7 +68,7 @@ pub fn row_dynamics(
     index: usize,
     s: &SolvedRef<'_>,
     (rate, acc): (f64, f64),
-    loads: &[RangedLoad],
+    loads: &[PointLoad<f64>],
     ws: &mut DynamicsWork<f64>,
 ) -> Result<Dynamics<f64>, SolveError> {
     let mut xd = vec![0.0; x.len()];
@@ -78,14 +79,6 @@ pub fn row_dynamics(
     if acc != 0.0 {
         k.solve_acceleration(x, s.q, &xd, s.qd, &xdd, &mut qdd)?;
     }
-    let acting: Vec<PointLoad<f64>> = loads
-        .iter()
-        .filter(|l| l.acts_at(x[index]))
-        .map(|l| PointLoad {
-            point: l.point,
-            force: l.force,
-        })
-        .collect();
     let state = State {
         x,
         xd: &xd[..],
@@ -96,34 +89,7 @@ pub fn row_dynamics(
         points: s.points,
         report: Default::default(),
     };
-    dynamics(k, &state, index, &acting, ws)
-}
-
-/// A force at a point (index into `info.points`), acting everywhere or only while the angle
-/// input lies in `range` (radians, taken modulo a turn; an end below the start wraps through 0).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RangedLoad {
-    pub point: usize,
-    pub force: [f64; 2],
-    pub range: Option<[f64; 2]>,
-}
-
-impl RangedLoad {
-    /// Whether the load acts at input `x` (radians for a range).
-    pub fn acts_at(&self, x: f64) -> bool {
-        let Some([a, b]) = self.range else {
-            return true;
-        };
-        if b - a >= TAU {
-            return true;
-        }
-        let (t, a, b) = (x.rem_euclid(TAU), a.rem_euclid(TAU), b.rem_euclid(TAU));
-        if a <= b {
-            a <= t && t <= b
-        } else {
-            t >= a || t <= b
-        }
-    }
+    dynamics(k, &state, index, loads, ws)
 }
 
 /// What `--flywheel` prints.
@@ -188,7 +154,7 @@ pub fn flywheel(
     k: &dyn DynMechanism<f64>,
     plan: &Plan,
     rate: f64,
-    loads: &[RangedLoad],
+    loads: &[PointLoad<f64>],
     delta: f64,
 ) -> Result<Flywheel, String> {
     if rate == 0.0 || delta.is_nan() || delta <= 0.0 {
@@ -325,11 +291,7 @@ mod tests {
 
     #[test]
     fn ranges_wrap_through_zero() {
-        let l = |a: f64, b: f64| RangedLoad {
-            point: 0,
-            force: [1.0, 0.0],
-            range: Some([a.to_radians(), b.to_radians()]),
-        };
+        let l = |a: f64, b: f64| PointLoad::over(0, [1.0, 0.0], [a.to_radians(), b.to_radians()]);
         assert!(l(120.0, 300.0).acts_at(200f64.to_radians()));
         assert!(!l(120.0, 300.0).acts_at(30f64.to_radians()));
         assert!(l(300.0, 60.0).acts_at(10f64.to_radians()));

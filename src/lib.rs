@@ -54,7 +54,7 @@ pub use mechgen_runtime::{
     DynState, DynTick, InputMotion, Kind, LaneMechanism, LaneScene, LaneState, LaneTick, Lanes,
     MechanismInfo, NewtonOptions, NewtonReport, ParamDesc, ParamInfo, PointMotion, Quantity, Real,
     RowMajor, Scene, SceneDescription, SceneInfo, SceneState, SceneTick, SceneVisitor, SolveError,
-    SolveOptions, Stage, State, StaticInfo, StaticMechanism, StaticVisitor, Tick,
+    SolveOptions, Stage, State, StaticInfo, StaticMechanism, StaticVisitor, Tick, TickBodies,
 };
 
 #[cfg(feature = "sweep")]

@@ -89,10 +89,7 @@ fn slider_crank_against_its_closed_form() {
             // The guess from the closed form, on the file's branch.
             let q2 = ((off - r * t.sin()) / l).asin();
             let guess = [q2, r * t.cos() + l * q2.cos()];
-            let loads = [PointLoad {
-                point: slider,
-                force: [row[3], row[4]],
-            }];
+            let loads = [PointLoad::new(slider, [row[3], row[4]])];
             let (_, d) = at(m.as_ref(), [t, row[1], row[2]], &guess, &loads);
             for ((got, want), s) in columns(&d).iter().zip(&row[5..]).zip(&scale) {
                 let e = (got - want).abs() / s;
@@ -508,15 +505,78 @@ fn a_four_bar_falls_under_gravity_conserving_its_energy() {
     }
 }
 
-/// `tick_dynamics` (the bodies on the sines and cosines a generated tick keeps) equals
-/// `dynamics` of the same state (the bodies computed afresh) to 1e-13 of each quantity's largest
-/// magnitude over the walk,
+/// A load that acts over a range of the input (`PointLoad::over`) in the simulator: every row
+/// satisfies the equation of motion with the load acting exactly where the input lies in its
+/// range (to 1e-9 of the largest term), the load does act (the motion differs from the free one),
+/// and the step control keeps the rows accurate across the load's switching points.
+#[test]
+fn a_ranged_load_acts_in_the_simulator_where_the_input_lies_in_its_range() {
+    use mechgen::simulate::{Simulation, SimulationOptions};
+    let m = mechgen::four_bar::FourBar::<f64>::default();
+    let info = DynMechanism::info(&m);
+    let p = info.points.iter().position(|n| n == "P").expect("P");
+    let x0: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+    let guess: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
+    let ranged = [PointLoad::over(
+        p,
+        [0.0, -20.0],
+        [210f64.to_radians(), 300f64.to_radians()],
+    )];
+    let mut free = |_: f64, _: f64, _: f64| 0.0;
+    let options = SimulationOptions::default();
+    let run = |loads: &[PointLoad<f64>], free: &mut dyn FnMut(f64, f64, f64) -> f64| {
+        let mut sim =
+            Simulation::new(&m, 0, &x0, 3.0, &guess, loads, options, free).expect("starts");
+        let mut rows = Vec::new();
+        for i in 1..=100 {
+            sim.advance_to(f64::from(i) * 0.01, free).expect("turns");
+            let q = sim.tick().state().expect("state").q.to_vec();
+            rows.push(([sim.position(), sim.rate(), sim.acceleration_now()], q));
+        }
+        rows
+    };
+    let (with, without) = (run(&ranged, &mut free), run(&[], &mut free));
+    let (mut inside, mut outside, mut worst) = (0, 0, 0.0f64);
+    for ([x, xd, xdd], q) in &with {
+        let (_, d) = at(&m, [*x, *xd, *xdd], q, &ranged);
+        let (_, bare) = at(&m, [*x, *xd, 0.0], q, &[]);
+        let largest = (d.inertia * xdd)
+            .abs()
+            .max(bare.effort.abs())
+            .max(20.0 * 0.1);
+        worst = worst.max(d.effort.abs() / largest);
+        if ranged[0].acts_at(*x) {
+            inside += 1;
+        } else {
+            outside += 1;
+        }
+    }
+    let (lo, hi) = with.iter().fold((f64::MAX, f64::MIN), |(a, b), r| {
+        (a.min(r.0[0]), b.max(r.0[0]))
+    });
+    eprintln!(
+        "ranged load: x in [{lo:.3}, {hi:.3}] rad, {inside} rows inside, {outside} outside, equation of motion {worst:.1e}"
+    );
+    assert!(inside > 5 && outside > 5, "{inside} {outside}");
+    assert!(worst < 1e-9, "equation of motion {worst:e}");
+    let apart = with
+        .iter()
+        .zip(&without)
+        .map(|(a, b)| (a.0[0] - b.0[0]).abs())
+        .fold(0.0f64, f64::max);
+    assert!(apart > 1e-3, "the load changes the motion ({apart:e})");
+}
+
+/// `tick_dynamics` (the bodies on the sines and cosines a generated tick keeps) and
+/// `tick_with_dynamics` (a second tick walking alongside, its bodies computed in the tick's own
+/// body) equal `dynamics` of the same state (the bodies computed afresh) to 1e-13 of each
+/// quantity's largest magnitude over the walk; the fused tick's state is the plain tick's,
 /// along a turn of 1° ticks of every compiled-in mechanism with bodies; and both refuse a
 /// negative mass that params changed at run time give (`BadMass`).
 #[test]
 fn tick_dynamics_equals_dynamics() {
     use mechgen::StaticMechanism;
-    use mechgen::dynamics::tick_dynamics;
+    use mechgen::dynamics::{tick_dynamics, tick_with_dynamics};
     fn walk<M: StaticMechanism<f64> + 'static>(m: &M) -> f64 {
         let info = DynMechanism::info(m);
         let x0: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
@@ -535,11 +595,22 @@ fn tick_dynamics_equals_dynamics() {
             InputMotion::new(arr(&x), arr(&[2.5]), arr(&[0.0]))
         };
         let mut t = m.tick_start(&at(0.0), &q, &opts).expect("starts");
+        let mut fused = t;
         let (mut a, mut b) = (DynamicsWork::new(&info), DynamicsWork::new(&info));
+        let mut c = DynamicsWork::new(&info);
         let (mut diff, mut scale) = ([0.0f64; 7], [0.0f64; 7]);
         for deg in 1..=360 {
             m.tick(&mut t, &at(f64::from(deg)), &opts).expect("ticks");
             let fast = tick_dynamics(m, &t, 0, &[], &mut a).expect("tick dynamics");
+            let with =
+                tick_with_dynamics(m, &mut fused, &at(f64::from(deg)), &opts, (0, &[]), &mut c)
+                    .expect("tick with dynamics");
+            assert_eq!(fused.q.as_ref(), t.q.as_ref(), "the fused tick's positions");
+            assert_eq!(
+                fused.qdd.as_ref(),
+                t.qdd.as_ref(),
+                "the fused tick's accelerations"
+            );
             let state = mechgen::State {
                 x: t.x.as_ref(),
                 xd: t.xd.as_ref(),
@@ -551,9 +622,11 @@ fn tick_dynamics_equals_dynamics() {
                 report: t.report,
             };
             let slow = dynamics(m, &state, 0, &[], &mut b).expect("dynamics");
-            for (i, (u, v)) in columns(&fast).iter().zip(columns(&slow)).enumerate() {
-                diff[i] = diff[i].max((u - v).abs());
-                scale[i] = scale[i].max(v.abs());
+            for d in [fast, with] {
+                for (i, (u, v)) in columns(&d).iter().zip(columns(&slow)).enumerate() {
+                    diff[i] = diff[i].max((u - v).abs());
+                    scale[i] = scale[i].max(v.abs());
+                }
             }
         }
         diff.iter()
@@ -573,7 +646,9 @@ fn tick_dynamics_equals_dynamics() {
             walk(&mechgen::slider_crank::SliderCrank::<f64>::default()),
         ),
     ] {
-        eprintln!("{name}: tick_dynamics against dynamics, largest difference {worst:.1e}");
+        eprintln!(
+            "{name}: tick_dynamics, tick_with_dynamics against dynamics, largest difference {worst:.1e}"
+        );
         assert!(worst < 1e-13, "{name}: {worst:e}");
     }
     // The four-bar's crank mass is `2.4*l1`: a negative l1 makes it negative.

@@ -5,7 +5,8 @@
 use std::collections::HashMap;
 
 use mg::design::row_inputs;
-use mg::kinetics::{self, RangedLoad};
+use mg::dynamics::PointLoad;
+use mg::kinetics;
 use mg::sweep::plan::Plan;
 use mg::sweep::{Continuation, sweep_holding};
 use mg::{DynMechanism, MechanismInfo};
@@ -146,21 +147,7 @@ pub fn simulate<'py>(
     let from = if deg { start.to_degrees() } else { start };
     let (_, plan, values) =
         m.prepared(py, Some(from), Some(from), None, rate, input, set, params)?;
-    let loads: Vec<mg::dynamics::PointLoad<f64>> =
-        ranged_loads(info, loads.unwrap_or_default(), deg)?
-            .into_iter()
-            .map(|l| {
-                if l.range.is_some() {
-                    return Err(PyValueError::new_err(
-                        "simulate takes constant loads: (point, fx, fy)",
-                    ));
-                }
-                Ok(mg::dynamics::PointLoad {
-                    point: l.point,
-                    force: l.force,
-                })
-            })
-            .collect::<PyResult<_>>()?;
+    let loads = ranged_loads(info, loads.unwrap_or_default(), deg)?;
     let name = &info.inputs[index].name;
     let mut header = vec![
         "t".to_string(),
@@ -217,7 +204,7 @@ fn ranged_loads(
     info: &MechanismInfo,
     loads: Vec<Bound<'_, PyTuple>>,
     angle: bool,
-) -> PyResult<Vec<RangedLoad>> {
+) -> PyResult<Vec<PointLoad<f64>>> {
     loads
         .into_iter()
         .map(|t| {
@@ -251,7 +238,7 @@ fn ranged_loads(
                     "a load's range of degrees needs an angle input",
                 ));
             }
-            Ok(RangedLoad {
+            Ok(PointLoad {
                 point,
                 force: [fx, fy],
                 range: range.map(|(a, b)| [a.to_radians(), b.to_radians()]),

@@ -173,5 +173,12 @@ def test_simulate_frame_equals_the_csv_of_mechgen_simulate(mechgen_bin, tmp_path
     assert len(got) == 51 and (got["status"] == "ok").all()
     loaded = pd.DataFrame(mechgen.load(str(ROOT / "mechanism.toml"))["four_bar"].simulate(**kw))
     same_frames(loaded, want)
-    with pytest.raises(ValueError, match="constant loads"):
-        mechgen.mechanisms()["four_bar"].simulate(time=1, dt=0.1, loads=[("P", 0.0, 1.0, (0.0, 90.0))])
+    # A load acting over a range of the input, as `dynamics` takes it: the same rows as the CLI's.
+    run(mechgen_bin, "simulate", "four_bar", "--time", "0.5", "--dt", "0.01", "--rate", "3",
+        "--load", "P=0,-20@210:300", "--csv", str(csv))
+    want = pd.read_csv(csv)
+    kw = dict(time=0.5, dt=0.01, rate=3.0, loads=[("P", 0.0, -20.0, (210.0, 300.0))])
+    ranged = pd.DataFrame(mechgen.mechanisms()["four_bar"].simulate(**kw))
+    same_frames(ranged, want)
+    free = pd.DataFrame(mechgen.mechanisms()["four_bar"].simulate(time=0.5, dt=0.01, rate=3.0))
+    assert not np.allclose(ranged["q1"], free["q1"]), "the ranged load acts"

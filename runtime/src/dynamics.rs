@@ -22,12 +22,58 @@ use crate::error::SolveError;
 use crate::info::{BodyMass, BodyMotion, MechanismInfo, PointMotion};
 use crate::mechanism::{InputMotion, State, StaticMechanism};
 use crate::scalar::Real;
+use crate::solve::SolveOptions;
 
-/// A force at a point (index into `info().points`), in the file's units.
+/// A force at a point (index into `info().points`), in the file's units, acting everywhere or
+/// only while the driven angle input lies in `range`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointLoad<T> {
     pub point: usize,
     pub force: [T; 2],
+    /// `[from, to]` in radians, taken modulo a turn (`to` below `from` wraps through 0); `None`:
+    /// the load always acts.
+    pub range: Option<[T; 2]>,
+}
+
+impl<T: Real> PointLoad<T> {
+    /// A load that always acts.
+    pub fn new(point: usize, force: [T; 2]) -> Self {
+        PointLoad {
+            point,
+            force,
+            range: None,
+        }
+    }
+
+    /// A load that acts while the driven angle input lies in `[from, to]` radians.
+    pub fn over(point: usize, force: [T; 2], range: [T; 2]) -> Self {
+        PointLoad {
+            point,
+            force,
+            range: Some(range),
+        }
+    }
+
+    /// Whether the load acts at input `x` (radians).
+    pub fn acts_at(&self, x: T) -> bool {
+        let Some([a, b]) = self.range else {
+            return true;
+        };
+        let tau = core::f64::consts::TAU;
+        let turn = |v: T| {
+            let r = v.to_f64() % tau;
+            if r < 0.0 { r + tau } else { r }
+        };
+        if (b - a).to_f64() >= tau {
+            return true;
+        }
+        let (t, a, b) = (turn(x), turn(a), turn(b));
+        if a <= b {
+            a <= t && t <= b
+        } else {
+            t >= a || t <= b
+        }
+    }
 }
 
 /// Inverse dynamics at one state, for the input it was asked about.
@@ -109,6 +155,12 @@ fn sums<'a, T: Real>(
 pub struct DynamicsWork<T> {
     masses: Vec<BodyMass<T>>,
     motion: Vec<BodyMotion<T>>,
+    unit: UnitWork<T>,
+}
+
+/// The velocity solve at unit input rate (when other inputs move too) works in these.
+#[derive(Clone, Debug)]
+struct UnitWork<T> {
     unit: Vec<BodyMotion<T>>,
     points: Vec<PointMotion<T>>,
     xd: Vec<T>,
@@ -124,12 +176,14 @@ impl<T: Real> DynamicsWork<T> {
         DynamicsWork {
             masses: vec![BodyMass::default(); nb],
             motion: vec![BodyMotion::default(); nb],
-            unit: vec![BodyMotion::default(); nb],
-            points: vec![PointMotion::default(); info.points.len()],
-            xd: vec![T::zero(); ni],
-            qd: vec![T::zero(); nu],
-            zx: vec![T::zero(); ni],
-            zq: vec![T::zero(); nu],
+            unit: UnitWork {
+                unit: vec![BodyMotion::default(); nb],
+                points: vec![PointMotion::default(); info.points.len()],
+                xd: vec![T::zero(); ni],
+                qd: vec![T::zero(); nu],
+                zx: vec![T::zero(); ni],
+                zq: vec![T::zero(); nu],
+            },
         }
     }
 }
@@ -151,11 +205,13 @@ pub fn dynamics<T: Real, M: DynMechanism<T> + ?Sized>(
     let gravity = m.mass_properties(&mut ws.masses)?;
     let at = InputMotion::new(state.x, state.xd, state.xdd);
     m.bodies(at, state.q, state.qd, state.qdd, &mut ws.motion)?;
-    finish(m, state, input, loads, gravity, ws)
+    let bodies = (gravity, &ws.masses[..], &ws.motion[..]);
+    finish(m, state, input, loads, bodies, &mut ws.unit)
 }
 
 /// [`dynamics`] right after a tick of a generated mechanism: its bodies on the sines and cosines
-/// the tick keeps (`StaticMechanism::tick_bodies`), then the same sums.
+/// the tick keeps, in arrays of the mechanism's own sizes (`StaticMechanism::with_tick_bodies`),
+/// then the same sums.
 #[inline]
 pub fn tick_dynamics<T: Real, M: StaticMechanism<T>>(
     m: &M,
@@ -164,8 +220,46 @@ pub fn tick_dynamics<T: Real, M: StaticMechanism<T>>(
     loads: &[PointLoad<T>],
     ws: &mut DynamicsWork<T>,
 ) -> Result<Dynamics<T>, SolveError> {
-    let gravity = m.tick_bodies(t, &mut ws.masses, &mut ws.motion)?;
-    let state = State {
+    m.with_tick_bodies(t, |bodies| {
+        finish(
+            m,
+            &tick_state::<T, M>(t),
+            input,
+            loads,
+            bodies,
+            &mut ws.unit,
+        )
+    })
+}
+
+/// One tick of a generated mechanism to `motion` ([`StaticMechanism::tick`]) and the inverse
+/// dynamics of its new state for the input `input`, the bodies computed in the tick's own body
+/// (`StaticMechanism::tick_with_bodies`): the fastest way to both. On error `t` is unchanged.
+#[inline]
+pub fn tick_with_dynamics<T: Real, M: StaticMechanism<T>>(
+    m: &M,
+    t: &mut M::Tick,
+    motion: &InputMotion<M::X>,
+    options: &SolveOptions<T>,
+    (input, loads): (usize, &[PointLoad<T>]),
+    ws: &mut DynamicsWork<T>,
+) -> Result<Dynamics<T>, SolveError> {
+    m.tick_with_bodies(t, motion, options, |t, bodies| {
+        finish(
+            m,
+            &tick_state::<T, M>(t),
+            input,
+            loads,
+            bodies,
+            &mut ws.unit,
+        )
+    })
+}
+
+/// A tick's state as the sums read it.
+#[inline(always)]
+fn tick_state<T: Real, M: StaticMechanism<T>>(t: &M::Tick) -> StateRef<'_, T> {
+    State {
         x: t.x.as_ref(),
         xd: t.xd.as_ref(),
         xdd: t.xdd.as_ref(),
@@ -174,11 +268,10 @@ pub fn tick_dynamics<T: Real, M: StaticMechanism<T>>(
         qdd: t.qdd.as_ref(),
         points: t.points.as_ref(),
         report: t.report,
-    };
-    finish(m, &state, input, loads, gravity, ws)
+    }
 }
 
-/// The sums, once `ws` holds the masses and the bodies' motion at `state`: the coefficients from
+/// The sums, given gravity, the masses and the bodies' motion at `state`: the coefficients from
 /// the state's rates (or a velocity solve at unit rate), then [`inverse_dynamics`].
 #[inline(always)]
 fn finish<T: Real, M: DynMechanism<T> + ?Sized>(
@@ -186,8 +279,8 @@ fn finish<T: Real, M: DynMechanism<T> + ?Sized>(
     state: &StateRef<'_, T>,
     input: usize,
     loads: &[PointLoad<T>],
-    gravity: [T; 2],
-    ws: &mut DynamicsWork<T>,
+    (gravity, masses, motion): ([T; 2], &[BodyMass<T>], &[BodyMotion<T>]),
+    ws: &mut UnitWork<T>,
 ) -> Result<Dynamics<T>, SolveError> {
     let (ni, np) = (state.x.len(), state.points.len());
     if input >= ni {
@@ -202,9 +295,9 @@ fn finish<T: Real, M: DynMechanism<T> + ?Sized>(
             len: np,
         });
     }
-    let good = |v: T| v.is_finite() && v >= T::zero();
-    if let Some(body) = ws
-        .masses
+    // Finite and not negative (a NaN fails both comparisons).
+    let good = |v: T| v >= T::zero() && v <= T::MAX;
+    if let Some(body) = masses
         .iter()
         .position(|b| !good(b.mass) || !good(b.inertia))
     {
@@ -223,17 +316,22 @@ fn finish<T: Real, M: DynMechanism<T> + ?Sized>(
         .enumerate()
         .all(|(j, &v)| j == input || v == T::zero());
     if alone && rate != T::zero() {
-        // Ġ = (∂G/∂x) ẋ when x alone moves.
-        let inv = T::one() / rate;
-        let bodies = ws.motion.iter().map(|s| {
-            let v = s.com.velocity;
-            (s, [v[0] * inv, v[1] * inv], s.angle[1] * inv)
-        });
-        let coefficient = |p: &PointMotion<T>| p.velocity.map(|v| v * inv);
+        // Ġ = (∂G/∂x) ẋ when x alone moves: the sums over the rates themselves are the power
+        // and twice the kinetic energy, the effort and the inertia those over ẋ and ẋ².
+        let bodies = motion.iter().map(|s| (s, s.com.velocity, s.angle[1]));
+        let x = state.x[input];
         let loads = loads
             .iter()
-            .map(|l| (coefficient(&state.points[l.point]), l.force));
-        return Ok(sums(gravity, &ws.masses, bodies, loads));
+            .filter(|l| l.acts_at(x))
+            .map(|l| (state.points[l.point].velocity, l.force));
+        // The reciprocal first: its latency overlaps the sums.
+        let inv = T::one() / rate;
+        let d = sums(gravity, masses, bodies, loads);
+        return Ok(Dynamics {
+            effort: d.effort * inv,
+            inertia: d.inertia * inv * inv,
+            ..d
+        });
     }
     ws.xd.fill(T::zero());
     ws.xd[input] = T::one();
@@ -243,9 +341,10 @@ fn finish<T: Real, M: DynMechanism<T> + ?Sized>(
     if !loads.is_empty() {
         m.points(unit, state.q, &ws.qd, &ws.zq, &mut ws.points)?;
     }
-    let points = &ws.points;
-    let loads = loads.iter().map(|l| (points[l.point].velocity, l.force));
-    Ok(inverse_dynamics(
-        gravity, &ws.masses, &ws.motion, &ws.unit, loads,
-    ))
+    let (points, x) = (&ws.points, state.x[input]);
+    let loads = loads
+        .iter()
+        .filter(|l| l.acts_at(x))
+        .map(|l| (points[l.point].velocity, l.force));
+    Ok(inverse_dynamics(gravity, masses, motion, &ws.unit, loads))
 }

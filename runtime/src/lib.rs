@@ -46,7 +46,10 @@ pub mod twofold;
 
 pub use dyn_tick::{DynTick, StateRef};
 pub use dynamic::{DynMechanism, DynState};
-pub use dynamics::{Dynamics, DynamicsWork, PointLoad, dynamics, inverse_dynamics, tick_dynamics};
+pub use dynamics::{
+    Dynamics, DynamicsWork, PointLoad, dynamics, inverse_dynamics, tick_dynamics,
+    tick_with_dynamics,
+};
 pub use error::{Quantity, SolveError, Stage};
 pub use info::{
     BodyMass, BodyMotion, CoordDesc, CoordInfo, Kind, MechanismInfo, ParamDesc, ParamInfo,
@@ -55,6 +58,7 @@ pub use info::{
 pub use lanes::{LaneState, LaneTick, LaneView};
 pub use mechanism::{
     Array, InputMotion, LaneMechanism, RowMajor, State, StateOf, StaticMechanism, StaticVisitor,
+    TickBodies,
 };
 pub use nalgebra;
 pub use scalar::Real;
@@ -97,7 +101,7 @@ pub mod __private {
     };
     pub use crate::lanes::{self, LaneTick, Lanes};
     pub use crate::mechanism::{
-        InputMotion, LaneMechanism, State, StateOf, StaticMechanism, StaticVisitor,
+        InputMotion, LaneMechanism, State, StateOf, StaticMechanism, StaticVisitor, TickBodies,
     };
     pub use crate::scalar::Real;
     pub use crate::scene::{

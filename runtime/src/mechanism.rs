@@ -65,6 +65,10 @@ impl<X: Clone, Q, P, T> State<X, Q, P, T> {
     }
 }
 
+/// Gravity, the bodies' masses and their motion, as [`StaticMechanism::with_tick_bodies`] hands
+/// them over.
+pub type TickBodies<'a, T> = ([T; 2], &'a [BodyMass<T>], &'a [BodyMotion<T>]);
+
 /// The [`State`] of a [`StaticMechanism`] `M`: its input, unknown and point arrays.
 pub type StateOf<M, T> = State<
     <M as StaticMechanism<T>>::X,
@@ -220,19 +224,28 @@ pub trait StaticMechanism<T: Real>: Clone + Send + Sync {
         crate::error::len(out, 0)?;
         Ok([T::zero(); 2])
     }
-    /// [`StaticMechanism::mass_properties`] into `masses` and [`StaticMechanism::bodies`] at the
-    /// tick's state into `out`, on the sines and cosines the tick keeps: what inverse dynamics
-    /// after a tick reads ([`crate::dynamics::tick_dynamics`]).
-    fn tick_bodies(
+    /// Gravity, every body's mass and inertia ([`StaticMechanism::mass_properties`]) and motion
+    /// ([`StaticMechanism::bodies`]) at the tick's state, on the sines and cosines the tick
+    /// keeps, handed to `f` in arrays of the mechanism's own sizes: what inverse dynamics after
+    /// a tick reads ([`crate::dynamics::tick_dynamics`]). A mechanism without bodies has the
+    /// default: no bodies and no gravity.
+    fn with_tick_bodies<R>(&self, t: &Self::Tick, f: impl FnOnce(TickBodies<'_, T>) -> R) -> R {
+        let _ = t;
+        f(([T::zero(); 2], &[], &[]))
+    }
+    /// A tick ([`StaticMechanism::tick`]), then `f` on the ticked state with its bodies as
+    /// [`StaticMechanism::with_tick_bodies`] gives them (`f`'s result is the call's); a generated
+    /// mechanism with bodies computes them in the tick's own body, sharing the points'
+    /// subexpressions. On a tick's error `t` is unchanged and `f` is not called.
+    fn tick_with_bodies<R>(
         &self,
-        t: &Self::Tick,
-        masses: &mut [BodyMass<T>],
-        out: &mut [BodyMotion<T>],
-    ) -> Result<[T; 2], SolveError> {
-        let gravity = self.mass_properties(masses)?;
-        let input = t.input();
-        self.bodies(&input, &t.q, &t.qd, &t.qdd, out)?;
-        Ok(gravity)
+        t: &mut Self::Tick,
+        input: &InputMotion<Self::X>,
+        options: &SolveOptions<T>,
+        f: impl FnOnce(&Self::Tick, TickBodies<'_, T>) -> Result<R, SolveError>,
+    ) -> Result<R, SolveError> {
+        self.tick(t, input, options)?;
+        self.with_tick_bodies(t, |b| f(t, b))
     }
     /// One whole tick from `guess`: positions, velocities, accelerations and points, sharing the
     /// trigonometry between the stages (the fastest way to a full state without a [`Self::Tick`]).

@@ -89,9 +89,10 @@ pub struct SimulateArgs {
     /// The input's rate at the start (rad/s, or file units/s).
     #[arg(long, value_name = "W0", default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite)]
     pub rate: f64,
-    /// A constant force (FX, FY) on point P; repeatable.
-    #[arg(long = "load", value_name = "P=FX,FY", value_parser = load)]
-    pub load: Vec<(String, [f64; 2])>,
+    /// A constant force (FX, FY) on point P, or `P=FX,FY@A:B` acting only while the angle input
+    /// lies in [A, B] degrees (modulo a turn; B < A wraps through 0); repeatable.
+    #[arg(long = "load", value_name = "P=FX,FY[@A:B]", value_parser = ranged_load)]
+    pub load: Vec<LoadArg>,
     /// Which input moves, for a mechanism with several [default: the first]; the others are held
     /// at rest.
     #[arg(long, value_name = "NAME")]

@@ -5,20 +5,24 @@
 
 use std::fmt::Write as _;
 
-use mechgen::dynamics::DynamicsWork;
-use mechgen::kinetics::{self, RangedLoad, column_names, row_dynamics};
+use mechgen::dynamics::{DynamicsWork, PointLoad};
+use mechgen::kinetics::{self, column_names, row_dynamics};
 use mechgen::plot::{DynamicsRow, dynamics_svg};
 use mechgen::report::significant;
 use mechgen::sweep::plan::{Range, plan};
 use mechgen::{DynMechanism, Kind, MechanismInfo};
 
-use super::args::DynamicsArgs;
+use super::args::{DynamicsArgs, LoadArg};
 use super::load::{Loaded, Swept, run_plan, select};
 
-/// The loads of `args` by point index, refused where a point does not exist or a range is
-/// given for a length input.
-fn loads(args: &DynamicsArgs, info: &MechanismInfo, kind: Kind) -> Result<Vec<RangedLoad>, String> {
-    args.load
+/// The `--load` arguments by point index, refused where a point does not exist or a range is
+/// given for a length input (`dynamics` and `simulate`).
+pub(super) fn loads(
+    given: &[LoadArg],
+    info: &MechanismInfo,
+    kind: Kind,
+) -> Result<Vec<PointLoad<f64>>, String> {
+    given
         .iter()
         .map(|(name, force, range)| {
             let point = info.points.iter().position(|p| p == name).ok_or_else(|| {
@@ -33,7 +37,7 @@ fn loads(args: &DynamicsArgs, info: &MechanismInfo, kind: Kind) -> Result<Vec<Ra
                     "--load {name}=…@A:B: a range of degrees needs an angle input"
                 ));
             }
-            Ok(RangedLoad {
+            Ok(PointLoad {
                 point,
                 force: *force,
                 range: range.map(|(a, b)| [a.to_radians(), b.to_radians()]),
@@ -61,7 +65,7 @@ pub fn dynamics_command(args: &DynamicsArgs) -> Result<(), String> {
     let plan = plan(&info, options.input.as_deref(), &options.set, range)?;
     let index = plan.index;
     let input = info.inputs[index].clone();
-    let loads = loads(args, &info, input.kind)?;
+    let loads = loads(&args.load, &info, input.kind)?;
     let k = sel.solver.as_ref();
     if let Some(delta) = args.flywheel {
         let f = kinetics::flywheel(k, &plan, options.rate, &loads, delta)
@@ -129,7 +133,7 @@ pub(super) fn rows(
     info: &MechanismInfo,
     swept: &Swept,
     acc: f64,
-    loads: &[RangedLoad],
+    loads: &[PointLoad<f64>],
 ) -> (String, String, Vec<DynamicsRow>) {
     let mut plotted = Vec::with_capacity(swept.rows.len());
     let index = swept.plan.index;
@@ -156,7 +160,7 @@ pub(super) fn rows(
     };
     let width = 17;
     let mut table = format!(
-        "{}: inverse dynamics along {} at {} {}/s, acceleration {} (file units: efforts in force × length per radian for an angle input)\n",
+        "{}: inverse dynamics along {} at {} {}/s, acceleration {} (file units: {})\n",
         info.name,
         input.name,
         significant(swept.rate),
@@ -166,6 +170,11 @@ pub(super) fn rows(
             "u"
         },
         significant(acc),
+        if input.kind == Kind::Angle {
+            "the effort a torque, force × length"
+        } else {
+            "the effort a force"
+        },
     );
     let _ = write!(table, "{:>width$}", format!("{} [{unit}]", input.name));
     for n in &names {

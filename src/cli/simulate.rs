@@ -4,7 +4,6 @@
 
 use std::fmt::Write as _;
 
-use mechgen::dynamics::PointLoad;
 use mechgen::report::significant;
 use mechgen::simulation::{Setup, row_count, simulate};
 use mechgen::sweep::plan::{Range, plan};
@@ -51,20 +50,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), String> {
     for &(i, v) in &p.held {
         x[i] = v;
     }
-    let mut loads = Vec::new();
-    for (name, force) in &args.load {
-        let point = info.points.iter().position(|q| q == name).ok_or_else(|| {
-            format!(
-                "--load {name}=…: `{}` has no point `{name}` (its points: {})",
-                info.name,
-                info.points.join(", ")
-            )
-        })?;
-        loads.push(PointLoad {
-            point,
-            force: *force,
-        });
-    }
+    let loads = super::dynamics::loads(&args.load, &info, info.inputs[p.index].kind)?;
     let setup = Setup {
         index: p.index,
         x: &x,

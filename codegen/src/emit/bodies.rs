@@ -4,7 +4,7 @@
 //! caches (`body_motion_cached`); `body_motion` and `mass_properties` compute their own,
 //! `tick_bodies` reads a tick's.
 
-use proc_macro2::TokenStream;
+use proc_macro2::{Ident, TokenStream};
 use quote::quote;
 
 use crate::analysis::Compiled;
@@ -12,6 +12,52 @@ use crate::emit::args::Args;
 use crate::emit::body::body;
 use crate::emit::cache::{Cached, trig_masks};
 use crate::ir::dag::NodeId;
+
+/// Gravity (when given), each body's mass and inertia, then each body's nine motion numbers
+/// (centre x, y, angle; their velocities; their accelerations): the roots of every function that
+/// computes bodies, and how many of them lead up to the motion (gravity and masses).
+pub(crate) fn body_roots(c: &Compiled) -> (Vec<NodeId>, usize) {
+    let (sys, d) = (&c.system, &c.derivatives);
+    let mut roots: Vec<NodeId> = sys.gravity.into_iter().flatten().collect();
+    roots.extend(sys.bodies.iter().flat_map(|n| [n.mass, n.inertia]));
+    let nm = roots.len();
+    for (b, n) in sys.bodies.iter().enumerate() {
+        roots.extend([n.com[0], n.com[1], n.angle]);
+        roots.extend(d.body_velocity[b]);
+        roots.extend(d.body_acceleration[b]);
+    }
+    (roots, nm)
+}
+
+/// From the expressions of [`body_roots`] (or of its first part): gravity's expression, then
+/// `masses[i] = …;` and `out[i] = …;` per body.
+pub(crate) fn body_writes(
+    c: &Compiled,
+    (rt, gt): (&TokenStream, &Ident),
+    r: &[TokenStream],
+) -> (TokenStream, TokenStream, TokenStream) {
+    let nb = c.system.bodies.len();
+    let (g, rest) = if c.system.gravity.is_some() {
+        let (gx, gy) = (&r[0], &r[1]);
+        (quote!([#gx, #gy]), &r[2..])
+    } else {
+        (quote!([#gt::zero(); 2]), r)
+    };
+    let (m, motion) = rest.split_at(2 * nb);
+    let m = m.chunks(2).enumerate().map(|(i, b)| {
+        let (mass, inertia) = (&b[0], &b[1]);
+        quote!(masses[#i] = #rt::BodyMass { mass: #mass, inertia: #inertia };)
+    });
+    let motion = motion.chunks(9).enumerate().map(|(i, b)| {
+        let (px, py, a, vx, vy, w, ax, ay, al) =
+            (&b[0], &b[1], &b[2], &b[3], &b[4], &b[5], &b[6], &b[7], &b[8]);
+        quote!(out[#i] = #rt::BodyMotion {
+            com: #rt::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] },
+            angle: [#a, #w, #al],
+        };)
+    });
+    (g, quote!(#(#m)*), quote!(#(#motion)*))
+}
 
 /// `body_motion_cached`, `body_motion`, `mass_properties` and `tick_bodies` (inside the mechanism
 /// type's `impl<T: Real>` block); nothing for a mechanism without bodies or gravity.
@@ -24,17 +70,8 @@ pub(crate) fn body_fns(c: &Compiled, args: &Args) -> TokenStream {
     let (ni, nu, _, npar) = crate::emit::args::sizes(&c.model);
     let nb = sys.bodies.len();
     let dag = &sys.dag;
-    let d = &c.derivatives;
-    // Gravity (when given), each body's mass and inertia, then each body's nine motion numbers.
-    let mut masses: Vec<NodeId> = sys.gravity.into_iter().flatten().collect();
-    let with_gravity = !masses.is_empty();
-    masses.extend(sys.bodies.iter().flat_map(|n| [n.mass, n.inertia]));
-    let mut roots = masses.clone();
-    for (b, n) in sys.bodies.iter().enumerate() {
-        roots.extend([n.com[0], n.com[1], n.angle]);
-        roots.extend(d.body_velocity[b]);
-        roots.extend(d.body_acceleration[b]);
-    }
+    let (roots, nm) = body_roots(c);
+    let masses = &roots[..nm];
     let (xm, qm, pm) = trig_masks(c);
     let cached = Cached {
         args,
@@ -43,30 +80,8 @@ pub(crate) fn body_fns(c: &Compiled, args: &Args) -> TokenStream {
         p: pm,
     };
     let fused = body(dag, &roots, &cached);
-    let fresh = body(dag, &masses, args);
-    // Gravity's expression, and `masses[i] = …;` / `out[i] = …;` per body.
-    let split = |r: &[TokenStream]| {
-        let (g, rest) = if with_gravity {
-            let (gx, gy) = (&r[0], &r[1]);
-            (quote!([#gx, #gy]), &r[2..])
-        } else {
-            (quote!([#gt::zero(); 2]), r)
-        };
-        let (m, motion) = rest.split_at(2 * nb);
-        let m = m.chunks(2).enumerate().map(|(i, b)| {
-            let (mass, inertia) = (&b[0], &b[1]);
-            quote!(masses[#i] = #rt::BodyMass { mass: #mass, inertia: #inertia };)
-        });
-        let motion = motion.chunks(9).enumerate().map(|(i, b)| {
-            let (px, py, a, vx, vy, w, ax, ay, al) =
-                (&b[0], &b[1], &b[2], &b[3], &b[4], &b[5], &b[6], &b[7], &b[8]);
-            quote!(out[#i] = #rt::BodyMotion {
-                com: #rt::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] },
-                angle: [#a, #w, #al],
-            };)
-        });
-        (g, quote!(#(#m)*), quote!(#(#motion)*))
-    };
+    let fresh = body(dag, masses, args);
+    let split = |r: &[TokenStream]| body_writes(c, (rt, gt), r);
     let (g, m, motion) = split(&fused.roots);
     let (fg, fm, _) = split(&fresh.roots);
     let (stmts, fresh_stmts) = (&fused.stmts, &fresh.stmts);

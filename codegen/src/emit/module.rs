@@ -168,14 +168,21 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
                 Ok(gravity)
             }
             #[inline]
-            fn tick_bodies(&self, t: &Self::Tick, masses: &mut [#rt::BodyMass<#gt>], out: &mut [#rt::BodyMotion<#gt>])
-                -> ::core::result::Result<[#gt; 2], #rt::SolveError> {
-                let bad = |got: usize| #rt::SolveError::BadLength { expected: #nb, got };
-                let masses_len = masses.len();
-                let masses = <&mut [#rt::BodyMass<#gt>; #nb]>::try_from(masses).map_err(|_| bad(masses_len))?;
-                let out_len = out.len();
-                let out = <&mut [#rt::BodyMotion<#gt>; #nb]>::try_from(out).map_err(|_| bad(out_len))?;
-                Ok(#ty::tick_bodies(self, t, masses, out))
+            fn with_tick_bodies<R>(&self, t: &Self::Tick, f: impl FnOnce(#rt::TickBodies<'_, #gt>) -> R) -> R {
+                let mut masses = [#rt::BodyMass::default(); #nb];
+                let mut out = [#rt::BodyMotion::default(); #nb];
+                let gravity = #ty::tick_bodies(self, t, &mut masses, &mut out);
+                f((gravity, &masses, &out))
+            }
+            #[inline]
+            fn tick_with_bodies<R>(&self, t: &mut Self::Tick, input: &#rt::InputMotion<Self::X>, options: &#rt::SolveOptions<#gt>,
+                f: impl FnOnce(&Self::Tick, #rt::TickBodies<'_, #gt>) -> ::core::result::Result<R, #rt::SolveError>)
+                -> ::core::result::Result<R, #rt::SolveError> {
+                let mut masses = [#rt::BodyMass::default(); #nb];
+                let mut out = [#rt::BodyMotion::default(); #nb];
+                let mut gravity = [#gt::zero(); 2];
+                #ty::tick_dynamics_arrays(self, t, &input.x, &input.xd, &input.xdd, options, (&mut masses, &mut out, &mut gravity))?;
+                f(t, (gravity, &masses, &out))
             }
         }
     };

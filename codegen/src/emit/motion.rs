@@ -251,6 +251,9 @@ pub(crate) struct Subset<'a> {
     /// The length scale Newton's tolerance and a gap's report are relative to: the params'
     /// `length_scale()`, or a scene's own over the params it reads.
     pub length_scale: TokenStream,
+    /// Also every body's mass properties and motion, after the points and sharing their
+    /// subexpressions (`tick_dynamics_arrays`): the body then takes `masses`, `out` and `gravity`.
+    pub bodies: bool,
 }
 
 /// `fn motion_cached(…) -> ::core::result::Result<(q̇, q̈, points), SolveError>`, inside the mechanism's impl.
@@ -265,8 +268,19 @@ pub(crate) fn motion(c: &Compiled, cached: &dyn VarSource, rt: &TokenStream) -> 
         vis: TokenStream::new(),
         values_read: None,
         length_scale: quote!(self.params.length_scale()),
+        bodies: false,
     };
-    motion_subset(c, cached, rt, &sub)
+    let plain = motion_subset(c, cached, rt, &sub);
+    if c.system.bodies.is_empty() && c.system.gravity.is_none() {
+        return plain;
+    }
+    let with_bodies = Subset {
+        name: format_ident!("motion_bodies_cached"),
+        bodies: true,
+        ..sub
+    };
+    let bodies = motion_subset(c, cached, rt, &with_bodies);
+    quote!(#plain #bodies)
 }
 
 /// The fused body of `sub`: only its blocks, its derivative stages and its points (nodes that
@@ -309,10 +323,15 @@ pub(crate) fn motion_subset(
             roots.extend(c.derivatives.point_acceleration[p]);
         }
     }
+    let point_roots = roots.len();
+    if sub.bodies {
+        roots.extend(crate::emit::bodies::body_roots(c).0);
+    }
     let seg = b.segment(&roots);
     let stmts = &seg.stmts;
+    let (point_exprs, body_exprs) = seg.roots.split_at(point_roots);
     let zero = quote!(#gt::zero());
-    let items = seg.roots.chunks(per).map(|p| {
+    let items = point_exprs.chunks(per).map(|p| {
         let at = |i: usize| p.get(i).unwrap_or(&zero);
         let (px, py, vx, vy, ax, ay) = (at(0), at(1), at(2), at(3), at(4), at(5));
         quote!(#rt::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] })
@@ -326,19 +345,31 @@ pub(crate) fn motion_subset(
     };
     let qd_let = rate_let(format_ident!("qd"), sub.order >= 1);
     let qdd_let = rate_let(format_ident!("qdd"), sub.order >= 2);
+    // With bodies: their arrays as arguments, written after the points.
+    let (body_args, body_writes) = if sub.bodies {
+        let nb = c.system.bodies.len();
+        let (g, m, motion) = crate::emit::bodies::body_writes(c, (rt, gt), body_exprs);
+        (
+            quote!((masses, out, gravity): (&mut [#rt::BodyMass<#gt>; #nb], &mut [#rt::BodyMotion<#gt>; #nb], &mut [#gt; 2]),),
+            quote!(#m #motion *gravity = #g;),
+        )
+    } else {
+        (TokenStream::new(), TokenStream::new())
+    };
     quote! {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
         #[inline(always)]
         #vis fn #name(&self, fixed: #rt::Fixed<'_, #gt, #ni, #npar>, st: &mut #rt::TrigState<#gt, #nu>,
-            options: &#rt::SolveOptions<#gt>, report: &mut #rt::NewtonReport<#gt>, #every_arg)
+            options: &#rt::SolveOptions<#gt>, report: &mut #rt::NewtonReport<#gt>, #every_arg #body_args)
             -> ::core::result::Result<#rt::Rates<#gt, #nu, #np>, #rt::SolveError> {
             let #rt::Fixed { x, xd, xdd, tx, tp } = fixed;
             #qd_let
             #qdd_let
             #steps
             #stmts
+            #body_writes
             Ok((qd, qdd, [#(#items),*]))
         }
     }

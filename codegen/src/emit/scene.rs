@@ -68,6 +68,7 @@ pub(crate) fn methods(c: &Compiled, cached: &dyn VarSource, args: &Args) -> Toke
             // Only a body with an angle to skip takes `every_angle`.
             values_read: skipped.iter().any(|&k| k).then_some(&values_read[..]),
             length_scale: quote!(self.#scale_fn()),
+            bodies: false,
         };
         let every = |value: bool| sub.values_read.map(|_| quote!(, #value));
         let (every_true, every_false) = (every(true), every(false));

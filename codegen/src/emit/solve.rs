@@ -101,6 +101,70 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         }
     };
 
+    // One tick (`tick_arrays`) and, for a mechanism with bodies, one that also computes their mass
+    // properties and motion in the same body (`tick_dynamics_arrays`): one template.
+    let tick_fn = |name: &str,
+                   motion: &str,
+                   extra: TokenStream,
+                   extra_names: TokenStream,
+                   attrs: TokenStream| {
+        let (name, motion) = (format_ident!("{name}"), format_ident!("{motion}"));
+        quote! {
+            #attrs
+            fn #name(&self, t: &mut #tick_ty<#gt>, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni],
+                options: &#rt::SolveOptions<#gt>, #extra) -> ::core::result::Result<(), #rt::SolveError> {
+                use #rt::TickCache as _;
+                let params = self.params.to_array();
+                let same = t.same_params(&params);
+                if !same {
+                    #rt::check_finite(#rt::Quantity::Param, &params)?;
+                }
+                #rt::check_finite(#rt::Quantity::Input, x)?;
+                #rt::check_finite(#rt::Quantity::InputRate, xd)?;
+                #rt::check_finite(#rt::Quantity::InputAcceleration, xdd)?;
+                let mut fresh_tp = None;
+                let (tx, tp) = if same {
+                    (t.inputs_trig(x, [#(#input_mask),*]), t.params_trig())
+                } else {
+                    let (tx, tp) = self.trig_fixed(x);
+                    (tx, &*fresh_tp.insert(tp))
+                };
+                let mut st = #guess;
+                let mut report = #rt::NewtonReport::new();
+                let fixed = #rt::Fixed { x, xd, xdd, tx: &tx, tp };
+                let (qd, qdd, points) = self.#motion(fixed, &mut st, options, &mut report, #extra_names)?;
+                t.update(x, xd, xdd, &st, qd, qdd, points, report, tx, fresh_tp.as_ref().map(|tp| (&params, tp)));
+                Ok(())
+            }
+        }
+    };
+    let mut ticks = tick_fn(
+        "tick_arrays",
+        "motion_cached",
+        TokenStream::new(),
+        TokenStream::new(),
+        quote! {
+            /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
+            /// blocks predicted by a second-order step from the last tick, their sines and cosines
+            /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
+            /// when the params changed); closed-form blocks solved on the last tick's branch; then
+            /// velocities, accelerations and points. On error `t` is unchanged.
+        },
+    );
+    if !(c.system.bodies.is_empty() && c.system.gravity.is_none()) {
+        let nb = c.system.bodies.len();
+        ticks.extend(tick_fn(
+            "tick_dynamics_arrays",
+            "motion_bodies_cached",
+            quote!((masses, out, gravity): (&mut [#rt::BodyMass<#gt>; #nb], &mut [#rt::BodyMotion<#gt>; #nb], &mut [#gt; 2])),
+            quote!((masses, out, gravity)),
+            quote! {
+                /// `tick_arrays`, and every body's mass properties into `masses`, motion into
+                /// `out` and gravity into `gravity`, computed in the same body as the points
+                /// (sharing their subexpressions). On error `t` is unchanged.
+            },
+        ));
+    }
     quote! {
         #block_fns
 
@@ -204,35 +268,6 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
                 tx, tq: st.sc, tp, params: self.params.to_array() }))
         }
 
-        /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
-        /// blocks predicted by a second-order step from the last tick, their sines and cosines
-        /// rotated from the cached ones (recomputed every `mechgen::runtime::tick::RESYNC_TICKS` ticks or
-        /// when the params changed); closed-form blocks solved on the last tick's branch; then
-        /// velocities, accelerations and points. On error `t` is unchanged.
-        fn tick_arrays(&self, t: &mut #tick_ty<#gt>, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni],
-            options: &#rt::SolveOptions<#gt>) -> ::core::result::Result<(), #rt::SolveError> {
-            use #rt::TickCache as _;
-            let params = self.params.to_array();
-            let same = t.same_params(&params);
-            if !same {
-                #rt::check_finite(#rt::Quantity::Param, &params)?;
-            }
-            #rt::check_finite(#rt::Quantity::Input, x)?;
-            #rt::check_finite(#rt::Quantity::InputRate, xd)?;
-            #rt::check_finite(#rt::Quantity::InputAcceleration, xdd)?;
-            let mut fresh_tp = None;
-            let (tx, tp) = if same {
-                (t.inputs_trig(x, [#(#input_mask),*]), t.params_trig())
-            } else {
-                let (tx, tp) = self.trig_fixed(x);
-                (tx, &*fresh_tp.insert(tp))
-            };
-            let mut st = #guess;
-            let mut report = #rt::NewtonReport::new();
-            let fixed = #rt::Fixed { x, xd, xdd, tx: &tx, tp };
-            let (qd, qdd, points) = self.motion_cached(fixed, &mut st, options, &mut report)?;
-            t.update(x, xd, xdd, &st, qd, qdd, points, report, tx, fresh_tp.as_ref().map(|tp| (&params, tp)));
-            Ok(())
-        }
+        #ticks
     }
 }

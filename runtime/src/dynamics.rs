@@ -110,7 +110,10 @@ pub fn inverse_dynamics<T: Real>(
     sums(gravity, masses, scaled, loads)
 }
 
-/// [`inverse_dynamics`] over each body's motion with its coefficients `(c_G, c_φ)`.
+/// [`inverse_dynamics`] over each body's motion with its coefficients `(c_G, c_φ)`. Gravity
+/// enters through two sums over the bodies (Σ m c_G and Σ m G), not per body; a product that
+/// both the inertia and the kinetic energy need (`(m v) · v` when the coefficients are the rates)
+/// is written the same way in both, so it is computed once.
 #[inline(always)]
 fn sums<'a, T: Real>(
     gravity: [T; 2],
@@ -119,34 +122,38 @@ fn sums<'a, T: Real>(
     loads: impl IntoIterator<Item = ([T; 2], [T; 2])>,
 ) -> Dynamics<T> {
     let zero = T::zero();
-    let half = T::lit(0.5);
-    let mut d = Dynamics {
-        effort: zero,
-        inertia: zero,
-        kinetic: zero,
-        potential: zero,
-        shaking_force: [zero; 2],
-        shaking_moment: zero,
-    };
-    for (b, (s, cg, cphi)) in masses.iter().zip(bodies) {
+    let (mut effort, mut inertia, mut twice_kinetic, mut torque) = (zero, zero, zero, zero);
+    let (mut mass_c, mut mass_g, mut force) = ([zero; 2], [zero; 2], [zero; 2]);
+    for (b, (s, c, c_phi)) in masses.iter().zip(bodies) {
         let (m, i) = (b.mass, b.inertia);
         let (g, v, a) = (s.com.position, s.com.velocity, s.com.acceleration);
-        let (phid, phidd) = (s.angle[1], s.angle[2]);
-        let dyn_x = m * (a[0] - gravity[0]);
-        let dyn_y = m * (a[1] - gravity[1]);
-        d.effort += dyn_x * cg[0] + dyn_y * cg[1] + i * phidd * cphi;
-        d.inertia += m * (cg[0] * cg[0] + cg[1] * cg[1]) + i * cphi * cphi;
-        d.kinetic += half * (m * (v[0] * v[0] + v[1] * v[1]) + i * phid * phid);
-        d.potential -= m * (gravity[0] * g[0] + gravity[1] * g[1]);
-        let (fx, fy) = (m * a[0], m * a[1]);
-        d.shaking_force[0] -= fx;
-        d.shaking_force[1] -= fy;
-        d.shaking_moment -= g[0] * fy - g[1] * fx + i * phidd;
+        let (omega, alpha) = (s.angle[1], s.angle[2]);
+        let f = [m * a[0], m * a[1]];
+        let mc = [m * c[0], m * c[1]];
+        let mv = [m * v[0], m * v[1]];
+        let i_alpha = i * alpha;
+        effort += f[0] * c[0] + f[1] * c[1] + i_alpha * c_phi;
+        inertia += mc[0] * c[0] + mc[1] * c[1] + i * c_phi * c_phi;
+        twice_kinetic += mv[0] * v[0] + mv[1] * v[1] + i * omega * omega;
+        torque += g[0] * f[1] - g[1] * f[0] + i_alpha;
+        for k in 0..2 {
+            mass_c[k] += mc[k];
+            mass_g[k] += m * g[k];
+            force[k] += f[k];
+        }
     }
+    effort -= gravity[0] * mass_c[0] + gravity[1] * mass_c[1];
     for (cp, f) in loads {
-        d.effort -= f[0] * cp[0] + f[1] * cp[1];
+        effort -= f[0] * cp[0] + f[1] * cp[1];
     }
-    d
+    Dynamics {
+        effort,
+        inertia,
+        kinetic: T::lit(0.5) * twice_kinetic,
+        potential: -(gravity[0] * mass_g[0] + gravity[1] * mass_g[1]),
+        shaking_force: [-force[0], -force[1]],
+        shaking_moment: -torque,
+    }
 }
 
 /// What [`dynamics`] works in: grown once for a mechanism ([`DynamicsWork::new`]), then nothing

@@ -6,29 +6,28 @@
 use std::path::Path;
 
 use mechgen::branches::{Analysis, Setup};
-use mechgen_codegen::diagnostic::{Diagnostic, SourceFile, render};
+use mechgen_codegen::diagnostic::{Diagnostic, render};
 use mechgen_codegen::{Compiled, Kind};
 
 use super::args::{BranchesArgs, Engine};
 
-/// The analysed file's mechanisms.
-pub(super) fn compile(path: Option<&Path>) -> Result<Vec<Compiled>, String> {
-    let (name, text) = match path {
-        Some(p) => (
-            p.display().to_string(),
-            std::fs::read_to_string(p).map_err(|e| format!("cannot read {}: {e}", p.display()))?,
-        ),
-        None => (
-            mechgen::source::SOURCE_NAME.to_string(),
-            mechgen::source::SOURCE.to_string(),
-        ),
-    };
-    let file = SourceFile::new(name, text);
-    let (compiled, diagnostics) = mechgen_codegen::analyze(&file);
-    if diagnostics.iter().any(Diagnostic::is_error) {
-        return Err(render(&file, &diagnostics).trim_end().to_string());
+/// The analysed file's mechanisms (the process's one analysis of the file), or its errors.
+pub(super) fn compile(path: Option<&Path>) -> Result<FileMechanisms, String> {
+    let a = super::analysed::analysis(path)?;
+    if a.diagnostics.iter().any(Diagnostic::is_error) {
+        return Err(render(&a.file, &a.diagnostics).trim_end().to_string());
     }
-    Ok(compiled)
+    Ok(FileMechanisms(a))
+}
+
+/// A file's mechanisms, as [`compile`] gives them.
+pub(super) struct FileMechanisms(std::rc::Rc<super::analysed::FileAnalysis>);
+
+impl std::ops::Deref for FileMechanisms {
+    type Target = [Compiled];
+    fn deref(&self) -> &[Compiled] {
+        &self.0.compiled
+    }
 }
 
 /// The input range of the start's branch of mechanism `name` (radians or file units): between

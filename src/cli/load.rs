@@ -22,22 +22,11 @@ pub struct Loaded {
 impl Loaded {
     /// The file at `path`, or the compiled-in file (`mechgen::source`).
     pub fn read(path: Option<&Path>) -> Result<Loaded, String> {
-        let (name, text) = match path {
-            Some(p) => (
-                p.display().to_string(),
-                std::fs::read_to_string(p)
-                    .map_err(|e| format!("cannot read {}: {e}", p.display()))?,
-            ),
-            None => (
-                mechgen::source::SOURCE_NAME.to_string(),
-                mechgen::source::SOURCE.to_string(),
-            ),
-        };
-        let file = SourceFile::new(name, text);
-        let (compiled, diagnostics) = mechgen_codegen::analyze(&file);
+        let a = super::analysed::analysis(path)?;
+        let (file, diagnostics) = (&a.file, &a.diagnostics);
         if diagnostics.iter().any(Diagnostic::is_error) {
             let n = diagnostics.iter().filter(|d| d.is_error()).count();
-            let rendered = render(&file, &diagnostics);
+            let rendered = render(file, diagnostics);
             return Err(format!(
                 "{}\n{}: {n} error(s)",
                 rendered.trim_end(),
@@ -45,11 +34,12 @@ impl Loaded {
             ));
         }
         Ok(Loaded {
-            mechs: compiled.iter().map(Generic::new).collect(),
-            file,
+            mechs: a.compiled.iter().map(Generic::new).collect(),
+            file: file.clone(),
             warnings: diagnostics
-                .into_iter()
+                .iter()
                 .filter(|d| d.severity == Severity::Warning)
+                .cloned()
                 .collect(),
         })
     }

@@ -37,6 +37,7 @@ macro_rules! tell_raw {
 /// Bytes buffered before a table or CSV is written out: large writes, few system calls.
 pub(crate) const OUTPUT_BUFFER: usize = 1 << 20;
 
+pub mod analysed;
 pub mod args;
 pub mod batch;
 pub mod branches;

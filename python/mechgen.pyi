@@ -91,7 +91,8 @@ class Mechanism:
     ) -> dict[str, np.ndarray]:
         """Forward dynamics from the start configuration (a mechanism with bodies), as `mechgen
         simulate --csv`: t, the input, X_vel, X_acc, every unknown, kinetic_energy,
-        potential_energy, status; a row every dt to time (a dead point ends it)."""
+        potential_energy, status; a row every dt to time (a dead point ends it). Loads as for
+        `dynamics`: (point, fx, fy), or (point, fx, fy, (a, b)) acting over [a, b] degrees."""
 
     def __reduce__(self) -> tuple: ...
 

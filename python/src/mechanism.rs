@@ -405,7 +405,8 @@ impl Mechanism {
     /// Forward dynamics, as `mechgen simulate` gives it (a mechanism with bodies): the input
     /// (`input`, default the first; the others held at rest, `set` their values in degrees or
     /// file units) from the start configuration at `rate`, under gravity, `loads` (a list of
-    /// `(point, fx, fy)`) and the constant driving effort `torque`, a row every `dt` seconds to
+    /// `(point, fx, fy)`, or `(point, fx, fy, (a, b))` acting while an angle input lies in
+    /// [a, b] degrees, as `dynamics`) and the constant driving effort `torque`, a row every `dt` seconds to
     /// `time`. Columns: `t`, the input, `X_vel`, `X_acc`, every unknown, `kinetic_energy`,
     /// `potential_energy`, `status` (a dead point stops it: its row is the last).
     #[pyo3(signature = (time, dt, torque=0.0, rate=0.0, loads=None, input=None, set=None, params=None))]

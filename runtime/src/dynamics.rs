@@ -20,7 +20,7 @@ use crate::dyn_tick::StateRef;
 use crate::dynamic::DynMechanism;
 use crate::error::SolveError;
 use crate::info::{BodyMass, BodyMotion, MechanismInfo, PointMotion};
-use crate::mechanism::{InputMotion, State, StaticMechanism};
+use crate::mechanism::{InputMotion, State, StaticMechanism, TickBodies};
 use crate::scalar::Real;
 use crate::solve::SolveOptions;
 
@@ -227,16 +227,7 @@ pub fn tick_dynamics<T: Real, M: StaticMechanism<T>>(
     loads: &[PointLoad<T>],
     ws: &mut DynamicsWork<T>,
 ) -> Result<Dynamics<T>, SolveError> {
-    m.with_tick_bodies(t, |bodies| {
-        finish(
-            m,
-            &tick_state::<T, M>(t),
-            input,
-            loads,
-            bodies,
-            &mut ws.unit,
-        )
-    })
+    m.with_tick_bodies(t, |bodies| after_tick(m, t, (input, loads), bodies, ws))
 }
 
 /// One tick of a generated mechanism to `motion` ([`StaticMechanism::tick`]) and the inverse
@@ -252,21 +243,20 @@ pub fn tick_with_dynamics<T: Real, M: StaticMechanism<T>>(
     ws: &mut DynamicsWork<T>,
 ) -> Result<Dynamics<T>, SolveError> {
     m.tick_with_bodies(t, motion, options, |t, bodies| {
-        finish(
-            m,
-            &tick_state::<T, M>(t),
-            input,
-            loads,
-            bodies,
-            &mut ws.unit,
-        )
+        after_tick(m, t, (input, loads), bodies, ws)
     })
 }
 
-/// A tick's state as the sums read it.
+/// The sums at a tick's state, given its bodies.
 #[inline(always)]
-fn tick_state<T: Real, M: StaticMechanism<T>>(t: &M::Tick) -> StateRef<'_, T> {
-    State {
+fn after_tick<T: Real, M: StaticMechanism<T>>(
+    m: &M,
+    t: &M::Tick,
+    (input, loads): (usize, &[PointLoad<T>]),
+    bodies: TickBodies<'_, T>,
+    ws: &mut DynamicsWork<T>,
+) -> Result<Dynamics<T>, SolveError> {
+    let state = State {
         x: t.x.as_ref(),
         xd: t.xd.as_ref(),
         xdd: t.xdd.as_ref(),
@@ -275,7 +265,8 @@ fn tick_state<T: Real, M: StaticMechanism<T>>(t: &M::Tick) -> StateRef<'_, T> {
         qdd: t.qdd.as_ref(),
         points: t.points.as_ref(),
         report: t.report,
-    }
+    };
+    finish(m, &state, input, loads, bodies, &mut ws.unit)
 }
 
 /// The sums, given gravity, the masses and the bodies' motion at `state`: the coefficients from

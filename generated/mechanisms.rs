@@ -1088,17 +1088,16 @@ pub mod sixbar {
                 },
             ]
         }
-        /// Every body's mass properties into `masses` and motion into `out`, with the sines and
-        /// cosines of the inputs, unknowns and params given; returns gravity.
+        /// Gravity, then every body's mass properties and motion, handed to `sink`, with the sines
+        /// and cosines of the inputs, unknowns and params given.
         #[inline]
-        fn body_motion_cached(
+        fn body_motion_cached<S: ::mechgen::__private::BodySink<T>>(
             &self,
             (x, xd, xdd): (&[T; 1], &[T; 1], &[T; 1]),
             (q, qd, qdd): (&[T; 4], &[T; 4], &[T; 4]),
             (tx, tq, tp): ::mechgen::__private::TrigRefs<'_, T, 1, 4, 10>,
-            masses: &mut [::mechgen::__private::BodyMass<T>; 5],
-            out: &mut [::mechgen::__private::BodyMotion<T>; 5],
-        ) -> [T; 2] {
+            sink: &mut S,
+        ) {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -1289,67 +1288,82 @@ pub mod sixbar {
             let t157 = t74 * v_q6_dd;
             let t158 = t156 - t157;
             let t159 = -t158;
-            masses[0] = ::mechgen::__private::BodyMass {
-                mass: t15,
-                inertia: t18,
-            };
-            masses[1] = ::mechgen::__private::BodyMass {
-                mass: t37,
-                inertia: t53,
-            };
-            masses[2] = ::mechgen::__private::BodyMass {
-                mass: t58,
-                inertia: t61,
-            };
-            masses[3] = ::mechgen::__private::BodyMass {
-                mass: t69,
-                inertia: t72,
-            };
-            masses[4] = ::mechgen::__private::BodyMass {
-                mass: t78,
-                inertia: t81,
-            };
-            out[0] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t13, t14],
-                    velocity: [t93, t94],
-                    acceleration: [t114, t118],
+            sink.gravity([T::zero(), T::lit(-9810.0)]);
+            sink.body(
+                0,
+                ::mechgen::__private::BodyMass {
+                    mass: t15,
+                    inertia: t18,
                 },
-                angle: [v_q1, v_q1_d, v_q1_dd],
-            };
-            out[1] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t35, t36],
-                    velocity: [t97, t99],
-                    acceleration: [t124, t129],
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t13, t14],
+                        velocity: [t93, t94],
+                        acceleration: [t114, t118],
+                    },
+                    angle: [v_q1, v_q1_d, v_q1_dd],
                 },
-                angle: [v_q2, v_q2_d, v_q2_dd],
-            };
-            out[2] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t57, t56],
-                    velocity: [t101, t102],
-                    acceleration: [t133, t137],
+            );
+            sink.body(
+                1,
+                ::mechgen::__private::BodyMass {
+                    mass: t37,
+                    inertia: t53,
                 },
-                angle: [v_q3, v_q3_d, v_q3_dd],
-            };
-            out[3] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t67, t68],
-                    velocity: [t105, t107],
-                    acceleration: [t144, t151],
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t35, t36],
+                        velocity: [t97, t99],
+                        acceleration: [t124, t129],
+                    },
+                    angle: [v_q2, v_q2_d, v_q2_dd],
                 },
-                angle: [v_q5, v_q5_d, v_q5_dd],
-            };
-            out[4] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t76, t77],
-                    velocity: [t109, t110],
-                    acceleration: [t155, t159],
+            );
+            sink.body(
+                2,
+                ::mechgen::__private::BodyMass {
+                    mass: t58,
+                    inertia: t61,
                 },
-                angle: [v_q6, v_q6_d, v_q6_dd],
-            };
-            [T::zero(), T::lit(-9810.0)]
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t57, t56],
+                        velocity: [t101, t102],
+                        acceleration: [t133, t137],
+                    },
+                    angle: [v_q3, v_q3_d, v_q3_dd],
+                },
+            );
+            sink.body(
+                3,
+                ::mechgen::__private::BodyMass {
+                    mass: t69,
+                    inertia: t72,
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t67, t68],
+                        velocity: [t105, t107],
+                        acceleration: [t144, t151],
+                    },
+                    angle: [v_q5, v_q5_d, v_q5_dd],
+                },
+            );
+            sink.body(
+                4,
+                ::mechgen::__private::BodyMass {
+                    mass: t78,
+                    inertia: t81,
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t76, t77],
+                        velocity: [t109, t110],
+                        acceleration: [t155, t159],
+                    },
+                    angle: [v_q6, v_q6_d, v_q6_dd],
+                },
+            );
         }
         /// Each body's centre of mass and angle with their velocities and accelerations at a
         /// solved state, in `INFO.bodies` order.
@@ -1364,16 +1378,18 @@ pub mod sixbar {
         ) -> [::mechgen::__private::BodyMotion<T>; 5] {
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            let mut masses = [::mechgen::__private::BodyMass::default(); 5];
-            let mut out = [::mechgen::__private::BodyMotion::default(); 5];
+            let mut arrays = (
+                [::mechgen::__private::BodyMass::default(); 5],
+                [::mechgen::__private::BodyMotion::default(); 5],
+                [T::zero(); 2],
+            );
             self.body_motion_cached(
                 (x, xd, xdd),
                 (q, qd, qdd),
                 (&tx, &st.sc, &tp),
-                &mut masses,
-                &mut out,
+                &mut arrays,
             );
-            out
+            arrays.1
         }
         /// The acceleration of gravity (zero without a `gravity` key) and each body's mass and
         /// inertia about its centre of mass at the params, in `INFO.bodies` order.
@@ -1446,30 +1462,31 @@ pub mod sixbar {
             };
             ([T::zero(), T::lit(-9810.0)], masses)
         }
-        /// [`Self::mass_properties`] into `masses` and [`Self::body_motion`] at a tick's state
-        /// into `out`, with the sines and cosines the tick keeps (when the params are still those
-        /// of the last tick; else computed afresh); returns gravity.
+        /// [`Self::mass_properties`] and [`Self::body_motion`] at a tick's state handed to `sink`,
+        /// with the sines and cosines the tick keeps (when the params are still those of the last
+        /// tick; else computed afresh).
         #[inline]
-        pub fn tick_bodies(
+        pub fn tick_bodies<S: ::mechgen::__private::BodySink<T>>(
             &self,
             t: &Tick<T>,
-            masses: &mut [::mechgen::__private::BodyMass<T>; 5],
-            out: &mut [::mechgen::__private::BodyMotion<T>; 5],
-        ) -> [T; 2] {
+            sink: &mut S,
+        ) {
             use ::mechgen::__private::TickCache as _;
             if !t.same_params(&self.params.to_array()) {
                 let (g, m) = self.mass_properties();
-                *masses = m;
-                *out = self.body_motion(&t.x, &t.q, &t.xd, &t.qd, &t.xdd, &t.qdd);
-                return g;
+                let b = self.body_motion(&t.x, &t.q, &t.xd, &t.qd, &t.xdd, &t.qdd);
+                sink.gravity(g);
+                for (k, (m, b)) in m.into_iter().zip(b).enumerate() {
+                    sink.body(k, m, b);
+                }
+                return;
             }
             let (tx, tq) = t.trig();
             self.body_motion_cached(
                 (&t.x, &t.xd, &t.xdd),
                 (&t.q, &t.qd, &t.qdd),
                 (tx, tq, t.params_trig()),
-                masses,
-                out,
+                sink,
             )
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its residual and Jacobian block (Newton).
@@ -2335,21 +2352,13 @@ pub mod sixbar {
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
         #[inline(always)]
-        fn motion_bodies_cached(
+        fn motion_bodies_cached<S: ::mechgen::__private::BodySink<T>>(
             &self,
             fixed: ::mechgen::__private::Fixed<'_, T, 1, 10>,
             st: &mut ::mechgen::__private::TrigState<T, 4>,
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
-            (
-                masses,
-                out,
-                gravity,
-            ): (
-                &mut [::mechgen::__private::BodyMass<T>; 5],
-                &mut [::mechgen::__private::BodyMotion<T>; 5],
-                &mut [T; 2],
-            ),
+            sink: &mut S,
         ) -> ::core::result::Result<
             ::mechgen::__private::Rates<T, 4, 1>,
             ::mechgen::__private::SolveError,
@@ -2734,67 +2743,82 @@ pub mod sixbar {
             let t224 = t145 * v_q6_dd;
             let t225 = t223 - t224;
             let t226 = -t225;
-            masses[0] = ::mechgen::__private::BodyMass {
-                mass: t86,
-                inertia: t89,
-            };
-            masses[1] = ::mechgen::__private::BodyMass {
-                mass: t108,
-                inertia: t124,
-            };
-            masses[2] = ::mechgen::__private::BodyMass {
-                mass: t129,
-                inertia: t132,
-            };
-            masses[3] = ::mechgen::__private::BodyMass {
-                mass: t140,
-                inertia: t143,
-            };
-            masses[4] = ::mechgen::__private::BodyMass {
-                mass: t149,
-                inertia: t152,
-            };
-            out[0] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t84, t85],
-                    velocity: [t160, t161],
-                    acceleration: [t181, t185],
+            sink.gravity([T::zero(), T::lit(-9810.0)]);
+            sink.body(
+                0,
+                ::mechgen::__private::BodyMass {
+                    mass: t86,
+                    inertia: t89,
                 },
-                angle: [v_q1, v_q1_d, v_q1_dd],
-            };
-            out[1] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t106, t107],
-                    velocity: [t164, t166],
-                    acceleration: [t191, t196],
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t84, t85],
+                        velocity: [t160, t161],
+                        acceleration: [t181, t185],
+                    },
+                    angle: [v_q1, v_q1_d, v_q1_dd],
                 },
-                angle: [v_q2, v_q2_d, v_q2_dd],
-            };
-            out[2] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t128, t127],
-                    velocity: [t168, t169],
-                    acceleration: [t200, t204],
+            );
+            sink.body(
+                1,
+                ::mechgen::__private::BodyMass {
+                    mass: t108,
+                    inertia: t124,
                 },
-                angle: [v_q3, v_q3_d, v_q3_dd],
-            };
-            out[3] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t138, t139],
-                    velocity: [t172, t174],
-                    acceleration: [t211, t218],
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t106, t107],
+                        velocity: [t164, t166],
+                        acceleration: [t191, t196],
+                    },
+                    angle: [v_q2, v_q2_d, v_q2_dd],
                 },
-                angle: [v_q5, v_q5_d, v_q5_dd],
-            };
-            out[4] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t147, t148],
-                    velocity: [t176, t177],
-                    acceleration: [t222, t226],
+            );
+            sink.body(
+                2,
+                ::mechgen::__private::BodyMass {
+                    mass: t129,
+                    inertia: t132,
                 },
-                angle: [v_q6, v_q6_d, v_q6_dd],
-            };
-            *gravity = [T::zero(), T::lit(-9810.0)];
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t128, t127],
+                        velocity: [t168, t169],
+                        acceleration: [t200, t204],
+                    },
+                    angle: [v_q3, v_q3_d, v_q3_dd],
+                },
+            );
+            sink.body(
+                3,
+                ::mechgen::__private::BodyMass {
+                    mass: t140,
+                    inertia: t143,
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t138, t139],
+                        velocity: [t172, t174],
+                        acceleration: [t211, t218],
+                    },
+                    angle: [v_q5, v_q5_d, v_q5_dd],
+                },
+            );
+            sink.body(
+                4,
+                ::mechgen::__private::BodyMass {
+                    mass: t149,
+                    inertia: t152,
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t147, t148],
+                        velocity: [t176, t177],
+                        acceleration: [t222, t226],
+                    },
+                    angle: [v_q6, v_q6_d, v_q6_dd],
+                },
+            );
             Ok((
                 qd,
                 qdd,
@@ -3812,25 +3836,17 @@ pub mod sixbar {
             );
             Ok(())
         }
-        /// `tick_arrays`, and every body's mass properties into `masses`, motion into
-        /// `out` and gravity into `gravity`, computed in the same body as the points
-        /// (sharing their subexpressions). On error `t` is unchanged.
-        fn tick_dynamics_arrays(
+        /// `tick_arrays` that hands gravity and every body's mass properties and motion to
+        /// `sink`, computed in the same body as the points (sharing their
+        /// subexpressions). On error `t` is unchanged.
+        fn tick_dynamics_arrays<S: ::mechgen::__private::BodySink<T>>(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
-            (
-                masses,
-                out,
-                gravity,
-            ): (
-                &mut [::mechgen::__private::BodyMass<T>; 5],
-                &mut [::mechgen::__private::BodyMotion<T>; 5],
-                &mut [T; 2],
-            ),
+            sink: &mut S,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             use ::mechgen::__private::TickCache as _;
             let params = self.params.to_array();
@@ -3874,13 +3890,7 @@ pub mod sixbar {
                 tp,
             };
             let (qd, qdd, points) = self
-                .motion_bodies_cached(
-                    fixed,
-                    &mut st,
-                    options,
-                    &mut report,
-                    (masses, out, gravity),
-                )?;
+                .motion_bodies_cached(fixed, &mut st, options, &mut report, sink)?;
             t.update(
                 x,
                 xd,
@@ -4338,10 +4348,13 @@ pub mod sixbar {
             t: &Self::Tick,
             f: impl FnOnce(::mechgen::__private::TickBodies<'_, T>) -> R,
         ) -> R {
-            let mut masses = [::mechgen::__private::BodyMass::default(); 5];
-            let mut out = [::mechgen::__private::BodyMotion::default(); 5];
-            let gravity = Sixbar::tick_bodies(self, t, &mut masses, &mut out);
-            f((gravity, &masses, &out))
+            let mut arrays = (
+                [::mechgen::__private::BodyMass::default(); 5],
+                [::mechgen::__private::BodyMotion::default(); 5],
+                [T::zero(); 2],
+            );
+            Sixbar::tick_bodies(self, t, &mut arrays);
+            f((arrays.2, &arrays.0, &arrays.1))
         }
         #[inline]
         fn tick_with_bodies<R>(
@@ -4354,9 +4367,11 @@ pub mod sixbar {
                 ::mechgen::__private::TickBodies<'_, T>,
             ) -> ::core::result::Result<R, ::mechgen::__private::SolveError>,
         ) -> ::core::result::Result<R, ::mechgen::__private::SolveError> {
-            let mut masses = [::mechgen::__private::BodyMass::default(); 5];
-            let mut out = [::mechgen::__private::BodyMotion::default(); 5];
-            let mut gravity = [T::zero(); 2];
+            let mut arrays = (
+                [::mechgen::__private::BodyMass::default(); 5],
+                [::mechgen::__private::BodyMotion::default(); 5],
+                [T::zero(); 2],
+            );
             Sixbar::tick_dynamics_arrays(
                 self,
                 t,
@@ -4364,9 +4379,27 @@ pub mod sixbar {
                 &input.xd,
                 &input.xdd,
                 options,
-                (&mut masses, &mut out, &mut gravity),
+                &mut arrays,
             )?;
-            f(t, (gravity, &masses, &out))
+            f(t, (arrays.2, &arrays.0, &arrays.1))
+        }
+        #[inline]
+        fn tick_with_sink<S: ::mechgen::__private::BodySink<T>>(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
+            sink: &mut S,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            Sixbar::tick_dynamics_arrays(
+                self,
+                t,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                options,
+                sink,
+            )
         }
         #[inline]
         fn solve(
@@ -5407,17 +5440,16 @@ pub mod shaper {
                 },
             ]
         }
-        /// Every body's mass properties into `masses` and motion into `out`, with the sines and
-        /// cosines of the inputs, unknowns and params given; returns gravity.
+        /// Gravity, then every body's mass properties and motion, handed to `sink`, with the sines
+        /// and cosines of the inputs, unknowns and params given.
         #[inline]
-        fn body_motion_cached(
+        fn body_motion_cached<S: ::mechgen::__private::BodySink<T>>(
             &self,
             (x, xd, xdd): (&[T; 1], &[T; 1], &[T; 1]),
             (q, qd, qdd): (&[T; 4], &[T; 4], &[T; 4]),
             (tx, tq, _tp): ::mechgen::__private::TrigRefs<'_, T, 1, 4, 5>,
-            masses: &mut [::mechgen::__private::BodyMass<T>; 5],
-            out: &mut [::mechgen::__private::BodyMotion<T>; 5],
-        ) -> [T; 2] {
+            sink: &mut S,
+        ) {
             let v_q1 = x[0];
             let v_q3 = q[1];
             let v_q4 = q[2];
@@ -5510,67 +5542,82 @@ pub mod shaper {
             let t69 = t29 - t68;
             let t70 = t13 * v_q4_dd;
             let t71 = t69 + t70;
-            masses[0] = ::mechgen::__private::BodyMass {
-                mass: T::lit(0.3),
-                inertia: T::lit(0.0004),
-            };
-            masses[1] = ::mechgen::__private::BodyMass {
-                mass: T::lit(0.2),
-                inertia: T::lit(0.0001),
-            };
-            masses[2] = ::mechgen::__private::BodyMass {
-                mass: T::lit(1.4),
-                inertia: T::lit(0.042),
-            };
-            masses[3] = ::mechgen::__private::BodyMass {
-                mass: T::lit(0.35),
-                inertia: T::lit(0.00066),
-            };
-            masses[4] = ::mechgen::__private::BodyMass {
-                mass: T::lit(5.0),
-                inertia: T::zero(),
-            };
-            out[0] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t5, t7],
-                    velocity: [t31, t32],
-                    acceleration: [t44, t48],
+            sink.gravity([T::zero(), T::lit(-9.81)]);
+            sink.body(
+                0,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(0.3),
+                    inertia: T::lit(0.0004),
                 },
-                angle: [v_q1, v_q1_d, v_q1_dd],
-            };
-            out[1] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t0, t8],
-                    velocity: [t20, t21],
-                    acceleration: [t50, t52],
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t5, t7],
+                        velocity: [t31, t32],
+                        acceleration: [t44, t48],
+                    },
+                    angle: [v_q1, v_q1_d, v_q1_dd],
                 },
-                angle: [v_q3, v_q3_d, v_q3_dd],
-            };
-            out[2] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t10, t11],
-                    velocity: [t34, t35],
-                    acceleration: [t56, t60],
+            );
+            sink.body(
+                1,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(0.2),
+                    inertia: T::lit(0.0001),
                 },
-                angle: [v_q3, v_q3_d, v_q3_dd],
-            };
-            out[3] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t15, t16],
-                    velocity: [t38, t40],
-                    acceleration: [t66, t71],
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t0, t8],
+                        velocity: [t20, t21],
+                        acceleration: [t50, t52],
+                    },
+                    angle: [v_q3, v_q3_d, v_q3_dd],
                 },
-                angle: [v_q4, v_q4_d, v_q4_dd],
-            };
-            out[4] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [v_sE, p_yE],
-                    velocity: [v_sE_d, T::zero()],
-                    acceleration: [v_sE_dd, T::zero()],
+            );
+            sink.body(
+                2,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(1.4),
+                    inertia: T::lit(0.042),
                 },
-                angle: [T::zero(), T::zero(), T::zero()],
-            };
-            [T::zero(), T::lit(-9.81)]
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t10, t11],
+                        velocity: [t34, t35],
+                        acceleration: [t56, t60],
+                    },
+                    angle: [v_q3, v_q3_d, v_q3_dd],
+                },
+            );
+            sink.body(
+                3,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(0.35),
+                    inertia: T::lit(0.00066),
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t15, t16],
+                        velocity: [t38, t40],
+                        acceleration: [t66, t71],
+                    },
+                    angle: [v_q4, v_q4_d, v_q4_dd],
+                },
+            );
+            sink.body(
+                4,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(5.0),
+                    inertia: T::zero(),
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [v_sE, p_yE],
+                        velocity: [v_sE_d, T::zero()],
+                        acceleration: [v_sE_dd, T::zero()],
+                    },
+                    angle: [T::zero(), T::zero(), T::zero()],
+                },
+            );
         }
         /// Each body's centre of mass and angle with their velocities and accelerations at a
         /// solved state, in `INFO.bodies` order.
@@ -5585,16 +5632,18 @@ pub mod shaper {
         ) -> [::mechgen::__private::BodyMotion<T>; 5] {
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            let mut masses = [::mechgen::__private::BodyMass::default(); 5];
-            let mut out = [::mechgen::__private::BodyMotion::default(); 5];
+            let mut arrays = (
+                [::mechgen::__private::BodyMass::default(); 5],
+                [::mechgen::__private::BodyMotion::default(); 5],
+                [T::zero(); 2],
+            );
             self.body_motion_cached(
                 (x, xd, xdd),
                 (q, qd, qdd),
                 (&tx, &st.sc, &tp),
-                &mut masses,
-                &mut out,
+                &mut arrays,
             );
-            out
+            arrays.1
         }
         /// The acceleration of gravity (zero without a `gravity` key) and each body's mass and
         /// inertia about its centre of mass at the params, in `INFO.bodies` order.
@@ -5624,30 +5673,31 @@ pub mod shaper {
             };
             ([T::zero(), T::lit(-9.81)], masses)
         }
-        /// [`Self::mass_properties`] into `masses` and [`Self::body_motion`] at a tick's state
-        /// into `out`, with the sines and cosines the tick keeps (when the params are still those
-        /// of the last tick; else computed afresh); returns gravity.
+        /// [`Self::mass_properties`] and [`Self::body_motion`] at a tick's state handed to `sink`,
+        /// with the sines and cosines the tick keeps (when the params are still those of the last
+        /// tick; else computed afresh).
         #[inline]
-        pub fn tick_bodies(
+        pub fn tick_bodies<S: ::mechgen::__private::BodySink<T>>(
             &self,
             t: &Tick<T>,
-            masses: &mut [::mechgen::__private::BodyMass<T>; 5],
-            out: &mut [::mechgen::__private::BodyMotion<T>; 5],
-        ) -> [T; 2] {
+            sink: &mut S,
+        ) {
             use ::mechgen::__private::TickCache as _;
             if !t.same_params(&self.params.to_array()) {
                 let (g, m) = self.mass_properties();
-                *masses = m;
-                *out = self.body_motion(&t.x, &t.q, &t.xd, &t.qd, &t.xdd, &t.qdd);
-                return g;
+                let b = self.body_motion(&t.x, &t.q, &t.xd, &t.qd, &t.xdd, &t.qdd);
+                sink.gravity(g);
+                for (k, (m, b)) in m.into_iter().zip(b).enumerate() {
+                    sink.body(k, m, b);
+                }
+                return;
             }
             let (tx, tq) = t.trig();
             self.body_motion_cached(
                 (&t.x, &t.xd, &t.xdd),
                 (&t.q, &t.qd, &t.qdd),
                 (tx, tq, t.params_trig()),
-                masses,
-                out,
+                sink,
             )
         }
         /// Block 0: s3, q3 from loop 1 (x, y). Its residual and Jacobian block (Newton).
@@ -6492,21 +6542,13 @@ pub mod shaper {
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
         #[inline(always)]
-        fn motion_bodies_cached(
+        fn motion_bodies_cached<S: ::mechgen::__private::BodySink<T>>(
             &self,
             fixed: ::mechgen::__private::Fixed<'_, T, 1, 5>,
             st: &mut ::mechgen::__private::TrigState<T, 4>,
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
-            (
-                masses,
-                out,
-                gravity,
-            ): (
-                &mut [::mechgen::__private::BodyMass<T>; 5],
-                &mut [::mechgen::__private::BodyMotion<T>; 5],
-                &mut [T; 2],
-            ),
+            sink: &mut S,
         ) -> ::core::result::Result<
             ::mechgen::__private::Rates<T, 4, 2>,
             ::mechgen::__private::SolveError,
@@ -6813,67 +6855,82 @@ pub mod shaper {
             let t115 = t48 - t114;
             let t116 = t67 * v_q4_dd;
             let t117 = t115 + t116;
-            masses[0] = ::mechgen::__private::BodyMass {
-                mass: T::lit(0.3),
-                inertia: T::lit(0.0004),
-            };
-            masses[1] = ::mechgen::__private::BodyMass {
-                mass: T::lit(0.2),
-                inertia: T::lit(0.0001),
-            };
-            masses[2] = ::mechgen::__private::BodyMass {
-                mass: T::lit(1.4),
-                inertia: T::lit(0.042),
-            };
-            masses[3] = ::mechgen::__private::BodyMass {
-                mass: T::lit(0.35),
-                inertia: T::lit(0.00066),
-            };
-            masses[4] = ::mechgen::__private::BodyMass {
-                mass: T::lit(5.0),
-                inertia: T::zero(),
-            };
-            out[0] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t60, t62],
-                    velocity: [t77, t78],
-                    acceleration: [t90, t94],
+            sink.gravity([T::zero(), T::lit(-9.81)]);
+            sink.body(
+                0,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(0.3),
+                    inertia: T::lit(0.0004),
                 },
-                angle: [v_q1, v_q1_d, v_q1_dd],
-            };
-            out[1] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t0, t2],
-                    velocity: [t14, t15],
-                    acceleration: [t96, t98],
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t60, t62],
+                        velocity: [t77, t78],
+                        acceleration: [t90, t94],
+                    },
+                    angle: [v_q1, v_q1_d, v_q1_dd],
                 },
-                angle: [v_q3, v_q3_d, v_q3_dd],
-            };
-            out[2] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t64, t65],
-                    velocity: [t80, t81],
-                    acceleration: [t102, t106],
+            );
+            sink.body(
+                1,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(0.2),
+                    inertia: T::lit(0.0001),
                 },
-                angle: [v_q3, v_q3_d, v_q3_dd],
-            };
-            out[3] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t69, t70],
-                    velocity: [t84, t86],
-                    acceleration: [t112, t117],
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t0, t2],
+                        velocity: [t14, t15],
+                        acceleration: [t96, t98],
+                    },
+                    angle: [v_q3, v_q3_d, v_q3_dd],
                 },
-                angle: [v_q4, v_q4_d, v_q4_dd],
-            };
-            out[4] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [v_sE, p_yE],
-                    velocity: [v_sE_d, T::zero()],
-                    acceleration: [v_sE_dd, T::zero()],
+            );
+            sink.body(
+                2,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(1.4),
+                    inertia: T::lit(0.042),
                 },
-                angle: [T::zero(), T::zero(), T::zero()],
-            };
-            *gravity = [T::zero(), T::lit(-9.81)];
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t64, t65],
+                        velocity: [t80, t81],
+                        acceleration: [t102, t106],
+                    },
+                    angle: [v_q3, v_q3_d, v_q3_dd],
+                },
+            );
+            sink.body(
+                3,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(0.35),
+                    inertia: T::lit(0.00066),
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t69, t70],
+                        velocity: [t84, t86],
+                        acceleration: [t112, t117],
+                    },
+                    angle: [v_q4, v_q4_d, v_q4_dd],
+                },
+            );
+            sink.body(
+                4,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(5.0),
+                    inertia: T::zero(),
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [v_sE, p_yE],
+                        velocity: [v_sE_d, T::zero()],
+                        acceleration: [v_sE_dd, T::zero()],
+                    },
+                    angle: [T::zero(), T::zero(), T::zero()],
+                },
+            );
             Ok((
                 qd,
                 qdd,
@@ -7606,25 +7663,17 @@ pub mod shaper {
             );
             Ok(())
         }
-        /// `tick_arrays`, and every body's mass properties into `masses`, motion into
-        /// `out` and gravity into `gravity`, computed in the same body as the points
-        /// (sharing their subexpressions). On error `t` is unchanged.
-        fn tick_dynamics_arrays(
+        /// `tick_arrays` that hands gravity and every body's mass properties and motion to
+        /// `sink`, computed in the same body as the points (sharing their
+        /// subexpressions). On error `t` is unchanged.
+        fn tick_dynamics_arrays<S: ::mechgen::__private::BodySink<T>>(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
-            (
-                masses,
-                out,
-                gravity,
-            ): (
-                &mut [::mechgen::__private::BodyMass<T>; 5],
-                &mut [::mechgen::__private::BodyMotion<T>; 5],
-                &mut [T; 2],
-            ),
+            sink: &mut S,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             use ::mechgen::__private::TickCache as _;
             let params = self.params.to_array();
@@ -7668,13 +7717,7 @@ pub mod shaper {
                 tp,
             };
             let (qd, qdd, points) = self
-                .motion_bodies_cached(
-                    fixed,
-                    &mut st,
-                    options,
-                    &mut report,
-                    (masses, out, gravity),
-                )?;
+                .motion_bodies_cached(fixed, &mut st, options, &mut report, sink)?;
             t.update(
                 x,
                 xd,
@@ -8110,10 +8153,13 @@ pub mod shaper {
             t: &Self::Tick,
             f: impl FnOnce(::mechgen::__private::TickBodies<'_, T>) -> R,
         ) -> R {
-            let mut masses = [::mechgen::__private::BodyMass::default(); 5];
-            let mut out = [::mechgen::__private::BodyMotion::default(); 5];
-            let gravity = Shaper::tick_bodies(self, t, &mut masses, &mut out);
-            f((gravity, &masses, &out))
+            let mut arrays = (
+                [::mechgen::__private::BodyMass::default(); 5],
+                [::mechgen::__private::BodyMotion::default(); 5],
+                [T::zero(); 2],
+            );
+            Shaper::tick_bodies(self, t, &mut arrays);
+            f((arrays.2, &arrays.0, &arrays.1))
         }
         #[inline]
         fn tick_with_bodies<R>(
@@ -8126,9 +8172,11 @@ pub mod shaper {
                 ::mechgen::__private::TickBodies<'_, T>,
             ) -> ::core::result::Result<R, ::mechgen::__private::SolveError>,
         ) -> ::core::result::Result<R, ::mechgen::__private::SolveError> {
-            let mut masses = [::mechgen::__private::BodyMass::default(); 5];
-            let mut out = [::mechgen::__private::BodyMotion::default(); 5];
-            let mut gravity = [T::zero(); 2];
+            let mut arrays = (
+                [::mechgen::__private::BodyMass::default(); 5],
+                [::mechgen::__private::BodyMotion::default(); 5],
+                [T::zero(); 2],
+            );
             Shaper::tick_dynamics_arrays(
                 self,
                 t,
@@ -8136,9 +8184,27 @@ pub mod shaper {
                 &input.xd,
                 &input.xdd,
                 options,
-                (&mut masses, &mut out, &mut gravity),
+                &mut arrays,
             )?;
-            f(t, (gravity, &masses, &out))
+            f(t, (arrays.2, &arrays.0, &arrays.1))
+        }
+        #[inline]
+        fn tick_with_sink<S: ::mechgen::__private::BodySink<T>>(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
+            sink: &mut S,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            Shaper::tick_dynamics_arrays(
+                self,
+                t,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                options,
+                sink,
+            )
         }
         #[inline]
         fn solve(
@@ -9207,17 +9273,16 @@ pub mod four_bar {
                 },
             ]
         }
-        /// Every body's mass properties into `masses` and motion into `out`, with the sines and
-        /// cosines of the inputs, unknowns and params given; returns gravity.
+        /// Gravity, then every body's mass properties and motion, handed to `sink`, with the sines
+        /// and cosines of the inputs, unknowns and params given.
         #[inline]
-        fn body_motion_cached(
+        fn body_motion_cached<S: ::mechgen::__private::BodySink<T>>(
             &self,
             (x, xd, xdd): (&[T; 1], &[T; 1], &[T; 1]),
             (q, qd, qdd): (&[T; 2], &[T; 2], &[T; 2]),
             (tx, tq, _tp): ::mechgen::__private::TrigRefs<'_, T, 1, 2, 6>,
-            masses: &mut [::mechgen::__private::BodyMass<T>; 3],
-            out: &mut [::mechgen::__private::BodyMotion<T>; 3],
-        ) -> [T; 2] {
+            sink: &mut S,
+        ) {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_q3 = q[1];
@@ -9300,43 +9365,52 @@ pub mod four_bar {
             let t63 = t15 * v_q3_dd;
             let t64 = t62 - t63;
             let t65 = -t64;
-            masses[0] = ::mechgen::__private::BodyMass {
-                mass: t5,
-                inertia: t8,
-            };
-            masses[1] = ::mechgen::__private::BodyMass {
-                mass: T::lit(0.7),
-                inertia: T::lit(0.0075),
-            };
-            masses[2] = ::mechgen::__private::BodyMass {
-                mass: t18,
-                inertia: t21,
-            };
-            out[0] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t3, t4],
-                    velocity: [t29, t30],
-                    acceleration: [t42, t46],
+            sink.gravity([T::zero(), T::lit(-9.81)]);
+            sink.body(
+                0,
+                ::mechgen::__private::BodyMass {
+                    mass: t5,
+                    inertia: t8,
                 },
-                angle: [v_q1, v_q1_d, v_q1_dd],
-            };
-            out[1] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t12, t13],
-                    velocity: [t33, t35],
-                    acceleration: [t52, t57],
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t3, t4],
+                        velocity: [t29, t30],
+                        acceleration: [t42, t46],
+                    },
+                    angle: [v_q1, v_q1_d, v_q1_dd],
                 },
-                angle: [v_q2, v_q2_d, v_q2_dd],
-            };
-            out[2] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t17, t16],
-                    velocity: [t37, t38],
-                    acceleration: [t61, t65],
+            );
+            sink.body(
+                1,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(0.7),
+                    inertia: T::lit(0.0075),
                 },
-                angle: [v_q3, v_q3_d, v_q3_dd],
-            };
-            [T::zero(), T::lit(-9.81)]
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t12, t13],
+                        velocity: [t33, t35],
+                        acceleration: [t52, t57],
+                    },
+                    angle: [v_q2, v_q2_d, v_q2_dd],
+                },
+            );
+            sink.body(
+                2,
+                ::mechgen::__private::BodyMass {
+                    mass: t18,
+                    inertia: t21,
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t17, t16],
+                        velocity: [t37, t38],
+                        acceleration: [t61, t65],
+                    },
+                    angle: [v_q3, v_q3_d, v_q3_dd],
+                },
+            );
         }
         /// Each body's centre of mass and angle with their velocities and accelerations at a
         /// solved state, in `INFO.bodies` order.
@@ -9351,16 +9425,18 @@ pub mod four_bar {
         ) -> [::mechgen::__private::BodyMotion<T>; 3] {
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            let mut masses = [::mechgen::__private::BodyMass::default(); 3];
-            let mut out = [::mechgen::__private::BodyMotion::default(); 3];
+            let mut arrays = (
+                [::mechgen::__private::BodyMass::default(); 3],
+                [::mechgen::__private::BodyMotion::default(); 3],
+                [T::zero(); 2],
+            );
             self.body_motion_cached(
                 (x, xd, xdd),
                 (q, qd, qdd),
                 (&tx, &st.sc, &tp),
-                &mut masses,
-                &mut out,
+                &mut arrays,
             );
-            out
+            arrays.1
         }
         /// The acceleration of gravity (zero without a `gravity` key) and each body's mass and
         /// inertia about its centre of mass at the params, in `INFO.bodies` order.
@@ -9392,30 +9468,31 @@ pub mod four_bar {
             };
             ([T::zero(), T::lit(-9.81)], masses)
         }
-        /// [`Self::mass_properties`] into `masses` and [`Self::body_motion`] at a tick's state
-        /// into `out`, with the sines and cosines the tick keeps (when the params are still those
-        /// of the last tick; else computed afresh); returns gravity.
+        /// [`Self::mass_properties`] and [`Self::body_motion`] at a tick's state handed to `sink`,
+        /// with the sines and cosines the tick keeps (when the params are still those of the last
+        /// tick; else computed afresh).
         #[inline]
-        pub fn tick_bodies(
+        pub fn tick_bodies<S: ::mechgen::__private::BodySink<T>>(
             &self,
             t: &Tick<T>,
-            masses: &mut [::mechgen::__private::BodyMass<T>; 3],
-            out: &mut [::mechgen::__private::BodyMotion<T>; 3],
-        ) -> [T; 2] {
+            sink: &mut S,
+        ) {
             use ::mechgen::__private::TickCache as _;
             if !t.same_params(&self.params.to_array()) {
                 let (g, m) = self.mass_properties();
-                *masses = m;
-                *out = self.body_motion(&t.x, &t.q, &t.xd, &t.qd, &t.xdd, &t.qdd);
-                return g;
+                let b = self.body_motion(&t.x, &t.q, &t.xd, &t.qd, &t.xdd, &t.qdd);
+                sink.gravity(g);
+                for (k, (m, b)) in m.into_iter().zip(b).enumerate() {
+                    sink.body(k, m, b);
+                }
+                return;
             }
             let (tx, tq) = t.trig();
             self.body_motion_cached(
                 (&t.x, &t.xd, &t.xdd),
                 (&t.q, &t.qd, &t.qdd),
                 (tx, tq, t.params_trig()),
-                masses,
-                out,
+                sink,
             )
         }
         /// Block 0: q2, q3 from loop 1 (x, y). Its residual and Jacobian block (Newton).
@@ -9894,21 +9971,13 @@ pub mod four_bar {
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
         #[inline(always)]
-        fn motion_bodies_cached(
+        fn motion_bodies_cached<S: ::mechgen::__private::BodySink<T>>(
             &self,
             fixed: ::mechgen::__private::Fixed<'_, T, 1, 6>,
             st: &mut ::mechgen::__private::TrigState<T, 2>,
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
-            (
-                masses,
-                out,
-                gravity,
-            ): (
-                &mut [::mechgen::__private::BodyMass<T>; 3],
-                &mut [::mechgen::__private::BodyMotion<T>; 3],
-                &mut [T; 2],
-            ),
+            sink: &mut S,
         ) -> ::core::result::Result<
             ::mechgen::__private::Rates<T, 2, 3>,
             ::mechgen::__private::SolveError,
@@ -10124,43 +10193,52 @@ pub mod four_bar {
             let t125 = t55 * v_q3_dd;
             let t126 = t124 - t125;
             let t127 = -t126;
-            masses[0] = ::mechgen::__private::BodyMass {
-                mass: t45,
-                inertia: t48,
-            };
-            masses[1] = ::mechgen::__private::BodyMass {
-                mass: T::lit(0.7),
-                inertia: T::lit(0.0075),
-            };
-            masses[2] = ::mechgen::__private::BodyMass {
-                mass: t58,
-                inertia: t61,
-            };
-            out[0] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t43, t44],
-                    velocity: [t91, t92],
-                    acceleration: [t104, t108],
+            sink.gravity([T::zero(), T::lit(-9.81)]);
+            sink.body(
+                0,
+                ::mechgen::__private::BodyMass {
+                    mass: t45,
+                    inertia: t48,
                 },
-                angle: [v_q1, v_q1_d, v_q1_dd],
-            };
-            out[1] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t52, t53],
-                    velocity: [t95, t97],
-                    acceleration: [t114, t119],
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t43, t44],
+                        velocity: [t91, t92],
+                        acceleration: [t104, t108],
+                    },
+                    angle: [v_q1, v_q1_d, v_q1_dd],
                 },
-                angle: [v_q2, v_q2_d, v_q2_dd],
-            };
-            out[2] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t57, t56],
-                    velocity: [t99, t100],
-                    acceleration: [t123, t127],
+            );
+            sink.body(
+                1,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(0.7),
+                    inertia: T::lit(0.0075),
                 },
-                angle: [v_q3, v_q3_d, v_q3_dd],
-            };
-            *gravity = [T::zero(), T::lit(-9.81)];
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t52, t53],
+                        velocity: [t95, t97],
+                        acceleration: [t114, t119],
+                    },
+                    angle: [v_q2, v_q2_d, v_q2_dd],
+                },
+            );
+            sink.body(
+                2,
+                ::mechgen::__private::BodyMass {
+                    mass: t58,
+                    inertia: t61,
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t57, t56],
+                        velocity: [t99, t100],
+                        acceleration: [t123, t127],
+                    },
+                    angle: [v_q3, v_q3_d, v_q3_dd],
+                },
+            );
             Ok((
                 qd,
                 qdd,
@@ -10766,25 +10844,17 @@ pub mod four_bar {
             );
             Ok(())
         }
-        /// `tick_arrays`, and every body's mass properties into `masses`, motion into
-        /// `out` and gravity into `gravity`, computed in the same body as the points
-        /// (sharing their subexpressions). On error `t` is unchanged.
-        fn tick_dynamics_arrays(
+        /// `tick_arrays` that hands gravity and every body's mass properties and motion to
+        /// `sink`, computed in the same body as the points (sharing their
+        /// subexpressions). On error `t` is unchanged.
+        fn tick_dynamics_arrays<S: ::mechgen::__private::BodySink<T>>(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
-            (
-                masses,
-                out,
-                gravity,
-            ): (
-                &mut [::mechgen::__private::BodyMass<T>; 3],
-                &mut [::mechgen::__private::BodyMotion<T>; 3],
-                &mut [T; 2],
-            ),
+            sink: &mut S,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             use ::mechgen::__private::TickCache as _;
             let params = self.params.to_array();
@@ -10828,13 +10898,7 @@ pub mod four_bar {
                 tp,
             };
             let (qd, qdd, points) = self
-                .motion_bodies_cached(
-                    fixed,
-                    &mut st,
-                    options,
-                    &mut report,
-                    (masses, out, gravity),
-                )?;
+                .motion_bodies_cached(fixed, &mut st, options, &mut report, sink)?;
             t.update(
                 x,
                 xd,
@@ -11234,10 +11298,13 @@ pub mod four_bar {
             t: &Self::Tick,
             f: impl FnOnce(::mechgen::__private::TickBodies<'_, T>) -> R,
         ) -> R {
-            let mut masses = [::mechgen::__private::BodyMass::default(); 3];
-            let mut out = [::mechgen::__private::BodyMotion::default(); 3];
-            let gravity = FourBar::tick_bodies(self, t, &mut masses, &mut out);
-            f((gravity, &masses, &out))
+            let mut arrays = (
+                [::mechgen::__private::BodyMass::default(); 3],
+                [::mechgen::__private::BodyMotion::default(); 3],
+                [T::zero(); 2],
+            );
+            FourBar::tick_bodies(self, t, &mut arrays);
+            f((arrays.2, &arrays.0, &arrays.1))
         }
         #[inline]
         fn tick_with_bodies<R>(
@@ -11250,9 +11317,11 @@ pub mod four_bar {
                 ::mechgen::__private::TickBodies<'_, T>,
             ) -> ::core::result::Result<R, ::mechgen::__private::SolveError>,
         ) -> ::core::result::Result<R, ::mechgen::__private::SolveError> {
-            let mut masses = [::mechgen::__private::BodyMass::default(); 3];
-            let mut out = [::mechgen::__private::BodyMotion::default(); 3];
-            let mut gravity = [T::zero(); 2];
+            let mut arrays = (
+                [::mechgen::__private::BodyMass::default(); 3],
+                [::mechgen::__private::BodyMotion::default(); 3],
+                [T::zero(); 2],
+            );
             FourBar::tick_dynamics_arrays(
                 self,
                 t,
@@ -11260,9 +11329,27 @@ pub mod four_bar {
                 &input.xd,
                 &input.xdd,
                 options,
-                (&mut masses, &mut out, &mut gravity),
+                &mut arrays,
             )?;
-            f(t, (gravity, &masses, &out))
+            f(t, (arrays.2, &arrays.0, &arrays.1))
+        }
+        #[inline]
+        fn tick_with_sink<S: ::mechgen::__private::BodySink<T>>(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
+            sink: &mut S,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            FourBar::tick_dynamics_arrays(
+                self,
+                t,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                options,
+                sink,
+            )
         }
         #[inline]
         fn solve(
@@ -12171,17 +12258,16 @@ pub mod slider_crank {
                 },
             ]
         }
-        /// Every body's mass properties into `masses` and motion into `out`, with the sines and
-        /// cosines of the inputs, unknowns and params given; returns gravity.
+        /// Gravity, then every body's mass properties and motion, handed to `sink`, with the sines
+        /// and cosines of the inputs, unknowns and params given.
         #[inline]
-        fn body_motion_cached(
+        fn body_motion_cached<S: ::mechgen::__private::BodySink<T>>(
             &self,
             (x, xd, xdd): (&[T; 1], &[T; 1], &[T; 1]),
             (q, qd, qdd): (&[T; 2], &[T; 2], &[T; 2]),
             (tx, tq, _tp): ::mechgen::__private::TrigRefs<'_, T, 1, 2, 3>,
-            masses: &mut [::mechgen::__private::BodyMass<T>; 3],
-            out: &mut [::mechgen::__private::BodyMotion<T>; 3],
-        ) -> [T; 2] {
+            sink: &mut S,
+        ) {
             let v_q1 = x[0];
             let v_q2 = q[0];
             let v_sC = q[1];
@@ -12239,43 +12325,52 @@ pub mod slider_crank {
             let t40 = t8 * v_q1_dd;
             let t41 = t39 - t40;
             let t42 = -t41;
-            masses[0] = ::mechgen::__private::BodyMass {
-                mass: T::lit(0.1),
-                inertia: T::lit(0.00002),
-            };
-            masses[1] = ::mechgen::__private::BodyMass {
-                mass: T::lit(0.3),
-                inertia: T::lit(0.001),
-            };
-            masses[2] = ::mechgen::__private::BodyMass {
-                mass: T::lit(0.5),
-                inertia: T::zero(),
-            };
-            out[0] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t8, t9],
-                    velocity: [t33, t34],
-                    acceleration: [t38, t42],
+            sink.gravity([T::zero(), T::lit(-9.81)]);
+            sink.body(
+                0,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(0.1),
+                    inertia: T::lit(0.00002),
                 },
-                angle: [v_q1, v_q1_d, v_q1_dd],
-            };
-            out[1] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t5, t6],
-                    velocity: [t18, t20],
-                    acceleration: [t26, t31],
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t8, t9],
+                        velocity: [t33, t34],
+                        acceleration: [t38, t42],
+                    },
+                    angle: [v_q1, v_q1_d, v_q1_dd],
                 },
-                angle: [v_q2, v_q2_d, v_q2_dd],
-            };
-            out[2] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [v_sC, p_off],
-                    velocity: [v_sC_d, T::zero()],
-                    acceleration: [v_sC_dd, T::zero()],
+            );
+            sink.body(
+                1,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(0.3),
+                    inertia: T::lit(0.001),
                 },
-                angle: [T::zero(), T::zero(), T::zero()],
-            };
-            [T::zero(), T::lit(-9.81)]
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t5, t6],
+                        velocity: [t18, t20],
+                        acceleration: [t26, t31],
+                    },
+                    angle: [v_q2, v_q2_d, v_q2_dd],
+                },
+            );
+            sink.body(
+                2,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(0.5),
+                    inertia: T::zero(),
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [v_sC, p_off],
+                        velocity: [v_sC_d, T::zero()],
+                        acceleration: [v_sC_dd, T::zero()],
+                    },
+                    angle: [T::zero(), T::zero(), T::zero()],
+                },
+            );
         }
         /// Each body's centre of mass and angle with their velocities and accelerations at a
         /// solved state, in `INFO.bodies` order.
@@ -12290,16 +12385,18 @@ pub mod slider_crank {
         ) -> [::mechgen::__private::BodyMotion<T>; 3] {
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            let mut masses = [::mechgen::__private::BodyMass::default(); 3];
-            let mut out = [::mechgen::__private::BodyMotion::default(); 3];
+            let mut arrays = (
+                [::mechgen::__private::BodyMass::default(); 3],
+                [::mechgen::__private::BodyMotion::default(); 3],
+                [T::zero(); 2],
+            );
             self.body_motion_cached(
                 (x, xd, xdd),
                 (q, qd, qdd),
                 (&tx, &st.sc, &tp),
-                &mut masses,
-                &mut out,
+                &mut arrays,
             );
-            out
+            arrays.1
         }
         /// The acceleration of gravity (zero without a `gravity` key) and each body's mass and
         /// inertia about its centre of mass at the params, in `INFO.bodies` order.
@@ -12321,30 +12418,31 @@ pub mod slider_crank {
             };
             ([T::zero(), T::lit(-9.81)], masses)
         }
-        /// [`Self::mass_properties`] into `masses` and [`Self::body_motion`] at a tick's state
-        /// into `out`, with the sines and cosines the tick keeps (when the params are still those
-        /// of the last tick; else computed afresh); returns gravity.
+        /// [`Self::mass_properties`] and [`Self::body_motion`] at a tick's state handed to `sink`,
+        /// with the sines and cosines the tick keeps (when the params are still those of the last
+        /// tick; else computed afresh).
         #[inline]
-        pub fn tick_bodies(
+        pub fn tick_bodies<S: ::mechgen::__private::BodySink<T>>(
             &self,
             t: &Tick<T>,
-            masses: &mut [::mechgen::__private::BodyMass<T>; 3],
-            out: &mut [::mechgen::__private::BodyMotion<T>; 3],
-        ) -> [T; 2] {
+            sink: &mut S,
+        ) {
             use ::mechgen::__private::TickCache as _;
             if !t.same_params(&self.params.to_array()) {
                 let (g, m) = self.mass_properties();
-                *masses = m;
-                *out = self.body_motion(&t.x, &t.q, &t.xd, &t.qd, &t.xdd, &t.qdd);
-                return g;
+                let b = self.body_motion(&t.x, &t.q, &t.xd, &t.qd, &t.xdd, &t.qdd);
+                sink.gravity(g);
+                for (k, (m, b)) in m.into_iter().zip(b).enumerate() {
+                    sink.body(k, m, b);
+                }
+                return;
             }
             let (tx, tq) = t.trig();
             self.body_motion_cached(
                 (&t.x, &t.xd, &t.xdd),
                 (&t.q, &t.qd, &t.qdd),
                 (tx, tq, t.params_trig()),
-                masses,
-                out,
+                sink,
             )
         }
         /// Block 0: q2 from loop 1 (y). Its residual and Jacobian block (Newton).
@@ -12903,21 +13001,13 @@ pub mod slider_crank {
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
         #[inline(always)]
-        fn motion_bodies_cached(
+        fn motion_bodies_cached<S: ::mechgen::__private::BodySink<T>>(
             &self,
             fixed: ::mechgen::__private::Fixed<'_, T, 1, 3>,
             st: &mut ::mechgen::__private::TrigState<T, 2>,
             options: &::mechgen::__private::SolveOptions<T>,
             report: &mut ::mechgen::__private::NewtonReport<T>,
-            (
-                masses,
-                out,
-                gravity,
-            ): (
-                &mut [::mechgen::__private::BodyMass<T>; 3],
-                &mut [::mechgen::__private::BodyMotion<T>; 3],
-                &mut [T; 2],
-            ),
+            sink: &mut S,
         ) -> ::core::result::Result<
             ::mechgen::__private::Rates<T, 2, 3>,
             ::mechgen::__private::SolveError,
@@ -13103,43 +13193,52 @@ pub mod slider_crank {
             let t61 = t30 * v_q1_dd;
             let t62 = t60 - t61;
             let t63 = -t62;
-            masses[0] = ::mechgen::__private::BodyMass {
-                mass: T::lit(0.1),
-                inertia: T::lit(0.00002),
-            };
-            masses[1] = ::mechgen::__private::BodyMass {
-                mass: T::lit(0.3),
-                inertia: T::lit(0.001),
-            };
-            masses[2] = ::mechgen::__private::BodyMass {
-                mass: T::lit(0.5),
-                inertia: T::zero(),
-            };
-            out[0] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t30, t31],
-                    velocity: [t54, t55],
-                    acceleration: [t59, t63],
+            sink.gravity([T::zero(), T::lit(-9.81)]);
+            sink.body(
+                0,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(0.1),
+                    inertia: T::lit(0.00002),
                 },
-                angle: [v_q1, v_q1_d, v_q1_dd],
-            };
-            out[1] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [t27, t28],
-                    velocity: [t35, t37],
-                    acceleration: [t47, t52],
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t30, t31],
+                        velocity: [t54, t55],
+                        acceleration: [t59, t63],
+                    },
+                    angle: [v_q1, v_q1_d, v_q1_dd],
                 },
-                angle: [v_q2, v_q2_d, v_q2_dd],
-            };
-            out[2] = ::mechgen::__private::BodyMotion {
-                com: ::mechgen::__private::PointMotion {
-                    position: [v_sC, p_off],
-                    velocity: [v_sC_d, T::zero()],
-                    acceleration: [v_sC_dd, T::zero()],
+            );
+            sink.body(
+                1,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(0.3),
+                    inertia: T::lit(0.001),
                 },
-                angle: [T::zero(), T::zero(), T::zero()],
-            };
-            *gravity = [T::zero(), T::lit(-9.81)];
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [t27, t28],
+                        velocity: [t35, t37],
+                        acceleration: [t47, t52],
+                    },
+                    angle: [v_q2, v_q2_d, v_q2_dd],
+                },
+            );
+            sink.body(
+                2,
+                ::mechgen::__private::BodyMass {
+                    mass: T::lit(0.5),
+                    inertia: T::zero(),
+                },
+                ::mechgen::__private::BodyMotion {
+                    com: ::mechgen::__private::PointMotion {
+                        position: [v_sC, p_off],
+                        velocity: [v_sC_d, T::zero()],
+                        acceleration: [v_sC_dd, T::zero()],
+                    },
+                    angle: [T::zero(), T::zero(), T::zero()],
+                },
+            );
             Ok((
                 qd,
                 qdd,
@@ -13438,25 +13537,17 @@ pub mod slider_crank {
             );
             Ok(())
         }
-        /// `tick_arrays`, and every body's mass properties into `masses`, motion into
-        /// `out` and gravity into `gravity`, computed in the same body as the points
-        /// (sharing their subexpressions). On error `t` is unchanged.
-        fn tick_dynamics_arrays(
+        /// `tick_arrays` that hands gravity and every body's mass properties and motion to
+        /// `sink`, computed in the same body as the points (sharing their
+        /// subexpressions). On error `t` is unchanged.
+        fn tick_dynamics_arrays<S: ::mechgen::__private::BodySink<T>>(
             &self,
             t: &mut Tick<T>,
             x: &[T; 1],
             xd: &[T; 1],
             xdd: &[T; 1],
             options: &::mechgen::__private::SolveOptions<T>,
-            (
-                masses,
-                out,
-                gravity,
-            ): (
-                &mut [::mechgen::__private::BodyMass<T>; 3],
-                &mut [::mechgen::__private::BodyMotion<T>; 3],
-                &mut [T; 2],
-            ),
+            sink: &mut S,
         ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
             use ::mechgen::__private::TickCache as _;
             let params = self.params.to_array();
@@ -13500,13 +13591,7 @@ pub mod slider_crank {
                 tp,
             };
             let (qd, qdd, points) = self
-                .motion_bodies_cached(
-                    fixed,
-                    &mut st,
-                    options,
-                    &mut report,
-                    (masses, out, gravity),
-                )?;
+                .motion_bodies_cached(fixed, &mut st, options, &mut report, sink)?;
             t.update(
                 x,
                 xd,
@@ -13907,10 +13992,13 @@ pub mod slider_crank {
             t: &Self::Tick,
             f: impl FnOnce(::mechgen::__private::TickBodies<'_, T>) -> R,
         ) -> R {
-            let mut masses = [::mechgen::__private::BodyMass::default(); 3];
-            let mut out = [::mechgen::__private::BodyMotion::default(); 3];
-            let gravity = SliderCrank::tick_bodies(self, t, &mut masses, &mut out);
-            f((gravity, &masses, &out))
+            let mut arrays = (
+                [::mechgen::__private::BodyMass::default(); 3],
+                [::mechgen::__private::BodyMotion::default(); 3],
+                [T::zero(); 2],
+            );
+            SliderCrank::tick_bodies(self, t, &mut arrays);
+            f((arrays.2, &arrays.0, &arrays.1))
         }
         #[inline]
         fn tick_with_bodies<R>(
@@ -13923,9 +14011,11 @@ pub mod slider_crank {
                 ::mechgen::__private::TickBodies<'_, T>,
             ) -> ::core::result::Result<R, ::mechgen::__private::SolveError>,
         ) -> ::core::result::Result<R, ::mechgen::__private::SolveError> {
-            let mut masses = [::mechgen::__private::BodyMass::default(); 3];
-            let mut out = [::mechgen::__private::BodyMotion::default(); 3];
-            let mut gravity = [T::zero(); 2];
+            let mut arrays = (
+                [::mechgen::__private::BodyMass::default(); 3],
+                [::mechgen::__private::BodyMotion::default(); 3],
+                [T::zero(); 2],
+            );
             SliderCrank::tick_dynamics_arrays(
                 self,
                 t,
@@ -13933,9 +14023,27 @@ pub mod slider_crank {
                 &input.xd,
                 &input.xdd,
                 options,
-                (&mut masses, &mut out, &mut gravity),
+                &mut arrays,
             )?;
-            f(t, (gravity, &masses, &out))
+            f(t, (arrays.2, &arrays.0, &arrays.1))
+        }
+        #[inline]
+        fn tick_with_sink<S: ::mechgen::__private::BodySink<T>>(
+            &self,
+            t: &mut Self::Tick,
+            input: &::mechgen::__private::InputMotion<Self::X>,
+            options: &::mechgen::__private::SolveOptions<T>,
+            sink: &mut S,
+        ) -> ::core::result::Result<(), ::mechgen::__private::SolveError> {
+            SliderCrank::tick_dynamics_arrays(
+                self,
+                t,
+                &input.x,
+                &input.xd,
+                &input.xdd,
+                options,
+                sink,
+            )
         }
         #[inline]
         fn solve(

@@ -50,11 +50,12 @@ pub use mechgen_runtime::simulate;
 /// The ticks on slices every engine gives (`DynMechanism::ticker`): `StaticTick`, `SolveTick`.
 pub use mechgen_runtime::ticks;
 pub use mechgen_runtime::{
-    Array, BodyMass, BodyMotion, CoordDesc, CoordInfo, DynMechanism, DynScene, DynSceneState,
-    DynState, DynTick, InputMotion, Kind, LaneMechanism, LaneScene, LaneState, LaneTick, Lanes,
-    MechanismInfo, NewtonOptions, NewtonReport, ParamDesc, ParamInfo, PointMotion, Quantity, Real,
-    RowMajor, Scene, SceneDescription, SceneInfo, SceneState, SceneTick, SceneVisitor, SolveError,
-    SolveOptions, Stage, State, StaticInfo, StaticMechanism, StaticVisitor, Tick, TickBodies,
+    Array, BodyMass, BodyMotion, BodySink, CoordDesc, CoordInfo, DynMechanism, DynScene,
+    DynSceneState, DynState, DynTick, InputMotion, Kind, LaneMechanism, LaneScene, LaneState,
+    LaneTick, Lanes, MechanismInfo, NewtonOptions, NewtonReport, ParamDesc, ParamInfo, PointMotion,
+    Quantity, Real, RowMajor, Scene, SceneDescription, SceneInfo, SceneState, SceneTick,
+    SceneVisitor, SolveError, SolveOptions, Stage, State, StaticInfo, StaticMechanism,
+    StaticVisitor, Tick, TickBodies,
 };
 
 #[cfg(feature = "sweep")]

@@ -568,8 +568,9 @@ fn a_ranged_load_acts_in_the_simulator_where_the_input_lies_in_its_range() {
 }
 
 /// `tick_dynamics` (the bodies on the sines and cosines a generated tick keeps) and
-/// `tick_with_dynamics` (a second tick walking alongside, its bodies computed in the tick's own
-/// body) equal `dynamics` of the same state (the bodies computed afresh) to 1e-13 of each
+/// `tick_with_dynamics` (a second tick walking alongside, its bodies handed to the sums as the
+/// tick's own body computes them; a third with a load over part of the turn) equal `dynamics` of
+/// the same state (the bodies computed afresh) to 1e-13 of each
 /// quantity's largest magnitude over the walk; the fused tick's state is the plain tick's,
 /// along a turn of 1° ticks of every compiled-in mechanism with bodies; and both refuse a
 /// negative mass that params changed at run time give (`BadMass`).
@@ -595,9 +596,16 @@ fn tick_dynamics_equals_dynamics() {
             InputMotion::new(arr(&x), arr(&[2.5]), arr(&[0.0]))
         };
         let mut t = m.tick_start(&at(0.0), &q, &opts).expect("starts");
-        let mut fused = t;
+        let (mut fused, mut loaded) = (t, t);
         let (mut a, mut b) = (DynamicsWork::new(&info), DynamicsWork::new(&info));
         let mut c = DynamicsWork::new(&info);
+        // A load on the first point over part of the turn (the input's start + 30°..200°).
+        let x = x0[0];
+        let loads = [PointLoad::over(
+            0,
+            [3.0, -2.0],
+            [x + 30f64.to_radians(), x + 200f64.to_radians()],
+        )];
         let (mut diff, mut scale) = ([0.0f64; 7], [0.0f64; 7]);
         for deg in 1..=360 {
             m.tick(&mut t, &at(f64::from(deg)), &opts).expect("ticks");
@@ -622,12 +630,51 @@ fn tick_dynamics_equals_dynamics() {
                 report: t.report,
             };
             let slow = dynamics(m, &state, 0, &[], &mut b).expect("dynamics");
+            let with_load = tick_with_dynamics(
+                m,
+                &mut loaded,
+                &at(f64::from(deg)),
+                &opts,
+                (0, &loads),
+                &mut c,
+            )
+            .expect("tick with dynamics and a load");
+            let slow_load = dynamics(m, &state, 0, &loads, &mut b).expect("dynamics, a load");
+            for (i, (u, v)) in columns(&with_load)
+                .iter()
+                .zip(columns(&slow_load))
+                .enumerate()
+            {
+                diff[i] = diff[i].max((u - v).abs());
+                scale[i] = scale[i].max(v.abs());
+            }
             for d in [fast, with] {
                 for (i, (u, v)) in columns(&d).iter().zip(columns(&slow)).enumerate() {
                     diff[i] = diff[i].max((u - v).abs());
                     scale[i] = scale[i].max(v.abs());
                 }
             }
+        }
+        // At rest (the input's rate zero): the effort and inertia through a velocity solve at
+        // unit rate instead of over the rates.
+        let mut x = x0.clone();
+        x[0] += 0.7;
+        let rest = InputMotion::new(arr(&x), arr(&[0.0]), arr(&[1.5]));
+        let d = tick_with_dynamics(m, &mut fused, &rest, &opts, (0, &loads), &mut c).expect("rest");
+        let state = mechgen::State {
+            x: fused.x.as_ref(),
+            xd: fused.xd.as_ref(),
+            xdd: fused.xdd.as_ref(),
+            q: fused.q.as_ref(),
+            qd: fused.qd.as_ref(),
+            qdd: fused.qdd.as_ref(),
+            points: fused.points.as_ref(),
+            report: fused.report,
+        };
+        let slow = dynamics(m, &state, 0, &loads, &mut b).expect("dynamics at rest");
+        assert!(slow.inertia > 0.0 && d.kinetic == 0.0, "{d:?}");
+        for (i, (u, v)) in columns(&d).iter().zip(columns(&slow)).enumerate() {
+            diff[i] = diff[i].max((u - v).abs());
         }
         diff.iter()
             .zip(&scale)

@@ -20,7 +20,7 @@ use crate::dyn_tick::StateRef;
 use crate::dynamic::DynMechanism;
 use crate::error::SolveError;
 use crate::info::{BodyMass, BodyMotion, MechanismInfo, PointMotion};
-use crate::mechanism::{InputMotion, State, StaticMechanism, TickBodies};
+use crate::mechanism::{BodySink, InputMotion, State, StaticMechanism, TickBodies};
 use crate::scalar::Real;
 use crate::solve::SolveOptions;
 
@@ -103,56 +103,134 @@ pub fn inverse_dynamics<T: Real>(
     coefficients: &[BodyMotion<T>],
     loads: impl IntoIterator<Item = ([T; 2], [T; 2])>,
 ) -> Dynamics<T> {
-    let scaled = motion.iter().zip(coefficients).map(|(s, c)| {
-        let (cg, cphi) = (c.com.velocity, c.angle[1]);
-        (s, cg, cphi)
-    });
-    sums(gravity, masses, scaled, loads)
+    let mut sums = Sums::new(gravity);
+    for (k, ((b, s), c)) in masses.iter().zip(motion).zip(coefficients).enumerate() {
+        sums.add(k, *b, s, c.com.velocity, c.angle[1]);
+    }
+    sums.total(loads)
 }
 
-/// [`inverse_dynamics`] over each body's motion with its coefficients `(c_G, c_φ)`. Gravity
-/// enters through two sums over the bodies (Σ m c_G and Σ m G), not per body; a product that
-/// both the inertia and the kinetic energy need (`(m v) · v` when the coefficients are the rates)
-/// is written the same way in both, so it is computed once.
-#[inline(always)]
-fn sums<'a, T: Real>(
+/// The module's sums, body by body ([`Sums::add`], the one place the formulas are written): each
+/// body's motion with its coefficients `(c_G, c_φ)`. Gravity enters through two sums over the
+/// bodies (Σ m c_G and Σ m G), not per body; a product that both the inertia and the kinetic
+/// energy need (`(m v) · v` when the coefficients are the rates) is written the same way in
+/// both, so it is computed once.
+#[derive(Clone, Copy, Debug)]
+struct Sums<T> {
     gravity: [T; 2],
-    masses: &[BodyMass<T>],
-    bodies: impl Iterator<Item = (&'a BodyMotion<T>, [T; 2], T)>,
-    loads: impl IntoIterator<Item = ([T; 2], [T; 2])>,
-) -> Dynamics<T> {
-    let zero = T::zero();
-    let (mut effort, mut inertia, mut twice_kinetic, mut torque) = (zero, zero, zero, zero);
-    let (mut mass_c, mut mass_g, mut force) = ([zero; 2], [zero; 2], [zero; 2]);
-    for (b, (s, c, c_phi)) in masses.iter().zip(bodies) {
+    effort: T,
+    inertia: T,
+    twice_kinetic: T,
+    torque: T,
+    mass_c: [T; 2],
+    mass_g: [T; 2],
+    force: [T; 2],
+    /// The first body whose mass or inertia is negative or not finite.
+    bad: Option<usize>,
+}
+
+impl<T: Real> Sums<T> {
+    fn new(gravity: [T; 2]) -> Self {
+        let zero = T::zero();
+        Sums {
+            gravity,
+            effort: zero,
+            inertia: zero,
+            twice_kinetic: zero,
+            torque: zero,
+            mass_c: [zero; 2],
+            mass_g: [zero; 2],
+            force: [zero; 2],
+            bad: None,
+        }
+    }
+
+    /// One body, `c` and `c_phi` its coefficients.
+    #[inline(always)]
+    fn add(&mut self, index: usize, b: BodyMass<T>, s: &BodyMotion<T>, c: [T; 2], c_phi: T) {
         let (m, i) = (b.mass, b.inertia);
+        // Finite and not negative (a NaN fails both comparisons).
+        let good = |v: T| v >= T::zero() && v <= T::MAX;
+        if !(good(m) && good(i)) && self.bad.is_none() {
+            self.bad = Some(index);
+        }
         let (g, v, a) = (s.com.position, s.com.velocity, s.com.acceleration);
         let (omega, alpha) = (s.angle[1], s.angle[2]);
         let f = [m * a[0], m * a[1]];
         let mc = [m * c[0], m * c[1]];
         let mv = [m * v[0], m * v[1]];
         let i_alpha = i * alpha;
-        effort += f[0] * c[0] + f[1] * c[1] + i_alpha * c_phi;
-        inertia += mc[0] * c[0] + mc[1] * c[1] + i * c_phi * c_phi;
-        twice_kinetic += mv[0] * v[0] + mv[1] * v[1] + i * omega * omega;
-        torque += g[0] * f[1] - g[1] * f[0] + i_alpha;
+        self.effort += f[0] * c[0] + f[1] * c[1] + i_alpha * c_phi;
+        self.inertia += mc[0] * c[0] + mc[1] * c[1] + i * c_phi * c_phi;
+        self.twice_kinetic += mv[0] * v[0] + mv[1] * v[1] + i * omega * omega;
+        self.torque += g[0] * f[1] - g[1] * f[0] + i_alpha;
         for k in 0..2 {
-            mass_c[k] += mc[k];
-            mass_g[k] += m * g[k];
-            force[k] += f[k];
+            self.mass_c[k] += mc[k];
+            self.mass_g[k] += m * g[k];
+            self.force[k] += f[k];
         }
     }
-    effort -= gravity[0] * mass_c[0] + gravity[1] * mass_c[1];
-    for (cp, f) in loads {
-        effort -= f[0] * cp[0] + f[1] * cp[1];
+
+    /// A bad mass or inertia (`BadMass`), or gravity not finite.
+    fn check(&self) -> Result<(), SolveError> {
+        if let Some(body) = self.bad {
+            return Err(SolveError::BadMass { body });
+        }
+        if !self.gravity.iter().all(|g| g.is_finite()) {
+            return Err(SolveError::NonFinite {
+                quantity: crate::error::Quantity::Param,
+                index: 0,
+            });
+        }
+        Ok(())
     }
-    Dynamics {
-        effort,
-        inertia,
-        kinetic: T::lit(0.5) * twice_kinetic,
-        potential: -(gravity[0] * mass_g[0] + gravity[1] * mass_g[1]),
-        shaking_force: [-force[0], -force[1]],
-        shaking_moment: -torque,
+
+    /// The totals, with each load's force and its point's coefficient.
+    #[inline(always)]
+    fn total(self, loads: impl IntoIterator<Item = ([T; 2], [T; 2])>) -> Dynamics<T> {
+        let (gravity, mut effort) = (self.gravity, self.effort);
+        effort -= gravity[0] * self.mass_c[0] + gravity[1] * self.mass_c[1];
+        for (cp, f) in loads {
+            effort -= f[0] * cp[0] + f[1] * cp[1];
+        }
+        Dynamics {
+            effort,
+            inertia: self.inertia,
+            kinetic: T::lit(0.5) * self.twice_kinetic,
+            potential: -(gravity[0] * self.mass_g[0] + gravity[1] * self.mass_g[1]),
+            shaking_force: [-self.force[0], -self.force[1]],
+            shaking_moment: -self.torque,
+        }
+    }
+
+    /// [`Sums::total`] of sums over the rates of one moving input (rate `rate`, not zero): the
+    /// power and twice the kinetic energy, so the effort and the inertia are those over ẋ and ẋ².
+    #[inline(always)]
+    fn per_rate(self, rate: T, loads: impl IntoIterator<Item = ([T; 2], [T; 2])>) -> Dynamics<T> {
+        // The reciprocal first: its latency overlaps the sums.
+        let inv = T::one() / rate;
+        let d = self.total(loads);
+        Dynamics {
+            effort: d.effort * inv,
+            inertia: d.inertia * inv * inv,
+            ..d
+        }
+    }
+}
+
+/// A sink for a tick's bodies ([`BodySink`]) that sums them at once, each body's own rates its
+/// coefficients (one input moving).
+struct AtRates<T>(Sums<T>);
+
+impl<T: Real> BodySink<T> for AtRates<T> {
+    #[inline(always)]
+    fn gravity(&mut self, gravity: [T; 2]) {
+        self.0.gravity = gravity;
+    }
+    #[inline(always)]
+    fn body(&mut self, index: usize, mass: BodyMass<T>, motion: BodyMotion<T>) {
+        self.0
+            .add(index, mass, &motion, motion.com.velocity, motion.angle[1]);
     }
 }
 
@@ -242,9 +320,65 @@ pub fn tick_with_dynamics<T: Real, M: StaticMechanism<T>>(
     (input, loads): (usize, &[PointLoad<T>]),
     ws: &mut DynamicsWork<T>,
 ) -> Result<Dynamics<T>, SolveError> {
-    m.tick_with_bodies(t, motion, options, |t, bodies| {
-        after_tick(m, t, (input, loads), bodies, ws)
-    })
+    let Some(rate) = alone_rate(motion.xd.as_ref(), input) else {
+        return m.tick_with_bodies(t, motion, options, |t, bodies| {
+            after_tick(m, t, (input, loads), bodies, ws)
+        });
+    };
+    // One input moving: the tick hands each body straight to the sums.
+    check_indices(
+        (input, motion.x.as_ref().len()),
+        loads,
+        t.points.as_ref().len(),
+    )?;
+    let mut sums = AtRates(Sums::new([T::zero(); 2]));
+    m.tick_with_sink(t, motion, options, &mut sums)?;
+    sums.0.check()?;
+    let x = t.x.as_ref()[input];
+    Ok(sums.0.per_rate(rate, acting(loads, x, t.points.as_ref())))
+}
+
+/// The rate of `input` when it alone moves (every other input's rate zero) and does move.
+fn alone_rate<T: Real>(xd: &[T], input: usize) -> Option<T> {
+    let rate = *xd.get(input)?;
+    let alone = xd
+        .iter()
+        .enumerate()
+        .all(|(j, &v)| j == input || v == T::zero());
+    (alone && rate != T::zero()).then_some(rate)
+}
+
+/// `input` among `ni` inputs, every load's point among `np` points.
+fn check_indices<T>(
+    (input, ni): (usize, usize),
+    loads: &[PointLoad<T>],
+    np: usize,
+) -> Result<(), SolveError> {
+    if input >= ni {
+        return Err(SolveError::OutOfRange {
+            index: input,
+            len: ni,
+        });
+    }
+    match loads.iter().find(|l| l.point >= np) {
+        Some(l) => Err(SolveError::OutOfRange {
+            index: l.point,
+            len: np,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// The loads acting at input `x`, each with its point's velocity (or coefficient) in `points`.
+fn acting<'a, T: Real>(
+    loads: &'a [PointLoad<T>],
+    x: T,
+    points: &'a [PointMotion<T>],
+) -> impl Iterator<Item = ([T; 2], [T; 2])> + 'a {
+    loads
+        .iter()
+        .filter(move |l| l.acts_at(x))
+        .map(|l| (points[l.point].velocity, l.force))
 }
 
 /// The sums at a tick's state, given its bodies.
@@ -269,8 +403,8 @@ fn after_tick<T: Real, M: StaticMechanism<T>>(
     finish(m, &state, input, loads, bodies, &mut ws.unit)
 }
 
-/// The sums, given gravity, the masses and the bodies' motion at `state`: the coefficients from
-/// the state's rates (or a velocity solve at unit rate), then [`inverse_dynamics`].
+/// The sums, given gravity, the masses and the bodies' motion at `state`: over the state's own
+/// rates when one input moves, else over coefficients from a velocity solve at unit rate.
 #[inline(always)]
 fn finish<T: Real, M: DynMechanism<T> + ?Sized>(
     m: &M,
@@ -280,56 +414,16 @@ fn finish<T: Real, M: DynMechanism<T> + ?Sized>(
     (gravity, masses, motion): ([T; 2], &[BodyMass<T>], &[BodyMotion<T>]),
     ws: &mut UnitWork<T>,
 ) -> Result<Dynamics<T>, SolveError> {
-    let (ni, np) = (state.x.len(), state.points.len());
-    if input >= ni {
-        return Err(SolveError::OutOfRange {
-            index: input,
-            len: ni,
-        });
+    check_indices((input, state.x.len()), loads, state.points.len())?;
+    let x = state.x[input];
+    let mut sums = AtRates(Sums::new(gravity));
+    for (k, (b, s)) in masses.iter().zip(motion).enumerate() {
+        sums.body(k, *b, *s);
     }
-    if let Some(l) = loads.iter().find(|l| l.point >= np) {
-        return Err(SolveError::OutOfRange {
-            index: l.point,
-            len: np,
-        });
-    }
-    // Finite and not negative (a NaN fails both comparisons).
-    let good = |v: T| v >= T::zero() && v <= T::MAX;
-    if let Some(body) = masses
-        .iter()
-        .position(|b| !good(b.mass) || !good(b.inertia))
-    {
-        return Err(SolveError::BadMass { body });
-    }
-    if !gravity.iter().all(|g| g.is_finite()) {
-        return Err(SolveError::NonFinite {
-            quantity: crate::error::Quantity::Param,
-            index: 0,
-        });
-    }
-    let rate = state.xd[input];
-    let alone = state
-        .xd
-        .iter()
-        .enumerate()
-        .all(|(j, &v)| j == input || v == T::zero());
-    if alone && rate != T::zero() {
-        // Ġ = (∂G/∂x) ẋ when x alone moves: the sums over the rates themselves are the power
-        // and twice the kinetic energy, the effort and the inertia those over ẋ and ẋ².
-        let bodies = motion.iter().map(|s| (s, s.com.velocity, s.angle[1]));
-        let x = state.x[input];
-        let loads = loads
-            .iter()
-            .filter(|l| l.acts_at(x))
-            .map(|l| (state.points[l.point].velocity, l.force));
-        // The reciprocal first: its latency overlaps the sums.
-        let inv = T::one() / rate;
-        let d = sums(gravity, masses, bodies, loads);
-        return Ok(Dynamics {
-            effort: d.effort * inv,
-            inertia: d.inertia * inv * inv,
-            ..d
-        });
+    sums.0.check()?;
+    if let Some(rate) = alone_rate(state.xd, input) {
+        // Ġ = (∂G/∂x) ẋ when x alone moves.
+        return Ok(sums.0.per_rate(rate, acting(loads, x, state.points)));
     }
     ws.xd.fill(T::zero());
     ws.xd[input] = T::one();
@@ -339,10 +433,6 @@ fn finish<T: Real, M: DynMechanism<T> + ?Sized>(
     if !loads.is_empty() {
         m.points(unit, state.q, &ws.qd, &ws.zq, &mut ws.points)?;
     }
-    let (points, x) = (&ws.points, state.x[input]);
-    let loads = loads
-        .iter()
-        .filter(|l| l.acts_at(x))
-        .map(|l| (points[l.point].velocity, l.force));
+    let loads = acting(loads, x, &ws.points);
     Ok(inverse_dynamics(gravity, masses, motion, &ws.unit, loads))
 }

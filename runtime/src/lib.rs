@@ -57,8 +57,8 @@ pub use info::{
 };
 pub use lanes::{LaneState, LaneTick, LaneView};
 pub use mechanism::{
-    Array, InputMotion, LaneMechanism, RowMajor, State, StateOf, StaticMechanism, StaticVisitor,
-    TickBodies,
+    Array, BodySink, InputMotion, LaneMechanism, RowMajor, State, StateOf, StaticMechanism,
+    StaticVisitor, TickBodies,
 };
 pub use nalgebra;
 pub use scalar::Real;
@@ -101,7 +101,8 @@ pub mod __private {
     };
     pub use crate::lanes::{self, LaneTick, Lanes};
     pub use crate::mechanism::{
-        InputMotion, LaneMechanism, State, StateOf, StaticMechanism, StaticVisitor, TickBodies,
+        BodySink, InputMotion, LaneMechanism, State, StateOf, StaticMechanism, StaticVisitor,
+        TickBodies,
     };
     pub use crate::scalar::Real;
     pub use crate::scene::{

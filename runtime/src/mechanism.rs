@@ -69,6 +69,30 @@ impl<X: Clone, Q, P, T> State<X, Q, P, T> {
 /// them over.
 pub type TickBodies<'a, T> = ([T; 2], &'a [BodyMass<T>], &'a [BodyMotion<T>]);
 
+/// What a tick hands its bodies to as it computes them ([`StaticMechanism::tick_with_sink`]):
+/// gravity, then every body in `info().bodies` order, so that a consumer such as the inverse
+/// dynamics' sums takes them straight from the tick's registers, nothing stored in between.
+pub trait BodySink<T> {
+    /// The acceleration of gravity (zero without a `gravity` key).
+    fn gravity(&mut self, gravity: [T; 2]);
+    /// Body `index`'s mass properties and motion.
+    fn body(&mut self, index: usize, mass: BodyMass<T>, motion: BodyMotion<T>);
+}
+
+/// Arrays of a mechanism's own sizes as a sink: masses, motion, gravity.
+impl<T, const N: usize> BodySink<T> for ([BodyMass<T>; N], [BodyMotion<T>; N], [T; 2]) {
+    #[inline(always)]
+    fn gravity(&mut self, gravity: [T; 2]) {
+        self.2 = gravity;
+    }
+    #[inline(always)]
+    fn body(&mut self, index: usize, mass: BodyMass<T>, motion: BodyMotion<T>) {
+        if let (Some(m), Some(b)) = (self.0.get_mut(index), self.1.get_mut(index)) {
+            (*m, *b) = (mass, motion);
+        }
+    }
+}
+
 /// The [`State`] of a [`StaticMechanism`] `M`: its input, unknown and point arrays.
 pub type StateOf<M, T> = State<
     <M as StaticMechanism<T>>::X,
@@ -246,6 +270,27 @@ pub trait StaticMechanism<T: Real>: Clone + Send + Sync {
     ) -> Result<R, SolveError> {
         self.tick(t, input, options)?;
         self.with_tick_bodies(t, |b| f(t, b))
+    }
+    /// A tick ([`StaticMechanism::tick`]) that hands gravity and every body to `sink` as it
+    /// computes them (a generated mechanism with bodies: in the tick's own body, sharing the
+    /// points' subexpressions; by default: after the tick, from
+    /// [`StaticMechanism::with_tick_bodies`]). On error `t` is unchanged and `sink` may have
+    /// been handed some bodies.
+    fn tick_with_sink<S: BodySink<T>>(
+        &self,
+        t: &mut Self::Tick,
+        input: &InputMotion<Self::X>,
+        options: &SolveOptions<T>,
+        sink: &mut S,
+    ) -> Result<(), SolveError> {
+        self.tick(t, input, options)?;
+        self.with_tick_bodies(t, |(gravity, masses, motion)| {
+            sink.gravity(gravity);
+            for (k, (m, b)) in masses.iter().zip(motion).enumerate() {
+                sink.body(k, *m, *b);
+            }
+        });
+        Ok(())
     }
     /// One whole tick from `guess`: positions, velocities, accelerations and points, sharing the
     /// trigonometry between the stages (the fastest way to a full state without a [`Self::Tick`]).

@@ -1,8 +1,8 @@
 //! Stage 6d: a mechanism's bodies, for dynamics (only a mechanism with bodies or gravity has
 //! these): every body's centre of mass and angle with their velocities and accelerations, and
 //! gravity with every body's mass and inertia at the params, in one body on the sine and cosine
-//! caches (`body_motion_cached`); `body_motion` and `mass_properties` compute their own,
-//! `tick_bodies` reads a tick's.
+//! caches (`body_motion_cached`, handing them to a `BodySink`); `body_motion` and
+//! `mass_properties` compute their own, `tick_bodies` reads a tick's.
 
 use proc_macro2::{Ident, TokenStream};
 use quote::quote;
@@ -29,13 +29,13 @@ pub(crate) fn body_roots(c: &Compiled) -> (Vec<NodeId>, usize) {
     (roots, nm)
 }
 
-/// From the expressions of [`body_roots`] (or of its first part): gravity's expression, then
-/// `masses[i] = …;` and `out[i] = …;` per body.
-pub(crate) fn body_writes(
+/// From the expressions of [`body_roots`] (or of its first part): gravity's expression, then each
+/// body's `BodyMass { … }` and `BodyMotion { … }` expressions.
+pub(crate) fn body_values(
     c: &Compiled,
     (rt, gt): (&TokenStream, &Ident),
     r: &[TokenStream],
-) -> (TokenStream, TokenStream, TokenStream) {
+) -> (TokenStream, Vec<TokenStream>, Vec<TokenStream>) {
     let nb = c.system.bodies.len();
     let (g, rest) = if c.system.gravity.is_some() {
         let (gx, gy) = (&r[0], &r[1]);
@@ -44,19 +44,35 @@ pub(crate) fn body_writes(
         (quote!([#gt::zero(); 2]), r)
     };
     let (m, motion) = rest.split_at(2 * nb);
-    let m = m.chunks(2).enumerate().map(|(i, b)| {
+    let m = m.chunks(2).map(|b| {
         let (mass, inertia) = (&b[0], &b[1]);
-        quote!(masses[#i] = #rt::BodyMass { mass: #mass, inertia: #inertia };)
+        quote!(#rt::BodyMass { mass: #mass, inertia: #inertia })
     });
-    let motion = motion.chunks(9).enumerate().map(|(i, b)| {
+    let motion = motion.chunks(9).map(|b| {
         let (px, py, a, vx, vy, w, ax, ay, al) =
             (&b[0], &b[1], &b[2], &b[3], &b[4], &b[5], &b[6], &b[7], &b[8]);
-        quote!(out[#i] = #rt::BodyMotion {
+        quote!(#rt::BodyMotion {
             com: #rt::PointMotion { position: [#px, #py], velocity: [#vx, #vy], acceleration: [#ax, #ay] },
             angle: [#a, #w, #al],
-        };)
+        })
     });
-    (g, quote!(#(#m)*), quote!(#(#motion)*))
+    (g, m.collect(), motion.collect())
+}
+
+/// From all the expressions of [`body_roots`]: gravity, then every body, handed to `sink` (a
+/// `BodySink`).
+pub(crate) fn body_sink_calls(
+    c: &Compiled,
+    (rt, gt): (&TokenStream, &Ident),
+    r: &[TokenStream],
+) -> TokenStream {
+    let (g, m, motion) = body_values(c, (rt, gt), r);
+    let calls = m
+        .iter()
+        .zip(&motion)
+        .enumerate()
+        .map(|(i, (m, b))| quote!(sink.body(#i, #m, #b);));
+    quote!(sink.gravity(#g); #(#calls)*)
 }
 
 /// `body_motion_cached`, `body_motion`, `mass_properties` and `tick_bodies` (inside the mechanism
@@ -81,25 +97,22 @@ pub(crate) fn body_fns(c: &Compiled, args: &Args) -> TokenStream {
     };
     let fused = body(dag, &roots, &cached);
     let fresh = body(dag, masses, args);
-    let split = |r: &[TokenStream]| body_writes(c, (rt, gt), r);
-    let (g, m, motion) = split(&fused.roots);
-    let (fg, fm, _) = split(&fresh.roots);
+    let calls = body_sink_calls(c, (rt, gt), &fused.roots);
+    let (fg, fm, _) = body_values(c, (rt, gt), &fresh.roots);
+    let fm = fm.iter().enumerate().map(|(i, m)| quote!(masses[#i] = #m;));
     let (stmts, fresh_stmts) = (&fused.stmts, &fresh.stmts);
     let rates = quote!(x: &[#gt; #ni], q: &[#gt; #nu], xd: &[#gt; #ni], qd: &[#gt; #nu], xdd: &[#gt; #ni], qdd: &[#gt; #nu]);
     let inputs = quote!((x, xd, xdd): (&[#gt; #ni], &[#gt; #ni], &[#gt; #ni]));
     let unknowns = quote!((q, qd, qdd): (&[#gt; #nu], &[#gt; #nu], &[#gt; #nu]));
     let ctx = quote!((tx, tq, tp): #rt::TrigRefs<'_, #gt, #ni, #nu, #npar>);
-    let arrays =
-        quote!(masses: &mut [#rt::BodyMass<#gt>; #nb], out: &mut [#rt::BodyMotion<#gt>; #nb]);
+    let arrays = quote!(([#rt::BodyMass::default(); #nb], [#rt::BodyMotion::default(); #nb], [#gt::zero(); 2]));
     quote! {
-        /// Every body's mass properties into `masses` and motion into `out`, with the sines and
-        /// cosines of the inputs, unknowns and params given; returns gravity.
+        /// Gravity, then every body's mass properties and motion, handed to `sink`, with the sines
+        /// and cosines of the inputs, unknowns and params given.
         #[inline]
-        fn body_motion_cached(&self, #inputs, #unknowns, #ctx, #arrays) -> [#gt; 2] {
+        fn body_motion_cached<S: #rt::BodySink<#gt>>(&self, #inputs, #unknowns, #ctx, sink: &mut S) {
             #stmts
-            #m
-            #motion
-            #g
+            #calls
         }
 
         /// Each body's centre of mass and angle with their velocities and accelerations at a
@@ -107,10 +120,9 @@ pub(crate) fn body_fns(c: &Compiled, args: &Args) -> TokenStream {
         pub fn body_motion(&self, #rates) -> [#rt::BodyMotion<#gt>; #nb] {
             let (tx, tp) = self.trig_fixed(x);
             let st = Self::trig_state(*q);
-            let mut masses = [#rt::BodyMass::default(); #nb];
-            let mut out = [#rt::BodyMotion::default(); #nb];
-            self.body_motion_cached((x, xd, xdd), (q, qd, qdd), (&tx, &st.sc, &tp), &mut masses, &mut out);
-            out
+            let mut arrays = #arrays;
+            self.body_motion_cached((x, xd, xdd), (q, qd, qdd), (&tx, &st.sc, &tp), &mut arrays);
+            arrays.1
         }
 
         /// The acceleration of gravity (zero without a `gravity` key) and each body's mass and
@@ -118,24 +130,27 @@ pub(crate) fn body_fns(c: &Compiled, args: &Args) -> TokenStream {
         pub fn mass_properties(&self) -> ([#gt; 2], [#rt::BodyMass<#gt>; #nb]) {
             let mut masses = [#rt::BodyMass::default(); #nb];
             #fresh_stmts
-            #fm
+            #(#fm)*
             (#fg, masses)
         }
 
-        /// [`Self::mass_properties`] into `masses` and [`Self::body_motion`] at a tick's state
-        /// into `out`, with the sines and cosines the tick keeps (when the params are still those
-        /// of the last tick; else computed afresh); returns gravity.
+        /// [`Self::mass_properties`] and [`Self::body_motion`] at a tick's state handed to `sink`,
+        /// with the sines and cosines the tick keeps (when the params are still those of the last
+        /// tick; else computed afresh).
         #[inline]
-        pub fn tick_bodies(&self, t: &#tick_ty<#gt>, #arrays) -> [#gt; 2] {
+        pub fn tick_bodies<S: #rt::BodySink<#gt>>(&self, t: &#tick_ty<#gt>, sink: &mut S) {
             use #rt::TickCache as _;
             if !t.same_params(&self.params.to_array()) {
                 let (g, m) = self.mass_properties();
-                *masses = m;
-                *out = self.body_motion(&t.x, &t.q, &t.xd, &t.qd, &t.xdd, &t.qdd);
-                return g;
+                let b = self.body_motion(&t.x, &t.q, &t.xd, &t.qd, &t.xdd, &t.qdd);
+                sink.gravity(g);
+                for (k, (m, b)) in m.into_iter().zip(b).enumerate() {
+                    sink.body(k, m, b);
+                }
+                return;
             }
             let (tx, tq) = t.trig();
-            self.body_motion_cached((&t.x, &t.xd, &t.xdd), (&t.q, &t.qd, &t.qdd), (tx, tq, t.params_trig()), masses, out)
+            self.body_motion_cached((&t.x, &t.xd, &t.xdd), (&t.q, &t.qd, &t.qdd), (tx, tq, t.params_trig()), sink)
         }
     }
 }

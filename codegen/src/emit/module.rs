@@ -169,20 +169,22 @@ pub(crate) fn module(c: &Compiled, rt: &TokenStream) -> TokenStream {
             }
             #[inline]
             fn with_tick_bodies<R>(&self, t: &Self::Tick, f: impl FnOnce(#rt::TickBodies<'_, #gt>) -> R) -> R {
-                let mut masses = [#rt::BodyMass::default(); #nb];
-                let mut out = [#rt::BodyMotion::default(); #nb];
-                let gravity = #ty::tick_bodies(self, t, &mut masses, &mut out);
-                f((gravity, &masses, &out))
+                let mut arrays = ([#rt::BodyMass::default(); #nb], [#rt::BodyMotion::default(); #nb], [#gt::zero(); 2]);
+                #ty::tick_bodies(self, t, &mut arrays);
+                f((arrays.2, &arrays.0, &arrays.1))
             }
             #[inline]
             fn tick_with_bodies<R>(&self, t: &mut Self::Tick, input: &#rt::InputMotion<Self::X>, options: &#rt::SolveOptions<#gt>,
                 f: impl FnOnce(&Self::Tick, #rt::TickBodies<'_, #gt>) -> ::core::result::Result<R, #rt::SolveError>)
                 -> ::core::result::Result<R, #rt::SolveError> {
-                let mut masses = [#rt::BodyMass::default(); #nb];
-                let mut out = [#rt::BodyMotion::default(); #nb];
-                let mut gravity = [#gt::zero(); 2];
-                #ty::tick_dynamics_arrays(self, t, &input.x, &input.xd, &input.xdd, options, (&mut masses, &mut out, &mut gravity))?;
-                f(t, (gravity, &masses, &out))
+                let mut arrays = ([#rt::BodyMass::default(); #nb], [#rt::BodyMotion::default(); #nb], [#gt::zero(); 2]);
+                #ty::tick_dynamics_arrays(self, t, &input.x, &input.xd, &input.xdd, options, &mut arrays)?;
+                f(t, (arrays.2, &arrays.0, &arrays.1))
+            }
+            #[inline]
+            fn tick_with_sink<S: #rt::BodySink<#gt>>(&self, t: &mut Self::Tick, input: &#rt::InputMotion<Self::X>,
+                options: &#rt::SolveOptions<#gt>, sink: &mut S) -> ::core::result::Result<(), #rt::SolveError> {
+                #ty::tick_dynamics_arrays(self, t, &input.x, &input.xd, &input.xdd, options, sink)
             }
         }
     };

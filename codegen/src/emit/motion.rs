@@ -252,7 +252,7 @@ pub(crate) struct Subset<'a> {
     /// `length_scale()`, or a scene's own over the params it reads.
     pub length_scale: TokenStream,
     /// Also every body's mass properties and motion, after the points and sharing their
-    /// subexpressions (`tick_dynamics_arrays`): the body then takes `masses`, `out` and `gravity`.
+    /// subexpressions (`tick_dynamics_arrays`): the body then hands them to a `BodySink`.
     pub bodies: bool,
 }
 
@@ -345,23 +345,22 @@ pub(crate) fn motion_subset(
     };
     let qd_let = rate_let(format_ident!("qd"), sub.order >= 1);
     let qdd_let = rate_let(format_ident!("qdd"), sub.order >= 2);
-    // With bodies: their arrays as arguments, written after the points.
-    let (body_args, body_writes) = if sub.bodies {
-        let nb = c.system.bodies.len();
-        let (g, m, motion) = crate::emit::bodies::body_writes(c, (rt, gt), body_exprs);
+    // With bodies: a sink they are handed to after the points.
+    let (generics, body_args, body_calls) = if sub.bodies {
         (
-            quote!((masses, out, gravity): (&mut [#rt::BodyMass<#gt>; #nb], &mut [#rt::BodyMotion<#gt>; #nb], &mut [#gt; 2]),),
-            quote!(#m #motion *gravity = #g;),
+            quote!(<S: #rt::BodySink<#gt>>),
+            quote!(sink: &mut S,),
+            crate::emit::bodies::body_sink_calls(c, (rt, gt), body_exprs),
         )
     } else {
-        (TokenStream::new(), TokenStream::new())
+        (TokenStream::new(), TokenStream::new(), TokenStream::new())
     };
     quote! {
         /// Positions block by block from the guess in `st`, then velocities and accelerations
         /// (each block's Jacobian factored once for both), then the points: one body, shared
         /// subexpressions computed once.
         #[inline(always)]
-        #vis fn #name(&self, fixed: #rt::Fixed<'_, #gt, #ni, #npar>, st: &mut #rt::TrigState<#gt, #nu>,
+        #vis fn #name #generics(&self, fixed: #rt::Fixed<'_, #gt, #ni, #npar>, st: &mut #rt::TrigState<#gt, #nu>,
             options: &#rt::SolveOptions<#gt>, report: &mut #rt::NewtonReport<#gt>, #every_arg #body_args)
             -> ::core::result::Result<#rt::Rates<#gt, #nu, #np>, #rt::SolveError> {
             let #rt::Fixed { x, xd, xdd, tx, tp } = fixed;
@@ -369,7 +368,7 @@ pub(crate) fn motion_subset(
             #qdd_let
             #steps
             #stmts
-            #body_writes
+            #body_calls
             Ok((qd, qdd, [#(#items),*]))
         }
     }

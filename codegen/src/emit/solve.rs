@@ -105,13 +105,13 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
     // properties and motion in the same body (`tick_dynamics_arrays`): one template.
     let tick_fn = |name: &str,
                    motion: &str,
-                   extra: TokenStream,
+                   (generics, extra): (TokenStream, TokenStream),
                    extra_names: TokenStream,
                    attrs: TokenStream| {
         let (name, motion) = (format_ident!("{name}"), format_ident!("{motion}"));
         quote! {
             #attrs
-            fn #name(&self, t: &mut #tick_ty<#gt>, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni],
+            fn #name #generics(&self, t: &mut #tick_ty<#gt>, x: &[#gt; #ni], xd: &[#gt; #ni], xdd: &[#gt; #ni],
                 options: &#rt::SolveOptions<#gt>, #extra) -> ::core::result::Result<(), #rt::SolveError> {
                 use #rt::TickCache as _;
                 let params = self.params.to_array();
@@ -141,7 +141,7 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
     let mut ticks = tick_fn(
         "tick_arrays",
         "motion_cached",
-        TokenStream::new(),
+        (TokenStream::new(), TokenStream::new()),
         TokenStream::new(),
         quote! {
             /// One simulator tick to the inputs `x` (rates `xd`, `xdd`): the unknowns of Newton
@@ -152,16 +152,15 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
         },
     );
     if !(c.system.bodies.is_empty() && c.system.gravity.is_none()) {
-        let nb = c.system.bodies.len();
         ticks.extend(tick_fn(
             "tick_dynamics_arrays",
             "motion_bodies_cached",
-            quote!((masses, out, gravity): (&mut [#rt::BodyMass<#gt>; #nb], &mut [#rt::BodyMotion<#gt>; #nb], &mut [#gt; 2])),
-            quote!((masses, out, gravity)),
+            (quote!(<S: #rt::BodySink<#gt>>), quote!(sink: &mut S)),
+            quote!(sink),
             quote! {
-                /// `tick_arrays`, and every body's mass properties into `masses`, motion into
-                /// `out` and gravity into `gravity`, computed in the same body as the points
-                /// (sharing their subexpressions). On error `t` is unchanged.
+                /// `tick_arrays` that hands gravity and every body's mass properties and motion to
+                /// `sink`, computed in the same body as the points (sharing their
+                /// subexpressions). On error `t` is unchanged.
             },
         ));
     }

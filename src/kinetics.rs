@@ -59,9 +59,33 @@ pub fn values(d: &Dynamics<f64>) -> [f64; 7] {
     ]
 }
 
+/// What [`row_dynamics`] works in, grown once for a mechanism ([`RowWork::new`]): then a row's
+/// dynamics allocates nothing.
+#[derive(Clone, Debug)]
+pub struct RowWork {
+    dynamics: DynamicsWork<f64>,
+    xd: Vec<f64>,
+    xdd: Vec<f64>,
+    qdd: Vec<f64>,
+}
+
+impl RowWork {
+    /// Sized for the mechanism `info` describes.
+    pub fn new(info: &mechgen_runtime::MechanismInfo) -> Self {
+        let (ni, nu) = (info.inputs.len(), info.unknowns.len());
+        RowWork {
+            dynamics: DynamicsWork::new(info),
+            xd: vec![0.0; ni],
+            xdd: vec![0.0; ni],
+            qdd: vec![0.0; nu],
+        }
+    }
+}
+
 /// The dynamics of a solved sweep row `s` at inputs `x`, the input `index` moving at `rate` and
 /// accelerating at `acc` (its accelerations solved again when `acc` is not 0: the sweep solves
-/// them at rest), the other inputs at rest, under the loads acting at `x[index]`.
+/// them at rest), the other inputs at rest, under the loads acting at `x[index]`. Slices of the
+/// wrong length for `ws`'s mechanism: `BadLength`.
 pub fn row_dynamics(
     k: &dyn DynMechanism<f64>,
     x: &[f64],
@@ -69,15 +93,24 @@ pub fn row_dynamics(
     s: &SolvedRef<'_>,
     (rate, acc): (f64, f64),
     loads: &[PointLoad<f64>],
-    ws: &mut DynamicsWork<f64>,
+    ws: &mut RowWork,
 ) -> Result<Dynamics<f64>, SolveError> {
-    let mut xd = vec![0.0; x.len()];
-    xd[index] = rate;
-    let mut xdd = vec![0.0; x.len()];
-    xdd[index] = acc;
-    let mut qdd = s.qdd.to_vec();
+    let RowWork {
+        dynamics: work,
+        xd,
+        xdd,
+        qdd,
+    } = ws;
+    mechgen_runtime::error::len(x, xd.len())?;
+    mechgen_runtime::error::len(s.qdd, qdd.len())?;
+    xd.fill(0.0);
+    xdd.fill(0.0);
+    if let (Some(v), Some(a)) = (xd.get_mut(index), xdd.get_mut(index)) {
+        (*v, *a) = (rate, acc);
+    }
+    qdd.copy_from_slice(s.qdd);
     if acc != 0.0 {
-        k.solve_acceleration(x, s.q, &xd, s.qd, &xdd, &mut qdd)?;
+        k.solve_acceleration(x, s.q, xd, s.qd, xdd, qdd)?;
     }
     let state = State {
         x,
@@ -89,7 +122,7 @@ pub fn row_dynamics(
         points: s.points,
         report: Default::default(),
     };
-    dynamics(k, &state, index, loads, ws)
+    dynamics(k, &state, index, loads, work)
 }
 
 /// What `--flywheel` prints.
@@ -181,7 +214,7 @@ pub fn flywheel(
     for &(i, v) in &plan.held {
         x[i] = v;
     }
-    let mut ws = DynamicsWork::new(&info);
+    let mut ws = RowWork::new(&info);
     let mut efforts = Vec::with_capacity(nodes.len());
     let mut failed = None;
     let continuation = Continuation::for_input(info.inputs[index].kind, TAU);

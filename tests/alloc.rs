@@ -368,9 +368,10 @@ fn scenes<T: mechgen::lanes::WithLanes>() -> Outcome {
 /// the allocations of one of 181 rows (by 2°): its workspace, made once per sweep (the run-time
 /// engines' per-thread solve workspace grown by a first sweep). The rows are read through the
 /// borrowed view `sweep_each` hands out; a mechanism with bodies computes each row's inverse
-/// dynamics as well. Returns (name, allocations of the short sweep, of the long one).
+/// dynamics as well, as `mechgen dynamics` and Python do. Returns (name, allocations of the short sweep, of the long one).
 fn sweeps() -> Vec<(String, usize, usize)> {
-    use mechgen::dynamics::{DynamicsWork, dynamics};
+    use mechgen::dynamics::PointLoad;
+    use mechgen::kinetics::{RowWork, row_dynamics};
     use mechgen::sweep::{Continuation, sweep_each};
     let mut out = Vec::new();
     let loaded = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
@@ -403,11 +404,15 @@ fn sweeps() -> Vec<(String, usize, usize)> {
             let c = Continuation::for_input(kind, values[n] - values[0]);
             let mut ok = 0;
             let (allocations, ()) = count(|| {
-                // A mechanism with bodies: each row's inverse dynamics too, at the sweep's rate
-                // (coefficients from the row's rates) and at rest (a velocity solve at unit rate).
-                let mut ws = DynamicsWork::new(&info);
+                // A mechanism with bodies: each row's inverse dynamics too, as `mechgen
+                // dynamics` and Python compute it (`kinetics::row_dynamics`): at the sweep's rate
+                // (coefficients from the row's rates), accelerating (its accelerations solved
+                // again) with a load on the first point over half a turn, and at rest (a velocity
+                // solve at unit rate).
+                let mut ws = RowWork::new(&info);
                 let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
-                let (mut xd, xdd) = (vec![0.0; x.len()], vec![0.0; x.len()]);
+                let x0 = x[0];
+                let loads = [PointLoad::over(0, [2.0, -1.0], [x0, x0 + 3.0])];
                 sweep_each(k.as_ref(), 0, &values, 1.0, &[], &c, &mut |r| {
                     ok += usize::from(black_box(&r).result.is_ok());
                     let Ok(s) = &r.result else { return };
@@ -415,19 +420,12 @@ fn sweeps() -> Vec<(String, usize, usize)> {
                         return;
                     }
                     x[0] = r.input;
-                    for rate in [1.0, 0.0] {
-                        xd[0] = rate;
-                        let state = mechgen::State {
-                            x: &x[..],
-                            xd: &xd[..],
-                            xdd: &xdd[..],
-                            q: s.q,
-                            qd: s.qd,
-                            qdd: s.qdd,
-                            points: s.points,
-                            report: Default::default(),
-                        };
-                        let d = dynamics(k.as_ref(), &state, 0, &[], &mut ws);
+                    for (motion, loads) in [
+                        ((1.0, 0.0), &[][..]),
+                        ((1.0, 0.5), &loads),
+                        ((0.0, 0.0), &[]),
+                    ] {
+                        let d = row_dynamics(k.as_ref(), &x, 0, s, motion, loads, &mut ws);
                         black_box(d.map(|d| d.effort).unwrap_or(0.0));
                     }
                 });

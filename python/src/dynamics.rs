@@ -8,7 +8,7 @@ use mg::design::row_inputs;
 use mg::dynamics::PointLoad;
 use mg::kinetics;
 use mg::sweep::plan::Plan;
-use mg::sweep::{Continuation, sweep_holding};
+use mg::sweep::{Continuation, sweep_each};
 use mg::{DynMechanism, MechanismInfo};
 use pyo3::exceptions::{PyKeyError, PyValueError};
 use pyo3::prelude::*;
@@ -67,49 +67,48 @@ pub fn dynamics<'py>(
     py.detach(|| {
         let k = m.solver(&values);
         let cont = Continuation::for_input(info.inputs[plan.index].kind, plan.span);
-        let rows = sweep_holding(
+        // Each row as the sweep hands it out: nothing allocated per row.
+        let mut ws = kinetics::RowWork::new(info);
+        let nu = info.unknowns.len();
+        let mut x = row_inputs(info, plan.index, &plan.held, 0.0);
+        let mut r = 0;
+        let (index, motion) = (plan.index, (rate, acc));
+        sweep_each(
             k.as_ref(),
-            plan.index,
+            index,
             &plan.values,
             rate,
             &plan.held,
             &cont,
+            &mut |row| {
+                out.columns[0][r] = row.input;
+                x[index] = row.input;
+                let d = match &row.result {
+                    Ok(s) => {
+                        kinetics::row_dynamics(k.as_ref(), &x, index, s, motion, &loads, &mut ws)
+                            .map(|d| (s.q, d))
+                            .map_err(|e| e.status())
+                    }
+                    Err(_) => Err(row.status()),
+                };
+                let status = match d {
+                    Ok((q, d)) => {
+                        for (j, v) in q.iter().chain(&kinetics::values(&d)).enumerate() {
+                            out.columns[j + 1][r] = *v;
+                        }
+                        "ok"
+                    }
+                    Err(status) => {
+                        for c in out.columns[1..=nu + 7].iter_mut() {
+                            c[r] = f64::NAN;
+                        }
+                        status
+                    }
+                };
+                out.codes[r] = mg::report::status_code(status);
+                r += 1;
+            },
         );
-        let mut ws = mg::dynamics::DynamicsWork::new(info);
-        let nu = info.unknowns.len();
-        for (r, row) in rows.iter().enumerate() {
-            out.columns[0][r] = row.input;
-            let x = row_inputs(info, plan.index, &plan.held, row.input);
-            let d = match &row.view().result {
-                Ok(s) => kinetics::row_dynamics(
-                    k.as_ref(),
-                    &x,
-                    plan.index,
-                    s,
-                    (rate, acc),
-                    &loads,
-                    &mut ws,
-                )
-                .map(|d| (s.q.to_vec(), d))
-                .map_err(|e| e.status()),
-                Err(_) => Err(row.status()),
-            };
-            let status = match d {
-                Ok((q, d)) => {
-                    for (j, v) in q.iter().chain(&kinetics::values(&d)).enumerate() {
-                        out.columns[j + 1][r] = *v;
-                    }
-                    "ok"
-                }
-                Err(status) => {
-                    for c in out.columns[1..=nu + 7].iter_mut() {
-                        c[r] = f64::NAN;
-                    }
-                    status
-                }
-            };
-            out.codes[r] = mg::report::status_code(status);
-        }
     });
     out.into_dict(py, &header, &[n], &[])
 }

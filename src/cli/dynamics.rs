@@ -5,8 +5,8 @@
 
 use std::fmt::Write as _;
 
-use mechgen::dynamics::{DynamicsWork, PointLoad};
-use mechgen::kinetics::{self, column_names, row_dynamics};
+use mechgen::dynamics::PointLoad;
+use mechgen::kinetics::{self, RowWork, column_names, row_dynamics};
 use mechgen::plot::{DynamicsRow, dynamics_svg};
 use mechgen::report::significant;
 use mechgen::sweep::plan::{Range, plan};
@@ -181,23 +181,24 @@ pub(super) fn rows(
         let _ = write!(table, "{n:>width$}");
     }
     table.push('\n');
-    let mut ws = DynamicsWork::new(info);
+    let mut ws = RowWork::new(info);
+    let mut x = x0;
+    let motion = (swept.rate, acc);
     for r in &swept.rows {
-        let mut x = x0.clone();
         x[index] = r.input;
         let _ = write!(table, "{:>width$}", significant(r.input * per));
         let _ = write!(csv, "{:?}", r.input);
-        let motion = (swept.rate, acc);
-        let d = match &r.view().result {
+        let view = r.view();
+        let d = match &view.result {
             Ok(s) => row_dynamics(k, &x, index, s, motion, loads, &mut ws)
-                .map(|d| (s.q.to_vec(), d))
-                .map_err(|e| e.status().to_string()),
-            Err(_) => Err(r.status().to_string()),
+                .map(|d| (s.q, d))
+                .map_err(|e| e.status()),
+            Err(_) => Err(r.status()),
         };
         match d {
             Ok((q, d)) => {
                 plotted.push(Some([d.effort, d.kinetic, d.potential]));
-                for q in &q {
+                for q in q {
                     let _ = write!(csv, ",{q:?}");
                 }
                 for v in kinetics::values(&d) {

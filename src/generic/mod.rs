@@ -300,9 +300,15 @@ macro_rules! kinematics {
                     xdd,
                     ..Env::position(x, q, &self.params)
                 };
-                let mut qd = qd.to_vec();
                 <$t>::with_scratch(|ws| {
-                    self.rates(&self.order, Rates::Acceleration, env, &mut qd, qdd, ws)
+                    // The rates' stage reads q̇ from a buffer it may write: the scratch's (no
+                    // allocation once grown).
+                    let mut buf = std::mem::take(&mut ws.state);
+                    buf.clear();
+                    buf.extend_from_slice(qd);
+                    let r = self.rates(&self.order, Rates::Acceleration, env, &mut buf, qdd, ws);
+                    ws.state = buf;
+                    r
                 })
             }
 

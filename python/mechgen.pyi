@@ -92,7 +92,9 @@ class Mechanism:
         """Forward dynamics from the start configuration (a mechanism with bodies), as `mechgen
         simulate --csv`: t, the input, X_vel, X_acc, every unknown, kinetic_energy,
         potential_energy, status; a row every dt to time (a dead point ends it). Loads as for
-        `dynamics`: (point, fx, fy), or (point, fx, fy, (a, b)) acting over [a, b] degrees."""
+        `dynamics`: (point, fx, fy), or (point, fx, fy, (a, b)) acting over [a, b] degrees; where
+        the forces on both sides of such a range's edge push into it, the input rests there and
+        the rows' status is "at-load-edge"."""
 
     def __reduce__(self) -> tuple: ...
 

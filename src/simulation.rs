@@ -18,6 +18,20 @@ pub struct SimRow {
     pub potential: f64,
     /// `Err`: the simulation stopped here (the other numbers are the last good state's).
     pub status: Result<(), SolveError>,
+    /// The input rests on the edge of a load's range, the forces on both sides pushing into it
+    /// (status `at-load-edge`: the load there holds it with a value between off and on).
+    pub held: bool,
+}
+
+impl SimRow {
+    /// The CSV status: `ok`, `at-load-edge` ([`SimRow::held`]) or the error's.
+    pub fn status(&self) -> &'static str {
+        match self.status {
+            Err(e) => e.status(),
+            Ok(()) if self.held => "at-load-edge",
+            Ok(()) => "ok",
+        }
+    }
 }
 
 /// What to simulate: the input (`index`) and the held inputs' values (every input, the
@@ -83,6 +97,7 @@ pub fn simulate(
         kinetic: 0.0,
         potential: 0.0,
         status: Ok(()),
+        held: false,
     };
     for i in 0..rows {
         let t = i as f64 * setup.dt;
@@ -91,6 +106,7 @@ pub fn simulate(
         match moved {
             Ok(()) => {
                 row.input = [sim.position(), sim.rate(), sim.acceleration_now()];
+                row.held = sim.held();
                 let state = sim.tick().state().ok_or("no state")?;
                 row.q.copy_from_slice(state.q);
                 let d = dynamics(k, &state, setup.index, setup.loads, &mut ws)

@@ -184,7 +184,7 @@ pub fn simulate<'py>(
             for (c, v) in values.enumerate() {
                 out.columns[c + 1][r] = if row.status.is_ok() { *v } else { f64::NAN };
             }
-            let status = row.status.map_or_else(|e| e.status(), |()| "ok");
+            let status = row.status();
             out.codes[r] = mg::report::status_code(status);
             r += 1;
         });

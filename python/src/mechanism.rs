@@ -408,7 +408,9 @@ impl Mechanism {
     /// `(point, fx, fy)`, or `(point, fx, fy, (a, b))` acting while an angle input lies in
     /// [a, b] degrees, as `dynamics`) and the constant driving effort `torque`, a row every `dt` seconds to
     /// `time`. Columns: `t`, the input, `X_vel`, `X_acc`, every unknown, `kinetic_energy`,
-    /// `potential_energy`, `status` (a dead point stops it: its row is the last).
+    /// `potential_energy`, `status` (a dead point stops it: its row is the last; `at-load-edge`
+    /// where the forces on both sides of a load range's edge push into it and the input rests
+    /// there).
     #[pyo3(signature = (time, dt, torque=0.0, rate=0.0, loads=None, input=None, set=None, params=None))]
     #[allow(clippy::too_many_arguments)]
     fn simulate<'py>(

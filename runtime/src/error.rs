@@ -70,6 +70,12 @@ pub enum SolveError {
     /// A body's mass or inertia, at the params given, is negative or not finite (the file's
     /// values are checked when it is read; params changed at run time can make them so).
     BadMass { body: usize },
+    /// A simulation's step size shrank below what the time can resolve at `time` (seconds): the
+    /// equation of motion changes abruptly there in a way its error control cannot step over.
+    StepTooSmall { time: f64, step: f64 },
+    /// A simulation used up its steps (`SimulationOptions::max_steps`) before the time asked for,
+    /// at `time` (seconds).
+    StepLimit { time: f64, steps: u32 },
 }
 
 impl SolveError {
@@ -85,6 +91,8 @@ impl SolveError {
             SolveError::NotStarted => "not-started",
             SolveError::OutOfRange { .. } => "out-of-range",
             SolveError::BadMass { .. } => "bad-mass",
+            SolveError::StepTooSmall { .. } => "step-too-small",
+            SolveError::StepLimit { .. } => "step-limit",
         }
     }
 }
@@ -138,6 +146,14 @@ impl fmt::Display for SolveError {
                     "body {body} has a negative or non-finite mass or inertia"
                 )
             }
+            SolveError::StepTooSmall { time, step } => write!(
+                f,
+                "the simulation's step shrank to {step:.3e} s at t = {time} s: the motion changes abruptly there"
+            ),
+            SolveError::StepLimit { time, steps } => write!(
+                f,
+                "the simulation used up its {steps} steps at t = {time} s"
+            ),
         }
     }
 }

@@ -111,14 +111,12 @@ pub fn run(args: &SimulateArgs) -> Result<(), String> {
     let every = rows.div_ceil(TABLE_ROWS - 1).max(1);
     let (mut first, mut drift, mut count) = (None::<f64>, 0.0f64, 0usize);
     let mut stopped: Option<SolveError> = None;
+    let mut held_from: Option<(f64, f64)> = None;
     simulate(sel.solver.as_ref(), &setup, &guess, &mut |r| {
-        let status = match r.status {
-            Ok(()) => "ok",
-            Err(e) => {
-                stopped = Some(e);
-                e.status()
-            }
-        };
+        let status = r.status();
+        if let Err(e) = r.status {
+            stopped = Some(e);
+        }
         let _ = write!(csv, "{:?}", r.t);
         if r.status.is_ok() {
             for v in r.input {
@@ -127,7 +125,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), String> {
             for q in &r.q {
                 let _ = write!(csv, ",{q:?}");
             }
-            let _ = writeln!(csv, ",{:?},{:?},ok", r.kinetic, r.potential);
+            let _ = writeln!(csv, ",{:?},{:?},{status}", r.kinetic, r.potential);
             let total = r.kinetic + r.potential;
             let e0 = *first.get_or_insert(total);
             drift = drift.max((total - e0).abs());
@@ -144,6 +142,9 @@ pub fn run(args: &SimulateArgs) -> Result<(), String> {
                     let _ = write!(table, "{:>width$}", significant(value));
                 }
                 let _ = write!(table, "{:>width$}", significant(r.kinetic + r.potential));
+                if r.held {
+                    let _ = write!(table, "  {status}");
+                }
             } else {
                 let _ = write!(
                     table,
@@ -153,8 +154,19 @@ pub fn run(args: &SimulateArgs) -> Result<(), String> {
             }
             table.push('\n');
         }
+        if r.held && held_from.is_none() {
+            held_from = Some((r.t, r.input[0] * per));
+        }
         count += 1;
     })?;
+    if let Some((t, x)) = held_from {
+        let _ = writeln!(
+            table,
+            "from t = {} the input rests at {} on the edge of a load's range: the forces on both sides push into it (rows `at-load-edge`)",
+            significant(t),
+            significant(x)
+        );
+    }
     if let Some(e0) = first {
         let _ = writeln!(
             table,

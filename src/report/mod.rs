@@ -136,6 +136,9 @@ pub const STATUSES: &[&str] = &[
     "non-finite",
     "out-of-range",
     "bad-mass",
+    "step-too-small",
+    "step-limit",
+    "at-load-edge",
 ];
 
 /// `status`'s index in [`STATUSES`] (`STATUSES.len()` for a status it does not list).

@@ -10,6 +10,13 @@
 //! the usual step size control (error in the weighted RMS norm with `atol + rtol·|y|`, factor
 //! `0.9·err^(−1/5)` kept within [0.2, 5]); [`Simulation::advance_to`] lands exactly on the time
 //! asked for. Nothing is allocated per step.
+//!
+//! A load that acts over a range of the input switches only between steps: a step that would
+//! cross one of its edges is shortened to land on it (`edges.rs`), and the load is switched there
+//! for the way the motion leaves the edge. Where the forces on both sides push into the edge, the
+//! input rests on it ([`Simulation::held`]) until they no longer do.
+
+mod edges;
 
 use alloc::boxed::Box;
 use alloc::vec;
@@ -100,7 +107,13 @@ pub struct Simulation<'a, T: Real> {
     m: &'a dyn DynMechanism<T>,
     tick: Box<dyn DynTick<T> + 'a>,
     input: usize,
+    /// The user's loads; whether each acts through the current step; those that do, as loads
+    /// that always act (what the equation of motion reads).
     loads: Vec<PointLoad<T>>,
+    on: Vec<bool>,
+    active: Vec<PointLoad<T>>,
+    /// Resting on a load's edge.
+    held: bool,
     options: SimulationOptions<T>,
     x: Vec<T>,
     xd: Vec<T>,
@@ -142,6 +155,9 @@ impl<'a, T: Real> Simulation<'a, T> {
             tick: m.ticker(),
             input,
             loads: loads.to_vec(),
+            on: vec![false; loads.len()],
+            active: Vec::with_capacity(loads.len()),
+            held: false,
             options,
             x: x.to_vec(),
             xd: vec![T::zero(); n],
@@ -155,8 +171,7 @@ impl<'a, T: Real> Simulation<'a, T> {
         s.xd[input] = rate;
         let start = InputMotion::new(&s.x[..], &s.xd[..], &s.xdd[..]);
         s.tick.start(start, guess, &options.solve)?;
-        let (acc, _) = s.acceleration(T::zero(), s.y, effort)?;
-        s.acc = acc;
+        s.set_modes(effort)?;
         Ok(s)
     }
 
@@ -174,6 +189,12 @@ impl<'a, T: Real> Simulation<'a, T> {
     pub fn acceleration_now(&self) -> T {
         self.acc
     }
+    /// Whether the input rests on the edge of a load's range, the forces on both sides pushing
+    /// into it (the load there takes the value between off and on that holds it, so the state
+    /// satisfies neither side's equation of motion; its acceleration is 0).
+    pub fn held(&self) -> bool {
+        self.held
+    }
 
     /// The solved state of the last evaluation (after [`Simulation::advance_to`] or
     /// [`Simulation::acceleration`]: the current one), with its accelerations at `ẍ = 0`.
@@ -181,10 +202,28 @@ impl<'a, T: Real> Simulation<'a, T> {
         self.tick.as_ref()
     }
 
-    /// The equation of motion at (t, x, ẋ): positions and rates solved there (the tick), the
-    /// inverse dynamics at `ẍ = 0`, and `ẍ = (Q − effort) / M`; with that inverse dynamics
-    /// (its `effort` is the one at `ẍ = 0`).
+    /// The equation of motion at (t, x, ẋ), under the loads that act at x: positions and rates
+    /// solved there (the tick), the inverse dynamics at `ẍ = 0`, and `ẍ = (Q − effort) / M`;
+    /// with that inverse dynamics (its `effort` is the one at `ẍ = 0`).
     pub fn acceleration(
+        &mut self,
+        t: T,
+        y: [T; 2],
+        effort: &mut Effort<'_, T>,
+    ) -> Result<(T, Dynamics<T>), SolveError> {
+        self.active.clear();
+        for l in &self.loads {
+            if l.acts_at(y[0]) {
+                self.active.push(PointLoad::new(l.point, l.force));
+            }
+        }
+        let r = self.eval(t, y, effort);
+        self.switch();
+        r
+    }
+
+    /// The equation of motion at (t, x, ẋ) under the loads that act through this step.
+    pub(super) fn eval(
         &mut self,
         t: T,
         y: [T; 2],
@@ -195,7 +234,7 @@ impl<'a, T: Real> Simulation<'a, T> {
         let motion = InputMotion::new(&self.x[..], &self.xd[..], &self.xdd[..]);
         self.tick.tick(motion, &self.options.solve)?;
         let state = self.tick.state().ok_or(SolveError::NotStarted)?;
-        let d = dynamics(self.m, &state, self.input, &self.loads, &mut self.ws)?;
+        let d = dynamics(self.m, &state, self.input, &self.active, &mut self.ws)?;
         if d.inertia.partial_cmp(&T::zero()) != Some(core::cmp::Ordering::Greater)
             || !d.inertia.is_finite()
         {
@@ -218,30 +257,38 @@ impl<'a, T: Real> Simulation<'a, T> {
     }
 
     /// Integrates to time `t_end` (at or after the current time) in error-controlled steps, the
-    /// last one shortened to land on `t_end`; the state is then the one at `t_end` and the tick's
-    /// state solved there. On error (a dead point, a failed solve) the state is the last
-    /// accepted one before it.
+    /// last one shortened to land on `t_end` (and any that would cross a load's edge, to land on
+    /// the edge); the state is then the one at `t_end` and the tick's state solved there. Resting
+    /// on a load's edge ([`Self::held`]), the input stays there if the forces at `t_end` still
+    /// hold it. On error (a dead point, a failed solve, the step size collapsing: `StepTooSmall`,
+    /// `max_steps` used up: `StepLimit`) the state is the last accepted one before it.
     pub fn advance_to(&mut self, t_end: T, effort: &mut Effort<'_, T>) -> Result<(), SolveError> {
         let o = self.options;
         let mut steps = 0u32;
         while self.t < t_end {
+            if self.held {
+                self.t = t_end;
+                self.set_modes(effort)?;
+                break;
+            }
             steps += 1;
             if steps > o.max_steps {
-                return Err(SolveError::NoConvergence {
-                    block: 0,
-                    residual: 0.0,
-                    step: self.h.to_f64(),
-                    iterations: o.max_steps,
+                return Err(SolveError::StepLimit {
+                    time: self.t.to_f64(),
+                    steps: o.max_steps,
                 });
             }
             let left = t_end - self.t;
+            if left <= resolution(self.t) {
+                // Within what the time resolves of `t_end` (an edge landed on just before it).
+                self.t = t_end;
+                break;
+            }
             let last = self.h >= left;
             let h = if last { left } else { self.h };
-            let (y_new, acc_new, err) = self.try_step(h, effort)?;
-            if err <= T::one() {
-                self.t = if last { t_end } else { self.t + h };
-                self.y = y_new;
-                self.acc = acc_new;
+            let (err, taken) = self.advance(h, effort)?;
+            if taken == h && last {
+                self.t = t_end;
             }
             // The next step from the error of this one (refused: a smaller try at once).
             let factor = control(err);
@@ -258,30 +305,36 @@ impl<'a, T: Real> Simulation<'a, T> {
     }
 
     /// One step of the error control's own size (refused tries repeated smaller, up to
-    /// `max_steps` of them): the time it advanced.
+    /// `max_steps` of them; shortened to land on a load's edge; resting on one, `max_step`): the
+    /// time it advanced.
     pub fn step(&mut self, effort: &mut Effort<'_, T>) -> Result<T, SolveError> {
+        if self.held {
+            let h = self.options.max_step;
+            self.t += h;
+            self.set_modes(effort)?;
+            return Ok(h);
+        }
         for _ in 0..self.options.max_steps {
             let h = self.h;
-            let (y_new, acc_new, err) = self.try_step(h, effort)?;
+            let (err, taken) = self.advance(h, effort)?;
             self.h = (h * control(err)).min(self.options.max_step);
             if err <= T::one() {
-                self.t += h;
-                self.y = y_new;
-                self.acc = acc_new;
-                return Ok(h);
+                return Ok(taken);
             }
         }
-        Err(SolveError::NoConvergence {
-            block: 0,
-            residual: 0.0,
-            step: self.h.to_f64(),
-            iterations: self.options.max_steps,
+        Err(SolveError::StepLimit {
+            time: self.t.to_f64(),
+            steps: self.options.max_steps,
         })
     }
 
     /// One Dormand–Prince step of size `h` from the current state: the new (x, ẋ), the
     /// acceleration there (the last stage) and the weighted error estimate.
-    fn try_step(&mut self, h: T, effort: &mut Effort<'_, T>) -> Result<([T; 2], T, T), SolveError> {
+    pub(super) fn try_step(
+        &mut self,
+        h: T,
+        effort: &mut Effort<'_, T>,
+    ) -> Result<([T; 2], T, T), SolveError> {
         let (t0, y0) = (self.t, self.y);
         let mut k = [[T::zero(); 2]; 7];
         k[0] = [y0[1], self.acc];
@@ -315,6 +368,11 @@ impl<'a, T: Real> Simulation<'a, T> {
         let err = (sum * T::lit(0.5)).sqrt();
         Ok((y, k[6][1], err))
     }
+}
+
+/// The smallest step that still moves the time `t` by a meaningful amount.
+pub(super) fn resolution<T: Real>(t: T) -> T {
+    T::lit(64.0) * T::EPSILON * t.abs().max(T::one())
 }
 
 /// The step size factor after a step with weighted error `err`: `0.9·err^(−1/5)` within [0.2, 5].

@@ -8,36 +8,7 @@ use mechgen::DynMechanism;
 use mechgen::dynamics::PointLoad;
 use mechgen::simulation::{Setup, SimRow, simulate};
 
-const LIFT: &str = r#"
-[mechanism.lift]
-inputs = ["th"]
-unknowns = ["phi", "y"]
-loops = ["r*e(th) + l*e(phi) - c(0, y)"]
-gravity = "c(0, -9.81)"
-
-[mechanism.lift.params]
-r = 0.05
-l = 0.2
-
-[mechanism.lift.points]
-Top = "c(0, y)"
-
-[mechanism.lift.start]
-th = 0.0
-phi = 1.8234765819369751
-y = 0.19364916731037085
-
-[mechanism.lift.bodies.crank]
-angle = "th"
-com = "0.5*r*e(th)"
-mass = 0.2
-inertia = 5e-5
-
-[mechanism.lift.bodies.head]
-angle = "0"
-com = "Top"
-mass = 3.0
-"#;
+const LIFT: &str = include_str!("data/lift.toml");
 
 const TORQUE: f64 = 2.0;
 const PRESS: f64 = 50.0;

@@ -184,38 +184,13 @@ def test_simulate_frame_equals_the_csv_of_mechgen_simulate(mechgen_bin, tmp_path
     assert not np.allclose(ranged["q1"], free["q1"]), "the ranged load acts"
 
 
-LIFT = """
-[mechanism.lift]
-inputs = ["th"]
-unknowns = ["phi", "y"]
-loops = ["r*e(th) + l*e(phi) - c(0, y)"]
-gravity = "c(0, -9.81)"
-[mechanism.lift.params]
-r = 0.05
-l = 0.2
-[mechanism.lift.points]
-Top = "c(0, y)"
-[mechanism.lift.start]
-th = 0.0
-phi = 1.8234765819369751
-y = 0.19364916731037085
-[mechanism.lift.bodies.crank]
-angle = "th"
-com = "0.5*r*e(th)"
-mass = 0.2
-inertia = 5e-5
-[mechanism.lift.bodies.head]
-angle = "0"
-com = "Top"
-mass = 3.0
-"""
 
 
 def test_simulate_rests_on_a_load_edge_both_sides_push_into(mechgen_bin, tmp_path):
     """A crank at rest on the edge of a load's range, turned into the range by its torque and out
     of it by the load: every row rests there with status `at-load-edge`, as the CLI's CSV says."""
-    path = tmp_path / "lift.toml"
-    path.write_text(LIFT)
+    from conftest import ROOT
+    path = ROOT / "tests" / "data" / "lift.toml"
     csv = tmp_path / "lift.csv"
     run(mechgen_bin, "simulate", "lift", "--file", str(path), "--time", "0.2", "--dt", "0.01",
         "--torque", "2", "--load", "Top=0,-50@0:180", "--csv", str(csv))

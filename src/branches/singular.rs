@@ -46,11 +46,11 @@ impl Tapes {
         let env = Env::position(x, q, p);
         let mut regs = Vec::new();
         let mut r = vec![0.0; n];
-        self.residual.eval(&env, &mut regs, &mut r);
+        self.residual.eval_or_nan(&env, &mut regs, &mut r);
         let mut j = vec![0.0; n * n];
-        self.jacobian.eval(&env, &mut regs, &mut j);
+        self.jacobian.eval_or_nan(&env, &mut regs, &mut j);
         let mut jx = vec![0.0; n * self.inputs];
-        self.input_jacobian.eval(&env, &mut regs, &mut jx);
+        self.input_jacobian.eval_or_nan(&env, &mut regs, &mut jx);
         Local {
             residual: DVector::from_vec(r),
             jacobian: DMatrix::from_row_slice(n, n, &j),

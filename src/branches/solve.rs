@@ -28,7 +28,7 @@ thread_local! {
 
 /// The roots of `tape` at `(x, q)` into `out` (at most 6 are read).
 fn eval_into(tape: &Tape, x: &[f64], q: &[f64], p: &[f64], out: &mut [f64; 6]) {
-    REGS.with_borrow_mut(|regs| tape.eval(&Env::position(x, q, p), regs, out));
+    REGS.with_borrow_mut(|regs| tape.eval_or_nan(&Env::position(x, q, p), regs, out));
 }
 
 fn eval(tape: &Tape, x: &[f64], q: &[f64], p: &[f64]) -> Vec<f64> {

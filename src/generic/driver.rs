@@ -150,7 +150,7 @@ impl Generic {
             let k = b.unknowns.len();
             if let Some(c) = b.closed.as_ref().filter(|_| options.closed_forms) {
                 out.resize(c.form.roots().len(), T::zero());
-                c.roots.eval(&self.env(x, sx, &st), regs, out);
+                c.roots.eval(&self.env(x, sx, &st), regs, out)?;
                 let tolerance = options.newton.tolerance;
                 closed::solve(bi, &c.form, out, &mut st, scale, tolerance, &mut report)?;
                 continue;
@@ -166,7 +166,7 @@ impl Generic {
                 &mut report,
                 &mut sized(by_size, k).newton,
                 |st, r, j| {
-                    b.position.eval(&self.env(x, sx, st), regs, out);
+                    b.position.eval_or_nan(&self.env(x, sx, st), regs, out);
                     fill(out, k, r, j);
                 },
             )?;
@@ -203,7 +203,8 @@ impl Generic {
             let q64: Vec<f64> = st.q.iter().map(|v| v.to_f64()).collect();
             let exact = b.residual.eval_twofold(&x64, &q64, &self.params);
             let mut out = vec![T::zero(); k + k * k];
-            b.position.eval(&self.env(x, sx, st), &mut regs, &mut out);
+            b.position
+                .eval_or_nan(&self.env(x, sx, st), &mut regs, &mut out);
             let (mut r, mut jac, mut scale) =
                 (DVector::zeros(k), DMatrix::zeros(k, k), DVector::zeros(k));
             fill(&out, k, &mut r, &mut jac);
@@ -253,7 +254,7 @@ impl Generic {
             out.resize(k + k * k, T::zero());
             // Earlier blocks' velocities are on the right-hand side.
             let env_v = Env { qd: &*qd, ..env };
-            b.velocity.eval(&env_v, regs, out);
+            b.velocity.eval(&env_v, regs, out)?;
             let Sized {
                 rhs,
                 jac,
@@ -275,7 +276,7 @@ impl Generic {
                     qdd: &*qdd,
                     ..env
                 };
-                b.acceleration.eval(&env, regs, &mut out[..k]);
+                b.acceleration.eval(&env, regs, &mut out[..k])?;
                 rhs.as_mut_slice().copy_from_slice(&out[..k]);
                 lu.solve(bi, Stage::Acceleration, rhs)?;
                 for (&u, v) in b.unknowns.iter().zip(rhs.iter()) {
@@ -303,9 +304,9 @@ impl Generic {
         let env = Env::position(x, q, &self.params);
         let mut regs = Vec::new();
         let mut jac = vec![T::zero(); nu * nu];
-        self.jacobian.eval(&env, &mut regs, &mut jac);
+        self.jacobian.eval(&env, &mut regs, &mut jac)?;
         let mut all = vec![T::zero(); self.sensitivity.outputs()];
-        self.sensitivity.eval(&env, &mut regs, &mut all);
+        self.sensitivity.eval(&env, &mut regs, &mut all)?;
         let (phi_p, points) = all.split_at(nu * npar);
         let (pq, pp) = points.split_at(points.len() / (nu + npar).max(1) * nu);
         s.iter_mut().for_each(|v| *v = T::zero());

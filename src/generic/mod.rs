@@ -83,9 +83,9 @@ impl Generic {
         out: &mut [PointMotion<T>],
         regs: &mut Vec<T>,
         v: &mut Vec<T>,
-    ) {
+    ) -> Result<(), SolveError> {
         v.resize(6 * self.info.points.len(), T::zero());
-        self.points.eval(&env, regs, v);
+        self.points.eval(&env, regs, v)?;
         for (o, c) in out.iter_mut().zip(v.chunks_exact(6)) {
             *o = PointMotion {
                 position: [c[0], c[1]],
@@ -93,6 +93,7 @@ impl Generic {
                 acceleration: [c[4], c[5]],
             };
         }
+        Ok(())
     }
 
     /// `tape` at a solved state (`width` outputs per item of `out`, each made by `make`):
@@ -120,12 +121,12 @@ impl Generic {
                 regs, points: v, ..
             } = ws;
             v.resize(width * out.len(), T::zero());
-            tape.eval(&env, regs, v);
+            tape.eval(&env, regs, v)?;
             for (o, c) in out.iter_mut().zip(v.chunks_exact(width)) {
                 *o = make(c);
             }
-        });
-        Ok(())
+            Ok(())
+        })
     }
 
     /// The drawing chains (links and ground offsets of every loop) at `(x, q)`.
@@ -136,7 +137,7 @@ impl Generic {
             &Env::position(x, q, &self.params),
             &mut Vec::new(),
             &mut out,
-        );
+        )?;
         let mut at = 0;
         Ok(self
             .chain_shape
@@ -173,8 +174,7 @@ impl Generic {
         out: &mut [T],
     ) -> Result<(), SolveError> {
         len(out, tape.outputs())?;
-        tape.eval(&env, &mut Vec::new(), out);
-        Ok(())
+        tape.eval(&env, &mut Vec::new(), out)
     }
 }
 
@@ -341,7 +341,7 @@ macro_rules! kinematics {
                     let (qd_new, qdd_new) = rates.split_at_mut(nu);
                     let input = InputMotion::new(&x[..], &xd[..], &xdd[..]);
                     let run = self.drive(self.whole(), input, q_new, qd_new, qdd_new, options, ws);
-                    if let Ok(r) = run {
+                    let run = run.and_then(|r| {
                         let Scratch {
                             sc,
                             regs,
@@ -356,7 +356,9 @@ macro_rules! kinematics {
                             sc,
                             ..Env::position(x, q_new, &self.params)
                         };
-                        self.eval_points(env, points, regs, v);
+                        self.eval_points(env, points, regs, v).map(|()| r)
+                    });
+                    if let Ok(r) = run {
                         q.copy_from_slice(q_new);
                         qd.copy_from_slice(qd_new);
                         qdd.copy_from_slice(qdd_new);
@@ -410,7 +412,7 @@ macro_rules! kinematics {
                         regs, points: v, ..
                     } = ws;
                     v.resize(self.masses.outputs(), 0.0);
-                    self.masses.eval(&env, regs, v);
+                    self.masses.eval(&env, regs, v)?;
                     let (gravity, masses) = if self.gravity {
                         ([v[0], v[1]], &v[2..])
                     } else {
@@ -422,8 +424,8 @@ macro_rules! kinematics {
                             inertia: c[1],
                         };
                     }
-                    gravity
-                });
+                    Ok(gravity)
+                })?;
                 Ok(gravity)
             }
         }

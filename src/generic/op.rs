@@ -30,3 +30,17 @@ pub(crate) enum Op {
     /// A params-only function of one or two registers.
     Func(Func, u32, u32),
 }
+
+/// The `Args` slot of a variable and its index there.
+pub(crate) fn slot(v: Var) -> (usize, usize) {
+    let (s, i) = match v {
+        Var::X(i) => (0, i),
+        Var::Q(i) => (1, i),
+        Var::P(i) => (2, i),
+        Var::Xd(i) => (3, i),
+        Var::Qd(i) => (4, i),
+        Var::Xdd(i) => (5, i),
+        Var::Qdd(i) => (6, i),
+    };
+    (s, usize::from(i))
+}

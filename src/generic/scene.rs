@@ -111,7 +111,8 @@ impl GenericScene {
             sc,
             sx: &[],
         };
-        s.points.eval(&env, regs, &mut out[at..at + s.point_values]);
+        s.points
+            .eval_or_nan(&env, regs, &mut out[at..at + s.point_values]);
     }
 }
 

@@ -4,10 +4,11 @@
 
 use mechgen_codegen::{Dag, Node, NodeId, Var};
 
+use mechgen_runtime::error::SolveError;
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::twofold::{Arith, Twofold};
 
-use super::op::Op;
+use super::op::{Op, slot};
 
 /// The values the variables of a tape take. Slices a tape does not read may be empty; a missing
 /// value reads as zero (callers check lengths before evaluating).
@@ -44,6 +45,8 @@ impl<'a, T: Real> Env<'a, T> {
         }
     }
 
+    /// `v`'s value ([`Tape::eval`] has checked that every value its program reads is there; the
+    /// 0 after an index past a slice is never read).
     #[inline]
     fn get(&self, v: Var) -> T {
         let (slice, i) = match v {
@@ -64,6 +67,9 @@ impl<'a, T: Real> Env<'a, T> {
 pub struct Tape {
     ops: Vec<Op>,
     outputs: Vec<u32>,
+    /// How many values of each of `x, q, p, xd, qd, xdd, qdd` the program reads (one past the
+    /// largest index): [`Tape::eval`] refuses an environment with fewer.
+    reads: [usize; 7],
     /// The same program as machine code (the JIT back end), run in f64 when set.
     #[cfg(feature = "jit")]
     compiled: Option<super::jit::Function>,
@@ -138,9 +144,17 @@ impl Tape {
             ops.push(op);
         }
         let outputs = roots.iter().map(|r| reg[r.index()]).collect();
+        let mut reads = [0; 7];
+        for op in &ops {
+            if let Op::Var(v) = *op {
+                let (k, i) = slot(v);
+                reads[k] = reads[k].max(i + 1);
+            }
+        }
         Tape {
             ops,
             outputs,
+            reads,
             #[cfg(feature = "jit")]
             compiled: None,
         }
@@ -200,11 +214,30 @@ impl Tape {
     }
 
     /// Runs the program; `regs` is workspace (resized as needed). Returns the root values through
-    /// `out` (as many as fit).
-    pub fn eval<T: Real>(&self, env: &Env<'_, T>, regs: &mut Vec<T>, out: &mut [T]) {
+    /// `out` (as many as fit). An environment without a value the program reads: `BadLength`
+    /// (the first such slice's), nothing run.
+    pub fn eval<T: Real>(
+        &self,
+        env: &Env<'_, T>,
+        regs: &mut Vec<T>,
+        out: &mut [T],
+    ) -> Result<(), SolveError> {
+        let have = [env.x, env.q, &[], env.xd, env.qd, env.xdd, env.qdd].map(<[T]>::len);
+        let have = [
+            have[0],
+            have[1],
+            env.p.len(),
+            have[3],
+            have[4],
+            have[5],
+            have[6],
+        ];
+        if let Some((&expected, &got)) = self.reads.iter().zip(&have).find(|(r, h)| h < r) {
+            return Err(SolveError::BadLength { expected, got });
+        }
         #[cfg(feature = "jit")]
         if self.run_compiled(env, out) {
-            return;
+            return Ok(());
         }
         let sc = |k: u32| env.sc.get(k as usize).copied();
         let sx = |i: u32| env.sx.get(i as usize).copied();
@@ -212,12 +245,28 @@ impl Tape {
         for (o, &r) in out.iter_mut().zip(&self.outputs) {
             *o = regs[r as usize];
         }
+        Ok(())
+    }
+
+    /// [`Tape::eval`] where its error cannot be returned (inside a solver's callback): the
+    /// outputs NaN instead, so that the solve fails rather than run on missing values.
+    pub fn eval_or_nan<T: Real>(&self, env: &Env<'_, T>, regs: &mut Vec<T>, out: &mut [T]) {
+        if self.eval(env, regs, out).is_err() {
+            out.fill(T::lit(f64::NAN));
+        }
     }
 
     /// Runs the program in double-word arithmetic at positions `(x, q)` (rates read as zero):
     /// the root values to about 1e-32 relative of the terms (a params-only function in f64).
     pub fn eval_twofold(&self, x: &[f64], q: &[f64], p: &[f64]) -> Vec<Twofold> {
-        let env = Env::position(x, q, p);
+        let zeros = vec![0.0; self.reads[3..].iter().copied().max().unwrap_or(0)];
+        let env = Env {
+            xd: &zeros,
+            qd: &zeros,
+            xdd: &zeros,
+            qdd: &zeros,
+            ..Env::position(x, q, p)
+        };
         let mut regs = Vec::new();
         self.run(|v| Twofold::from(env.get(v)), |_| None, |_| None, &mut regs);
         self.outputs.iter().map(|&r| regs[r as usize]).collect()
@@ -265,5 +314,48 @@ impl Tape {
             };
             regs[i] = v;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A program reading a rate, run where only positions are known: `BadLength` naming the
+    /// slice it lacks, not the rate read as 0; with the rate given, its value.
+    #[test]
+    fn a_missing_value_is_an_error_not_zero() {
+        let mut dag = Dag::new();
+        let (q, qd) = (dag.var(Var::Q(0)), dag.var(Var::Qd(1)));
+        let root = dag.mul(q, qd);
+        let tape = Tape::new(&dag, &[root]);
+        let (x, q, p) = ([0.5], [2.0, 7.0], []);
+        let mut out = [0.0f64];
+        let env = Env::position(&x, &q, &p);
+        let got = tape.eval(&env, &mut Vec::new(), &mut out);
+        assert_eq!(
+            got,
+            Err(SolveError::BadLength {
+                expected: 2,
+                got: 0
+            })
+        );
+        let short = Env { qd: &[3.0], ..env };
+        let got = tape.eval(&short, &mut Vec::new(), &mut out);
+        assert_eq!(
+            got,
+            Err(SolveError::BadLength {
+                expected: 2,
+                got: 1
+            })
+        );
+        let full = Env {
+            qd: &[3.0, 5.0],
+            ..env
+        };
+        assert_eq!(tape.eval(&full, &mut Vec::new(), &mut out), Ok(()));
+        assert_eq!(out, [10.0]);
+        tape.eval_or_nan(&env, &mut Vec::new(), &mut out);
+        assert!(out[0].is_nan());
     }
 }

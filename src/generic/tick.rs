@@ -123,15 +123,18 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
             sx: &self.next_tx,
             ..Env::position(x, &q, &g.params)
         };
-        let solved = g.rates(&g.order, Rates::Both, env, qd, qdd, ws);
+        let solved = g
+            .rates(&g.order, Rates::Both, env, qd, qdd, ws)
+            .and_then(|()| {
+                let env = Env {
+                    qd: &*qd,
+                    qdd: &*qdd,
+                    ..env
+                };
+                let Scratch { regs, points, .. } = ws;
+                g.eval_points(env, &mut self.state.points, regs, points)
+            });
         if solved.is_ok() {
-            let env = Env {
-                qd: &*qd,
-                qdd: &*qdd,
-                ..env
-            };
-            let Scratch { regs, points, .. } = ws;
-            g.eval_points(env, &mut self.state.points, regs, points);
             let s = &mut self.state;
             for (b, now) in self.before.iter_mut().zip([&s.q, &s.qd, &s.qdd]) {
                 b.copy_from_slice(now);

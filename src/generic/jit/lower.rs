@@ -13,12 +13,12 @@ use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use cranelift_jit::{JITBuilder, JITModule};
 use cranelift_module::{FuncId, Linkage, Module, default_libcall_names};
-use mechgen_codegen::{Func, Var};
+use mechgen_codegen::Func;
 use mechgen_runtime::twofold::Arith;
 
 use super::code::{self, Reads};
 use super::error::JitError;
-use crate::generic::op::Op;
+use crate::generic::op::{Op, slot};
 
 /// The params-only functions, in the order of their callbacks ([`FUNC_ENTRIES`]).
 const FUNCS: [Func; 6] = [
@@ -300,18 +300,4 @@ fn kept_or(
     b.switch_to_block(join);
     let p = b.block_params(join);
     Ok((p[0], p[1]))
-}
-
-/// The `Args` slot of a variable and its index there.
-fn slot(v: Var) -> (usize, usize) {
-    let (s, i) = match v {
-        Var::X(i) => (0, i),
-        Var::Q(i) => (1, i),
-        Var::P(i) => (2, i),
-        Var::Xd(i) => (3, i),
-        Var::Qd(i) => (4, i),
-        Var::Xdd(i) => (5, i),
-        Var::Qdd(i) => (6, i),
-    };
-    (s, usize::from(i))
 }

@@ -485,6 +485,65 @@ fn lane_batches() -> Vec<(String, usize, usize)> {
 }
 
 /// One test only, so no two counting regions of this binary ever overlap.
+/// `simulate`'s stepper allocates nothing per step: every compiled-in mechanism with bodies, on
+/// the generated engine, the interpreter and the JIT, with a load over part of the turn (steps
+/// landed on its edges), makes exactly the allocations of 20 steps in 80 (none: the workspace is
+/// made by `Simulation::new`). Returns (name, allocations of the short run, of the long one).
+fn simulations() -> Vec<(String, usize, usize)> {
+    use mechgen::dynamics::PointLoad;
+    use mechgen::simulate::{Simulation, SimulationOptions};
+    let loaded = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
+        .expect("the compiled-in file loads");
+    let mut out = Vec::new();
+    for g in loaded
+        .iter()
+        .filter(|g| !mechgen::DynMechanism::<f64>::info(*g).bodies.is_empty())
+    {
+        let mut engines: Vec<(String, Box<dyn mechgen::DynMechanism<f64>>)> = vec![
+            (
+                format!("{} (generated)", g.name()),
+                mechgen::lookup::<f64>(g.name()).expect("in"),
+            ),
+            (format!("{} (generic)", g.name()), Box::new(g.clone())),
+        ];
+        #[cfg(feature = "jit")]
+        {
+            let mut j = g.clone();
+            j.compile().expect("the host has a Cranelift back end");
+            engines.push((format!("{} (jit)", g.name()), Box::new(j)));
+        }
+        for (name, k) in &engines {
+            let info = k.info();
+            let x0: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+            let guess: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
+            let loads = [PointLoad::over(
+                0,
+                [1.0, -1.0],
+                [x0[0] + 0.01, x0[0] + 0.02],
+            )];
+            let mut effort = |_: f64, _: f64, _: f64| 0.0;
+            let options = SimulationOptions {
+                max_step: 1e-3,
+                ..SimulationOptions::default()
+            };
+            let run = |steps: usize, effort: &mut dyn FnMut(f64, f64, f64) -> f64| {
+                let mut sim =
+                    Simulation::new(k.as_ref(), 0, &x0, 2.0, &guess, &loads, options, effort)
+                        .expect("starts");
+                count(|| {
+                    for _ in 0..steps {
+                        black_box(sim.step(effort)).ok();
+                    }
+                })
+                .0
+            };
+            let (short, long) = (run(20, &mut effort), run(80, &mut effort));
+            out.push((name.clone(), short, long));
+        }
+    }
+    out
+}
+
 #[test]
 fn generated_solvers_do_not_allocate() {
     // The counter works: an allocation on this thread, with counting on, is seen.
@@ -538,6 +597,14 @@ fn generated_solvers_do_not_allocate() {
         if long != short {
             failures.push(format!(
                 "lane batch of {name}: {short} allocations for 181 rows, {long} for 721"
+            ));
+        }
+    }
+    for (name, short, long) in simulations() {
+        eprintln!("simulation of {name}: {short} allocations in 20 steps, {long} in 80");
+        if long != short {
+            failures.push(format!(
+                "simulation of {name}: {short} allocations in 20 steps, {long} in 80"
             ));
         }
     }

@@ -8,7 +8,7 @@
 use crate::error::SolveError;
 use crate::guard::BranchGuard;
 use crate::info::PointMotion;
-use crate::mechanism::{InputMotion, State};
+use crate::mechanism::{BodySink, InputMotion, State};
 use crate::scalar::Real;
 use crate::solve::SolveOptions;
 
@@ -51,4 +51,18 @@ pub trait DynTick<T: Real> {
         dt: T,
         before: &mut [T],
     ) -> Result<bool, SolveError>;
+    /// [`DynTick::tick`] handing gravity and every body to `sink`, computed on the tick's own
+    /// sines and cosines (`Ok(true)`: a generated mechanism's tick,
+    /// `StaticMechanism::tick_with_sink`, or the generic engine's), or a plain tick that hands
+    /// nothing (`Ok(false)`, the default). On error the state is unchanged.
+    fn tick_with_sink(
+        &mut self,
+        input: InputMotion<&[T]>,
+        options: &SolveOptions<T>,
+        sink: &mut dyn BodySink<T>,
+    ) -> Result<bool, SolveError> {
+        let _ = sink;
+        self.tick(input, options)?;
+        Ok(false)
+    }
 }

@@ -16,7 +16,7 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-use crate::dyn_tick::StateRef;
+use crate::dyn_tick::{DynTick, StateRef};
 use crate::dynamic::DynMechanism;
 use crate::error::SolveError;
 use crate::info::{BodyMass, BodyMotion, MechanismInfo, PointMotion};
@@ -336,6 +336,36 @@ pub fn tick_with_dynamics<T: Real, M: StaticMechanism<T>>(
     sums.0.check()?;
     let x = t.x.as_ref()[input];
     Ok(sums.0.per_rate(rate, acting(loads, x, t.points.as_ref())))
+}
+
+/// One tick of any engine's tick on slices ([`DynTick::tick`]) and the inverse dynamics of its new
+/// state for the input `input` under `loads` ([`dynamics`] of `m`, the mechanism that made the
+/// tick). When that input alone moves and the tick hands its bodies over
+/// ([`DynTick::tick_with_sink`]: a generated mechanism's, in the tick's own body, and the generic
+/// engine's, on the tick's sines and cosines), they go straight to the sums. On the tick's
+/// error its state is unchanged (an index out of range is found after the tick).
+pub fn dyn_tick_dynamics<T: Real>(
+    m: &dyn DynMechanism<T>,
+    tick: &mut dyn DynTick<T>,
+    motion: InputMotion<&[T]>,
+    options: &SolveOptions<T>,
+    (input, loads): (usize, &[PointLoad<T>]),
+    ws: &mut DynamicsWork<T>,
+) -> Result<Dynamics<T>, SolveError> {
+    if let Some(rate) = alone_rate(motion.xd, input) {
+        let mut sums = AtRates(Sums::new([T::zero(); 2]));
+        if tick.tick_with_sink(motion, options, &mut sums)? {
+            let state = tick.state().ok_or(SolveError::NotStarted)?;
+            check_indices((input, state.x.len()), loads, state.points.len())?;
+            sums.0.check()?;
+            let x = state.x[input];
+            return Ok(sums.0.per_rate(rate, acting(loads, x, state.points)));
+        }
+    } else {
+        tick.tick(motion, options)?;
+    }
+    let state = tick.state().ok_or(SolveError::NotStarted)?;
+    dynamics(m, &state, input, loads, ws)
 }
 
 /// The rate of `input` when it alone moves (every other input's rate zero) and does move.

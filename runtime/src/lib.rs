@@ -47,8 +47,8 @@ pub mod twofold;
 pub use dyn_tick::{DynTick, StateRef};
 pub use dynamic::{DynMechanism, DynState};
 pub use dynamics::{
-    Dynamics, DynamicsWork, PointLoad, dynamics, inverse_dynamics, tick_dynamics,
-    tick_with_dynamics,
+    Dynamics, DynamicsWork, PointLoad, dyn_tick_dynamics, dynamics, inverse_dynamics,
+    tick_dynamics, tick_with_dynamics,
 };
 pub use error::{Quantity, SolveError, Stage};
 pub use info::{

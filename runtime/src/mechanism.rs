@@ -79,6 +79,18 @@ pub trait BodySink<T> {
     fn body(&mut self, index: usize, mass: BodyMass<T>, motion: BodyMotion<T>);
 }
 
+/// A sink behind a reference (what a tick on slices, `DynTick::tick_with_sink`, is handed).
+impl<T, S: BodySink<T> + ?Sized> BodySink<T> for &mut S {
+    #[inline(always)]
+    fn gravity(&mut self, gravity: [T; 2]) {
+        (**self).gravity(gravity);
+    }
+    #[inline(always)]
+    fn body(&mut self, index: usize, mass: BodyMass<T>, motion: BodyMotion<T>) {
+        (**self).body(index, mass, motion);
+    }
+}
+
 /// Arrays of a mechanism's own sizes as a sink: masses, motion, gravity.
 impl<T, const N: usize> BodySink<T> for ([BodyMass<T>; N], [BodyMotion<T>; N], [T; 2]) {
     #[inline(always)]

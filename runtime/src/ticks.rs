@@ -12,7 +12,7 @@ use crate::dynamic::{DynMechanism, DynState, arr, arrays, len, put};
 use crate::error::SolveError;
 use crate::guard::BranchGuard;
 use crate::info::{BodyMass, BodyMotion, MechanismInfo, PointMotion};
-use crate::mechanism::{InputMotion, RowMajor, State, StaticMechanism};
+use crate::mechanism::{BodySink, InputMotion, RowMajor, State, StaticMechanism};
 use crate::scalar::Real;
 use crate::solve::{NewtonReport, SolveOptions};
 use crate::tick::{step_to, taylor};
@@ -54,6 +54,19 @@ impl<T: Real, M: StaticMechanism<T>> DynTick<T> for StaticTick<'_, T, M> {
         let input = arrays(input)?;
         let t = self.tick.as_mut().ok_or(SolveError::NotStarted)?;
         self.mechanism.tick(t, &input, options)
+    }
+
+    fn tick_with_sink(
+        &mut self,
+        input: InputMotion<&[T]>,
+        options: &SolveOptions<T>,
+        mut sink: &mut dyn BodySink<T>,
+    ) -> Result<bool, SolveError> {
+        let input = arrays(input)?;
+        let t = self.tick.as_mut().ok_or(SolveError::NotStarted)?;
+        self.mechanism
+            .tick_with_sink(t, &input, options, &mut sink)?;
+        Ok(true)
     }
 
     fn tick_checked(

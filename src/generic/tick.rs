@@ -9,11 +9,11 @@ use mechgen_runtime::dyn_tick::{DynTick, StateRef};
 use mechgen_runtime::dynamic::{DynMechanism, DynState, len};
 use mechgen_runtime::error::{Quantity, SolveError};
 use mechgen_runtime::guard::BranchGuard;
-use mechgen_runtime::mechanism::InputMotion;
+use mechgen_runtime::mechanism::{BodySink, InputMotion};
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::solve::{SolveOptions, check_finite};
 use mechgen_runtime::tick::{Last, RESYNC_TICKS, inputs_trig, predict};
-use mechgen_runtime::{Kind, MechanismInfo};
+use mechgen_runtime::{BodyMass, BodyMotion, Kind, MechanismInfo, PointMotion};
 
 use super::driver::Rates;
 use super::engine::Generic;
@@ -230,5 +230,61 @@ where
 
     fn state(&self) -> Option<StateRef<'_, T>> {
         self.started.then(|| self.state.view())
+    }
+
+    /// The tick, then gravity and every body at its state, on the sines and cosines it keeps (as
+    /// a generated tick computes them in its own body: the same values).
+    fn tick_with_sink(
+        &mut self,
+        input: InputMotion<&[T]>,
+        options: &SolveOptions<T>,
+        sink: &mut dyn BodySink<T>,
+    ) -> Result<bool, SolveError> {
+        self.tick(input, options)?;
+        let (g, s) = (self.g, &self.state);
+        let env = Env {
+            xd: &s.xd,
+            qd: &s.qd,
+            xdd: &s.xdd,
+            qdd: &s.qdd,
+            sc: &self.tq,
+            sx: &self.tx,
+            ..Env::position(&s.x, &s.q, &g.params)
+        };
+        T::with_scratch(|ws| {
+            let Scratch {
+                regs,
+                out: m,
+                points: b,
+                ..
+            } = ws;
+            m.resize(g.masses.outputs(), T::zero());
+            g.masses
+                .eval(&Env::position(&[], &[], &g.params), regs, m)?;
+            b.resize(g.bodies.outputs(), T::zero());
+            g.bodies.eval(&env, regs, b)?;
+            let (gravity, m) = if g.gravity {
+                ([m[0], m[1]], &m[2..])
+            } else {
+                ([T::zero(); 2], &m[..])
+            };
+            sink.gravity(gravity);
+            for (k, (m, c)) in m.chunks_exact(2).zip(b.chunks_exact(9)).enumerate() {
+                let mass = BodyMass {
+                    mass: m[0],
+                    inertia: m[1],
+                };
+                let motion = BodyMotion {
+                    com: PointMotion {
+                        position: [c[0], c[1]],
+                        velocity: [c[3], c[4]],
+                        acceleration: [c[6], c[7]],
+                    },
+                    angle: [c[2], c[5], c[8]],
+                };
+                sink.body(k, mass, motion);
+            }
+            Ok(true)
+        })
     }
 }

@@ -24,7 +24,7 @@ use alloc::vec::Vec;
 
 use crate::dyn_tick::DynTick;
 use crate::dynamic::DynMechanism;
-use crate::dynamics::{Dynamics, DynamicsWork, PointLoad, dynamics};
+use crate::dynamics::{Dynamics, DynamicsWork, PointLoad, dyn_tick_dynamics};
 use crate::error::{SolveError, Stage};
 use crate::mechanism::InputMotion;
 use crate::scalar::Real;
@@ -232,9 +232,15 @@ impl<'a, T: Real> Simulation<'a, T> {
         self.x[self.input] = y[0];
         self.xd[self.input] = y[1];
         let motion = InputMotion::new(&self.x[..], &self.xd[..], &self.xdd[..]);
-        self.tick.tick(motion, &self.options.solve)?;
-        let state = self.tick.state().ok_or(SolveError::NotStarted)?;
-        let d = dynamics(self.m, &state, self.input, &self.active, &mut self.ws)?;
+        let (tick, loads) = (self.tick.as_mut(), (self.input, &self.active[..]));
+        let d = dyn_tick_dynamics(
+            self.m,
+            tick,
+            motion,
+            &self.options.solve,
+            loads,
+            &mut self.ws,
+        )?;
         if d.inertia.partial_cmp(&T::zero()) != Some(core::cmp::Ordering::Greater)
             || !d.inertia.is_finite()
         {

@@ -363,6 +363,29 @@ fn scenes<T: mechgen::lanes::WithLanes>() -> Outcome {
     v.outcome
 }
 
+/// Every compiled-in mechanism (with bodies only: `bodies`) on the generated engine, the
+/// interpreter and, built with it, the JIT.
+fn engines(bodies: bool) -> Vec<(String, Box<dyn mechgen::DynMechanism<f64>>)> {
+    let loaded = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
+        .expect("the compiled-in file loads");
+    let mut engines: Vec<(String, Box<dyn mechgen::DynMechanism<f64>>)> = Vec::new();
+    for g in &loaded {
+        if bodies && mechgen::DynMechanism::<f64>::info(g).bodies.is_empty() {
+            continue;
+        }
+        let k = mechgen::lookup::<f64>(g.name()).expect("compiled in");
+        engines.push((format!("{} (generated)", g.name()), k));
+        engines.push((format!("{} (generic)", g.name()), Box::new(g.clone())));
+        #[cfg(feature = "jit")]
+        {
+            let mut j = g.clone();
+            j.compile().expect("the host has a Cranelift back end");
+            engines.push((format!("{} (jit)", g.name()), Box::new(j)));
+        }
+    }
+    engines
+}
+
 /// The sweep core allocates nothing per row: for every compiled-in mechanism on the generated
 /// engine, the interpreter and the JIT, a sweep of 721 rows (0° to 360° by 0.5°) makes exactly
 /// the allocations of one of 181 rows (by 2°): its workspace, made once per sweep (the run-time
@@ -374,21 +397,7 @@ fn sweeps() -> Vec<(String, usize, usize)> {
     use mechgen::kinetics::{RowWork, row_dynamics};
     use mechgen::sweep::{Continuation, sweep_each};
     let mut out = Vec::new();
-    let loaded = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
-        .expect("the compiled-in file loads");
-    let mut engines: Vec<(String, Box<dyn mechgen::DynMechanism<f64>>)> = Vec::new();
-    for g in &loaded {
-        let k = mechgen::lookup::<f64>(g.name()).expect("compiled in");
-        engines.push((format!("{} (generated)", g.name()), k));
-        engines.push((format!("{} (generic)", g.name()), Box::new(g.clone())));
-        #[cfg(feature = "jit")]
-        {
-            let mut j = g.clone();
-            j.compile().expect("the host has a Cranelift back end");
-            engines.push((format!("{} (jit)", g.name()), Box::new(j)));
-        }
-    }
-    for (name, k) in &engines {
+    for (name, k) in &engines(false) {
         let info = k.info();
         let kind = info.inputs[0].kind;
         let run = |step: f64| {
@@ -492,54 +501,33 @@ fn lane_batches() -> Vec<(String, usize, usize)> {
 fn simulations() -> Vec<(String, usize, usize)> {
     use mechgen::dynamics::PointLoad;
     use mechgen::simulate::{Simulation, SimulationOptions};
-    let loaded = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
-        .expect("the compiled-in file loads");
     let mut out = Vec::new();
-    for g in loaded
-        .iter()
-        .filter(|g| !mechgen::DynMechanism::<f64>::info(*g).bodies.is_empty())
-    {
-        let mut engines: Vec<(String, Box<dyn mechgen::DynMechanism<f64>>)> = vec![
-            (
-                format!("{} (generated)", g.name()),
-                mechgen::lookup::<f64>(g.name()).expect("in"),
-            ),
-            (format!("{} (generic)", g.name()), Box::new(g.clone())),
-        ];
-        #[cfg(feature = "jit")]
-        {
-            let mut j = g.clone();
-            j.compile().expect("the host has a Cranelift back end");
-            engines.push((format!("{} (jit)", g.name()), Box::new(j)));
-        }
-        for (name, k) in &engines {
-            let info = k.info();
-            let x0: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
-            let guess: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
-            let loads = [PointLoad::over(
-                0,
-                [1.0, -1.0],
-                [x0[0] + 0.01, x0[0] + 0.02],
-            )];
-            let mut effort = |_: f64, _: f64, _: f64| 0.0;
-            let options = SimulationOptions {
-                max_step: 1e-3,
-                ..SimulationOptions::default()
-            };
-            let run = |steps: usize, effort: &mut dyn FnMut(f64, f64, f64) -> f64| {
-                let mut sim =
-                    Simulation::new(k.as_ref(), 0, &x0, 2.0, &guess, &loads, options, effort)
-                        .expect("starts");
-                count(|| {
-                    for _ in 0..steps {
-                        black_box(sim.step(effort)).ok();
-                    }
-                })
-                .0
-            };
-            let (short, long) = (run(20, &mut effort), run(80, &mut effort));
-            out.push((name.clone(), short, long));
-        }
+    for (name, k) in &engines(true) {
+        let info = k.info();
+        let x0: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+        let guess: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
+        let loads = [PointLoad::over(
+            0,
+            [1.0, -1.0],
+            [x0[0] + 0.01, x0[0] + 0.02],
+        )];
+        let mut effort = |_: f64, _: f64, _: f64| 0.0;
+        let options = SimulationOptions {
+            max_step: 1e-3,
+            ..SimulationOptions::default()
+        };
+        let run = |steps: usize, effort: &mut dyn FnMut(f64, f64, f64) -> f64| {
+            let mut sim = Simulation::new(k.as_ref(), 0, &x0, 2.0, &guess, &loads, options, effort)
+                .expect("starts");
+            count(|| {
+                for _ in 0..steps {
+                    black_box(sim.step(effort)).ok();
+                }
+            })
+            .0
+        };
+        let (short, long) = (run(20, &mut effort), run(80, &mut effort));
+        out.push((name.clone(), short, long));
     }
     out
 }

@@ -446,13 +446,13 @@ fn finish<T: Real, M: DynMechanism<T> + ?Sized>(
 ) -> Result<Dynamics<T>, SolveError> {
     check_indices((input, state.x.len()), loads, state.points.len())?;
     let x = state.x[input];
-    let mut sums = AtRates(Sums::new(gravity));
-    for (k, (b, s)) in masses.iter().zip(motion).enumerate() {
-        sums.body(k, *b, *s);
-    }
-    sums.0.check()?;
     if let Some(rate) = alone_rate(state.xd, input) {
         // Ġ = (∂G/∂x) ẋ when x alone moves.
+        let mut sums = AtRates(Sums::new(gravity));
+        for (k, (b, s)) in masses.iter().zip(motion).enumerate() {
+            sums.body(k, *b, *s);
+        }
+        sums.0.check()?;
         return Ok(sums.0.per_rate(rate, acting(loads, x, state.points)));
     }
     ws.xd.fill(T::zero());
@@ -463,6 +463,10 @@ fn finish<T: Real, M: DynMechanism<T> + ?Sized>(
     if !loads.is_empty() {
         m.points(unit, state.q, &ws.qd, &ws.zq, &mut ws.points)?;
     }
-    let loads = acting(loads, x, &ws.points);
-    Ok(inverse_dynamics(gravity, masses, motion, &ws.unit, loads))
+    let mut sums = Sums::new(gravity);
+    for (k, ((b, s), c)) in masses.iter().zip(motion).zip(&ws.unit).enumerate() {
+        sums.add(k, *b, s, c.com.velocity, c.angle[1]);
+    }
+    sums.check()?;
+    Ok(sums.total(acting(loads, x, &ws.points)))
 }

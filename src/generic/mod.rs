@@ -167,6 +167,19 @@ impl Generic {
         &self.linkage
     }
 
+    /// The bodies tape's outputs of one body (centre x, y, angle; their velocities; their
+    /// accelerations) as its motion: the one place that layout is read.
+    pub(super) fn body_motion<T: Real>(c: &[T]) -> BodyMotion<T> {
+        BodyMotion {
+            com: PointMotion {
+                position: [c[0], c[1]],
+                velocity: [c[3], c[4]],
+                acceleration: [c[6], c[7]],
+            },
+            angle: [c[2], c[5], c[8]],
+        }
+    }
+
     fn eval_into<T: Real>(
         &self,
         tape: &tape::Tape,
@@ -394,14 +407,7 @@ macro_rules! kinematics {
                 out: &mut [BodyMotion<$t>],
             ) -> Result<(), SolveError> {
                 len(out, self.info.bodies.len())?;
-                self.eval_motion(input, [q, qd, qdd], &self.bodies, 9, out, |c| BodyMotion {
-                    com: PointMotion {
-                        position: [c[0], c[1]],
-                        velocity: [c[3], c[4]],
-                        acceleration: [c[6], c[7]],
-                    },
-                    angle: [c[2], c[5], c[8]],
-                })
+                self.eval_motion(input, [q, qd, qdd], &self.bodies, 9, out, Self::body_motion)
             }
 
             fn mass_properties(&self, out: &mut [BodyMass<$t>]) -> Result<[$t; 2], SolveError> {

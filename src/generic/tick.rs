@@ -13,7 +13,7 @@ use mechgen_runtime::mechanism::{BodySink, InputMotion};
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::solve::{SolveOptions, check_finite};
 use mechgen_runtime::tick::{Last, RESYNC_TICKS, inputs_trig, predict};
-use mechgen_runtime::{BodyMass, BodyMotion, Kind, MechanismInfo, PointMotion};
+use mechgen_runtime::{BodyMass, Kind, MechanismInfo};
 
 use super::driver::Rates;
 use super::engine::Generic;
@@ -274,15 +274,7 @@ where
                     mass: m[0],
                     inertia: m[1],
                 };
-                let motion = BodyMotion {
-                    com: PointMotion {
-                        position: [c[0], c[1]],
-                        velocity: [c[3], c[4]],
-                        acceleration: [c[6], c[7]],
-                    },
-                    angle: [c[2], c[5], c[8]],
-                };
-                sink.body(k, mass, motion);
+                sink.body(k, mass, Generic::body_motion(c));
             }
             Ok(true)
         })

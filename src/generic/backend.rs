@@ -15,12 +15,14 @@ impl Generic {
     /// took. On error nothing changes: the interpreter runs.
     pub fn compile(&mut self) -> Result<Duration, JitError> {
         let began = Instant::now();
+        let program = self.program.clone();
         let mut tapes = self.tapes_mut();
         let programs: Vec<_> = tapes.iter().map(|t| t.program()).collect();
-        let functions = jit::compile(&programs)?;
+        let (functions, fused) = jit::compile(&programs, program.as_deref())?;
         for (t, f) in tapes.iter_mut().zip(functions) {
             t.set_compiled(Some(f));
         }
+        self.fused = fused;
         Ok(began.elapsed())
     }
 
@@ -29,6 +31,7 @@ impl Generic {
         for t in self.tapes_mut() {
             t.set_compiled(None);
         }
+        self.fused = None;
     }
 
     /// Whether [`Generic::compile`] is in effect.

@@ -4,20 +4,28 @@
 //! block near a dead point, then per block one factorization of the Jacobian for both rates. The
 //! errors are the runtime's (`factor_in_place`, `solve_factored`), as generated code's are.
 
-use mechgen_runtime::elimination::{Factored, factor_block, factor_in_place, solve_factored};
 use mechgen_runtime::error::{Quantity, SolveError, Stage};
 use mechgen_runtime::mechanism::InputMotion;
-use mechgen_runtime::nalgebra::{DMatrix, DVector, SMatrix, SVector};
+use mechgen_runtime::nalgebra::{DMatrix, DVector};
 use mechgen_runtime::scalar::Real;
-use mechgen_runtime::sensitivity::{BlockSolve, block_sensitivities, point_sensitivities};
+use mechgen_runtime::sensitivity::{block_sensitivities, point_sensitivities};
 use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
 use mechgen_runtime::trig::TrigSlices;
 use mechgen_runtime::twofold::{REFINE_BELOW, refinement_in_place};
 
 use super::closed;
 use super::engine::Generic;
+use super::factors::{Factors, fill};
 use super::scratch::{Scratch, Sized, sized};
 use super::tape::Env;
+
+/// The buffers a block's Newton solve works in: a tape's registers, its outputs, the matrices
+/// by block size.
+pub(super) type BlockWork<'a, T> = (
+    &'a mut Vec<T>,
+    &'a mut Vec<T>,
+    &'a mut Vec<Option<Sized<T>>>,
+);
 
 /// Which rates a run solves after (or without) the positions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -147,7 +155,6 @@ impl Generic {
         };
         for &bi in plan.blocks {
             let b = &self.blocks[bi];
-            let k = b.unknowns.len();
             if let Some(c) = b.closed.as_ref().filter(|_| options.closed_forms) {
                 out.resize(c.form.roots().len(), T::zero());
                 c.roots.eval(&self.env(x, sx, &st), regs, out)?;
@@ -155,28 +162,60 @@ impl Generic {
                 closed::solve(bi, &c.form, out, &mut st, scale, tolerance, &mut report)?;
                 continue;
             }
-            out.resize(k + k * k, T::zero());
-            mechgen_runtime::solve::newton_in_place(
-                bi,
-                &mut st,
-                &b.unknowns,
-                &b.length,
-                scale,
-                &options.newton,
-                &mut report,
-                &mut sized(by_size, k).newton,
-                |st, r, j| {
-                    b.position.eval_or_nan(&self.env(x, sx, st), regs, out);
-                    fill(out, k, r, j);
-                },
-            )?;
+            let ws = (&mut *regs, &mut *out, &mut *by_size);
+            self.newton_block(bi, (x, sx), &mut st, options, scale, &mut report, ws)?;
         }
-        if report.pivot_ratio < T::lit(REFINE_BELOW) {
-            self.refine(plan.blocks, x, sx, &mut st);
-        }
+        self.refine_if(plan.blocks, x, sx, &mut st, &report);
         sc.clear();
         sc.extend_from_slice(st.sc);
         Ok(report)
+    }
+
+    /// Block `bi`'s positions by the runtime's Newton from the guess in `st`, on the block's
+    /// position tape (the inputs `x` with their kept sines and cosines `sx`).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn newton_block<T: Real>(
+        &self,
+        bi: usize,
+        (x, sx): (&[T], &[(T, T)]),
+        st: &mut TrigSlices<'_, T>,
+        options: &SolveOptions<T>,
+        scale: T,
+        report: &mut NewtonReport<T>,
+        (regs, out, by_size): BlockWork<'_, T>,
+    ) -> Result<(), SolveError> {
+        let b = &self.blocks[bi];
+        let k = b.unknowns.len();
+        out.resize(k + k * k, T::zero());
+        mechgen_runtime::solve::newton_in_place(
+            bi,
+            st,
+            &b.unknowns,
+            &b.length,
+            scale,
+            &options.newton,
+            report,
+            &mut sized(by_size, k).newton,
+            |st, r, j| {
+                b.position.eval_or_nan(&self.env(x, sx, st), regs, out);
+                fill(out, k, r, j);
+            },
+        )
+    }
+
+    /// Near a dead point (the report's pivot ratio below `REFINE_BELOW`): the refinement of
+    /// `which` blocks.
+    pub(super) fn refine_if<T: Real>(
+        &self,
+        which: &[usize],
+        x: &[T],
+        sx: &[(T, T)],
+        st: &mut TrigSlices<'_, T>,
+        report: &NewtonReport<T>,
+    ) {
+        if report.pivot_ratio < T::lit(REFINE_BELOW) {
+            self.refine(which, x, sx, st);
+        }
     }
 
     /// The positions `(x, st)` with the kept sines and cosines.
@@ -255,18 +294,10 @@ impl Generic {
             // Earlier blocks' velocities are on the right-hand side.
             let env_v = Env { qd: &*qd, ..env };
             b.velocity.eval(&env_v, regs, out)?;
-            let Sized {
-                rhs,
-                jac,
-                scale,
-                swaps,
-                ..
-            } = sized(by_size, k);
-            fill(out, k, rhs, jac);
-            let lu = Factors::new(bi, stage, jac, scale, swaps)?;
+            let mut lu = Factors::of_block(bi, stage, out, k, by_size)?;
             if velocity {
-                lu.solve(bi, Stage::Velocity, rhs)?;
-                for (&u, v) in b.unknowns.iter().zip(rhs.iter()) {
+                lu.solve_into(bi, Stage::Velocity, &mut out[..k])?;
+                for (&u, v) in b.unknowns.iter().zip(&out[..k]) {
                     qd[u] = *v;
                 }
             }
@@ -277,9 +308,8 @@ impl Generic {
                     ..env
                 };
                 b.acceleration.eval(&env, regs, &mut out[..k])?;
-                rhs.as_mut_slice().copy_from_slice(&out[..k]);
-                lu.solve(bi, Stage::Acceleration, rhs)?;
-                for (&u, v) in b.unknowns.iter().zip(rhs.iter()) {
+                lu.solve_into(bi, Stage::Acceleration, &mut out[..k])?;
+                for (&u, v) in b.unknowns.iter().zip(&out[..k]) {
                     qdd[u] = *v;
                 }
             }
@@ -315,7 +345,15 @@ impl Generic {
             let k = b.unknowns.len();
             let mut jb = DMatrix::from_fn(k, k, |i, j| jac[b.equations[i] * nu + b.unknowns[j]]);
             let (mut scale, mut swaps) = (DVector::zeros(k), vec![0; k]);
-            let lu = Factors::new(bi, Stage::Sensitivity, &mut jb, &mut scale, &mut swaps)?;
+            let mut v = DVector::zeros(k);
+            let lu = Factors::new(
+                bi,
+                Stage::Sensitivity,
+                &mut jb,
+                &mut scale,
+                &mut swaps,
+                &mut v,
+            )?;
             let (j, f) = (|e, c| jac[e * nu + c], |e, p| phi_p[e * npar + p]);
             let mut rhs = vec![T::zero(); k];
             block_sensitivities(bi, &b.equations, &b.unknowns, &lu, j, f, npar, s, &mut rhs)?;
@@ -323,84 +361,5 @@ impl Generic {
         let (pq, pp) = (|r, c| pq[r * nu + c], |r, p| pp[r * npar + p]);
         point_sensitivities(pq, pp, s, nu, npar, dp);
         Ok(())
-    }
-}
-
-impl<T: Real> BlockSolve<T> for Factors<'_, T> {
-    fn solve_slice(&self, block: usize, stage: Stage, rhs: &mut [T]) -> Result<(), SolveError> {
-        let mut v = DVector::from_column_slice(rhs);
-        self.solve(block, stage, &mut v)?;
-        rhs.copy_from_slice(v.as_slice());
-        Ok(())
-    }
-}
-
-/// A block Jacobian factored for its rates: a 1×1 or 2×2 block by the runtime's `factor_block`
-/// (the reciprocal, Cramer's inverse), exactly as generated code factors it; a larger one by
-/// elimination in place on the workspace's `DMatrix` (the same `lu_in_place` generated code runs
-/// on its `SMatrix`).
-enum Factors<'a, T: Real> {
-    One(Factored<T, 1>),
-    Two(Factored<T, 2>),
-    Any {
-        lu: &'a DMatrix<T>,
-        scale: &'a DVector<T>,
-        swaps: &'a [usize],
-    },
-}
-
-impl<'a, T: Real> Factors<'a, T> {
-    fn new(
-        block: usize,
-        stage: Stage,
-        jac: &'a mut DMatrix<T>,
-        scale: &'a mut DVector<T>,
-        swaps: &'a mut [usize],
-    ) -> Result<Self, SolveError> {
-        Ok(match jac.nrows() {
-            1 => Factors::One(factor_block(
-                block,
-                stage,
-                SMatrix::from_fn(|i, j| jac[(i, j)]),
-            )?),
-            2 => Factors::Two(factor_block(
-                block,
-                stage,
-                SMatrix::from_fn(|i, j| jac[(i, j)]),
-            )?),
-            _ => {
-                factor_in_place(block, stage, jac, scale, swaps)?;
-                Factors::Any {
-                    lu: jac,
-                    scale,
-                    swaps,
-                }
-            }
-        })
-    }
-
-    /// `rhs` becomes the solution, or `Overflow` for `stage`.
-    fn solve(&self, block: usize, stage: Stage, rhs: &mut DVector<T>) -> Result<(), SolveError> {
-        match self {
-            Factors::One(f) => rhs[0] = f.solve(block, stage, SVector::from([rhs[0]]))?[0],
-            Factors::Two(f) => {
-                let z = f.solve(block, stage, SVector::from([rhs[0], rhs[1]]))?;
-                (rhs[0], rhs[1]) = (z[0], z[1]);
-            }
-            Factors::Any { lu, scale, swaps } => {
-                solve_factored(block, stage, lu, scale, swaps, rhs)?;
-            }
-        }
-        Ok(())
-    }
-}
-
-/// Splits a block tape's outputs into its vector (first `k`) and its matrix (row-major).
-fn fill<T: Real>(out: &[T], k: usize, v: &mut DVector<T>, m: &mut DMatrix<T>) {
-    for i in 0..k {
-        v[i] = out[i];
-        for j in 0..k {
-            m[(i, j)] = out[k + i * k + j];
-        }
     }
 }

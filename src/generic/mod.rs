@@ -9,14 +9,19 @@ mod backend;
 mod closed;
 mod driver;
 mod engine;
+mod factors;
 #[cfg(feature = "jit")]
 pub mod jit;
 mod linkage;
 mod op;
+#[cfg(feature = "jit")]
+mod program;
 mod scene;
 mod scene_tapes;
 mod scratch;
 mod sketch;
+#[cfg(feature = "jit")]
+mod stages;
 pub mod tape;
 mod terms;
 mod tick;
@@ -86,6 +91,12 @@ impl Generic {
     ) -> Result<(), SolveError> {
         v.resize(6 * self.info.points.len(), T::zero());
         self.points.eval(&env, regs, v)?;
+        Self::set_points(out, v);
+        Ok(())
+    }
+
+    /// The points' motion from their values, six per point (x, y, vx, vy, ax, ay).
+    fn set_points<T: Real>(out: &mut [PointMotion<T>], v: &[T]) {
         for (o, c) in out.iter_mut().zip(v.chunks_exact(6)) {
             *o = PointMotion {
                 position: [c[0], c[1]],
@@ -93,7 +104,6 @@ impl Generic {
                 acceleration: [c[4], c[5]],
             };
         }
-        Ok(())
     }
 
     /// `tape` at a solved state (`width` outputs per item of `out`, each made by `make`):

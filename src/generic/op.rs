@@ -1,7 +1,7 @@
 //! Generic engine, the instruction set of a tape: each instruction defined once, read by the
 //! interpreter (`tape.rs`) and lowered by the JIT (`jit/lower.rs`).
 
-use mechgen_codegen::{Func, Var};
+use mechgen_codegen::{Func, Node, NodeId, Var};
 
 /// One instruction; operands are register numbers (every instruction writes the next register).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,4 +43,35 @@ pub(crate) fn slot(v: Var) -> (usize, usize) {
         Var::Qdd(i) => (6, i),
     };
     (s, usize::from(i))
+}
+
+/// The instruction of one DAG node, its children in the registers `r` gives (a `sin` or `cos`
+/// alone; pairing them into one `sin_cos` is the caller's).
+pub(crate) fn op_of(n: Node, r: impl Fn(NodeId) -> u32) -> Op {
+    match n {
+        Node::Const(b) => Op::Const(f64::from_bits(b)),
+        Node::Var(v) => Op::Var(v),
+        Node::Add(a, b) => Op::Add(r(a), r(b)),
+        Node::Sub(a, b) => Op::Sub(r(a), r(b)),
+        Node::Mul(a, b) => Op::Mul(r(a), r(b)),
+        Node::Div(a, b) => Op::Div(r(a), r(b)),
+        // `-(a - b)` as generated code computes it: the difference, then its negation
+        // (`b - a` would be `+0.0` where it is `-0.0`).
+        Node::Neg(d) => Op::Neg(r(d)),
+        Node::Sin(a) => Op::Sin(r(a)),
+        Node::Cos(a) => Op::Cos(r(a)),
+        Node::Tan(a) => Op::Tan(r(a)),
+        Node::Sqrt(a) => Op::Sqrt(r(a)),
+        Node::Func(f, a, b) => Op::Func(f, r(a), r(b)),
+    }
+}
+
+/// The kept-sine-and-cosine instruction of an unknown's or an input's `sin_cos` (argument in
+/// register `r`), whose values the state may keep.
+pub(crate) fn kept_sin_cos(arg: Node, r: u32) -> Option<Op> {
+    match arg {
+        Node::Var(Var::Q(k)) => Some(Op::SinCosQ(r, u32::from(k))),
+        Node::Var(Var::X(i)) => Some(Op::SinCosX(r, u32::from(i))),
+        _ => None,
+    }
 }

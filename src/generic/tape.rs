@@ -8,7 +8,7 @@ use mechgen_runtime::error::SolveError;
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::twofold::{Arith, Twofold};
 
-use super::op::{Op, slot};
+use super::op::{Op, kept_sin_cos, op_of, slot};
 
 /// The values the variables of a tape take. Slices a tape does not read may be empty; a missing
 /// value reads as zero (callers check lengths before evaluating).
@@ -101,45 +101,26 @@ impl Tape {
         let mut sincos = vec![u32::MAX; nodes.len()];
         let mut ops = Vec::new();
         // An unknown's or an input's sine and cosine may be kept by the state.
-        let kept = |a: NodeId, r: u32| match nodes[a.index()] {
-            Node::Var(Var::Q(k)) => Some(Op::SinCosQ(r, u32::from(k))),
-            Node::Var(Var::X(i)) => Some(Op::SinCosX(r, u32::from(i))),
-            _ => None,
-        };
+        let kept = |a: NodeId, r: u32| kept_sin_cos(nodes[a.index()], r);
         for (i, n) in nodes.iter().enumerate() {
             if !needed[i] {
                 continue;
             }
             let r = |id: NodeId| reg[id.index()];
-            let op = match *n {
-                Node::Const(b) => Op::Const(f64::from_bits(b)),
-                Node::Var(v) => Op::Var(v),
-                Node::Add(a, b) => Op::Add(r(a), r(b)),
-                Node::Sub(a, b) => Op::Sub(r(a), r(b)),
-                Node::Mul(a, b) => Op::Mul(r(a), r(b)),
-                Node::Div(a, b) => Op::Div(r(a), r(b)),
-                // `-(a - b)` as generated code computes it: the difference, then its negation
-                // (`b - a` would be `+0.0` where it is `-0.0`).
-                Node::Neg(d) => Op::Neg(r(d)),
-                Node::Sin(a) | Node::Cos(a)
-                    if (has_sin[a.index()] && has_cos[a.index()]) || kept(a, 0).is_some() =>
-                {
-                    let at = a.index();
-                    if sincos[at] == u32::MAX {
-                        sincos[at] = ops.len() as u32;
-                        ops.push(kept(a, r(a)).unwrap_or(Op::SinCos(r(a))));
-                        ops.push(Op::Cos2);
-                    }
-                    let cos = matches!(n, Node::Cos(_));
-                    reg[i] = sincos[at] + u32::from(cos);
-                    continue;
+            if let Node::Sin(a) | Node::Cos(a) = *n
+                && ((has_sin[a.index()] && has_cos[a.index()]) || kept(a, 0).is_some())
+            {
+                let at = a.index();
+                if sincos[at] == u32::MAX {
+                    sincos[at] = ops.len() as u32;
+                    ops.push(kept(a, r(a)).unwrap_or(Op::SinCos(r(a))));
+                    ops.push(Op::Cos2);
                 }
-                Node::Sin(a) => Op::Sin(r(a)),
-                Node::Cos(a) => Op::Cos(r(a)),
-                Node::Tan(a) => Op::Tan(r(a)),
-                Node::Sqrt(a) => Op::Sqrt(r(a)),
-                Node::Func(f, a, b) => Op::Func(f, r(a), r(b)),
-            };
+                let cos = matches!(n, Node::Cos(_));
+                reg[i] = sincos[at] + u32::from(cos);
+                continue;
+            }
+            let op = op_of(*n, r);
             reg[i] = ops.len() as u32;
             ops.push(op);
         }

@@ -11,7 +11,7 @@ use mechgen_runtime::error::{Quantity, SolveError};
 use mechgen_runtime::guard::BranchGuard;
 use mechgen_runtime::mechanism::{BodySink, InputMotion};
 use mechgen_runtime::scalar::Real;
-use mechgen_runtime::solve::{SolveOptions, check_finite};
+use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
 use mechgen_runtime::tick::{Last, RESYNC_TICKS, inputs_trig, predict};
 use mechgen_runtime::{BodyMass, Kind, MechanismInfo};
 
@@ -37,6 +37,9 @@ pub struct GenericTick<'a, T: Real> {
     keep: Vec<bool>,
     all_closed: bool,
     started: bool,
+    /// The params and the prelude of the mechanism's compiled program (empty: none).
+    #[cfg(feature = "jit")]
+    fused_params: Vec<f64>,
 }
 
 impl<'a, T: Scratched> GenericTick<'a, T> {
@@ -67,6 +70,12 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
             all_closed: keep.iter().all(|&k| k),
             keep,
             started: false,
+            #[cfg(feature = "jit")]
+            fused_params: if g.fused.is_some() {
+                super::stages::params_with_prelude(g)
+            } else {
+                Vec::new()
+            },
         }
     }
 
@@ -83,7 +92,7 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
         check_finite(Quantity::InputRate, xd)?;
         check_finite(Quantity::InputAcceleration, xdd)?;
         let resync = self.age >= RESYNC_TICKS;
-        self.next_tx.copy_from_slice(&self.tx);
+        // Every angle's entry is written; the others stay (0, 1) in both caches.
         let angle = &self.input_angle;
         inputs_trig(&self.tx, &s.x, x, angle, resync, &mut self.next_tx);
         ws.trial.clear();
@@ -108,19 +117,59 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
             let (q, sc) = (&mut ws.trial, &mut ws.trial_sc);
             predict(last, x, &self.g.angle, keep, resync, q, sc);
         }
-        let g = self.g;
-        let report = g.positions_from(g.whole(), x, &self.next_tx, options, ws)?;
-        let nu = s.q.len();
-        let (mut q, sc) = (std::mem::take(&mut ws.trial), std::mem::take(&mut ws.sc));
-        let mut rates = std::mem::take(&mut ws.state);
-        rates.clear();
-        rates.resize(2 * nu, T::zero());
-        let (qd, qdd) = rates.split_at_mut(nu);
+        // The rates are solved into the buffers of the rates before the last tick, which swap
+        // with the state's on success.
+        let mut qd = std::mem::take(&mut self.before[1]);
+        let mut qdd = std::mem::take(&mut self.before[2]);
+        let solved = self.motion(input, options, ws, [&mut qd, &mut qdd]);
+        let s = &mut self.state;
+        if let Ok(report) = &solved {
+            std::mem::swap(&mut s.q, &mut ws.trial);
+            std::mem::swap(&mut self.before[0], &mut ws.trial);
+            std::mem::swap(&mut s.qd, &mut qd);
+            std::mem::swap(&mut s.qdd, &mut qdd);
+            s.x.copy_from_slice(x);
+            s.xd.copy_from_slice(xd);
+            s.xdd.copy_from_slice(xdd);
+            s.report = *report;
+            std::mem::swap(&mut self.tq, &mut ws.sc);
+            std::mem::swap(&mut self.tx, &mut self.next_tx);
+            self.age = if resync { 0 } else { self.age + 1 };
+        }
+        (self.before[1], self.before[2]) = (qd, qdd);
+        solved.map(|_| ())
+    }
+
+    /// The motion from the prediction in `ws.trial` (sines and cosines in `ws.trial_sc`): the
+    /// compiled program where there is one, else the block driver; on success the unknowns in
+    /// `ws.trial`, their sines and cosines in `ws.sc`, the rates in `qd` and `qdd`, the points
+    /// in the state.
+    fn motion(
+        &mut self,
+        input: InputMotion<&[T]>,
+        options: &SolveOptions<T>,
+        ws: &mut Scratch<T>,
+        [qd, qdd]: [&mut [T]; 2],
+    ) -> Result<NewtonReport<T>, SolveError> {
+        let (g, sx) = (self.g, &self.next_tx);
+        #[cfg(feature = "jit")]
+        {
+            let p = &self.fused_params;
+            let rates = [&mut *qd, &mut *qdd];
+            if let Some(done) = super::stages::run(g, p, input, sx, options, ws, rates) {
+                let report = done?;
+                Generic::set_points(&mut self.state.points, &ws.points);
+                return Ok(report);
+            }
+        }
+        let InputMotion { x, xd, xdd } = input;
+        let report = g.positions_from(g.whole(), x, sx, options, ws)?;
+        let (q, sc) = (std::mem::take(&mut ws.trial), std::mem::take(&mut ws.sc));
         let env = Env {
             xd,
             xdd,
             sc: &sc,
-            sx: &self.next_tx,
+            sx,
             ..Env::position(x, &q, &g.params)
         };
         let solved = g
@@ -134,24 +183,8 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
                 let Scratch { regs, points, .. } = ws;
                 g.eval_points(env, &mut self.state.points, regs, points)
             });
-        if solved.is_ok() {
-            let s = &mut self.state;
-            for (b, now) in self.before.iter_mut().zip([&s.q, &s.qd, &s.qdd]) {
-                b.copy_from_slice(now);
-            }
-            std::mem::swap(&mut s.q, &mut q);
-            s.qd.copy_from_slice(qd);
-            s.qdd.copy_from_slice(qdd);
-            s.x.copy_from_slice(x);
-            s.xd.copy_from_slice(xd);
-            s.xdd.copy_from_slice(xdd);
-            s.report = report;
-            self.tq.copy_from_slice(&sc);
-            std::mem::swap(&mut self.tx, &mut self.next_tx);
-            self.age = if resync { 0 } else { self.age + 1 };
-        }
-        (ws.trial, ws.sc, ws.state) = (q, sc, rates);
-        solved
+        (ws.trial, ws.sc) = (q, sc);
+        solved.map(|()| report)
     }
 
     fn lengths(&self, input: InputMotion<&[T]>) -> Result<(), SolveError> {

@@ -12,6 +12,13 @@
 //!    [`Function::call`] checks every slice length against [`Reads`] before the call.
 //! 3. After `finalize_definitions` nothing touches the `JITModule` but `free_memory` in `Drop`;
 //!    the code is immutable, so `Code` is shared between threads.
+//! 4. A [`Fused`] entry was compiled by `fused.rs` with the signature `extern "C" fn(*const
+//!    Frame, *mut f64) -> i32`: it reads and writes as invariant 2 says (its `Reads`), also
+//!    stores the velocities and accelerations of unknowns below its `writes`, writes
+//!    `out[..outputs]`, and calls [`stage`] with the frame it was given and a pointer to `count`
+//!    f64 of its own stack frame. While it runs, the slices of the frame are borrowed by
+//!    [`Fused::call`] alone, and [`stage`] makes references of them only for the duration of one
+//!    callback, during which compiled code does not run.
 
 #![allow(unsafe_code)]
 
@@ -137,6 +144,187 @@ impl Function {
         (self.entry)(&args, out.as_mut_ptr());
         let _ = &self.code;
         true
+    }
+}
+
+/// What a fused program's call step asks of the runtime (`what` of [`stage`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u32)]
+pub(super) enum Call {
+    Closed = 0,
+    Newton = 1,
+    Refine = 2,
+    Velocity = 3,
+    Acceleration = 4,
+}
+
+/// The positions a call step may change: the inputs and their kept sines and cosines, the
+/// unknowns being solved and theirs.
+pub struct Positions<'a> {
+    pub x: &'a [f64],
+    pub sx: &'a [(f64, f64)],
+    pub q: &'a mut [f64],
+    pub sc: &'a mut [(f64, f64)],
+}
+
+/// The runtime's side of a fused program's call steps (safe code: `stages.rs`). Each returns
+/// `false` on failure, having kept its error.
+pub trait Stages {
+    /// Solves a closed-form block from its roots.
+    fn closed(&mut self, block: usize, roots: &[f64], at: Positions<'_>) -> bool;
+    /// Solves a block by Newton.
+    fn newton(&mut self, block: usize, at: Positions<'_>) -> bool;
+    /// The refinement near a dead point, if the positions' report asks for it.
+    fn refine(&mut self, at: Positions<'_>) -> bool;
+    /// `values` (right-hand side k, Jacobian k×k): factors the Jacobian, keeps its factors,
+    /// leaves the velocities in `values[..k]`.
+    fn velocity(&mut self, block: usize, values: &mut [f64]) -> bool;
+    /// `values[..k]` (right-hand side) becomes the accelerations, by the kept factors.
+    fn acceleration(&mut self, block: usize, values: &mut [f64]) -> bool;
+}
+
+/// What a fused entry is called with: the `Args` it reads (first, so that its slots are at
+/// the same offsets), the lengths of the slices a call step views, the stages.
+#[repr(C)]
+pub(super) struct Frame {
+    args: Args,
+    x_len: usize,
+    q_len: usize,
+    /// A `*mut &mut dyn Stages`, as an address.
+    stages: *mut std::ffi::c_void,
+}
+
+/// The callback of every call step (invariant 4): rebuilds the frame's views and runs the step
+/// on the stages; 0 on success, 1 on failure (the stages keep the error), 2 for a call compiled
+/// code cannot make.
+pub(super) extern "C" fn stage(
+    frame: *const Frame,
+    what: u32,
+    block: u32,
+    values: *mut f64,
+    count: usize,
+) -> u32 {
+    // SAFETY: invariant 4: `frame` is the frame `Fused::call` made, alive for the call, its
+    // slices not otherwise referenced while this callback runs; `values` is `count` f64 of the
+    // caller's stack.
+    let (f, values) = unsafe { (&*frame, std::slice::from_raw_parts_mut(values, count)) };
+    let stages = unsafe { &mut *f.stages.cast::<&mut dyn Stages>() };
+    let at = || unsafe {
+        Positions {
+            x: std::slice::from_raw_parts(f.args.x, f.x_len),
+            sx: std::slice::from_raw_parts(f.args.sx.cast::<(f64, f64)>(), f.args.sx_len),
+            q: std::slice::from_raw_parts_mut(f.args.q.cast_mut(), f.q_len),
+            sc: std::slice::from_raw_parts_mut(f.args.sc.cast::<(f64, f64)>().cast_mut(), f.q_len),
+        }
+    };
+    let block = block as usize;
+    let done = match what {
+        0 => stages.closed(block, values, at()),
+        1 => stages.newton(block, at()),
+        2 => stages.refine(at()),
+        3 => stages.velocity(block, values),
+        4 => stages.acceleration(block, values),
+        _ => return 2,
+    };
+    u32::from(!done)
+}
+
+type FusedEntry = extern "C" fn(*const Frame, *mut f64) -> u32;
+
+/// A whole motion compiled into one function (`fused.rs`).
+#[derive(Clone)]
+pub struct Fused {
+    code: Arc<Code>,
+    entry: FusedEntry,
+    reads: Reads,
+    writes: usize,
+    outputs: usize,
+}
+
+impl std::fmt::Debug for Fused {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Fused")
+            .field("reads", &self.reads)
+            .field("writes", &self.writes)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The slices of one fused call: read (`x, p, xd, xdd`, the inputs' kept sines and cosines),
+/// solved in place (`q` and its `sc`), written (`qd, qdd`).
+pub struct FusedArgs<'a> {
+    pub x: &'a [f64],
+    pub p: &'a [f64],
+    pub xd: &'a [f64],
+    pub xdd: &'a [f64],
+    pub sx: &'a [(f64, f64)],
+    pub q: &'a mut [f64],
+    pub sc: &'a mut [(f64, f64)],
+    pub qd: &'a mut [f64],
+    pub qdd: &'a mut [f64],
+}
+
+impl Fused {
+    /// `address` is the finalized entry `fused.rs` compiled into `code`'s module (invariant 4).
+    pub(super) fn new(
+        code: &Arc<Code>,
+        address: *const u8,
+        reads: Reads,
+        writes: usize,
+        outputs: usize,
+    ) -> Self {
+        // SAFETY: invariant 4 (the signature) and 1 (the address lives as long as `code`).
+        let entry = unsafe { std::mem::transmute::<*const u8, FusedEntry>(address) };
+        Fused {
+            code: Arc::clone(code),
+            entry,
+            reads,
+            writes,
+            outputs,
+        }
+    }
+
+    /// Runs the motion; `None` (nothing run) when a slice is shorter than what the code reads or
+    /// writes, else `Some(status)`: 0 done, otherwise a call step failed (its error is kept by
+    /// `stages`).
+    pub fn call(&self, a: FusedArgs<'_>, stages: &mut dyn Stages, out: &mut [f64]) -> Option<u32> {
+        let have = [
+            a.x.len(),
+            a.q.len(),
+            a.p.len(),
+            a.xd.len(),
+            a.qd.len(),
+            a.xdd.len(),
+            a.qdd.len(),
+        ];
+        let short = have.iter().zip(self.reads.0).any(|(&h, n)| h < n);
+        let rates = a.qd.len().min(a.qdd.len()) < self.writes;
+        if short || rates || a.sc.len() != a.q.len() || out.len() < self.outputs {
+            return None;
+        }
+        let mut stages: &mut dyn Stages = stages;
+        let frame = Frame {
+            args: Args {
+                x: a.x.as_ptr(),
+                q: a.q.as_mut_ptr(),
+                p: a.p.as_ptr(),
+                xd: a.xd.as_ptr(),
+                qd: a.qd.as_mut_ptr(),
+                xdd: a.xdd.as_ptr(),
+                qdd: a.qdd.as_mut_ptr(),
+                sc: a.sc.as_mut_ptr().cast::<f64>(),
+                sc_len: a.sc.len(),
+                sx: a.sx.as_ptr().cast::<f64>(),
+                sx_len: a.sx.len(),
+            },
+            x_len: a.x.len(),
+            q_len: a.q.len(),
+            stages: (&raw mut stages).cast(),
+        };
+        // Invariant 4: every slice checked above; `stages` and the slices outlive the call.
+        let status = (self.entry)(&frame, out.as_mut_ptr());
+        let _ = &self.code;
+        Some(status)
     }
 }
 

@@ -5,20 +5,29 @@
 //! multiply-add, the same `sin`/`cos`/`tan`/`atan2` functions: the same bits.
 
 mod code;
+mod emit;
 mod error;
+mod fused;
 mod lower;
 
-pub use code::Function;
+pub use code::{Function, Fused, FusedArgs, Positions, Stages};
 pub use error::JitError;
 
 use super::op::Op;
+use super::program::Program;
 
-/// Compiles tapes, each given as its instructions and output registers, into one module; the
-/// functions in the same order.
-pub(super) fn compile(tapes: &[(&[Op], &[u32])]) -> Result<Vec<Function>, JitError> {
+/// Compiles tapes, each given as its instructions and output registers, and a whole motion's
+/// program into one module; the functions in the same order, and the program's.
+pub(super) fn compile(
+    tapes: &[(&[Op], &[u32])],
+    program: Option<&Program>,
+) -> Result<(Vec<Function>, Option<Fused>), JitError> {
     let mut lowering = lower::Lowering::new()?;
     for (ops, outputs) in tapes {
         lowering.add(ops, outputs)?;
+    }
+    if let Some(p) = program {
+        lowering.add_program(p)?;
     }
     lowering.finish()
 }

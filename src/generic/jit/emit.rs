@@ -1,0 +1,330 @@
+//! The JIT, emission: each tape instruction ([`Op`]) to Cranelift IR, in order, one SSA value per
+//! register. Arithmetic is Cranelift's IEEE instructions (no fused multiply-add, `sqrt` correctly
+//! rounded, as `f64::sqrt`); `sin`, `cos`, `tan` and the params-only functions call back into the
+//! interpreter's own functions, so every value is the interpreter's bit for bit.
+
+use cranelift_codegen::ir::condcodes::IntCC;
+use cranelift_codegen::ir::{
+    AbiParam, InstBuilder, MemFlagsData, StackSlot, StackSlotData, StackSlotKind, Type, Value,
+    types,
+};
+use cranelift_frontend::FunctionBuilder;
+use cranelift_jit::{JITBuilder, JITModule};
+use cranelift_module::{FuncId, Linkage, Module};
+use mechgen_codegen::Func;
+use mechgen_runtime::twofold::Arith;
+
+use super::code::{self, Reads};
+use super::error::JitError;
+use crate::generic::op::{Op, slot};
+
+/// The params-only functions, in the order of their callbacks ([`FUNC_ENTRIES`]).
+const FUNCS: [Func; 6] = [
+    Func::Asin,
+    Func::Acos,
+    Func::Atan,
+    Func::Abs,
+    Func::Atan2,
+    Func::Hypot,
+];
+
+extern "C" fn func<const I: usize>(a: f64, b: f64) -> f64 {
+    f64::func(FUNCS[I].method(), a, b)
+}
+
+type Binary = extern "C" fn(f64, f64) -> f64;
+const FUNC_ENTRIES: [Binary; 6] = [
+    func::<0>, func::<1>, func::<2>, func::<3>, func::<4>, func::<5>,
+];
+
+extern "C" fn sin(x: f64) -> f64 {
+    x.sin_of()
+}
+extern "C" fn cos(x: f64) -> f64 {
+    x.cos_of()
+}
+extern "C" fn tan(x: f64) -> f64 {
+    x.tan_of()
+}
+
+/// The callbacks compiled code calls, declared in the module.
+pub(super) struct Imports {
+    sin: FuncId,
+    cos: FuncId,
+    tan: FuncId,
+    sin_cos: FuncId,
+    funcs: [FuncId; 6],
+    /// `code::stage`: a fused program's calls into the runtime.
+    pub stage: FuncId,
+}
+
+impl Imports {
+    /// Registers every callback's address under its name.
+    pub(super) fn symbols(jb: &mut JITBuilder) {
+        jb.symbol("mechgen_sin", sin as *const u8);
+        jb.symbol("mechgen_cos", cos as *const u8);
+        jb.symbol("mechgen_tan", tan as *const u8);
+        jb.symbol("mechgen_sin_cos", code::sin_cos as *const u8);
+        jb.symbol("mechgen_stage", code::stage as *const u8);
+        for (i, f) in FUNC_ENTRIES.iter().enumerate() {
+            jb.symbol(format!("mechgen_func{i}"), *f as *const u8);
+        }
+    }
+
+    /// Declares every callback in `module`.
+    pub(super) fn declare(module: &mut JITModule) -> Result<Imports, JitError> {
+        let ptr = module.target_config().pointer_type();
+        let f64s = |n: usize, ret: bool| {
+            let mut s = module.make_signature();
+            s.params.extend((0..n).map(|_| AbiParam::new(types::F64)));
+            if ret {
+                s.returns.push(AbiParam::new(types::F64));
+            }
+            s
+        };
+        let (unary, binary) = (f64s(1, true), f64s(2, true));
+        let mut pair = f64s(1, false);
+        pair.params.push(AbiParam::new(ptr));
+        // stage(frame, what, block, values, count) -> status
+        let mut stage = module.make_signature();
+        stage.params.extend([
+            AbiParam::new(ptr),
+            AbiParam::new(types::I32),
+            AbiParam::new(types::I32),
+            AbiParam::new(ptr),
+            AbiParam::new(ptr),
+        ]);
+        stage.returns.push(AbiParam::new(types::I32));
+        let mut import = |name: &str, sig| {
+            module
+                .declare_function(name, Linkage::Import, sig)
+                .map_err(|e| JitError::Compile(e.to_string()))
+        };
+        Ok(Imports {
+            sin: import("mechgen_sin", &unary)?,
+            cos: import("mechgen_cos", &unary)?,
+            tan: import("mechgen_tan", &unary)?,
+            sin_cos: import("mechgen_sin_cos", &pair)?,
+            funcs: [
+                import("mechgen_func0", &binary)?,
+                import("mechgen_func1", &binary)?,
+                import("mechgen_func2", &binary)?,
+                import("mechgen_func3", &binary)?,
+                import("mechgen_func4", &binary)?,
+                import("mechgen_func5", &binary)?,
+            ],
+            stage: import("mechgen_stage", &stage)?,
+        })
+    }
+}
+
+/// Instructions being lowered into one function: the `Args` slots it reads loaded once at its
+/// entry, one SSA value per register.
+pub(super) struct Emit<'a> {
+    pub b: FunctionBuilder<'a>,
+    module: &'a mut JITModule,
+    imports: &'a Imports,
+    pub ptr: Type,
+    base: [Option<Value>; 11],
+    pair_slot: StackSlot,
+    regs: Vec<Value>,
+    pending_cos: Option<Value>,
+    reads: Reads,
+}
+
+impl<'a> Emit<'a> {
+    /// At the entry block of `b`: loads the slots of `args` that `ops` read, and those `extra`
+    /// names (slot indices of `Args`).
+    pub(super) fn new<const N: usize>(
+        mut b: FunctionBuilder<'a>,
+        module: &'a mut JITModule,
+        imports: &'a Imports,
+        args: Value,
+        ops: &[Op],
+        extra: [usize; N],
+    ) -> Self {
+        let ptr = module.target_config().pointer_type();
+        let slot_bytes = i32::try_from(ptr.bytes()).unwrap_or(8);
+        // Which slots are read: the seven variable slices, then the kept sines and cosines of
+        // the unknowns (slots 7 and 8: pointer, length) and of the inputs (9 and 10).
+        let mut used = [false; 11];
+        for op in ops {
+            match *op {
+                Op::Var(v) => used[slot(v).0] = true,
+                Op::SinCosQ(..) => (used[7], used[8]) = (true, true),
+                Op::SinCosX(..) => (used[9], used[10]) = (true, true),
+                _ => {}
+            }
+        }
+        for i in extra {
+            used[i] = true;
+        }
+        let mut base = [None; 11];
+        for (i, _) in used.iter().enumerate().filter(|(_, u)| **u) {
+            let at = slot_bytes * i as i32;
+            base[i] = Some(b.ins().load(ptr, MemFlagsData::trusted(), args, at));
+        }
+        let pair_slot =
+            b.create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, 16, 3));
+        Emit {
+            b,
+            module,
+            imports,
+            ptr,
+            base,
+            pair_slot,
+            regs: Vec::with_capacity(ops.len()),
+            pending_cos: None,
+            reads: Reads::default(),
+        }
+    }
+
+    /// The value of register `r`.
+    pub(super) fn reg(&self, r: u32) -> Result<Value, JitError> {
+        self.regs.get(r as usize).copied().ok_or(JitError::Tape)
+    }
+
+    /// The base pointer of `Args` slot `i` (loaded at entry).
+    pub(super) fn base(&self, i: usize) -> Result<Value, JitError> {
+        self.base[i].ok_or(JitError::Tape)
+    }
+
+    /// Stores register `r` at `to[j]` (f64 elements).
+    pub(super) fn store(&mut self, r: u32, to: Value, j: usize) -> Result<(), JitError> {
+        let v = self.reg(r)?;
+        let at = i32::try_from(j * 8).map_err(|_| JitError::Tape)?;
+        self.b.ins().store(MemFlagsData::trusted(), v, to, at);
+        Ok(())
+    }
+
+    /// `code::stage`, referenced from this function.
+    pub(super) fn stage_callee(&mut self) -> cranelift_codegen::ir::FuncRef {
+        self.callee(self.imports.stage)
+    }
+
+    /// A callee declared in the module, referenced from this function.
+    pub(super) fn callee(&mut self, id: FuncId) -> cranelift_codegen::ir::FuncRef {
+        self.module.declare_func_in_func(id, self.b.func)
+    }
+
+    /// Lowers the next instructions (their registers follow those lowered before).
+    pub(super) fn ops(&mut self, ops: &[Op]) -> Result<(), JitError> {
+        let (ptr, trusted) = (self.ptr, MemFlagsData::trusted());
+        for op in ops {
+            let v = match *op {
+                Op::Const(c) => self.b.ins().f64const(c),
+                Op::Var(v) => {
+                    let (s, i) = slot(v);
+                    self.reads.0[s] = self.reads.0[s].max(i + 1);
+                    let at = i32::try_from(i * 8).map_err(|_| JitError::Tape)?;
+                    let from = self.base[s].ok_or(JitError::Tape)?;
+                    self.b.ins().load(types::F64, trusted, from, at)
+                }
+                Op::Add(x, y) => {
+                    let (x, y) = (self.reg(x)?, self.reg(y)?);
+                    self.b.ins().fadd(x, y)
+                }
+                Op::Sub(x, y) => {
+                    let (x, y) = (self.reg(x)?, self.reg(y)?);
+                    self.b.ins().fsub(x, y)
+                }
+                Op::Mul(x, y) => {
+                    let (x, y) = (self.reg(x)?, self.reg(y)?);
+                    self.b.ins().fmul(x, y)
+                }
+                Op::Div(x, y) => {
+                    let (x, y) = (self.reg(x)?, self.reg(y)?);
+                    self.b.ins().fdiv(x, y)
+                }
+                Op::Neg(x) => {
+                    let x = self.reg(x)?;
+                    self.b.ins().fneg(x)
+                }
+                Op::Sqrt(x) => {
+                    let x = self.reg(x)?;
+                    self.b.ins().sqrt(x)
+                }
+                Op::Sin(x) | Op::Cos(x) | Op::Tan(x) => {
+                    let id = match op {
+                        Op::Sin(_) => self.imports.sin,
+                        Op::Cos(_) => self.imports.cos,
+                        _ => self.imports.tan,
+                    };
+                    let (f, x) = (self.callee(id), self.reg(x)?);
+                    let call = self.b.ins().call(f, &[x]);
+                    self.b.inst_results(call)[0]
+                }
+                Op::Func(f, x, y) => {
+                    let i = FUNCS.iter().position(|h| *h == f).ok_or(JitError::Tape)?;
+                    let f = self.callee(self.imports.funcs[i]);
+                    let (x, y) = (self.reg(x)?, self.reg(y)?);
+                    let call = self.b.ins().call(f, &[x, y]);
+                    self.b.inst_results(call)[0]
+                }
+                Op::SinCos(x) | Op::SinCosQ(x, _) | Op::SinCosX(x, _) => {
+                    let x = self.reg(x)?;
+                    let f = self.callee(self.imports.sin_cos);
+                    let pair_slot = self.pair_slot;
+                    let computed = |b: &mut FunctionBuilder| {
+                        let at = b.ins().stack_addr(ptr, pair_slot, 0);
+                        b.ins().call(f, &[x, at]);
+                        let s = b.ins().stack_load(ptr, types::F64, pair_slot, 0);
+                        let c = b.ins().stack_load(ptr, types::F64, pair_slot, 8);
+                        (s, c)
+                    };
+                    let (s, c) = match *op {
+                        Op::SinCosQ(_, k) | Op::SinCosX(_, k) => {
+                            let at = if matches!(op, Op::SinCosQ(..)) { 7 } else { 9 };
+                            let pairs = self.base[at].zip(self.base[at + 1]);
+                            let (pairs, len) = pairs.ok_or(JitError::Tape)?;
+                            kept_or(&mut self.b, pairs, len, k, computed)?
+                        }
+                        _ => computed(&mut self.b),
+                    };
+                    self.pending_cos = Some(c);
+                    s
+                }
+                Op::Cos2 => self.pending_cos.take().ok_or(JitError::Tape)?,
+            };
+            self.regs.push(v);
+        }
+        Ok(())
+    }
+
+    /// Seals and finalizes the function; what it reads.
+    pub(super) fn finish(mut self) -> Reads {
+        self.b.seal_all_blocks();
+        self.b.finalize(self.module.target_config());
+        self.reads
+    }
+}
+
+/// The kept (sin, cos) of unknown `k` when `k < len` (read from `sc`), else `computed`: a
+/// branch joined in a block with the two values as parameters.
+fn kept_or(
+    b: &mut FunctionBuilder,
+    sc: Value,
+    len: Value,
+    k: u32,
+    computed: impl FnOnce(&mut FunctionBuilder) -> (Value, Value),
+) -> Result<(Value, Value), JitError> {
+    let trusted = MemFlagsData::trusted();
+    let ty = b.func.dfg.value_type(len);
+    let (kept, compute, join) = (b.create_block(), b.create_block(), b.create_block());
+    b.append_block_param(join, types::F64);
+    b.append_block_param(join, types::F64);
+    let kc = b.ins().iconst(ty, i64::from(k));
+    let has = b.ins().icmp(IntCC::UnsignedGreaterThan, len, kc);
+    b.ins().brif(has, kept, &[], compute, &[]);
+    b.switch_to_block(kept);
+    let at = i32::try_from(u64::from(k) * 16).map_err(|_| JitError::Tape)?;
+    let s = b.ins().load(types::F64, trusted, sc, at);
+    let c = b.ins().load(types::F64, trusted, sc, at + 8);
+    b.ins().jump(join, &[s.into(), c.into()]);
+    b.switch_to_block(compute);
+    let (s, c) = computed(b);
+    b.ins().jump(join, &[s.into(), c.into()]);
+    b.switch_to_block(join);
+    let p = b.block_params(join);
+    Ok((p[0], p[1]))
+}

@@ -76,11 +76,9 @@ pub struct Generic {
     /// The file's scenes on this mechanism, each from its `ScenePlan`.
     pub(super) scenes: Vec<super::scene_tapes::SceneTapes>,
     /// The params-only values the program reads after the params, as a tape of the params.
-    #[cfg(feature = "jit")]
     pub(super) prelude: Tape,
     /// The whole motion as one program (what the JIT compiles into one function); `None` when
     /// it could not be built.
-    #[cfg(feature = "jit")]
     pub(super) program: Option<std::sync::Arc<super::program::Program>>,
     /// That program compiled ([`Generic::compile`]).
     #[cfg(feature = "jit")]
@@ -243,9 +241,7 @@ impl Generic {
         for per_point in [&d.point_jacobian, &d.point_param_jacobian] {
             sensitivity_roots.extend(per_point.iter().flat_map(|p| p.iter().flatten()));
         }
-        #[cfg(feature = "jit")]
         let program = super::program::Program::motion(c, &mut dag);
-        #[cfg(feature = "jit")]
         let prelude =
             (program.as_ref()).map_or_else(Tape::default, |p| Tape::new(&dag, &p.prelude));
         Generic {
@@ -275,9 +271,7 @@ impl Generic {
                 .iter()
                 .map(|plan| super::scene_tapes::SceneTapes::new(c, &dag, plan))
                 .collect(),
-            #[cfg(feature = "jit")]
             prelude,
-            #[cfg(feature = "jit")]
             program: program.map(std::sync::Arc::new),
             #[cfg(feature = "jit")]
             fused: None,

@@ -45,7 +45,6 @@ pub(super) enum Factors<'a, T: Real> {
 
 /// [`Factors`] kept between a block's velocity and its acceleration: a larger block's stay in
 /// the workspace of its size.
-#[cfg(feature = "jit")]
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Kept<T> {
     One(Factored<T, 1>),
@@ -64,10 +63,9 @@ impl<'a, T: Real> Factors<'a, T> {
         k: usize,
         by_size: &'a mut Vec<Option<Sized<T>>>,
     ) -> Result<Self, SolveError> {
-        let at = |i: usize, j: usize| values[k + i * k + j];
         Ok(match k {
-            1 => Factors::One(factor_block(block, stage, SMatrix::from_fn(at))?),
-            2 => Factors::Two(factor_block(block, stage, SMatrix::from_fn(at))?),
+            1 => Factors::One(factor_small(block, stage, values)?),
+            2 => Factors::Two(factor_small(block, stage, values)?),
             _ => {
                 let size = sized(by_size, k);
                 fill(values, k, &mut size.rhs, &mut size.jac);
@@ -84,7 +82,6 @@ impl<'a, T: Real> Factors<'a, T> {
     }
 
     /// What to keep of these factors ([`Factors::kept`] makes them again).
-    #[cfg(feature = "jit")]
     pub(super) fn keep(&self) -> Kept<T> {
         match self {
             Factors::One(f) => Kept::One(*f),
@@ -95,7 +92,6 @@ impl<'a, T: Real> Factors<'a, T> {
 
     /// The factors `kept` describes, a larger block's (of size `k`) from its workspace in
     /// `by_size`.
-    #[cfg(feature = "jit")]
     pub(super) fn kept(kept: Kept<T>, k: usize, by_size: &'a mut Vec<Option<Sized<T>>>) -> Self {
         match kept {
             Kept::One(f) => Factors::One(f),
@@ -138,14 +134,10 @@ impl<'a, T: Real> Factors<'a, T> {
     /// [`Factors::solve_into`] of a 1×1 or 2×2 block (a larger one is left as it is).
     fn solve_small(&self, block: usize, stage: Stage, rhs: &mut [T]) -> Result<(), SolveError> {
         match self {
-            Factors::One(f) => rhs[0] = f.solve(block, stage, SVector::from([rhs[0]]))?[0],
-            Factors::Two(f) => {
-                let z = f.solve(block, stage, SVector::from([rhs[0], rhs[1]]))?;
-                (rhs[0], rhs[1]) = (z[0], z[1]);
-            }
-            Factors::Any { .. } => {}
+            Factors::One(f) => solve_small(f, block, stage, rhs),
+            Factors::Two(f) => solve_small(f, block, stage, rhs),
+            Factors::Any { .. } => Ok(()),
         }
-        Ok(())
     }
 
     /// Factors `jac` (a larger one in place, with `scale`, `swaps` and `rhs` its workspace).
@@ -179,6 +171,30 @@ impl<'a, T: Real> Factors<'a, T> {
             }
         })
     }
+}
+
+/// A 1×1 or 2×2 block's factors (the runtime's `factor_block`, as generated code factors it)
+/// straight from a tape's outputs: K right-hand-side values, then the Jacobian row-major.
+#[inline(always)]
+pub(crate) fn factor_small<T: Real, const K: usize>(
+    block: usize,
+    stage: Stage,
+    values: &[T],
+) -> Result<Factored<T, K>, SolveError> {
+    factor_block(block, stage, SMatrix::from_fn(|i, j| values[K + i * K + j]))
+}
+
+/// The first K values of `rhs` become the solution by the factors `f`, or `Overflow`.
+#[inline(always)]
+pub(crate) fn solve_small<T: Real, const K: usize>(
+    f: &Factored<T, K>,
+    block: usize,
+    stage: Stage,
+    rhs: &mut [T],
+) -> Result<(), SolveError> {
+    let z = f.solve(block, stage, SVector::from_fn(|i, _| rhs[i]))?;
+    rhs[..K].copy_from_slice(z.as_slice());
+    Ok(())
 }
 
 /// Splits a block tape's outputs into its vector (first `k`) and its matrix (row-major).

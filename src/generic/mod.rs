@@ -14,17 +14,16 @@ mod factors;
 pub mod jit;
 mod linkage;
 mod op;
-#[cfg(feature = "jit")]
 mod program;
 mod scene;
 mod scene_tapes;
 mod scratch;
 mod sketch;
-#[cfg(feature = "jit")]
 mod stages;
 pub mod tape;
 mod terms;
 mod tick;
+mod walk;
 
 pub use engine::{
     Generic, LoadError, load, load_file, load_with_start_warnings, load_with_warnings,

@@ -1,7 +1,10 @@
 //! Generic engine, the instruction set of a tape: each instruction defined once, read by the
 //! interpreter (`tape.rs`) and lowered by the JIT (`jit/lower.rs`).
 
+use std::ops::Range;
+
 use mechgen_codegen::{Func, Node, NodeId, Var};
+use mechgen_runtime::twofold::Arith;
 
 /// One instruction; operands are register numbers (every instruction writes the next register).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -73,5 +76,49 @@ pub(crate) fn kept_sin_cos(arg: Node, r: u32) -> Option<Op> {
         Node::Var(Var::Q(k)) => Some(Op::SinCosQ(r, u32::from(k))),
         Node::Var(Var::X(i)) => Some(Op::SinCosX(r, u32::from(i))),
         _ => None,
+    }
+}
+
+/// The interpreter: the instructions `ops[range]` in order, in the arithmetic `A`, each into the
+/// register of its index in `regs` (as long as `ops`). `var` gives a variable's value, `sc` an
+/// unknown's kept sine and cosine (if any), `sx` an input's.
+pub(crate) fn eval_range<A: Arith>(
+    ops: &[Op],
+    range: Range<usize>,
+    var: impl Fn(Var) -> A,
+    sc: impl Fn(u32) -> Option<(A, A)>,
+    sx: impl Fn(u32) -> Option<(A, A)>,
+    regs: &mut [A],
+) {
+    for i in range {
+        let g = |k: u32| regs[k as usize];
+        let v = match ops[i] {
+            Op::Const(c) => A::constant(c),
+            Op::Var(v) => var(v),
+            Op::Add(a, b) => g(a) + g(b),
+            Op::Sub(a, b) => g(a) - g(b),
+            Op::Mul(a, b) => g(a) * g(b),
+            Op::Div(a, b) => g(a) / g(b),
+            Op::Neg(a) => -g(a),
+            Op::SinCos(a) | Op::SinCosQ(a, _) | Op::SinCosX(a, _) => {
+                let kept = match ops[i] {
+                    Op::SinCosQ(_, k) => sc(k),
+                    Op::SinCosX(_, k) => sx(k),
+                    _ => None,
+                };
+                let (s, c) = kept.unwrap_or_else(|| g(a).sin_cos_of());
+                if let Some(next) = regs.get_mut(i + 1) {
+                    *next = c;
+                }
+                s
+            }
+            Op::Cos2 => continue,
+            Op::Sin(a) => g(a).sin_of(),
+            Op::Cos(a) => g(a).cos_of(),
+            Op::Tan(a) => g(a).tan_of(),
+            Op::Sqrt(a) => g(a).sqrt_of(),
+            Op::Func(f, a, b) => A::func(f.method(), g(a), g(b)),
+        };
+        regs[i] = v;
     }
 }

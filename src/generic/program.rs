@@ -114,6 +114,7 @@ impl Program {
     }
 
     /// The largest number of values one call step hands over.
+    #[cfg(feature = "jit")]
     pub(crate) fn call_width(&self) -> usize {
         (self.steps.iter())
             .map(|s| match s {

@@ -51,6 +51,9 @@ pub(super) struct Scratch<T: Real> {
     pub points: Vec<T>,
     /// By block size.
     pub by_size: Vec<Option<Sized<T>>>,
+    /// A tick program's registers, and the values one of its call steps takes.
+    pub program: Vec<T>,
+    pub values: Vec<T>,
 }
 
 /// The matrices for block size `k` in `by_size`, made at first use.

@@ -1,10 +1,13 @@
-//! Generic engine, the runtime's side of a compiled whole motion ([`Stages`] of the JIT's fused
-//! program): each call step runs what the interpreted driver runs for it (the closed-form kernel,
-//! the block Newton, the refinement, a block's factors for both rates), and [`run`] is the tick's
-//! motion through it: the same bits as the driver, in one call of machine code.
+//! Generic engine, the call steps of a tick's program ([`TickStages`]): each runs what the block
+//! driver runs for it (the closed-form kernel, the block Newton, the refinement, a block's
+//! factors for both rates). The interpreter's walk of the program calls them directly
+//! (`walk.rs`); the JIT's compiled program through its callbacks ([`Stages`]), and [`run`] is the
+//! tick's motion in one call of machine code. Both give the driver's bits.
 
+#[cfg(feature = "jit")]
 use std::any::Any;
 
+#[cfg(feature = "jit")]
 use mechgen_runtime::InputMotion;
 use mechgen_runtime::error::{SolveError, Stage};
 use mechgen_runtime::scalar::Real;
@@ -14,29 +17,31 @@ use mechgen_runtime::trig::TrigSlices;
 use super::closed;
 use super::engine::Generic;
 use super::factors::{Factors, Kept};
+#[cfg(feature = "jit")]
 use super::jit::{FusedArgs, Positions, Stages};
-use super::scratch::{Scratch, Sized};
+#[cfg(feature = "jit")]
+use super::scratch::Scratch;
+use super::scratch::Sized;
 use super::tape::Env;
 
-/// The call steps of one run, on the workspace's buffers.
-struct TickStages<'a> {
-    g: &'a Generic,
-    options: &'a SolveOptions<f64>,
-    scale: f64,
-    report: NewtonReport<f64>,
-    regs: &'a mut Vec<f64>,
-    out: &'a mut Vec<f64>,
-    by_size: &'a mut Vec<Option<Sized<f64>>>,
+/// The call steps of one run of a tick's program, on the workspace's buffers (in any
+/// precision: the interpreter's walk, `walk.rs`; in f64 the JIT's callbacks too).
+pub(super) struct TickStages<'a, T: Real> {
+    pub g: &'a Generic,
+    pub options: &'a SolveOptions<T>,
+    pub scale: T,
+    pub report: NewtonReport<T>,
+    pub regs: &'a mut Vec<T>,
+    pub out: &'a mut Vec<T>,
+    pub by_size: &'a mut Vec<Option<Sized<T>>>,
     /// The factors of the block whose velocity was solved last.
-    kept: Option<Kept<f64>>,
-    error: Option<SolveError>,
+    pub kept: Option<Kept<T>>,
+    /// The error of a failed callback (the JIT's, which can only return a status).
+    #[cfg(feature = "jit")]
+    pub error: Option<SolveError>,
 }
 
-impl TickStages<'_> {
-    fn done(&mut self, r: Result<(), SolveError>) -> bool {
-        r.map_err(|e| self.error = Some(e)).is_ok()
-    }
-
+impl<T: Real> TickStages<'_, T> {
     /// Block `block`'s size, or the error of a block the mechanism does not have.
     fn size(&self, block: usize) -> Result<usize, SolveError> {
         let len = self.g.blocks.len();
@@ -44,105 +49,140 @@ impl TickStages<'_> {
         b.map(|b| b.unknowns.len())
             .ok_or(SolveError::OutOfRange { index: block, len })
     }
-}
 
-impl Stages for TickStages<'_> {
-    fn closed(&mut self, block: usize, roots: &[f64], at: Positions<'_>) -> bool {
+    /// Block `block` by its closed-form kernel from its `roots`.
+    pub fn closed(
+        &mut self,
+        block: usize,
+        roots: &[T],
+        st: &mut TrigSlices<'_, T>,
+    ) -> Result<(), SolveError> {
         let form = self.g.blocks.get(block).and_then(|b| b.closed.as_ref());
         let Some(c) = form else {
             let len = self.g.blocks.len();
-            return self.done(Err(SolveError::OutOfRange { index: block, len }));
+            return Err(SolveError::OutOfRange { index: block, len });
         };
+        let tolerance = self.options.newton.tolerance;
+        let report = &mut self.report;
+        closed::solve(block, &c.form, roots, st, self.scale, tolerance, report)
+    }
+
+    /// Block `block` by Newton on its position tape.
+    pub fn newton(
+        &mut self,
+        block: usize,
+        (x, sx): (&[T], &[(T, T)]),
+        st: &mut TrigSlices<'_, T>,
+    ) -> Result<(), SolveError> {
+        self.size(block)?;
+        let ws = (&mut *self.regs, &mut *self.out, &mut *self.by_size);
+        let (options, scale, report) = (self.options, self.scale, &mut self.report);
+        (self.g).newton_block(block, (x, sx), st, options, scale, report, ws)
+    }
+
+    /// The refinement of every block, if the positions' pivot ratio asks for it.
+    pub fn refine(&mut self, x: &[T], sx: &[(T, T)], st: &mut TrigSlices<'_, T>) {
+        (self.g).refine_if(&self.g.order, x, sx, st, &self.report);
+    }
+
+    /// `values` (right-hand side k, Jacobian k×k): the factors kept, the velocities in
+    /// `values[..k]`.
+    pub fn velocity(&mut self, block: usize, values: &mut [T]) -> Result<(), SolveError> {
+        let k = self.size(block)?;
+        let mut lu = Factors::of_block(block, Stage::Velocity, values, k, self.by_size)?;
+        lu.solve_into(block, Stage::Velocity, &mut values[..k])?;
+        self.kept = Some(lu.keep());
+        Ok(())
+    }
+
+    /// `values[..k]` becomes the accelerations, by the kept factors.
+    pub fn acceleration(&mut self, block: usize, values: &mut [T]) -> Result<(), SolveError> {
+        let k = self.size(block)?;
+        let kept = self.kept.take().ok_or(SolveError::NotStarted)?;
+        let mut lu = Factors::kept(kept, k, self.by_size);
+        lu.solve_into(block, Stage::Acceleration, &mut values[..k])
+    }
+}
+
+/// The JIT's callbacks: the same steps, their errors kept.
+#[cfg(feature = "jit")]
+impl TickStages<'_, f64> {
+    fn done(&mut self, r: Result<(), SolveError>) -> bool {
+        r.map_err(|e| self.error = Some(e)).is_ok()
+    }
+}
+
+#[cfg(feature = "jit")]
+impl Stages for TickStages<'_, f64> {
+    fn closed(&mut self, block: usize, roots: &[f64], at: Positions<'_>) -> bool {
+        let angle = &self.g.angle;
         let mut st = TrigSlices {
             q: at.q,
             sc: at.sc,
-            angle: &self.g.angle,
+            angle,
         };
-        let tolerance = self.options.newton.tolerance;
-        let r = closed::solve(
-            block,
-            &c.form,
-            roots,
-            &mut st,
-            self.scale,
-            tolerance,
-            &mut self.report,
-        );
+        let r = TickStages::closed(self, block, roots, &mut st);
         self.done(r)
     }
 
     fn newton(&mut self, block: usize, at: Positions<'_>) -> bool {
-        if let Err(e) = self.size(block) {
-            return self.done(Err(e));
-        }
+        let angle = &self.g.angle;
         let mut st = TrigSlices {
             q: at.q,
             sc: at.sc,
-            angle: &self.g.angle,
+            angle,
         };
-        let ws = (&mut *self.regs, &mut *self.out, &mut *self.by_size);
-        let (options, scale) = (self.options, self.scale);
-        let r = (self.g).newton_block(
-            block,
-            (at.x, at.sx),
-            &mut st,
-            options,
-            scale,
-            &mut self.report,
-            ws,
-        );
+        let r = TickStages::newton(self, block, (at.x, at.sx), &mut st);
         self.done(r)
     }
 
     fn refine(&mut self, at: Positions<'_>) -> bool {
+        let angle = &self.g.angle;
         let mut st = TrigSlices {
             q: at.q,
             sc: at.sc,
-            angle: &self.g.angle,
+            angle,
         };
-        (self.g).refine_if(&self.g.order, at.x, at.sx, &mut st, &self.report);
+        TickStages::refine(self, at.x, at.sx, &mut st);
         true
     }
 
     fn velocity(&mut self, block: usize, values: &mut [f64]) -> bool {
-        let r = self.size(block).and_then(|k| {
-            let mut lu = Factors::of_block(block, Stage::Velocity, values, k, self.by_size)?;
-            lu.solve_into(block, Stage::Velocity, &mut values[..k])?;
-            self.kept = Some(lu.keep());
-            Ok(())
-        });
+        let r = TickStages::velocity(self, block, values);
         self.done(r)
     }
 
     fn acceleration(&mut self, block: usize, values: &mut [f64]) -> bool {
-        let r = self.size(block).and_then(|k| {
-            let kept = self.kept.take().ok_or(SolveError::NotStarted)?;
-            let mut lu = Factors::kept(kept, k, self.by_size);
-            lu.solve_into(block, Stage::Acceleration, &mut values[..k])
-        });
+        let r = TickStages::acceleration(self, block, values);
         self.done(r)
+    }
+
+    fn pivot_ratio(&self) -> f64 {
+        self.report.pivot_ratio
+    }
+
+    fn fail(&mut self, error: SolveError) {
+        self.error = Some(error);
     }
 }
 
+#[cfg(feature = "jit")]
 /// A tick's motion by `g`'s compiled program, when it has one for `T` (f64) and `options` (closed
-/// forms on), with `p` the params and the program's prelude: positions from the guess in
+/// forms on), with `p` its params and prelude ([`ProgramParams`]): positions from the guess in
 /// `ws.trial` (sines and cosines in `ws.trial_sc`, the inputs' `sx`), velocities into `qd`,
 /// accelerations into `qdd`, the points into `ws.points`. As the driver leaves them: on success
 /// `ws.trial` holds the unknowns and `ws.sc` their sines and cosines (`ws.trial_sc` is left
 /// undefined). `None`: not run.
 pub(super) fn run<T: Real>(
     g: &Generic,
-    p: &[f64],
+    p: &ProgramParams,
     input: InputMotion<&[T]>,
     sx: &[(T, T)],
     options: &SolveOptions<T>,
     ws: &mut Scratch<T>,
     [qd, qdd]: [&mut [T]; 2],
 ) -> Option<Result<NewtonReport<T>, SolveError>> {
-    let fused = g
-        .fused
-        .as_ref()
-        .filter(|_| options.closed_forms && !p.is_empty())?;
+    let fused = g.fused.as_ref().filter(|_| options.closed_forms)?;
     let ws = (ws as &mut dyn Any).downcast_mut::<Scratch<f64>>()?;
     let options = (options as &dyn Any).downcast_ref::<SolveOptions<f64>>()?;
     let (x, xd, xdd) = (
@@ -169,7 +209,7 @@ pub(super) fn run<T: Real>(
     let mut stages = TickStages {
         g,
         options,
-        scale: g.length_scale(),
+        scale: p.scale,
         report: NewtonReport::new(),
         regs,
         out,
@@ -179,7 +219,7 @@ pub(super) fn run<T: Real>(
     };
     let args = FusedArgs {
         x,
-        p,
+        p: &p.values,
         xd,
         xdd,
         sx,
@@ -201,18 +241,25 @@ pub(super) fn run<T: Real>(
     }))
 }
 
-/// The params followed by the values of `g`'s program prelude (what [`run`] reads as `p`);
-/// empty when `g` has no program or the prelude cannot be evaluated.
-pub(super) fn params_with_prelude(g: &Generic) -> Vec<f64> {
-    if g.program.is_none() {
-        return Vec::new();
+/// What a tick's program reads besides the state, fixed while a tick borrows its mechanism: the
+/// params followed by the values of the program's prelude, and the length scale.
+pub(super) struct ProgramParams {
+    pub values: Vec<f64>,
+    pub scale: f64,
+}
+
+impl ProgramParams {
+    /// `None` when `g` has no program or its prelude cannot be evaluated.
+    pub(super) fn new(g: &Generic) -> Option<Self> {
+        g.program.as_ref()?;
+        let mut values = vec![0.0; g.prelude.outputs()];
+        let env = Env::position(&[], &[], &g.params);
+        g.prelude.eval(&env, &mut Vec::new(), &mut values).ok()?;
+        let mut all = g.params.clone();
+        all.extend(values);
+        Some(ProgramParams {
+            values: all,
+            scale: g.length_scale(),
+        })
     }
-    let mut values = vec![0.0; g.prelude.outputs()];
-    let env = Env::position(&[], &[], &g.params);
-    if g.prelude.eval(&env, &mut Vec::new(), &mut values).is_err() {
-        return Vec::new();
-    }
-    let mut p = g.params.clone();
-    p.extend(values);
-    p
 }

@@ -8,7 +8,7 @@ use mechgen_runtime::error::SolveError;
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::twofold::{Arith, Twofold};
 
-use super::op::{Op, kept_sin_cos, op_of, slot};
+use super::op::{Op, eval_range, kept_sin_cos, op_of, slot};
 
 /// The values the variables of a tape take. Slices a tape does not read may be empty; a missing
 /// value reads as zero (callers check lengths before evaluating).
@@ -48,7 +48,7 @@ impl<'a, T: Real> Env<'a, T> {
     /// `v`'s value ([`Tape::eval`] has checked that every value its program reads is there; the
     /// 0 after an index past a slice is never read).
     #[inline]
-    fn get(&self, v: Var) -> T {
+    pub(super) fn get(&self, v: Var) -> T {
         let (slice, i) = match v {
             Var::X(i) => (self.x, i),
             Var::Q(i) => (self.q, i),
@@ -264,37 +264,7 @@ impl Tape {
     ) {
         regs.clear();
         regs.resize(self.ops.len(), A::constant(0.0));
-        for i in 0..self.ops.len() {
-            let g = |k: u32| regs[k as usize];
-            let v = match self.ops[i] {
-                Op::Const(c) => A::constant(c),
-                Op::Var(v) => var(v),
-                Op::Add(a, b) => g(a) + g(b),
-                Op::Sub(a, b) => g(a) - g(b),
-                Op::Mul(a, b) => g(a) * g(b),
-                Op::Div(a, b) => g(a) / g(b),
-                Op::Neg(a) => -g(a),
-                Op::SinCos(a) | Op::SinCosQ(a, _) | Op::SinCosX(a, _) => {
-                    let kept = match self.ops[i] {
-                        Op::SinCosQ(_, k) => sc(k),
-                        Op::SinCosX(_, k) => sx(k),
-                        _ => None,
-                    };
-                    let (s, c) = kept.unwrap_or_else(|| g(a).sin_cos_of());
-                    if let Some(next) = regs.get_mut(i + 1) {
-                        *next = c;
-                    }
-                    s
-                }
-                Op::Cos2 => continue,
-                Op::Sin(a) => g(a).sin_of(),
-                Op::Cos(a) => g(a).cos_of(),
-                Op::Tan(a) => g(a).tan_of(),
-                Op::Sqrt(a) => g(a).sqrt_of(),
-                Op::Func(f, a, b) => A::func(f.method(), g(a), g(b)),
-            };
-            regs[i] = v;
-        }
+        eval_range(&self.ops, 0..self.ops.len(), var, sc, sx, regs);
     }
 }
 

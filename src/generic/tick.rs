@@ -37,9 +37,8 @@ pub struct GenericTick<'a, T: Real> {
     keep: Vec<bool>,
     all_closed: bool,
     started: bool,
-    /// The params and the prelude of the mechanism's compiled program (empty: none).
-    #[cfg(feature = "jit")]
-    fused_params: Vec<f64>,
+    /// The params and the prelude of the mechanism's tick program (empty: none).
+    program_params: Option<super::stages::ProgramParams>,
 }
 
 impl<'a, T: Scratched> GenericTick<'a, T> {
@@ -70,12 +69,7 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
             all_closed: keep.iter().all(|&k| k),
             keep,
             started: false,
-            #[cfg(feature = "jit")]
-            fused_params: if g.fused.is_some() {
-                super::stages::params_with_prelude(g)
-            } else {
-                Vec::new()
-            },
+            program_params: super::stages::ProgramParams::new(g),
         }
     }
 
@@ -152,15 +146,23 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
         [qd, qdd]: [&mut [T]; 2],
     ) -> Result<NewtonReport<T>, SolveError> {
         let (g, sx) = (self.g, &self.next_tx);
-        #[cfg(feature = "jit")]
-        {
-            let p = &self.fused_params;
-            let rates = [&mut *qd, &mut *qdd];
-            if let Some(done) = super::stages::run(g, p, input, sx, options, ws, rates) {
-                let report = done?;
-                Generic::set_points(&mut self.state.points, &ws.points);
-                return Ok(report);
-            }
+        // Both engines walk the mechanism's tick program (with closed forms on): compiled, or
+        // interpreted.
+        let program = g.program.as_ref().filter(|_| options.closed_forms);
+        if let Some((program, p)) = program.zip(self.program_params.as_ref()) {
+            #[cfg(feature = "jit")]
+            let compiled = {
+                let rates = [&mut *qd, &mut *qdd];
+                super::stages::run(g, p, input, sx, options, ws, rates)
+            };
+            #[cfg(not(feature = "jit"))]
+            let compiled: Option<Result<NewtonReport<T>, SolveError>> = None;
+            let report = match compiled {
+                Some(done) => done?,
+                None => super::walk::run(g, program, p, input, sx, options, ws, [qd, qdd])?,
+            };
+            Generic::set_points(&mut self.state.points, &ws.points);
+            return Ok(report);
         }
         let InputMotion { x, xd, xdd } = input;
         let report = g.positions_from(g.whole(), x, sx, options, ws)?;

@@ -12,11 +12,12 @@
 //!    [`Function::call`] checks every slice length against [`Reads`] before the call.
 //! 3. After `finalize_definitions` nothing touches the `JITModule` but `free_memory` in `Drop`;
 //!    the code is immutable, so `Code` is shared between threads.
-//! 4. A [`Fused`] entry was compiled by `fused.rs` with the signature `extern "C" fn(*const
+//! 4. A [`Fused`] entry was compiled by `fused.rs` with the signature `extern "C" fn(*mut
 //!    Frame, *mut f64) -> i32`: it reads and writes as invariant 2 says (its `Reads`), also
 //!    stores the velocities and accelerations of unknowns below its `writes`, writes
-//!    `out[..outputs]`, and calls [`stage`] with the frame it was given and a pointer to `count`
-//!    f64 of its own stack frame. While it runs, the slices of the frame are borrowed by
+//!    `out[..outputs]`, reads the frame's pivot ratio, and calls [`stage`] with the frame it was
+//!    given, a pointer to `count` f64 of its own stack frame and one to a slot of [`KEPT_BYTES`]
+//!    of it, zeroed at entry, used by one block's velocity then its acceleration. While it runs, the slices of the frame are borrowed by
 //!    [`Fused::call`] alone, and [`stage`] makes references of them only for the duration of one
 //!    callback, during which compiled code does not run.
 
@@ -27,7 +28,11 @@ use std::sync::Arc;
 
 use cranelift_jit::JITModule;
 
+use mechgen_runtime::elimination::Factored;
+use mechgen_runtime::error::{SolveError, Stage};
 use mechgen_runtime::twofold::Arith;
+
+use crate::generic::factors::{factor_small, solve_small};
 
 /// What compiled code reads, one pointer-sized slot each, in this order (`lower.rs` reads slot
 /// `i` at byte offset `i × pointer size`).
@@ -156,7 +161,22 @@ pub(super) enum Call {
     Refine = 2,
     Velocity = 3,
     Acceleration = 4,
+    /// A 1×1 or 2×2 block's velocity: factored and solved here, the factors kept in the
+    /// caller's slot (`aux`, [`KEPT_BYTES`], zeroed at the function's entry).
+    SmallVelocity = 5,
+    /// A 1×1 or 2×2 block's acceleration by the factors in `aux`.
+    SmallAcceleration = 6,
 }
+
+/// The bytes of the slot a small block's factors are kept in between its two rates.
+pub(super) const KEPT_BYTES: usize = {
+    let (one, two) = (size_of::<Factored<f64, 1>>(), size_of::<Factored<f64, 2>>());
+    if one > two { one } else { two }
+};
+
+/// Where compiled code reads the positions' pivot ratio in a [`Frame`] (to call the refinement
+/// only when it is below `REFINE_BELOW`).
+pub(super) const PIVOT_AT: usize = std::mem::offset_of!(Frame, pivot_ratio);
 
 /// The positions a call step may change: the inputs and their kept sines and cosines, the
 /// unknowns being solved and theirs.
@@ -181,6 +201,10 @@ pub trait Stages {
     fn velocity(&mut self, block: usize, values: &mut [f64]) -> bool;
     /// `values[..k]` (right-hand side) becomes the accelerations, by the kept factors.
     fn acceleration(&mut self, block: usize, values: &mut [f64]) -> bool;
+    /// The smallest pivot ratio of the positions so far.
+    fn pivot_ratio(&self) -> f64;
+    /// Keeps the error of a step run outside the stages.
+    fn fail(&mut self, error: SolveError);
 }
 
 /// What a fused entry is called with: the `Args` it reads (first, so that its slots are at
@@ -192,22 +216,26 @@ pub(super) struct Frame {
     q_len: usize,
     /// A `*mut &mut dyn Stages`, as an address.
     stages: *mut std::ffi::c_void,
+    /// The stages' pivot ratio after the last position step.
+    pivot_ratio: f64,
 }
 
 /// The callback of every call step (invariant 4): rebuilds the frame's views and runs the step
-/// on the stages; 0 on success, 1 on failure (the stages keep the error), 2 for a call compiled
-/// code cannot make.
+/// on the stages (a small block's rates here, by the runtime's `factor_block`, with its factors in
+/// the caller's slot `aux`); 0 on success, 1 on failure (the stages keep the error), 2 for a
+/// call compiled code cannot make.
 pub(super) extern "C" fn stage(
-    frame: *const Frame,
+    frame: *mut Frame,
     what: u32,
     block: u32,
     values: *mut f64,
     count: usize,
+    aux: *mut u8,
 ) -> u32 {
     // SAFETY: invariant 4: `frame` is the frame `Fused::call` made, alive for the call, its
     // slices not otherwise referenced while this callback runs; `values` is `count` f64 of the
     // caller's stack.
-    let (f, values) = unsafe { (&*frame, std::slice::from_raw_parts_mut(values, count)) };
+    let (f, values) = unsafe { (&mut *frame, std::slice::from_raw_parts_mut(values, count)) };
     let stages = unsafe { &mut *f.stages.cast::<&mut dyn Stages>() };
     let at = || unsafe {
         Positions {
@@ -224,12 +252,47 @@ pub(super) extern "C" fn stage(
         2 => stages.refine(at()),
         3 => stages.velocity(block, values),
         4 => stages.acceleration(block, values),
+        5 | 6 => {
+            let velocity = what == 5;
+            // A 1×1 block's values are 1 + 1 (velocity) or 1; a 2×2's 2 + 4 or 2.
+            let r = match (velocity, count) {
+                (true, 2) | (false, 1) => small::<1>(block, values, aux, velocity),
+                (true, 6) | (false, 2) => small::<2>(block, values, aux, velocity),
+                _ => return 2,
+            };
+            r.map_err(|e| stages.fail(e)).is_ok()
+        }
         _ => return 2,
     };
+    if what <= 1 {
+        f.pivot_ratio = stages.pivot_ratio();
+    }
     u32::from(!done)
 }
 
-type FusedEntry = extern "C" fn(*const Frame, *mut f64) -> u32;
+/// A small block's velocity (factors written to `kept`) or acceleration (factors read from it).
+fn small<const K: usize>(
+    block: usize,
+    values: &mut [f64],
+    kept: *mut u8,
+    velocity: bool,
+) -> Result<(), SolveError> {
+    let kept = kept.cast::<Factored<f64, K>>();
+    if velocity {
+        let f = factor_small::<f64, K>(block, Stage::Velocity, values)?;
+        solve_small(&f, block, Stage::Velocity, values)?;
+        // SAFETY: invariant 4: `aux` is a slot of `KEPT_BYTES` of the caller's frame.
+        unsafe { kept.write_unaligned(f) };
+        Ok(())
+    } else {
+        // SAFETY: the slot was zeroed at entry (all-zero bytes are a `Factored`: zeros and
+        // index 0) or written by this block's velocity step.
+        let f = unsafe { kept.read_unaligned() };
+        solve_small(&f, block, Stage::Acceleration, values)
+    }
+}
+
+type FusedEntry = extern "C" fn(*mut Frame, *mut f64) -> u32;
 
 /// A whole motion compiled into one function (`fused.rs`).
 #[derive(Clone)]
@@ -303,7 +366,7 @@ impl Fused {
             return None;
         }
         let mut stages: &mut dyn Stages = stages;
-        let frame = Frame {
+        let mut frame = Frame {
             args: Args {
                 x: a.x.as_ptr(),
                 q: a.q.as_mut_ptr(),
@@ -320,9 +383,10 @@ impl Fused {
             x_len: a.x.len(),
             q_len: a.q.len(),
             stages: (&raw mut stages).cast(),
+            pivot_ratio: 1.0,
         };
         // Invariant 4: every slice checked above; `stages` and the slices outlive the call.
-        let status = (self.entry)(&frame, out.as_mut_ptr());
+        let status = (self.entry)(&mut frame, out.as_mut_ptr());
         let _ = &self.code;
         Some(status)
     }

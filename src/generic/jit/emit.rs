@@ -85,12 +85,13 @@ impl Imports {
         let (unary, binary) = (f64s(1, true), f64s(2, true));
         let mut pair = f64s(1, false);
         pair.params.push(AbiParam::new(ptr));
-        // stage(frame, what, block, values, count) -> status
+        // stage(frame, what, block, values, count, aux) -> status
         let mut stage = module.make_signature();
         stage.params.extend([
             AbiParam::new(ptr),
             AbiParam::new(types::I32),
             AbiParam::new(types::I32),
+            AbiParam::new(ptr),
             AbiParam::new(ptr),
             AbiParam::new(ptr),
         ]);

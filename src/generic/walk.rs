@@ -1,0 +1,127 @@
+//! Generic engine, a tick's program interpreted: the steps of `program.rs` in order, each run of
+//! instructions into one register file shared by every stage, each call step through the same
+//! [`TickStages`] the JIT's compiled program calls back into. The interpreter's tick and the
+//! JIT's walk the one plan; neither sequences blocks of its own.
+
+use mechgen_runtime::InputMotion;
+use mechgen_runtime::error::SolveError;
+use mechgen_runtime::scalar::Real;
+use mechgen_runtime::solve::{NewtonReport, SolveOptions};
+use mechgen_runtime::trig::TrigSlices;
+
+use super::engine::Generic;
+use super::op::eval_range;
+use super::program::{Program, Step};
+use super::scratch::Scratch;
+use super::stages::{ProgramParams, TickStages};
+use super::tape::Env;
+
+/// A tick's motion by walking `program` (of `g`), with `p` its params and prelude ([`ProgramParams`]):
+/// positions from the guess in `ws.trial` (sines and cosines in `ws.trial_sc`, the inputs' `sx`),
+/// velocities into `qd`, accelerations into `qdd`, the points into `ws.points`. On success
+/// `ws.trial` holds the unknowns and `ws.sc` their sines and cosines (`ws.trial_sc` is left
+/// undefined), as the block driver leaves them.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn run<T: Real>(
+    g: &Generic,
+    program: &Program,
+    p: &ProgramParams,
+    input: InputMotion<&[T]>,
+    sx: &[(T, T)],
+    options: &SolveOptions<T>,
+    ws: &mut Scratch<T>,
+    [qd, qdd]: [&mut [T]; 2],
+) -> Result<NewtonReport<T>, SolveError> {
+    let InputMotion { x, xd, xdd } = input;
+    let Scratch {
+        regs,
+        out,
+        trial,
+        trial_sc,
+        sc,
+        points,
+        by_size,
+        program: file,
+        values,
+        ..
+    } = ws;
+    file.resize(program.ops.len(), T::zero());
+    points.resize(6 * g.info.points.len(), T::zero());
+    let mut stages = TickStages {
+        g,
+        options,
+        scale: T::lit(p.scale),
+        report: NewtonReport::new(),
+        regs,
+        out,
+        by_size,
+        kept: None,
+        #[cfg(feature = "jit")]
+        error: None,
+    };
+    const NONE: &[usize] = &[];
+    let angle = &g.angle[..];
+    for step in &program.steps {
+        let (taken, unknowns, to) = match step {
+            Step::Ops(range) => {
+                let env = Env {
+                    x,
+                    q: trial,
+                    p: &p.values,
+                    xd,
+                    qd,
+                    xdd,
+                    qdd,
+                    sc: trial_sc,
+                    sx,
+                };
+                let (kq, kx) = (
+                    |k: u32| env.sc.get(k as usize).copied(),
+                    |i: u32| sx.get(i as usize).copied(),
+                );
+                eval_range(&program.ops, range.clone(), |v| env.get(v), kq, kx, file);
+                continue;
+            }
+            Step::Output(regs) => {
+                for (o, &r) in points.iter_mut().zip(regs) {
+                    *o = file[r as usize];
+                }
+                continue;
+            }
+            Step::Closed { roots: v, .. } => (&v[..], NONE, None),
+            Step::Velocity {
+                values: v,
+                unknowns,
+                ..
+            } => (&v[..], &unknowns[..], Some(&mut *qd)),
+            Step::Acceleration {
+                values: v,
+                unknowns,
+                ..
+            } => (&v[..], &unknowns[..], Some(&mut *qdd)),
+            Step::Newton { .. } | Step::Refine => (&[][..], NONE, None),
+        };
+        values.clear();
+        values.extend(taken.iter().map(|&r| file[r as usize]));
+        let mut st = TrigSlices {
+            q: trial,
+            sc: trial_sc,
+            angle,
+        };
+        match *step {
+            Step::Closed { block, .. } => stages.closed(block, values, &mut st)?,
+            Step::Newton { block } => stages.newton(block, (x, sx), &mut st)?,
+            Step::Refine => stages.refine(x, sx, &mut st),
+            Step::Velocity { block, .. } => stages.velocity(block, values)?,
+            Step::Acceleration { block, .. } => stages.acceleration(block, values)?,
+            Step::Ops(_) | Step::Output(_) => {}
+        }
+        if let Some(to) = to {
+            for (&u, v) in unknowns.iter().zip(values.iter()) {
+                to[u] = *v;
+            }
+        }
+    }
+    std::mem::swap(sc, trial_sc);
+    Ok(stages.report)
+}

@@ -80,6 +80,8 @@ pub struct Generic {
     /// The whole motion as one program (what the JIT compiles into one function); `None` when
     /// it could not be built.
     pub(super) program: Option<std::sync::Arc<super::program::Program>>,
+    /// What the program reads besides the state (`None`: no program); kept with the params.
+    pub(super) program_params: Option<ProgramParams>,
     /// That program compiled ([`Generic::compile`]).
     #[cfg(feature = "jit")]
     pub(super) fused: Option<super::jit::Fused>,
@@ -244,7 +246,7 @@ impl Generic {
         let program = super::program::Program::motion(c, &mut dag);
         let prelude =
             (program.as_ref()).map_or_else(Tape::default, |p| Tape::new(&dag, &p.prelude));
-        Generic {
+        let mut g = Generic {
             params: m.params.iter().map(|p| p.value).collect(),
             length_param: m.params.iter().map(|p| p.kind == Kind::Length).collect(),
             order: (0..blocks.len()).collect(),
@@ -273,11 +275,14 @@ impl Generic {
                 .collect(),
             prelude,
             program: program.map(std::sync::Arc::new),
+            program_params: None,
             #[cfg(feature = "jit")]
             fused: None,
             info,
             model: m.clone(),
-        }
+        };
+        g.program_params = ProgramParams::new(&g);
+        g
     }
 
     pub fn name(&self) -> &str {
@@ -333,6 +338,7 @@ impl Generic {
             .ok_or_else(|| format!("no param `{name}` in `{}`", self.info.name))?;
         self.params[i] = value;
         self.info.params[i].value = value;
+        self.program_params = ProgramParams::new(self);
         Ok(())
     }
 
@@ -364,5 +370,29 @@ impl Generic {
             .filter(|(i, (_, l))| **l && read.is_none_or(|r| r.get(*i).copied().unwrap_or(false)))
             .fold(0.0f64, |m, (_, (p, _))| m.max(p.abs()));
         if s > 0.0 { s } else { 1.0 }
+    }
+}
+
+/// What a tick's program reads besides the state, computed when the params change: the params
+/// followed by the values of the program's prelude, and the length scale.
+#[derive(Clone, Debug)]
+pub(crate) struct ProgramParams {
+    pub values: Vec<f64>,
+    pub scale: f64,
+}
+
+impl ProgramParams {
+    /// `None` when `g` has no program or its prelude cannot be evaluated.
+    fn new(g: &Generic) -> Option<Self> {
+        g.program.as_ref()?;
+        let mut values = vec![0.0; g.prelude.outputs()];
+        let env = super::tape::Env::position(&[], &[], &g.params);
+        g.prelude.eval(&env, &mut Vec::new(), &mut values).ok()?;
+        let mut all = g.params.clone();
+        all.extend(values);
+        Some(ProgramParams {
+            values: all,
+            scale: g.length_scale(),
+        })
     }
 }

@@ -15,14 +15,16 @@ use mechgen_runtime::solve::{NewtonReport, SolveOptions};
 use mechgen_runtime::trig::TrigSlices;
 
 use super::closed;
+use super::driver::BlockWork;
 use super::engine::Generic;
+#[cfg(feature = "jit")]
+use super::engine::ProgramParams;
 use super::factors::{Factors, Kept};
 #[cfg(feature = "jit")]
 use super::jit::{FusedArgs, Positions, Stages};
 #[cfg(feature = "jit")]
 use super::scratch::Scratch;
 use super::scratch::Sized;
-use super::tape::Env;
 
 /// The call steps of one run of a tick's program, on the workspace's buffers (in any
 /// precision: the interpreter's walk, `walk.rs`; in f64 the JIT's callbacks too).
@@ -41,7 +43,28 @@ pub(super) struct TickStages<'a, T: Real> {
     pub error: Option<SolveError>,
 }
 
-impl<T: Real> TickStages<'_, T> {
+impl<'a, T: Real> TickStages<'a, T> {
+    /// The stages of one run, on the workspace's buffers (`regs`, `out`, `by_size`).
+    pub fn new(
+        g: &'a Generic,
+        options: &'a SolveOptions<T>,
+        scale: T,
+        (regs, out, by_size): BlockWork<'a, T>,
+    ) -> Self {
+        TickStages {
+            g,
+            options,
+            scale,
+            report: NewtonReport::new(),
+            regs,
+            out,
+            by_size,
+            kept: None,
+            #[cfg(feature = "jit")]
+            error: None,
+        }
+    }
+
     /// Block `block`'s size, or the error of a block the mechanism does not have.
     fn size(&self, block: usize) -> Result<usize, SolveError> {
         let len = self.g.blocks.len();
@@ -206,17 +229,7 @@ pub(super) fn run<T: Real>(
         ..
     } = ws;
     points.resize(6 * g.info.points.len(), 0.0);
-    let mut stages = TickStages {
-        g,
-        options,
-        scale: p.scale,
-        report: NewtonReport::new(),
-        regs,
-        out,
-        by_size,
-        kept: None,
-        error: None,
-    };
+    let mut stages = TickStages::new(g, options, p.scale, (regs, out, by_size));
     let args = FusedArgs {
         x,
         p: &p.values,
@@ -239,27 +252,4 @@ pub(super) fn run<T: Real>(
         residual: T::lit(r.residual),
         pivot_ratio: T::lit(r.pivot_ratio),
     }))
-}
-
-/// What a tick's program reads besides the state, fixed while a tick borrows its mechanism: the
-/// params followed by the values of the program's prelude, and the length scale.
-pub(super) struct ProgramParams {
-    pub values: Vec<f64>,
-    pub scale: f64,
-}
-
-impl ProgramParams {
-    /// `None` when `g` has no program or its prelude cannot be evaluated.
-    pub(super) fn new(g: &Generic) -> Option<Self> {
-        g.program.as_ref()?;
-        let mut values = vec![0.0; g.prelude.outputs()];
-        let env = Env::position(&[], &[], &g.params);
-        g.prelude.eval(&env, &mut Vec::new(), &mut values).ok()?;
-        let mut all = g.params.clone();
-        all.extend(values);
-        Some(ProgramParams {
-            values: all,
-            scale: g.length_scale(),
-        })
-    }
 }

@@ -37,8 +37,6 @@ pub struct GenericTick<'a, T: Real> {
     keep: Vec<bool>,
     all_closed: bool,
     started: bool,
-    /// The params and the prelude of the mechanism's tick program (empty: none).
-    program_params: Option<super::stages::ProgramParams>,
 }
 
 impl<'a, T: Scratched> GenericTick<'a, T> {
@@ -69,7 +67,6 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
             all_closed: keep.iter().all(|&k| k),
             keep,
             started: false,
-            program_params: super::stages::ProgramParams::new(g),
         }
     }
 
@@ -146,21 +143,10 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
         [qd, qdd]: [&mut [T]; 2],
     ) -> Result<NewtonReport<T>, SolveError> {
         let (g, sx) = (self.g, &self.next_tx);
-        // Both engines walk the mechanism's tick program (with closed forms on): compiled, or
+        // Both engines walk the mechanism's program (with closed forms on): compiled, or
         // interpreted.
-        let program = g.program.as_ref().filter(|_| options.closed_forms);
-        if let Some((program, p)) = program.zip(self.program_params.as_ref()) {
-            #[cfg(feature = "jit")]
-            let compiled = {
-                let rates = [&mut *qd, &mut *qdd];
-                super::stages::run(g, p, input, sx, options, ws, rates)
-            };
-            #[cfg(not(feature = "jit"))]
-            let compiled: Option<Result<NewtonReport<T>, SolveError>> = None;
-            let report = match compiled {
-                Some(done) => done?,
-                None => super::walk::run(g, program, p, input, sx, options, ws, [qd, qdd])?,
-            };
+        if let Some(done) = super::walk::motion(g, input, sx, options, ws, [&mut *qd, &mut *qdd]) {
+            let report = done?;
             Generic::set_points(&mut self.state.points, &ws.points);
             return Ok(report);
         }

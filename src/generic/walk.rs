@@ -9,12 +9,33 @@ use mechgen_runtime::scalar::Real;
 use mechgen_runtime::solve::{NewtonReport, SolveOptions};
 use mechgen_runtime::trig::TrigSlices;
 
-use super::engine::Generic;
+use super::engine::{Generic, ProgramParams};
 use super::op::eval_range;
 use super::program::{Program, Step};
 use super::scratch::Scratch;
-use super::stages::{ProgramParams, TickStages};
+use super::stages::TickStages;
 use super::tape::Env;
+
+/// A whole motion by `g`'s program (with closed forms on; `None` otherwise or without one):
+/// compiled where the JIT compiled it for `T`, else walked. From the guess in `ws.trial` (its
+/// sines and cosines in `ws.trial_sc`, the inputs' in `sx`, or computed where empty); on success
+/// as [`run`] leaves them.
+pub(super) fn motion<T: Real>(
+    g: &Generic,
+    input: InputMotion<&[T]>,
+    sx: &[(T, T)],
+    options: &SolveOptions<T>,
+    ws: &mut Scratch<T>,
+    [qd, qdd]: [&mut [T]; 2],
+) -> Option<Result<NewtonReport<T>, SolveError>> {
+    let program = g.program.as_ref().filter(|_| options.closed_forms)?;
+    let p = g.program_params.as_ref()?;
+    #[cfg(feature = "jit")]
+    if let Some(done) = super::stages::run(g, p, input, sx, options, ws, [&mut *qd, &mut *qdd]) {
+        return Some(done);
+    }
+    Some(run(g, program, p, input, sx, options, ws, [qd, qdd]))
+}
 
 /// A tick's motion by walking `program` (of `g`), with `p` its params and prelude ([`ProgramParams`]):
 /// positions from the guess in `ws.trial` (sines and cosines in `ws.trial_sc`, the inputs' `sx`),
@@ -22,7 +43,7 @@ use super::tape::Env;
 /// `ws.trial` holds the unknowns and `ws.sc` their sines and cosines (`ws.trial_sc` is left
 /// undefined), as the block driver leaves them.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn run<T: Real>(
+fn run<T: Real>(
     g: &Generic,
     program: &Program,
     p: &ProgramParams,
@@ -47,18 +68,7 @@ pub(super) fn run<T: Real>(
     } = ws;
     file.resize(program.ops.len(), T::zero());
     points.resize(6 * g.info.points.len(), T::zero());
-    let mut stages = TickStages {
-        g,
-        options,
-        scale: T::lit(p.scale),
-        report: NewtonReport::new(),
-        regs,
-        out,
-        by_size,
-        kept: None,
-        #[cfg(feature = "jit")]
-        error: None,
-    };
+    let mut stages = TickStages::new(g, options, T::lit(p.scale), (regs, out, by_size));
     const NONE: &[usize] = &[];
     let angle = &g.angle[..];
     for step in &program.steps {

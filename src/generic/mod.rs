@@ -94,40 +94,6 @@ impl Generic {
         Ok(())
     }
 
-    /// A whole solve by the mechanism's program (`walk::motion`), or `None` where it has none
-    /// (or closed forms are off): every argument checked as the driver checks them, then the
-    /// positions from the guess `q`, the rates into `qd` and `qdd`. On success the unknowns are
-    /// in `ws.trial` and the points' values in `ws.points`.
-    fn whole_motion<T: Real>(
-        &self,
-        input: InputMotion<&[T]>,
-        q: &[T],
-        options: &SolveOptions<T>,
-        ws: &mut Scratch<T>,
-        rates: [&mut [T]; 2],
-    ) -> Option<Result<NewtonReport<T>, SolveError>> {
-        self.program.as_ref().filter(|_| options.closed_forms)?;
-        let checked = check_finite(Quantity::Param, &self.params)
-            .and_then(|()| check_finite(Quantity::Input, input.x))
-            .and_then(|()| check_finite(Quantity::Guess, q))
-            .and_then(|()| check_finite(Quantity::InputRate, input.xd))
-            .and_then(|()| check_finite(Quantity::InputAcceleration, input.xdd));
-        if let Err(e) = checked {
-            return Some(Err(e));
-        }
-        ws.trial.clear();
-        ws.trial.extend_from_slice(q);
-        ws.trial_sc.clear();
-        ws.trial_sc.resize(q.len(), (T::zero(), T::one()));
-        mechgen_runtime::trig::TrigSlices {
-            q: &mut ws.trial,
-            sc: &mut ws.trial_sc,
-            angle: &self.angle,
-        }
-        .init();
-        walk::motion(self, input, &[], options, ws, rates)
-    }
-
     /// The points' motion from their values, six per point (x, y, vx, vy, ax, ay).
     fn set_points<T: Real>(out: &mut [PointMotion<T>], v: &[T]) {
         for (o, c) in out.iter_mut().zip(v.chunks_exact(6)) {

@@ -1,8 +1,9 @@
 //! Generic engine, the tick's program: a whole motion (positions block by block, the refinement
 //! near a dead point, per block one factorization for both rates, the points) as one
 //! straight-line list of instructions over shared registers, with the calls into the runtime's
-//! kernels between them. A back end lowers it into one function (`jit/fused.rs`); a value two
-//! stages need is computed once, as in the generated tick.
+//! kernels between them: the plan of a tick and of a whole solve that both back ends walk (the
+//! interpreter in `walk.rs`, the JIT lowering it into one function in `jit/fused.rs`). A value
+//! two stages need is computed once, as in the generated tick.
 
 use std::ops::Range;
 

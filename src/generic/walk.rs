@@ -4,9 +4,9 @@
 //! JIT's walk the one plan; neither sequences blocks of its own.
 
 use mechgen_runtime::InputMotion;
-use mechgen_runtime::error::SolveError;
+use mechgen_runtime::error::{Quantity, SolveError};
 use mechgen_runtime::scalar::Real;
-use mechgen_runtime::solve::{NewtonReport, SolveOptions};
+use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
 use mechgen_runtime::trig::TrigSlices;
 
 use super::engine::{Generic, ProgramParams};
@@ -134,4 +134,40 @@ fn run<T: Real>(
     }
     std::mem::swap(sc, trial_sc);
     Ok(stages.report)
+}
+
+impl Generic {
+    /// A whole solve by the mechanism's program ([`motion`]), or `None` where it has none
+    /// (or closed forms are off): every argument checked as the driver checks them, then the
+    /// positions from the guess `q`, the rates into `qd` and `qdd`. On success the unknowns are
+    /// in `ws.trial` and the points' values in `ws.points`.
+    pub(super) fn whole_motion<T: Real>(
+        &self,
+        input: InputMotion<&[T]>,
+        q: &[T],
+        options: &SolveOptions<T>,
+        ws: &mut Scratch<T>,
+        rates: [&mut [T]; 2],
+    ) -> Option<Result<NewtonReport<T>, SolveError>> {
+        self.program.as_ref().filter(|_| options.closed_forms)?;
+        let checked = check_finite(Quantity::Param, &self.params)
+            .and_then(|()| check_finite(Quantity::Input, input.x))
+            .and_then(|()| check_finite(Quantity::Guess, q))
+            .and_then(|()| check_finite(Quantity::InputRate, input.xd))
+            .and_then(|()| check_finite(Quantity::InputAcceleration, input.xdd));
+        if let Err(e) = checked {
+            return Some(Err(e));
+        }
+        ws.trial.clear();
+        ws.trial.extend_from_slice(q);
+        ws.trial_sc.clear();
+        ws.trial_sc.resize(q.len(), (T::zero(), T::one()));
+        mechgen_runtime::trig::TrigSlices {
+            q: &mut ws.trial,
+            sc: &mut ws.trial_sc,
+            angle: &self.angle,
+        }
+        .init();
+        motion(self, input, &[], options, ws, rates)
+    }
 }

@@ -76,3 +76,16 @@ impl Generic {
         all
     }
 }
+
+impl Generic {
+    /// Whether a tick and a whole solve walk the mechanism's program ([`Generic::compile`]d or
+    /// interpreted); `false` where they fall back to the block driver.
+    pub fn has_program(&self) -> bool {
+        self.program.is_some() && self.program_params.is_some()
+    }
+
+    /// Whether the program is compiled into one function (after [`Generic::compile`]).
+    pub fn has_compiled_program(&self) -> bool {
+        self.has_program() && self.fused.is_some()
+    }
+}

@@ -8,6 +8,7 @@
 use std::ops::Range;
 
 use mechgen_codegen::{Compiled, Dag, Node, NodeId, Var};
+use mechgen_runtime::closed_form::ClosedKind;
 
 use super::op::{Op, kept_sin_cos, op_of};
 
@@ -16,8 +17,14 @@ use super::op::{Op, kept_sin_cos, op_of};
 pub(crate) enum Step {
     /// The instructions `ops[range]` (each writes the register of its index).
     Ops(Range<usize>),
-    /// Block `block` solved by its closed-form kernel from the roots in these registers.
-    Closed { block: usize, roots: Vec<u32> },
+    /// Block `block` solved by its closed-form kernel (of `kind`, its unknowns `slots` as
+    /// `ClosedForm::slots` gives them) from the roots in these registers.
+    Closed {
+        block: usize,
+        kind: ClosedKind,
+        slots: [usize; 2],
+        roots: Vec<u32>,
+    },
     /// Block `block` solved by Newton (its own position tape).
     Newton { block: usize },
     /// One refinement step per block when the positions' pivot ratio asks for it; every value of
@@ -62,7 +69,13 @@ impl Program {
             match &f.closed_form {
                 Some(form) => {
                     let roots = b.need(form.roots())?;
-                    b.steps.push(Step::Closed { block, roots });
+                    let (kind, slots) = (form.kind(), form.slots());
+                    b.steps.push(Step::Closed {
+                        block,
+                        kind,
+                        slots,
+                        roots,
+                    });
                 }
                 None => b.steps.push(Step::Newton { block }),
             }

@@ -184,6 +184,10 @@ impl Stages for TickStages<'_, f64> {
         self.report.pivot_ratio
     }
 
+    fn set_pivot_ratio(&mut self, ratio: f64) {
+        self.report.pivot_ratio = ratio;
+    }
+
     fn fail(&mut self, error: SolveError) {
         self.error = Some(error);
     }
@@ -240,8 +244,9 @@ pub(super) fn run<T: Real>(
         sc: trial_sc,
         qd,
         qdd,
+        tolerance: options.newton.tolerance,
     };
-    let status = fused.call(args, &mut stages, points)?;
+    let (status, pivot_ratio) = fused.call(args, &mut stages, points)?;
     if status != 0 {
         return Some(Err(stages.error.unwrap_or(SolveError::NotStarted)));
     }
@@ -250,6 +255,6 @@ pub(super) fn run<T: Real>(
     Some(Ok(NewtonReport {
         iterations: r.iterations,
         residual: T::lit(r.residual),
-        pivot_ratio: T::lit(r.pivot_ratio),
+        pivot_ratio: T::lit(pivot_ratio),
     }))
 }

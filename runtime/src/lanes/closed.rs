@@ -2,10 +2,12 @@
 //! (`closed_form::solve_rpr`, `solve_rrp`, `solve_angle1`, `solve_length1`, `solve_linear2`: the
 //! shaper's slotted guide, an inclined slide, the slider-crank's rod angle and slide, a cross
 //! slide), repeating the scalar operations in order; lanes that leave the scalar's common path
-//! are cleared in `ok`.
+//! are cleared in `ok`. [`solve_kind`] runs the kernel of a `ClosedKind` from its roots in the
+//! kind's order (what the JIT traces).
 
 use super::kernels::near;
 use super::{LaneTrig, Lanes};
+use crate::closed_form::ClosedKind;
 use crate::scalar::Real;
 
 /// `closed_form::solve_angle1` in every lane: `K + P cos q + Q sin q = 0` for angle `q`, with
@@ -233,4 +235,56 @@ pub fn solve_linear2<L: Lanes, const N: usize>(
     st.q[s2] = v2;
     let ratio = L::select(r.le(one), r, one / r);
     *pivot = L::select(ratio.lt(*pivot), ratio, *pivot);
+}
+
+/// A closed-form block of `kind` in every lane, as [`crate::closed_form::ClosedKind::solve`]
+/// solves one: its unknowns at `st`'s slots `[a, b]` (the second unused by a kind of one
+/// unknown), its roots `v` in the kind's order, `zero[i]` where root `i` is the literal zero
+/// (given to the kernel as `None` where it takes one), every angle computed. Too few roots: every
+/// lane cleared.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn solve_kind<L: Lanes, const N: usize>(
+    kind: ClosedKind,
+    st: &mut LaneTrig<L, N>,
+    [a, b]: [usize; 2],
+    v: &[L],
+    zero: &[bool],
+    tolerance: L::Scalar,
+    pivot: &mut L,
+    ok: &mut L::Mask,
+) {
+    if v.len() < kind.roots() || a >= N || b >= N {
+        *ok = *ok & L::zero().lt(L::zero());
+        return;
+    }
+    let opt = |i: usize| (!zero.get(i).copied().unwrap_or(false)).then_some(v[i]);
+    let k = [v[0], v[1]];
+    match kind {
+        ClosedKind::Rrr => super::kernels::solve_dyad(
+            st,
+            a,
+            b,
+            k,
+            (v[2], opt(3)),
+            (v[4], opt(5)),
+            tolerance,
+            pivot,
+            ok,
+        ),
+        ClosedKind::Rpr => {
+            let (m, n) = ((v[2], v[3]), (v[4], v[5]));
+            solve_rpr(st, (a, b), k, m, n, tolerance, pivot, ok, true);
+        }
+        ClosedKind::Rrp => {
+            let (p, u) = ((v[2], opt(3)), [v[4], v[5]]);
+            solve_rrp(st, (a, b), k, p, u, tolerance, pivot, ok, true);
+        }
+        ClosedKind::Linear2 => {
+            let (u1, u2) = ([v[2], v[3]], [v[4], v[5]]);
+            solve_linear2(st, (a, b), k, u1, u2, pivot, ok);
+        }
+        ClosedKind::Angle1 => solve_angle1(st, a, v[0], (opt(1), v[2]), tolerance, ok, true),
+        ClosedKind::Length1 => solve_length1(st, a, v[0], v[1], ok),
+    }
 }

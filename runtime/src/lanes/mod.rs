@@ -21,7 +21,7 @@ pub use crate::simd::{
     F32x8, F32x16, F64x2, F64x4, F64x8, Isa, Kernel, Lanes, Vf32, Vf64, WithLanes, dispatch,
     dispatch_on,
 };
-pub use closed::{solve_angle1, solve_length1, solve_linear2, solve_rpr, solve_rrp};
+pub use closed::{solve_angle1, solve_kind, solve_length1, solve_linear2, solve_rpr, solve_rrp};
 pub use kernels::{
     LaneFactored, LaneTrig, factor_block, rotate, rotate_inputs, solve_dyad, solve_dyad_angles,
 };

@@ -15,7 +15,8 @@
 //! 4. A [`Fused`] entry was compiled by `fused.rs` with the signature `extern "C" fn(*mut
 //!    Frame, *mut f64) -> i32`: it reads and writes as invariant 2 says (its `Reads`), also
 //!    stores the velocities and accelerations of unknowns below its `writes`, writes
-//!    `out[..outputs]`, reads the frame's pivot ratio, and calls [`stage`] with the frame it was
+//!    `out[..outputs]`, reads the frame's tolerance and reads and writes its pivot ratio, writes
+//!    the unknowns (and their pairs of `sc`) it reads, and calls [`stage`] with the frame it was
 //!    given, a pointer to `count` f64 of its own stack frame and one to a slot of [`KEPT_BYTES`]
 //!    of it, zeroed at entry, used by one block's velocity then its acceleration. While it runs, the slices of the frame are borrowed by
 //!    [`Fused::call`] alone, and [`stage`] makes references of them only for the duration of one
@@ -178,6 +179,9 @@ pub(super) const KEPT_BYTES: usize = {
 /// only when it is below `REFINE_BELOW`).
 pub(super) const PIVOT_AT: usize = std::mem::offset_of!(Frame, pivot_ratio);
 
+/// Where compiled code reads the Newton tolerance in a [`Frame`].
+pub(super) const TOLERANCE_AT: usize = std::mem::offset_of!(Frame, tolerance);
+
 /// The positions a call step may change: the inputs and their kept sines and cosines, the
 /// unknowns being solved and theirs.
 pub struct Positions<'a> {
@@ -203,6 +207,8 @@ pub trait Stages {
     fn acceleration(&mut self, block: usize, values: &mut [f64]) -> bool;
     /// The smallest pivot ratio of the positions so far.
     fn pivot_ratio(&self) -> f64;
+    /// Sets it (to what compiled code found solving blocks inline).
+    fn set_pivot_ratio(&mut self, ratio: f64);
     /// Keeps the error of a step run outside the stages.
     fn fail(&mut self, error: SolveError);
 }
@@ -216,8 +222,11 @@ pub(super) struct Frame {
     q_len: usize,
     /// A `*mut &mut dyn Stages`, as an address.
     stages: *mut std::ffi::c_void,
-    /// The stages' pivot ratio after the last position step.
+    /// The positions' smallest pivot ratio so far (of the blocks solved inline and of the
+    /// stages').
     pivot_ratio: f64,
+    /// The Newton tolerance (the closed forms' test of an angle too large to hold).
+    tolerance: f64,
 }
 
 /// The callback of every call step (invariant 4): rebuilds the frame's views and runs the step
@@ -246,6 +255,9 @@ pub(super) extern "C" fn stage(
         }
     };
     let block = block as usize;
+    if what <= 2 {
+        stages.set_pivot_ratio(f.pivot_ratio);
+    }
     let done = match what {
         0 => stages.closed(block, values, at()),
         1 => stages.newton(block, at()),
@@ -264,7 +276,7 @@ pub(super) extern "C" fn stage(
         }
         _ => return 2,
     };
-    if what <= 1 {
+    if what <= 2 {
         f.pivot_ratio = stages.pivot_ratio();
     }
     u32::from(!done)
@@ -325,6 +337,8 @@ pub struct FusedArgs<'a> {
     pub sc: &'a mut [(f64, f64)],
     pub qd: &'a mut [f64],
     pub qdd: &'a mut [f64],
+    /// The Newton tolerance.
+    pub tolerance: f64,
 }
 
 impl Fused {
@@ -348,9 +362,14 @@ impl Fused {
     }
 
     /// Runs the motion; `None` (nothing run) when a slice is shorter than what the code reads or
-    /// writes, else `Some(status)`: 0 done, otherwise a call step failed (its error is kept by
-    /// `stages`).
-    pub fn call(&self, a: FusedArgs<'_>, stages: &mut dyn Stages, out: &mut [f64]) -> Option<u32> {
+    /// writes, else `Some((status, pivot ratio))`: status 0 done, otherwise a call step failed
+    /// (its error is kept by `stages`); the positions' smallest pivot ratio.
+    pub fn call(
+        &self,
+        a: FusedArgs<'_>,
+        stages: &mut dyn Stages,
+        out: &mut [f64],
+    ) -> Option<(u32, f64)> {
         let have = [
             a.x.len(),
             a.q.len(),
@@ -384,11 +403,12 @@ impl Fused {
             q_len: a.q.len(),
             stages: (&raw mut stages).cast(),
             pivot_ratio: 1.0,
+            tolerance: a.tolerance,
         };
         // Invariant 4: every slice checked above; `stages` and the slices outlive the call.
         let status = (self.entry)(&mut frame, out.as_mut_ptr());
         let _ = &self.code;
-        Some(status)
+        Some((status, frame.pivot_ratio))
     }
 }
 

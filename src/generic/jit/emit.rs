@@ -190,6 +190,19 @@ impl<'a> Emit<'a> {
         self.base[i].ok_or(JitError::Tape)
     }
 
+    /// Element `i` of the slice in `Args` slot `s` (one of the seven), counted in what the
+    /// function reads.
+    pub(super) fn load(&mut self, s: usize, i: usize) -> Result<Value, JitError> {
+        let n = self.reads.0.get_mut(s).ok_or(JitError::Tape)?;
+        *n = (*n).max(i + 1);
+        let at = i32::try_from(i * 8).map_err(|_| JitError::Tape)?;
+        let from = self.base[s].ok_or(JitError::Tape)?;
+        Ok(self
+            .b
+            .ins()
+            .load(types::F64, MemFlagsData::trusted(), from, at))
+    }
+
     /// Stores register `r` at `to[j]` (f64 elements).
     pub(super) fn store(&mut self, r: u32, to: Value, j: usize) -> Result<(), JitError> {
         let v = self.reg(r)?;
@@ -210,16 +223,13 @@ impl<'a> Emit<'a> {
 
     /// Lowers the next instructions (their registers follow those lowered before).
     pub(super) fn ops(&mut self, ops: &[Op]) -> Result<(), JitError> {
-        let (ptr, trusted) = (self.ptr, MemFlagsData::trusted());
+        let ptr = self.ptr;
         for op in ops {
             let v = match *op {
                 Op::Const(c) => self.b.ins().f64const(c),
                 Op::Var(v) => {
                     let (s, i) = slot(v);
-                    self.reads.0[s] = self.reads.0[s].max(i + 1);
-                    let at = i32::try_from(i * 8).map_err(|_| JitError::Tape)?;
-                    let from = self.base[s].ok_or(JitError::Tape)?;
-                    self.b.ins().load(types::F64, trusted, from, at)
+                    self.load(s, i)?
                 }
                 Op::Add(x, y) => {
                     let (x, y) = (self.reg(x)?, self.reg(y)?);

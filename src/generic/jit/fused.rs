@@ -1,11 +1,15 @@
 //! The JIT, a whole motion: a [`Program`] lowered into one function, its instructions in order
-//! with one SSA value per register across every stage, each call step a call of `code::stage`
-//! (the runtime's kernel, Newton, the refinement, a block's factorization) with the values it
-//! needs in a stack buffer; a status other than 0 returns at once.
+//! with one SSA value per register across every stage. A closed-form block and a small block's
+//! rates run inline, the runtime's lane kernels traced into the function (`inline.rs`), calling
+//! the runtime's scalar step only where a kernel's mask leaves the common path; every other call
+//! step is a call of `code::stage` (Newton, the refinement, a larger block's factors) with the
+//! values it needs in a stack buffer; a status other than 0 returns at once.
+
+use std::collections::HashMap;
 
 use cranelift_codegen::ir::condcodes::FloatCC;
 use cranelift_codegen::ir::{
-    InstBuilder, MemFlagsData, StackSlotData, StackSlotKind, Value, types,
+    Block, InstBuilder, MemFlagsData, StackSlot, StackSlotData, StackSlotKind, Value, types,
 };
 use mechgen_runtime::twofold::REFINE_BELOW;
 
@@ -13,6 +17,28 @@ use super::code::{Call, KEPT_BYTES, PIVOT_AT, Reads};
 use super::emit::Emit;
 use super::error::JitError;
 use crate::generic::program::{Program, Step};
+
+/// A program being lowered: the emitter, the function's frame, its stack buffers, the block
+/// every failure branches to.
+pub(super) struct Lower<'a, 'p> {
+    pub e: Emit<'a>,
+    pub p: &'p Program,
+    pub frame: Value,
+    /// The values of a call step.
+    buf: StackSlot,
+    /// A small block's factors between its two rates, zeroed (invariant 4 of `code.rs`).
+    kept: StackSlot,
+    fail: Block,
+    /// One past the largest unknown whose rates are stored.
+    pub writes: usize,
+    /// The registers of each block's velocity step (its Jacobian for the acceleration).
+    pub velocity_values: HashMap<usize, Vec<u32>>,
+}
+
+/// An `i32` byte offset.
+pub(super) fn offset(bytes: usize) -> Result<i32, JitError> {
+    i32::try_from(bytes).map_err(|_| JitError::Tape)
+}
 
 /// Lowers `p` into the function `e` builds (parameters `frame`, the `code::Frame`, and `out`);
 /// what it reads, one past the largest unknown whose rates it stores, how many outputs it writes.
@@ -23,103 +49,153 @@ pub(super) fn lower(
     out: Value,
 ) -> Result<(Reads, usize, usize), JitError> {
     let width = u32::try_from(p.call_width().max(1) * 8).map_err(|_| JitError::Tape)?;
-    let buf =
-        e.b.create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, width, 3));
-    // A small block's factors between its two rates, zeroed (invariant 4 of `code.rs`).
-    let ptr = e.ptr;
+    let slot = |bytes| StackSlotData::new(StackSlotKind::ExplicitSlot, bytes, 3);
+    let buf = e.b.create_sized_stack_slot(slot(width));
     let kept_bytes = KEPT_BYTES.div_ceil(8) * 8;
     let size = u32::try_from(kept_bytes).map_err(|_| JitError::Tape)?;
-    let kept =
-        e.b.create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, size, 3));
+    let kept = e.b.create_sized_stack_slot(slot(size));
     let zero = e.b.ins().iconst(types::I64, 0);
     for k in 0..kept_bytes / 8 {
-        let at = i32::try_from(k * 8).map_err(|_| JitError::Tape)?;
-        e.b.ins().stack_store(ptr, zero, kept, at);
+        let ptr = e.ptr;
+        e.b.ins().stack_store(ptr, zero, kept, offset(k * 8)?);
     }
     let fail = e.b.create_block();
     e.b.append_block_param(fail, types::I32);
-    let trusted = MemFlagsData::trusted();
-    let (mut writes, mut outputs) = (0, 0);
+    let mut l = Lower {
+        e,
+        p,
+        frame,
+        buf,
+        kept,
+        fail,
+        writes: 0,
+        velocity_values: HashMap::new(),
+    };
+    let mut outputs = 0;
     for step in &p.steps {
-        let (call, block, values): (Call, usize, &[u32]) = match step {
+        match step {
             Step::Ops(range) => {
                 let ops = p.ops.get(range.clone()).ok_or(JitError::Tape)?;
-                e.ops(ops)?;
-                continue;
+                l.e.ops(ops)?;
             }
             Step::Output(regs) => {
                 for (j, &r) in regs.iter().enumerate() {
-                    e.store(r, out, j)?;
+                    l.e.store(r, out, j)?;
                 }
                 outputs = outputs.max(regs.len());
-                continue;
             }
-            Step::Closed { block, roots } => (Call::Closed, *block, roots),
-            Step::Newton { block } => (Call::Newton, *block, &[]),
-            Step::Refine => (Call::Refine, 0, &[]),
+            Step::Closed {
+                block,
+                kind,
+                slots,
+                roots,
+            } => l.closed(*block, *kind, *slots, roots)?,
+            Step::Newton { block } => l.call(Call::Newton, *block, &[])?,
+            Step::Refine => {
+                // Only when the positions' pivot ratio is below `REFINE_BELOW` (false for NaN,
+                // as the driver's test).
+                let pivot = l.frame_f64(PIVOT_AT)?;
+                let below = l.e.b.ins().f64const(REFINE_BELOW);
+                let low = l.e.b.ins().fcmp(FloatCC::LessThan, pivot, below);
+                let (refine, skip) = (l.e.b.create_block(), l.e.b.create_block());
+                l.e.b.ins().brif(low, refine, &[], skip, &[]);
+                l.e.b.switch_to_block(refine);
+                l.call(Call::Refine, 0, &[])?;
+                l.e.b.ins().jump(skip, &[]);
+                l.e.b.switch_to_block(skip);
+            }
             Step::Velocity {
                 block,
-                values,
                 unknowns,
-            } if unknowns.len() <= 2 => (Call::SmallVelocity, *block, values),
+                values,
+            } => l.velocity(*block, unknowns, values)?,
             Step::Acceleration {
                 block,
-                values,
                 unknowns,
-            } if unknowns.len() <= 2 => (Call::SmallAcceleration, *block, values),
-            Step::Velocity { block, values, .. } => (Call::Velocity, *block, values),
-            Step::Acceleration { block, values, .. } => (Call::Acceleration, *block, values),
-        };
-        // The refinement only when the positions' pivot ratio is below `REFINE_BELOW` (false
-        // for NaN, as the driver's test).
-        let skip = if call == Call::Refine {
-            let at = i32::try_from(PIVOT_AT).map_err(|_| JitError::Tape)?;
-            let pivot = e.b.ins().load(types::F64, trusted, frame, at);
-            let below = e.b.ins().f64const(REFINE_BELOW);
-            let low = e.b.ins().fcmp(FloatCC::LessThan, pivot, below);
-            let (refine, skip) = (e.b.create_block(), e.b.create_block());
-            e.b.ins().brif(low, refine, &[], skip, &[]);
-            e.b.switch_to_block(refine);
-            Some(skip)
-        } else {
-            None
-        };
-        let ptr = e.ptr;
-        let at = e.b.ins().stack_addr(ptr, buf, 0);
-        for (j, &r) in values.iter().enumerate() {
-            e.store(r, at, j)?;
-        }
-        let f = e.stage_callee();
-        let what = e.b.ins().iconst(types::I32, call as i64);
-        let block = i64::try_from(block).map_err(|_| JitError::Tape)?;
-        let block = e.b.ins().iconst(types::I32, block);
-        let count = i64::try_from(values.len()).map_err(|_| JitError::Tape)?;
-        let count = e.b.ins().iconst(ptr, count);
-        let aux = e.b.ins().stack_addr(ptr, kept, 0);
-        let inst = e.b.ins().call(f, &[frame, what, block, at, count, aux]);
-        let status = e.b.inst_results(inst)[0];
-        let ok = skip.unwrap_or_else(|| e.b.create_block());
-        e.b.ins().brif(status, fail, &[status.into()], ok, &[]);
-        e.b.switch_to_block(ok);
-        // A block's solved rates, from the buffer the call solved in place.
-        let (slot, unknowns) = match step {
-            Step::Velocity { unknowns, .. } => (4, unknowns),
-            Step::Acceleration { unknowns, .. } => (6, unknowns),
-            _ => continue,
-        };
-        let to = e.base(slot)?;
-        for (i, &u) in unknowns.iter().enumerate() {
-            let from = i32::try_from(i * 8).map_err(|_| JitError::Tape)?;
-            let v = e.b.ins().stack_load(ptr, types::F64, buf, from);
-            let at = i32::try_from(u * 8).map_err(|_| JitError::Tape)?;
-            e.b.ins().store(trusted, v, to, at);
-            writes = writes.max(u + 1);
+                values,
+            } => l.acceleration(*block, unknowns, values)?,
         }
     }
-    let zero = e.b.ins().iconst(types::I32, 0);
-    e.b.ins().return_(&[zero]);
-    e.b.switch_to_block(fail);
-    let status = e.b.block_params(fail)[0];
-    e.b.ins().return_(&[status]);
-    Ok((e.finish(), writes, outputs))
+    let zero = l.e.b.ins().iconst(types::I32, 0);
+    l.e.b.ins().return_(&[zero]);
+    l.e.b.switch_to_block(l.fail);
+    let status = l.e.b.block_params(l.fail)[0];
+    l.e.b.ins().return_(&[status]);
+    let writes = l.writes;
+    Ok((l.e.finish(), writes, outputs))
+}
+
+impl Lower<'_, '_> {
+    /// The f64 of the frame at byte `at`.
+    pub fn frame_f64(&mut self, at: usize) -> Result<Value, JitError> {
+        let trusted = MemFlagsData::trusted();
+        Ok(self
+            .e
+            .b
+            .ins()
+            .load(types::F64, trusted, self.frame, offset(at)?))
+    }
+
+    /// A call of `code::stage` with `values` in the buffer; on failure a return of its status,
+    /// else on at a new block, the solved values (if any) in the buffer.
+    pub fn call(&mut self, call: Call, block: usize, values: &[u32]) -> Result<(), JitError> {
+        let ptr = self.e.ptr;
+        let at = self.e.b.ins().stack_addr(ptr, self.buf, 0);
+        for (j, &r) in values.iter().enumerate() {
+            self.e.store(r, at, j)?;
+        }
+        let f = self.e.stage_callee();
+        let what = self.e.b.ins().iconst(types::I32, call as i64);
+        let block = i64::try_from(block).map_err(|_| JitError::Tape)?;
+        let block = self.e.b.ins().iconst(types::I32, block);
+        let count = i64::try_from(values.len()).map_err(|_| JitError::Tape)?;
+        let count = self.e.b.ins().iconst(ptr, count);
+        let aux = self.e.b.ins().stack_addr(ptr, self.kept, 0);
+        let inst = self
+            .e
+            .b
+            .ins()
+            .call(f, &[self.frame, what, block, at, count, aux]);
+        let status = self.e.b.inst_results(inst)[0];
+        let ok = self.e.b.create_block();
+        self.e
+            .b
+            .ins()
+            .brif(status, self.fail, &[status.into()], ok, &[]);
+        self.e.b.switch_to_block(ok);
+        Ok(())
+    }
+
+    /// Stores `v[i]` as the rate of `unknowns[i]` in `Args` slot `slot` (4: velocities, 6:
+    /// accelerations).
+    pub fn store_rates(
+        &mut self,
+        slot: usize,
+        unknowns: &[usize],
+        v: &[Value],
+    ) -> Result<(), JitError> {
+        let to = self.e.base(slot)?;
+        for (&u, &v) in unknowns.iter().zip(v) {
+            self.e
+                .b
+                .ins()
+                .store(MemFlagsData::trusted(), v, to, offset(u * 8)?);
+            self.writes = self.writes.max(u + 1);
+        }
+        Ok(())
+    }
+
+    /// The first `n` values of the buffer (what a call step solved in place).
+    pub fn solved_values(&mut self, n: usize) -> Result<Vec<Value>, JitError> {
+        let (ptr, buf) = (self.e.ptr, self.buf);
+        (0..n)
+            .map(|i| {
+                Ok(self
+                    .e
+                    .b
+                    .ins()
+                    .stack_load(ptr, types::F64, buf, offset(i * 8)?))
+            })
+            .collect()
+    }
 }

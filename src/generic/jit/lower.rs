@@ -96,7 +96,14 @@ impl Lowering {
         b.append_block_params_for_function_params(entry);
         b.switch_to_block(entry);
         let (frame, out) = (b.block_params(entry)[0], b.block_params(entry)[1]);
-        let e = Emit::new(b, &mut self.module, &self.imports, frame, &p.ops, [4, 6]);
+        let e = Emit::new(
+            b,
+            &mut self.module,
+            &self.imports,
+            frame,
+            &p.ops,
+            [1, 4, 6, 7, 8],
+        );
         let (reads, writes, outputs) = super::fused::lower(e, p, frame, out)?;
         self.module
             .define_function(id, &mut self.ctx)

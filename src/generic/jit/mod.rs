@@ -8,7 +8,9 @@ mod code;
 mod emit;
 mod error;
 mod fused;
+mod inline;
 mod lower;
+mod trace;
 
 pub use code::{Function, Fused, FusedArgs, Positions, Stages};
 pub use error::JitError;

@@ -86,10 +86,10 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
         // Every angle's entry is written; the others stay (0, 1) in both caches.
         let angle = &self.input_angle;
         inputs_trig(&self.tx, &s.x, x, angle, resync, &mut self.next_tx);
-        ws.trial.clear();
-        ws.trial.extend_from_slice(&s.q);
-        ws.trial_sc.clear();
-        ws.trial_sc.extend_from_slice(&self.tq);
+        ws.trial.resize(s.q.len(), T::zero());
+        copy_few(&mut ws.trial, &s.q);
+        ws.trial_sc.resize(self.tq.len(), (T::zero(), T::one()));
+        copy_few(&mut ws.trial_sc, &self.tq);
         // A mechanism solved in closed form throughout starts from the last tick as it is.
         if !(options.closed_forms && self.all_closed) {
             let keep: &[bool] = if options.closed_forms {
@@ -119,9 +119,9 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
             std::mem::swap(&mut self.before[0], &mut ws.trial);
             std::mem::swap(&mut s.qd, &mut qd);
             std::mem::swap(&mut s.qdd, &mut qdd);
-            s.x.copy_from_slice(x);
-            s.xd.copy_from_slice(xd);
-            s.xdd.copy_from_slice(xdd);
+            copy_few(&mut s.x, x);
+            copy_few(&mut s.xd, xd);
+            copy_few(&mut s.xdd, xdd);
             s.report = *report;
             std::mem::swap(&mut self.tq, &mut ws.sc);
             std::mem::swap(&mut self.tx, &mut self.next_tx);
@@ -299,5 +299,18 @@ where
             }
             Ok(true)
         })
+    }
+}
+
+/// `dst = src` for slices of the same length (a tick's inputs and unknowns, a few values each):
+/// up to four by plain moves, where a call of `memcpy` costs more than the copy.
+#[inline(always)]
+fn copy_few<U: Copy>(dst: &mut [U], src: &[U]) {
+    match (dst, src) {
+        ([d], [a]) => *d = *a,
+        ([d, e], [a, b]) => (*d, *e) = (*a, *b),
+        ([d, e, f], [a, b, c]) => (*d, *e, *f) = (*a, *b, *c),
+        ([d, e, f, g], [a, b, c, h]) => (*d, *e, *f, *g) = (*a, *b, *c, *h),
+        (dst, src) => dst.copy_from_slice(src),
     }
 }

@@ -14,7 +14,8 @@ use cranelift_module::{FuncId, Linkage, Module};
 use mechgen_codegen::Func;
 use mechgen_runtime::twofold::Arith;
 
-use super::code::{self, Reads};
+use super::abi::Reads;
+use super::code;
 use super::error::JitError;
 use crate::generic::op::{Op, slot};
 

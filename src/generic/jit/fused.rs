@@ -13,7 +13,8 @@ use cranelift_codegen::ir::{
 };
 use mechgen_runtime::twofold::REFINE_BELOW;
 
-use super::code::{Call, KEPT_BYTES, PIVOT_AT, Reads};
+use super::abi::{Call, KEPT_BYTES, Reads};
+use super::code::PIVOT_AT;
 use super::emit::Emit;
 use super::error::JitError;
 use crate::generic::program::{Program, Step};
@@ -108,12 +109,12 @@ pub(super) fn lower(
                 block,
                 unknowns,
                 values,
-            } => l.velocity(*block, unknowns, values)?,
+            } => l.rates(true, *block, unknowns, values)?,
             Step::Acceleration {
                 block,
                 unknowns,
                 values,
-            } => l.acceleration(*block, unknowns, values)?,
+            } => l.rates(false, *block, unknowns, values)?,
         }
     }
     let zero = l.e.b.ins().iconst(types::I32, 0);

@@ -8,7 +8,8 @@ use cranelift_codegen::ir::{Block, InstBuilder, MemFlagsData, Value, types};
 use mechgen_runtime::closed_form::ClosedKind;
 use mechgen_runtime::lanes::{LaneTrig, factor_block, solve_kind};
 
-use super::code::{Call, PIVOT_AT, TOLERANCE_AT};
+use super::abi::Call;
+use super::code::{PIVOT_AT, TOLERANCE_AT};
 use super::error::JitError;
 use super::fused::{Lower, offset};
 use super::trace::{self, TOLERANCE, Traced, TracedMask};
@@ -96,69 +97,80 @@ impl Lower<'_, '_> {
         Ok(())
     }
 
-    /// Block `block`'s velocity from `values` (right-hand side, then the Jacobian row by row).
-    pub fn velocity(
+    /// Block `block`'s velocity (`velocity`: from `values`, right-hand side then the Jacobian row
+    /// by row) or acceleration (from its right-hand side `values`, by the factors of its velocity
+    /// step, factored again inline: the same operations on the same values).
+    pub fn rates(
         &mut self,
+        velocity: bool,
         block: usize,
         unknowns: &[usize],
         values: &[u32],
     ) -> Result<(), JitError> {
         let k = unknowns.len();
+        let slot = if velocity { 4 } else { 6 };
         if k > 2 {
-            self.call(Call::Velocity, block, values)?;
-            let v = self.solved_values(k)?;
-            return self.store_rates(4, unknowns, &v);
+            let call = if velocity {
+                Call::Velocity
+            } else {
+                Call::Acceleration
+            };
+            return self.called_rates(slot, unknowns, &[(call, block, values)]);
         }
-        let (z, ok) = self.small(k, values, &values[..k])?;
+        if velocity {
+            let inline = self.small(k, values, &values[..k])?;
+            let calls = [(Call::SmallVelocity, block, values)];
+            self.rates_or(slot, unknowns, inline, &calls)?;
+            self.velocity_values.insert(block, values.to_vec());
+            return Ok(());
+        }
+        let Some(jac) = self.velocity_values.get(&block).cloned() else {
+            let calls = [(Call::SmallAcceleration, block, values)];
+            return self.called_rates(slot, unknowns, &calls);
+        };
+        let inline = self.small(k, &jac, values)?;
+        // The scalar's factors in the caller's slot (the velocity may have been solved inline),
+        // then its acceleration by them.
+        let calls = [
+            (Call::SmallVelocity, block, &jac[..]),
+            (Call::SmallAcceleration, block, values),
+        ];
+        self.rates_or(slot, unknowns, inline, &calls)
+    }
+
+    /// Stores a block's rates solved inline (`z`, in `Args` slot `slot`) where the mask `ok`
+    /// holds, else those the scalar's call steps `calls` solve.
+    fn rates_or(
+        &mut self,
+        slot: usize,
+        unknowns: &[usize],
+        (z, ok): (Vec<Value>, Value),
+        calls: &[(Call, usize, &[u32])],
+    ) -> Result<(), JitError> {
         let (fast, slow, join) = self.diamond(ok);
         self.e.b.switch_to_block(fast);
-        self.store_rates(4, unknowns, &z)?;
+        self.store_rates(slot, unknowns, &z)?;
         self.e.b.ins().jump(join, &[]);
         self.e.b.switch_to_block(slow);
-        self.call(Call::SmallVelocity, block, values)?;
-        let v = self.solved_values(k)?;
-        self.store_rates(4, unknowns, &v)?;
+        self.called_rates(slot, unknowns, calls)?;
         self.e.b.ins().jump(join, &[]);
         self.e.b.switch_to_block(join);
-        self.velocity_values.insert(block, values.to_vec());
         Ok(())
     }
 
-    /// Block `block`'s acceleration from its right-hand side `values`, by the factors of its
-    /// velocity step (factored again inline: the same operations on the same values).
-    pub fn acceleration(
+    /// The call steps `calls` in order, then the rates the last solved in the buffer stored in
+    /// `Args` slot `slot`.
+    fn called_rates(
         &mut self,
-        block: usize,
+        slot: usize,
         unknowns: &[usize],
-        values: &[u32],
+        calls: &[(Call, usize, &[u32])],
     ) -> Result<(), JitError> {
-        let k = unknowns.len();
-        let velocity = self.velocity_values.get(&block).cloned();
-        let Some(jac) = velocity.filter(|_| k <= 2) else {
-            let call = if k > 2 {
-                Call::Acceleration
-            } else {
-                Call::SmallAcceleration
-            };
+        for &(call, block, values) in calls {
             self.call(call, block, values)?;
-            let v = self.solved_values(k)?;
-            return self.store_rates(6, unknowns, &v);
-        };
-        let (z, ok) = self.small(k, &jac, values)?;
-        let (fast, slow, join) = self.diamond(ok);
-        self.e.b.switch_to_block(fast);
-        self.store_rates(6, unknowns, &z)?;
-        self.e.b.ins().jump(join, &[]);
-        self.e.b.switch_to_block(slow);
-        // The scalar's factors in the caller's slot (the velocity may have been solved inline),
-        // then its acceleration by them.
-        self.call(Call::SmallVelocity, block, &jac)?;
-        self.call(Call::SmallAcceleration, block, values)?;
-        let v = self.solved_values(k)?;
-        self.store_rates(6, unknowns, &v)?;
-        self.e.b.ins().jump(join, &[]);
-        self.e.b.switch_to_block(join);
-        Ok(())
+        }
+        let v = self.solved_values(unknowns.len())?;
+        self.store_rates(slot, unknowns, &v)
     }
 
     /// A k×k block (k ≤ 2) with its Jacobian in `values[k..]` factored and solved for `rhs`

@@ -10,7 +10,8 @@ use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use cranelift_jit::{JITBuilder, JITModule};
 use cranelift_module::{FuncId, Linkage, Module, default_libcall_names};
 
-use super::code::{self, Reads};
+use super::abi::Reads;
+use super::code;
 use super::emit::{Emit, Imports};
 use super::error::JitError;
 use crate::generic::op::Op;

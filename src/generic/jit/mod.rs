@@ -4,6 +4,7 @@
 //! stay interpreted). Same instructions in the same order as the interpreter, no fused
 //! multiply-add, the same `sin`/`cos`/`tan`/`atan2` functions: the same bits.
 
+mod abi;
 mod code;
 mod emit;
 mod error;
@@ -12,7 +13,8 @@ mod inline;
 mod lower;
 mod trace;
 
-pub use code::{Function, Fused, FusedArgs, Positions, Stages};
+pub use abi::{FusedArgs, Positions, Stages};
+pub use code::{Function, Fused};
 pub use error::JitError;
 
 use super::op::Op;

@@ -132,6 +132,8 @@ pub(super) struct Emit<'a> {
     regs: Vec<Value>,
     pending_cos: Option<Value>,
     reads: Reads,
+    /// Every unknown has its kept pair (a fused program's frame): read without a test.
+    pub pairs_complete: bool,
 }
 
 impl<'a> Emit<'a> {
@@ -178,6 +180,7 @@ impl<'a> Emit<'a> {
             regs: Vec::with_capacity(ops.len()),
             pending_cos: None,
             reads: Reads::default(),
+            pairs_complete: false,
         }
     }
 
@@ -285,6 +288,18 @@ impl<'a> Emit<'a> {
                         (s, c)
                     };
                     let (s, c) = match *op {
+                        // A fused program's unknowns all have their pair (`Fused::call` checks
+                        // `sc` as long as `q`, which is read up to k here).
+                        Op::SinCosQ(_, k) if self.pairs_complete => {
+                            let n = &mut self.reads.0[1];
+                            *n = (*n).max(k as usize + 1);
+                            let sc = self.base[7].ok_or(JitError::Tape)?;
+                            let at =
+                                i32::try_from(u64::from(k) * 16).map_err(|_| JitError::Tape)?;
+                            let trusted = MemFlagsData::trusted();
+                            let s = self.b.ins().load(types::F64, trusted, sc, at);
+                            (s, self.b.ins().load(types::F64, trusted, sc, at + 8))
+                        }
                         Op::SinCosQ(_, k) | Op::SinCosX(_, k) => {
                             let at = if matches!(op, Op::SinCosQ(..)) { 7 } else { 9 };
                             let pairs = self.base[at].zip(self.base[at + 1]);

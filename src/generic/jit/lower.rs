@@ -97,7 +97,7 @@ impl Lowering {
         b.append_block_params_for_function_params(entry);
         b.switch_to_block(entry);
         let (frame, out) = (b.block_params(entry)[0], b.block_params(entry)[1]);
-        let e = Emit::new(
+        let mut e = Emit::new(
             b,
             &mut self.module,
             &self.imports,
@@ -105,6 +105,7 @@ impl Lowering {
             &p.ops,
             [1, 4, 6, 7, 8],
         );
+        e.pairs_complete = true;
         let (reads, writes, outputs) = super::fused::lower(e, p, frame, out)?;
         self.module
             .define_function(id, &mut self.ctx)

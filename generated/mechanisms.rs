@@ -19101,7 +19101,7 @@ pub mod sixbar_g {
         }
     }
 }
-/// Scene `sixbar_e_path` of mechanism `sixbar`: E_x, E_y to order 0; solves blocks [0] only.
+/// Scene `sixbar_e_path` of mechanism `sixbar`: E_x, E_y to order 0; solves blocks `[0]` only.
 pub mod sixbar_e_path {
     #![allow(non_snake_case)]
     // Allowed above, and why:
@@ -19469,7 +19469,7 @@ pub mod sixbar_e_path {
     /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
     /// their rates up to the scene's order, the scene's points, and the caches.
     pub type Tick<T> = ::mechgen::__private::SceneTick<T, 1, 4, 1, 10>;
-    /// Scene `sixbar_e_path` of mechanism `sixbar`: E_x, E_y to order 0; solves blocks [0] only.
+    /// Scene `sixbar_e_path` of mechanism `sixbar`: E_x, E_y to order 0; solves blocks `[0]` only.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct SixbarEPath<T = f64> {
         pub params: Params<T>,
@@ -19657,7 +19657,7 @@ pub mod sixbar_e_path {
         }
     }
 }
-/// Scene `sixbar_output` of mechanism `sixbar`: q6, q6_vel, q6_acc to order 2; solves blocks [0, 1] only.
+/// Scene `sixbar_output` of mechanism `sixbar`: q6, q6_vel, q6_acc to order 2; solves blocks `[0, 1]` only.
 pub mod sixbar_output {
     #![allow(non_snake_case)]
     // Allowed above, and why:
@@ -20136,7 +20136,7 @@ pub mod sixbar_output {
     /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
     /// their rates up to the scene's order, the scene's points, and the caches.
     pub type Tick<T> = ::mechgen::__private::SceneTick<T, 1, 4, 0, 10>;
-    /// Scene `sixbar_output` of mechanism `sixbar`: q6, q6_vel, q6_acc to order 2; solves blocks [0, 1] only.
+    /// Scene `sixbar_output` of mechanism `sixbar`: q6, q6_vel, q6_acc to order 2; solves blocks `[0, 1]` only.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct SixbarOutput<T = f64> {
         pub params: Params<T>,
@@ -20324,7 +20324,7 @@ pub mod sixbar_output {
         }
     }
 }
-/// Scene `shaper_ram` of mechanism `shaper`: sE, sE_vel, sE_acc to order 2; solves blocks [0, 1, 2] only.
+/// Scene `shaper_ram` of mechanism `shaper`: sE, sE_vel, sE_acc to order 2; solves blocks `[0, 1, 2]` only.
 pub mod shaper_ram {
     #![allow(non_snake_case)]
     // Allowed above, and why:
@@ -20767,7 +20767,7 @@ pub mod shaper_ram {
     /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
     /// their rates up to the scene's order, the scene's points, and the caches.
     pub type Tick<T> = ::mechgen::__private::SceneTick<T, 1, 4, 0, 5>;
-    /// Scene `shaper_ram` of mechanism `shaper`: sE, sE_vel, sE_acc to order 2; solves blocks [0, 1, 2] only.
+    /// Scene `shaper_ram` of mechanism `shaper`: sE, sE_vel, sE_acc to order 2; solves blocks `[0, 1, 2]` only.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct ShaperRam<T = f64> {
         pub params: Params<T>,
@@ -20954,7 +20954,7 @@ pub mod shaper_ram {
         }
     }
 }
-/// Scene `coupler_curve` of mechanism `four_bar`: P_x, P_y, P_vx, P_vy to order 1; solves blocks [0] only.
+/// Scene `coupler_curve` of mechanism `four_bar`: P_x, P_y, P_vx, P_vy to order 1; solves blocks `[0]` only.
 pub mod coupler_curve {
     #![allow(non_snake_case)]
     // Allowed above, and why:
@@ -21354,7 +21354,7 @@ pub mod coupler_curve {
     /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
     /// their rates up to the scene's order, the scene's points, and the caches.
     pub type Tick<T> = ::mechgen::__private::SceneTick<T, 1, 2, 1, 6>;
-    /// Scene `coupler_curve` of mechanism `four_bar`: P_x, P_y, P_vx, P_vy to order 1; solves blocks [0] only.
+    /// Scene `coupler_curve` of mechanism `four_bar`: P_x, P_y, P_vx, P_vy to order 1; solves blocks `[0]` only.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct CouplerCurve<T = f64> {
         pub params: Params<T>,

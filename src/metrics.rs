@@ -254,7 +254,7 @@ impl Probe<'_> {
         Some(out.at(&q, &qd, &points))
     }
 
-    /// The input in [rows[i], rows[i+1]] where the rate of `out` changes sign, by bisection to
+    /// The input in `[rows[i], rows[i+1]]` where the rate of `out` changes sign, by bisection to
     /// 1e-12 of the input's scale, with the value there.
     fn zero_of_rate(&self, lo: &Row, hi: &Row, r_lo: f64, out: Output) -> Option<(f64, f64)> {
         let (mut a, mut b, mut ra) = (lo.input, hi.input, r_lo);

@@ -1,5 +1,5 @@
 //! mechgen-codegen: mechanism.toml → Rust kinematics solvers, as a library for build scripts
-//! ([`compile`], [`Config`]) and for run-time engines ([`analyze`] and the types it returns).
+//! ([`compile()`], [`Config`]) and for run-time engines ([`analyze`] and the types it returns).
 //!
 //! Stages, one folder each, chained by the short driver in `compile.rs`:
 //! `front` (TOML + syn → syntax tree with spans) → `sema` (names, types, angles, values →
@@ -8,7 +8,7 @@
 //! → `emit` (one emitter per kind of output, identifiers from a names table; tokens →
 //! `prettyplease`). [`diagnostic`] renders errors as FILE:LINE:COLUMN.
 //!
-//! The build library: [`compile`]`("mechanism.toml")` in any crate's `build.rs` (or [`Config`] for
+//! The build library: [`compile()`]`("mechanism.toml")` in any crate's `build.rs` (or [`Config`] for
 //! options) writes the solvers to `OUT_DIR`, for `mechgen::include_mechanisms!()`;
 //! [`Config::try_compile`] returns the diagnostics instead of ending the build;
 //! [`generate_source`] gives the code as a string.

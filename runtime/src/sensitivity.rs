@@ -35,7 +35,7 @@ impl<T: Real, const K: usize> BlockSolve<T> for Factored<T, K> {
 }
 
 /// Block `block`'s rows of `s` = dq/dp (row-major, one row per unknown, `nparams` columns): for
-/// each param p, the block's unknowns solve J_bb s_b,p = −(Φp[e][p] + Σ_k J[e][k] s[k][p]) over its
+/// each param p, the block's unknowns solve J_bb s_b,p = `−(Φp[e][p] + Σ_k J[e][k] s[k][p])` over its
 /// equations `e`, k over the unknowns outside the block (rows of later blocks are still zero, and
 /// block-triangular J has no entry there anyway). `jac(e, k)` and `phi_p(e, p)` read the whole
 /// system's matrices; `rhs` is scratch of the block's size.

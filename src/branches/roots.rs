@@ -17,7 +17,7 @@ pub(super) fn all_roots(f: &mut dyn FnMut(f64) -> Option<f64>) -> Vec<f64> {
     roots_and_extrema(f, None)
 }
 
-/// [`all_roots`], and into `extrema` (when given) the values of `f` at its local extrema between
+/// `all_roots`, and into `extrema` (when given) the values of `f` at its local extrema between
 /// samples (parabolic estimates, in the order of the cut): where one crosses zero as the input
 /// moves, a pair of roots appears or vanishes.
 pub(super) fn roots_and_extrema(

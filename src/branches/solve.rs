@@ -79,7 +79,7 @@ impl Solver {
     }
 
     /// [`Solver::configurations`] and the closed-form blocks' margins met on the way (see
-    /// [`margin`]), in a fixed order: block by block, partial configuration by configuration.
+    /// `margin`), in a fixed order: block by block, partial configuration by configuration.
     pub(super) fn with_margins(&self, x: &[f64]) -> Result<(Vec<Vec<f64>>, Vec<f64>), SolveError> {
         let mut margins = Vec::new();
         let qs = self.walk(x, Some(&mut margins))?;

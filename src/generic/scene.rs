@@ -1,4 +1,4 @@
-//! Scenes on the generic engine: the same [`ScenePlan`] as the generated scene solvers (kept
+//! Scenes on the generic engine: the same `ScenePlan` as the generated scene solvers (kept
 //! blocks, order, points), so `mechgen sweep SCENE --engine generic` computes the same subset:
 //! Newton or closed forms on the kept blocks only, rates only up to the order, a tape of the
 //! scene's points only.

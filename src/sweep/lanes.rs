@@ -24,7 +24,7 @@ pub const LANES: usize = <Vf64<8> as Lanes>::W;
 /// scalar ticks cost, whatever the lanes in use.
 pub const MIN_LANES: usize = 4;
 
-/// Sweeps the sets `mechs` (at most [`LANES`], at least [`MIN_LANES`]; each a mechanism with its
+/// Sweeps the sets `mechs` (at most [`LANES`], at least `MIN_LANES`; each a mechanism with its
 /// set's params) as
 /// [`super::sweep_each_with`] sweeps each (input `index` over `values`, rate `rate`, `held` inputs
 /// moved first), handing set `i`'s rows to `emit(i, row)` in row order. Returns the sets (a bit

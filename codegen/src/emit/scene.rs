@@ -301,7 +301,7 @@ pub(crate) fn module(c: &Compiled, plan: &ScenePlan, rt: &TokenStream) -> TokenS
     let unknown_names = plan.unknowns.iter().map(|&u| &m.unknowns[u].name.text);
     let point_names = plan.points.iter().map(|&p| &m.points[p].0.text);
     let doc = format!(
-        "Scene `{name}` of mechanism `{mech_name}`: {} to order {order}; solves blocks {:?} only.",
+        "Scene `{name}` of mechanism `{mech_name}`: {} to order {order}; solves blocks `{:?}` only.",
         col_names.join(", "),
         plan.block_indices()
     );

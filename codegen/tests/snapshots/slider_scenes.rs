@@ -469,7 +469,7 @@ pub mod rod {
     /// The state between ticks (read it with `outputs`): the kept blocks' unknowns with
     /// their rates up to the scene's order, the scene's points, and the caches.
     pub type Tick<T> = ::mechgen::__private::SceneTick<T, 1, 2, 0, 2>;
-    /// Scene `rod` of mechanism `slider`: q2 to order 0; solves blocks [0] only.
+    /// Scene `rod` of mechanism `slider`: q2 to order 0; solves blocks `[0]` only.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Rod<T = f64> {
         pub params: Params<T>,
@@ -641,4 +641,4 @@ pub mod rod {
         }
     }
 }
-/// Scene `crank_pin` of mechanism `slider`: B_x, B_y, B_vx, B_vy to order 1; solves blocks [] only.
+/// Scene `crank_pin` of mechanism `slider`: B_x, B_y, B_vx, B_vy to order 1; solves blocks `[]` only.

@@ -9,7 +9,7 @@ use inverted_slider::Inputs;
 use inverted_slider::InvertedSlider;
 use mechgen_runtime::{InputMotion, SolveOptions};
 
-/// Crank rate [rad/s], time step [s] and number of steps: one full turn in 100 ticks.
+/// Crank rate (rad/s), time step (s) and number of steps: one full turn in 100 ticks.
 const OMEGA: f64 = std::f64::consts::TAU;
 const DT: f64 = 0.01;
 const STEPS: usize = 100;

@@ -1,6 +1,6 @@
 //! [`Lanes`] on plain arrays ([`Vf64`], [`Vf32`]): every operation a loop over the lanes that the
 //! compiler turns into the vector instructions of the function it is inlined into. Compiled in a
-//! function that [`dispatch`](super::dispatch) runs with AVX-512 enabled, an eight-lane `Vf64` is
+//! function that [`dispatch`](super::dispatch()) runs with AVX-512 enabled, an eight-lane `Vf64` is
 //! one 512-bit register; with AVX2 two 256-bit ones; on baseline x86-64 four SSE2 ones. The same
 //! source and the same IEEE operations in every case, so the results are equal bit for bit.
 
@@ -224,7 +224,7 @@ macro_rules! array_lanes {
 array_lanes!(
     /// `W` f64 lanes as a plain array (see the module): the lanes
     /// [`WithLanes`](super::WithLanes) gives for f64 (`Vf64<8>`), vectorized to the widest
-    /// instructions of the CPU where [`dispatch`](super::dispatch) runs them.
+    /// instructions of the CPU where [`dispatch`](super::dispatch()) runs them.
     Vf64,
     f64
 );

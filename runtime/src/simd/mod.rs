@@ -154,7 +154,7 @@ pub trait Lanes:
 
 /// The lanes of a scalar for code that runs with the CPU's widest vectors: eight f64 lanes
 /// ([`Vf64<8>`]), sixteen f32 lanes ([`Vf32<16>`]), plain arrays that a kernel run by
-/// [`dispatch`] compiles to one AVX-512 register, two AVX2 ones or four SSE2 ones, whichever the
+/// [`dispatch()`] compiles to one AVX-512 register, two AVX2 ones or four SSE2 ones, whichever the
 /// CPU has (chosen at run time; the same results on every path).
 pub trait WithLanes: Real {
     type Lanes: Lanes<Scalar = Self>;

@@ -1,7 +1,7 @@
 //! Forward dynamics of one input: the motion the applied effort, gravity and loads make, the
 //! other inputs held at rest. The equation of motion is the inverse dynamics solved for the
 //! input's acceleration: the effort the motion needs is linear in `ẍ` with the generalized inertia
-//! as its slope ([`crate::dynamics`]), so `ẍ = (Q(t, x, ẋ) − effort(x, ẋ, ẍ = 0)) / M(x)`. Every
+//! as its slope ([`crate::dynamics()`]), so `ẍ = (Q(t, x, ẋ) − effort(x, ẋ, ẍ = 0)) / M(x)`. Every
 //! evaluation solves the positions on the loop (the engine's tick from its last state: the one
 //! predictor), so the loop closes at every stage to solver precision.
 //!

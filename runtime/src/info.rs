@@ -118,8 +118,10 @@ impl From<&StaticInfo> for MechanismInfo {
     }
 }
 
-/// A point's position, velocity and acceleration.
+/// A point's position, velocity and acceleration (laid out as six `T` in this order: run-time
+/// compiled code writes them so).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
 pub struct PointMotion<T> {
     pub position: [T; 2],
     pub velocity: [T; 2],

@@ -17,13 +17,9 @@ use mechgen_runtime::trig::TrigSlices;
 use super::closed;
 use super::driver::BlockWork;
 use super::engine::Generic;
-#[cfg(feature = "jit")]
-use super::engine::ProgramParams;
 use super::factors::{Factors, Kept};
 #[cfg(feature = "jit")]
 use super::jit::{FusedArgs, Positions, Stages};
-#[cfg(feature = "jit")]
-use super::scratch::Scratch;
 use super::scratch::Sized;
 
 /// The call steps of one run of a tick's program, on the workspace's buffers (in any
@@ -193,68 +189,79 @@ impl Stages for TickStages<'_, f64> {
     }
 }
 
+/// The buffers a motion is solved in: the unknowns (the guess on entry) and their sines and
+/// cosines, solved in place; the velocities, accelerations and the points' six values each,
+/// written.
 #[cfg(feature = "jit")]
-/// A tick's motion by `g`'s compiled program, when it has one for `T` (f64) and `options` (closed
-/// forms on), with `p` its params and prelude ([`ProgramParams`]): positions from the guess in
-/// `ws.trial` (sines and cosines in `ws.trial_sc`, the inputs' `sx`), velocities into `qd`,
-/// accelerations into `qdd`, the points into `ws.points`. As the driver leaves them: on success
-/// `ws.trial` holds the unknowns and `ws.sc` their sines and cosines (`ws.trial_sc` is left
-/// undefined). `None`: not run.
-pub(super) fn run<T: Real>(
+pub(super) struct Solving<'s> {
+    pub q: &'s mut [f64],
+    pub sc: &'s mut [(f64, f64)],
+    pub qd: &'s mut [f64],
+    pub qdd: &'s mut [f64],
+    pub points: &'s mut [f64],
+}
+
+#[cfg(feature = "jit")]
+/// A motion by `g`'s compiled program, when it has one and `options` has closed forms on:
+/// positions from the guess in `at` (the inputs' sines and cosines `sx`), the rates and points
+/// into it, the callbacks' steps in `work`. On success `at.q` holds the unknowns and `at.sc`
+/// their sines and cosines, as the driver leaves them. `None`: not run.
+pub(super) fn run(
     g: &Generic,
-    p: &ProgramParams,
-    input: InputMotion<&[T]>,
-    sx: &[(T, T)],
-    options: &SolveOptions<T>,
-    ws: &mut Scratch<T>,
-    [qd, qdd]: [&mut [T]; 2],
-) -> Option<Result<NewtonReport<T>, SolveError>> {
+    input: InputMotion<&[f64]>,
+    sx: &[(f64, f64)],
+    options: &SolveOptions<f64>,
+    work: BlockWork<'_, f64>,
+    at: Solving<'_>,
+) -> Option<Result<NewtonReport<f64>, SolveError>> {
     let fused = g.fused.as_ref().filter(|_| options.closed_forms)?;
-    let ws = (ws as &mut dyn Any).downcast_mut::<Scratch<f64>>()?;
+    let p = g.program_params.as_ref()?;
+    let mut stages = TickStages::new(g, options, p.scale, work);
+    let args = FusedArgs {
+        x: input.x,
+        p: &p.values,
+        xd: input.xd,
+        xdd: input.xdd,
+        sx,
+        q: at.q,
+        sc: at.sc,
+        qd: at.qd,
+        qdd: at.qdd,
+        tolerance: options.newton.tolerance,
+    };
+    let (status, pivot_ratio) = fused.call(args, &mut stages, at.points)?;
+    if status != 0 {
+        return Some(Err(stages.error.unwrap_or(SolveError::NotStarted)));
+    }
+    let r = stages.report;
+    Some(Ok(NewtonReport {
+        iterations: r.iterations,
+        residual: r.residual,
+        pivot_ratio,
+    }))
+}
+
+/// The motion's arguments in f64, when `T` is f64 (what compiled code runs in).
+#[cfg(feature = "jit")]
+pub(super) fn in_f64<'a, T: Real>(
+    input: InputMotion<&'a [T]>,
+    options: &'a SolveOptions<T>,
+) -> Option<(InputMotion<&'a [f64]>, &'a SolveOptions<f64>)> {
     let options = (options as &dyn Any).downcast_ref::<SolveOptions<f64>>()?;
     let (x, xd, xdd) = (
         T::as_f64s(input.x)?,
         T::as_f64s(input.xd)?,
         T::as_f64s(input.xdd)?,
     );
-    let (sx, qd, qdd) = (
-        T::pairs_as_f64s(sx)?,
-        T::as_f64s_mut(qd)?,
-        T::as_f64s_mut(qdd)?,
-    );
-    let Scratch {
-        regs,
-        out,
-        trial,
-        trial_sc,
-        sc,
-        points,
-        by_size,
-        ..
-    } = ws;
-    points.resize(6 * g.info.points.len(), 0.0);
-    let mut stages = TickStages::new(g, options, p.scale, (regs, out, by_size));
-    let args = FusedArgs {
-        x,
-        p: &p.values,
-        xd,
-        xdd,
-        sx,
-        q: trial,
-        sc: trial_sc,
-        qd,
-        qdd,
-        tolerance: options.newton.tolerance,
-    };
-    let (status, pivot_ratio) = fused.call(args, &mut stages, points)?;
-    if status != 0 {
-        return Some(Err(stages.error.unwrap_or(SolveError::NotStarted)));
-    }
-    std::mem::swap(sc, trial_sc);
-    let r = stages.report;
-    Some(Ok(NewtonReport {
+    Some((InputMotion { x, xd, xdd }, options))
+}
+
+/// A report of compiled code's motion as one in `T`.
+#[cfg(feature = "jit")]
+pub(super) fn report_in<T: Real>(r: NewtonReport<f64>) -> NewtonReport<T> {
+    NewtonReport {
         iterations: r.iterations,
         residual: T::lit(r.residual),
-        pivot_ratio: T::lit(pivot_ratio),
-    }))
+        pivot_ratio: T::lit(r.pivot_ratio),
+    }
 }

@@ -1,9 +1,14 @@
 //! Generic engine, its tick ([`GenericTick`], what `DynMechanism::ticker` gives): a generated
 //! `Tick`'s rule on slices. The runtime's one predictor (`tick::predict`: unknowns by Taylor,
 //! closed-form unknowns kept, cached sines and cosines rotated, recomputed every
-//! `RESYNC_TICKS`; `tick::inputs_trig` for the inputs), then the block driver from that guess with
-//! those sines and cosines, so that a tick of the interpreter or the JIT has the bits of the
-//! generated tick.
+//! `RESYNC_TICKS`; `tick::inputs_trig` for the inputs), then the motion from that guess with
+//! those sines and cosines (the compiled program, the walked one or the block driver), so that a
+//! tick of the interpreter or the JIT has the bits of the generated tick.
+//!
+//! The tick keeps two states: its own and the one before it. A tick predicts from its state into
+//! the other, solves there in place and, on success, makes it its own (no copies, no swaps of
+//! buffers); on failure the other is left half-written and its state is unchanged. The state
+//! before (the branch rule's) is the other one.
 
 use mechgen_runtime::dyn_tick::{DynTick, StateRef};
 use mechgen_runtime::dynamic::{DynMechanism, DynState, len};
@@ -15,21 +20,42 @@ use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
 use mechgen_runtime::tick::{Last, RESYNC_TICKS, inputs_trig, predict};
 use mechgen_runtime::{BodyMass, Kind, MechanismInfo};
 
-use super::driver::Rates;
+use super::driver::{BlockWork, Rates};
 use super::engine::Generic;
-use super::scratch::{Scratch, Scratched};
+use super::scratch::{Scratch, Scratched, Sized};
 use super::tape::Env;
 
-/// The tick of a [`Generic`] mechanism: its state with the sines and cosines of its inputs and
-/// unknowns as the next tick rotates them.
-pub struct GenericTick<'a, T: Real> {
-    g: &'a Generic,
+/// A state of a tick with the sines and cosines of its inputs and unknowns (those of the others
+/// stay (0, 1)).
+struct Slot<T: Real> {
     state: DynState<T>,
-    /// The unknowns and their rates before the last tick (what the branch rule checks).
-    before: [Vec<T>; 3],
     tx: Vec<(T, T)>,
     tq: Vec<(T, T)>,
-    next_tx: Vec<(T, T)>,
+}
+
+impl<T: Real> Slot<T> {
+    fn new(ni: usize, nu: usize, np: usize) -> Self {
+        let (zeros, guess) = (vec![T::zero(); ni], vec![T::zero(); nu]);
+        Slot {
+            state: DynState::new(
+                InputMotion::new(&zeros[..], &zeros[..], &zeros[..]),
+                &guess,
+                np,
+            ),
+            tx: vec![(T::zero(), T::one()); ni],
+            tq: vec![(T::zero(), T::one()); nu],
+        }
+    }
+}
+
+/// The tick of a [`Generic`] mechanism: its state with the sines and cosines of its inputs and
+/// unknowns as the next tick rotates them, and the state before it.
+pub struct GenericTick<'a, T: Real> {
+    g: &'a Generic,
+    /// `slots[cur]` is the tick's state, the other the one before it (where the next tick is
+    /// solved).
+    slots: [Slot<T>; 2],
+    cur: usize,
     /// Ticks since the caches were computed afresh.
     age: u32,
     /// Which inputs are angles; which unknowns a closed form solves (kept by the predictor).
@@ -37,150 +63,209 @@ pub struct GenericTick<'a, T: Real> {
     keep: Vec<bool>,
     all_closed: bool,
     started: bool,
+    /// The stages' block work of a compiled program that needs none of its own (empty: see
+    /// `Fused::uses_work`).
+    idle: Idle<T>,
 }
+
+/// Block work that is never grown.
+type Idle<T> = (Vec<T>, Vec<T>, Vec<Option<Sized<T>>>);
 
 impl<'a, T: Scratched> GenericTick<'a, T> {
     pub fn new(g: &'a Generic) -> Self {
         let info: MechanismInfo = DynMechanism::<f64>::info(g);
-        let (ni, nu) = (info.inputs.len(), info.unknowns.len());
+        let (ni, nu, np) = (info.inputs.len(), info.unknowns.len(), info.points.len());
         let mut keep = vec![false; nu];
         for b in g.blocks.iter().filter(|b| b.closed.is_some()) {
             for &u in &b.unknowns {
                 keep[u] = true;
             }
         }
-        let zeros = vec![T::zero(); ni];
-        let guess = vec![T::zero(); nu];
         GenericTick {
             g,
-            state: DynState::new(
-                InputMotion::new(&zeros[..], &zeros[..], &zeros[..]),
-                &guess,
-                info.points.len(),
-            ),
-            before: [guess.clone(), guess.clone(), guess],
-            tx: vec![(T::zero(), T::one()); ni],
-            tq: vec![(T::zero(), T::one()); nu],
-            next_tx: vec![(T::zero(), T::one()); ni],
+            slots: [Slot::new(ni, nu, np), Slot::new(ni, nu, np)],
+            cur: 0,
             age: 0,
             input_angle: info.inputs.iter().map(|i| i.kind == Kind::Angle).collect(),
             all_closed: keep.iter().all(|&k| k),
             keep,
             started: false,
+            idle: (Vec::new(), Vec::new(), Vec::new()),
         }
     }
 
-    /// One tick into the workspace and, on success, the state.
+    /// One tick into the other slot and, on success, that slot becomes the state.
     fn advance(
         &mut self,
         input: InputMotion<&[T]>,
         options: &SolveOptions<T>,
-        ws: &mut Scratch<T>,
     ) -> Result<(), SolveError> {
         let InputMotion { x, xd, xdd } = input;
-        let s = &self.state;
         check_finite(Quantity::Input, x)?;
         check_finite(Quantity::InputRate, xd)?;
         check_finite(Quantity::InputAcceleration, xdd)?;
         let resync = self.age >= RESYNC_TICKS;
-        // Every angle's entry is written; the others stay (0, 1) in both caches.
-        let angle = &self.input_angle;
-        inputs_trig(&self.tx, &s.x, x, angle, resync, &mut self.next_tx);
-        ws.trial.resize(s.q.len(), T::zero());
-        copy_few(&mut ws.trial, &s.q);
-        ws.trial_sc.resize(self.tq.len(), (T::zero(), T::one()));
-        copy_few(&mut ws.trial_sc, &self.tq);
+        let predicts = !(options.closed_forms && self.all_closed);
+        let (g, angle, keep) = (self.g, &self.input_angle[..], &self.keep[..]);
+        let [a, b] = &mut self.slots;
+        let (old, new) = if self.cur == 0 { (&*a, b) } else { (&*b, a) };
+        let s = &old.state;
+        // Every angle's entry is written; the others stay (0, 1) in both slots.
+        inputs_trig(&old.tx, &s.x, x, angle, resync, &mut new.tx);
+        copy_few(&mut new.state.q, &s.q);
+        copy_few(&mut new.tq, &old.tq);
         // A mechanism solved in closed form throughout starts from the last tick as it is.
-        if !(options.closed_forms && self.all_closed) {
-            let keep: &[bool] = if options.closed_forms {
-                &self.keep
-            } else {
-                &[]
-            };
+        if predicts {
+            let keep: &[bool] = if options.closed_forms { keep } else { &[] };
             let last = Last {
                 x: &s.x,
                 xd: &s.xd,
                 q: &s.q,
                 qd: &s.qd,
                 qdd: &s.qdd,
-                tq: &self.tq,
+                tq: &old.tq,
             };
-            let (q, sc) = (&mut ws.trial, &mut ws.trial_sc);
-            predict(last, x, &self.g.angle, keep, resync, q, sc);
+            let (q, sc) = (&mut new.state.q, &mut new.tq);
+            predict(last, x, &g.angle, keep, resync, q, sc);
         }
-        // The rates are solved into the buffers of the rates before the last tick, which swap
-        // with the state's on success.
-        let mut qd = std::mem::take(&mut self.before[1]);
-        let mut qdd = std::mem::take(&mut self.before[2]);
-        let solved = self.motion(input, options, ws, [&mut qd, &mut qdd]);
-        let s = &mut self.state;
-        if let Ok(report) = &solved {
-            std::mem::swap(&mut s.q, &mut ws.trial);
-            std::mem::swap(&mut self.before[0], &mut ws.trial);
-            std::mem::swap(&mut s.qd, &mut qd);
-            std::mem::swap(&mut s.qdd, &mut qdd);
-            copy_few(&mut s.x, x);
-            copy_few(&mut s.xd, xd);
-            copy_few(&mut s.xdd, xdd);
-            s.report = *report;
-            std::mem::swap(&mut self.tq, &mut ws.sc);
-            std::mem::swap(&mut self.tx, &mut self.next_tx);
-            self.age = if resync { 0 } else { self.age + 1 };
-        }
-        (self.before[1], self.before[2]) = (qd, qdd);
-        solved.map(|_| ())
-    }
-
-    /// The motion from the prediction in `ws.trial` (sines and cosines in `ws.trial_sc`): the
-    /// compiled program where there is one, else the block driver; on success the unknowns in
-    /// `ws.trial`, their sines and cosines in `ws.sc`, the rates in `qd` and `qdd`, the points
-    /// in the state.
-    fn motion(
-        &mut self,
-        input: InputMotion<&[T]>,
-        options: &SolveOptions<T>,
-        ws: &mut Scratch<T>,
-        [qd, qdd]: [&mut [T]; 2],
-    ) -> Result<NewtonReport<T>, SolveError> {
-        let (g, sx) = (self.g, &self.next_tx);
-        // Both engines walk the mechanism's program (with closed forms on): compiled, or
-        // interpreted.
-        if let Some(done) = super::walk::motion(g, input, sx, options, ws, [&mut *qd, &mut *qdd]) {
-            let report = done?;
-            Generic::set_points(&mut self.state.points, &ws.points);
-            return Ok(report);
-        }
-        let InputMotion { x, xd, xdd } = input;
-        let report = g.positions_from(g.whole(), x, sx, options, ws)?;
-        let (q, sc) = (std::mem::take(&mut ws.trial), std::mem::take(&mut ws.sc));
-        let env = Env {
-            xd,
-            xdd,
-            sc: &sc,
-            sx,
-            ..Env::position(x, &q, &g.params)
-        };
-        let solved = g
-            .rates(&g.order, Rates::Both, env, qd, qdd, ws)
-            .and_then(|()| {
-                let env = Env {
-                    qd: &*qd,
-                    qdd: &*qdd,
-                    ..env
-                };
-                let Scratch { regs, points, .. } = ws;
-                g.eval_points(env, &mut self.state.points, regs, points)
-            });
-        (ws.trial, ws.sc) = (q, sc);
-        solved.map(|()| report)
+        let report = motion(g, input, options, new, &mut self.idle)?;
+        let s = &mut new.state;
+        copy_few(&mut s.x, x);
+        copy_few(&mut s.xd, xd);
+        copy_few(&mut s.xdd, xdd);
+        s.report = report;
+        self.cur ^= 1;
+        self.age = if resync { 0 } else { self.age + 1 };
+        Ok(())
     }
 
     fn lengths(&self, input: InputMotion<&[T]>) -> Result<(), SolveError> {
-        let n = self.state.x.len();
+        let n = self.slots[self.cur].state.x.len();
         len(input.x, n)?;
         len(input.xd, n)?;
         len(input.xdd, n)
     }
+}
+
+/// The motion from the prediction in `at` (its unknowns with their sines and cosines, its
+/// inputs' sines and cosines at `input`): the compiled program where there is one, straight in
+/// `at`; else the walked program or the block driver in the workspace, copied back. On success
+/// `at` holds the unknowns, their sines and cosines, the rates and the points (its inputs and
+/// report are the caller's to write).
+fn motion<T: Scratched>(
+    g: &Generic,
+    input: InputMotion<&[T]>,
+    options: &SolveOptions<T>,
+    at: &mut Slot<T>,
+    idle: &mut Idle<T>,
+) -> Result<NewtonReport<T>, SolveError> {
+    // A compiled program that needs no block work runs without the thread's workspace.
+    #[cfg(feature = "jit")]
+    if g.fused.as_ref().is_some_and(|f| !f.uses_work()) {
+        let (regs, out, by_size) = idle;
+        if let Some(done) = compiled(g, input, options, at, (regs, out, by_size)) {
+            return done;
+        }
+    }
+    #[cfg(not(feature = "jit"))]
+    let _ = idle;
+    T::with_scratch(|ws| {
+        #[cfg(feature = "jit")]
+        {
+            let work = (&mut ws.regs, &mut ws.out, &mut ws.by_size);
+            if let Some(done) = compiled(g, input, options, at, work) {
+                return done;
+            }
+        }
+        let Slot {
+            state: s,
+            tx: sx,
+            tq,
+        } = at;
+        ws.trial.clear();
+        ws.trial.extend_from_slice(&s.q);
+        ws.trial_sc.clear();
+        ws.trial_sc.extend_from_slice(tq);
+        let rates = [&mut s.qd[..], &mut s.qdd[..]];
+        // Both engines walk the mechanism's program (with closed forms on).
+        let report = if let Some(done) = super::walk::motion(g, input, sx, options, ws, rates) {
+            let report = done?;
+            Generic::set_points(&mut s.points, &ws.points);
+            report
+        } else {
+            driven(g, input, sx, options, ws, s)?
+        };
+        copy_few(&mut s.q, &ws.trial);
+        copy_few(tq, &ws.sc);
+        Ok(report)
+    })
+}
+
+/// [`motion`] by the compiled program, in `at` itself (`None`: not compiled, or not in f64).
+#[cfg(feature = "jit")]
+fn compiled<T: Scratched>(
+    g: &Generic,
+    input: InputMotion<&[T]>,
+    options: &SolveOptions<T>,
+    at: &mut Slot<T>,
+    (regs, out, by_size): BlockWork<'_, T>,
+) -> Option<Result<NewtonReport<T>, SolveError>> {
+    use std::any::Any;
+    g.fused.as_ref()?;
+    let (input, options) = super::stages::in_f64(input, options)?;
+    let at = (at as &mut dyn Any).downcast_mut::<Slot<f64>>()?;
+    let work = (
+        (regs as &mut dyn Any).downcast_mut::<Vec<f64>>()?,
+        (out as &mut dyn Any).downcast_mut::<Vec<f64>>()?,
+        (by_size as &mut dyn Any).downcast_mut::<Vec<Option<Sized<f64>>>>()?,
+    );
+    let Slot { state: s, tx, tq } = at;
+    let solving = super::stages::Solving {
+        q: &mut s.q,
+        sc: tq,
+        qd: &mut s.qd,
+        qdd: &mut s.qdd,
+        points: super::jit::flat_points(&mut s.points),
+    };
+    let done = super::stages::run(g, input, tx, options, work, solving)?;
+    Some(done.map(super::stages::report_in))
+}
+
+/// The motion by the block driver (no program, or closed forms off), from the guess in
+/// `ws.trial`: the unknowns left there and their sines and cosines in `ws.sc`, the rates and
+/// points in `s`.
+fn driven<T: Scratched>(
+    g: &Generic,
+    input: InputMotion<&[T]>,
+    sx: &[(T, T)],
+    options: &SolveOptions<T>,
+    ws: &mut Scratch<T>,
+    s: &mut DynState<T>,
+) -> Result<NewtonReport<T>, SolveError> {
+    let InputMotion { x, xd, xdd } = input;
+    let report = g.positions_from(g.whole(), x, sx, options, ws)?;
+    let (q, sc) = (std::mem::take(&mut ws.trial), std::mem::take(&mut ws.sc));
+    let env = Env {
+        xd,
+        xdd,
+        sc: &sc,
+        sx,
+        ..Env::position(x, &q, &g.params)
+    };
+    let (qd, qdd) = (&mut s.qd[..], &mut s.qdd[..]);
+    let solved = g
+        .rates(&g.order, Rates::Both, env, qd, qdd, ws)
+        .and_then(|()| {
+            let env = Env {
+                qd: &*qd,
+                qdd: &*qdd,
+                ..env
+            };
+            let Scratch { regs, points, .. } = ws;
+            g.eval_points(env, &mut s.points, regs, points)
+        });
+    (ws.trial, ws.sc) = (q, sc);
+    solved.map(|()| report)
 }
 
 impl<T: Scratched> DynTick<T> for GenericTick<'_, T>
@@ -195,22 +280,22 @@ where
     ) -> Result<(), SolveError> {
         self.started = false;
         self.lengths(input)?;
-        len(guess, self.state.q.len())?;
-        let s = &mut self.state;
+        let Slot { state: s, tx, tq } = &mut self.slots[self.cur];
+        len(guess, s.q.len())?;
         s.x.copy_from_slice(input.x);
         s.xd.copy_from_slice(input.xd);
         s.xdd.copy_from_slice(input.xdd);
         s.q.copy_from_slice(guess);
         self.g.solve_in_place(s, options)?;
         // The caches afresh, as a generated tick's start makes them.
-        for ((t, x), &angle) in self.tx.iter_mut().zip(&s.x).zip(&self.input_angle) {
+        for ((t, x), &angle) in tx.iter_mut().zip(&s.x).zip(&self.input_angle) {
             *t = if angle {
                 x.sin_cos()
             } else {
                 (T::zero(), T::one())
             };
         }
-        for ((t, q), &angle) in self.tq.iter_mut().zip(&s.q).zip(&self.g.angle) {
+        for ((t, q), &angle) in tq.iter_mut().zip(&s.q).zip(&self.g.angle) {
             *t = if angle {
                 q.sin_cos()
             } else {
@@ -231,7 +316,7 @@ where
             return Err(SolveError::NotStarted);
         }
         self.lengths(input)?;
-        T::with_scratch(|ws| self.advance(input, options, ws))
+        self.advance(input, options)
     }
 
     fn tick_checked(
@@ -243,14 +328,14 @@ where
         before: &mut [T],
     ) -> Result<bool, SolveError> {
         self.tick(input, options)?;
-        let [q, qd, qdd] = &self.before;
-        len(before, q.len())?;
-        before.copy_from_slice(q);
-        Ok(guard.keeps(q, qd, qdd, dt, &self.state.q))
+        let (old, now) = (&self.slots[self.cur ^ 1].state, &self.slots[self.cur].state);
+        len(before, old.q.len())?;
+        before.copy_from_slice(&old.q);
+        Ok(guard.keeps(&old.q, &old.qd, &old.qdd, dt, &now.q))
     }
 
     fn state(&self) -> Option<StateRef<'_, T>> {
-        self.started.then(|| self.state.view())
+        self.started.then(|| self.slots[self.cur].state.view())
     }
 
     /// The tick, then gravity and every body at its state, on the sines and cosines it keeps (as
@@ -262,14 +347,15 @@ where
         sink: &mut dyn BodySink<T>,
     ) -> Result<bool, SolveError> {
         self.tick(input, options)?;
-        let (g, s) = (self.g, &self.state);
+        let (g, slot) = (self.g, &self.slots[self.cur]);
+        let s = &slot.state;
         let env = Env {
             xd: &s.xd,
             qd: &s.qd,
             xdd: &s.xdd,
             qdd: &s.qdd,
-            sc: &self.tq,
-            sx: &self.tx,
+            sc: &slot.tq,
+            sx: &slot.tx,
             ..Env::position(&s.x, &s.q, &g.params)
         };
         T::with_scratch(|ws| {

@@ -31,10 +31,49 @@ pub(super) fn motion<T: Real>(
     let program = g.program.as_ref().filter(|_| options.closed_forms)?;
     let p = g.program_params.as_ref()?;
     #[cfg(feature = "jit")]
-    if let Some(done) = super::stages::run(g, p, input, sx, options, ws, [&mut *qd, &mut *qdd]) {
+    if let Some(done) = compiled(g, input, sx, options, ws, [&mut *qd, &mut *qdd]) {
         return Some(done);
     }
     Some(run(g, program, p, input, sx, options, ws, [qd, qdd]))
+}
+
+/// [`motion`] by the compiled program, in the workspace (`None`: not compiled for `T`).
+#[cfg(feature = "jit")]
+fn compiled<T: Real>(
+    g: &Generic,
+    input: InputMotion<&[T]>,
+    sx: &[(T, T)],
+    options: &SolveOptions<T>,
+    ws: &mut Scratch<T>,
+    [qd, qdd]: [&mut [T]; 2],
+) -> Option<Result<NewtonReport<T>, SolveError>> {
+    let ws = (ws as &mut dyn std::any::Any).downcast_mut::<Scratch<f64>>()?;
+    let Scratch {
+        regs,
+        out,
+        trial,
+        trial_sc,
+        sc,
+        points,
+        by_size,
+        ..
+    } = ws;
+    points.resize(6 * g.info.points.len(), 0.0);
+    let at = super::stages::Solving {
+        q: trial,
+        sc: trial_sc,
+        qd: T::as_f64s_mut(qd)?,
+        qdd: T::as_f64s_mut(qdd)?,
+        points,
+    };
+    let work = (regs, out, by_size);
+    let (input, options) = super::stages::in_f64(input, options)?;
+    let sx = T::pairs_as_f64s(sx)?;
+    let done = super::stages::run(g, input, sx, options, work, at)?;
+    if done.is_ok() {
+        std::mem::swap(sc, trial_sc);
+    }
+    Some(done.map(super::stages::report_in))
 }
 
 /// A tick's motion by walking `program` (of `g`), with `p` its params and prelude ([`ProgramParams`]):

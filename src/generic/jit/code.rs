@@ -29,6 +29,7 @@ use std::sync::Arc;
 
 use cranelift_jit::JITModule;
 
+use mechgen_runtime::PointMotion;
 use mechgen_runtime::elimination::Factored;
 use mechgen_runtime::error::{SolveError, Stage};
 use mechgen_runtime::twofold::Arith;
@@ -257,6 +258,7 @@ pub struct Fused {
     reads: Reads,
     writes: usize,
     outputs: usize,
+    work: bool,
 }
 
 impl std::fmt::Debug for Fused {
@@ -276,6 +278,7 @@ impl Fused {
         reads: Reads,
         writes: usize,
         outputs: usize,
+        work: bool,
     ) -> Self {
         // SAFETY: invariant 4 (the signature) and 1 (the address lives as long as `code`).
         let entry = unsafe { std::mem::transmute::<*const u8, FusedEntry>(address) };
@@ -285,7 +288,15 @@ impl Fused {
             reads,
             writes,
             outputs,
+            work,
         }
+    }
+
+    /// Whether a call step may need the stages' block work (a Newton block, the rates of a
+    /// block larger than 2×2); without, the stages are only called back for closed forms, the
+    /// refinement and small blocks' rates, which work in no buffer of theirs.
+    pub fn uses_work(&self) -> bool {
+        self.work
     }
 
     /// Runs the motion; `None` (nothing run) when a slice is shorter than what the code reads or
@@ -337,6 +348,21 @@ impl Fused {
         let _ = &self.code;
         Some((status, frame.pivot_ratio))
     }
+}
+
+/// The points' motions as the six values each that compiled code writes (a point's position,
+/// velocity and acceleration in that order: `PointMotion` is `repr(C)`, of six f64 and no
+/// padding, as checked below).
+pub fn flat_points(points: &mut [PointMotion<f64>]) -> &mut [f64] {
+    const _: () = assert!(
+        size_of::<PointMotion<f64>>() == 6 * size_of::<f64>()
+            && align_of::<PointMotion<f64>>() == align_of::<f64>()
+    );
+    let n = 6 * points.len();
+    // SAFETY: a `repr(C)` struct of three `[f64; 2]` is six f64 in order without padding (the
+    // size and alignment asserted above), so `points` is `n` initialized f64, borrowed mutably
+    // for the result's lifetime.
+    unsafe { std::slice::from_raw_parts_mut(points.as_mut_ptr().cast::<f64>(), n) }
 }
 
 /// `sin` and `cos` of `x` into `out[0]` and `out[1]`: the interpreter's `sin_cos_of`, called by

@@ -34,6 +34,8 @@ pub(super) struct Lower<'a, 'p> {
     pub writes: usize,
     /// The registers of each block's velocity step (its Jacobian for the acceleration).
     pub velocity_values: HashMap<usize, Vec<u32>>,
+    /// Whether a call step needs the stages' block work (a Newton block, a large block's rates).
+    pub work: bool,
 }
 
 /// An `i32` byte offset.
@@ -42,13 +44,14 @@ pub(super) fn offset(bytes: usize) -> Result<i32, JitError> {
 }
 
 /// Lowers `p` into the function `e` builds (parameters `frame`, the `code::Frame`, and `out`);
-/// what it reads, one past the largest unknown whose rates it stores, how many outputs it writes.
+/// what it reads, one past the largest unknown whose rates it stores, how many outputs it writes,
+/// whether a call step needs the stages' block work.
 pub(super) fn lower(
     mut e: Emit<'_>,
     p: &Program,
     frame: Value,
     out: Value,
-) -> Result<(Reads, usize, usize), JitError> {
+) -> Result<(Reads, usize, usize, bool), JitError> {
     let width = u32::try_from(p.call_width().max(1) * 8).map_err(|_| JitError::Tape)?;
     let slot = |bytes| StackSlotData::new(StackSlotKind::ExplicitSlot, bytes, 3);
     let buf = e.b.create_sized_stack_slot(slot(width));
@@ -71,6 +74,7 @@ pub(super) fn lower(
         fail,
         writes: 0,
         velocity_values: HashMap::new(),
+        work: false,
     };
     let mut outputs = 0;
     for step in &p.steps {
@@ -122,8 +126,8 @@ pub(super) fn lower(
     l.e.b.switch_to_block(l.fail);
     let status = l.e.b.block_params(l.fail)[0];
     l.e.b.ins().return_(&[status]);
-    let writes = l.writes;
-    Ok((l.e.finish(), writes, outputs))
+    let (writes, work) = (l.writes, l.work);
+    Ok((l.e.finish(), writes, outputs, work))
 }
 
 impl Lower<'_, '_> {
@@ -140,6 +144,7 @@ impl Lower<'_, '_> {
     /// A call of `code::stage` with `values` in the buffer; on failure a return of its status,
     /// else on at a new block, the solved values (if any) in the buffer.
     pub fn call(&mut self, call: Call, block: usize, values: &[u32]) -> Result<(), JitError> {
+        self.work |= matches!(call, Call::Newton | Call::Velocity | Call::Acceleration);
         let ptr = self.e.ptr;
         let at = self.e.b.ins().stack_addr(ptr, self.buf, 0);
         for (j, &r) in values.iter().enumerate() {

@@ -26,7 +26,7 @@ pub(super) struct Lowering {
     ptr: Type,
     done: Vec<(FuncId, Reads, usize)>,
     /// The fused program's function, when one was added.
-    fused: Option<(FuncId, Reads, usize, usize)>,
+    fused: Option<(FuncId, Reads, usize, usize, bool)>,
 }
 
 impl Lowering {
@@ -106,12 +106,19 @@ impl Lowering {
             [1, 4, 6, 7, 8],
         );
         e.pairs_complete = true;
-        let (reads, writes, outputs) = super::fused::lower(e, p, frame, out)?;
+        let (reads, writes, outputs, work) = super::fused::lower(e, p, frame, out)?;
+        // A developer's view of the machine code (spills, constants): `MECHGEN_JIT_DUMP=1`
+        // prints each fused program's disassembly to stderr as it is compiled.
+        let dump = std::env::var_os("MECHGEN_JIT_DUMP").is_some();
+        self.ctx.set_disasm(dump);
         self.module
             .define_function(id, &mut self.ctx)
             .map_err(|e| JitError::Compile(e.to_string()))?;
+        if let Some(c) = self.ctx.compiled_code().filter(|_| dump) {
+            eprintln!("{}", c.vcode.as_deref().unwrap_or(""));
+        }
         self.module.clear_context(&mut self.ctx);
-        self.fused = Some((id, reads, writes, outputs));
+        self.fused = Some((id, reads, writes, outputs, work));
         Ok(())
     }
 
@@ -123,14 +130,14 @@ impl Lowering {
         let addresses: Vec<_> = (self.done.iter())
             .map(|&(id, reads, n)| (self.module.get_finalized_function(id), reads, n))
             .collect();
-        let fused =
-            (self.fused).map(|(id, r, w, n)| (self.module.get_finalized_function(id), r, w, n));
+        let fused = (self.fused)
+            .map(|(id, r, w, n, k)| (self.module.get_finalized_function(id), r, w, n, k));
         let code = code::Code::new(self.module);
         let functions = addresses
             .into_iter()
             .map(|(a, reads, n)| code::Function::new(&code, a, reads, n))
             .collect();
-        let fused = fused.map(|(a, r, w, n)| code::Fused::new(&code, a, r, w, n));
+        let fused = fused.map(|(a, r, w, n, k)| code::Fused::new(&code, a, r, w, n, k));
         Ok((functions, fused))
     }
 

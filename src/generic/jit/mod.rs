@@ -14,7 +14,7 @@ mod lower;
 mod trace;
 
 pub use abi::{FusedArgs, Positions, Stages};
-pub use code::{Function, Fused};
+pub use code::{Function, Fused, flat_points};
 pub use error::JitError;
 
 use super::op::Op;

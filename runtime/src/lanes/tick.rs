@@ -182,7 +182,7 @@ pub fn tick<
                     t.iterations.as_mut()[i] = report.iterations.lane(i).to_f64() as u32;
                 }
                 t.residual = L::select(L::mask(good), report.residual, t.residual);
-            } else {
+            } else if good & t.scalar_report != 0 {
                 // The report of a closed-form solve: no iterations, no residual.
                 for i in (0..L::W).filter(|i| (good & t.scalar_report) >> i & 1 == 1) {
                     t.iterations.as_mut()[i] = 0;
@@ -190,21 +190,30 @@ pub fn tick<
                 }
             }
             t.scalar_report &= !good;
-            for i in (0..L::W).filter(|i| (good & t.failed) >> i & 1 == 1) {
-                t.status.as_mut()[i] = Ok(());
+            if good & t.failed != 0 {
+                for i in (0..L::W).filter(|i| (good & t.failed) >> i & 1 == 1) {
+                    t.status.as_mut()[i] = Ok(());
+                }
             }
             t.failed &= !good;
-            for i in 0..L::W {
-                // As the scalar `update`: the caches start again after a resync.
-                if good >> i & 1 == 1 {
-                    let age = &mut t.age.as_mut()[i];
-                    *age = if due >> i & 1 == 1 { 0 } else { *age + 1 };
+            // As the scalar `update`: a lane's caches start again after a resync.
+            if good == all && due == 0 {
+                // The common case, in one vector operation.
+                for age in t.age.as_mut() {
+                    *age += 1;
+                }
+            } else {
+                for (i, age) in t.age.as_mut().iter_mut().enumerate() {
+                    let (g, d) = (good >> i & 1, due >> i & 1);
+                    *age = if g & d == 1 { 0 } else { *age + g };
                 }
             }
         }
     }
-    for i in (0..L::W).filter(|i| bad >> i & 1 == 1) {
-        restart(t, i, [x, xd, xdd], &mut scalar);
+    if bad != 0 {
+        for i in (0..L::W).filter(|i| bad >> i & 1 == 1) {
+            restart(t, i, [x, xd, xdd], &mut scalar);
+        }
     }
     if !known {
         t.learn_params_id(params, params_id, read);
@@ -277,10 +286,17 @@ pub(super) fn store<
 ) {
     let s = &mut t.state;
     if good == L::all_bits() {
-        (s.x, s.xd, s.xdd) = (*x, *xd, *xdd);
-        (s.q, s.qd, s.qdd, s.points) = (st.q, qd, qdd, points);
+        // Field by field (a tuple would be built first, then copied).
+        s.x = *x;
+        s.xd = *xd;
+        s.xdd = *xdd;
+        s.q = st.q;
+        s.qd = qd;
+        s.qdd = qdd;
+        s.points = points;
         s.pivot_ratio = pivot;
-        (t.tx, t.tq) = (tx, st.sc);
+        t.tx = tx;
+        t.tq = st.sc;
         return;
     }
     let m = L::mask(good);

@@ -211,9 +211,11 @@ macro_rules! array_lanes {
             }
             #[inline(always)]
             fn bits(m: ArrayMask<W>) -> u32 {
+                // A lane of a mask is 0 or -1 (every mask is made by `from_bools` and kept so by
+                // `&`, `|` and `!`): its sign bit, which the CPU gathers in one instruction.
                 let mut bits = 0;
                 for (i, &b) in m.0.iter().enumerate() {
-                    bits |= u32::from(b != 0) << i;
+                    bits |= u32::from(b < 0) << i;
                 }
                 bits
             }

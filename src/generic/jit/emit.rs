@@ -5,8 +5,8 @@
 
 use cranelift_codegen::ir::condcodes::IntCC;
 use cranelift_codegen::ir::{
-    AbiParam, InstBuilder, MemFlagsData, StackSlot, StackSlotData, StackSlotKind, Type, Value,
-    types,
+    AbiParam, InstBuilder, InstructionData, MemFlagsData, Opcode, StackSlot, StackSlotData,
+    StackSlotKind, Type, Value, types,
 };
 use cranelift_frontend::FunctionBuilder;
 use cranelift_jit::{JITBuilder, JITModule};
@@ -166,7 +166,7 @@ impl<'a> Emit<'a> {
         let mut base = [None; 11];
         for (i, _) in used.iter().enumerate().filter(|(_, u)| **u) {
             let at = slot_bytes * i as i32;
-            base[i] = Some(b.ins().load(ptr, MemFlagsData::trusted(), args, at));
+            base[i] = Some(b.ins().load(ptr, fixed(), args, at));
         }
         let pair_slot =
             b.create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, 16, 3));
@@ -201,10 +201,14 @@ impl<'a> Emit<'a> {
         *n = (*n).max(i + 1);
         let at = i32::try_from(i * 8).map_err(|_| JitError::Tape)?;
         let from = self.base[s].ok_or(JitError::Tape)?;
-        Ok(self
-            .b
-            .ins()
-            .load(types::F64, MemFlagsData::trusted(), from, at))
+        // The inputs, params and input rates do not change while the function runs: their
+        // loads may move to their first use (fewer values live across the function).
+        let flags = if matches!(s, 0 | 2 | 3 | 5) {
+            fixed()
+        } else {
+            MemFlagsData::trusted()
+        };
+        Ok(self.b.ins().load(types::F64, flags, from, at))
     }
 
     /// Stores register `r` at `to[j]` (f64 elements).
@@ -236,7 +240,7 @@ impl<'a> Emit<'a> {
                     self.load(s, i)?
                 }
                 Op::Add(x, y) => {
-                    let (x, y) = (self.reg(x)?, self.reg(y)?);
+                    let (x, y) = constant_second(&self.b, self.reg(x)?, self.reg(y)?);
                     self.b.ins().fadd(x, y)
                 }
                 Op::Sub(x, y) => {
@@ -244,7 +248,7 @@ impl<'a> Emit<'a> {
                     self.b.ins().fsub(x, y)
                 }
                 Op::Mul(x, y) => {
-                    let (x, y) = (self.reg(x)?, self.reg(y)?);
+                    let (x, y) = constant_second(&self.b, self.reg(x)?, self.reg(y)?);
                     self.b.ins().fmul(x, y)
                 }
                 Op::Div(x, y) => {
@@ -324,6 +328,34 @@ impl<'a> Emit<'a> {
         self.b.finalize(self.module.target_config());
         self.reads
     }
+}
+
+/// The operands of a sum or product with a constant second: x86 reads a constant second operand
+/// straight from the constant pool, where a first one takes two instructions to put in a
+/// register. The same bits: IEEE addition and multiplication are commutative, and a constant
+/// that is not NaN cannot choose which NaN the result carries.
+pub(super) fn constant_second(b: &FunctionBuilder, x: Value, y: Value) -> (Value, Value) {
+    let constant = |v: Value| {
+        let dfg = &b.func.dfg;
+        dfg.value_def(v).inst().is_some_and(|i| match dfg.insts[i] {
+            InstructionData::UnaryIeee64 {
+                opcode: Opcode::F64const,
+                imm,
+            } => !f64::from_bits(imm.bits()).is_nan(),
+            _ => false,
+        })
+    };
+    if constant(x) && !constant(y) {
+        (y, x)
+    } else {
+        (x, y)
+    }
+}
+
+/// The flags of a load from memory that compiled code never writes while it runs (`Args`
+/// itself, and the inputs, params and input rates it points to): read-only and free to move.
+fn fixed() -> MemFlagsData {
+    MemFlagsData::trusted().with_readonly().with_can_move()
 }
 
 /// The kept (sin, cos) of unknown `k` when `k < len` (read from `sc`), else `computed`: a

@@ -14,6 +14,7 @@ use cranelift_codegen::ir::{InstBuilder, Value};
 use cranelift_frontend::FunctionBuilder;
 use mechgen_runtime::lanes::Lanes;
 
+use super::emit::constant_second;
 use super::error::JitError;
 
 /// The value a kernel's `tolerance` (a plain `f64` argument of the lane kernels) is traced with:
@@ -259,9 +260,15 @@ pub(super) fn lower(
             Node::Const(c) => b.ins().f64const(c),
             Node::Input(i) => at(inputs, i)?,
             Node::Tolerance => tolerance.ok_or(JitError::Tape)?,
-            Node::Add(x, y) => b.ins().fadd(at(&v, x)?, at(&v, y)?),
+            Node::Add(x, y) => {
+                let (x, y) = constant_second(b, at(&v, x)?, at(&v, y)?);
+                b.ins().fadd(x, y)
+            }
             Node::Sub(x, y) => b.ins().fsub(at(&v, x)?, at(&v, y)?),
-            Node::Mul(x, y) => b.ins().fmul(at(&v, x)?, at(&v, y)?),
+            Node::Mul(x, y) => {
+                let (x, y) = constant_second(b, at(&v, x)?, at(&v, y)?);
+                b.ins().fmul(x, y)
+            }
             Node::Div(x, y) => b.ins().fdiv(at(&v, x)?, at(&v, y)?),
             Node::Neg(x) => b.ins().fneg(at(&v, x)?),
             Node::Sqrt(x) => b.ins().sqrt(at(&v, x)?),

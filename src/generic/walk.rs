@@ -48,30 +48,20 @@ fn compiled<T: Real>(
     [qd, qdd]: [&mut [T]; 2],
 ) -> Option<Result<NewtonReport<T>, SolveError>> {
     let ws = (ws as &mut dyn std::any::Any).downcast_mut::<Scratch<f64>>()?;
-    let Scratch {
-        regs,
-        out,
-        trial,
-        trial_sc,
-        sc,
-        points,
-        by_size,
-        ..
-    } = ws;
-    points.resize(6 * g.info.points.len(), 0.0);
-    let at = super::stages::Solving {
-        q: trial,
-        sc: trial_sc,
-        qd: T::as_f64s_mut(qd)?,
-        qdd: T::as_f64s_mut(qdd)?,
-        points,
-    };
-    let work = (regs, out, by_size);
+    ws.points.resize(6 * g.info.points.len(), 0.0);
     let (input, options) = super::stages::in_f64(input, options)?;
     let sx = T::pairs_as_f64s(sx)?;
+    let at = super::stages::Solving {
+        q: &mut ws.trial,
+        sc: &mut ws.trial_sc,
+        qd: T::as_f64s_mut(qd)?,
+        qdd: T::as_f64s_mut(qdd)?,
+        points: &mut ws.points,
+    };
+    let work = (&mut ws.regs, &mut ws.out, &mut ws.by_size);
     let done = super::stages::run(g, input, sx, options, work, at)?;
     if done.is_ok() {
-        std::mem::swap(sc, trial_sc);
+        std::mem::swap(&mut ws.sc, &mut ws.trial_sc);
     }
     Some(done.map(super::stages::report_in))
 }

@@ -21,6 +21,8 @@
 //!    of it, zeroed at entry, used by one block's velocity then its acceleration. While it runs, the slices of the frame are borrowed by
 //!    [`Fused::call`] alone, and [`stage`] makes references of them only for the duration of one
 //!    callback, during which compiled code does not run.
+//! 5. `PointMotion<f64>` is `repr(C)` of three `[f64; 2]`: six f64 in order, no padding (asserted
+//!    at compile time in [`flat_points`]), so a slice of them is the f64 a fused program writes.
 
 #![allow(unsafe_code)]
 
@@ -359,9 +361,8 @@ pub fn flat_points(points: &mut [PointMotion<f64>]) -> &mut [f64] {
             && align_of::<PointMotion<f64>>() == align_of::<f64>()
     );
     let n = 6 * points.len();
-    // SAFETY: a `repr(C)` struct of three `[f64; 2]` is six f64 in order without padding (the
-    // size and alignment asserted above), so `points` is `n` initialized f64, borrowed mutably
-    // for the result's lifetime.
+    // SAFETY: invariant 5 (the size and alignment asserted above): `points` is `n` initialized
+    // f64, borrowed mutably for the result's lifetime.
     unsafe { std::slice::from_raw_parts_mut(points.as_mut_ptr().cast::<f64>(), n) }
 }
 

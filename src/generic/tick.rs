@@ -20,7 +20,9 @@ use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
 use mechgen_runtime::tick::{Last, RESYNC_TICKS, inputs_trig, predict};
 use mechgen_runtime::{BodyMass, Kind, MechanismInfo};
 
-use super::driver::{BlockWork, Rates};
+#[cfg(feature = "jit")]
+use super::driver::BlockWork;
+use super::driver::Rates;
 use super::engine::Generic;
 use super::scratch::{Scratch, Scratched, Sized};
 use super::tape::Env;

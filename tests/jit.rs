@@ -2,7 +2,8 @@
 //! row **bit for bit** (unknowns, rates, points, condition, statuses), on every compiled-in
 //! mechanism against the generated solvers (their own ticks, and whole solves), every fixture and
 //! sweep test file against the interpreter, random params around each, closed forms on and off,
-//! every scene and the single evaluations (J, Φx, J̇, γ, sensitivities, drawing chains).
+//! every scene and the single evaluations (J, Φx, J̇, γ, sensitivities, drawing chains); a
+//! refused tick leaves every engine's state as it was.
 #![cfg(feature = "jit")]
 
 mod common;
@@ -345,5 +346,105 @@ fn a_file_sweeps_to_the_bytes_of_the_build_that_compiled_it_in() {
             generated == csv(&["--file", file, "--engine", "generic"]),
             "{name}: generic"
         );
+    }
+}
+
+/// The bits of a tick's state: inputs, unknowns, rates, points.
+fn state_bits(t: &dyn mechgen::DynTick<f64>) -> Vec<u64> {
+    let s = t.state().expect("started");
+    let points = s.points.iter().flat_map(|p| {
+        p.position
+            .into_iter()
+            .chain(p.velocity)
+            .chain(p.acceleration)
+    });
+    (s.x.iter()
+        .chain(s.xd)
+        .chain(s.xdd)
+        .chain(s.q)
+        .chain(s.qd)
+        .chain(s.qdd))
+    .copied()
+    .chain(points)
+    .map(f64::to_bits)
+    .collect()
+}
+
+/// A run-time engine's tick solves in its other state and makes it its own only on success: a
+/// tick refused (a non-finite input, input rate or acceleration, inputs of the wrong length)
+/// leaves the state as it was, bit for bit, and the ticks after it are the generated tick's, bit
+/// for bit, on the interpreter and the JIT alike, for every compiled-in mechanism.
+#[test]
+fn a_refused_tick_leaves_the_state_and_the_next_ticks_are_the_generated_ones() {
+    let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
+        .expect("the compiled-in file loads");
+    let options = SolveOptions::default();
+    for g in loaded {
+        let info = DynMechanism::<f64>::info(&g);
+        let (ni, name) = (info.inputs.len(), g.name().to_string());
+        let x0: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+        let guess: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
+        let step = if info.inputs[0].kind == Kind::Length {
+            1e-3 * x0[0].abs().max(1.0)
+        } else {
+            0.01
+        };
+        let mut xd = vec![0.0; ni];
+        xd[0] = 1.0;
+        let xdd = vec![0.0; ni];
+        let k = mechgen::lookup::<f64>(&name).expect("compiled in");
+        let j = compiled(&g);
+        let engines: [(&str, &dyn DynMechanism<f64>); 3] =
+            [("generated", k.as_ref()), ("interpreter", &g), ("jit", &j)];
+        let mut runs = Vec::new();
+        for (engine, m) in engines {
+            let mut t = m.ticker();
+            t.start(
+                InputMotion::new(&x0[..], &xd[..], &xdd[..]),
+                &guess,
+                &options,
+            )
+            .unwrap_or_else(|e| panic!("{name} ({engine}): start: {e:?}"));
+            let mut states = Vec::new();
+            let mut x = x0.clone();
+            for i in 1..=12 {
+                if i == 6 {
+                    let before = state_bits(t.as_ref());
+                    let mut bad = x.clone();
+                    bad[0] = f64::NAN;
+                    let nan_rate = vec![f64::NAN; ni];
+                    let refused = [
+                        t.tick(InputMotion::new(&bad[..], &xd[..], &xdd[..]), &options),
+                        t.tick(InputMotion::new(&x[..], &nan_rate[..], &xdd[..]), &options),
+                        t.tick(InputMotion::new(&x[..], &xd[..], &nan_rate[..]), &options),
+                        t.tick(InputMotion::new(&x[1..], &xd[1..], &xdd[1..]), &options),
+                    ];
+                    for r in refused {
+                        assert!(r.is_err(), "{name} ({engine}): a bad tick was taken");
+                        assert_eq!(
+                            state_bits(t.as_ref()),
+                            before,
+                            "{name} ({engine}): a refused tick moved the state"
+                        );
+                    }
+                }
+                x[0] = x0[0] + step * f64::from(i);
+                t.tick(InputMotion::new(&x[..], &xd[..], &xdd[..]), &options)
+                    .unwrap_or_else(|e| panic!("{name} ({engine}): tick {i}: {e:?}"));
+                states.push(state_bits(t.as_ref()));
+            }
+            runs.push((engine, states));
+        }
+        let (_, generated) = &runs[0];
+        for (engine, states) in &runs[1..] {
+            for (i, (a, b)) in generated.iter().zip(states).enumerate() {
+                assert_eq!(
+                    a,
+                    b,
+                    "{name}: tick {} of {engine} differs from generated",
+                    i + 1
+                );
+            }
+        }
     }
 }

@@ -205,7 +205,9 @@ pub(super) struct Solving<'s> {
 /// A motion by `g`'s compiled program, when it has one and `options` has closed forms on:
 /// positions from the guess in `at` (the inputs' sines and cosines `sx`), the rates and points
 /// into it, the callbacks' steps in `work`. On success `at.q` holds the unknowns and `at.sc`
-/// their sines and cosines, as the driver leaves them. `None`: not run.
+/// their sines and cosines, as the driver leaves them. `None`: not run. Inlined into its two
+/// callers, so that the call's arguments are built in place, not copied from frame to frame.
+#[inline(always)]
 pub(super) fn run(
     g: &Generic,
     input: InputMotion<&[f64]>,

@@ -205,6 +205,7 @@ fn motion<T: Scratched>(
 
 /// [`motion`] by the compiled program, in `at` itself (`None`: not compiled, or not in f64).
 #[cfg(feature = "jit")]
+#[inline(always)]
 fn compiled<T: Scratched>(
     g: &Generic,
     input: InputMotion<&[T]>,

@@ -303,7 +303,9 @@ impl Fused {
 
     /// Runs the motion; `None` (nothing run) when a slice is shorter than what the code reads or
     /// writes, else `Some((status, pivot ratio))`: status 0 done, otherwise a call step failed
-    /// (its error is kept by `stages`); the positions' smallest pivot ratio.
+    /// (its error is kept by `stages`); the positions' smallest pivot ratio. Inlined, so that
+    /// the frame is built from the caller's slices in place.
+    #[inline(always)]
     pub fn call(
         &self,
         a: FusedArgs<'_>,

@@ -153,13 +153,12 @@ fn dead_states(
         else {
             continue;
         };
-        let tau = std::f64::consts::TAU;
         let q: Vec<f64> = q
             .iter()
             .zip(&near.q)
             .zip(&info.unknowns)
             .map(|((&v, &n), u)| match u.kind {
-                Kind::Angle => v + ((n - v) / tau).round() * tau,
+                Kind::Angle => crate::sweep::nearest_turn(v, n),
                 _ => v,
             })
             .collect();

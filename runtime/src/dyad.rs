@@ -5,6 +5,7 @@
 use crate::error::{SolveError, Stage};
 use crate::scalar::Real;
 use crate::solve::{NewtonReport, TrigState};
+use crate::trig::atan_series;
 
 /// `M e` for `M = [[p, −r], [r, p]]` and `e = (cos, sin)`.
 #[inline]
@@ -23,12 +24,7 @@ fn turn<T: Real>((cg, sg): (T, T), (c, s): (T, T)) -> T {
         let t = sin / (T::one() + cos);
         if t.abs() < T::lit(0.06) {
             // 2 atan t = 2 (t − t³/3 + t⁵/5 − … + t¹³/13): truncation below 5e-19 relative.
-            let t2 = t * t;
-            let mut acc = T::lit(1.0 / 13.0);
-            for k in [11.0, 9.0, 7.0, 5.0, 3.0, 1.0] {
-                acc = T::lit(1.0 / k) - t2 * acc;
-            }
-            return T::lit(2.0) * t * acc;
+            return T::lit(2.0) * t * atan_series(t * t, T::lit);
         }
     }
     sin.atan2(cos)
@@ -49,12 +45,7 @@ fn near_pair<T: Real>(
     let lim = T::lit(0.06);
     if cos_a > T::lit(0.99) && cos_b > T::lit(0.99) && ta.abs() < lim && tb.abs() < lim {
         // As in `turn`.
-        let (t2a, t2b) = (ta * ta, tb * tb);
-        let (mut acc_a, mut acc_b) = (T::lit(1.0 / 13.0), T::lit(1.0 / 13.0));
-        for k in [11.0, 9.0, 7.0, 5.0, 3.0, 1.0] {
-            acc_a = T::lit(1.0 / k) - t2a * acc_a;
-            acc_b = T::lit(1.0 / k) - t2b * acc_b;
-        }
+        let (acc_a, acc_b) = (atan_series(ta * ta, T::lit), atan_series(tb * tb, T::lit));
         let two = T::lit(2.0);
         let (ra, rb) = (qa + two * ta * acc_a, qb + two * tb * acc_b);
         if T::EPSILON * (ra.abs() + rb.abs()) <= tolerance {

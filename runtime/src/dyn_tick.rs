@@ -40,9 +40,11 @@ pub trait DynTick<T: Real> {
         self.state().map(|s| s.report.condition())
     }
     /// [`DynTick::tick`], checked by `guard` against the prediction over the time `dt`
-    /// ([`BranchGuard::keeps`]): `Ok(true)` when it keeps to the branch. When not, `Ok(false)`,
-    /// and the tick's state is the refused one (start again from `before` to go on). Either way
-    /// `before` holds the unknowns before the tick. On error the state is unchanged.
+    /// ([`BranchGuard::keeps`]): `Ok(Some(condition))` when it keeps to the branch, with the
+    /// condition estimate of its position solve ([`DynTick::condition`], without a second call).
+    /// When not, `Ok(None)`, and the tick's state is the refused one (start again from `before`
+    /// to go on). Either way `before` holds the unknowns before the tick. On error the state is
+    /// unchanged.
     fn tick_checked(
         &mut self,
         input: InputMotion<&[T]>,
@@ -50,7 +52,7 @@ pub trait DynTick<T: Real> {
         guard: &BranchGuard,
         dt: T,
         before: &mut [T],
-    ) -> Result<bool, SolveError>;
+    ) -> Result<Option<T>, SolveError>;
     /// [`DynTick::tick`] handing gravity and every body to `sink`, computed on the tick's own
     /// sines and cosines (`Ok(true)`: a generated mechanism's tick,
     /// `StaticMechanism::tick_with_sink`, or the generic engine's), or a plain tick that hands

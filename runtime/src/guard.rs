@@ -115,9 +115,12 @@ impl BranchGuard {
             if !step.is_finite() || !change.is_finite() || step > limit || change > limit {
                 return false;
             }
-            moved = moved.max((after[k] - p).abs());
-            scale = scale.max(step).max(change);
-            size = size.max(before[k].abs());
+            // Every number here is finite (a NaN or infinite `before`, `p` or `after` makes
+            // `step` or `change` so): a plain comparison is the largest, as in the lanes.
+            let larger = |a: T, b: T| if a < b { b } else { a };
+            moved = larger(moved, (after[k] - p).abs());
+            scale = larger(larger(scale, step), change);
+            size = larger(size, before[k].abs());
         }
         moved < T::lit(1e-9) * (T::one() + size) || moved <= T::lit(MAX_JUMP) * scale
     }

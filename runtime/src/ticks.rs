@@ -76,14 +76,15 @@ impl<T: Real, M: StaticMechanism<T>> DynTick<T> for StaticTick<'_, T, M> {
         guard: &BranchGuard,
         dt: T,
         before: &mut [T],
-    ) -> Result<bool, SolveError> {
+    ) -> Result<Option<T>, SolveError> {
         let input = arrays(input)?;
         let t = self.tick.as_mut().ok_or(SolveError::NotStarted)?;
         let (q, qd, qdd) = (t.q, t.qd, t.qdd);
         self.mechanism.tick(t, &input, options)?;
         len(before, q.as_ref().len())?;
         before.copy_from_slice(q.as_ref());
-        Ok(guard.keeps(q.as_ref(), qd.as_ref(), qdd.as_ref(), dt, t.q.as_ref()))
+        let kept = guard.keeps(q.as_ref(), qd.as_ref(), qdd.as_ref(), dt, t.q.as_ref());
+        Ok(kept.then(|| t.report.condition()))
     }
 
     fn state(&self) -> Option<StateRef<'_, T>> {
@@ -207,12 +208,13 @@ impl<T: Real, M: DynMechanism<T> + ?Sized> DynTick<T> for SolveTick<'_, T, M> {
         guard: &BranchGuard,
         dt: T,
         before: &mut [T],
-    ) -> Result<bool, SolveError> {
+    ) -> Result<Option<T>, SolveError> {
         self.tick(input, options)?;
         let (b, s) = (&self.saved, &self.state);
         len(before, b.q.len())?;
         before.copy_from_slice(&b.q);
-        Ok(guard.keeps(&b.q, &b.qd, &b.qdd, dt, &s.q))
+        let kept = guard.keeps(&b.q, &b.qd, &b.qdd, dt, &s.q);
+        Ok(kept.then(|| s.report.condition()))
     }
 
     fn state(&self) -> Option<StateRef<'_, T>> {

@@ -159,19 +159,47 @@ pub fn rotate<T: Real>((s, c): (T, T), q_new: T, dz: T) -> (T, T) {
     if !(dz.abs() <= T::lit(0.1)) {
         return sin_cos_cold(q_new);
     }
-    let d2 = dz * dz;
-    // Horner in dz²: sin dz = dz (1 − dz²/3! + dz⁴/5! − dz⁶/7! + dz⁸/9!),
-    // cos dz = 1 − dz²/2! + dz⁴/4! − dz⁶/6! + dz⁸/8! − dz¹⁰/10!.
-    let mut ps = T::lit(1.0 / 362880.0);
-    for k in [-1.0 / 5040.0, 1.0 / 120.0, -1.0 / 6.0, 1.0] {
-        ps = T::lit(k) + d2 * ps;
-    }
-    let mut pc = T::lit(-1.0 / 3628800.0);
-    for k in [1.0 / 40320.0, -1.0 / 720.0, 1.0 / 24.0, -0.5, 1.0] {
-        pc = T::lit(k) + d2 * pc;
-    }
-    let (sd, cd) = (dz * ps, pc);
+    let (sd, cd) = turn_series(dz, T::lit);
     (s * cd - c * sd, c * cd + s * sd)
+}
+
+/// (sin dz, cos dz) by their Taylor series for a small turn `dz`: sin to dz⁹, cos to dz¹⁰, each
+/// polynomial in dz² evaluated by Estrin's scheme (pairs of terms, then powers dz⁴ and dz⁸ of
+/// it), whose longest chain of dependent operations is about half of Horner's: the rotation
+/// of a tick's input is the first thing its solve waits for. For scalars and lanes alike (`lit`
+/// makes a constant), so that both round alike.
+#[inline(always)]
+pub fn turn_series<V>(dz: V, lit: impl Fn(f64) -> V) -> (V, V)
+where
+    V: Copy + core::ops::Add<Output = V> + core::ops::Mul<Output = V>,
+{
+    let u = dz * dz;
+    let (u2, pair) = (u * u, |a: f64, b: f64| lit(a) + u * lit(b));
+    let u4 = u2 * u2;
+    // 1 − u/3! + u²/5! − u³/7! + u⁴/9!
+    let s =
+        pair(1.0, -1.0 / 6.0) + u2 * pair(1.0 / 120.0, -1.0 / 5040.0) + u4 * lit(1.0 / 362880.0);
+    // 1 − u/2! + u²/4! − u³/6! + u⁴/8! − u⁵/10!
+    let c = pair(1.0, -0.5)
+        + u2 * pair(1.0 / 24.0, -1.0 / 720.0)
+        + u4 * pair(1.0 / 40320.0, -1.0 / 3628800.0);
+    (dz * s, c)
+}
+
+/// atan(t) / t for a small `t` (|t| < 0.06: truncation below 5e-19 relative) from `u` = t²:
+/// 1 − u/3 + u²/5 − u³/7 + u⁴/9 − u⁵/11 + u⁶/13, by Estrin's scheme as [`turn_series`] (a dyad's
+/// turn waits for it). For scalars and lanes alike.
+#[inline(always)]
+pub fn atan_series<V>(u: V, lit: impl Fn(f64) -> V) -> V
+where
+    V: Copy + core::ops::Add<Output = V> + core::ops::Sub<Output = V> + core::ops::Mul<Output = V>,
+{
+    let pair = |a: f64, b: f64| lit(a) - u * lit(b);
+    let u2 = u * u;
+    let u4 = u2 * u2;
+    pair(1.0, 1.0 / 3.0)
+        + u2 * pair(1.0 / 5.0, 1.0 / 7.0)
+        + u4 * (pair(1.0 / 9.0, 1.0 / 11.0) + u2 * lit(1.0 / 13.0))
 }
 
 /// `x.sin_cos()` behind a call the optimizer does not speculate. `sin` and `cos` are

@@ -329,12 +329,13 @@ where
         guard: &BranchGuard,
         dt: T,
         before: &mut [T],
-    ) -> Result<bool, SolveError> {
+    ) -> Result<Option<T>, SolveError> {
         self.tick(input, options)?;
         let (old, now) = (&self.slots[self.cur ^ 1].state, &self.slots[self.cur].state);
         len(before, old.q.len())?;
         before.copy_from_slice(&old.q);
-        Ok(guard.keeps(&old.q, &old.qd, &old.qdd, dt, &now.q))
+        let kept = guard.keeps(&old.q, &old.qd, &old.qdd, dt, &now.q);
+        Ok(kept.then(|| now.report.condition()))
     }
 
     fn state(&self) -> Option<StateRef<'_, T>> {

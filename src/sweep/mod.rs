@@ -270,11 +270,35 @@ pub fn check_start(info: &MechanismInfo) -> Result<(), StartError> {
 /// `x0` moved by whole turns to the representative nearest `toward` (the same configuration).
 pub fn nearest_turn(x0: f64, toward: f64) -> f64 {
     let tau = std::f64::consts::TAU;
-    let turns = ((toward - x0) / tau).round();
+    let apart = toward - x0;
+    // Under half a turn apart (whatever the rounding of the quotient below): no turn to add.
+    if apart.abs() < 0.49 * tau {
+        return x0;
+    }
+    let turns = round_turns(apart / tau);
     if turns.is_finite() && turns != 0.0 {
         x0 + turns * tau
     } else {
         x0
+    }
+}
+
+/// `y` rounded half away from zero as `f64::round` (a zero's sign aside), which baseline x86-64
+/// makes a library call: a sweep's nearest row asks this of every row.
+fn round_turns(y: f64) -> f64 {
+    // From 2^52 on (and for a NaN or an infinity) `y` is its own rounding.
+    if y.is_nan() || y.abs() >= 4_503_599_627_370_496.0 {
+        return y;
+    }
+    // Truncation toward zero, exact below 2^52, and the fraction it leaves (exact too).
+    let t = (y as i64) as f64;
+    let fraction = y - t;
+    if fraction >= 0.5 {
+        t + 1.0
+    } else if fraction <= -0.5 {
+        t - 1.0
+    } else {
+        t
     }
 }
 
@@ -301,3 +325,33 @@ pub use rows::{SEGMENT, nearest_row, sweep, sweep_each, sweep_each_with, sweep_h
 
 /// Whether the linkage assembles at the inputs given (every input, in sweep units).
 pub type Assembles<'a> = &'a dyn Fn(&[f64]) -> bool;
+
+#[cfg(test)]
+mod tests {
+    use super::round_turns;
+
+    /// The quick rounding is `f64::round` (zeros equal whatever their sign): halves, their
+    /// neighbours, both signs, near and past 2^52, non-finite values.
+    #[test]
+    fn turns_round_as_f64_round() {
+        let mut ys = vec![f64::INFINITY, f64::NEG_INFINITY, 4_503_599_627_370_496.0];
+        for k in -40..=40 {
+            let half = f64::from(k) + 0.5;
+            ys.extend([half, half.next_up(), half.next_down(), f64::from(k) * 0.37]);
+        }
+        for e in 40..70 {
+            let big = 2f64.powi(e);
+            ys.extend([
+                big - 0.5,
+                big + 0.5,
+                big.next_down(),
+                -big.next_up(),
+                -(big + 1.5),
+            ]);
+        }
+        for y in ys {
+            assert_eq!(round_turns(y), y.round(), "{y:e}");
+        }
+        assert!(round_turns(f64::NAN).is_nan());
+    }
+}

@@ -376,6 +376,10 @@ pub fn nearest_row(kind: Kind, x0: f64, values: &[f64]) -> Option<usize> {
     let mut best: Option<(usize, f64)> = None;
     for (i, &v) in values.iter().enumerate() {
         let d = distance(v);
+        // A row at the start itself: none after it is nearer (the first of equally near wins).
+        if d == 0.0 {
+            return Some(i);
+        }
         // A NaN distance (non-finite value) is never nearer than a finite one.
         if best.is_none_or(|(_, b)| d < b || (b.is_nan() && !d.is_nan())) {
             best = Some((i, d));

@@ -266,8 +266,9 @@ impl<'k> Walker<'k> {
             }
             self.dead = None;
         }
-        if self.started && self.tick_to(target) {
-            let condition = self.ticker.condition().unwrap_or(0.0);
+        if self.started
+            && let Some(condition) = self.tick_to(target)
+        {
             if condition >= RESOLVE_CONDITION {
                 // The walk's state before the row's last substep (the tick left its
                 // unknowns in `q`), should the row lie on a crossing.
@@ -351,11 +352,11 @@ impl<'k> Walker<'k> {
         })
     }
 
-    /// The tick to `target` in equal substeps of at most the largest substep, each (when
-    /// accepted when its solution moved no unknown too far and stayed near its
-    /// prediction. False when one is not taken (the walk then stands at the last substep taken,
-    /// the tick started there).
-    fn tick_to(&mut self, target: f64) -> bool {
+    /// The tick to `target` in equal substeps of at most the largest substep, each accepted when
+    /// its solution moved no unknown too far and stayed near its prediction: the condition
+    /// estimate of the last one's position solve. `None` when one is
+    /// not taken (the walk then stands at the last substep taken, the tick started there).
+    fn tick_to(&mut self, target: f64) -> Option<f64> {
         let i = self.index;
         let from = self.x[i];
         let distance = target - from;
@@ -364,13 +365,14 @@ impl<'k> Walker<'k> {
         } else {
             let n = (distance.abs() / self.h_max).ceil();
             if !(n.is_finite() && n <= super::MAX_ROUTE as f64) {
-                return false;
+                return None;
             }
             n as usize
         };
+        let mut condition = 0.0;
         for j in 1..=substeps {
             if self.allowance == 0 {
-                return false;
+                return None;
             }
             self.allowance -= 1;
             let x_before = self.x[i];
@@ -391,21 +393,24 @@ impl<'k> Walker<'k> {
                 .ticker
                 .tick_checked(input, &self.c.options, guard, dt, &mut self.q)
             {
-                Ok(true) => self.synced = false,
-                Ok(false) => {
+                Ok(Some(c)) => {
+                    self.synced = false;
+                    condition = c;
+                }
+                Ok(None) => {
                     // The tick left the branch (or moved too far): start again where it stood.
                     self.x[i] = x_before;
                     self.synced = true;
                     let _ = self.restart();
-                    return false;
+                    return None;
                 }
                 Err(_) => {
                     self.x[i] = x_before;
-                    return false;
+                    return None;
                 }
             }
         }
-        true
+        Some(condition)
     }
 
     /// The adaptive continuation to `target` from the walk's state, then the tick started there;

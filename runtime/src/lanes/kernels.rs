@@ -7,6 +7,7 @@
 use super::Lanes;
 use super::lu::LaneLu;
 use crate::scalar::Real;
+use crate::trig::atan_series;
 
 /// The unknowns of W instances with their sines and cosines (`sc[k]` = (sin, cos) of `q[k]`
 /// where `q[k]` is an angle), as [`crate::trig::TrigState`] holds them for one.
@@ -152,12 +153,7 @@ fn near_pair<L: Lanes>(
     let (ta, tb) = (sin_a / (L::one() + cos_a), sin_b / (L::one() + cos_b));
     let (near, lim) = (L::lit(0.99), L::lit(0.06));
     let small = cos_a.gt(near) & cos_b.gt(near) & ta.abs().lt(lim) & tb.abs().lt(lim);
-    let (t2a, t2b) = (ta * ta, tb * tb);
-    let (mut acc_a, mut acc_b) = (L::lit(1.0 / 13.0), L::lit(1.0 / 13.0));
-    for k in [11.0, 9.0, 7.0, 5.0, 3.0, 1.0] {
-        acc_a = L::lit(1.0 / k) - t2a * acc_a;
-        acc_b = L::lit(1.0 / k) - t2b * acc_b;
-    }
+    let (acc_a, acc_b) = (atan_series(ta * ta, L::lit), atan_series(tb * tb, L::lit));
     let two = L::lit(2.0);
     let (qa, qb) = (qa + two * ta * acc_a, qb + two * tb * acc_b);
     let held = (L::splat(L::Scalar::EPSILON) * (qa.abs() + qb.abs())).le(L::splat(tolerance));
@@ -180,12 +176,7 @@ pub(super) fn near<L: Lanes>(
     let cos = cg * c + sg * s;
     let t = sin / (L::one() + cos);
     *ok = *ok & cos.gt(L::lit(0.99)) & t.abs().lt(L::lit(0.06));
-    let t2 = t * t;
-    let mut acc = L::lit(1.0 / 13.0);
-    for k in [11.0, 9.0, 7.0, 5.0, 3.0, 1.0] {
-        acc = L::lit(1.0 / k) - t2 * acc;
-    }
-    let q_new = q + L::lit(2.0) * t * acc;
+    let q_new = q + L::lit(2.0) * t * atan_series(t * t, L::lit);
     *ok = *ok & (L::splat(L::Scalar::EPSILON) * q_new.abs()).le(L::splat(tolerance));
     q_new
 }
@@ -279,16 +270,7 @@ pub fn rotate_inputs<L: Lanes, const NI: usize>(
 /// not finite), `sin_cos` of `q_new` itself, lane by lane (as the scalar's cold path).
 #[inline(always)]
 pub fn rotate<L: Lanes>((s, c): (L, L), q_new: L, dz: L, fresh: L::Mask) -> (L, L) {
-    let d2 = dz * dz;
-    let mut ps = L::lit(1.0 / 362880.0);
-    for k in [-1.0 / 5040.0, 1.0 / 120.0, -1.0 / 6.0, 1.0] {
-        ps = L::lit(k) + d2 * ps;
-    }
-    let mut pc = L::lit(-1.0 / 3628800.0);
-    for k in [1.0 / 40320.0, -1.0 / 720.0, 1.0 / 24.0, -0.5, 1.0] {
-        pc = L::lit(k) + d2 * pc;
-    }
-    let (sd, cd) = (dz * ps, pc);
+    let (sd, cd) = crate::trig::turn_series(dz, L::lit);
     let out = (s * cd - c * sd, c * cd + s * sd);
     let cold = fresh | !dz.abs().le(L::lit(0.1));
     if L::bits(cold) == 0 {

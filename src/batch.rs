@@ -210,12 +210,9 @@ pub fn solver_with_params(
     if generated && let Some(k) = crate::lookup_with_params::<f64>(name, params) {
         return k;
     }
+    // A clone shares the model's tapes and compiled code; only the params are its own.
     let mut g = model.clone();
-    let info = mechgen_runtime::DynMechanism::<f64>::info(&g);
-    for (p, v) in info.params.iter().zip(params) {
-        // Base params only (`info.params`), so every name is one the engine sets.
-        let _ = g.set_param(&p.name, *v);
-    }
+    g.set_params(params);
     Box::new(g)
 }
 

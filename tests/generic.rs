@@ -192,3 +192,46 @@ fn closed_form_blocks_take_no_iterations() {
         }
     }
 }
+
+/// A batch's `set_params` (every base param at once) is the same engine as setting each param
+/// by name: the params, the description and a sweep's rows bit for bit, on a clone that shares
+/// the model's tapes with the original (which keeps its own params).
+#[test]
+fn setting_every_param_at_once_is_setting_each() {
+    let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE).unwrap();
+    for g in &loaded {
+        let info = DynMechanism::<f64>::info(g);
+        let values: Vec<f64> = info.params.iter().map(|p| p.value * 1.01).collect();
+        let mut by_name = g.clone();
+        for (p, &v) in info.params.iter().zip(&values) {
+            by_name.set_param(&p.name, v).unwrap();
+        }
+        let mut at_once = g.clone();
+        at_once.set_params(&values);
+        assert_eq!(by_name.params(), at_once.params(), "{}", info.name);
+        assert_eq!(
+            DynMechanism::<f64>::info(&by_name),
+            DynMechanism::<f64>::info(&at_once)
+        );
+        assert_ne!(
+            g.params(),
+            at_once.params(),
+            "{}: the original keeps its params",
+            info.name
+        );
+        let kind = info.inputs[0].kind;
+        let step = if kind == Kind::Angle { 0.2 } else { 0.01 };
+        let values: Vec<f64> = (0..30)
+            .map(|i| info.inputs[0].start + step * f64::from(i))
+            .collect();
+        let c = Continuation::for_input(kind, values[29] - values[0]);
+        let a = sweep(&by_name, 0, &values, 1.0, &c);
+        let b = sweep(&at_once, 0, &values, 1.0, &c);
+        assert_eq!(a, b, "{}", info.name);
+        assert!(
+            a.iter().any(|r| r.result.is_ok()),
+            "{}: no row solved",
+            info.name
+        );
+    }
+}

@@ -48,7 +48,7 @@ pub struct Generic {
     pub(super) params: Vec<f64>,
     pub(super) length_param: Vec<bool>,
     /// The checked model, for recomputing derived params when a base param changes.
-    pub(super) model: mechgen_codegen::Model,
+    pub(super) model: std::sync::Arc<mechgen_codegen::Model>,
     pub(super) blocks: Vec<BlockTapes>,
     /// Every block index, in solve order (the whole mechanism's plan).
     pub(super) order: Vec<usize>,
@@ -72,7 +72,7 @@ pub struct Generic {
     pub(super) chains: Tape,
     pub(super) chain_shape: Vec<(usize, usize)>,
     /// The drawing structure (terms classified by how they move).
-    pub(super) linkage: super::linkage::Linkage,
+    pub(super) linkage: std::sync::Arc<super::linkage::Linkage>,
     /// The file's scenes on this mechanism, each from its `ScenePlan`.
     pub(super) scenes: Vec<super::scene_tapes::SceneTapes>,
     /// The params-only values the program reads after the params, as a tape of the params.
@@ -267,7 +267,7 @@ impl Generic {
                 .iter()
                 .map(|ch| (ch.vertices.len(), ch.ground_segments))
                 .collect(),
-            linkage: super::linkage::Linkage::new(m),
+            linkage: std::sync::Arc::new(super::linkage::Linkage::new(m)),
             scenes: c
                 .scenes
                 .iter()
@@ -279,7 +279,7 @@ impl Generic {
             #[cfg(feature = "jit")]
             fused: None,
             info,
-            model: m.clone(),
+            model: std::sync::Arc::new(m.clone()),
         };
         g.program_params = ProgramParams::new(&g);
         g
@@ -340,6 +340,22 @@ impl Generic {
         self.info.params[i].value = value;
         self.program_params = ProgramParams::new(self);
         Ok(())
+    }
+
+    /// Sets the base params in the file's order, `values[i]` the `i`-th (fewer values leave the
+    /// rest as they are, more are ignored): what a batch does for each of its param sets, with
+    /// the program's params-only values computed once instead of once per param.
+    pub fn set_params(&mut self, values: &[f64]) {
+        for ((p, d), &v) in self
+            .params
+            .iter_mut()
+            .zip(&mut self.info.params)
+            .zip(values)
+        {
+            *p = v;
+            d.value = v;
+        }
+        self.program_params = ProgramParams::new(self);
     }
 
     /// The values of the derived params at the current base params, in file order.

@@ -2,6 +2,8 @@
 //! program (a tape) and interpreted. Only the nodes the roots need are kept, children before
 //! parents, and a `sin` and `cos` of the same argument become one `sin_cos`.
 
+use std::sync::Arc;
+
 use mechgen_codegen::{Dag, Node, NodeId, Var};
 
 use mechgen_runtime::error::SolveError;
@@ -65,8 +67,9 @@ impl<'a, T: Real> Env<'a, T> {
 /// A compiled program: evaluates some roots of a DAG.
 #[derive(Clone, Debug, Default)]
 pub struct Tape {
-    ops: Vec<Op>,
-    outputs: Vec<u32>,
+    /// Shared by clones: a mechanism's tapes are made once and cloned with every param set.
+    ops: Arc<[Op]>,
+    outputs: Arc<[u32]>,
     /// How many values of each of `x, q, p, xd, qd, xdd, qdd` the program reads (one past the
     /// largest index): [`Tape::eval`] refuses an environment with fewer.
     reads: [usize; 7],
@@ -124,7 +127,7 @@ impl Tape {
             reg[i] = ops.len() as u32;
             ops.push(op);
         }
-        let outputs = roots.iter().map(|r| reg[r.index()]).collect();
+        let outputs: Arc<[u32]> = roots.iter().map(|r| reg[r.index()]).collect();
         let mut reads = [0; 7];
         for op in &ops {
             if let Op::Var(v) = *op {
@@ -133,7 +136,7 @@ impl Tape {
             }
         }
         Tape {
-            ops,
+            ops: ops.into(),
             outputs,
             reads,
             #[cfg(feature = "jit")]
@@ -223,7 +226,7 @@ impl Tape {
         let sc = |k: u32| env.sc.get(k as usize).copied();
         let sx = |i: u32| env.sx.get(i as usize).copied();
         self.run(|v| env.get(v), sc, sx, regs);
-        for (o, &r) in out.iter_mut().zip(&self.outputs) {
+        for (o, &r) in out.iter_mut().zip(self.outputs.iter()) {
             *o = regs[r as usize];
         }
         Ok(())

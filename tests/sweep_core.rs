@@ -105,3 +105,51 @@ fn a_coarse_sweep_keeps_to_the_branch_of_a_fine_one_near_a_dead_point() {
         }
     }
 }
+
+/// `sweep_each_indexed` hands out the rows of `sweep_each_with`, bit for bit, each once with its
+/// index, as the walk solves them: the start row first, then the rows below it downward, then the
+/// rows above it; across two checkpoints of the downward walk (`SEGMENT` rows apart), and on a
+/// rocker whose rows past its dead points, both ways, fail.
+#[test]
+fn indexed_rows_are_the_ordered_rows_as_solved() {
+    use mechgen::sweep::{SEGMENT, sweep_each_indexed, sweep_each_with};
+    // 2·SEGMENT + 300 rows below the start and 500 above in steps of 0.01°; 200 each way in 1°.
+    let fine = (2 * SEGMENT + 300, 500, 0.01);
+    for (name, (below, above, step)) in [
+        ("four_bar", fine),
+        ("rocker_four_bar", fine),
+        ("rocker_four_bar", (200, 200, 1.0)),
+    ] {
+        let k = mechgen::lookup::<f64>(name).expect("compiled in");
+        let start = k.info().inputs[0].start;
+        let values: Vec<f64> = (0..below + above + 1)
+            .map(|i| start + (i as f64 - below as f64) * f64::to_radians(step))
+            .collect();
+        let c = Continuation::for_input(Kind::Angle, values[values.len() - 1] - values[0]);
+        let mut ordered = Vec::new();
+        sweep_each_with(k.as_ref(), 0, &values, 1.0, &[], &c, None, &mut |r| {
+            ordered.push(r.to_row())
+        });
+        let mut order = Vec::new();
+        let mut indexed = vec![None; values.len()];
+        sweep_each_indexed(k.as_ref(), 0, &values, 1.0, &[], &c, None, &mut |i, r| {
+            order.push(i);
+            assert!(
+                indexed[i].replace(r.to_row()).is_none(),
+                "{name}: row {i} twice"
+            );
+        });
+        let indexed: Vec<_> = indexed.into_iter().map(|r| r.expect("every row")).collect();
+        assert_eq!(indexed, ordered, "{name}");
+        let solved: Vec<usize> = std::iter::once(below)
+            .chain((0..below).rev())
+            .chain(below + 1..values.len())
+            .collect();
+        assert_eq!(order, solved, "{name}: the start row, then down, then up");
+        let ok = ordered.iter().filter(|r| r.result.is_ok()).count();
+        assert!(ok > 200, "{name}: {ok} rows solved");
+        if step == 1.0 {
+            assert!(ok < ordered.len(), "{name}: rows past the dead points fail");
+        }
+    }
+}

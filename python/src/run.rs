@@ -13,7 +13,7 @@ use mg::batch::solver_with_params;
 use mg::branches::Assembly;
 use mg::generic::Generic;
 use mg::sweep::plan::Plan;
-use mg::sweep::{Continuation, sweep_each_with};
+use mg::sweep::{Continuation, sweep_each_indexed};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -36,7 +36,6 @@ impl Job<'_> {
     fn sweep_into(&self, params: &[f64], block: &mut Block<'_>, at: usize) {
         let k = solver_with_params(self.name, self.model, self.generated, params);
         let c = Continuation::for_input(self.info.inputs[self.plan.index].kind, self.plan.span);
-        let mut r = at;
         // Made for this set when a row past the dead point that ends its branch asks.
         let setup = std::cell::OnceCell::new();
         let assembles = |x: &[f64]| {
@@ -47,7 +46,8 @@ impl Job<'_> {
         };
         let oracle: Option<mg::sweep::Assembles<'_>> =
             self.assembly.is_some().then_some(&assembles);
-        sweep_each_with(
+        // Each row straight to its place, as the walk solves it.
+        sweep_each_indexed(
             k.as_ref(),
             self.plan.index,
             &self.plan.values,
@@ -55,10 +55,7 @@ impl Job<'_> {
             &self.plan.held,
             &c,
             oracle,
-            &mut |row| {
-                block.put(r, &row, self.info);
-                r += 1;
-            },
+            &mut |i, row| block.put(at + i, &row, self.info),
         );
     }
 }

@@ -55,10 +55,12 @@ pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
     let mut firsts: Vec<Option<First<'_>>> = Vec::with_capacity(n);
     for (i, k) in dyns.iter().enumerate() {
         let mut failed = false;
-        let first = walk_to_first(*k, &info, index, values, rate, held, c, None, &mut |row| {
+        let mut row_of_set = |_: usize, row: RowRef<'_>| {
             failed |= row.result.is_err();
             emit(i, row);
-        });
+        };
+        let rows = (&mut row_of_set as &mut dyn FnMut(usize, RowRef<'_>), true);
+        let first = walk_to_first(*k, &info, index, values, rate, held, c, None, rows);
         // A failed row's status needs the branch oracle the scalar sweep is given.
         if failed {
             leave |= 1 << i;

@@ -318,10 +318,13 @@ pub fn sweep_budget(rows: usize) -> usize {
 
 mod crossing;
 mod rows;
+mod store;
 mod walker;
 
 pub use lanes::{LANES, sweep_sets_in_lanes};
-pub use rows::{SEGMENT, nearest_row, sweep, sweep_each, sweep_each_with, sweep_holding};
+pub use rows::{
+    SEGMENT, nearest_row, sweep, sweep_each, sweep_each_indexed, sweep_each_with, sweep_holding,
+};
 
 /// Whether the linkage assembles at the inputs given (every input, in sweep units).
 pub type Assembles<'a> = &'a dyn Fn(&[f64]) -> bool;

@@ -2,13 +2,14 @@
 //! reach the row nearest the start, then walk row by row each way (`walker.rs`), the rows below
 //! the start kept to be handed out in input order. Part of [`crate::sweep`].
 
+use super::store::RowStore;
 use super::walker::Walker;
 use super::{
-    Assembles, Continuation, Row, RowRef, Solved, StopReason, Stopped, check_start,
-    continue_within, nearest_turn, sweep_budget,
+    Assembles, Continuation, Row, RowRef, StopReason, Stopped, check_start, continue_within,
+    nearest_turn, sweep_budget,
 };
 use mechgen_runtime::error::SolveError;
-use mechgen_runtime::{DynMechanism, Kind, MechanismInfo, PointMotion};
+use mechgen_runtime::{DynMechanism, Kind, MechanismInfo};
 
 /// Sweeps input `index` over `values` (radians or file units) from the file's start configuration,
 /// with input rate `rate` and zero input acceleration; the other inputs stay at their start
@@ -88,9 +89,54 @@ pub fn sweep_each_with(
     assembles: Option<Assembles<'_>>,
     emit: &mut dyn FnMut(RowRef<'_>),
 ) {
+    let mut ordered = |_: usize, row: RowRef<'_>| emit(row);
+    let ordered: &mut dyn FnMut(usize, RowRef<'_>) = &mut ordered;
+    sweep_rows(k, index, values, rate, held, c, assembles, (ordered, true));
+}
+
+/// [`sweep_each_with`] handing each row to `emit` with its index in `values` as soon as it is
+/// solved, in the order the walk solves them (the start row, the rows below it downward, then the
+/// rows above it upward) rather than in the order of `values`: the same rows, bit for bit, with
+/// no row kept or solved again to be handed out in order. For a consumer that puts each row in its
+/// place (the Python package's columns).
+#[allow(clippy::too_many_arguments)]
+pub fn sweep_each_indexed(
+    k: &dyn DynMechanism<f64>,
+    index: usize,
+    values: &[f64],
+    rate: f64,
+    held: &[(usize, f64)],
+    c: &Continuation,
+    assembles: Option<Assembles<'_>>,
+    emit: &mut dyn FnMut(usize, RowRef<'_>),
+) {
+    sweep_rows(k, index, values, rate, held, c, assembles, (emit, false));
+}
+
+/// The walk of both: rows to `emit.0` with their index, in the order of `values` when `emit.1`.
+#[allow(clippy::too_many_arguments)]
+fn sweep_rows(
+    k: &dyn DynMechanism<f64>,
+    index: usize,
+    values: &[f64],
+    rate: f64,
+    held: &[(usize, f64)],
+    c: &Continuation,
+    assembles: Option<Assembles<'_>>,
+    (emit, ordered): RowSink<'_>,
+) {
     let info: MechanismInfo = k.info();
-    let Some(mut first) = walk_to_first(k, &info, index, values, rate, held, c, assembles, emit)
-    else {
+    let Some(mut first) = walk_to_first(
+        k,
+        &info,
+        index,
+        values,
+        rate,
+        held,
+        c,
+        assembles,
+        (&mut *emit, ordered),
+    ) else {
         return;
     };
     // Up from the start row, with what the rows below left of the budget.
@@ -102,9 +148,13 @@ pub fn sweep_each_with(
             w.renew();
         }
         let outcome = w.solve(target);
-        emit(view(w, target, outcome));
+        emit(first.nearest + 1 + d, w.row(target, outcome));
     }
 }
+
+/// Where a walk hands its rows: each with its index in the sweep's values, in their order when
+/// the flag is set (else as solved).
+pub(super) type RowSink<'e> = (&'e mut dyn for<'r> FnMut(usize, RowRef<'r>), bool);
 
 /// A sweep's walk at its start row, the rows below it and the start row handed out: the walker,
 /// where it stood at the start row, the budget the rows below left, and the start row's index.
@@ -118,8 +168,10 @@ pub(super) struct First<'k> {
 }
 
 /// The first part of [`sweep_each_with`]: the start settled, the held inputs moved, the start
-/// row reached, the rows below it solved and every row up to the start row handed to `emit`.
-/// `None` when nothing is left to walk (every row already handed out failed, or no rows).
+/// row reached, the rows below it solved and every row up to the start row handed to `emit.0`
+/// with its index (in the order of `values` when `emit.1`, else as solved: the start row, then
+/// downward). `None` when nothing is left to walk (every row already handed out failed, or no
+/// rows).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn walk_to_first<'k>(
     k: &'k dyn DynMechanism<f64>,
@@ -130,18 +182,21 @@ pub(super) fn walk_to_first<'k>(
     held: &[(usize, f64)],
     c: &'k Continuation,
     assembles: Option<Assembles<'k>>,
-    emit: &mut dyn FnMut(RowRef<'_>),
+    (emit, ordered): RowSink<'_>,
 ) -> Option<First<'k>> {
     let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
     let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
     let ni = x.len();
     let mut fail_all = |error: SolveError, stopped: Stopped| {
-        for &input in values {
-            emit(Row {
-                input,
-                result: Err(error),
-                stopped: Some(stopped),
-            });
+        for (i, &input) in values.iter().enumerate() {
+            emit(
+                i,
+                Row {
+                    input,
+                    result: Err(error),
+                    stopped: Some(stopped),
+                },
+            );
         }
     };
     if index >= ni {
@@ -214,40 +269,54 @@ pub(super) fn walk_to_first<'k>(
     };
     let first = w.solve(values[nearest]);
     let at_first = w.mark();
-    let mut first_row = RowStore::new(info, 1);
-    first_row.push(&mut w, values[nearest], first);
-    // Down to the first value: rows kept a segment at a time, the walk's state kept at the top
-    // of every segment. The tick starts afresh there (and every SEGMENT rows up from the start
-    // row), so that a segment solved again from its checkpoint, or the same rows in a sweep that
-    // starts at the start row, have exactly these numbers.
-    let mut store = RowStore::new(info, nearest.min(SEGMENT));
+    // In order, the start row is handed out after the rows below it; as solved, now.
+    let mut first_row = RowStore::new(info, usize::from(ordered));
+    if ordered {
+        first_row.push(&mut w, values[nearest], first);
+    } else {
+        emit(nearest, w.row(values[nearest], first));
+    }
+    // Down to the first value: rows kept a segment at a time (handed out as solved when not in
+    // order), the walk's state kept at the top of every segment. The tick starts afresh there
+    // (and every SEGMENT rows up from the start row), so that a segment solved again from its
+    // checkpoint, or the same rows in a sweep that starts at the start row, have exactly these
+    // numbers.
+    let mut store = RowStore::new(info, if ordered { nearest.min(SEGMENT) } else { 0 });
     let mut checkpoints = Vec::new();
     for i in (0..nearest).rev() {
         if (nearest - 1 - i) % SEGMENT == 0 {
             let mark = w.mark();
             w.resume(&mark);
-            checkpoints.push((i, mark));
-            store.clear();
+            if ordered {
+                checkpoints.push((i, mark));
+                store.clear();
+            }
         }
         let outcome = w.solve(values[i]);
-        store.push(&mut w, values[i], outcome);
+        if ordered {
+            store.push(&mut w, values[i], outcome);
+        } else {
+            emit(i, w.row(values[i], outcome));
+        }
     }
     let after_down = w.allowance;
     // The lowest segment is in the store; each segment above it is solved again from its
     // checkpoint. Each is handed out upward.
-    store.emit_reversed(emit);
-    checkpoints.pop();
-    for (top, mark) in checkpoints.into_iter().rev() {
-        let bottom = (top + 1).saturating_sub(SEGMENT);
-        w.resume(&mark);
-        store.clear();
-        for i in (bottom..=top).rev() {
-            let outcome = w.solve(values[i]);
-            store.push(&mut w, values[i], outcome);
+    if ordered {
+        store.emit_reversed(0, emit);
+        checkpoints.pop();
+        for (top, mark) in checkpoints.into_iter().rev() {
+            let bottom = (top + 1).saturating_sub(SEGMENT);
+            w.resume(&mark);
+            store.clear();
+            for i in (bottom..=top).rev() {
+                let outcome = w.solve(values[i]);
+                store.push(&mut w, values[i], outcome);
+            }
+            store.emit_reversed(bottom, emit);
         }
-        store.emit_reversed(emit);
+        first_row.emit_reversed(nearest, emit);
     }
-    first_row.emit_reversed(emit);
     Some(First {
         walker: w,
         at_first,
@@ -255,115 +324,6 @@ pub(super) fn walk_to_first<'k>(
         nearest,
         solved: first,
     })
-}
-
-/// The row at `input` with `outcome`, borrowed from the walk.
-fn view<'w>(w: &'w mut Walker<'_>, input: f64, solved: bool) -> RowRef<'w> {
-    if !solved {
-        let (error, at) = w.failure();
-        return Row {
-            input,
-            result: Err(error),
-            stopped: Some(at),
-        };
-    }
-    match w.solved() {
-        Some(s) => Row {
-            input,
-            result: Ok(s),
-            stopped: None,
-        },
-        None => Row {
-            input,
-            result: Err(SolveError::NotStarted),
-            stopped: Some(stopped(input, f64::INFINITY, StopReason::Solver)),
-        },
-    }
-}
-
-/// A kept row's outcome: its condition estimate, or its error and where the branch stopped.
-type Kept = Result<f64, (SolveError, Stopped)>;
-
-/// Rows kept to be handed out later (the rows below the start row, in the order solved): their
-/// numbers in one buffer, allocated once.
-struct RowStore {
-    /// Each row's input, and its condition estimate or its error and stop.
-    rows: Vec<(f64, Kept)>,
-    numbers: Vec<f64>,
-    points: Vec<PointMotion<f64>>,
-    nu: usize,
-    np: usize,
-}
-
-impl RowStore {
-    fn new(info: &MechanismInfo, rows: usize) -> RowStore {
-        let (nu, np) = (info.unknowns.len(), info.points.len());
-        RowStore {
-            rows: Vec::with_capacity(rows),
-            numbers: Vec::with_capacity(rows * 3 * nu),
-            points: Vec::with_capacity(rows * np),
-            nu,
-            np,
-        }
-    }
-
-    fn clear(&mut self) {
-        self.rows.clear();
-        self.numbers.clear();
-        self.points.clear();
-    }
-
-    /// The row at `input` with `outcome` (its numbers read from the walk).
-    fn push(&mut self, w: &mut Walker<'_>, input: f64, solved: bool) {
-        let row = view(w, input, solved);
-        let outcome = match &row.result {
-            Ok(s) => {
-                self.numbers.extend_from_slice(s.q);
-                self.numbers.extend_from_slice(s.qd);
-                self.numbers.extend_from_slice(s.qdd);
-                self.points.extend_from_slice(s.points);
-                Ok(s.condition)
-            }
-            Err(e) => Err((
-                *e,
-                row.stopped
-                    .unwrap_or(stopped(input, f64::INFINITY, StopReason::Solver)),
-            )),
-        };
-        self.rows.push((input, outcome));
-    }
-
-    /// The rows kept, last kept first.
-    fn emit_reversed(&self, emit: &mut dyn FnMut(RowRef<'_>)) {
-        let (nu, np) = (self.nu, self.np);
-        let (mut n_end, mut p_end) = (self.numbers.len(), self.points.len());
-        for &(input, outcome) in self.rows.iter().rev() {
-            emit(match outcome {
-                Ok(condition) => {
-                    let (n0, p0) = (n_end - 3 * nu, p_end - np);
-                    let v = &self.numbers[n0..n_end];
-                    let row = Row {
-                        input,
-                        result: Ok(Solved {
-                            q: &v[..nu],
-                            qd: &v[nu..2 * nu],
-                            qdd: &v[2 * nu..],
-                            points: &self.points[p0..p_end],
-                            condition,
-                        }),
-                        stopped: None,
-                    };
-                    (n_end, p_end) = (n0, p0);
-                    row
-                }
-                Err((error, at)) => Row {
-                    input,
-                    result: Err(error),
-                    stopped: Some(at),
-                },
-            });
-        }
-    }
 }
 
 /// The index of the row a sweep reaches first: the value nearest the start input `x0` (for an

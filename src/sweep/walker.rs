@@ -8,7 +8,7 @@
 
 use super::continuation::largest_substep;
 use super::crossing::{Between, Node};
-use super::{Assembles, Continuation, Follower, SolvedRef, Stop, StopReason, Stopped};
+use super::{Assembles, Continuation, Follower, Row, RowRef, SolvedRef, Stop, StopReason, Stopped};
 use mechgen_runtime::error::SolveError;
 use mechgen_runtime::{DynMechanism, DynTick, InputMotion, MechanismInfo, PointMotion};
 
@@ -251,6 +251,36 @@ impl<'k> Walker<'k> {
                 self.failure = (error, stopped);
                 false
             }
+        }
+    }
+
+    /// The row at `input` (`solved`: what [`Walker::solve`] returned for it), borrowed from the
+    /// walk.
+    pub(super) fn row(&mut self, input: f64, solved: bool) -> RowRef<'_> {
+        if !solved {
+            let (error, at) = self.failure();
+            return Row {
+                input,
+                result: Err(error),
+                stopped: Some(at),
+            };
+        }
+        match self.solved() {
+            Some(s) => Row {
+                input,
+                result: Ok(s),
+                stopped: None,
+            },
+            None => Row {
+                input,
+                result: Err(SolveError::NotStarted),
+                stopped: Some(Stopped {
+                    input,
+                    condition: f64::INFINITY,
+                    reason: StopReason::Solver,
+                    assembles: None,
+                }),
+            },
         }
     }
 

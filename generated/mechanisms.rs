@@ -3838,7 +3838,9 @@ pub mod sixbar {
         }
         /// `tick_arrays` that hands gravity and every body's mass properties and motion to
         /// `sink`, computed in the same body as the points (sharing their
-        /// subexpressions). On error `t` is unchanged.
+        /// subexpressions). On error `t` is unchanged. Inlined, so that the sink's sums
+        /// stay in registers and the caller's totals follow them.
+        #[inline]
         fn tick_dynamics_arrays<S: ::mechgen::__private::BodySink<T>>(
             &self,
             t: &mut Tick<T>,
@@ -7665,7 +7667,9 @@ pub mod shaper {
         }
         /// `tick_arrays` that hands gravity and every body's mass properties and motion to
         /// `sink`, computed in the same body as the points (sharing their
-        /// subexpressions). On error `t` is unchanged.
+        /// subexpressions). On error `t` is unchanged. Inlined, so that the sink's sums
+        /// stay in registers and the caller's totals follow them.
+        #[inline]
         fn tick_dynamics_arrays<S: ::mechgen::__private::BodySink<T>>(
             &self,
             t: &mut Tick<T>,
@@ -10846,7 +10850,9 @@ pub mod four_bar {
         }
         /// `tick_arrays` that hands gravity and every body's mass properties and motion to
         /// `sink`, computed in the same body as the points (sharing their
-        /// subexpressions). On error `t` is unchanged.
+        /// subexpressions). On error `t` is unchanged. Inlined, so that the sink's sums
+        /// stay in registers and the caller's totals follow them.
+        #[inline]
         fn tick_dynamics_arrays<S: ::mechgen::__private::BodySink<T>>(
             &self,
             t: &mut Tick<T>,
@@ -13539,7 +13545,9 @@ pub mod slider_crank {
         }
         /// `tick_arrays` that hands gravity and every body's mass properties and motion to
         /// `sink`, computed in the same body as the points (sharing their
-        /// subexpressions). On error `t` is unchanged.
+        /// subexpressions). On error `t` is unchanged. Inlined, so that the sink's sums
+        /// stay in registers and the caller's totals follow them.
+        #[inline]
         fn tick_dynamics_arrays<S: ::mechgen::__private::BodySink<T>>(
             &self,
             t: &mut Tick<T>,

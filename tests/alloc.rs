@@ -480,7 +480,7 @@ fn lane_batches() -> Vec<(String, usize, usize)> {
             };
             let mut ok = 0;
             let (allocations, left) = count(|| {
-                sweep_group(name, &group, &mut |_, r| {
+                sweep_group(name, &group, &mut |_, _, r| {
                     ok += usize::from(black_box(&r).result.is_ok());
                 })
             });

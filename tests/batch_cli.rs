@@ -228,6 +228,67 @@ fn threads_do_not_change_the_output() {
     assert!(a == b, "the CSV depends on the threads");
 }
 
+/// A range that ends at the start (1°…360° from a start at 0°: every row below the start row):
+/// the lanes walk down from the start row and hand each row out as solved; the CSV still has
+/// each set's rows in input order, each the generic engine's (scalar sweep) to 1e-12.
+#[test]
+fn rows_below_the_start_row_come_in_input_order() {
+    let sets = temp("batch-down", "sets.csv");
+    let mut body = String::from("l1,l3\n");
+    for i in 0..9 {
+        body.push_str(&format!("{},{}\n", 0.1 + 2e-3 * f64::from(i), 0.35));
+    }
+    std::fs::write(&sets, body).unwrap();
+    let base = temp("batch-down", "four_bar.toml");
+    std::fs::write(&base, four_bar_file(&[])).unwrap();
+    let (lanes, file) = (
+        temp("batch-down", "lanes.csv"),
+        temp("batch-down", "file.csv"),
+    );
+    let p = |x: &std::path::Path| x.to_str().unwrap().to_string();
+    for (csv, engine) in [(&lanes, None), (&file, Some(&base))] {
+        let mut args = vec!["batch".to_string(), "four_bar".to_string()];
+        if let Some(f) = engine {
+            args.extend(["--file".to_string(), p(f)]);
+        }
+        for a in [
+            "--params",
+            &p(&sets),
+            "--from",
+            "1",
+            "--to",
+            "360",
+            "--step",
+            "1",
+        ] {
+            args.push(a.to_string());
+        }
+        args.extend(["--csv".to_string(), p(csv)]);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        run_ok(&args);
+    }
+    let (lanes, file) = (
+        std::fs::read_to_string(&lanes).unwrap(),
+        std::fs::read_to_string(&file).unwrap(),
+    );
+    let (a, b): (Vec<&str>, Vec<&str>) = (lanes.lines().collect(), file.lines().collect());
+    assert_eq!(a.len(), 1 + 9 * 360);
+    assert_eq!(a.len(), b.len());
+    let input = |line: &str| fields(line, 1)[0].parse::<f64>().unwrap();
+    for (k, (x, y)) in a.iter().zip(&b).enumerate().skip(1) {
+        let (set, row) = ((k - 1) / 360, (k - 1) % 360);
+        assert!(x.starts_with(&format!("{set},")), "line {k}: {x}");
+        assert!(x.ends_with(",ok"), "line {k}: {x}");
+        // Row `row` is at 1° + `row`° (radians in the CSV).
+        let want = (1.0 + row as f64).to_radians();
+        assert!((input(x) - want).abs() < 1e-12, "line {k}: {x}");
+        assert!(
+            close(&fields(x, 0), &fields(y, 0), 1e-12),
+            "line {k}:\n{x}\n{y}"
+        );
+    }
+}
+
 #[test]
 fn errors_name_the_file_and_line() {
     let p = |x: &std::path::Path| x.to_str().unwrap().to_string();

@@ -2,8 +2,9 @@
 //! compiled-in mechanism) give every set's rows bit for bit as the scalar sweep gives them: every
 //! compiled-in mechanism, sets within ±6 % of the file's params (enough that some sets' branches
 //! end at a dead point inside the range, or cannot start), ranges from the start row up, around
-//! it (rows below it first), in steps the tick takes in one substep and in several. The sets that
-//! leave the lanes are swept by the scalar sweep, as the batch does.
+//! it (rows below it first), up to it (every row below it), in steps the tick takes in one
+//! substep and in several. The rows come as solved, each with its index: each row once. The sets
+//! that leave the lanes are swept by the scalar sweep, as the batch does.
 #![cfg(feature = "sweep")]
 
 use mechgen::Kind;
@@ -76,7 +77,7 @@ fn check(
         .collect();
     let (mut whole, mut in_lanes) = (0, 0);
     for (g, chunk) in params.chunks(LANES).enumerate() {
-        let mut got: Vec<Vec<Row>> = vec![Vec::new(); chunk.len()];
+        let mut got: Vec<Vec<Option<Row>>> = vec![vec![None; values.len()]; chunk.len()];
         let group = Group {
             params: chunk,
             index: 0,
@@ -85,8 +86,15 @@ fn check(
             held: &[],
             continuation: &c,
         };
-        let left = sweep_group(name, &group, &mut |i, r| got[i].push(r.to_row()))
-            .expect("a compiled-in mechanism");
+        let left = sweep_group(name, &group, &mut |i, at, r| {
+            let slot = &mut got[i][at];
+            assert!(
+                slot.is_none(),
+                "{name}: row {at} of set {i} handed out twice"
+            );
+            *slot = Some(r.to_row());
+        })
+        .expect("a compiled-in mechanism");
         for (i, p) in chunk.iter().enumerate() {
             let want = scalar(name, p, &values, &c);
             let ok = want.iter().all(|r| r.result.is_ok());
@@ -97,6 +105,7 @@ fn check(
             in_lanes += usize::from(ok);
             assert_eq!(got[i].len(), want.len(), "{name} set {}", g * LANES + i);
             for (a, b) in got[i].iter().zip(&want) {
+                let a = a.as_ref().expect("every row handed out");
                 assert!(
                     same(a, b),
                     "{name} set {}: lane row\n{a:?}\nscalar row\n{b:?}",
@@ -114,12 +123,18 @@ fn every_set_swept_in_lanes_is_its_scalar_sweep() {
     for (s, name) in mechgen::MECHANISMS.iter().enumerate() {
         let seed = 0x9e37_79b9_7f4a_7c15 ^ s as u64;
         // The start's branch: a full turn, or between the dead points of the rocking inputs.
-        let (from, to) = match *name {
+        let (from, to): (f64, f64) = match *name {
             "rocker_four_bar" => (-120.0, 120.0),
             "sixbar_g" => (250.0, 340.0),
             _ => (0.0, 360.0),
         };
         let mid = (from + to) / 2.0;
+        let start = mechgen::lookup::<f64>(name)
+            .expect("compiled in")
+            .info()
+            .inputs[0]
+            .start
+            .to_degrees();
         for (range, sets, spread) in [
             // From the start row up, one substep a row (the largest substep is 2°).
             ((from, to, 1.0), 24, 0.06),
@@ -127,6 +142,8 @@ fn every_set_swept_in_lanes_is_its_scalar_sweep() {
             ((from, to - 4.0, 7.0), 17, 0.06),
             // Rows below the start row first.
             ((from - mid / 4.0, to - mid / 4.0, 3.0), 9, 0.03),
+            // Every row below the start row.
+            ((from.max(start - 359.0), start, 2.0), 9, 0.03),
         ] {
             let (w, l) = check(name, range, sets, spread, seed + sets as u64);
             whole += w;

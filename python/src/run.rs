@@ -80,10 +80,8 @@ impl Job<'_> {
             held: &self.plan.held,
             continuation: &c,
         };
-        let mut next: Vec<usize> = (0..chunk.len()).map(|i| at + i * rows).collect();
-        sweep_group(self.name, &group, &mut |i, row| {
-            block.put(next[i], &row, self.info);
-            next[i] += 1;
+        sweep_group(self.name, &group, &mut |i, r, row| {
+            block.put(at + i * rows + r, &row, self.info);
         })
         .unwrap_or(u32::MAX)
     }

@@ -21,13 +21,14 @@ pub struct Group<'a> {
 }
 
 /// Sweeps up to [`LANES`] param sets of the compiled-in mechanism `name` in SIMD lanes, set `i`'s
-/// rows to `emit(i, row)`, as [`crate::sweep::sweep_each_with`] sweeps each. `None` when no
+/// row `r` (its index in the values) to `emit(i, r, row)` as solved (see
+/// [`crate::sweep::sweep_sets_in_lanes`]), the rows [`crate::sweep::sweep_each_with`] gives each. `None` when no
 /// compiled-in mechanism has that name or a set's params do not fit it; else the sets (a bit
 /// each) that left the lanes: drop their rows and sweep them with the scalar sweep.
 pub fn sweep_group(
     name: &str,
     group: &Group<'_>,
-    emit: &mut dyn FnMut(usize, RowRef<'_>),
+    emit: &mut dyn FnMut(usize, usize, RowRef<'_>),
 ) -> Option<u32> {
     let mut v = Visit {
         name,
@@ -42,7 +43,7 @@ pub fn sweep_group(
 struct Visit<'a, 'g> {
     name: &'a str,
     group: &'a Group<'g>,
-    emit: &'a mut dyn FnMut(usize, RowRef<'_>),
+    emit: &'a mut dyn FnMut(usize, usize, RowRef<'_>),
     left: Option<u32>,
 }
 

@@ -182,6 +182,9 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
             .iter()
             .map(|_| (Vec::new(), SetSummary::new(&info)))
             .collect();
+        // The rows come as solved (the start row, down, then up): each row's span in the set's
+        // text, to be put in row order.
+        let mut spans: Vec<Vec<(usize, usize)>> = vec![Vec::new(); params.len()];
         let group = Group {
             params: &params,
             index: plan.index,
@@ -190,10 +193,11 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
             held: &plan.held,
             continuation: &continuation,
         };
-        let left = sweep_group(&s.name, &group, &mut |i, r| {
+        let left = sweep_group(&s.name, &group, &mut |i, at, r| {
             let (rows, summary) = &mut out[i];
             summary.add(&r);
             if want_rows {
+                spans[i].push((at, rows.len()));
                 let _ = write!(rows, "{},", group_sets.start + i);
                 report::csv_row_held(rows, &info, &r, &held);
             }
@@ -202,6 +206,8 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
         for (i, set) in group_sets.enumerate() {
             if left >> i & 1 == 1 {
                 out[i] = solve(set);
+            } else {
+                in_row_order(&mut out[i].0, &mut spans[i]);
             }
         }
         out
@@ -254,4 +260,29 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
         count - whole
     );
     Ok(())
+}
+
+/// A set's rows, written as solved (`spans`: each row's index and where its text starts, in the
+/// order written), put in row order.
+fn in_row_order(text: &mut Vec<u8>, spans: &mut [(usize, usize)]) {
+    if spans.is_sorted_by_key(|s| s.0) {
+        return;
+    }
+    let ends: Vec<usize> = spans
+        .iter()
+        .skip(1)
+        .map(|s| s.1)
+        .chain([text.len()])
+        .collect();
+    let mut ranges: Vec<(usize, usize, usize)> = spans
+        .iter()
+        .zip(ends)
+        .map(|(&(row, start), end)| (row, start, end))
+        .collect();
+    ranges.sort_unstable_by_key(|r| r.0);
+    let mut ordered = Vec::with_capacity(text.len());
+    for (_, start, end) in ranges {
+        ordered.extend_from_slice(&text[start..end]);
+    }
+    *text = ordered;
 }

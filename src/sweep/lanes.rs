@@ -27,7 +27,9 @@ pub const MIN_LANES: usize = 4;
 /// Sweeps the sets `mechs` (at most [`LANES`], at least `MIN_LANES`; each a mechanism with its
 /// set's params) as
 /// [`super::sweep_each_with`] sweeps each (input `index` over `values`, rate `rate`, `held` inputs
-/// moved first), handing set `i`'s rows to `emit(i, row)` in row order. Returns the sets (a bit
+/// moved first), handing set `i`'s row `r` (its index in `values`) to `emit(i, r, row)` as the
+/// walk solves it: the start row (by the scalar walk), the rows below it downward, then those
+/// above it upward (the last two in the lanes). Returns the sets (a bit
 /// each) whose sweep left the lanes: the rows handed out for them are to be dropped and the set
 /// swept by the scalar sweep (with its branch oracle, for the statuses of failed rows).
 #[allow(clippy::too_many_arguments)]
@@ -38,7 +40,7 @@ pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
     rate: f64,
     held: &[(usize, f64)],
     c: &Continuation,
-    emit: &mut dyn FnMut(usize, RowRef<'_>),
+    emit: &mut dyn FnMut(usize, usize, RowRef<'_>),
 ) -> u32 {
     let n = mechs.len().min(LANES);
     let all = if n == 32 { u32::MAX } else { (1u32 << n) - 1 };
@@ -55,12 +57,13 @@ pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
     let mut firsts: Vec<Option<First<'_>>> = Vec::with_capacity(n);
     for (i, k) in dyns.iter().enumerate() {
         let mut failed = false;
-        let mut row_of_set = |_: usize, row: RowRef<'_>| {
+        let mut row_of_set = |r: usize, row: RowRef<'_>| {
             failed |= row.result.is_err();
-            emit(i, row);
+            emit(i, r, row);
         };
-        let rows = (&mut row_of_set as &mut dyn FnMut(usize, RowRef<'_>), true);
-        let first = walk_to_first(*k, &info, index, values, rate, held, c, None, rows);
+        let rows = (&mut row_of_set as &mut dyn FnMut(usize, RowRef<'_>), false);
+        // The start row only: the lanes walk down from it, then up.
+        let first = walk_to_first(*k, &info, index, values, rate, held, c, None, rows, false);
         // A failed row's status needs the branch oracle the scalar sweep is given.
         if failed {
             leave |= 1 << i;
@@ -76,7 +79,7 @@ pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
         match lane {
             Some(l) if leave >> i & 1 == 0 => walks.push(Some(l)),
             _ => {
-                // Done (no rows above the start row) or not for the lanes.
+                // Not for the lanes (its rows past the start row are the scalar sweep's).
                 if f.is_some() || firsts[i].is_none() && values.len() > 1 {
                     leave |= 1 << i;
                 }
@@ -110,7 +113,7 @@ pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
     let active: u32 = (0..n)
         .filter(|&i| walks[i].is_some())
         .fold(0, |m, i| m | 1 << i);
-    if first + 1 >= values.len() {
+    if values.len() <= 1 {
         return leave;
     }
     let lane_of = |i: usize| if walks[i].is_some() { i } else { lead };
@@ -140,20 +143,38 @@ pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
             run.allowance[lane] = *after_down;
         }
     }
-    run.start(&guess, c);
     let scales = L::from_fn(|lane| {
         let i = lane_of(lane.min(n - 1));
         walks[i].as_ref().map_or(1.0, |w| w.2.guard.scale())
     });
-    for (d, &target) in values[first + 1..].iter().enumerate() {
+    let guard = (w0.guard, scales);
+    // Down from the start row, then up from it again, as the scalar walk goes: the tick started
+    // afresh at the start row both times and every SEGMENT rows on; the budget of each lane
+    // carried from the rows below to those above.
+    run.start(&guess, c);
+    for (d, r) in (0..first).rev().enumerate() {
         if run.active == 0 {
             break;
         }
         if d > 0 && d % super::SEGMENT == 0 {
             run.renew(c);
         }
-        run.tick_to(target, w0.h_max, index, c, (w0.guard, scales));
-        run.emit_rows(target, emit);
+        run.tick_to(values[r], w0.h_max, index, c, guard);
+        run.emit_rows((r, values[r]), emit);
+    }
+    if first > 0 && first + 1 < values.len() {
+        run.x.copy_from_slice(x0);
+        run.start(&guess, c);
+    }
+    for (d, r) in (first + 1..values.len()).enumerate() {
+        if run.active == 0 {
+            break;
+        }
+        if d > 0 && d % super::SEGMENT == 0 {
+            run.renew(c);
+        }
+        run.tick_to(values[r], w0.h_max, index, c, guard);
+        run.emit_rows((r, values[r]), emit);
     }
     leave | (active & !run.active)
 }
@@ -282,8 +303,12 @@ impl<M: StaticMechanism<f64>> Run<M> {
         }
     }
 
-    /// The row at `target` of every lane still in the lanes.
-    fn emit_rows(&mut self, target: f64, emit: &mut dyn FnMut(usize, RowRef<'_>)) {
+    /// Row `r` (at input `target`) of every lane still in the lanes.
+    fn emit_rows(
+        &mut self,
+        (r, target): (usize, f64),
+        emit: &mut dyn FnMut(usize, usize, RowRef<'_>),
+    ) {
         let Some(t) = &self.tick else { return };
         t.all_numbers(&mut self.q, &mut self.qd, &mut self.qdd, &mut self.points);
         let (nu, np) = (self.nu, self.np);
@@ -295,6 +320,7 @@ impl<M: StaticMechanism<f64>> Run<M> {
             let u = lane * nu..(lane + 1) * nu;
             emit(
                 lane,
+                r,
                 Row {
                     input: target,
                     result: Ok(Solved {

@@ -136,6 +136,7 @@ fn sweep_rows(
         c,
         assembles,
         (&mut *emit, ordered),
+        true,
     ) else {
         return;
     };
@@ -168,10 +169,10 @@ pub(super) struct First<'k> {
 }
 
 /// The first part of [`sweep_each_with`]: the start settled, the held inputs moved, the start
-/// row reached, the rows below it solved and every row up to the start row handed to `emit.0`
-/// with its index (in the order of `values` when `emit.1`, else as solved: the start row, then
-/// downward). `None` when nothing is left to walk (every row already handed out failed, or no
-/// rows).
+/// row reached, the rows below it solved (when `down`; else the walk stops at the start row) and
+/// every row up to the start row handed to `emit.0` with its index (in the order of `values` when
+/// `emit.1`, else as solved: the start row, then downward). `None` when nothing is left to walk
+/// (every row already handed out failed, or no rows).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn walk_to_first<'k>(
     k: &'k dyn DynMechanism<f64>,
@@ -183,6 +184,7 @@ pub(super) fn walk_to_first<'k>(
     c: &'k Continuation,
     assembles: Option<Assembles<'k>>,
     (emit, ordered): RowSink<'_>,
+    down: bool,
 ) -> Option<First<'k>> {
     let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
     let mut q: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
@@ -275,6 +277,16 @@ pub(super) fn walk_to_first<'k>(
         first_row.push(&mut w, values[nearest], first);
     } else {
         emit(nearest, w.row(values[nearest], first));
+    }
+    if !down {
+        first_row.emit_reversed(nearest, emit);
+        return Some(First {
+            after_down: w.allowance,
+            walker: w,
+            at_first,
+            nearest,
+            solved: first,
+        });
     }
     // Down to the first value: rows kept a segment at a time (handed out as solved when not in
     // order), the walk's state kept at the top of every segment. The tick starts afresh there

@@ -160,7 +160,9 @@ pub(crate) fn solvers(c: &Compiled, args: &Args) -> TokenStream {
             quote! {
                 /// `tick_arrays` that hands gravity and every body's mass properties and motion to
                 /// `sink`, computed in the same body as the points (sharing their
-                /// subexpressions). On error `t` is unchanged.
+                /// subexpressions). On error `t` is unchanged. Inlined, so that the sink's sums
+                /// stay in registers and the caller's totals follow them.
+                #[inline]
             },
         ));
     }

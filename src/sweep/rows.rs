@@ -90,8 +90,16 @@ pub fn sweep_each_with(
     emit: &mut dyn FnMut(RowRef<'_>),
 ) {
     let mut ordered = |_: usize, row: RowRef<'_>| emit(row);
-    let ordered: &mut dyn FnMut(usize, RowRef<'_>) = &mut ordered;
-    sweep_rows(k, index, values, rate, held, c, assembles, (ordered, true));
+    sweep_rows(
+        k,
+        index,
+        values,
+        rate,
+        held,
+        c,
+        assembles,
+        (&mut ordered, true),
+    );
 }
 
 /// [`sweep_each_with`] handing each row to `emit` with its index in `values` as soon as it is
@@ -110,12 +118,23 @@ pub fn sweep_each_indexed(
     assembles: Option<Assembles<'_>>,
     emit: &mut dyn FnMut(usize, RowRef<'_>),
 ) {
-    sweep_rows(k, index, values, rate, held, c, assembles, (emit, false));
+    let mut emit = |i: usize, row: RowRef<'_>| emit(i, row);
+    sweep_rows(
+        k,
+        index,
+        values,
+        rate,
+        held,
+        c,
+        assembles,
+        (&mut emit, false),
+    );
 }
 
 /// The walk of both: rows to `emit.0` with their index, in the order of `values` when `emit.1`.
+/// Generic in the sink, so that a caller's wrapper is no second dynamic call per row.
 #[allow(clippy::too_many_arguments)]
-fn sweep_rows(
+fn sweep_rows<F: for<'r> FnMut(usize, RowRef<'r>)>(
     k: &dyn DynMechanism<f64>,
     index: usize,
     values: &[f64],
@@ -123,7 +142,7 @@ fn sweep_rows(
     held: &[(usize, f64)],
     c: &Continuation,
     assembles: Option<Assembles<'_>>,
-    (emit, ordered): RowSink<'_>,
+    (emit, ordered): (&mut F, bool),
 ) {
     let info: MechanismInfo = k.info();
     let Some(mut first) = walk_to_first(

@@ -5,6 +5,7 @@
 //! solved [`State`]. Every slice is checked: a wrong length is [`SolveError::BadLength`], never a
 //! truncated copy.
 
+use alloc::borrow::Cow;
 use alloc::boxed::Box;
 use alloc::vec;
 use alloc::vec::Vec;
@@ -20,6 +21,12 @@ use crate::solve::{NewtonReport, SolveOptions};
 /// [`SolveError::BadLength`]. Matrices are row-major.
 pub trait DynMechanism<T: Real> {
     fn info(&self) -> MechanismInfo;
+    /// [`DynMechanism::info`] without building it where the engine keeps one (the generic engine's
+    /// own; a generated mechanism's, made once per process with `std`): what a sweep reads at its
+    /// start. The same description either way.
+    fn info_ref(&self) -> Cow<'_, MechanismInfo> {
+        Cow::Owned(self.info())
+    }
     /// Φ(x, q) into `out` (UNKNOWNS).
     fn residual(&self, x: &[T], q: &[T], out: &mut [T]) -> Result<(), SolveError>;
     /// J into `out` (UNKNOWNS × UNKNOWNS).

@@ -102,6 +102,25 @@ impl From<&ParamInfo> for ParamDesc {
     }
 }
 
+/// The description of a generated mechanism, made from its static info once per process (kept
+/// for the process: one per compiled-in mechanism type), so that a sweep's start reads it without
+/// allocating.
+#[cfg(feature = "std")]
+pub fn shared(info: &'static StaticInfo) -> &'static MechanismInfo {
+    use std::sync::Mutex;
+    static SHARED: Mutex<Vec<(usize, &'static MechanismInfo)>> = Mutex::new(Vec::new());
+    let key = info as *const StaticInfo as usize;
+    let mut made = SHARED
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    if let Some(&(_, m)) = made.iter().find(|(k, _)| *k == key) {
+        return m;
+    }
+    let m: &'static MechanismInfo = alloc::boxed::Box::leak(alloc::boxed::Box::new(info.into()));
+    made.push((key, m));
+    m
+}
+
 impl From<&StaticInfo> for MechanismInfo {
     fn from(s: &StaticInfo) -> Self {
         MechanismInfo {

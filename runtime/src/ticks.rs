@@ -238,6 +238,10 @@ impl<T: Real, M: StaticMechanism<T>> DynMechanism<T> for M {
     fn info(&self) -> MechanismInfo {
         StaticMechanism::info(self).into()
     }
+    #[cfg(feature = "std")]
+    fn info_ref(&self) -> alloc::borrow::Cow<'_, MechanismInfo> {
+        alloc::borrow::Cow::Borrowed(crate::info::shared(StaticMechanism::info(self)))
+    }
     fn residual(&self, x: &[T], q: &[T], out: &mut [T]) -> Result<(), SolveError> {
         let r = StaticMechanism::residual(self, &arr(x)?, &arr(q)?);
         put(out, r.as_ref())

@@ -211,6 +211,9 @@ macro_rules! kinematics {
             fn info(&self) -> MechanismInfo {
                 self.info.clone()
             }
+            fn info_ref(&self) -> std::borrow::Cow<'_, MechanismInfo> {
+                std::borrow::Cow::Borrowed(&self.info)
+            }
 
             fn residual(&self, x: &[$t], q: &[$t], out: &mut [$t]) -> Result<(), SolveError> {
                 self.lengths(&[x, q])?;

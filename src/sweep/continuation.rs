@@ -109,7 +109,7 @@ pub fn continue_within(
     c: &Continuation,
     allowance: &mut usize,
 ) -> Result<f64, Stop> {
-    let info = k.info();
+    let info = k.info_ref();
     match Follower::new(&info, index, x.len()) {
         Ok(mut f) => f.continue_within(k, x, q, target, c, allowance),
         Err(error) => Err(Stop {

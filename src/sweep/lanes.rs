@@ -49,7 +49,7 @@ pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
     }
     let dyns: Vec<&dyn DynMechanism<f64>> =
         mechs.iter().map(|m| m as &dyn DynMechanism<f64>).collect();
-    let Some(info) = dyns.first().map(|k| k.info()) else {
+    let Some(info) = dyns.first().map(|k| k.info_ref()) else {
         return all;
     };
     // Each set to its start row, by the scalar walk.

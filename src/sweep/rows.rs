@@ -144,7 +144,7 @@ fn sweep_rows<F: for<'r> FnMut(usize, RowRef<'r>)>(
     assembles: Option<Assembles<'_>>,
     (emit, ordered): (&mut F, bool),
 ) {
-    let info: MechanismInfo = k.info();
+    let info = k.info_ref();
     let Some(mut first) = walk_to_first(
         k,
         &info,

@@ -151,31 +151,14 @@ pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
     // Down from the start row, then up from it again, as the scalar walk goes: the tick started
     // afresh at the start row both times and every SEGMENT rows on; the budget of each lane
     // carried from the rows below to those above.
+    let walk = (values, index, w0.h_max);
     run.start(&guess, c);
-    for (d, r) in (0..first).rev().enumerate() {
-        if run.active == 0 {
-            break;
-        }
-        if d > 0 && d % super::SEGMENT == 0 {
-            run.renew(c);
-        }
-        run.tick_to(values[r], w0.h_max, index, c, guard);
-        run.emit_rows((r, values[r]), emit);
-    }
+    run.walk((0..first).rev(), walk, c, guard, emit);
     if first > 0 && first + 1 < values.len() {
         run.x.copy_from_slice(x0);
         run.start(&guess, c);
     }
-    for (d, r) in (first + 1..values.len()).enumerate() {
-        if run.active == 0 {
-            break;
-        }
-        if d > 0 && d % super::SEGMENT == 0 {
-            run.renew(c);
-        }
-        run.tick_to(values[r], w0.h_max, index, c, guard);
-        run.emit_rows((r, values[r]), emit);
-    }
+    run.walk(first + 1..values.len(), walk, c, guard, emit);
     leave | (active & !run.active)
 }
 
@@ -227,6 +210,28 @@ impl<M: StaticMechanism<f64>> Run<M> {
             }
         }
         self.tick = Some(t);
+    }
+
+    /// Every lane still in the lanes through the rows `rows` of `values` (indices, in the order
+    /// walked), the tick started afresh every SEGMENT rows, each row handed to `emit`.
+    fn walk(
+        &mut self,
+        rows: impl Iterator<Item = usize>,
+        (values, index, h_max): (&[f64], usize, f64),
+        c: &Continuation,
+        guard: (&mechgen_runtime::guard::BranchGuard, L),
+        emit: &mut dyn FnMut(usize, usize, RowRef<'_>),
+    ) {
+        for (d, r) in rows.enumerate() {
+            if self.active == 0 {
+                break;
+            }
+            if d > 0 && d % super::SEGMENT == 0 {
+                self.renew(c);
+            }
+            self.tick_to(values[r], h_max, index, c, guard);
+            self.emit_rows((r, values[r]), emit);
+        }
     }
 
     /// The tick started afresh where every lane stands (the scalar walk's `renew`).

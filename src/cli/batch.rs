@@ -207,7 +207,7 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
             if left >> i & 1 == 1 {
                 out[i] = solve(set);
             } else {
-                in_row_order(&mut out[i].0, &mut spans[i]);
+                in_row_order(&mut out[i].0, &spans[i]);
             }
         }
         out
@@ -264,7 +264,7 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
 
 /// A set's rows, written as solved (`spans`: each row's index and where its text starts, in the
 /// order written), put in row order.
-fn in_row_order(text: &mut Vec<u8>, spans: &mut [(usize, usize)]) {
+fn in_row_order(text: &mut Vec<u8>, spans: &[(usize, usize)]) {
     if spans.is_sorted_by_key(|s| s.0) {
         return;
     }

@@ -153,3 +153,37 @@ fn indexed_rows_are_the_ordered_rows_as_solved() {
         }
     }
 }
+
+/// A sweep whose first row is the start itself starts its tick there, with no continuation to
+/// it: fewer solves than a sweep whose one row lies 1e-9 rad off the start (which continues to
+/// it first), on both engines; the two rows agree to the step's size.
+#[test]
+fn a_start_row_at_the_start_needs_no_continuation() {
+    let generated = mechgen::lookup::<f64>("four_bar").expect("compiled in");
+    let loaded = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
+        .expect("the compiled-in file loads");
+    let generic = loaded
+        .into_iter()
+        .find(|g| g.name() == "four_bar")
+        .expect("in the file");
+    for (engine, k) in [
+        ("generated", generated.as_ref()),
+        ("generic", &generic as &dyn mechgen::DynMechanism<f64>),
+    ] {
+        let start = k.info().inputs[0].start;
+        let solves = |value: f64| {
+            let c = Continuation::for_input(Kind::Angle, 1.0);
+            let counted = Counting::new(k);
+            let rows = sweep(&counted, 0, &[value], 1.0, &c);
+            (counted.calls.get(), rows)
+        };
+        let (at, rows_at) = solves(start);
+        let (off, rows_off) = solves(start + 1e-9);
+        assert!(at < off, "{engine}: {at} solves at the start, {off} off it");
+        let (a, b) = (&rows_at[0].result, &rows_off[0].result);
+        let (a, b) = (a.as_ref().expect("solved"), b.as_ref().expect("solved"));
+        for (u, v) in a.q.iter().zip(&b.q) {
+            assert!((u - v).abs() < 1e-8, "{engine}: {u} against {v}");
+        }
+    }
+}

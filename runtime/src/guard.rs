@@ -104,6 +104,9 @@ impl BranchGuard {
         }
         let length = self.length_limit(before);
         let (mut moved, mut scale, mut size) = (T::zero(), T::lit(1e-12), T::zero());
+        // Every unknown checked, without a branch per unknown (as in the lanes): the answer is
+        // false if any is not finite or moves too far, whatever the sums below then hold.
+        let mut good = true;
         for k in 0..n {
             let p = before[k] + dt * (qd[k] + T::lit(0.5) * dt * qdd[k]);
             let (step, change) = ((p - before[k]).abs(), (after[k] - before[k]).abs());
@@ -112,17 +115,15 @@ impl BranchGuard {
             } else {
                 T::lit(MAX_STEP)
             };
-            if !step.is_finite() || !change.is_finite() || step > limit || change > limit {
-                return false;
-            }
-            // Every number here is finite (a NaN or infinite `before`, `p` or `after` makes
-            // `step` or `change` so): a plain comparison is the largest, as in the lanes.
+            good &= step.is_finite() & change.is_finite() & (step <= limit) & (change <= limit);
+            // Where every number is finite (a NaN or infinite `before`, `p` or `after` makes
+            // `step` or `change` so, and `good` false), a plain comparison is the largest.
             let larger = |a: T, b: T| if a < b { b } else { a };
             moved = larger(moved, (after[k] - p).abs());
             scale = larger(larger(scale, step), change);
             size = larger(size, before[k].abs());
         }
-        moved < T::lit(1e-9) * (T::one() + size) || moved <= T::lit(MAX_JUMP) * scale
+        good & (moved < T::lit(1e-9) * (T::one() + size) || moved <= T::lit(MAX_JUMP) * scale)
     }
 
     /// The length scale lengths are measured against.

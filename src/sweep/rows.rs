@@ -253,7 +253,7 @@ pub(super) fn walk_to_first<'k>(
             return None;
         }
     }
-    settle_start(k, info, &x, &mut q, c);
+    let settled = settle_start(k, info, &x, &mut q, c);
     let mut allowance = sweep_budget(values.len());
     // Held inputs first, each along the branch from its start value to its value.
     for &(i, value) in held.iter().filter(|h| h.0 < ni && h.0 != index) {
@@ -281,6 +281,7 @@ pub(super) fn walk_to_first<'k>(
     if info.inputs[index].kind == Kind::Angle {
         x[index] = nearest_turn(x[index], values[nearest]);
     }
+    let x_start = x[index];
     let mut w = match Walker::new(k, info, index, rate, c, (x, q, allowance), assembles) {
         Ok(w) => w,
         Err(error) => {
@@ -288,7 +289,9 @@ pub(super) fn walk_to_first<'k>(
             return None;
         }
     };
-    let first = w.solve(values[nearest]);
+    // A start row at the settled start itself needs no continuation: the tick starts there.
+    let first =
+        (settled && x_start == values[nearest] && w.start_here()) || w.solve(values[nearest]);
     let at_first = w.mark();
     // In order, the start row is handed out after the rows below it; as solved, now.
     let mut first_row = RowStore::new(info, usize::from(ordered));
@@ -397,16 +400,17 @@ fn condition_at(k: &dyn DynMechanism<f64>, x: &[f64], q: &[f64], c: &Continuatio
 
 /// Settles the start configuration itself (the file's values may be rounded), with angles as
 /// near the file's values as whole turns allow (a far-off start may have converged turns away,
-/// where angles lose precision). Leaves `q` as it is when the solve fails.
+/// where angles lose precision). Leaves `q` as it is when the solve fails; whether it solved.
 fn settle_start(
     k: &dyn DynMechanism<f64>,
     info: &MechanismInfo,
     x: &[f64],
     q: &mut [f64],
     c: &Continuation,
-) {
+) -> bool {
     let mut start_q = q.to_vec();
-    if k.solve_position(x, &mut start_q, &c.options).is_ok() {
+    let solved = k.solve_position(x, &mut start_q, &c.options).is_ok();
+    if solved {
         for ((settled, file), u) in start_q.iter_mut().zip(q.iter()).zip(&info.unknowns) {
             if u.kind == Kind::Angle {
                 *settled = nearest_turn(*settled, *file);
@@ -414,4 +418,5 @@ fn settle_start(
         }
         q.copy_from_slice(&start_q);
     }
+    solved
 }

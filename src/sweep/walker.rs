@@ -329,6 +329,14 @@ impl<'k> Walker<'k> {
         self.continue_to(target)
     }
 
+    /// The row where the walk stands, its state solved already (the settled start): the tick
+    /// started there, with no continuation. False (nothing changed but the tick, not started)
+    /// when the tick does not start; [`Walker::solve`] then solves the row.
+    pub(super) fn start_here(&mut self) -> bool {
+        self.at_crossing = false;
+        self.restart().is_ok() && self.started
+    }
+
     /// The solved row's numbers (the tick's state; rates and point rates zero for a walk at
     /// rest) and the condition estimate of its position solve.
     #[inline]

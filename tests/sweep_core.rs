@@ -9,18 +9,30 @@ use common::sweep::Counting;
 use mechgen::Kind;
 use mechgen::sweep::{Continuation, sweep};
 
+/// The compiled-in mechanism `name` and the same loaded from the compiled-in file (the
+/// interpreter).
+fn both_engines(
+    name: &str,
+) -> (
+    Box<dyn mechgen::DynMechanism<f64>>,
+    mechgen::generic::Generic,
+) {
+    let generated = mechgen::lookup::<f64>(name).expect("compiled in");
+    let loaded = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
+        .expect("the compiled-in file loads");
+    let generic = loaded
+        .into_iter()
+        .find(|g| g.name() == name)
+        .expect("in the file");
+    (generated, generic)
+}
+
 /// `rocker_four_bar` (start q1 = 0) can turn up to its dead point near 135.95°: a sweep from 0°
 /// to 200° and one to 360° make exactly the same solves, the 160 rows more all past the dead
 /// point, and every row past it fails with the dead point named.
 #[test]
 fn rows_past_the_end_of_the_branch_cost_no_solve() {
-    let generated = mechgen::lookup::<f64>("rocker_four_bar").expect("compiled in");
-    let loaded = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
-        .expect("the compiled-in file loads");
-    let generic = loaded
-        .into_iter()
-        .find(|g| g.name() == "rocker_four_bar")
-        .expect("in the file");
+    let (generated, generic) = both_engines("rocker_four_bar");
     for (engine, k) in [
         ("generated", generated.as_ref()),
         ("generic", &generic as &dyn mechgen::DynMechanism<f64>),
@@ -159,13 +171,7 @@ fn indexed_rows_are_the_ordered_rows_as_solved() {
 /// it first), on both engines; the two rows agree to the step's size.
 #[test]
 fn a_start_row_at_the_start_needs_no_continuation() {
-    let generated = mechgen::lookup::<f64>("four_bar").expect("compiled in");
-    let loaded = mechgen::generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
-        .expect("the compiled-in file loads");
-    let generic = loaded
-        .into_iter()
-        .find(|g| g.name() == "four_bar")
-        .expect("in the file");
+    let (generated, generic) = both_engines("four_bar");
     for (engine, k) in [
         ("generated", generated.as_ref()),
         ("generic", &generic as &dyn mechgen::DynMechanism<f64>),

@@ -22,15 +22,19 @@ impl Block<'_> {
     /// Row `r` written: its input, its numbers (NaN where the CSV leaves a cell empty), its
     /// status code.
     pub fn put(&mut self, r: usize, row: &RowRef<'_>, info: &MechanismInfo) {
-        let mut columns = self.columns.iter_mut();
-        if let Some(c) = columns.next() {
-            c[r] = row.input;
-        }
+        let Some((first, mut rest)) = self.columns.split_first_mut() else {
+            return;
+        };
+        first[r] = row.input;
         let status = row_numbers(row, info, |run| {
-            // The run first: zip asks it first, so no column is taken past its end.
-            for (&v, c) in run.iter().zip(columns.by_ref()) {
+            // The run's columns split off once, then walked in registers (an iterator shared
+            // with the closure's caller would be stored back at every number).
+            let n = run.len().min(rest.len());
+            let (now, later) = std::mem::take(&mut rest).split_at_mut(n);
+            for (c, &v) in now.iter_mut().zip(run) {
                 c[r] = v;
             }
+            rest = later;
         });
         self.codes[r] = mg::report::status_code(status);
     }

@@ -14,7 +14,7 @@ use cranelift_codegen::ir::{InstBuilder, Value};
 use cranelift_frontend::FunctionBuilder;
 use mechgen_runtime::lanes::Lanes;
 
-use super::emit::constant_second;
+use super::emit::{abs, constant_second, neg};
 use super::error::JitError;
 
 /// The value a kernel's `tolerance` (a plain `f64` argument of the lane kernels) is traced with:
@@ -270,9 +270,9 @@ pub(super) fn lower(
                 b.ins().fmul(x, y)
             }
             Node::Div(x, y) => b.ins().fdiv(at(&v, x)?, at(&v, y)?),
-            Node::Neg(x) => b.ins().fneg(at(&v, x)?),
+            Node::Neg(x) => neg(b, at(&v, x)?),
             Node::Sqrt(x) => b.ins().sqrt(at(&v, x)?),
-            Node::Abs(x) => b.ins().fabs(at(&v, x)?),
+            Node::Abs(x) => abs(b, at(&v, x)?),
             Node::Cmp(c, x, y) => {
                 let cc = match c {
                     Cmp::Lt => FloatCC::LessThan,
@@ -285,7 +285,7 @@ pub(super) fn lower(
             }
             Node::Finite(x) => {
                 // |x| < ∞: false for both infinities and NaN.
-                let a = b.ins().fabs(at(&v, x)?);
+                let a = abs(b, at(&v, x)?);
                 let inf = b.ins().f64const(f64::INFINITY);
                 b.ins().fcmp(FloatCC::LessThan, a, inf)
             }

@@ -448,3 +448,41 @@ fn a_refused_tick_leaves_the_state_and_the_next_ticks_are_the_generated_ones() {
         }
     }
 }
+
+/// A negation in compiled code (on x86-64 an xor with −0.0, not Cranelift's `fneg`: see
+/// `jit/emit.rs::neg`) has the interpreter's bits for signed zeros, infinities, NaNs of either
+/// sign and subnormals, as well as for plain numbers.
+#[test]
+fn a_negation_keeps_the_bits_of_every_special_value() {
+    let text = "[mechanism.signs]\ninputs = [\"x\"]\nunknowns = [\"a\", \"b\"]\n\
+                loops = [\"c(-a, -(b*x))\"]\n\n[mechanism.signs.start]\nx = 1.0\na = 0.5\nb = 0.5\n";
+    let g = generic::load("signs.toml", text).expect("loads").remove(0);
+    let j = compiled(&g);
+    let special = [
+        0.0,
+        -0.0,
+        1.5,
+        -2.5,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NAN,
+        -f64::NAN,
+        f64::from_bits(1),
+        -f64::MIN_POSITIVE,
+    ];
+    let mut compared = 0;
+    for v in special {
+        let run = |m: &Generic| {
+            let mut out = [7.0; 2];
+            m.residual(&[1.0], &[v, v], &mut out)
+                .map(|()| out.map(f64::to_bits))
+        };
+        let (a, b) = (run(&g), run(&j));
+        assert_eq!(a, b, "{v:?} ({:#x})", v.to_bits());
+        if let Ok(out) = a {
+            assert_eq!(out[0], (-v).to_bits(), "-a at {v:?}");
+            compared += 1;
+        }
+    }
+    assert_eq!(compared, special.len(), "every value evaluated");
+}

@@ -11,7 +11,7 @@ mod common;
 use common::sweep::Counting;
 use mechgen::generic::{self, Generic};
 use mechgen::sweep::{Continuation, Row, sweep};
-use mechgen::{DynMechanism, DynScene, InputMotion, Kind, SolveOptions};
+use mechgen::{DynMechanism, DynScene, InputMotion, Kind, Quantity, SolveError, SolveOptions};
 use proptest::prelude::*;
 
 /// Every bit of two sweeps' rows: `None` when equal, else the first difference.
@@ -417,8 +417,28 @@ fn a_refused_tick_leaves_the_state_and_the_next_ticks_are_the_generated_ones() {
                         t.tick(InputMotion::new(&bad[..], &xd[..], &xdd[..]), &options),
                         t.tick(InputMotion::new(&x[..], &nan_rate[..], &xdd[..]), &options),
                         t.tick(InputMotion::new(&x[..], &xd[..], &nan_rate[..]), &options),
+                        // All three: the input is named (the checks' order).
+                        t.tick(
+                            InputMotion::new(&bad[..], &nan_rate[..], &nan_rate[..]),
+                            &options,
+                        ),
+                        t.tick(
+                            InputMotion::new(&x[..], &nan_rate[..], &nan_rate[..]),
+                            &options,
+                        ),
                         t.tick(InputMotion::new(&x[1..], &xd[1..], &xdd[1..]), &options),
                     ];
+                    let non_finite = |quantity| Err(SolveError::NonFinite { quantity, index: 0 });
+                    let named = [
+                        non_finite(Quantity::Input),
+                        non_finite(Quantity::InputRate),
+                        non_finite(Quantity::InputAcceleration),
+                        non_finite(Quantity::Input),
+                        non_finite(Quantity::InputRate),
+                    ];
+                    for (r, want) in refused.iter().zip(&named) {
+                        assert_eq!(r, want, "{name} ({engine}): the error of a bad tick");
+                    }
                     for r in refused {
                         assert!(r.is_err(), "{name} ({engine}): a bad tick was taken");
                         assert_eq!(

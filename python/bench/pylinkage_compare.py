@@ -84,8 +84,11 @@ JANSEN = dict(a=38.0, l=7.8, m=15.0, b=41.5, lc=39.3, d=40.1, le=55.8, f=39.4, g
               li=49.0, j=50.0, k=61.9)
 
 
-def strandbeest(rng):
-    m = mechgen.load(str(HERE / "strandbeest.toml"))["strandbeest"]
+def strandbeest(rng, compiled=False):
+    if compiled:
+        m = mechgen.mechanisms()["strandbeest"]
+    else:
+        m = mechgen.load(str(HERE / "strandbeest.toml"))["strandbeest"]
     sets = {p: v * (1 + 0.01 * rng.uniform(-1, 1, N)) for p, v in JANSEN.items() if p not in ("a", "l")}
     start = m.sweep(start=0.0, stop=0.0, step=1.0)
     at = lambda P: (float(start[f"{P}_x"][0]), float(start[f"{P}_y"][0]))
@@ -171,6 +174,8 @@ def main():
     rng = np.random.default_rng(1)
     compare("four_bar", four_bar, rng)
     compare("strandbeest", strandbeest, rng)
+    if "strandbeest" in mechgen.mechanisms():
+        compare("strandbeest", lambda rng: strandbeest(rng, compiled=True), rng)
 
 
 if __name__ == "__main__":

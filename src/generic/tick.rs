@@ -103,9 +103,17 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
         options: &SolveOptions<T>,
     ) -> Result<(), SolveError> {
         let InputMotion { x, xd, xdd } = input;
-        check_finite(Quantity::Input, x)?;
-        check_finite(Quantity::InputRate, xd)?;
-        check_finite(Quantity::InputAcceleration, xdd)?;
+        // One branch-free pass over the three (of one length: `lengths`); the checks in their
+        // order only when it finds a number that is not finite, to name it.
+        let inputs = || x.iter().zip(xd).zip(xdd);
+        let finite = inputs().fold(true, |ok, ((a, b), c)| {
+            ok & a.is_finite() & b.is_finite() & c.is_finite()
+        });
+        if !finite {
+            check_finite(Quantity::Input, x)?;
+            check_finite(Quantity::InputRate, xd)?;
+            check_finite(Quantity::InputAcceleration, xdd)?;
+        }
         let resync = self.age >= RESYNC_TICKS;
         let predicts = !(options.closed_forms && self.all_closed);
         let (g, angle, keep) = (self.g, &self.input_angle[..], &self.keep[..]);
@@ -114,7 +122,10 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
         let s = &old.state;
         // Every angle's entry is written; the others stay (0, 1) in both slots.
         inputs_trig(&old.tx, &s.x, x, angle, resync, &mut new.tx);
-        copy_few(&mut new.state.q, &s.q);
+        // The predictor writes every unknown; without it they start as the last tick's.
+        if !predicts {
+            copy_few(&mut new.state.q, &s.q);
+        }
         copy_few(&mut new.tq, &old.tq);
         // A mechanism solved in closed form throughout starts from the last tick as it is.
         if predicts {
@@ -132,9 +143,11 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
         }
         let report = motion(g, input, options, new, &mut self.idle)?;
         let s = &mut new.state;
-        copy_few(&mut s.x, x);
-        copy_few(&mut s.xd, xd);
-        copy_few(&mut s.xdd, xdd);
+        // The three in one loop (a copy each would dispatch on the length three times).
+        let to = s.x.iter_mut().zip(&mut s.xd).zip(&mut s.xdd);
+        for (((d, e), f), ((a, b), c)) in to.zip(inputs()) {
+            (*d, *e, *f) = (*a, *b, *c);
+        }
         s.report = report;
         self.cur ^= 1;
         self.age = if resync { 0 } else { self.age + 1 };

@@ -7,7 +7,11 @@ Two mechanisms, each for N param sets over one crank turn in 360 rows of 1 degre
 - the compiled-in `four_bar` (crank l1, coupler l2, rocker l3, ground l4; l1, l2, l3 within 3 % of
   the file's), mechgen's generated solvers;
 - one Strandbeest leg with Jansen's numbers (`strandbeest.toml` beside this script, loaded at run
-  time, so mechgen's interpreter runs it; every length within 1 % of Jansen's).
+  time, so mechgen's JIT runs it; every length within 1 % of Jansen's);
+- the same leg compiled in, when the package was built with it (its generated solvers, sets in
+  SIMD lanes): `cat mechanism.toml python/bench/strandbeest.toml > /tmp/with-leg.toml`, then
+  `MECHGEN_MECHANISM=/tmp/with-leg.toml pip install ./python` (the file the package compiles in
+  replaces `mechanism.toml`, so it keeps the four-bar).
 
 Timed (best of REPEAT), per mechanism-step:
 - pylinkage `step_fast` (positions of every joint) and `step_fast_with_kinematics` (positions,

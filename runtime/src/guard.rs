@@ -140,7 +140,7 @@ impl BranchGuard {
     /// the length scale of lane `i` of `scale` (the same operations in the same order, so the
     /// same answer for each lane as `keeps` of the guard with that scale on that lane's
     /// numbers): the bits of the lanes whose step stays on the branch.
-    #[inline]
+    #[inline(always)]
     pub fn keeps_lanes<L: Lanes>(
         &self,
         scale: L,

@@ -162,6 +162,44 @@ pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
     leave | (active & !run.active)
 }
 
+/// A lane tick and the branch rule on its lanes as one kernel, both compiled with the CPU's
+/// widest vectors (the rule run apart from the tick ran on the build's baseline vectors: a
+/// quarter of the instructions of a Strandbeest leg's lane tick). Gives the bits of the lanes
+/// whose tick succeeded and whose step the rule keeps.
+struct GuardedTick<'a, G: LaneMechanism<L>> {
+    group: &'a G,
+    t: &'a mut G::Tick,
+    input: &'a InputMotion<G::X>,
+    options: &'a mechgen_runtime::SolveOptions<f64>,
+    rule: (&'a mechgen_runtime::guard::BranchGuard, L),
+    /// The unknowns, their rates and accelerations before the tick.
+    before: &'a [L],
+    dt: f64,
+}
+
+impl<G: LaneMechanism<L>> mechgen_runtime::simd::Kernel for GuardedTick<'_, G> {
+    type Output = u32;
+    #[inline(always)]
+    fn run(self) -> u32 {
+        self.group.tick(self.t, self.input, self.options);
+        let (b, (guard, scales)) = (self.before, self.rule);
+        let q_now = self.t.lanes_q().0;
+        let nu = q_now.len();
+        if b.len() != 3 * nu {
+            return 0;
+        }
+        let kept = guard.keeps_lanes(
+            scales,
+            &b[..nu],
+            &b[nu..2 * nu],
+            &b[2 * nu..],
+            self.dt,
+            q_now,
+        );
+        kept & self.t.ok_bits()
+    }
+}
+
 /// The lane walk: the group and its tick, the inputs all lanes share, each lane's budget and
 /// whether it is still in the lanes, and buffers for one lane's numbers.
 struct Run<M: StaticMechanism<f64>> {
@@ -294,11 +332,16 @@ impl<M: StaticMechanism<f64>> Run<M> {
             let dt = (self.x[index] - x_before) / self.xd[index];
             let input = self.input();
             let Some(t) = &mut self.tick else { return };
-            self.group.tick_widest(t, &input, &c.options);
-            let b = &self.before;
-            let q_now = t.lanes_q().0;
-            let kept = guard.keeps_lanes(scales, &b[..nu], &b[nu..2 * nu], &b[2 * nu..], dt, q_now);
-            self.active &= kept & t.ok_bits();
+            let kept = mechgen_runtime::simd::dispatch(GuardedTick {
+                group: &self.group,
+                t,
+                input: &input,
+                options: &c.options,
+                rule: (guard, scales),
+                before: &self.before,
+                dt,
+            });
+            self.active &= kept;
         }
         let Some(t) = &self.tick else { return };
         for lane in 0..LANES {

@@ -46,10 +46,13 @@ class Mechanism:
         input: Optional[str] = None,
         set: Optional[Mapping[str, float]] = None,
         threads: Optional[int] = None,
+        out: Optional[dict[str, np.ndarray]] = None,
     ) -> dict[str, np.ndarray]:
         """Every param set swept on `threads` worker threads (default every core), the GIL
         released: CSV column -> 2-D array (sets, rows). MemoryError (naming the size) before
-        anything is allocated when the result cannot fit; Ctrl-C raises KeyboardInterrupt."""
+        anything is allocated when the result cannot fit; Ctrl-C raises KeyboardInterrupt.
+        `out`: the dict an earlier batch of as many sets and rows returned; its number arrays
+        are written in place and it is returned (its `status` a new array)."""
     def sensitivity(
         self,
         start: Optional[float] = None,

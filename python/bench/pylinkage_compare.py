@@ -17,8 +17,9 @@ Timed (best of REPEAT), per mechanism-step:
 - pylinkage `step_fast` (positions of every joint) and `step_fast_with_kinematics` (positions,
   velocities, accelerations), one set after another (`set_constraints` per set), one core;
 - mechgen `sweep` (one call per set) and `batch` (one call for every set; on one thread and on
-  every core): positions, velocities and accelerations of every unknown and point, the condition
-  estimate and a status per row.
+  every core; and on one thread into the arrays of its last result, `out=`): positions,
+  velocities and accelerations of every unknown and point, the condition estimate and a status
+  per row.
 Also the largest difference of a joint's position between the two (rocker pin C, foot F) over the
 rows both solve.
 
@@ -144,6 +145,9 @@ def compare(name, build, rng):
                                     params={p: float(sets[p][s]) for p in names}) for s in range(N)])
     t_batch1 = best(lambda: m.batch(sets, start=1.0, stop=360.0, step=1.0, threads=1))
     t_batch = best(lambda: m.batch(sets, start=1.0, stop=360.0, step=1.0))
+    # Into the arrays of the last result (`out=`): no fresh memory to fault in.
+    kept = m.batch(sets, start=1.0, stop=360.0, step=1.0)
+    t_reuse = best(lambda: m.batch(sets, start=1.0, stop=360.0, step=1.0, threads=1, out=kept))
 
     # Sets where the two agree to 1e-6 somewhere but not everywhere follow different branches:
     # pylinkage picks, at each step and each dyad, the intersection nearer the last position, and
@@ -166,6 +170,7 @@ def compare(name, build, rng):
     print(f"  mechgen sweep, one call per set                 {ns(t_sweep):8.1f} ns per step  ({t_sweep / t_fast:.2f}x step_fast)")
     print(f"  mechgen batch, one thread                       {ns(t_batch1):8.1f} ns per step  ({t_batch1 / t_fast:.2f}x step_fast)")
     print(f"  mechgen batch, {os.cpu_count()} threads                        {ns(t_batch):8.1f} ns per step  ({t_batch / t_fast:.2f}x step_fast)")
+    print(f"  mechgen batch, one thread, out= the last result {ns(t_reuse):8.1f} ns per step  ({t_reuse / t_fast:.2f}x step_fast)")
     print(f"  largest |{joint}| difference over {both} rows both solve: {worst:.2e}"
           f" ({parted} of {N} sets on different branches)")
 

@@ -40,6 +40,26 @@ impl Block<'_> {
     }
 }
 
+/// Columns (each as long as `codes`) and their status codes cut into blocks of `rows` rows
+/// each (the last one shorter).
+pub fn blocks<'a>(columns: Vec<&'a mut [f64]>, codes: &'a mut [u8], rows: usize) -> Vec<Block<'a>> {
+    let rows = rows.max(1);
+    let ncols = columns.len();
+    let mut blocks: Vec<Block<'a>> = codes
+        .chunks_mut(rows)
+        .map(|codes| Block {
+            columns: Vec::with_capacity(ncols),
+            codes,
+        })
+        .collect();
+    for column in columns {
+        for (b, chunk) in blocks.iter_mut().zip(column.chunks_mut(rows)) {
+            b.columns.push(chunk);
+        }
+    }
+    blocks
+}
+
 /// Buffers for `rows` rows of `ncols` columns and their status codes, each column one vector:
 /// `MemoryError` naming the size when the machine cannot hold them (checked before anything is
 /// allocated).
@@ -79,21 +99,8 @@ impl Buffers {
 
     /// The buffers cut into blocks of `rows` rows each (the last one shorter).
     pub fn blocks(&mut self, rows: usize) -> Vec<Block<'_>> {
-        let rows = rows.max(1);
-        let mut blocks: Vec<Block<'_>> = self
-            .codes
-            .chunks_mut(rows)
-            .map(|codes| Block {
-                columns: Vec::with_capacity(self.columns.len()),
-                codes,
-            })
-            .collect();
-        for column in &mut self.columns {
-            for (b, chunk) in blocks.iter_mut().zip(column.chunks_mut(rows)) {
-                b.columns.push(chunk);
-            }
-        }
-        blocks
+        let columns = self.columns.iter_mut().map(|c| &mut c[..]).collect();
+        blocks(columns, &mut self.codes, rows)
     }
 
     /// The dict of numpy arrays: `header[c]` → column `c`, then `status`; each of `shape`.
@@ -117,10 +124,16 @@ impl Buffers {
                 }
             }
         }
-        let codes = PyArray1::from_vec(py, self.codes).reshape(shape.to_vec())?;
-        out.set_item("status", statuses(py)?.get_item(codes)?)?;
+        set_statuses(&out, self.codes, shape)?;
         Ok(out)
     }
+}
+
+/// `out["status"]`: the statuses of `codes` (one per row) as an array of `shape`.
+pub fn set_statuses(out: &Bound<'_, PyDict>, codes: Vec<u8>, shape: &[usize]) -> PyResult<()> {
+    let py = out.py();
+    let codes = PyArray1::from_vec(py, codes).reshape(shape.to_vec())?;
+    out.set_item("status", statuses(py)?.get_item(codes)?)
 }
 
 /// The statuses as a numpy object array, indexed by status code: one `str` object per status

@@ -11,7 +11,7 @@ use mg::report::csv_header;
 use mg::sweep::plan::{Plan, Range, plan};
 use mg::sweep::{Continuation, check_start, sweep_holding};
 use mg::{DynMechanism, MechanismInfo};
-use numpy::PyReadonlyArray1;
+use numpy::{PyReadonlyArray1, PyReadwriteArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyKeyError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
@@ -433,7 +433,10 @@ impl Mechanism {
     /// (all of one length); the params not named keep the file's values. Returns column name →
     /// 2-D array (sets, rows). `MemoryError` (naming the size) before anything is allocated when
     /// the result cannot fit; `Ctrl-C` stops the workers and raises `KeyboardInterrupt`.
-    #[pyo3(signature = (params, start=None, stop=None, step=None, rate=1.0, input=None, set=None, threads=None))]
+    /// `out`: the dict an earlier `batch` of as many sets and rows returned (the same columns),
+    /// its number arrays written in place and the dict returned (its `status` a new array), so
+    /// that repeated batches reuse their memory.
+    #[pyo3(signature = (params, start=None, stop=None, step=None, rate=1.0, input=None, set=None, threads=None, out=None))]
     #[allow(clippy::too_many_arguments)]
     fn batch<'py>(
         &self,
@@ -446,6 +449,7 @@ impl Mechanism {
         input: Option<String>,
         set: Option<HashMap<String, f64>>,
         threads: Option<usize>,
+        out: Option<Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         if threads == Some(0) {
             return Err(PyValueError::new_err("threads must be at least 1"));
@@ -483,7 +487,15 @@ impl Mechanism {
         let total = count
             .checked_mul(rows)
             .ok_or_else(|| pyo3::exceptions::PyMemoryError::new_err(what.clone()))?;
-        let mut out = Buffers::new(ncols, total, &what)?;
+        let shape = [count, rows];
+        let mut given = match &out {
+            Some(dict) => Some(writable_columns(dict, &header[..ncols], &shape)?),
+            None => None,
+        };
+        let mut buffers = match given {
+            Some(_) => None,
+            None => Some(Buffers::new(ncols, total, &what)?),
+        };
         let sets: Vec<Vec<f64>> = (0..count)
             .map(|s| {
                 let given: Vec<(String, f64)> =
@@ -492,9 +504,26 @@ impl Mechanism {
             })
             .collect::<PyResult<_>>()?;
         let job = self.job(&plan, o.rate);
-        let blocks = out.blocks(SETS_PER_BLOCK * rows);
+        let (Some(dict), Some(arrays)) = (&out, &mut given) else {
+            let mut buffers = buffers.take().expect("made where no `out` was given");
+            let blocks = buffers.blocks(SETS_PER_BLOCK * rows);
+            sweep_sets(py, &job, &sets, blocks, rows, threads)?;
+            return buffers.into_dict(py, &header[..ncols], &shape, &self.held(&plan));
+        };
+        let mut slices = Vec::with_capacity(ncols);
+        for (a, name) in arrays.iter_mut().zip(&header) {
+            slices.push(a.as_slice_mut().map_err(|_| {
+                PyValueError::new_err(format!("out[\"{name}\"] is not contiguous in memory"))
+            })?);
+        }
+        let mut codes = vec![0u8; total];
+        let blocks = crate::columns::blocks(slices, &mut codes, SETS_PER_BLOCK * rows);
         sweep_sets(py, &job, &sets, blocks, rows, threads)?;
-        out.into_dict(py, &header[..ncols], &[count, rows], &self.held(&plan))
+        for (name, v) in self.held(&plan) {
+            dict.set_item(name, np.call_method1("full", (shape.to_vec(), v))?)?;
+        }
+        crate::columns::set_statuses(dict, codes, &shape)?;
+        Ok(dict.clone())
     }
 
     /// Pickling (so that `client.submit(m.batch, …)` works on Dask): the mechanism's name and
@@ -542,4 +571,34 @@ impl crate::dynamics::Source for Mechanism {
     fn solver(&self, values: &[f64]) -> Box<dyn DynMechanism<f64>> {
         solver_with_params(&self.info.name, &self.model, self.generated, values)
     }
+}
+
+/// The number columns `names` of `out` (what an earlier `batch` returned), each a writable
+/// float64 array of `shape`, borrowed for writing; `ValueError` naming the first that is not.
+fn writable_columns<'py>(
+    out: &Bound<'py, PyDict>,
+    names: &[String],
+    shape: &[usize],
+) -> PyResult<Vec<PyReadwriteArray2<'py, f64>>> {
+    let mut arrays = Vec::with_capacity(names.len());
+    for name in names {
+        let a = out.get_item(name)?.ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "out has no column \"{name}\": pass the dict an earlier batch of as many sets and rows returned"
+            ))
+        })?;
+        let a: PyReadwriteArray2<'py, f64> = a.extract().map_err(|e| {
+            PyValueError::new_err(format!(
+                "out[\"{name}\"] is not a writable float64 array of two dimensions: {e}"
+            ))
+        })?;
+        if a.shape() != shape {
+            return Err(PyValueError::new_err(format!(
+                "out[\"{name}\"] has shape {:?}, this batch {shape:?} (sets, rows)",
+                a.shape()
+            )));
+        }
+        arrays.push(a);
+    }
+    Ok(arrays)
 }

@@ -3,6 +3,7 @@ batch too large for memory raising MemoryError before anything is allocated, Ctr
 KeyboardInterrupt promptly, the start warning, NaN options, dtypes of empty results, file order,
 and the worker count."""
 
+import pathlib
 import pickle
 import signal
 import subprocess
@@ -14,6 +15,8 @@ import numpy as np
 import pytest
 
 import mechgen
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 FOUR_BAR = """
 [mechanism.zeta]
@@ -98,6 +101,31 @@ def test_threads_give_the_same_batch():
     same(m.batch(sets, threads=1), m.batch(sets))
     with pytest.raises(ValueError, match="threads"):
         m.batch(sets, threads=0)
+
+
+def test_a_batch_into_an_earlier_result_writes_its_arrays_in_place():
+    for m in (mechgen.mechanisms()["sixbar"], mechgen.load(str(ROOT / "mechanism.toml"))["four_bar"]):
+        p = list(m.params)[0]
+        first = {p: m.params[p] * (1 + 0.01 * np.arange(20))}
+        second = {p: m.params[p] * (1 - 0.02 * np.arange(20))}
+        kept = m.batch(first, step=15.0)
+        arrays = {c: kept[c] for c in kept if c != "status"}
+        again = m.batch(second, step=15.0, out=kept)
+        assert again is kept
+        for c, a in arrays.items():
+            assert again[c] is a, c
+        same(again, m.batch(second, step=15.0))
+        # Not the columns of this batch: a ValueError naming the first that is wrong.
+        with pytest.raises(ValueError, match="shape"):
+            m.batch(second, step=30.0, out=m.batch(second, step=15.0))
+        missing = m.batch(second, step=15.0)
+        del missing[list(missing)[3]]
+        with pytest.raises(ValueError, match="no column"):
+            m.batch(second, step=15.0, out=missing)
+        frozen = m.batch(second, step=15.0)
+        frozen[list(frozen)[2]].flags.writeable = False
+        with pytest.raises(ValueError, match="writable"):
+            m.batch(second, step=15.0, out=frozen)
 
 
 def test_a_batch_too_large_raises_memory_error_naming_its_size():

@@ -488,13 +488,10 @@ impl Mechanism {
             .checked_mul(rows)
             .ok_or_else(|| pyo3::exceptions::PyMemoryError::new_err(what.clone()))?;
         let shape = [count, rows];
-        let mut given = match &out {
-            Some(dict) => Some(writable_columns(dict, &header[..ncols], &shape)?),
-            None => None,
-        };
-        let mut buffers = match given {
-            Some(_) => None,
-            None => Some(Buffers::new(ncols, total, &what)?),
+        // Where the rows go: fresh buffers, or the arrays of `out` (checked before anything runs).
+        let target = match &out {
+            Some(dict) => Err((dict, writable_columns(dict, &header[..ncols], &shape)?)),
+            None => Ok(Buffers::new(ncols, total, &what)?),
         };
         let sets: Vec<Vec<f64>> = (0..count)
             .map(|s| {
@@ -504,11 +501,13 @@ impl Mechanism {
             })
             .collect::<PyResult<_>>()?;
         let job = self.job(&plan, o.rate);
-        let (Some(dict), Some(arrays)) = (&out, &mut given) else {
-            let mut buffers = buffers.take().expect("made where no `out` was given");
-            let blocks = buffers.blocks(SETS_PER_BLOCK * rows);
-            sweep_sets(py, &job, &sets, blocks, rows, threads)?;
-            return buffers.into_dict(py, &header[..ncols], &shape, &self.held(&plan));
+        let (dict, mut arrays) = match target {
+            Ok(mut buffers) => {
+                let blocks = buffers.blocks(SETS_PER_BLOCK * rows);
+                sweep_sets(py, &job, &sets, blocks, rows, threads)?;
+                return buffers.into_dict(py, &header[..ncols], &shape, &self.held(&plan));
+            }
+            Err(given) => given,
         };
         let mut slices = Vec::with_capacity(ncols);
         for (a, name) in arrays.iter_mut().zip(&header) {

@@ -370,6 +370,19 @@ fn state_bits(t: &dyn mechgen::DynTick<f64>) -> Vec<u64> {
     .collect()
 }
 
+/// `m`'s tick started at `input` from `guess` (default options); `what` names it in a panic.
+fn started<'a>(
+    m: &'a dyn DynMechanism<f64>,
+    input: InputMotion<&[f64]>,
+    guess: &[f64],
+    what: &str,
+) -> Box<dyn mechgen::DynTick<f64> + 'a> {
+    let mut t = m.ticker();
+    t.start(input, guess, &SolveOptions::default())
+        .unwrap_or_else(|e| panic!("{what}: start: {e:?}"));
+    t
+}
+
 /// A run-time engine's tick solves in its other state and makes it its own only on success: a
 /// tick refused (a non-finite input, input rate or acceleration, inputs of the wrong length)
 /// leaves the state as it was, bit for bit, and the ticks after it are the generated tick's, bit
@@ -394,17 +407,10 @@ fn a_refused_tick_leaves_the_state_and_the_next_ticks_are_the_generated_ones() {
         let xdd = vec![0.0; ni];
         let k = mechgen::lookup::<f64>(&name).expect("compiled in");
         let j = compiled(&g);
-        let engines: [(&str, &dyn DynMechanism<f64>); 3] =
-            [("generated", k.as_ref()), ("interpreter", &g), ("jit", &j)];
         let mut runs = Vec::new();
-        for (engine, m) in engines {
-            let mut t = m.ticker();
-            t.start(
-                InputMotion::new(&x0[..], &xd[..], &xdd[..]),
-                &guess,
-                &options,
-            )
-            .unwrap_or_else(|e| panic!("{name} ({engine}): start: {e:?}"));
+        for (engine, m) in [("generated", k.as_ref()), ("interpreter", &g), ("jit", &j)] {
+            let start = InputMotion::new(&x0[..], &xd[..], &xdd[..]);
+            let mut t = started(m, start, &guess, &format!("{name} ({engine})"));
             let mut states = Vec::new();
             let mut x = x0.clone();
             for i in 1..=12 {
@@ -467,6 +473,72 @@ fn a_refused_tick_leaves_the_state_and_the_next_ticks_are_the_generated_ones() {
             }
         }
     }
+}
+
+/// Ticks whose input turns past the range of the rotation's series (0.1 rad: the sines and
+/// cosines computed afresh) and across two resyncs (every 64 ticks), forth and back, on every
+/// compiled-in mechanism with an angle input: the generated, interpreted and compiled ticks
+/// give the same state (or the same error) at every tick, bit for bit.
+#[test]
+fn large_turns_and_resyncs_tick_alike_on_every_engine() {
+    let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
+        .expect("the compiled-in file loads");
+    let options = SolveOptions::default();
+    let mut compared = 0;
+    for g in loaded {
+        let info = DynMechanism::<f64>::info(&g);
+        if info.inputs[0].kind != Kind::Angle {
+            continue;
+        }
+        let (ni, name) = (info.inputs.len(), g.name().to_string());
+        let x0: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+        let guess: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
+        let (mut xd, xdd) = (vec![0.0; ni], vec![0.0; ni]);
+        xd[0] = 1.0;
+        // Turns of 0.15 and 0.04 rad in turn, forth for 70 ticks and back for 70.
+        let turns: Vec<f64> = (0..140)
+            .map(|i| {
+                let turn = if i % 2 == 0 { 0.15 } else { 0.04 };
+                if i < 70 { turn } else { -turn }
+            })
+            .collect();
+        let k = mechgen::lookup::<f64>(&name).expect("compiled in");
+        let j = compiled(&g);
+        let mut runs = Vec::new();
+        for (engine, m) in [("generated", k.as_ref()), ("interpreter", &g), ("jit", &j)] {
+            let start = InputMotion::new(&x0[..], &xd[..], &xdd[..]);
+            let mut t = started(m, start, &guess, &format!("{name} ({engine})"));
+            let mut x = x0.clone();
+            let mut ticks = Vec::new();
+            for turn in &turns {
+                x[0] += turn;
+                xd[0] = turn.signum();
+                let r = t.tick(InputMotion::new(&x[..], &xd[..], &xdd[..]), &options);
+                ticks.push(r.map(|()| state_bits(t.as_ref())));
+            }
+            runs.push((engine, ticks));
+        }
+        let (_, generated) = &runs[0];
+        assert!(
+            generated.iter().filter(|r| r.is_ok()).count() > 20,
+            "{name}: too few ticks taken to compare"
+        );
+        for (engine, ticks) in &runs[1..] {
+            for (i, (a, b)) in generated.iter().zip(ticks).enumerate() {
+                assert_eq!(
+                    a,
+                    b,
+                    "{name}: tick {} of {engine} differs from generated",
+                    i + 1
+                );
+            }
+        }
+        compared += 1;
+    }
+    assert!(
+        compared >= 3,
+        "only {compared} mechanisms with an angle input"
+    );
 }
 
 /// A negation in compiled code (on x86-64 an xor with −0.0, not Cranelift's `fneg`: see

@@ -106,6 +106,14 @@ pub fn check_finite<T: Real>(quantity: Quantity, values: &[T]) -> Result<(), Sol
     }
 }
 
+/// [`check_finite`] of a motion's inputs, then of their rates, then of their accelerations: the
+/// first value that is not finite, named.
+pub fn check_inputs<T: Real>(x: &[T], xd: &[T], xdd: &[T]) -> Result<(), SolveError> {
+    check_finite(Quantity::Input, x)?;
+    check_finite(Quantity::InputRate, xd)?;
+    check_finite(Quantity::InputAcceleration, xdd)
+}
+
 /// [`check_finite`] over the values with `mask[i]` only (a scene checks the params it reads).
 pub fn check_finite_in<T: Real, const N: usize>(
     quantity: Quantity,

@@ -57,6 +57,22 @@ pub(crate) struct Program {
     /// `n + j`, for `n` params, is the value of node `prelude[j]`, which reads params alone):
     /// computed once per param set, as generated code keeps them in its fixed caches.
     pub prelude: Vec<NodeId>,
+    /// What a tick does before this motion (see [`TickShape`]; read by the JIT).
+    #[cfg_attr(not(feature = "jit"), allow(dead_code))]
+    pub tick: TickShape,
+}
+
+/// A tick's prelude to the motion: the inputs' sines and cosines rotated from the last tick's
+/// (`mechgen_runtime::tick::inputs_trig`) and, where every block is solved in closed form, the
+/// last tick's unknowns carried as the guess with theirs. The JIT compiles it into the motion's
+/// function (`jit/prelude.rs`); the interpreter's tick runs the runtime's functions.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct TickShape {
+    /// Which inputs are angles (their sines and cosines are kept and rotated).
+    pub input_angle: Vec<bool>,
+    pub unknowns: usize,
+    /// Every block solved in closed form: nothing to predict.
+    pub carried: bool,
 }
 
 impl Program {
@@ -120,10 +136,18 @@ impl Program {
                 Pre::Cos(a) => dag.cos(a),
             })
             .collect();
+        let tick = TickShape {
+            input_angle: (c.model.inputs.iter())
+                .map(|i| i.kind == mechgen_codegen::Kind::Angle)
+                .collect(),
+            unknowns: c.model.unknowns.len(),
+            carried: c.blocks.iter().all(|f| f.closed_form.is_some()),
+        };
         Some(Program {
             ops,
             steps,
             prelude,
+            tick,
         })
     }
 

@@ -9,8 +9,12 @@ use std::any::Any;
 
 #[cfg(feature = "jit")]
 use mechgen_runtime::InputMotion;
+#[cfg(feature = "jit")]
+use mechgen_runtime::error::Quantity;
 use mechgen_runtime::error::{SolveError, Stage};
 use mechgen_runtime::scalar::Real;
+#[cfg(feature = "jit")]
+use mechgen_runtime::solve::check_inputs;
 use mechgen_runtime::solve::{NewtonReport, SolveOptions};
 use mechgen_runtime::trig::TrigSlices;
 
@@ -19,7 +23,7 @@ use super::driver::BlockWork;
 use super::engine::Generic;
 use super::factors::{Factors, Kept};
 #[cfg(feature = "jit")]
-use super::jit::{FusedArgs, Positions, Stages};
+use super::jit::{FusedArgs, InputTrig, NOT_FINITE, Positions, Stages};
 use super::scratch::Sized;
 
 /// The call steps of one run of a tick's program, on the workspace's buffers (in any
@@ -203,15 +207,16 @@ pub(super) struct Solving<'s> {
 
 #[cfg(feature = "jit")]
 /// A motion by `g`'s compiled program, when it has one and `options` has closed forms on:
-/// positions from the guess in `at` (the inputs' sines and cosines `sx`), the rates and points
-/// into it, the callbacks' steps in `work`. On success `at.q` holds the unknowns and `at.sc`
-/// their sines and cosines, as the driver leaves them. `None`: not run. Inlined into its two
-/// callers, so that the call's arguments are built in place, not copied from frame to frame.
+/// positions from the guess in `at` (the inputs' sines and cosines `sx`: given, or a tick's made
+/// by its prelude), the rates and points into it, the callbacks' steps in `work`. On success
+/// `at.q` holds the unknowns and `at.sc` their sines and cosines, as the driver leaves them (and
+/// a tick's prelude has stored the inputs). `None`: not run. Inlined into its two callers, so
+/// that the call's arguments are built in place, not copied from frame to frame.
 #[inline(always)]
 pub(super) fn run(
     g: &Generic,
     input: InputMotion<&[f64]>,
-    sx: &[(f64, f64)],
+    sx: InputTrig<'_>,
     options: &SolveOptions<f64>,
     work: BlockWork<'_, f64>,
     at: Solving<'_>,
@@ -232,6 +237,14 @@ pub(super) fn run(
         tolerance: options.newton.tolerance,
     };
     let (status, pivot_ratio) = fused.call(args, &mut stages, at.points)?;
+    if status == NOT_FINITE {
+        let (x, xd, xdd) = (input.x, input.xd, input.xdd);
+        let named = check_inputs(x, xd, xdd).err();
+        return Some(Err(named.unwrap_or(SolveError::NonFinite {
+            quantity: Quantity::Input,
+            index: 0,
+        })));
+    }
     if status != 0 {
         return Some(Err(stages.error.unwrap_or(SolveError::NotStarted)));
     }

@@ -12,11 +12,11 @@
 
 use mechgen_runtime::dyn_tick::{DynTick, StateRef};
 use mechgen_runtime::dynamic::{DynMechanism, DynState, len};
-use mechgen_runtime::error::{Quantity, SolveError};
+use mechgen_runtime::error::SolveError;
 use mechgen_runtime::guard::BranchGuard;
 use mechgen_runtime::mechanism::{BodySink, InputMotion};
 use mechgen_runtime::scalar::Real;
-use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_finite};
+use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_inputs};
 use mechgen_runtime::tick::{Last, RESYNC_TICKS, inputs_trig, predict};
 use mechgen_runtime::{BodyMass, Kind, MechanismInfo};
 
@@ -48,6 +48,19 @@ impl<T: Real> Slot<T> {
             tq: vec![(T::zero(), T::one()); nu],
         }
     }
+
+    /// What the predictor reads of this state, as the last tick's.
+    fn last(&self) -> Last<'_, T> {
+        let s = &self.state;
+        Last {
+            x: &s.x,
+            xd: &s.xd,
+            q: &s.q,
+            qd: &s.qd,
+            qdd: &s.qdd,
+            tq: &self.tq,
+        }
+    }
 }
 
 /// The tick of a [`Generic`] mechanism: its state with the sines and cosines of its inputs and
@@ -64,6 +77,10 @@ pub struct GenericTick<'a, T: Real> {
     input_angle: Vec<bool>,
     keep: Vec<bool>,
     all_closed: bool,
+    /// Whether a tick may run by the compiled program with its prelude
+    /// ([`GenericTick::advance_compiled`]).
+    #[cfg(feature = "jit")]
+    prelude: bool,
     started: bool,
     /// The stages' block work of a compiled program that needs none of its own (empty: see
     /// `Fused::uses_work`).
@@ -83,13 +100,23 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
                 keep[u] = true;
             }
         }
+        let input_angle: Vec<bool> = info.inputs.iter().map(|i| i.kind == Kind::Angle).collect();
+        let all_closed = keep.iter().all(|&k| k);
+        // The compiled prelude rotates the inputs this tick would and carries the unknowns
+        // exactly when this tick would not predict them.
+        #[cfg(feature = "jit")]
+        let prelude = g.fused.as_ref().is_some_and(|f| !f.uses_work())
+            && (g.program.as_ref())
+                .is_some_and(|p| p.tick.input_angle == input_angle && p.tick.carried == all_closed);
         GenericTick {
             g,
             slots: [Slot::new(ni, nu, np), Slot::new(ni, nu, np)],
             cur: 0,
             age: 0,
-            input_angle: info.inputs.iter().map(|i| i.kind == Kind::Angle).collect(),
-            all_closed: keep.iter().all(|&k| k),
+            input_angle,
+            all_closed,
+            #[cfg(feature = "jit")]
+            prelude,
             keep,
             started: false,
             idle: (Vec::new(), Vec::new(), Vec::new()),
@@ -102,6 +129,13 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
         input: InputMotion<&[T]>,
         options: &SolveOptions<T>,
     ) -> Result<(), SolveError> {
+        #[cfg(feature = "jit")]
+        if self.prelude
+            && options.closed_forms
+            && let Some(done) = self.advance_compiled(input, options)
+        {
+            return done;
+        }
         let InputMotion { x, xd, xdd } = input;
         // One branch-free pass over the three (of one length: `lengths`); the checks in their
         // order only when it finds a number that is not finite, to name it.
@@ -110,9 +144,7 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
             ok & a.is_finite() & b.is_finite() & c.is_finite()
         });
         if !finite {
-            check_finite(Quantity::Input, x)?;
-            check_finite(Quantity::InputRate, xd)?;
-            check_finite(Quantity::InputAcceleration, xdd)?;
+            check_inputs(x, xd, xdd)?;
         }
         let resync = self.age >= RESYNC_TICKS;
         let predicts = !(options.closed_forms && self.all_closed);
@@ -130,16 +162,8 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
         // A mechanism solved in closed form throughout starts from the last tick as it is.
         if predicts {
             let keep: &[bool] = if options.closed_forms { keep } else { &[] };
-            let last = Last {
-                x: &s.x,
-                xd: &s.xd,
-                q: &s.q,
-                qd: &s.qd,
-                qdd: &s.qdd,
-                tq: &old.tq,
-            };
             let (q, sc) = (&mut new.state.q, &mut new.tq);
-            predict(last, x, &g.angle, keep, resync, q, sc);
+            predict(old.last(), x, &g.angle, keep, resync, q, sc);
         }
         let report = motion(g, input, options, new, &mut self.idle)?;
         let s = &mut new.state;
@@ -152,6 +176,71 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
         self.cur ^= 1;
         self.age = if resync { 0 } else { self.age + 1 };
         Ok(())
+    }
+
+    /// [`GenericTick::advance`] by the compiled program with its tick's prelude (in f64, closed
+    /// forms on, a program that needs no block work; `jit/prelude.rs`): the inputs checked, their
+    /// sines and cosines rotated and the unknowns carried (or predicted here first, where a block
+    /// is solved by Newton) and the inputs stored, all in one call of machine code. The same
+    /// steps as the other way, in the same order. `None`: not run (then the other way runs).
+    #[cfg(feature = "jit")]
+    fn advance_compiled(
+        &mut self,
+        input: InputMotion<&[T]>,
+        options: &SolveOptions<T>,
+    ) -> Option<Result<(), SolveError>> {
+        use super::jit::{InputTrig, TickPrelude};
+        use std::any::Any;
+        let (input, options) = super::stages::in_f64(input, options)?;
+        let g = self.g;
+        let slots = (&mut self.slots as &mut dyn Any).downcast_mut::<[Slot<f64>; 2]>()?;
+        let (regs, out, by_size) = &mut self.idle;
+        let work = (
+            (regs as &mut dyn Any).downcast_mut::<Vec<f64>>()?,
+            (out as &mut dyn Any).downcast_mut::<Vec<f64>>()?,
+            (by_size as &mut dyn Any).downcast_mut::<Vec<Option<Sized<f64>>>>()?,
+        );
+        let resync = self.age >= RESYNC_TICKS;
+        let [a, b] = slots;
+        let (old, new) = if self.cur == 0 { (&*a, b) } else { (&*b, a) };
+        let s = &old.state;
+        let Slot { state: n, tx, tq } = new;
+        if !self.all_closed {
+            copy_few(tq, &old.tq);
+            predict(
+                old.last(),
+                input.x,
+                &g.angle,
+                &self.keep,
+                resync,
+                &mut n.q,
+                tq,
+            );
+        }
+        let prelude = TickPrelude {
+            x_last: &s.x,
+            tx_last: &old.tx,
+            q_last: &s.q,
+            tq_last: &old.tq,
+            sx: tx,
+            to: [&mut n.x, &mut n.xd, &mut n.xdd],
+            resync,
+        };
+        let solving = super::stages::Solving {
+            q: &mut n.q,
+            sc: tq,
+            qd: &mut n.qd,
+            qdd: &mut n.qdd,
+            points: super::jit::flat_points(&mut n.points),
+        };
+        let sx = InputTrig::Tick(prelude);
+        match super::stages::run(g, input, sx, options, work, solving)? {
+            Ok(report) => n.report = report,
+            Err(e) => return Some(Err(e)),
+        }
+        self.cur ^= 1;
+        self.age = if resync { 0 } else { self.age + 1 };
+        Some(Ok(()))
     }
 
     fn lengths(&self, input: InputMotion<&[T]>) -> Result<(), SolveError> {
@@ -243,6 +332,7 @@ fn compiled<T: Scratched>(
         qdd: &mut s.qdd,
         points: super::jit::flat_points(&mut s.points),
     };
+    let tx = super::jit::InputTrig::Given(tx);
     let done = super::stages::run(g, input, tx, options, work, solving)?;
     Some(done.map(super::stages::report_in))
 }

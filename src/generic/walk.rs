@@ -59,6 +59,7 @@ fn compiled<T: Real>(
         points: &mut ws.points,
     };
     let work = (&mut ws.regs, &mut ws.out, &mut ws.by_size);
+    let sx = super::jit::InputTrig::Given(sx);
     let done = super::stages::run(g, input, sx, options, work, at)?;
     if done.is_ok() {
         std::mem::swap(&mut ws.sc, &mut ws.trial_sc);

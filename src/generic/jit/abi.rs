@@ -63,6 +63,31 @@ pub trait Stages {
     fn fail(&mut self, error: SolveError);
 }
 
+/// What a fused call returns when a tick's inputs are not all finite (having written nothing).
+pub const NOT_FINITE: u32 = 3;
+
+/// A tick's prelude (`program::TickShape`) in a fused call: what it reads of the last tick, where
+/// it writes the inputs' sines and cosines (rotated, or computed afresh when `resync`; the
+/// motion then reads them), and where the inputs go when the tick succeeds.
+pub struct TickPrelude<'a> {
+    pub x_last: &'a [f64],
+    pub tx_last: &'a [(f64, f64)],
+    pub q_last: &'a [f64],
+    pub tq_last: &'a [(f64, f64)],
+    pub sx: &'a mut [(f64, f64)],
+    /// The inputs, their rates and accelerations, copied there on success.
+    pub to: [&'a mut [f64]; 3],
+    pub resync: bool,
+}
+
+/// The inputs' sines and cosines of a fused call.
+pub enum InputTrig<'a> {
+    /// Given (a whole solve's).
+    Given(&'a [(f64, f64)]),
+    /// A tick's, made by its prelude.
+    Tick(TickPrelude<'a>),
+}
+
 /// The slices of one fused call: read (`x, p, xd, xdd`, the inputs' kept sines and cosines),
 /// solved in place (`q` and its `sc`), written (`qd, qdd`).
 pub struct FusedArgs<'a> {
@@ -70,7 +95,7 @@ pub struct FusedArgs<'a> {
     pub p: &'a [f64],
     pub xd: &'a [f64],
     pub xdd: &'a [f64],
-    pub sx: &'a [(f64, f64)],
+    pub sx: InputTrig<'a>,
     pub q: &'a mut [f64],
     pub sc: &'a mut [(f64, f64)],
     pub qd: &'a mut [f64],

@@ -20,7 +20,12 @@
 //!    given, a pointer to `count` f64 of its own stack frame and one to a slot of `abi::KEPT_BYTES`
 //!    of it, zeroed at entry, used by one block's velocity then its acceleration. While it runs, the slices of the frame are borrowed by
 //!    [`Fused::call`] alone, and [`stage`] makes references of them only for the duration of one
-//!    callback, during which compiled code does not run.
+//!    callback, during which compiled code does not run. With a tick's prelude (the frame's
+//!    `tick` not 0) it first reads `x, xd, xdd` and the frame's `last` slices (inputs and their
+//!    pairs below its `inputs`, unknowns and their pairs below its `unknowns`, as
+//!    [`Fused::call`] checks), writes the pairs of `sx` below `inputs` (before any callback) and,
+//!    when it carries the unknowns, `q` and `sc` below `unknowns`; on success it writes the
+//!    frame's `to` slices below `inputs`.
 //! 5. `PointMotion<f64>` is `repr(C)` of three `[f64; 2]`: six f64 in order, no padding (asserted
 //!    at compile time in [`flat_points`]), so a slice of them is the f64 a fused program writes.
 
@@ -36,7 +41,7 @@ use mechgen_runtime::elimination::Factored;
 use mechgen_runtime::error::{SolveError, Stage};
 use mechgen_runtime::twofold::Arith;
 
-use super::abi::{FusedArgs, Positions, Reads, Stages};
+use super::abi::{FusedArgs, InputTrig, Positions, Reads, Stages};
 use crate::generic::factors::{factor_small, solve_small};
 
 /// What compiled code reads, one pointer-sized slot each, in this order (`lower.rs` reads slot
@@ -159,6 +164,22 @@ pub(super) const PIVOT_AT: usize = std::mem::offset_of!(Frame, pivot_ratio);
 /// Where compiled code reads the Newton tolerance in a [`Frame`].
 pub(super) const TOLERANCE_AT: usize = std::mem::offset_of!(Frame, tolerance);
 
+/// Where compiled code reads whether it runs a tick's prelude ([`TICK`], [`RESYNC`]).
+pub(super) const TICK_AT: usize = std::mem::offset_of!(Frame, tick);
+
+/// Where the pointers to the last tick's inputs, their pairs, unknowns and theirs are, in that
+/// order.
+pub(super) const LAST_AT: usize = std::mem::offset_of!(Frame, last);
+
+/// Where the pointers to a tick's inputs, rates and accelerations' destinations are.
+pub(super) const TO_AT: usize = std::mem::offset_of!(Frame, to);
+
+/// The frame's `tick`: a tick's prelude runs first.
+pub(super) const TICK: u64 = 1;
+
+/// With [`TICK`]: the inputs' sines and cosines computed afresh.
+pub(super) const RESYNC: u64 = 2;
+
 /// What a fused entry is called with: the `Args` it reads (first, so that its slots are at
 /// the same offsets), the lengths of the slices a call step views, the stages.
 #[repr(C)]
@@ -173,6 +194,12 @@ pub(super) struct Frame {
     pivot_ratio: f64,
     /// The Newton tolerance (the closed forms' test of an angle too large to hold).
     tolerance: f64,
+    /// 0: the motion alone; else a tick's prelude first ([`TICK`], [`RESYNC`]).
+    tick: u64,
+    /// A tick's: the last tick's inputs, their pairs, unknowns and theirs.
+    last: [*const f64; 4],
+    /// A tick's: where its inputs, rates and accelerations go on success.
+    to: [*mut f64; 3],
 }
 
 /// The callback of every call step (invariant 4): rebuilds the frame's views and runs the step
@@ -261,6 +288,8 @@ pub struct Fused {
     writes: usize,
     outputs: usize,
     work: bool,
+    /// The inputs and unknowns a tick's prelude reads (`None`: compiled without one).
+    prelude: Option<(usize, usize)>,
 }
 
 impl std::fmt::Debug for Fused {
@@ -281,6 +310,7 @@ impl Fused {
         writes: usize,
         outputs: usize,
         work: bool,
+        prelude: Option<(usize, usize)>,
     ) -> Self {
         // SAFETY: invariant 4 (the signature) and 1 (the address lives as long as `code`).
         let entry = unsafe { std::mem::transmute::<*const u8, FusedEntry>(address) };
@@ -291,6 +321,7 @@ impl Fused {
             writes,
             outputs,
             work,
+            prelude,
         }
     }
 
@@ -301,10 +332,12 @@ impl Fused {
         self.work
     }
 
-    /// Runs the motion; `None` (nothing run) when a slice is shorter than what the code reads or
-    /// writes, else `Some((status, pivot ratio))`: status 0 done, otherwise a call step failed
-    /// (its error is kept by `stages`); the positions' smallest pivot ratio. Inlined, so that
-    /// the frame is built from the caller's slices in place.
+    /// Runs the motion, after a tick's prelude when `a.sx` is a tick's; `None` (nothing run)
+    /// when a slice is shorter than what the code reads or writes (or a tick's is asked of code
+    /// compiled without its prelude), else `Some((status, pivot ratio))`: status 0 done,
+    /// [`super::abi::NOT_FINITE`] a tick's inputs not finite, otherwise a call step failed (its
+    /// error is kept by `stages`); the positions' smallest pivot ratio. Inlined, so that the
+    /// frame is built from the caller's slices in place.
     #[inline(always)]
     pub fn call(
         &self,
@@ -326,6 +359,42 @@ impl Fused {
         if short || rates || a.sc.len() != a.q.len() || out.len() < self.outputs {
             return None;
         }
+        let null = std::ptr::null_mut::<f64>();
+        let (sx, sx_len, tick, last, to) = match a.sx {
+            InputTrig::Given(sx) => (
+                sx.as_ptr().cast::<f64>(),
+                sx.len(),
+                0,
+                [null.cast_const(); 4],
+                [null; 3],
+            ),
+            InputTrig::Tick(t) => {
+                let (ni, nu) = self.prelude?;
+                let inputs = (a.x.len().min(a.xd.len()).min(a.xdd.len()))
+                    .min(t.x_last.len().min(t.tx_last.len()).min(t.sx.len()))
+                    .min(t.to[0].len().min(t.to[1].len()).min(t.to[2].len()));
+                let unknowns = t.q_last.len().min(t.tq_last.len()).min(a.q.len());
+                if inputs < ni || unknowns < nu {
+                    return None;
+                }
+                let last = [
+                    t.x_last.as_ptr(),
+                    t.tx_last.as_ptr().cast::<f64>(),
+                    t.q_last.as_ptr(),
+                    t.tq_last.as_ptr().cast::<f64>(),
+                ];
+                let [x, xd, xdd] = t.to;
+                let flags = if t.resync { TICK | RESYNC } else { TICK };
+                let sx = t.sx.as_mut_ptr().cast::<f64>().cast_const();
+                (
+                    sx,
+                    t.sx.len(),
+                    flags,
+                    last,
+                    [x.as_mut_ptr(), xd.as_mut_ptr(), xdd.as_mut_ptr()],
+                )
+            }
+        };
         let mut stages: &mut dyn Stages = stages;
         let mut frame = Frame {
             args: Args {
@@ -338,14 +407,17 @@ impl Fused {
                 qdd: a.qdd.as_mut_ptr(),
                 sc: a.sc.as_mut_ptr().cast::<f64>(),
                 sc_len: a.sc.len(),
-                sx: a.sx.as_ptr().cast::<f64>(),
-                sx_len: a.sx.len(),
+                sx,
+                sx_len,
             },
             x_len: a.x.len(),
             q_len: a.q.len(),
             stages: (&raw mut stages).cast(),
             pivot_ratio: 1.0,
             tolerance: a.tolerance,
+            tick,
+            last,
+            to,
         };
         // Invariant 4: every slice checked above; `stages` and the slices outlive the call.
         let status = (self.entry)(&mut frame, out.as_mut_ptr());

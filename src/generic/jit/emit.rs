@@ -285,13 +285,7 @@ impl<'a> Emit<'a> {
                     let x = self.reg(x)?;
                     let f = self.callee(self.imports.sin_cos);
                     let pair_slot = self.pair_slot;
-                    let computed = |b: &mut FunctionBuilder| {
-                        let at = b.ins().stack_addr(ptr, pair_slot, 0);
-                        b.ins().call(f, &[x, at]);
-                        let s = b.ins().stack_load(ptr, types::F64, pair_slot, 0);
-                        let c = b.ins().stack_load(ptr, types::F64, pair_slot, 8);
-                        (s, c)
-                    };
+                    let computed = |b: &mut FunctionBuilder| sin_cos_call(b, f, ptr, pair_slot, x);
                     let (s, c) = match *op {
                         // A fused program's unknowns all have their pair (`Fused::call` checks
                         // `sc` as long as `q`, which is read up to k here).
@@ -321,6 +315,12 @@ impl<'a> Emit<'a> {
             self.regs.push(v);
         }
         Ok(())
+    }
+
+    /// `(sin x, cos x)` by the runtime's `sin_cos` (what the interpreter computes).
+    pub(super) fn sin_cos(&mut self, x: Value) -> (Value, Value) {
+        let f = self.callee(self.imports.sin_cos);
+        sin_cos_call(&mut self.b, f, self.ptr, self.pair_slot, x)
     }
 
     /// Seals and finalizes the function; what it reads.
@@ -372,6 +372,21 @@ pub(super) fn abs(b: &mut FunctionBuilder, x: Value) -> Value {
     } else {
         b.ins().fabs(x)
     }
+}
+
+/// A call of the runtime's `sin_cos` `f` on `x`, through the 16-byte stack slot `pair`.
+fn sin_cos_call(
+    b: &mut FunctionBuilder,
+    f: cranelift_codegen::ir::FuncRef,
+    ptr: Type,
+    pair: StackSlot,
+    x: Value,
+) -> (Value, Value) {
+    let at = b.ins().stack_addr(ptr, pair, 0);
+    b.ins().call(f, &[x, at]);
+    let s = b.ins().stack_load(ptr, types::F64, pair, 0);
+    let c = b.ins().stack_load(ptr, types::F64, pair, 8);
+    (s, c)
 }
 
 /// An f64's sign bit.

@@ -43,15 +43,25 @@ pub(super) fn offset(bytes: usize) -> Result<i32, JitError> {
     i32::try_from(bytes).map_err(|_| JitError::Tape)
 }
 
-/// Lowers `p` into the function `e` builds (parameters `frame`, the `code::Frame`, and `out`);
-/// what it reads, one past the largest unknown whose rates it stores, how many outputs it writes,
-/// whether a call step needs the stages' block work.
+/// What lowering a program found: what it reads, one past the largest unknown whose rates it
+/// stores, how many outputs it writes, whether a call step needs the stages' block work, the
+/// inputs and unknowns a tick's prelude reads.
+pub(super) struct Lowered {
+    pub reads: Reads,
+    pub writes: usize,
+    pub outputs: usize,
+    pub work: bool,
+    pub prelude: (usize, usize),
+}
+
+/// Lowers `p` into the function `e` builds (parameters `frame`, the `code::Frame`, and `out`):
+/// a tick's prelude when the frame asks for one (`prelude.rs`), the steps in order.
 pub(super) fn lower(
     mut e: Emit<'_>,
     p: &Program,
     frame: Value,
     out: Value,
-) -> Result<(Reads, usize, usize, bool), JitError> {
+) -> Result<Lowered, JitError> {
     let width = u32::try_from(p.call_width().max(1) * 8).map_err(|_| JitError::Tape)?;
     let slot = |bytes| StackSlotData::new(StackSlotKind::ExplicitSlot, bytes, 3);
     let buf = e.b.create_sized_stack_slot(slot(width));
@@ -76,6 +86,7 @@ pub(super) fn lower(
         velocity_values: HashMap::new(),
         work: false,
     };
+    l.prelude(&p.tick)?;
     let mut outputs = 0;
     for step in &p.steps {
         match step {
@@ -121,13 +132,22 @@ pub(super) fn lower(
             } => l.rates(false, *block, unknowns, values)?,
         }
     }
+    let inputs = p.tick.input_angle.len();
+    l.epilogue(inputs)?;
     let zero = l.e.b.ins().iconst(types::I32, 0);
     l.e.b.ins().return_(&[zero]);
     l.e.b.switch_to_block(l.fail);
     let status = l.e.b.block_params(l.fail)[0];
     l.e.b.ins().return_(&[status]);
     let (writes, work) = (l.writes, l.work);
-    Ok((l.e.finish(), writes, outputs, work))
+    let carried = if p.tick.carried { p.tick.unknowns } else { 0 };
+    Ok(Lowered {
+        reads: l.e.finish(),
+        writes,
+        outputs,
+        work,
+        prelude: (inputs, carried),
+    })
 }
 
 impl Lower<'_, '_> {

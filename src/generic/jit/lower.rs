@@ -26,7 +26,7 @@ pub(super) struct Lowering {
     ptr: Type,
     done: Vec<(FuncId, Reads, usize)>,
     /// The fused program's function, when one was added.
-    fused: Option<(FuncId, Reads, usize, usize, bool)>,
+    fused: Option<(FuncId, super::fused::Lowered)>,
 }
 
 impl Lowering {
@@ -103,10 +103,10 @@ impl Lowering {
             &self.imports,
             frame,
             &p.ops,
-            [1, 4, 6, 7, 8],
+            [0, 1, 3, 4, 5, 6, 7, 8, 9, 10],
         );
         e.pairs_complete = true;
-        let (reads, writes, outputs, work) = super::fused::lower(e, p, frame, out)?;
+        let lowered = super::fused::lower(e, p, frame, out)?;
         // A developer's view of the machine code (spills, constants): `MECHGEN_JIT_DUMP=1`
         // prints each fused program's disassembly to stderr as it is compiled.
         let dump = std::env::var_os("MECHGEN_JIT_DUMP").is_some();
@@ -118,7 +118,7 @@ impl Lowering {
             eprintln!("{}", c.vcode.as_deref().unwrap_or(""));
         }
         self.module.clear_context(&mut self.ctx);
-        self.fused = Some((id, reads, writes, outputs, work));
+        self.fused = Some((id, lowered));
         Ok(())
     }
 
@@ -130,14 +130,16 @@ impl Lowering {
         let addresses: Vec<_> = (self.done.iter())
             .map(|&(id, reads, n)| (self.module.get_finalized_function(id), reads, n))
             .collect();
-        let fused = (self.fused)
-            .map(|(id, r, w, n, k)| (self.module.get_finalized_function(id), r, w, n, k));
+        let fused = (self.fused).map(|(id, l)| (self.module.get_finalized_function(id), l));
         let code = code::Code::new(self.module);
         let functions = addresses
             .into_iter()
             .map(|(a, reads, n)| code::Function::new(&code, a, reads, n))
             .collect();
-        let fused = fused.map(|(a, r, w, n, k)| code::Fused::new(&code, a, r, w, n, k));
+        let fused = fused.map(|(a, l)| {
+            let (r, w, n, k) = (l.reads, l.writes, l.outputs, l.work);
+            code::Fused::new(&code, a, r, w, n, k, Some(l.prelude))
+        });
         Ok((functions, fused))
     }
 

@@ -11,9 +11,10 @@ mod error;
 mod fused;
 mod inline;
 mod lower;
+mod prelude;
 mod trace;
 
-pub use abi::{FusedArgs, Positions, Stages};
+pub use abi::{FusedArgs, InputTrig, NOT_FINITE, Positions, Stages, TickPrelude};
 pub use code::{Function, Fused, flat_points};
 pub use error::JitError;
 

@@ -436,7 +436,7 @@ where
         self.tick(input, options)?;
         let (old, now) = (&self.slots[self.cur ^ 1].state, &self.slots[self.cur].state);
         len(before, old.q.len())?;
-        before.copy_from_slice(&old.q);
+        copy_few(before, &old.q);
         let kept = guard.keeps(&old.q, &old.qd, &old.qdd, dt, &now.q);
         Ok(kept.then(|| now.report.condition()))
     }

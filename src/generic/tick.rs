@@ -20,12 +20,13 @@ use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_inputs};
 use mechgen_runtime::tick::{Last, RESYNC_TICKS, inputs_trig, predict};
 use mechgen_runtime::{BodyMass, Kind, MechanismInfo};
 
-#[cfg(feature = "jit")]
-use super::driver::BlockWork;
 use super::driver::Rates;
 use super::engine::Generic;
 use super::scratch::{Scratch, Scratched, Sized};
 use super::tape::Env;
+
+#[cfg(feature = "jit")]
+mod compiled;
 
 /// A state of a tick with the sines and cosines of its inputs and unknowns (those of the others
 /// stay (0, 1)).
@@ -178,71 +179,6 @@ impl<'a, T: Scratched> GenericTick<'a, T> {
         Ok(())
     }
 
-    /// [`GenericTick::advance`] by the compiled program with its tick's prelude (in f64, closed
-    /// forms on, a program that needs no block work; `jit/prelude.rs`): the inputs checked, their
-    /// sines and cosines rotated and the unknowns carried (or predicted here first, where a block
-    /// is solved by Newton) and the inputs stored, all in one call of machine code. The same
-    /// steps as the other way, in the same order. `None`: not run (then the other way runs).
-    #[cfg(feature = "jit")]
-    fn advance_compiled(
-        &mut self,
-        input: InputMotion<&[T]>,
-        options: &SolveOptions<T>,
-    ) -> Option<Result<(), SolveError>> {
-        use super::jit::{InputTrig, TickPrelude};
-        use std::any::Any;
-        let (input, options) = super::stages::in_f64(input, options)?;
-        let g = self.g;
-        let slots = (&mut self.slots as &mut dyn Any).downcast_mut::<[Slot<f64>; 2]>()?;
-        let (regs, out, by_size) = &mut self.idle;
-        let work = (
-            (regs as &mut dyn Any).downcast_mut::<Vec<f64>>()?,
-            (out as &mut dyn Any).downcast_mut::<Vec<f64>>()?,
-            (by_size as &mut dyn Any).downcast_mut::<Vec<Option<Sized<f64>>>>()?,
-        );
-        let resync = self.age >= RESYNC_TICKS;
-        let [a, b] = slots;
-        let (old, new) = if self.cur == 0 { (&*a, b) } else { (&*b, a) };
-        let s = &old.state;
-        let Slot { state: n, tx, tq } = new;
-        if !self.all_closed {
-            copy_few(tq, &old.tq);
-            predict(
-                old.last(),
-                input.x,
-                &g.angle,
-                &self.keep,
-                resync,
-                &mut n.q,
-                tq,
-            );
-        }
-        let prelude = TickPrelude {
-            x_last: &s.x,
-            tx_last: &old.tx,
-            q_last: &s.q,
-            tq_last: &old.tq,
-            sx: tx,
-            to: [&mut n.x, &mut n.xd, &mut n.xdd],
-            resync,
-        };
-        let solving = super::stages::Solving {
-            q: &mut n.q,
-            sc: tq,
-            qd: &mut n.qd,
-            qdd: &mut n.qdd,
-            points: super::jit::flat_points(&mut n.points),
-        };
-        let sx = InputTrig::Tick(prelude);
-        match super::stages::run(g, input, sx, options, work, solving)? {
-            Ok(report) => n.report = report,
-            Err(e) => return Some(Err(e)),
-        }
-        self.cur ^= 1;
-        self.age = if resync { 0 } else { self.age + 1 };
-        Some(Ok(()))
-    }
-
     fn lengths(&self, input: InputMotion<&[T]>) -> Result<(), SolveError> {
         let n = self.slots[self.cur].state.x.len();
         len(input.x, n)?;
@@ -267,7 +203,7 @@ fn motion<T: Scratched>(
     #[cfg(feature = "jit")]
     if g.fused.as_ref().is_some_and(|f| !f.uses_work()) {
         let (regs, out, by_size) = idle;
-        if let Some(done) = compiled(g, input, options, at, (regs, out, by_size)) {
+        if let Some(done) = at.compiled(g, input, options, (regs, out, by_size)) {
             return done;
         }
     }
@@ -277,7 +213,7 @@ fn motion<T: Scratched>(
         #[cfg(feature = "jit")]
         {
             let work = (&mut ws.regs, &mut ws.out, &mut ws.by_size);
-            if let Some(done) = compiled(g, input, options, at, work) {
+            if let Some(done) = at.compiled(g, input, options, work) {
                 return done;
             }
         }
@@ -303,38 +239,6 @@ fn motion<T: Scratched>(
         copy_few(tq, &ws.sc);
         Ok(report)
     })
-}
-
-/// [`motion`] by the compiled program, in `at` itself (`None`: not compiled, or not in f64).
-#[cfg(feature = "jit")]
-#[inline(always)]
-fn compiled<T: Scratched>(
-    g: &Generic,
-    input: InputMotion<&[T]>,
-    options: &SolveOptions<T>,
-    at: &mut Slot<T>,
-    (regs, out, by_size): BlockWork<'_, T>,
-) -> Option<Result<NewtonReport<T>, SolveError>> {
-    use std::any::Any;
-    g.fused.as_ref()?;
-    let (input, options) = super::stages::in_f64(input, options)?;
-    let at = (at as &mut dyn Any).downcast_mut::<Slot<f64>>()?;
-    let work = (
-        (regs as &mut dyn Any).downcast_mut::<Vec<f64>>()?,
-        (out as &mut dyn Any).downcast_mut::<Vec<f64>>()?,
-        (by_size as &mut dyn Any).downcast_mut::<Vec<Option<Sized<f64>>>>()?,
-    );
-    let Slot { state: s, tx, tq } = at;
-    let solving = super::stages::Solving {
-        q: &mut s.q,
-        sc: tq,
-        qd: &mut s.qd,
-        qdd: &mut s.qdd,
-        points: super::jit::flat_points(&mut s.points),
-    };
-    let tx = super::jit::InputTrig::Given(tx);
-    let done = super::stages::run(g, input, tx, options, work, solving)?;
-    Some(done.map(super::stages::report_in))
 }
 
 /// The motion by the block driver (no program, or closed forms off), from the guess in

@@ -18,7 +18,7 @@ use mechgen_runtime::mechanism::{BodySink, InputMotion};
 use mechgen_runtime::scalar::Real;
 use mechgen_runtime::solve::{NewtonReport, SolveOptions, check_inputs};
 use mechgen_runtime::tick::{Last, RESYNC_TICKS, inputs_trig, predict};
-use mechgen_runtime::{BodyMass, Kind, MechanismInfo};
+use mechgen_runtime::{BodyMass, Kind};
 
 use super::driver::Rates;
 use super::engine::Generic;
@@ -93,7 +93,7 @@ type Idle<T> = (Vec<T>, Vec<T>, Vec<Option<Sized<T>>>);
 
 impl<'a, T: Scratched> GenericTick<'a, T> {
     pub fn new(g: &'a Generic) -> Self {
-        let info: MechanismInfo = DynMechanism::<f64>::info(g);
+        let info = &g.info;
         let (ni, nu, np) = (info.inputs.len(), info.unknowns.len(), info.points.len());
         let mut keep = vec![false; nu];
         for b in g.blocks.iter().filter(|b| b.closed.is_some()) {

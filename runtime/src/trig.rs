@@ -149,14 +149,18 @@ impl<T: Real> NewtonState<T> for TrigSlices<'_, T> {
     }
 }
 
+/// The largest turn [`rotate`] (and the lane and JIT ticks, which repeat it) takes by its
+/// series; a larger one, or a NaN, is computed afresh.
+pub const SERIES_TURN: f64 = 0.1;
+
 /// (sin, cos) of `q − dz` from `(s, c)` = (sin q, cos q) and the new angle `q_new`: by the
-/// addition theorem with Taylor series of `dz` when `|dz| ≤ 0.1` (sin to dz⁹, cos to dz¹⁰:
+/// addition theorem with Taylor series of `dz` when `|dz|` ≤ [`SERIES_TURN`] (sin to dz⁹, cos to dz¹⁰:
 /// truncation below 3e-19), by `sin_cos(q_new)` otherwise.
 // `!(a <= b)` is deliberate: a NaN step takes the `sin_cos` path.
 #[allow(clippy::neg_cmp_op_on_partial_ord)]
 #[inline]
 pub fn rotate<T: Real>((s, c): (T, T), q_new: T, dz: T) -> (T, T) {
-    if !(dz.abs() <= T::lit(0.1)) {
+    if !(dz.abs() <= T::lit(SERIES_TURN)) {
         return sin_cos_cold(q_new);
     }
     let (sd, cd) = turn_series(dz, T::lit);

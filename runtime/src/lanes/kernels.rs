@@ -7,7 +7,7 @@
 use super::Lanes;
 use super::lu::LaneLu;
 use crate::scalar::Real;
-use crate::trig::atan_series;
+use crate::trig::{SERIES_TURN, atan_series};
 
 /// The unknowns of W instances with their sines and cosines (`sc[k]` = (sin, cos) of `q[k]`
 /// where `q[k]` is an angle), as [`crate::trig::TrigState`] holds them for one.
@@ -272,7 +272,7 @@ pub fn rotate_inputs<L: Lanes, const NI: usize>(
 pub fn rotate<L: Lanes>((s, c): (L, L), q_new: L, dz: L, fresh: L::Mask) -> (L, L) {
     let (sd, cd) = crate::trig::turn_series(dz, L::lit);
     let out = (s * cd - c * sd, c * cd + s * sd);
-    let cold = fresh | !dz.abs().le(L::lit(0.1));
+    let cold = fresh | !dz.abs().le(L::lit(SERIES_TURN));
     if L::bits(cold) == 0 {
         return out;
     }

@@ -9,7 +9,7 @@
 use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
 use cranelift_codegen::ir::{InstBuilder, MemFlagsData, Value, types};
 use mechgen_runtime::lanes::Lanes;
-use mechgen_runtime::trig::turn_series;
+use mechgen_runtime::trig::{SERIES_TURN, turn_series};
 
 use super::abi::NOT_FINITE;
 use super::code::{LAST_AT, RESYNC, TICK_AT, TO_AT};
@@ -26,9 +26,6 @@ const INPUT_SLOTS: [usize; 3] = [0, 3, 5];
 const Q_SLOT: usize = 1;
 const SC_SLOT: usize = 7;
 const SX_SLOT: usize = 9;
-
-/// The largest turn the runtime's `rotate` takes by its series (`trig::rotate`).
-const SMALL_TURN: f64 = 0.1;
 
 impl Lower<'_, '_> {
     /// The prelude at the function's entry (see the module), then on at the motion's block.
@@ -61,7 +58,7 @@ impl Lower<'_, '_> {
             let xl = self.e.b.ins().load(types::F64, trusted, x_last, at);
             let dz = self.e.b.ins().fsub(xl, x[i]);
             let magnitude = abs(&mut self.e.b, dz);
-            let small = self.e.b.ins().f64const(SMALL_TURN);
+            let small = self.e.b.ins().f64const(SERIES_TURN);
             let small = (self.e.b.ins()).fcmp(FloatCC::LessThanOrEqual, magnitude, small);
             let rotated = self.e.b.ins().band(small, rotates);
             let b = &mut self.e.b;

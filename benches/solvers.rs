@@ -27,9 +27,11 @@
 //!
 //! - `step/lanes`: W instances in f64 lanes (`WithLanes`: `Vf64<8>`; `NAME::Lanes`), ticked with
 //!   the CPU's widest vectors chosen at run time (`tick_widest`), each with its own params and its
-//!   own place on the walk, one lane tick per iteration; the time per instance.
-//! - `step/batch`: 4096 instances in lane groups of W, each lane walking the branch from its own
-//!   place, every group ticked once per iteration through `mechgen::batch::for_each_mut` on every
+//!   own place on the walk, one lane tick per iteration; the time per instance. The lanes' inputs
+//!   along their walks are made before the clock starts (`walk_cycle`), as `step/generated`'s are.
+//! - `step/batch`: 4096 instances in lane groups of W, each group at its own place in that cycle
+//!   of inputs (each lane walking the branch from its own place), every group ticked once per
+//!   iteration through `mechgen::batch::for_each_mut` on every
 //!   core (the loop on a worker of `mechgen::batch::workers`, as a simulator's frame loop); the
 //!   time per instance.
 //! - `<scene>/step/generated`: one tick of each compiled-in scene along its mechanism's walk (the
@@ -134,6 +136,7 @@ fn states(k: &dyn DynMechanism<f64>) -> (Vec<State>, f64) {
 /// Instances in a `step/batch` fleet (interfaces.md).
 const BATCH: usize = 4096;
 
+#[derive(Clone)]
 struct Walk {
     at: usize,
     n: usize,
@@ -159,6 +162,30 @@ impl Walk {
         }
         self.at
     }
+}
+
+/// The lanes' inputs along their walks, each entry one step of every walk further, with the walks
+/// there: made before the clock starts, as `step/generated`'s inputs are, so that a lane bench
+/// times the tick, not gathering its inputs lane by lane. Every walk over `n` states is back where
+/// it began after 2(n − 1) steps, so the entries are a cycle whose last is the walks' start.
+fn walk_cycle<I>(
+    mut walks: Vec<Walk>,
+    n: usize,
+    input: impl Fn(&[Walk]) -> I,
+) -> Vec<(Vec<Walk>, I)> {
+    (0..(2 * n).saturating_sub(2).max(1))
+        .map(|_| {
+            for walk in walks.iter_mut() {
+                walk.next();
+            }
+            (walks.clone(), input(&walks))
+        })
+        .collect()
+}
+
+/// The entry after `at` in a cycle of `len`.
+fn next_in(at: usize, len: usize) -> usize {
+    if at + 1 >= len { 0 } else { at + 1 }
 }
 
 fn unit_rate(n: usize) -> (Vec<f64>, Vec<f64>) {
@@ -311,10 +338,10 @@ impl StaticVisitor<f64> for Generated<'_> {
                     });
                 }
             }
-            // `step/lanes`: W instances in the widest SIMD lanes of the build (4 f64, 8 with
-            // AVX-512), each with its own params (the file's,
-            // scaled by 1 + 1e-9·i: different in every lane, solvable along the same walk) and
-            // its own place on the walk; one lane tick per iteration, the time per instance.
+            // `step/lanes`: W instances in f64 lanes (`Vf64<8>`, run with the CPU's widest
+            // vectors), each with its own params (the file's, scaled by 1 + 1e-9·i: different in
+            // every lane, solvable along the same walk) and its own place on the walk; one lane
+            // tick per iteration, the time per instance.
             type Wide = <f64 as WithLanes>::Lanes;
             let w = Wide::W;
             let lanes = M::Lanes::<Wide>::from_fn(|i| {
@@ -343,31 +370,31 @@ impl StaticVisitor<f64> for Generated<'_> {
                 let input = InputMotion::new(lane_x(walks), lane_xd, Default::default());
                 lanes.tick_start(&input, &guess, &opts)
             };
-            let mut walks: Vec<Walk> = (0..w).map(|i| Walk::at(n, (i * 37) % n)).collect();
-            let mut lane_tick = start_lanes(&walks);
+            let walks: Vec<Walk> = (0..w).map(|i| Walk::at(n, (i * 37) % n)).collect();
+            let cycle = walk_cycle(walks, n, |walks| {
+                InputMotion::new(lane_x(walks), lane_xd, Default::default())
+            });
+            let mut at = cycle.len() - 1;
+            let mut lane_tick = start_lanes(&cycle[at].0);
             g.bench_function("step/lanes", |b| {
                 b.iter_custom(|iters| {
                     let start = std::time::Instant::now();
                     for _ in 0..iters {
-                        for walk in walks.iter_mut() {
-                            walk.next();
-                        }
-                        let input = InputMotion::new(lane_x(&walks), lane_xd, Default::default());
-                        lanes.tick_widest(&mut lane_tick, black_box(&input), &opts);
+                        at = next_in(at, cycle.len());
+                        lanes.tick_widest(&mut lane_tick, black_box(&cycle[at].1), &opts);
                     }
                     black_box(&lane_tick);
                     start.elapsed() / w as u32
                 })
             });
-            // `step/batch`: a fleet of BATCH instances in lane groups of W (each lane its own
-            // place on the walk), every group ticked once per iteration through the batch API
-            // on every core; the time per instance.
-            let mut fleet: Vec<(_, Vec<Walk>)> = (0..BATCH / w)
+            // `step/batch`: a fleet of BATCH instances in lane groups of W, each group at its
+            // own place in the lanes' cycle (so each lane at its own place on the walk), every
+            // group ticked once per iteration through the batch API on every core; the time per
+            // instance.
+            let mut fleet: Vec<(_, usize)> = (0..BATCH / w)
                 .map(|g| {
-                    let walks: Vec<Walk> = (0..w)
-                        .map(|i| Walk::at(n, ((g * w + i) * 7919) % n))
-                        .collect();
-                    (start_lanes(&walks), walks)
+                    let at = (g * 7919) % cycle.len();
+                    (start_lanes(&cycle[at].0), at)
                 })
                 .collect();
             // The loop runs on a worker of the pool (`pool.install`), as a simulator's frame
@@ -378,13 +405,9 @@ impl StaticVisitor<f64> for Generated<'_> {
                     pool.install(|| {
                         let start = std::time::Instant::now();
                         for _ in 0..iters {
-                            mechgen::batch::for_each_mut(&mut fleet, |_, (t, walks)| {
-                                for walk in walks.iter_mut() {
-                                    walk.next();
-                                }
-                                let input =
-                                    InputMotion::new(lane_x(walks), lane_xd, Default::default());
-                                lanes.tick_widest(t, &input, &opts);
+                            mechgen::batch::for_each_mut(&mut fleet, |_, (t, at)| {
+                                *at = next_in(*at, cycle.len());
+                                lanes.tick_widest(t, &cycle[*at].1, &opts);
                             });
                         }
                         black_box(&fleet);
@@ -454,7 +477,7 @@ impl SceneVisitor<f64> for Scenes<'_> {
                 S::with_params(&p).expect("one value per param")
             });
             let n = inputs.len();
-            let mut walks: Vec<Walk> = (0..w).map(|i| Walk::at(n, (i * 37) % n)).collect();
+            let walks: Vec<Walk> = (0..w).map(|i| Walk::at(n, (i * 37) % n)).collect();
             let lane_x = |walks: &[Walk]| {
                 let mut x = <S::Lanes<Wide> as LaneScene<Wide>>::X::default();
                 for (k, v) in x.as_mut().iter_mut().enumerate() {
@@ -464,21 +487,21 @@ impl SceneVisitor<f64> for Scenes<'_> {
             };
             let mut lane_xd = <S::Lanes<Wide> as LaneScene<Wide>>::X::default();
             lane_xd.as_mut()[0] = Wide::splat(1.0);
+            let cycle = walk_cycle(walks, n, |walks| {
+                InputMotion::new(lane_x(walks), lane_xd, Default::default())
+            });
+            let mut at = cycle.len() - 1;
             let mut guess = <S::Lanes<Wide> as LaneScene<Wide>>::Q::default();
             for (k, v) in guess.as_mut().iter_mut().enumerate() {
-                *v = Wide::from_fn(|i| qs[walks[i].at].as_ref()[k]);
+                *v = Wide::from_fn(|i| qs[cycle[at].0[i].at].as_ref()[k]);
             }
-            let input = InputMotion::new(lane_x(&walks), lane_xd, Default::default());
-            let mut lane_tick = lanes.tick_start(&input, &guess, &opts);
+            let mut lane_tick = lanes.tick_start(&cycle[at].1, &guess, &opts);
             g.bench_function("step/lanes", |b| {
                 b.iter_custom(|iters| {
                     let start = std::time::Instant::now();
                     for _ in 0..iters {
-                        for walk in walks.iter_mut() {
-                            walk.next();
-                        }
-                        let input = InputMotion::new(lane_x(&walks), lane_xd, Default::default());
-                        lanes.tick_widest(&mut lane_tick, black_box(&input), &opts);
+                        at = next_in(at, cycle.len());
+                        lanes.tick_widest(&mut lane_tick, black_box(&cycle[at].1), &opts);
                     }
                     black_box(&lane_tick);
                     start.elapsed() / w as u32

@@ -64,6 +64,7 @@ pub fn dynamics<'py>(
     header.extend(kinetics::column_names(&info.inputs[plan.index].name));
     let n = plan.values.len();
     let mut out = Buffers::new(header.len(), n, "dynamics")?;
+    let mut b = out.block();
     py.detach(|| {
         let k = m.solver(&values);
         let cont = Continuation::for_input(info.inputs[plan.index].kind, plan.span);
@@ -81,7 +82,7 @@ pub fn dynamics<'py>(
             &plan.held,
             &cont,
             &mut |row| {
-                out.columns[0][r] = row.input;
+                b.columns[0][r] = row.input;
                 x[index] = row.input;
                 let d = match &row.result {
                     Ok(s) => {
@@ -94,18 +95,18 @@ pub fn dynamics<'py>(
                 let status = match d {
                     Ok((q, d)) => {
                         for (j, v) in q.iter().chain(&kinetics::values(&d)).enumerate() {
-                            out.columns[j + 1][r] = *v;
+                            b.columns[j + 1][r] = *v;
                         }
                         "ok"
                     }
                     Err(status) => {
-                        for c in out.columns[1..=nu + 7].iter_mut() {
+                        for c in b.columns[1..=nu + 7].iter_mut() {
                             c[r] = f64::NAN;
                         }
                         status
                     }
                 };
-                out.codes[r] = mg::report::status_code(status);
+                b.codes[r] = mg::report::status_code(status);
                 r += 1;
             },
         );
@@ -162,6 +163,7 @@ pub fn simulate<'py>(
         x[i] = v;
     }
     let guess: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
+    let mut b = out.block();
     let written = py.detach(|| {
         let k = m.solver(&values);
         let setup = mg::simulation::Setup {
@@ -175,26 +177,23 @@ pub fn simulate<'py>(
         };
         let mut r = 0;
         let run = mg::simulation::simulate(k.as_ref(), &setup, &guess, &mut |row| {
-            out.columns[0][r] = row.t;
+            b.columns[0][r] = row.t;
             let values = row
                 .input
                 .iter()
                 .chain(&row.q)
                 .chain([&row.kinetic, &row.potential]);
             for (c, v) in values.enumerate() {
-                out.columns[c + 1][r] = if row.status.is_ok() { *v } else { f64::NAN };
+                b.columns[c + 1][r] = if row.status.is_ok() { *v } else { f64::NAN };
             }
             let status = row.status();
-            out.codes[r] = mg::report::status_code(status);
+            b.codes[r] = mg::report::status_code(status);
             r += 1;
         });
         run.map(|()| r)
     });
     let written = written.map_err(PyValueError::new_err)?;
-    for c in out.columns.iter_mut() {
-        c.truncate(written);
-    }
-    out.codes.truncate(written);
+    // The rows written (a run stopped early writes fewer than it had room for).
     out.into_dict(py, &header, &[written], &[])
 }
 

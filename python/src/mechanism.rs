@@ -335,6 +335,7 @@ impl Mechanism {
         }
         let n = plan.values.len();
         let mut out = Buffers::new(header.len(), n, "sensitivity")?;
+        let mut b = out.block();
         py.detach(|| {
             let k = solver_with_params(&info.name, &self.model, self.generated, &values);
             let cont = Continuation::for_input(info.inputs[plan.index].kind, plan.span);
@@ -347,7 +348,7 @@ impl Mechanism {
                 &cont,
             );
             for (r, row) in rows.iter().enumerate() {
-                out.columns[0][r] = row.input;
+                b.columns[0][r] = row.input;
                 let s = match &row.result {
                     Ok(s) => {
                         let x = row_inputs(info, plan.index, &plan.held, row.input);
@@ -358,19 +359,19 @@ impl Mechanism {
                 let status = match s {
                     Ok(v) => {
                         for (j, v) in v.iter().enumerate() {
-                            out.columns[j + 1][r] = *v;
+                            b.columns[j + 1][r] = *v;
                         }
                         "ok"
                     }
                     Err(status) => {
                         // A failed row's numbers are NaN (the CSV's empty cells).
-                        for c in out.columns[1..].iter_mut() {
+                        for c in b.columns[1..].iter_mut() {
                             c[r] = f64::NAN;
                         }
                         status
                     }
                 };
-                out.codes[r] = mg::report::status_code(status);
+                b.codes[r] = mg::report::status_code(status);
             }
         });
         out.into_dict(py, &header, &[n], &[])

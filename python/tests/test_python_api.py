@@ -103,6 +103,37 @@ def test_threads_give_the_same_batch():
         m.batch(sets, threads=0)
 
 
+def test_result_columns_are_arrays_of_their_own_to_the_user():
+    """The columns of a result lie in one allocation (views of it, so that the rows' writes do not
+    all fall into one cache set): each is still an array of its own to the user, contiguous and
+    writable, its numbers alive while it is, and a write to it changes no other column."""
+    import gc
+
+    m = mechgen.mechanisms()["four_bar"]
+    sets = {"l2": m.params["l2"] * (1 + 0.01 * np.arange(7))}
+    for result in (m.batch(sets, step=7.0), m.sweep(step=7.0), m.sensitivity(step=30.0)):
+        names = [c for c in result if c != "status"]
+        copies = {c: result[c].copy() for c in names}
+        for c in names:
+            a = result[c]
+            assert a.dtype == np.float64 and a.flags.c_contiguous and a.flags.writeable, c
+            assert a.shape == result["status"].shape, c
+        # Consecutive columns an odd number of 64-byte lines apart (so their rows' writes fall
+        # into different cache sets; see columns.rs).
+        starts = [result[c].__array_interface__["data"][0] for c in names]
+        for c, (x, y) in zip(names[1:], zip(starts, starts[1:])):
+            assert (y - x) % 64 == 0 and (y - x) // 64 % 2 == 1, c
+        first, last = names[0], names[-1]
+        result[first][...] = -1.0
+        for c in names[1:]:
+            np.testing.assert_array_equal(result[c], copies[c])
+        kept = result[last]
+        del result, a
+        gc.collect()
+        # The other columns freed, this one still holds its numbers.
+        np.testing.assert_array_equal(kept, copies[last])
+
+
 def test_a_batch_into_an_earlier_result_writes_its_arrays_in_place():
     for m in (mechgen.mechanisms()["sixbar"], mechgen.load(str(ROOT / "mechanism.toml"))["four_bar"]):
         p = list(m.params)[0]

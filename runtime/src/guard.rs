@@ -120,7 +120,9 @@ impl BranchGuard {
             // `step` or `change` so, and `good` false), a plain comparison is the largest.
             let larger = |a: T, b: T| if a < b { b } else { a };
             moved = larger(moved, (after[k] - p).abs());
-            scale = larger(larger(scale, step), change);
+            // The step's larger part first: one comparison a step on the chain carried from
+            // step to step (on finite numbers, the order of the largest is no matter).
+            scale = larger(scale, larger(step, change));
             size = larger(size, before[k].abs());
         }
         good & (moved < T::lit(1e-9) * (T::one() + size) || moved <= T::lit(MAX_JUMP) * scale)
@@ -178,7 +180,7 @@ impl BranchGuard {
             let ok = step.is_finite() & change.is_finite() & step.le(limit) & change.le(limit);
             good &= L::bits(ok);
             moved = max(moved, (after[k] - p).abs());
-            spread = max(max(spread, step), change);
+            spread = max(spread, max(step, change));
             size = max(size, before[k].abs());
         }
         let near = moved.lt(L::lit(1e-9) * (L::one() + size)) | moved.le(L::lit(MAX_JUMP) * spread);

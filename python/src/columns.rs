@@ -69,8 +69,8 @@ pub fn blocks<'a>(columns: Vec<&'a mut [f64]>, codes: &'a mut [u8], rows: usize)
 /// so in the same set of the CPU's L1 cache, which holds 8–12 lines of a set; `stride` is a whole
 /// number of 64-byte lines, an odd number of them modulo 4 KiB, so that the streams spread over
 /// the sets. One batch on one thread (2000 sets × 360 rows, Intel Xeon VM, docs/python.md): a
-/// four-bar row 206 ns as separate columns, 202 in one allocation without the odd stride, 173
-/// with it; a Strandbeest leg's (69 columns) 678, 651 and 566–596 ns.
+/// four-bar row 205–208 ns as separate columns, 201–203 in one allocation without the odd stride,
+/// 173 with it; a Strandbeest leg's (69 columns) 669–687, 651 and 566–596 ns.
 pub struct Buffers {
     data: Vec<f64>,
     stride: usize,
@@ -118,7 +118,7 @@ impl Buffers {
         let rows = self.rows;
         let columns = self
             .data
-            .chunks_mut(self.stride.max(1))
+            .chunks_mut(self.stride)
             .take(self.ncols)
             .map(|c| &mut c[..rows])
             .collect();

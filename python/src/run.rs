@@ -8,7 +8,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use mg::MechanismInfo;
-use mg::batch::lanes::{Group, LANES, sweep_group};
+use mg::batch::lanes::{Group, lane_width, sweep_group};
 use mg::batch::solver_with_params;
 use mg::branches::Assembly;
 use mg::generic::Generic;
@@ -61,9 +61,9 @@ impl Job<'_> {
 }
 
 impl Job<'_> {
-    /// The sets `chunk` (at most [`LANES`]) swept side by side in SIMD lanes into `block`, set
-    /// `i` from its row `at + i·rows`; the sets (a bit each) that left the lanes, to be swept by
-    /// [`Job::sweep_into`].
+    /// The sets `chunk` (at most [`lane_width`]`()`) swept side by side in SIMD lanes into
+    /// `block`, set `i` from its row `at + i·rows`; the sets (a bit each) that left the lanes, to
+    /// be swept by [`Job::sweep_into`].
     fn sweep_lanes_into(
         &self,
         chunk: &[Vec<f64>],
@@ -114,7 +114,7 @@ pub fn sweep_sets(
         let mine = &mine[..mine.len().min(SETS_PER_BLOCK)];
         // A compiled-in mechanism's sets in lane groups, each set that leaves the lanes swept
         // again by the scalar sweep (its rows overwrite the lane's).
-        let group = if job.generated { LANES } else { 1 };
+        let group = if job.generated { lane_width() } else { 1 };
         for (g, chunk) in mine.chunks(group).enumerate() {
             if stop.load(Ordering::Relaxed) {
                 return;

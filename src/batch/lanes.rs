@@ -6,8 +6,9 @@ use mechgen_runtime::{StaticMechanism, StaticVisitor};
 
 use crate::sweep::{Continuation, RowRef, sweep_sets_in_lanes};
 
-/// Sets swept together in one call of [`sweep_group`].
-pub use crate::sweep::LANES;
+/// The most sets one call of [`sweep_group`] sweeps, and how many to hand it at a time on this
+/// CPU (eight with AVX-512, four otherwise).
+pub use crate::sweep::{LANES, lane_width};
 
 /// One lane group's sweep (see [`sweep_group`]).
 pub struct Group<'a> {

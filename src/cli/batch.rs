@@ -4,7 +4,7 @@
 
 use std::io::{IsTerminal as _, Write as _};
 
-use mechgen::batch::lanes::{Group, LANES, sweep_group};
+use mechgen::batch::lanes::{Group, lane_width, sweep_group};
 use mechgen::batch::{CHUNK, ParamSets, SetSummary, for_each_ordered_by, solver_with_params};
 use mechgen::sweep::{Continuation, check_start, sweep_each_with};
 use mechgen::{DynMechanism, report};
@@ -168,7 +168,7 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
     let count = sets.sets.len();
     // A compiled-in mechanism's sets go in lane groups (`mechgen::batch::lanes`): each group's
     // sets swept side by side, those that leave the lanes swept again by the scalar sweep.
-    let lanes = if generated { LANES } else { 1 };
+    let lanes = if generated { lane_width() } else { 1 };
     let solve_group = |g: usize| -> Vec<(Vec<u8>, SetSummary)> {
         let group_sets = g * lanes..((g + 1) * lanes).min(count);
         if lanes == 1 {

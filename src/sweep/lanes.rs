@@ -10,22 +10,27 @@
 use super::rows::{First, walk_to_first};
 use super::walker::RESOLVE_CONDITION;
 use super::{Continuation, Row, RowRef, Solved};
-use mechgen_runtime::simd::{Vf64, WithLanes};
+use mechgen_runtime::simd::{Isa, Vf64};
 use mechgen_runtime::{
     DynMechanism, InputMotion, LaneMechanism, LaneView, Lanes, PointMotion, StaticMechanism,
 };
 
-/// The lanes of a group: f64's widest.
-type L = <f64 as WithLanes>::Lanes;
-/// Sets swept together: one per lane.
+/// The most sets one group sweeps: eight f64 lanes (one AVX-512 vector).
 pub const LANES: usize = <Vf64<8> as Lanes>::W;
 
-/// Fewer sets than this are left to the scalar sweep: a lane tick costs about what three or four
-/// scalar ticks cost, whatever the lanes in use.
-pub const MIN_LANES: usize = 4;
+/// Fewer sets than this are left to the scalar sweep. Two sets already gain: a four-lane tick
+/// costs 1.3 scalar ticks with AVX2 (`docs/speed.md`).
+pub const MIN_LANES: usize = 2;
 
-/// Sweeps the sets `mechs` (at most [`LANES`], at least `MIN_LANES`; each a mechanism with its
-/// set's params) as
+/// The sets a batch should hand [`sweep_sets_in_lanes`] at a time on this CPU
+/// ([`Isa::f64_lanes`]: eight with AVX-512, four with AVX2 or less, where eight lanes take two
+/// or four registers each and run slower per set than four).
+pub fn lane_width() -> usize {
+    Isa::widest().f64_lanes()
+}
+
+/// Sweeps the sets `mechs` (at most [`LANES`], at least [`MIN_LANES`]; each a mechanism with its
+/// set's params; up to four in four lanes, more in eight) as
 /// [`super::sweep_each_with`] sweeps each (input `index` over `values`, rate `rate`, `held` inputs
 /// moved first), handing set `i`'s row `r` (its index in `values`) to `emit(i, r, row)` as the
 /// walk solves it: the start row (by the scalar walk), the rows below it downward, then those
@@ -42,9 +47,27 @@ pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
     c: &Continuation,
     emit: &mut dyn FnMut(usize, usize, RowRef<'_>),
 ) -> u32 {
-    let n = mechs.len().min(LANES);
+    let walk = (index, values, rate, held, c);
+    if mechs.len() <= 4 {
+        sweep_in::<M, Vf64<4>>(mechs, walk, emit)
+    } else {
+        sweep_in::<M, Vf64<8>>(mechs, walk, emit)
+    }
+}
+
+/// What every set's sweep is: the input swept, its values and rate, the inputs held, the
+/// continuation.
+type SweepOf<'a> = (usize, &'a [f64], f64, &'a [(usize, f64)], &'a Continuation);
+
+/// [`sweep_sets_in_lanes`] in the lanes `L`.
+fn sweep_in<M: StaticMechanism<f64>, L: Lanes<Scalar = f64>>(
+    mechs: &[M],
+    (index, values, rate, held, c): SweepOf<'_>,
+    emit: &mut dyn FnMut(usize, usize, RowRef<'_>),
+) -> u32 {
+    let n = mechs.len().min(L::W);
     let all = if n == 32 { u32::MAX } else { (1u32 << n) - 1 };
-    if n < MIN_LANES || mechs.len() > LANES {
+    if n < MIN_LANES || mechs.len() > L::W {
         return all;
     }
     let dyns: Vec<&dyn DynMechanism<f64>> =
@@ -119,7 +142,7 @@ pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
     let lane_of = |i: usize| if walks[i].is_some() { i } else { lead };
     let group =
         <M::Lanes<L> as LaneMechanism<L>>::from_fn(|i| mechs[lane_of(i.min(n - 1))].clone());
-    let mut run = Run::<M> {
+    let mut run = Run::<M, L> {
         group,
         tick: None,
         x: x0.to_vec(),
@@ -129,14 +152,14 @@ pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
         active,
         nu: info.unknowns.len(),
         before: vec![L::splat(0.0); 3 * info.unknowns.len()],
-        q: vec![0.0; LANES * info.unknowns.len()],
-        qd: vec![0.0; LANES * info.unknowns.len()],
-        qdd: vec![0.0; LANES * info.unknowns.len()],
-        points: vec![PointMotion::default(); LANES * info.points.len()],
+        q: vec![0.0; L::W * info.unknowns.len()],
+        qd: vec![0.0; L::W * info.unknowns.len()],
+        qdd: vec![0.0; L::W * info.unknowns.len()],
+        points: vec![PointMotion::default(); L::W * info.points.len()],
         np: info.points.len(),
     };
-    let mut guess = vec![0.0; LANES * run.nu];
-    for lane in 0..LANES {
+    let mut guess = vec![0.0; L::W * run.nu];
+    for lane in 0..L::W {
         let i = lane_of(lane.min(n - 1));
         if let Some((_, q, _, after_down)) = &walks[i] {
             guess[lane * run.nu..(lane + 1) * run.nu].copy_from_slice(q);
@@ -166,7 +189,7 @@ pub fn sweep_sets_in_lanes<M: StaticMechanism<f64>>(
 /// widest vectors (the rule run apart from the tick ran on the build's baseline vectors: a
 /// quarter of the instructions of a Strandbeest leg's lane tick). Gives the bits of the lanes
 /// whose tick succeeded and whose step the rule keeps.
-struct GuardedTick<'a, G: LaneMechanism<L>> {
+struct GuardedTick<'a, L: Lanes<Scalar = f64>, G: LaneMechanism<L>> {
     group: &'a G,
     t: &'a mut G::Tick,
     input: &'a InputMotion<G::X>,
@@ -177,7 +200,9 @@ struct GuardedTick<'a, G: LaneMechanism<L>> {
     dt: f64,
 }
 
-impl<G: LaneMechanism<L>> mechgen_runtime::simd::Kernel for GuardedTick<'_, G> {
+impl<L: Lanes<Scalar = f64>, G: LaneMechanism<L>> mechgen_runtime::simd::Kernel
+    for GuardedTick<'_, L, G>
+{
     type Output = u32;
     #[inline(always)]
     fn run(self) -> u32 {
@@ -202,12 +227,13 @@ impl<G: LaneMechanism<L>> mechgen_runtime::simd::Kernel for GuardedTick<'_, G> {
 
 /// The lane walk: the group and its tick, the inputs all lanes share, each lane's budget and
 /// whether it is still in the lanes, and buffers for one lane's numbers.
-struct Run<M: StaticMechanism<f64>> {
+struct Run<M: StaticMechanism<f64>, L: Lanes<Scalar = f64>> {
     group: M::Lanes<L>,
     tick: Option<<M::Lanes<L> as LaneMechanism<L>>::Tick>,
     x: Vec<f64>,
     xd: Vec<f64>,
     xdd: Vec<f64>,
+    /// Lane `i`'s budget in entry `i` (of the first `L::W`).
     allowance: [usize; LANES],
     active: u32,
     nu: usize,
@@ -221,7 +247,7 @@ struct Run<M: StaticMechanism<f64>> {
     np: usize,
 }
 
-impl<M: StaticMechanism<f64>> Run<M> {
+impl<M: StaticMechanism<f64>, L: Lanes<Scalar = f64>> Run<M, L> {
     /// The shared inputs as lanes.
     fn input(&self) -> InputMotion<<M::Lanes<L> as LaneMechanism<L>>::X> {
         let lanes = |v: &[f64]| {
@@ -242,7 +268,7 @@ impl<M: StaticMechanism<f64>> Run<M> {
             *v = L::from_fn(|lane| guess[lane * self.nu + k]);
         }
         let t = self.group.tick_start(&self.input(), &q, &c.options);
-        for lane in 0..LANES {
+        for lane in 0..L::W {
             if t.lane_status(lane).0.is_err() {
                 self.active &= !(1 << lane);
             }
@@ -275,8 +301,8 @@ impl<M: StaticMechanism<f64>> Run<M> {
     /// The tick started afresh where every lane stands (the scalar walk's `renew`).
     fn renew(&mut self, c: &Continuation) {
         let Some(t) = &self.tick else { return };
-        let mut guess = vec![0.0; LANES * self.nu];
-        for lane in 0..LANES {
+        let mut guess = vec![0.0; L::W * self.nu];
+        for lane in 0..L::W {
             let q = &mut guess[lane * self.nu..(lane + 1) * self.nu];
             t.lane_numbers(lane, q, &mut [], &mut [], &mut []);
         }
@@ -309,7 +335,7 @@ impl<M: StaticMechanism<f64>> Run<M> {
         };
         let nu = self.nu;
         for j in 1..=substeps {
-            for lane in 0..LANES {
+            for lane in 0..L::W {
                 if self.active >> lane & 1 == 1 {
                     if self.allowance[lane] == 0 {
                         self.active &= !(1 << lane);
@@ -344,7 +370,7 @@ impl<M: StaticMechanism<f64>> Run<M> {
             self.active &= kept;
         }
         let Some(t) = &self.tick else { return };
-        for lane in 0..LANES {
+        for lane in 0..L::W {
             if self.active >> lane & 1 == 1 && t.lane_status(lane).1 >= RESOLVE_CONDITION {
                 self.active &= !(1 << lane);
             }
@@ -360,7 +386,7 @@ impl<M: StaticMechanism<f64>> Run<M> {
         let Some(t) = &self.tick else { return };
         t.all_numbers(&mut self.q, &mut self.qd, &mut self.qdd, &mut self.points);
         let (nu, np) = (self.nu, self.np);
-        for lane in 0..LANES {
+        for lane in 0..L::W {
             if self.active >> lane & 1 == 0 {
                 continue;
             }

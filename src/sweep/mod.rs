@@ -321,7 +321,7 @@ mod rows;
 mod store;
 mod walker;
 
-pub use lanes::{LANES, sweep_sets_in_lanes};
+pub use lanes::{LANES, MIN_LANES, lane_width, sweep_sets_in_lanes};
 pub use rows::{
     SEGMENT, nearest_row, sweep, sweep_each, sweep_each_indexed, sweep_each_with, sweep_holding,
 };

@@ -42,6 +42,18 @@ impl Isa {
         self.arch().is_some()
     }
 
+    /// The f64 lanes a group of instances runs fastest in per instance with `self`: eight with
+    /// AVX-512 (one register), four otherwise. Measured on an AMD EPYC with AVX2 (2026-11-29,
+    /// `docs/speed.md`): a six-bar's lane tick per instance 53 ns in four lanes against 66 ns in
+    /// eight (two registers each, twice the spills); on baseline SSE2, 95 ns in four or two, 133
+    /// ns in eight.
+    pub fn f64_lanes(self) -> usize {
+        match self {
+            Isa::Avx512 => 8,
+            Isa::Baseline | Isa::Avx2 => 4,
+        }
+    }
+
     /// `baseline`, `avx2` or `avx512`.
     pub fn name(self) -> &'static str {
         match self {

@@ -25,7 +25,8 @@
 //!   integrator (Dormand–Prince 5(4): six new stages, each a tick and the inverse dynamics),
 //!   released from rest at the start under gravity; time per step.
 //!
-//! - `step/lanes`: W instances in f64 lanes (`WithLanes`: `Vf64<8>`; `NAME::Lanes`), ticked with
+//! - `step/lanes`: W instances in f64 lanes (`NAME::Lanes`) of the width a batch runs on this
+//!   CPU (`mechgen::sweep::lane_width`: `Vf64<8>` with AVX-512, `Vf64<4>` otherwise), ticked with
 //!   the CPU's widest vectors chosen at run time (`tick_widest`), each with its own params and its
 //!   own place on the walk, one lane tick per iteration; the time per instance. The lanes' inputs
 //!   along their walks are made before the clock starts (`walk_cycle`), as `step/generated`'s are.
@@ -44,9 +45,10 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use criterion::{Criterion, criterion_group, criterion_main};
+use criterion::measurement::WallTime;
+use criterion::{BenchmarkGroup, Criterion, criterion_group, criterion_main};
 use mechgen::dynamics::{DynamicsWork, tick_with_dynamics};
-use mechgen::lanes::WithLanes;
+use mechgen::lanes::{Vf64, WithLanes};
 use mechgen::simulate::{Simulation, SimulationOptions};
 use mechgen::sweep::{Continuation, sweep, sweep_each};
 use mechgen::{
@@ -205,6 +207,96 @@ fn arr<A: Array<f64>>(v: &[f64]) -> A {
     a
 }
 
+/// `step/lanes` and `step/batch` of `m` in lanes of `L`, along the solved `states` (input and
+/// unknowns).
+fn lane_benches<M, L>(
+    g: &mut BenchmarkGroup<'_, WallTime>,
+    m: &M,
+    states: &[(M::X, M::Q)],
+    opts: &SolveOptions<f64>,
+) where
+    M: StaticMechanism<f64>,
+    L: Lanes<Scalar = f64>,
+{
+    let n = states.len();
+    // `step/lanes`: W instances in f64 lanes (run with the CPU's widest vectors), each with its
+    // own params (the file's, scaled by 1 + 1e-9·i: different in every lane, solvable along the
+    // same walk) and its own place on the walk; one lane tick per iteration, the time per
+    // instance.
+    let w = L::W;
+    let lanes = M::Lanes::<L>::from_fn(|i| {
+        let p: Vec<f64> = m
+            .info()
+            .params
+            .iter()
+            .map(|p| p.default * (1.0 + 1e-9 * i as f64))
+            .collect();
+        M::with_params(&p).expect("one value per param")
+    });
+    let lane_x = |walks: &[Walk]| {
+        let mut x = <M::Lanes<L> as LaneMechanism<L>>::X::default();
+        for (k, v) in x.as_mut().iter_mut().enumerate() {
+            *v = L::from_fn(|i| states[walks[i].at].0.as_ref()[k]);
+        }
+        x
+    };
+    let mut lane_xd = <M::Lanes<L> as LaneMechanism<L>>::X::default();
+    lane_xd.as_mut()[0] = L::splat(1.0);
+    let start_lanes = |walks: &[Walk]| {
+        let mut guess = <M::Lanes<L> as LaneMechanism<L>>::Q::default();
+        for (k, v) in guess.as_mut().iter_mut().enumerate() {
+            *v = L::from_fn(|i| states[walks[i].at].1.as_ref()[k]);
+        }
+        let input = InputMotion::new(lane_x(walks), lane_xd, Default::default());
+        lanes.tick_start(&input, &guess, opts)
+    };
+    let walks: Vec<Walk> = (0..w).map(|i| Walk::at(n, (i * 37) % n)).collect();
+    let cycle = walk_cycle(walks, n, |walks| {
+        InputMotion::new(lane_x(walks), lane_xd, Default::default())
+    });
+    let mut at = cycle.len() - 1;
+    let mut lane_tick = start_lanes(&cycle[at].0);
+    g.bench_function("step/lanes", |b| {
+        b.iter_custom(|iters| {
+            let start = std::time::Instant::now();
+            for _ in 0..iters {
+                at = next_in(at, cycle.len());
+                lanes.tick_widest(&mut lane_tick, black_box(&cycle[at].1), opts);
+            }
+            black_box(&lane_tick);
+            start.elapsed() / w as u32
+        })
+    });
+    // `step/batch`: a fleet of BATCH instances in lane groups of W, each group at its
+    // own place in the lanes' cycle (so each lane at its own place on the walk), every
+    // group ticked once per iteration through the batch API on every core; the time per
+    // instance.
+    let mut fleet: Vec<(_, usize)> = (0..BATCH / w)
+        .map(|g| {
+            let at = (g * 7919) % cycle.len();
+            (start_lanes(&cycle[at].0), at)
+        })
+        .collect();
+    // The loop runs on a worker of the pool (`pool.install`), as a simulator's frame
+    // loop would: each tick's parallel call is not a hand-over to sleeping threads.
+    let pool = mechgen::batch::workers(None).expect("worker threads");
+    g.bench_function("step/batch", |b| {
+        b.iter_custom(|iters| {
+            pool.install(|| {
+                let start = std::time::Instant::now();
+                for _ in 0..iters {
+                    mechgen::batch::for_each_mut(&mut fleet, |_, (t, at)| {
+                        *at = next_in(*at, cycle.len());
+                        lanes.tick_widest(t, &cycle[*at].1, opts);
+                    });
+                }
+                black_box(&fleet);
+                start.elapsed() / (BATCH as u32)
+            })
+        })
+    });
+}
+
 impl StaticVisitor<f64> for Generated<'_> {
     fn visit<M: StaticMechanism<f64> + 'static>(&mut self, m: &M) {
         let (states, _) = states(m);
@@ -338,83 +430,14 @@ impl StaticVisitor<f64> for Generated<'_> {
                     });
                 }
             }
-            // `step/lanes`: W instances in f64 lanes (`Vf64<8>`, run with the CPU's widest
-            // vectors), each with its own params (the file's, scaled by 1 + 1e-9·i: different in
-            // every lane, solvable along the same walk) and its own place on the walk; one lane
-            // tick per iteration, the time per instance.
-            type Wide = <f64 as WithLanes>::Lanes;
-            let w = Wide::W;
-            let lanes = M::Lanes::<Wide>::from_fn(|i| {
-                let p: Vec<f64> = m
-                    .info()
-                    .params
-                    .iter()
-                    .map(|p| p.default * (1.0 + 1e-9 * i as f64))
-                    .collect();
-                M::with_params(&p).expect("one value per param")
-            });
-            let lane_x = |walks: &[Walk]| {
-                let mut x = <M::Lanes<Wide> as LaneMechanism<Wide>>::X::default();
-                for (k, v) in x.as_mut().iter_mut().enumerate() {
-                    *v = Wide::from_fn(|i| typed[walks[i].at].0.as_ref()[k]);
-                }
-                x
-            };
-            let mut lane_xd = <M::Lanes<Wide> as LaneMechanism<Wide>>::X::default();
-            lane_xd.as_mut()[0] = Wide::splat(1.0);
-            let start_lanes = |walks: &[Walk]| {
-                let mut guess = <M::Lanes<Wide> as LaneMechanism<Wide>>::Q::default();
-                for (k, v) in guess.as_mut().iter_mut().enumerate() {
-                    *v = Wide::from_fn(|i| typed[walks[i].at].1.as_ref()[k]);
-                }
-                let input = InputMotion::new(lane_x(walks), lane_xd, Default::default());
-                lanes.tick_start(&input, &guess, &opts)
-            };
-            let walks: Vec<Walk> = (0..w).map(|i| Walk::at(n, (i * 37) % n)).collect();
-            let cycle = walk_cycle(walks, n, |walks| {
-                InputMotion::new(lane_x(walks), lane_xd, Default::default())
-            });
-            let mut at = cycle.len() - 1;
-            let mut lane_tick = start_lanes(&cycle[at].0);
-            g.bench_function("step/lanes", |b| {
-                b.iter_custom(|iters| {
-                    let start = std::time::Instant::now();
-                    for _ in 0..iters {
-                        at = next_in(at, cycle.len());
-                        lanes.tick_widest(&mut lane_tick, black_box(&cycle[at].1), &opts);
-                    }
-                    black_box(&lane_tick);
-                    start.elapsed() / w as u32
-                })
-            });
-            // `step/batch`: a fleet of BATCH instances in lane groups of W, each group at its
-            // own place in the lanes' cycle (so each lane at its own place on the walk), every
-            // group ticked once per iteration through the batch API on every core; the time per
-            // instance.
-            let mut fleet: Vec<(_, usize)> = (0..BATCH / w)
-                .map(|g| {
-                    let at = (g * 7919) % cycle.len();
-                    (start_lanes(&cycle[at].0), at)
-                })
-                .collect();
-            // The loop runs on a worker of the pool (`pool.install`), as a simulator's frame
-            // loop would: each tick's parallel call is not a hand-over to sleeping threads.
-            let pool = mechgen::batch::workers(None).expect("worker threads");
-            g.bench_function("step/batch", |b| {
-                b.iter_custom(|iters| {
-                    pool.install(|| {
-                        let start = std::time::Instant::now();
-                        for _ in 0..iters {
-                            mechgen::batch::for_each_mut(&mut fleet, |_, (t, at)| {
-                                *at = next_in(*at, cycle.len());
-                                lanes.tick_widest(t, &cycle[*at].1, &opts);
-                            });
-                        }
-                        black_box(&fleet);
-                        start.elapsed() / (BATCH as u32)
-                    })
-                })
-            });
+            // `step/lanes` and `step/batch` in the lanes a batch runs on this CPU
+            // (`mechgen::sweep::lane_width`: eight with AVX-512, four otherwise).
+            let states: Vec<(M::X, M::Q)> = typed.iter().map(|s| (s.0, s.1)).collect();
+            if mechgen::sweep::lane_width() >= 8 {
+                lane_benches::<M, Vf64<8>>(&mut g, m, &states, &opts);
+            } else {
+                lane_benches::<M, Vf64<4>>(&mut g, m, &states, &opts);
+            }
         }
         sweep_rows(&mut g, "sweep/generated", m, &states);
         g.finish();

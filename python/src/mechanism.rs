@@ -462,8 +462,9 @@ impl Mechanism {
         let np = py.import("numpy")?;
         let mut columns: Vec<(String, Vec<f64>)> = Vec::new();
         for name in names {
-            // Any array-like of numbers, one per set, in any memory layout.
-            let a = np.call_method1("asarray", (&params[name], "float64"))?;
+            // Any array-like of numbers, one per set, in any memory layout; aligned (an array
+            // unpickled from a Dask message may start at any byte: read as f64 it would not be).
+            let a = np.call_method1("require", (&params[name], "float64", "A"))?;
             let shape: Vec<usize> = a.getattr("shape")?.extract()?;
             if shape.len() != 1 {
                 return Err(PyValueError::new_err(format!(
@@ -596,6 +597,17 @@ fn writable_columns<'py>(
             return Err(PyValueError::new_err(format!(
                 "out[\"{name}\"] has shape {:?}, this batch {shape:?} (sets, rows)",
                 a.shape()
+            )));
+        }
+        // Written as f64 slices: the data must start on an f64's alignment.
+        if !a
+            .as_any()
+            .getattr("flags")?
+            .getattr("aligned")?
+            .extract::<bool>()?
+        {
+            return Err(PyValueError::new_err(format!(
+                "out[\"{name}\"] is not aligned in memory (its data starts inside an f64)"
             )));
         }
         arrays.push(a);

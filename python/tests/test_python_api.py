@@ -157,6 +157,21 @@ def test_a_batch_into_an_earlier_result_writes_its_arrays_in_place():
         frozen[list(frozen)[2]].flags.writeable = False
         with pytest.raises(ValueError, match="writable"):
             m.batch(second, step=15.0, out=frozen)
+        # An array whose data starts inside an f64 (as one unpickled from a Dask message may):
+        # refused as a column to write, and as params read as the aligned copy's numbers.
+        shifted = m.batch(second, step=15.0)
+        c = list(shifted)[1]
+        raw = np.zeros(shifted[c].nbytes + 1, dtype=np.uint8)
+        odd = np.frombuffer(raw.data, dtype=np.float64, count=shifted[c].size, offset=1).reshape(shifted[c].shape)
+        assert not odd.flags.aligned
+        shifted[c] = odd
+        with pytest.raises(ValueError, match="not aligned"):
+            m.batch(second, step=15.0, out=shifted)
+        raw = np.zeros(second[p].nbytes + 1, dtype=np.uint8)
+        odd = np.frombuffer(raw.data, dtype=np.float64, count=second[p].size, offset=1)
+        odd[:] = second[p]
+        assert not odd.flags.aligned
+        same(m.batch({p: odd}, step=15.0), m.batch(second, step=15.0))
 
 
 def test_a_batch_too_large_raises_memory_error_naming_its_size():

@@ -81,9 +81,50 @@ fn compiled(g: &Generic) -> Generic {
     j
 }
 
+/// Every file's mechanisms, each beside its JIT-compiled copy: loaded and compiled once for all
+/// the tests of this binary (a debug build of Cranelift takes about a second for the compiled-in
+/// file, and twelve random-param cases used to compile it twelve times). `compiled_in` marks the
+/// mechanisms of the compiled-in file.
+struct Pair {
+    compiled_in: bool,
+    g: Generic,
+    j: Generic,
+}
+
+fn pairs() -> &'static [Pair] {
+    static PAIRS: std::sync::OnceLock<Vec<Pair>> = std::sync::OnceLock::new();
+    PAIRS.get_or_init(|| {
+        let mut all = Vec::new();
+        for (name, text) in files() {
+            let compiled_in = name == mechgen::source::SOURCE_NAME;
+            let ms = match generic::load(&name, &text) {
+                Ok(ms) => ms,
+                Err(e) if name.contains("diagnostics") => {
+                    drop(e);
+                    continue;
+                }
+                Err(e) => panic!("{name}: {e}"),
+            };
+            all.extend(ms.into_iter().map(|g| Pair {
+                compiled_in,
+                j: compiled(&g),
+                g,
+            }));
+        }
+        all
+    })
+}
+
+/// The compiled-in file's mechanisms and their JIT copies.
+fn compiled_in() -> impl Iterator<Item = (&'static Generic, &'static Generic)> {
+    pairs()
+        .iter()
+        .filter(|p| p.compiled_in)
+        .map(|p| (&p.g, &p.j))
+}
+
 /// The interpreter and the JIT over the sweep, closed forms on and off: bit for bit.
-fn check_sweeps(g: &Generic, fails: &mut Vec<String>) -> usize {
-    let j = compiled(g);
+fn check_sweeps(g: &Generic, j: &Generic, fails: &mut Vec<String>) -> usize {
     let (values, c) = values_and_continuation(g);
     let mut ok = 0;
     for closed_forms in [true, false] {
@@ -95,7 +136,7 @@ fn check_sweeps(g: &Generic, fails: &mut Vec<String>) -> usize {
             ..c
         };
         let a = sweep(g, 0, &values, 1.3, &c);
-        let b = sweep(&j, 0, &values, 1.3, &c);
+        let b = sweep(j, 0, &values, 1.3, &c);
         ok += a.iter().filter(|r| r.result.is_ok()).count();
         if let Some(d) = first_difference(&a, &b) {
             fails.push(format!("{} (closed forms {closed_forms}): {d}", g.name()));
@@ -126,23 +167,11 @@ fn files() -> Vec<(String, String)> {
     all
 }
 
-fn loaded() -> Vec<Generic> {
-    let mut all = Vec::new();
-    for (name, text) in files() {
-        match generic::load(&name, &text) {
-            Ok(ms) => all.extend(ms),
-            Err(e) if name.contains("diagnostics") => drop(e),
-            Err(e) => panic!("{name}: {e}"),
-        }
-    }
-    all
-}
-
 #[test]
 fn jit_equals_interpreter_bit_for_bit_on_every_file() {
     let (mut fails, mut solved, mut n) = (Vec::new(), 0, 0);
-    for g in loaded() {
-        solved += check_sweeps(&g, &mut fails);
+    for p in pairs() {
+        solved += check_sweeps(&p.g, &p.j, &mut fails);
         n += 1;
     }
     eprintln!("{n} mechanisms, {solved} rows solved");
@@ -156,13 +185,9 @@ fn every_file_runs_its_program_compiled() {
     // walk the mechanism's program (compiled into one function by the JIT), not the block
     // driver they fall back to without one.
     let mut n = 0;
-    for g in loaded() {
+    for Pair { g, j, .. } in pairs() {
         assert!(g.has_program(), "{}: no program", g.name());
-        assert!(
-            compiled(&g).has_compiled_program(),
-            "{}: not compiled",
-            g.name()
-        );
+        assert!(j.has_compiled_program(), "{}: not compiled", g.name());
         n += 1;
     }
     assert!(n >= 15, "{n} mechanisms");
@@ -170,15 +195,12 @@ fn every_file_runs_its_program_compiled() {
 
 #[test]
 fn jit_whole_solves_equal_generated_bit_for_bit() {
-    let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
-        .expect("the compiled-in file loads");
-    for g in loaded {
+    for (g, j) in compiled_in() {
         let k = mechgen::lookup::<f64>(g.name()).expect("compiled in");
-        let j = compiled(&g);
-        let (values, c) = values_and_continuation(&g);
+        let (values, c) = values_and_continuation(g);
         // Whole solves: both stepped by the runtime's `SolveTick` (the predictor, then one
         // whole solve), as in tests/generic.rs.
-        let (ka, kb) = (Counting::new(k.as_ref()), Counting::new(&j));
+        let (ka, kb) = (Counting::new(k.as_ref()), Counting::new(j));
         let a = sweep(&ka, 0, &values, 1.3, &c);
         let b = sweep(&kb, 0, &values, 1.3, &c);
         assert!(a.iter().filter(|r| r.result.is_ok()).count() > 20);
@@ -192,12 +214,9 @@ fn jit_whole_solves_equal_generated_bit_for_bit() {
 /// slices, rotated sines and cosines): every row bit for bit, closed forms on and off.
 #[test]
 fn jit_ticks_equal_generated_ticks_bit_for_bit() {
-    let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
-        .expect("the compiled-in file loads");
-    for g in loaded {
+    for (g, j) in compiled_in() {
         let k = mechgen::lookup::<f64>(g.name()).expect("compiled in");
-        let j = compiled(&g);
-        let (values, c) = values_and_continuation(&g);
+        let (values, c) = values_and_continuation(g);
         for closed_forms in [true, false] {
             let c = Continuation {
                 options: SolveOptions {
@@ -207,7 +226,7 @@ fn jit_ticks_equal_generated_ticks_bit_for_bit() {
                 ..c
             };
             let a = sweep(k.as_ref(), 0, &values, 1.3, &c);
-            let b = sweep(&j, 0, &values, 1.3, &c);
+            let b = sweep(j, 0, &values, 1.3, &c);
             assert!(a.iter().filter(|r| r.result.is_ok()).count() > 20);
             if let Some(d) = first_difference(&a, &b) {
                 panic!(
@@ -222,9 +241,8 @@ fn jit_ticks_equal_generated_ticks_bit_for_bit() {
 #[test]
 fn single_evaluations_and_scenes_bit_for_bit() {
     let mut scenes = 0;
-    for g in loaded() {
-        let j = compiled(&g);
-        let info = DynMechanism::<f64>::info(&g);
+    for Pair { g, j, .. } in pairs() {
+        let info = DynMechanism::<f64>::info(g);
         let (ni, nu, np) = (info.inputs.len(), info.unknowns.len(), info.params.len());
         let x: Vec<f64> = info.inputs.iter().map(|i| i.start + 0.01).collect();
         let q: Vec<f64> = info
@@ -259,7 +277,7 @@ fn single_evaluations_and_scenes_bit_for_bit() {
             }
             all.into_iter().map(f64::to_bits).collect::<Vec<_>>()
         };
-        assert_eq!(run(&g), run(&j), "{}", g.name());
+        assert_eq!(run(g), run(j), "{}", g.name());
         // Scenes: each solved from the start on both.
         for name in g.scene_names() {
             let (a, b) = (g.scene(name).unwrap(), j.scene(name).unwrap());
@@ -292,15 +310,19 @@ proptest! {
     #[test]
     fn random_params_bit_for_bit(seed in any::<u64>()) {
         let mut fails = Vec::new();
-        let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE).unwrap();
-        for (i, mut g) in loaded.into_iter().enumerate() {
-            let info = DynMechanism::<f64>::info(&g);
+        for (i, (g0, j0)) in compiled_in().enumerate() {
+            // The JIT's code reads the params at run time: the compiled copy takes new values
+            // without compiling again.
+            let (mut g, mut j) = (g0.clone(), j0.clone());
+            let info = DynMechanism::<f64>::info(g0);
             for (k, p) in info.params.iter().enumerate() {
                 let h = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15).rotate_left((7 * (i + k)) as u32);
                 let f = 1.0 + 0.1 * ((h >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
-                let _ = g.set_param(&p.name, p.value * f);
+                let (a, b) = (g.set_param(&p.name, p.value * f), j.set_param(&p.name, p.value * f));
+                prop_assert_eq!(a, b);
             }
-            check_sweeps(&g, &mut fails);
+            prop_assert!(j.is_compiled() && !g.is_compiled());
+            check_sweeps(&g, &j, &mut fails);
         }
         prop_assert!(fails.is_empty(), "{}", fails.join("\n"));
     }
@@ -389,11 +411,9 @@ fn started<'a>(
 /// for bit, on the interpreter and the JIT alike, for every compiled-in mechanism.
 #[test]
 fn a_refused_tick_leaves_the_state_and_the_next_ticks_are_the_generated_ones() {
-    let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
-        .expect("the compiled-in file loads");
     let options = SolveOptions::default();
-    for g in loaded {
-        let info = DynMechanism::<f64>::info(&g);
+    for (g, j) in compiled_in() {
+        let info = DynMechanism::<f64>::info(g);
         let (ni, name) = (info.inputs.len(), g.name().to_string());
         let x0: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
         let guess: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
@@ -406,9 +426,8 @@ fn a_refused_tick_leaves_the_state_and_the_next_ticks_are_the_generated_ones() {
         xd[0] = 1.0;
         let xdd = vec![0.0; ni];
         let k = mechgen::lookup::<f64>(&name).expect("compiled in");
-        let j = compiled(&g);
         let mut runs = Vec::new();
-        for (engine, m) in [("generated", k.as_ref()), ("interpreter", &g), ("jit", &j)] {
+        for (engine, m) in [("generated", k.as_ref()), ("interpreter", g), ("jit", j)] {
             let start = InputMotion::new(&x0[..], &xd[..], &xdd[..]);
             let mut t = started(m, start, &guess, &format!("{name} ({engine})"));
             let mut states = Vec::new();
@@ -481,12 +500,10 @@ fn a_refused_tick_leaves_the_state_and_the_next_ticks_are_the_generated_ones() {
 /// give the same state (or the same error) at every tick, bit for bit.
 #[test]
 fn large_turns_and_resyncs_tick_alike_on_every_engine() {
-    let loaded = generic::load(mechgen::source::SOURCE_NAME, mechgen::source::SOURCE)
-        .expect("the compiled-in file loads");
     let options = SolveOptions::default();
     let mut compared = 0;
-    for g in loaded {
-        let info = DynMechanism::<f64>::info(&g);
+    for (g, j) in compiled_in() {
+        let info = DynMechanism::<f64>::info(g);
         if info.inputs[0].kind != Kind::Angle {
             continue;
         }
@@ -503,9 +520,8 @@ fn large_turns_and_resyncs_tick_alike_on_every_engine() {
             })
             .collect();
         let k = mechgen::lookup::<f64>(&name).expect("compiled in");
-        let j = compiled(&g);
         let mut runs = Vec::new();
-        for (engine, m) in [("generated", k.as_ref()), ("interpreter", &g), ("jit", &j)] {
+        for (engine, m) in [("generated", k.as_ref()), ("interpreter", g), ("jit", j)] {
             let start = InputMotion::new(&x0[..], &xd[..], &xdd[..]);
             let mut t = started(m, start, &guess, &format!("{name} ({engine})"));
             let mut x = x0.clone();

@@ -219,7 +219,10 @@ pub fn check_mechanism_lanes<M: StaticMechanism<f64>>(
         .map_err(|e| format!("{}: {e}", m.info().name))
 }
 
-/// Every compiled-in mechanism as [`check_mechanism_lanes`]: the failures and what was seen.
+/// Every compiled-in mechanism as [`check_mechanism_lanes`]: the failures and what was seen. The
+/// cases are run on two threads, half on each (each runner draws its own random cases): a debug
+/// build takes tens of seconds on a Newton six-bar alone, while the test binary's other tests are
+/// done long before.
 pub fn check_lanes(cases: u32, ticks: usize) -> (Vec<String>, Seen) {
     struct Visit {
         cases: u32,
@@ -236,14 +239,28 @@ pub fn check_lanes(cases: u32, ticks: usize) -> (Vec<String>, Seen) {
             }
         }
     }
-    let mut v = Visit {
-        cases,
-        ticks,
-        fails: Vec::new(),
-        seen: Seen::default(),
+    let run = |cases| {
+        let mut v = Visit {
+            cases,
+            ticks,
+            fails: Vec::new(),
+            seen: Seen::default(),
+        };
+        if cases > 0 {
+            mechgen::visit_all(&mut v);
+        }
+        (v.fails, v.seen)
     };
-    mechgen::visit_all(&mut v);
-    (v.fails, v.seen)
+    let (a, (mut fails, mut seen)) = std::thread::scope(|s| {
+        let a = s.spawn(|| run(cases / 2));
+        let b = run(cases - cases / 2);
+        (a.join().expect("no panic"), b)
+    });
+    fails.extend(a.0);
+    seen.compared += a.1.compared;
+    seen.failed += a.1.failed;
+    seen.ok_beside_failed += a.1.ok_beside_failed;
+    (fails, seen)
 }
 
 /// One case of a scene, as [`case`] for a mechanism: W instances (lane 0 at the file's params,

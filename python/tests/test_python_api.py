@@ -227,7 +227,7 @@ def test_a_batch_peaks_near_its_result():
         """
         import resource, numpy as np, mechgen
         m = mechgen.mechanisms()["four_bar"]
-        sets = {"l1": np.full(2000, m.params["l1"])}
+        sets = {"l1": np.full(600, m.params["l1"])}
         m.batch({"l1": sets["l1"][:2]}, step=0.5)  # pools and caches made before the baseline
         before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
         cols = m.batch(sets, step=0.5)
@@ -238,7 +238,10 @@ def test_a_batch_peaks_near_its_result():
     )
     out = subprocess.run([sys.executable, "-c", child], capture_output=True, text=True, check=True)
     size, grown = map(int, out.stdout.split())
-    assert size > 200e6
+    # 600 sets of 721 rows: 93 MB of arrays (the growth measured 1.013x its size here, as with
+    # 2000 sets, 311 MB, 1.006x: a size well above the allocator's noise, and 6 s in a debug wheel
+    # instead of 20).
+    assert size > 90e6
     assert grown <= 1.3 * size, (grown / size, size, grown)
 
 

@@ -187,7 +187,10 @@ fn every_set_swept_in_lanes_is_its_scalar_sweep() {
     let ((w1, l1), (w0, l0)) = std::thread::scope(|s| {
         let odd = s.spawn(|| check_mechanisms(1));
         let even = check_mechanisms(0);
-        (odd.join().expect("no panic"), even)
+        (
+            odd.join().unwrap_or_else(|e| std::panic::resume_unwind(e)),
+            even,
+        )
     });
     let (whole, in_lanes) = (w0 + w1, l0 + l1);
     // The sets whose rows all solve stay in the lanes (else this would test the scalar sweep

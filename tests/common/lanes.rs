@@ -254,7 +254,7 @@ pub fn check_lanes(cases: u32, ticks: usize) -> (Vec<String>, Seen) {
     let (a, (mut fails, mut seen)) = std::thread::scope(|s| {
         let a = s.spawn(|| run(cases / 2));
         let b = run(cases - cases / 2);
-        (a.join().expect("no panic"), b)
+        (a.join().unwrap_or_else(|e| std::panic::resume_unwind(e)), b)
     });
     fails.extend(a.0);
     seen.compared += a.1.compared;

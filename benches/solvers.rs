@@ -207,6 +207,12 @@ fn arr<A: Array<f64>>(v: &[f64]) -> A {
     a
 }
 
+/// Lane `i`'s params in the lane benches: the file's, scaled by 1 + 1e-9·i (different in every
+/// lane, solvable along the same walk).
+fn lane_params(file: impl Iterator<Item = f64>, i: usize) -> Vec<f64> {
+    file.map(|v| v * (1.0 + 1e-9 * i as f64)).collect()
+}
+
 /// `step/lanes` and `step/batch` of `m` in lanes of `L`, along the solved `states` (input and
 /// unknowns).
 fn lane_benches<M, L>(
@@ -225,12 +231,7 @@ fn lane_benches<M, L>(
     // instance.
     let w = L::W;
     let lanes = M::Lanes::<L>::from_fn(|i| {
-        let p: Vec<f64> = m
-            .info()
-            .params
-            .iter()
-            .map(|p| p.default * (1.0 + 1e-9 * i as f64))
-            .collect();
+        let p = lane_params(m.info().params.iter().map(|p| p.default), i);
         M::with_params(&p).expect("one value per param")
     });
     let lane_x = |walks: &[Walk]| {
@@ -491,12 +492,7 @@ impl SceneVisitor<f64> for Scenes<'_> {
             type Wide = <f64 as WithLanes>::Lanes;
             let w = Wide::W;
             let lanes = S::Lanes::<Wide>::from_fn(|i| {
-                let p: Vec<f64> = k
-                    .info()
-                    .params
-                    .iter()
-                    .map(|p| p.value * (1.0 + 1e-9 * i as f64))
-                    .collect();
+                let p = lane_params(k.info().params.iter().map(|p| p.value), i);
                 S::with_params(&p).expect("one value per param")
             });
             let n = inputs.len();

@@ -6,12 +6,11 @@ mod common;
 
 use std::process::Output;
 
-use common::cli::{mechgen, text};
+use common::cli::{TempDir, mechgen, text};
 
-fn dir(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("mechgen-branches-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh directory for `name`, removed after the test.
+fn dir(name: &str) -> TempDir {
+    TempDir::new(&format!("branches-{name}"))
 }
 
 #[test]

@@ -4,14 +4,14 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 use common::{Table, angle_diff};
 
 use common::cli::{mechgen, text};
 
-fn temp(name: &str) -> PathBuf {
+fn temp(name: &str) -> common::cli::Temp {
     common::cli::temp("cli", name)
 }
 
@@ -293,7 +293,7 @@ fn the_main_job_writes_a_csv_and_two_plots_per_mechanism() {
 /// ends the output, not the command: it exits with its own status, never a panic's 101.
 #[test]
 fn closed_pipes_keep_the_commands_status() {
-    let bad = std::env::temp_dir().join("mechgen-closed-pipe-bad.toml");
+    let bad = temp("closed-pipe-bad.toml");
     std::fs::write(
         &bad,
         "[mechanism.m]\ninputs = [\"q1\"]\nunknowns = [\"q2\"]\nloops = [\"zz\"]\n",

@@ -172,6 +172,7 @@ mod cli {
             "/tests/data/dynamics/slider_crank.csv"
         );
         let (rh, rrows) = read(std::path::Path::new(reference));
+        let csv = temp("dynamics", "rows.csv");
         for (acc, load) in [("0", None), ("-40", Some("C=-150,40"))] {
             let mut outputs = Vec::new();
             for engine in [
@@ -179,7 +180,6 @@ mod cli {
                 &["--file", "mechanism.toml"],
                 &["--file", "mechanism.toml", "--engine", "generic"],
             ] {
-                let csv = temp("dynamics", "rows.csv");
                 let mut args = vec!["dynamics", "slider_crank", "--rate", "12.5", "--acc", acc];
                 args.extend([
                     "--step",
@@ -198,7 +198,7 @@ mod cli {
                 outputs.push(std::fs::read(&csv).expect("csv"));
             }
             assert!(outputs.iter().all(|o| o == &outputs[0]), "engines differ");
-            let (h, rows) = read(&temp("dynamics", "rows.csv"));
+            let (h, rows) = read(&csv);
             assert_eq!(rows.len(), 24);
             let wanted: Vec<&Vec<String>> = rrows
                 .iter()
@@ -312,8 +312,8 @@ mod cli {
     #[test]
     fn simulate_rows_keep_energy_motion_and_loops() {
         let mut outputs = Vec::new();
+        let csv = temp("dynamics", "sim.csv");
         for engine in [&[][..], &["--file", "mechanism.toml"]] {
-            let csv = temp("dynamics", "sim.csv");
             let mut args = vec!["simulate", "four_bar", "--time", "10", "--dt", "0.01"];
             args.extend(["--csv", csv.to_str().unwrap()]);
             args.extend(engine);
@@ -323,7 +323,7 @@ mod cli {
             outputs.push(std::fs::read(&csv).expect("csv"));
         }
         assert!(outputs[0] == outputs[1], "engines differ");
-        let (h, rows) = read(&temp("dynamics", "sim.csv"));
+        let (h, rows) = read(&csv);
         assert_eq!(rows.len(), 1001);
         let col = |n: &str| h.iter().position(|c| c == n).expect(n);
         let v = |r: &Vec<String>, n: &str| r[col(n)].parse::<f64>().expect("number");

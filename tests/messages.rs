@@ -6,20 +6,21 @@
 //! the text is the same on every machine.
 #![cfg(feature = "cli")]
 
-use std::path::PathBuf;
+mod common;
+
+use std::path::Path;
 use std::process::Command;
 
+use common::cli::TempDir;
 use expect_test::{Expect, expect};
 
-/// A fresh directory of this test process for `case`.
-fn dir(case: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("mechgen-messages-{}-{case}", std::process::id()));
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
+/// A fresh directory for `case`, removed after the test.
+fn dir(case: &str) -> TempDir {
+    TempDir::new(&format!("messages-{case}"))
 }
 
 /// Runs `mechgen args` in `dir`: its exit code, and stdout and stderr as one snapshot.
-fn run(dir: &PathBuf, args: &[&str], code: i32, snapshot: Expect) {
+fn run(dir: &Path, args: &[&str], code: i32, snapshot: Expect) {
     let out = Command::new(env!("CARGO_BIN_EXE_mechgen"))
         .args(args)
         .current_dir(dir)

@@ -300,4 +300,5 @@ fn the_check_finds_cycles() {
     );
     write("a/mod.rs", "mod child;\npub use child::g;\npub struct T;\n");
     assert!(cycles(&graph(&dir)).is_empty());
+    std::fs::remove_dir_all(&dir).expect("clean up");
 }

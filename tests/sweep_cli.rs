@@ -7,7 +7,6 @@
 mod common;
 use common::sweep as support;
 
-use std::path::PathBuf;
 use std::process::Command;
 
 use common::Table;
@@ -15,7 +14,7 @@ use support::angle_diff;
 
 use common::cli::{mechgen, text};
 
-fn temp(name: &str) -> PathBuf {
+fn temp(name: &str) -> common::cli::Temp {
     common::cli::temp("sweep-cli", name)
 }
 

@@ -110,6 +110,9 @@ pub fn run(args: &SimulateArgs) -> Result<(), String> {
     table.push('\n');
     let every = rows.div_ceil(TABLE_ROWS - 1).max(1);
     let (mut first, mut drift, mut count) = (None::<f64>, 0.0f64, 0usize);
+    // The energy the drift is measured against: the start's total, or the largest kinetic
+    // energy where that is larger (a potential whose zero is the start makes the total 0).
+    let mut moved = 0.0f64;
     let mut stopped: Option<SolveError> = None;
     let mut held_from: Option<(f64, f64)> = None;
     simulate(sel.solver.as_ref(), &setup, &guess, &mut |r| {
@@ -129,6 +132,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), String> {
             let total = r.kinetic + r.potential;
             let e0 = *first.get_or_insert(total);
             drift = drift.max((total - e0).abs());
+            moved = moved.max(r.kinetic.abs());
         } else {
             csv.push_str(&",".repeat(3 + r.q.len() + 2));
             let _ = writeln!(csv, ",{status}");
@@ -170,9 +174,9 @@ pub fn run(args: &SimulateArgs) -> Result<(), String> {
     if let Some(e0) = first {
         let _ = writeln!(
             table,
-            "largest change of kinetic + potential energy: {} ({} of its start){}",
+            "largest change of kinetic + potential energy: {}{}{}",
             significant(drift),
-            significant(if e0 != 0.0 { drift / e0.abs() } else { drift }),
+            relative(drift, e0.abs().max(moved)),
             if args.torque != 0.0 || !loads.is_empty() {
                 " (the driving effort and the loads do work)"
             } else {
@@ -190,5 +194,18 @@ pub fn run(args: &SimulateArgs) -> Result<(), String> {
             Ok(())
         }
         None => Ok(()),
+    }
+}
+
+/// ` (R of …)`: the energy drift against its scale, the larger of the start's total and the
+/// largest kinetic energy (nothing where both are 0: the mechanism stayed at rest at zero energy).
+fn relative(drift: f64, scale: f64) -> String {
+    if scale > 0.0 {
+        format!(
+            " ({} of the larger of the start's total and the largest kinetic energy)",
+            significant(drift / scale)
+        )
+    } else {
+        String::new()
     }
 }

@@ -1,8 +1,8 @@
 //! Run-time messages of the command line as snapshots (expect-test; `UPDATE_EXPECT=1` rewrites
-//! them): a batch param set with a value that is not finite fails that set only, a step that would
-//! make too many rows and a range no sweep resolves are refused before any row is solved. The
-//! file-level messages (a param in degrees, one missing `]`, a singular start) are fixtures of
-//! `tests/diagnostics/`. Each command runs in its own temporary directory with relative paths, so
+//! them): a batch param set with a value that is not finite fails that set only; a step that would
+//! make too many rows, a range no sweep resolves and a param or unknown given as an input are
+//! refused before any row is solved. The file-level messages (a param in degrees, one missing
+//! `]`, a singular start) are fixtures of `tests/diagnostics/`. Each command runs in its own temporary directory with relative paths, so
 //! the text is the same on every machine.
 #![cfg(feature = "cli")]
 
@@ -106,6 +106,33 @@ fn a_range_no_sweep_resolves_is_refused() {
             stdout:
             stderr:
             mechgen: --from 1e20 deg is beyond what a sweep of input `q1` resolves: at most 3.6e5 deg in magnitude (a thousand turns for an angle input, a million times the largest length param for a length input)
+        "#]],
+    );
+}
+
+/// `--set` and `--input` name inputs: a param or an unknown named there is refused with the
+/// inputs, and what the name is instead.
+#[test]
+fn a_param_or_unknown_given_as_an_input_is_refused_with_what_it_is() {
+    let d = dir("not-an-input");
+    run(
+        &d,
+        &["sweep", "four_bar", "--set", "l1=0.2"],
+        1,
+        expect![[r#"
+            stdout:
+            stderr:
+            mechgen: `four_bar` has no input `l1` (its inputs: q1; `l1` is a param: change its value in the file, or sweep several with `batch --params`)
+        "#]],
+    );
+    run(
+        &d,
+        &["branches", "four_bar", "--input", "q2"],
+        1,
+        expect![[r#"
+            stdout:
+            stderr:
+            mechgen: `four_bar` has no input `q2` (its inputs: q1; `q2` is an unknown, solved for at every row)
         "#]],
     );
 }

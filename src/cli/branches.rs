@@ -6,8 +6,9 @@
 use std::path::Path;
 
 use mechgen::branches::{Analysis, Setup};
+use mechgen::sweep::plan::no_input;
 use mechgen_codegen::diagnostic::{Diagnostic, render};
-use mechgen_codegen::{Compiled, Kind};
+use mechgen_codegen::{Compiled, Coord, Kind};
 
 use super::args::{BranchesArgs, Engine};
 
@@ -117,23 +118,16 @@ fn analyse_along(
     at: &[f64],
 ) -> Result<(Setup, Analysis), String> {
     let m = &c.model;
-    let names = || {
-        m.inputs
-            .iter()
-            .map(|i| i.name.text.as_str())
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
     let find = |name: &str| {
         m.inputs
             .iter()
             .position(|i| i.name.text == name)
             .ok_or_else(|| {
-                format!(
-                    "`{}` has no input `{name}` (its inputs: {})",
-                    m.name.text,
-                    names()
-                )
+                let coords = |c: &[Coord]| c.iter().map(|c| c.name.text.clone()).collect();
+                let inputs: Vec<String> = coords(&m.inputs);
+                let unknowns: Vec<String> = coords(&m.unknowns);
+                let params: Vec<String> = m.params.iter().map(|p| p.name.text.clone()).collect();
+                no_input(&m.name.text, name, [&inputs, &unknowns, &params])
             })
     };
     let index = input.map_or(Ok(0), find)?;

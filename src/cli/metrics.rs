@@ -10,7 +10,7 @@ use mechgen::{Kind, MechanismInfo};
 
 use super::args::MetricsArgs;
 use super::load::{Loaded, select};
-use mechgen::sweep::plan::{Range, plan};
+use mechgen::sweep::plan::{Range, input_index, plan};
 
 /// Rows of the sweep the extremes are refined between.
 const ROWS: f64 = 720.0;
@@ -24,11 +24,7 @@ pub fn run(args: &MetricsArgs) -> Result<(), String> {
     }
     let info = sel.solver.info();
     let index = match &args.input {
-        Some(n) => info
-            .inputs
-            .iter()
-            .position(|i| &i.name == n)
-            .ok_or_else(|| format!("`{}` has no input `{n}`", info.name))?,
+        Some(n) => input_index(&info, n)?,
         None => 0,
     };
     let angle = info.inputs.get(index).map(|i| i.kind) == Some(Kind::Angle);

@@ -27,6 +27,39 @@ pub struct Range {
     pub step: Option<f64>,
 }
 
+/// The index of `info`'s input `name` (`--input`, `--set`), or [`no_input`]'s message.
+pub fn input_index(info: &MechanismInfo, name: &str) -> Result<usize, String> {
+    let names = |coords: &[CoordDesc]| coords.iter().map(|c| c.name.clone()).collect::<Vec<_>>();
+    let params: Vec<String> = info.params.iter().map(|p| p.name.clone()).collect();
+    let inputs = names(&info.inputs);
+    info.inputs
+        .iter()
+        .position(|i| i.name == name)
+        .ok_or_else(|| no_input(&info.name, name, [&inputs, &names(&info.unknowns), &params]))
+}
+
+/// What a command says when mechanism `mechanism` has no input `name`: its inputs, and what
+/// `name` is where it names one of its unknowns or params (`[inputs, unknowns, params]`).
+pub fn no_input(mechanism: &str, name: &str, [inputs, unknowns, params]: [&[String]; 3]) -> String {
+    let has = |names: &[String]| names.iter().any(|n| n == name);
+    let what = if has(params) {
+        format!(
+            "; `{name}` is a param: change its value in the file, or sweep several with `batch --params`"
+        )
+    } else if has(unknowns) {
+        format!("; `{name}` is an unknown, solved for at every row")
+    } else {
+        String::new()
+    };
+    match inputs {
+        [] => format!("`{mechanism}` has no input"),
+        _ => format!(
+            "`{mechanism}` has no input `{name}` (its inputs: {}{what})",
+            inputs.join(", ")
+        ),
+    }
+}
+
 /// Resolves `--input`, `--set` and the range (defaults per interfaces.md).
 pub fn plan(
     info: &MechanismInfo,
@@ -34,25 +67,7 @@ pub fn plan(
     set: &[(String, f64)],
     range: Range,
 ) -> Result<Plan, String> {
-    let names = || {
-        info.inputs
-            .iter()
-            .map(|i| i.name.as_str())
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    let find = |name: &str| {
-        info.inputs
-            .iter()
-            .position(|i| i.name == name)
-            .ok_or_else(|| {
-                format!(
-                    "`{}` has no input `{name}` (its inputs: {})",
-                    info.name,
-                    names()
-                )
-            })
-    };
+    let find = |name: &str| input_index(info, name);
     if info.inputs.is_empty() {
         return Err(format!("`{}` has no input", info.name));
     }

@@ -135,11 +135,7 @@ pub fn simulate<'py>(
     }
     let rows = mg::simulation::row_count(time, dt, 100_000_000).map_err(PyValueError::new_err)?;
     let index = match &input {
-        Some(n) => info
-            .inputs
-            .iter()
-            .position(|i| &i.name == n)
-            .ok_or_else(|| PyKeyError::new_err(format!("`{}` has no input `{n}`", info.name)))?,
+        Some(n) => mg::sweep::plan::input_index(info, n).map_err(PyKeyError::new_err)?,
         None => 0,
     };
     let start = info.inputs[index].start;

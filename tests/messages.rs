@@ -1,7 +1,7 @@
 //! Run-time messages of the command line as snapshots (expect-test; `UPDATE_EXPECT=1` rewrites
 //! them): a batch param set with a value that is not finite fails that set only; a step that would
-//! make too many rows, a range no sweep resolves and a param or unknown given as an input are
-//! refused before any row is solved. The file-level messages (a param in degrees, one missing
+//! make too many rows, a range no sweep resolves, a param or unknown given as an input and a
+//! negative time or flywheel DELTA are refused before any row is solved. The file-level messages (a param in degrees, one missing
 //! `]`, a singular start) are fixtures of `tests/diagnostics/`. Each command runs in its own temporary directory with relative paths, so
 //! the text is the same on every machine.
 #![cfg(feature = "cli")]
@@ -133,6 +133,33 @@ fn a_param_or_unknown_given_as_an_input_is_refused_with_what_it_is() {
             stdout:
             stderr:
             mechgen: `four_bar` has no input `q2` (its inputs: q1; `q2` is an unknown, solved for at every row)
+        "#]],
+    );
+}
+
+/// A negative number where a positive one is needed is the command's own refusal (the option and
+/// what it needs), not a parse error about an unexpected argument `-1`.
+#[test]
+fn a_negative_time_or_flywheel_is_refused_by_the_command() {
+    let d = dir("negative");
+    run(
+        &d,
+        &["simulate", "four_bar", "--time", "-1", "--dt", "0.1"],
+        1,
+        expect![[r#"
+            stdout:
+            stderr:
+            mechgen: --time needs a value ≥ 0 and --dt one > 0
+        "#]],
+    );
+    run(
+        &d,
+        &["dynamics", "shaper", "--flywheel", "-0.05"],
+        1,
+        expect![[r#"
+            stdout:
+            stderr:
+            mechgen: shaper: --flywheel: needs a non-zero --rate and DELTA > 0
         "#]],
     );
 }

@@ -78,10 +78,10 @@ pub struct SimulateArgs {
     #[arg(long, value_enum)]
     pub engine: Option<Engine>,
     /// How long to simulate (seconds).
-    #[arg(long, value_name = "T", value_parser = finite)]
+    #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = finite)]
     pub time: f64,
     /// The time between rows (seconds); the integrator's steps are chosen by its error control.
-    #[arg(long, value_name = "DT", value_parser = finite)]
+    #[arg(long, value_name = "DT", allow_negative_numbers = true, value_parser = finite)]
     pub dt: f64,
     /// The constant driving effort on the input (torque for an angle input, force for a length).
     #[arg(long, value_name = "Q", default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite)]
@@ -124,7 +124,7 @@ pub struct DynamicsArgs {
     pub csv: Option<PathBuf>,
     /// The flywheel for a speed within ±DELTA/2 of --rate over one turn from the start (an angle
     /// input): mean effort, largest swing of the work excess, flywheel inertia (exact integrals).
-    #[arg(long, value_name = "DELTA", value_parser = finite)]
+    #[arg(long, value_name = "DELTA", allow_negative_numbers = true, value_parser = finite)]
     pub flywheel: Option<f64>,
     /// Also write DIR/NAME-dynamics.svg: the effort and the energies against the input.
     #[arg(long, value_name = "DIR")]

@@ -1,9 +1,10 @@
 //! Run-time messages of the command line as snapshots (expect-test; `UPDATE_EXPECT=1` rewrites
 //! them): a batch param set with a value that is not finite fails that set only; a step that would
 //! make too many rows, a range no sweep resolves, a param or unknown given as an input and a
-//! negative time or flywheel DELTA are refused before any row is solved. The file-level messages (a param in degrees, one missing
-//! `]`, a singular start) are fixtures of `tests/diagnostics/`. Each command runs in its own temporary directory with relative paths, so
-//! the text is the same on every machine.
+//! negative time or flywheel DELTA are refused before any row is solved. The file-level messages
+//! (a param in degrees, one missing `]`, a singular start) are fixtures of `tests/diagnostics/`.
+//! Each command runs in its own temporary directory with relative paths, so the text is the same
+//! on every machine.
 #![cfg(feature = "cli")]
 
 mod common;

@@ -104,7 +104,7 @@ impl Mechanism {
 
     fn plan(&self, py: Python<'_>, o: &Options) -> PyResult<Plan> {
         let p =
-            plan(&self.info, o.input.as_deref(), &o.set, o.range).map_err(PyValueError::new_err)?;
+            plan(&self.info, o.input.as_deref(), &o.set, o.range).map_err(crate::keyword_error)?;
         check_start(&self.info)
             .map_err(|e| PyValueError::new_err(format!("{}: {e}", self.info.name)))?;
         if let Some(w) = &self.warning {

@@ -72,3 +72,19 @@ def test_a_derived_param_raises_value_error_naming_its_bases(tmp_path):
     with pytest.raises(ValueError, match="derived"):
         m.batch({"l": [0.3]})
     assert m.batch({"r": [0.1, 0.12]})["status"].shape == (2, 37)
+
+
+def test_messages_name_keyword_arguments_not_command_line_options():
+    m = mechgen.mechanisms()["four_bar"]
+    for call, word in [
+        (lambda: m.sweep(step=0.0), "step must not be zero"),
+        (lambda: m.sweep(set={"q1": 10.0}), "use from/to, or input to sweep another"),
+        (lambda: m.sweep(set={"l1": 0.2}), "`l1` is a param"),
+    ]:
+        with pytest.raises(ValueError, match=word) as e:
+            call()
+        assert "--" not in str(e.value)
+    s = mechgen.mechanisms()["shaper"]
+    with pytest.raises(ValueError, match="time needs a value") as e:
+        s.simulate(time=-1.0, dt=0.1)
+    assert "--" not in str(e.value)

@@ -86,10 +86,28 @@ fn centre(
     angles: &mut Vec<Symbol>,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<Centre> {
-    if let ExprKind::Name(n) = &e.kind
-        && let Some(i) = m.points.iter().position(|(p, _)| &p.text == n)
-    {
-        return Some(Centre::Point(i));
+    if let ExprKind::Name(n) = &e.kind {
+        if let Some(i) = m.points.iter().position(|(p, _)| &p.text == n) {
+            return Some(Centre::Point(i));
+        }
+        if !symbols.contains_key(n) {
+            // A bare name may be a point's: say so, and suggest among points and symbols.
+            let mut known: Vec<&str> = m.points.iter().map(|(p, _)| p.text.as_str()).collect();
+            known.extend(symbols.keys().map(String::as_str));
+            known.sort_unstable();
+            let label = match crate::suggest::nearest(n, known) {
+                Some(g) => format!("not a point, input, unknown or param: did you mean `{g}`?"),
+                None => "not a point, input, unknown or param".to_string(),
+            };
+            diags.push(
+                Diagnostic::error(
+                    e.span,
+                    format!("undefined name `{n}` in the `com` of body `{body}`"),
+                )
+                .with_label(label),
+            );
+            return None;
+        }
     }
     match type_of(e, symbols, false, angles, diags)? {
         Resolved::Vector(v) => Some(Centre::Vector(v)),

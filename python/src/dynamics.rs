@@ -133,7 +133,8 @@ pub fn simulate<'py>(
     if !torque.is_finite() || !rate.is_finite() {
         return Err(PyValueError::new_err("torque and rate must be finite"));
     }
-    let rows = mg::simulation::row_count(time, dt, 100_000_000).map_err(crate::keyword_error)?;
+    let rows =
+        mg::simulation::row_count(time, dt, 100_000_000).map_err(crate::messages::keyword_error)?;
     let index = match &input {
         Some(n) => mg::sweep::plan::input_index(info, n).map_err(PyKeyError::new_err)?,
         None => 0,

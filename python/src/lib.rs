@@ -9,6 +9,7 @@
 mod columns;
 mod dynamics;
 mod mechanism;
+mod messages;
 mod run;
 
 use mechanism::{FileEngine, Mechanism, Source};
@@ -116,21 +117,4 @@ fn mechgen(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(_restore, m)?)?;
     Ok(())
-}
-
-/// A `ValueError` with a message of the shared code, which names the command line's options
-/// (`--step`, `--from/--to`, `--time`): here they are keyword arguments, named without the dashes.
-pub(crate) fn keyword_error(message: String) -> PyErr {
-    let mut out = String::with_capacity(message.len());
-    let mut rest = message.as_str();
-    while let Some(at) = rest.find("--") {
-        out.push_str(&rest[..at]);
-        let after = &rest[at + 2..];
-        if !after.starts_with(|c: char| c.is_ascii_lowercase()) {
-            out.push_str("--");
-        }
-        rest = after;
-    }
-    out.push_str(rest);
-    PyValueError::new_err(out)
 }

@@ -103,8 +103,8 @@ impl Mechanism {
     }
 
     fn plan(&self, py: Python<'_>, o: &Options) -> PyResult<Plan> {
-        let p =
-            plan(&self.info, o.input.as_deref(), &o.set, o.range).map_err(crate::keyword_error)?;
+        let p = plan(&self.info, o.input.as_deref(), &o.set, o.range)
+            .map_err(crate::messages::keyword_error)?;
         check_start(&self.info)
             .map_err(|e| PyValueError::new_err(format!("{}: {e}", self.info.name)))?;
         if let Some(w) = &self.warning {

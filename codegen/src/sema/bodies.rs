@@ -135,6 +135,18 @@ fn amount(
     angles: &mut Vec<Symbol>,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<(f64, Scalar)> {
+    if let Some(n) = moving_name(e, symbols) {
+        diags.push(
+            Diagnostic::error(
+                e.span,
+                format!("the {what} of body `{body}` names `{n}`, which is not a param"),
+            )
+            .with_note(
+                "a mass or inertia is a value of the params: it does not change with the motion",
+            ),
+        );
+        return None;
+    }
     let v = eval(e, values, &format!("the {what} of body `{body}`"), diags)?;
     if v < 0.0 {
         diags.push(
@@ -165,16 +177,7 @@ fn gravity(
     angles: &mut Vec<Symbol>,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<Vector> {
-    let mut named = Vec::new();
-    collect_names(e, symbols, &mut named);
-    if let Some(s) = named
-        .iter()
-        .find(|s| matches!(s, Symbol::Input(_) | Symbol::Unknown(_)))
-    {
-        let n = symbols
-            .iter()
-            .find(|(_, v)| *v == s)
-            .map_or("?", |(k, _)| k.as_str());
+    if let Some(n) = moving_name(e, symbols) {
         diags.push(
             Diagnostic::error(
                 e.span,
@@ -194,4 +197,17 @@ fn gravity(
             None
         }
     }
+}
+
+/// The first input or unknown `e` names (what a params-only value may not name).
+fn moving_name<'s>(e: &Expr, symbols: &'s HashMap<String, Symbol>) -> Option<&'s str> {
+    let mut named = Vec::new();
+    collect_names(e, symbols, &mut named);
+    let s = named
+        .iter()
+        .find(|s| matches!(s, Symbol::Input(_) | Symbol::Unknown(_)))?;
+    symbols
+        .iter()
+        .find(|(_, v)| *v == s)
+        .map(|(k, _)| k.as_str())
 }

@@ -11,41 +11,8 @@ use mechgen::{DynMechanism, report};
 
 use super::args::{BatchArgs, Engine};
 use super::load::{Loaded, select};
+use super::out::Out;
 use mechgen::sweep::plan::{Range, plan};
-
-/// A file opened for writing, with its name for errors.
-struct Out {
-    path: std::path::PathBuf,
-    w: std::io::BufWriter<std::fs::File>,
-    error: Option<std::io::Error>,
-}
-
-impl Out {
-    fn create(path: &std::path::Path, header: &str) -> Result<Out, String> {
-        let f = std::fs::File::create(path)
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        let mut out = Out {
-            path: path.to_path_buf(),
-            w: std::io::BufWriter::with_capacity(super::OUTPUT_BUFFER, f),
-            error: None,
-        };
-        out.write(header.as_bytes());
-        Ok(out)
-    }
-
-    fn write(&mut self, s: &[u8]) {
-        if self.error.is_none() {
-            self.error = self.w.write_all(s).err();
-        }
-    }
-
-    fn finish(mut self) -> Result<(), String> {
-        match self.error.take().or_else(|| self.w.flush().err()) {
-            Some(e) => Err(format!("cannot write {}: {e}", self.path.display())),
-            None => Ok(()),
-        }
-    }
-}
 
 /// `mechgen batch NAME --params SETS.csv [options]`.
 /// Rows (sets × rows per set) a batch writes to `--csv` at most.

@@ -46,6 +46,7 @@ pub mod design;
 pub mod dynamics;
 pub mod load;
 pub mod metrics;
+pub mod out;
 pub mod plots;
 pub mod run;
 pub mod scene;

@@ -1,6 +1,6 @@
 //! CLI, `mechgen simulate`: forward dynamics of one input (`mechgen::simulation` on the runtime's
 //! `Simulation`), a row every `--dt`: the table (thinned to at most [`TABLE_ROWS`] rows, with the
-//! energy balance) and the CSV of every row.
+//! energy balance) and the CSV of every row, written as it is made.
 
 use std::fmt::Write as _;
 
@@ -11,6 +11,7 @@ use mechgen::{Kind, SolveError};
 
 use super::args::SimulateArgs;
 use super::load::{Loaded, select};
+use super::out::Out;
 
 /// Rows the table shows at most (the CSV has every row).
 pub const TABLE_ROWS: usize = 41;
@@ -68,11 +69,18 @@ pub fn run(args: &SimulateArgs) -> Result<(), String> {
         1.0
     };
     let name = &input.name;
-    let mut csv = format!("t,{name},{name}_vel,{name}_acc");
+    let mut header = format!("t,{name},{name}_vel,{name}_acc");
     for u in &info.unknowns {
-        let _ = write!(csv, ",{}", u.name);
+        let _ = write!(header, ",{}", u.name);
     }
-    csv.push_str(",kinetic_energy,potential_energy,status\n");
+    header.push_str(",kinetic_energy,potential_energy,status\n");
+    // The CSV is written row by row (created before the first: a path that cannot be written is
+    // said at once), not held: up to MAX_ROWS rows would take gigabytes.
+    let mut out = match &args.csv {
+        Some(path) => Some(Out::create(path, &header)?),
+        None => None,
+    };
+    let mut csv = String::new();
     let width = 16;
     let unit = if input.kind == Kind::Angle {
         "deg"
@@ -120,22 +128,30 @@ pub fn run(args: &SimulateArgs) -> Result<(), String> {
         if let Err(e) = r.status {
             stopped = Some(e);
         }
-        let _ = write!(csv, "{:?}", r.t);
         if r.status.is_ok() {
-            for v in r.input {
-                let _ = write!(csv, ",{v:?}");
-            }
-            for q in &r.q {
-                let _ = write!(csv, ",{q:?}");
-            }
-            let _ = writeln!(csv, ",{:?},{:?},{status}", r.kinetic, r.potential);
             let total = r.kinetic + r.potential;
             let e0 = *first.get_or_insert(total);
             drift = drift.max((total - e0).abs());
             moved = moved.max(r.kinetic.abs());
-        } else {
-            csv.push_str(&",".repeat(3 + r.q.len() + 2));
-            let _ = writeln!(csv, ",{status}");
+        }
+        if let Some(out) = out.as_mut() {
+            csv.clear();
+            let _ = write!(csv, "{:?}", r.t);
+            if r.status.is_ok() {
+                for v in r.input {
+                    let _ = write!(csv, ",{v:?}");
+                }
+                for q in &r.q {
+                    let _ = write!(csv, ",{q:?}");
+                }
+                let _ = writeln!(csv, ",{:?},{:?},{status}", r.kinetic, r.potential);
+            } else {
+                for _ in 0..3 + r.q.len() + 2 {
+                    csv.push(',');
+                }
+                let _ = writeln!(csv, ",{status}");
+            }
+            out.write(csv.as_bytes());
         }
         let last = count + 1 == rows || r.status.is_err();
         if count.is_multiple_of(every) || last {
@@ -185,8 +201,8 @@ pub fn run(args: &SimulateArgs) -> Result<(), String> {
         );
     }
     say_raw!("{table}");
-    if let Some(path) = &args.csv {
-        std::fs::write(path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    if let Some(out) = out {
+        out.finish()?;
     }
     match stopped {
         Some(e) => {

@@ -136,7 +136,8 @@ pub fn simulate<'py>(
     let rows =
         mg::simulation::row_count(time, dt, 100_000_000).map_err(crate::messages::keyword_error)?;
     let index = match &input {
-        Some(n) => mg::sweep::plan::input_index(info, n).map_err(PyKeyError::new_err)?,
+        Some(n) => mg::sweep::plan::input_index(info, n)
+            .map_err(|e| PyKeyError::new_err(crate::messages::python_words(&e)))?,
         None => 0,
     };
     let start = info.inputs[index].start;

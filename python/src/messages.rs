@@ -4,9 +4,19 @@
 use pyo3::PyErr;
 use pyo3::exceptions::PyValueError;
 
-/// A `ValueError` with a message of the shared code, which names the command line's options
-/// (`--step`, `--from/--to`, `--time`): here they are keyword arguments, named without the dashes.
+/// Where a param given as an input changes from Python (the shared code names the command line's).
+const PARAM_HINT: &str = "give its value with `params=`, or several sets with `batch`";
+
+/// A `ValueError` with a message of the shared code ([`python_words`]).
 pub fn keyword_error(message: String) -> PyErr {
+    PyValueError::new_err(python_words(&message))
+}
+
+/// A message of the shared code, which names the command line's options (`--step`,
+/// `--from/--to`, `--time`) and where params change there, in Python's words: keyword arguments,
+/// named without the dashes, and `params=`.
+pub fn python_words(message: &str) -> String {
+    let message = message.replace(mg::sweep::plan::PARAM_HINT, PARAM_HINT);
     let mut out = String::with_capacity(message.len());
     let mut rest = message.as_str();
     while let Some(at) = rest.find("--") {
@@ -18,5 +28,5 @@ pub fn keyword_error(message: String) -> PyErr {
         rest = after;
     }
     out.push_str(rest);
-    PyValueError::new_err(out)
+    out
 }

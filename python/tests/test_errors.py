@@ -79,11 +79,14 @@ def test_messages_name_keyword_arguments_not_command_line_options():
     for call, word in [
         (lambda: m.sweep(step=0.0), "step must not be zero"),
         (lambda: m.sweep(set={"q1": 10.0}), "use from/to, or input to sweep another"),
-        (lambda: m.sweep(set={"l1": 0.2}), "`l1` is a param"),
+        (lambda: m.sweep(set={"l1": 0.2}), "`l1` is a param: give its value with `params=`"),
     ]:
         with pytest.raises(ValueError, match=word) as e:
             call()
         assert "--" not in str(e.value)
+    with pytest.raises(KeyError, match="`l1` is a param: give its value with `params=`") as e:
+        m.simulate(time=0.1, dt=0.01, input="l1")
+    assert "--" not in str(e.value)
     s = mechgen.mechanisms()["shaper"]
     with pytest.raises(ValueError, match="time needs a value") as e:
         s.simulate(time=-1.0, dt=0.1)

@@ -4,16 +4,20 @@
 //! energies and the shaking force and moment; `--flywheel` from `mechgen::kinetics`.
 
 use std::fmt::Write as _;
+use std::io::Write as _;
 
 use mechgen::dynamics::PointLoad;
 use mechgen::kinetics::{self, RowWork, column_names, row_dynamics};
 use mechgen::plot::{DynamicsRow, dynamics_svg};
 use mechgen::report::significant;
-use mechgen::sweep::plan::{Range, plan};
+use mechgen::sweep::RowRef;
+use mechgen::sweep::check_start;
+use mechgen::sweep::plan::{Plan, Range, plan};
 use mechgen::{DynMechanism, Kind, MechanismInfo};
 
 use super::args::{DynamicsArgs, LoadArg};
-use super::load::{Loaded, Swept, run_plan, select};
+use super::load::{Loaded, Swept, Thinning, select, stream_plan};
+use super::out::Out;
 
 /// The `--load` arguments by point index, refused where a point does not exist or a range is
 /// given for a length input (`dynamics` and `simulate`).
@@ -90,29 +94,82 @@ pub fn dynamics_command(args: &DynamicsArgs) -> Result<(), String> {
                 .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         }
     }
-    let swept = run_plan(k, &info, plan, options.rate)?;
-    let (table, csv, plotted) = rows(k, &info, &swept, args.acc, &loads);
-    say_raw!("{table}");
-    if let Some(dir) = &args.plot {
-        write_plot(&info, &swept, &plotted, dir)?;
-    }
-    match &args.csv {
-        Some(path) => {
-            std::fs::write(path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))
+    check_start(&info).map_err(|e| format!("{}: {e}", info.name))?;
+    // Rows printed and written as they are solved; of the plot's values, the rows a streamed
+    // sweep keeps.
+    let mut each = RowDynamics::new(k, &info, &plan, options.rate, args.acc, &loads);
+    let stdout = std::io::stdout();
+    let mut table = std::io::BufWriter::with_capacity(super::OUTPUT_BUFFER, stdout.lock());
+    let _ = table.write_all(each.table_header().as_bytes());
+    let mut csv = match &args.csv {
+        Some(path) => Some(Out::create(path, &each.csv_header())?),
+        None => None,
+    };
+    let mut plotted = args.plot.is_some().then(|| Plotted::new(plan.values.len()));
+    stream_plan(k, &info, plan, options.rate, None, &mut |r| {
+        let value = each.row(r);
+        // A closed stdout (`… | head`) ends the table, not the rows or their CSV.
+        let _ = table.write_all(each.table.as_bytes());
+        if let Some(out) = &mut csv {
+            out.write(each.csv.as_bytes());
         }
-        None => Ok(()),
+        if let Some(p) = &mut plotted {
+            p.push(r.input, value);
+        }
+    })?;
+    let _ = table.flush();
+    drop(table);
+    if let (Some(dir), Some(p)) = (&args.plot, &plotted) {
+        write_plot(&info, index, &p.xs, &p.values, dir)?;
+    }
+    csv.map_or(Ok(()), Out::finish)
+}
+
+/// The plot's values of a streamed sweep's rows: those [`Thinning`] keeps.
+struct Plotted {
+    thin: Thinning,
+    xs: Vec<f64>,
+    values: Vec<DynamicsRow>,
+    /// The row before the current one, when it was not kept.
+    previous: Option<(f64, DynamicsRow)>,
+}
+
+impl Plotted {
+    fn new(rows: usize) -> Plotted {
+        Plotted {
+            thin: Thinning::new(rows),
+            xs: Vec::new(),
+            values: Vec::new(),
+            previous: None,
+        }
+    }
+
+    fn push(&mut self, x: f64, value: DynamicsRow) {
+        let (before, this) = self
+            .thin
+            .next(if value.is_some() { "ok" } else { "failed" });
+        if before && let Some((px, pv)) = self.previous {
+            self.xs.push(px);
+            self.values.push(pv);
+        }
+        if this {
+            self.xs.push(x);
+            self.values.push(value);
+        } else {
+            self.previous = Some((x, value));
+        }
     }
 }
 
-/// Writes `dir/NAME-dynamics.svg` (effort and energies against the input) of `swept`'s rows.
+/// Writes `dir/NAME-dynamics.svg` (effort and energies against the input `index`, at `xs`).
 pub(super) fn write_plot(
     info: &MechanismInfo,
-    swept: &Swept,
+    index: usize,
+    xs: &[f64],
     rows: &[DynamicsRow],
     dir: &std::path::Path,
 ) -> Result<(), String> {
-    let xs: Vec<f64> = swept.rows.iter().map(|r| r.input).collect();
-    match dynamics_svg(info, swept.plan.index, &xs, rows) {
+    match dynamics_svg(info, index, xs, rows) {
         Ok(svg) => {
             std::fs::create_dir_all(dir)
                 .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
@@ -127,7 +184,7 @@ pub(super) fn write_plot(
 }
 
 /// The table, the CSV and the plot's values of `swept`'s rows' dynamics (the input accelerating
-/// at `acc`).
+/// at `acc`), whole.
 pub(super) fn rows(
     k: &dyn DynMechanism<f64>,
     info: &MechanismInfo,
@@ -135,86 +192,157 @@ pub(super) fn rows(
     acc: f64,
     loads: &[PointLoad<f64>],
 ) -> (String, String, Vec<DynamicsRow>) {
+    let mut each = RowDynamics::new(k, info, &swept.plan, swept.rate, acc, loads);
+    let (mut table, mut csv) = (each.table_header(), each.csv_header());
     let mut plotted = Vec::with_capacity(swept.rows.len());
-    let index = swept.plan.index;
-    let input = &info.inputs[index];
-    let x0 = swept.inputs(info);
-    let per = if input.kind == Kind::Angle {
-        180.0 / std::f64::consts::PI
-    } else {
-        1.0
-    };
-    let names = column_names(&input.name);
-    let mut csv = input.name.clone();
-    for u in &info.unknowns {
-        let _ = write!(csv, ",{}", u.name);
-    }
-    for n in &names {
-        let _ = write!(csv, ",{n}");
-    }
-    csv.push_str(",status\n");
-    let unit = if input.kind == Kind::Angle {
-        "deg"
-    } else {
-        "u"
-    };
-    let width = 17;
-    let mut table = format!(
-        "{}: inverse dynamics along {} at {} {}/s, acceleration {} (file units: {})\n",
-        info.name,
-        input.name,
-        significant(swept.rate),
-        if input.kind == Kind::Angle {
-            "rad"
-        } else {
-            "u"
-        },
-        significant(acc),
-        if input.kind == Kind::Angle {
-            "the effort a torque, force × length"
-        } else {
-            "the effort a force"
-        },
-    );
-    let _ = write!(table, "{:>width$}", format!("{} [{unit}]", input.name));
-    for n in &names {
-        let _ = write!(table, "{n:>width$}");
-    }
-    table.push('\n');
-    let mut ws = RowWork::new(info);
-    let mut x = x0;
-    let motion = (swept.rate, acc);
     for r in &swept.rows {
-        x[index] = r.input;
-        let _ = write!(table, "{:>width$}", significant(r.input * per));
+        plotted.push(each.row(&r.view()));
+        table.push_str(&each.table);
+        csv.push_str(&each.csv);
+    }
+    (table, csv, plotted)
+}
+
+/// The inverse dynamics of a sweep's rows, one row at a time: its table line and CSV line
+/// (reused row after row) and its plot values.
+pub(super) struct RowDynamics<'a> {
+    k: &'a dyn DynMechanism<f64>,
+    info: &'a MechanismInfo,
+    index: usize,
+    /// Every input's value, the swept one the row's.
+    x: Vec<f64>,
+    /// The swept input's rate and acceleration.
+    motion: (f64, f64),
+    loads: &'a [PointLoad<f64>],
+    ws: RowWork,
+    /// The swept input's table unit per file unit (degrees per radian for an angle).
+    per: f64,
+    /// A failed row's empty cells.
+    blank: String,
+    /// The last row's table line and CSV line, each ending in a newline.
+    pub(super) table: String,
+    pub(super) csv: String,
+}
+
+/// Width of a table column.
+const WIDTH: usize = 17;
+
+impl<'a> RowDynamics<'a> {
+    pub(super) fn new(
+        k: &'a dyn DynMechanism<f64>,
+        info: &'a MechanismInfo,
+        plan: &Plan,
+        rate: f64,
+        acc: f64,
+        loads: &'a [PointLoad<f64>],
+    ) -> RowDynamics<'a> {
+        let index = plan.index;
+        let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+        for &(i, v) in &plan.held {
+            x[i] = v;
+        }
+        let per = if info.inputs[index].kind == Kind::Angle {
+            180.0 / std::f64::consts::PI
+        } else {
+            1.0
+        };
+        RowDynamics {
+            k,
+            info,
+            index,
+            x,
+            motion: (rate, acc),
+            loads,
+            ws: RowWork::new(info),
+            per,
+            blank: ",".repeat(info.unknowns.len() + column_names(&info.inputs[index].name).len()),
+            table: String::new(),
+            csv: String::new(),
+        }
+    }
+
+    /// The table's title line and column names.
+    pub(super) fn table_header(&self) -> String {
+        let input = &self.info.inputs[self.index];
+        let angle = input.kind == Kind::Angle;
+        let mut table = format!(
+            "{}: inverse dynamics along {} at {} {}/s, acceleration {} (file units: {})\n",
+            self.info.name,
+            input.name,
+            significant(self.motion.0),
+            if angle { "rad" } else { "u" },
+            significant(self.motion.1),
+            if angle {
+                "the effort a torque, force × length"
+            } else {
+                "the effort a force"
+            },
+        );
+        let unit = if angle { "deg" } else { "u" };
+        let _ = write!(table, "{:>WIDTH$}", format!("{} [{unit}]", input.name));
+        for n in &column_names(&input.name) {
+            let _ = write!(table, "{n:>WIDTH$}");
+        }
+        table.push('\n');
+        table
+    }
+
+    /// The CSV's header line.
+    pub(super) fn csv_header(&self) -> String {
+        let input = &self.info.inputs[self.index];
+        let mut csv = input.name.clone();
+        for u in &self.info.unknowns {
+            let _ = write!(csv, ",{}", u.name);
+        }
+        for n in &column_names(&input.name) {
+            let _ = write!(csv, ",{n}");
+        }
+        csv.push_str(",status\n");
+        csv
+    }
+
+    /// Row `r`'s dynamics into [`RowDynamics::table`] and [`RowDynamics::csv`]; its plot values.
+    pub(super) fn row(&mut self, r: &RowRef<'_>) -> DynamicsRow {
+        let (table, csv) = (&mut self.table, &mut self.csv);
+        table.clear();
+        csv.clear();
+        self.x[self.index] = r.input;
+        let _ = write!(table, "{:>WIDTH$}", significant(r.input * self.per));
         let _ = write!(csv, "{:?}", r.input);
-        let view = r.view();
-        let d = match &view.result {
-            Ok(s) => row_dynamics(k, &x, index, s, motion, loads, &mut ws)
-                .map(|d| (s.q, d))
-                .map_err(|e| e.status()),
+        let d = match &r.result {
+            Ok(s) => row_dynamics(
+                self.k,
+                &self.x,
+                self.index,
+                s,
+                self.motion,
+                self.loads,
+                &mut self.ws,
+            )
+            .map(|d| (s.q, d))
+            .map_err(|e| e.status()),
             Err(_) => Err(r.status()),
         };
-        match d {
+        let plotted = match d {
             Ok((q, d)) => {
-                plotted.push(Some([d.effort, d.kinetic, d.potential]));
                 for q in q {
                     let _ = write!(csv, ",{q:?}");
                 }
                 for v in kinetics::values(&d) {
-                    let _ = write!(table, "{:>width$}", significant(v));
+                    let _ = write!(table, "{:>WIDTH$}", significant(v));
                     let _ = write!(csv, ",{v:?}");
                 }
                 csv.push_str(",ok\n");
+                Some([d.effort, d.kinetic, d.potential])
             }
             Err(status) => {
-                plotted.push(None);
                 let _ = write!(table, "  {status}");
-                csv.push_str(&",".repeat(info.unknowns.len() + names.len()));
+                csv.push_str(&self.blank);
                 let _ = writeln!(csv, ",{status}");
+                None
             }
-        }
+        };
         table.push('\n');
+        plotted
     }
-    (table, csv, plotted)
 }

@@ -210,6 +210,41 @@ pub(super) fn assembly(
 /// status (where a branch stops or resumes).
 pub(super) const KEPT_ROWS: usize = 2000;
 
+/// Which rows of a streamed sweep of `n` rows are kept ([`KEPT_ROWS`]), row by row: every
+/// `stride`-th, the last, and both rows of every change of status.
+pub(super) struct Thinning {
+    stride: usize,
+    n: usize,
+    i: usize,
+    last: Option<&'static str>,
+    /// Whether the row before the current one was not kept.
+    pending: bool,
+}
+
+impl Thinning {
+    pub(super) fn new(n: usize) -> Thinning {
+        Thinning {
+            stride: n.div_ceil(KEPT_ROWS).max(1),
+            n,
+            i: 0,
+            last: None,
+            pending: false,
+        }
+    }
+
+    /// For the next row, of status `status`: whether the row before it (not kept when it came)
+    /// is kept now, and whether this one is.
+    pub(super) fn next(&mut self, status: &'static str) -> (bool, bool) {
+        let changed = self.last.is_some_and(|p| p != status);
+        let before = changed && self.pending;
+        let this = changed || self.i.is_multiple_of(self.stride) || self.i + 1 == self.n;
+        self.pending = !this;
+        self.last = Some(status);
+        self.i += 1;
+        (before, this)
+    }
+}
+
 /// Runs the sweep that `plan` describes on `k` like [`run_plan`], handing every row to `each` as
 /// it is solved (in input order) and keeping only the rows [`KEPT_ROWS`] describes, so that
 /// memory does not grow with the number of rows.
@@ -224,14 +259,10 @@ pub(super) fn stream_plan(
     check_start(info).map_err(|e| format!("{}: {e}", info.name))?;
     let kind = info.inputs[plan.index].kind;
     let continuation = Continuation::for_input(kind, plan.span);
-    let n = plan.values.len();
-    let stride = n.div_ceil(KEPT_ROWS).max(1);
+    let mut thin = Thinning::new(plan.values.len());
     let mut kept: Vec<Row> = Vec::new();
     // The row before the current one when it was not kept (its vectors reused row after row).
     let mut previous: Option<Row> = None;
-    let mut pending = false;
-    let mut last_status: Option<&'static str> = None;
-    let mut i = 0;
     sweep_each_with(
         k,
         plan.index,
@@ -242,26 +273,18 @@ pub(super) fn stream_plan(
         assembles,
         &mut |r| {
             each(&r);
-            let status = r.status();
-            let changed = last_status.is_some_and(|p| p != status);
-            if changed
-                && pending
-                && let Some(p) = &previous
-            {
+            let (before, this) = thin.next(r.status());
+            if before && let Some(p) = &previous {
                 kept.push(p.clone());
             }
-            if changed || i % stride == 0 || i + 1 == n {
+            if this {
                 kept.push(r.to_row());
-                pending = false;
             } else {
                 match &mut previous {
                     Some(p) => p.assign(&r),
                     None => previous = Some(r.to_row()),
                 }
-                pending = true;
             }
-            last_status = Some(status);
-            i += 1;
         },
     );
     Ok(Swept {
@@ -307,4 +330,48 @@ pub(super) fn write_plots(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{KEPT_ROWS, Thinning};
+
+    /// The rows kept of `statuses`, by index.
+    fn kept(statuses: &[&'static str]) -> Vec<usize> {
+        let mut thin = Thinning::new(statuses.len());
+        let mut out = Vec::new();
+        for (i, s) in statuses.iter().enumerate() {
+            let (before, this) = thin.next(s);
+            if before {
+                out.push(i - 1);
+            }
+            if this {
+                out.push(i);
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn a_long_sweep_keeps_evenly_spaced_rows_the_last_and_both_sides_of_a_change() {
+        let n = 360_001;
+        let mut statuses = vec!["ok"; n];
+        statuses[200_001..250_000].fill("other-branch");
+        let k = kept(&statuses);
+        assert!(k.windows(2).all(|w| w[0] < w[1]), "in order, each once");
+        assert!(k.len() <= KEPT_ROWS + 4, "{} rows kept", k.len());
+        assert_eq!((k[0], k[k.len() - 1]), (0, n - 1));
+        for i in [200_000, 200_001, 249_999, 250_000] {
+            assert!(k.contains(&i), "row {i} not kept");
+        }
+        // Evenly spaced elsewhere: no gap wider than the stride.
+        let stride = n.div_ceil(KEPT_ROWS);
+        assert!(k.windows(2).all(|w| w[1] - w[0] <= stride));
+    }
+
+    #[test]
+    fn a_short_sweep_keeps_every_row() {
+        let statuses = ["ok", "ok", "singular", "ok"];
+        assert_eq!(kept(&statuses), [0, 1, 2, 3]);
+    }
 }

@@ -404,7 +404,8 @@ fn main_job_one(
         say_raw!("{table}");
         let path = dir.join(format!("{name}-dynamics.csv"));
         std::fs::write(&path, csv).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        super::dynamics::write_plot(&info, &swept, &plotted, dir)?;
+        let xs: Vec<f64> = swept.rows.iter().map(|r| r.input).collect();
+        super::dynamics::write_plot(&info, swept.plan.index, &xs, &plotted, dir)?;
     }
     write_plots(&sel, &info, &swept, Some(dir), animate, false)
 }

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 use mechgen::report::significant;
 use mechgen::simulation::{Setup, row_count, simulate};
-use mechgen::sweep::plan::{Range, plan};
+use mechgen::sweep::plan::{Range, input_index, plan};
 use mechgen::{Kind, SolveError};
 
 use super::args::SimulateArgs;
@@ -32,15 +32,13 @@ pub fn run(args: &SimulateArgs) -> Result<(), String> {
     let rows = row_count(args.time, args.dt, MAX_ROWS)?;
     // The input and the held values, as a sweep resolves them (a range of the start alone).
     let index = match &args.input {
-        Some(n) => info.inputs.iter().position(|i| &i.name == n),
-        None => Some(0),
+        Some(n) => input_index(&info, n)?,
+        None => 0,
     };
-    let start = index
-        .and_then(|i| info.inputs.get(i))
-        .map_or(0.0, |c| match c.kind {
-            Kind::Angle => c.start.to_degrees(),
-            _ => c.start,
-        });
+    let start = info.inputs.get(index).map_or(0.0, |c| match c.kind {
+        Kind::Angle => c.start.to_degrees(),
+        _ => c.start,
+    });
     let range = Range {
         from: Some(start),
         to: Some(start),

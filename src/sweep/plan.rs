@@ -38,14 +38,15 @@ pub fn input_index(info: &MechanismInfo, name: &str) -> Result<usize, String> {
         .ok_or_else(|| no_input(&info.name, name, [&inputs, &names(&info.unknowns), &params]))
 }
 
+/// Where a param given as an input changes on the command line (the Python package says its own).
+pub const PARAM_HINT: &str = "change its value in the file, or sweep several with `batch --params`";
+
 /// What a command says when mechanism `mechanism` has no input `name`: its inputs, and what
 /// `name` is where it names one of its unknowns or params (`[inputs, unknowns, params]`).
 pub fn no_input(mechanism: &str, name: &str, [inputs, unknowns, params]: [&[String]; 3]) -> String {
     let has = |names: &[String]| names.iter().any(|n| n == name);
     let what = if has(params) {
-        format!(
-            "; `{name}` is a param: change its value in the file, or sweep several with `batch --params`"
-        )
+        format!("; `{name}` is a param: {PARAM_HINT}")
     } else if has(unknowns) {
         format!("; `{name}` is an unknown, solved for at every row")
     } else {

@@ -196,6 +196,53 @@ pub fn lookup_scene<T: ::mechgen::__private::Real>(
         _ => ::core::option::Option::None,
     }
 }
+/// A compiled-in scene by name with its mechanism's base params (file order, as the
+/// mechanism's `Params::to_array`); `None` for an unknown name or a slice of the wrong
+/// length.
+pub fn lookup_scene_with_params<T: ::mechgen::__private::Real>(
+    name: &str,
+    params: &[T],
+) -> ::core::option::Option<::std::boxed::Box<dyn ::mechgen::__private::DynScene<T>>> {
+    match name {
+        "sixbar_e_path" => {
+            <sixbar_e_path::SixbarEPath<
+                T,
+            > as ::mechgen::__private::Scene<T>>::with_params(params)
+                .map(|s| {
+                    ::std::boxed::Box::new(s)
+                        as ::std::boxed::Box<dyn ::mechgen::__private::DynScene<T>>
+                })
+        }
+        "sixbar_output" => {
+            <sixbar_output::SixbarOutput<
+                T,
+            > as ::mechgen::__private::Scene<T>>::with_params(params)
+                .map(|s| {
+                    ::std::boxed::Box::new(s)
+                        as ::std::boxed::Box<dyn ::mechgen::__private::DynScene<T>>
+                })
+        }
+        "shaper_ram" => {
+            <shaper_ram::ShaperRam<
+                T,
+            > as ::mechgen::__private::Scene<T>>::with_params(params)
+                .map(|s| {
+                    ::std::boxed::Box::new(s)
+                        as ::std::boxed::Box<dyn ::mechgen::__private::DynScene<T>>
+                })
+        }
+        "coupler_curve" => {
+            <coupler_curve::CouplerCurve<
+                T,
+            > as ::mechgen::__private::Scene<T>>::with_params(params)
+                .map(|s| {
+                    ::std::boxed::Box::new(s)
+                        as ::std::boxed::Box<dyn ::mechgen::__private::DynScene<T>>
+                })
+        }
+        _ => ::core::option::Option::None,
+    }
+}
 /// Calls `v.visit` with every compiled-in scene (default params), statically typed, in file order.
 pub fn visit_scenes<
     T: ::mechgen::__private::Real,

@@ -160,6 +160,13 @@ impl SetSummary {
         }
     }
 
+    /// Counts in, instead of [`SetSummary::add`], a failed row at `input` whose mechanism solved
+    /// (a row of `mechgen batch SCENE` where the scene's solver did not).
+    pub fn fail(&mut self, input: f64) {
+        self.failed_rows += 1;
+        self.first_failure.get_or_insert(input);
+    }
+
     /// The summary CSV's header: `set,ok_rows,failed_rows,first_failure`, then `<c>_min,<c>_max`.
     pub fn header(info: &MechanismInfo) -> String {
         let mut cols: Vec<String> = ["set", "ok_rows", "failed_rows", "first_failure"]
@@ -214,6 +221,24 @@ pub fn solver_with_params(
     let mut g = model.clone();
     g.set_params(params);
     Box::new(g)
+}
+
+/// Scene `name` (of `model`'s mechanism) with `params` (its mechanism's base params, as
+/// [`solver_with_params`] takes them): the compiled-in scene when `generated`, else the scene of
+/// `model` with those params (sharing its compiled code); `None` when it has no such scene.
+pub fn scene_with_params(
+    name: &str,
+    model: &crate::generic::Generic,
+    generated: bool,
+    params: &[f64],
+) -> Option<Box<dyn mechgen_runtime::DynScene<f64>>> {
+    if generated && let Some(s) = crate::lookup_scene_with_params::<f64>(name, params) {
+        return Some(s);
+    }
+    let mut g = model.clone();
+    g.set_params(params);
+    g.scene(name)
+        .map(|s| Box::new(s) as Box<dyn mechgen_runtime::DynScene<f64>>)
 }
 
 /// Runs `solve` for every set `0..count`, chunk by chunk (with the `parallel` feature on up to

@@ -54,25 +54,27 @@ fn close(a: &[String], b: &[String], tol: f64) -> bool {
 
 const SETS: [[f64; 2]; 3] = [[0.1, 0.35], [0.12, 0.33], [0.3, 0.1]];
 
-#[test]
-fn every_set_equals_a_sweep_with_its_params_on_both_engines() {
-    let sets = temp("batch", "sets.csv");
+/// Runs `mechgen batch NAME` over [`SETS`] in 15° rows twice: compiled in (with `--summary`) and
+/// on `file` (a copy of the compiled-in file's section, one thread); its stdout, then the two CSVs'
+/// text and the summary's.
+fn batch_both(name: &str, file: &str, tag: &str) -> (String, String, String, String) {
+    let sets = temp("batch", &format!("{tag}-sets.csv"));
     let mut body = String::from("l1, l2\n");
     for s in SETS {
         body.push_str(&format!("{},{}\n", s[0], s[1]));
     }
     std::fs::write(&sets, body).unwrap();
-    let base = temp("batch", "four_bar.toml");
-    std::fs::write(&base, four_bar_file(&[])).unwrap();
+    let base = temp("batch", &format!("{tag}.toml"));
+    std::fs::write(&base, file).unwrap();
     let (gen_csv, gen_sum, file_csv) = (
-        temp("batch", "gen.csv"),
-        temp("batch", "gen-summary.csv"),
-        temp("batch", "file.csv"),
+        temp("batch", &format!("{tag}-gen.csv")),
+        temp("batch", &format!("{tag}-gen-summary.csv")),
+        temp("batch", &format!("{tag}-file.csv")),
     );
     let p = |x: &std::path::Path| x.to_str().unwrap().to_string();
     let said = run_ok(&[
         "batch",
-        "four_bar",
+        name,
         "--params",
         &p(&sets),
         "--step",
@@ -82,10 +84,9 @@ fn every_set_equals_a_sweep_with_its_params_on_both_engines() {
         "--summary",
         &p(&gen_sum),
     ]);
-    assert!(said.contains("3 param set(s) over 25 rows each"), "{said}");
     run_ok(&[
         "batch",
-        "four_bar",
+        name,
         "--file",
         &p(&base),
         "--params",
@@ -97,26 +98,28 @@ fn every_set_equals_a_sweep_with_its_params_on_both_engines() {
         "--threads",
         "1",
     ]);
-    let generated = std::fs::read_to_string(&gen_csv).unwrap();
-    let file = std::fs::read_to_string(&file_csv).unwrap();
-    let (gen_lines, file_lines): (Vec<&str>, Vec<&str>) =
-        (generated.lines().collect(), file.lines().collect());
-    assert!(
-        gen_lines[0].starts_with("set,q1,q2,q3,"),
-        "{}",
-        gen_lines[0]
-    );
-    assert_eq!(gen_lines.len(), 1 + 3 * 25);
-    assert_eq!(file_lines.len(), gen_lines.len());
-    let mut failed = 0;
+    let read = |f: &std::path::Path| std::fs::read_to_string(f).unwrap();
+    (said, read(&gen_csv), read(&file_csv), read(&gen_sum))
+}
+
+/// Each set's rows of a batch of `name` over [`SETS`] (the CSV lines compiled in and on a file)
+/// held to `mechgen sweep NAME` of the set's own file (`file_of`): bit for bit on the file's
+/// engine, to 1e-12 compiled in; a set whose file is refused (its start does not assemble) has
+/// `unassemblable` on every row. The rows compared, and the rows not `ok`.
+fn compare_sets(
+    name: &str,
+    (gen_lines, file_lines): (&[&str], &[&str]),
+    file_of: impl Fn([f64; 2]) -> String,
+) -> (usize, usize) {
+    let p = |x: &std::path::Path| x.to_str().unwrap().to_string();
+    let (mut compared, mut failed) = (0, 0);
     for (k, s) in SETS.iter().enumerate() {
-        // The same set as its own file, swept by `sweep` (generic engine).
-        let f = temp("batch", &format!("set{k}.toml"));
-        std::fs::write(&f, four_bar_file(&[("l1", s[0]), ("l2", s[1])])).unwrap();
-        let csv = temp("batch", &format!("set{k}.csv"));
+        let f = temp("batch", &format!("{name}-set{k}.toml"));
+        std::fs::write(&f, file_of(*s)).unwrap();
+        let csv = temp("batch", &format!("{name}-set{k}.csv"));
         let out = mechgen(&[
             "sweep",
-            "four_bar",
+            name,
             "--file",
             &p(&f),
             "--step",
@@ -128,12 +131,11 @@ fn every_set_equals_a_sweep_with_its_params_on_both_engines() {
             // Its start does not assemble (the file is refused): in the batch, that status on
             // every row of the set.
             assert_eq!(k, 2, "{}", text(&out.stderr));
-            let statuses: Vec<&str> = (1 + 25 * k..1 + 25 * (k + 1))
-                .map(|l| gen_lines[l].rsplit(',').next().unwrap())
-                .collect();
             assert!(
-                statuses.iter().all(|s| *s == "unassemblable"),
-                "{statuses:?}"
+                gen_lines[1 + 25 * k..1 + 25 * (k + 1)]
+                    .iter()
+                    .all(|l| l.ends_with(",unassemblable")),
+                "set {k}"
             );
             failed += 25;
             continue;
@@ -142,7 +144,7 @@ fn every_set_equals_a_sweep_with_its_params_on_both_engines() {
         for (i, row) in sweep.lines().skip(1).enumerate() {
             let line = 1 + 25 * k + i;
             assert!(gen_lines[line].starts_with(&format!("{k},")));
-            // The generic engine's batch row is the sweep's row, bit for bit.
+            // The file's engine's batch row is the sweep's row, bit for bit.
             assert_eq!(
                 fields(file_lines[line], 1),
                 fields(row, 0),
@@ -154,13 +156,32 @@ fn every_set_equals_a_sweep_with_its_params_on_both_engines() {
                 "set {k} row {i}:\n{}\n{row}",
                 gen_lines[line]
             );
+            compared += 1;
             failed += usize::from(!row.ends_with(",ok"));
         }
     }
+    (compared, failed)
+}
+
+#[test]
+fn every_set_equals_a_sweep_with_its_params_on_both_engines() {
+    let (said, generated, file, summary) = batch_both("four_bar", &four_bar_file(&[]), "mech");
+    assert!(said.contains("3 param set(s) over 25 rows each"), "{said}");
+    let (gen_lines, file_lines): (Vec<&str>, Vec<&str>) =
+        (generated.lines().collect(), file.lines().collect());
+    assert!(
+        gen_lines[0].starts_with("set,q1,q2,q3,"),
+        "{}",
+        gen_lines[0]
+    );
+    assert_eq!(gen_lines.len(), 1 + 3 * 25);
+    assert_eq!(file_lines.len(), gen_lines.len());
+    let (_, failed) = compare_sets("four_bar", (&gen_lines, &file_lines), |s| {
+        four_bar_file(&[("l1", s[0]), ("l2", s[1])])
+    });
     // The third set (l1 = 0.3, l2 = 0.1) does not close on every row.
     assert!(failed > 0);
     // The summary: counts and extremes as the rows say.
-    let summary = std::fs::read_to_string(&gen_sum).unwrap();
     let head: Vec<&str> = summary.lines().next().unwrap().split(',').collect();
     assert_eq!(
         head[..6],
@@ -445,4 +466,51 @@ fn a_batch_too_large_for_its_csv_is_refused_naming_its_size() {
         "{err}"
     );
     assert!(!csv.exists(), "nothing written");
+}
+
+/// The compiled-in file's `coupler_curve` scene (of `four_bar`), as a section of a file.
+fn coupler_curve_scene() -> String {
+    let src = mechgen::source::SOURCE;
+    let start = src.find("[scene.coupler_curve]").expect("coupler_curve");
+    let end = src[start + 1..]
+        .find("\n[")
+        .map_or(src.len(), |i| start + 1 + i);
+    format!("\n{}\n", &src[start..end])
+}
+
+#[test]
+fn a_scenes_sets_equal_a_scene_sweep_with_their_params() {
+    let file = four_bar_file(&[]) + &coupler_curve_scene();
+    let (said, generated, file, summary) = batch_both("coupler_curve", &file, "scene");
+    assert!(
+        said.starts_with("coupler_curve: 3 param set(s) over 25 rows each"),
+        "{said}"
+    );
+    let (gen_lines, file_lines): (Vec<&str>, Vec<&str>) =
+        (generated.lines().collect(), file.lines().collect());
+    // The scene's columns (interfaces.md, "Scenes on the command line"), not its mechanism's.
+    assert_eq!(
+        gen_lines[0], "set,q1,P_x,P_y,P_vx,P_vy,cond,status",
+        "the header"
+    );
+    assert_eq!(
+        (gen_lines.len(), file_lines.len()),
+        (1 + 3 * 25, 1 + 3 * 25)
+    );
+    let (compared, _) = compare_sets("coupler_curve", (&gen_lines, &file_lines), |s| {
+        four_bar_file(&[("l1", s[0]), ("l2", s[1])]) + &coupler_curve_scene()
+    });
+    assert_eq!(compared, 50);
+    // The summary counts the scene's rows.
+    for (k, line) in summary.lines().skip(1).enumerate() {
+        let f: Vec<&str> = line.split(',').collect();
+        let ok = gen_lines[1 + 25 * k..1 + 25 * (k + 1)]
+            .iter()
+            .filter(|r| r.ends_with(",ok"))
+            .count();
+        assert_eq!(
+            (f[1], f[2]),
+            (ok.to_string().as_str(), (25 - ok).to_string().as_str())
+        );
+    }
 }

@@ -164,3 +164,30 @@ fn a_negative_time_or_flywheel_is_refused_by_the_command() {
         "#]],
     );
 }
+
+/// A scene given to a command that runs whole mechanisms names its mechanism; a misspelt
+/// mechanism gets the nearest name.
+#[test]
+fn a_scene_or_a_misspelt_name_where_a_mechanism_is_needed() {
+    let d = dir("scene-name");
+    run(
+        &d,
+        &["dynamics", "sixbar_output"],
+        1,
+        expect![[r#"
+            stdout:
+            stderr:
+            mechgen: `sixbar_output` is a scene of mechanism `sixbar`: `sweep` and `batch` run scenes; this command runs on the whole mechanism (give `sixbar`)
+        "#]],
+    );
+    run(
+        &d,
+        &["simulate", "fourbar", "--time", "1", "--dt", "0.1"],
+        1,
+        expect![[r#"
+            stdout:
+            stderr:
+            mechgen: no mechanism `fourbar` in mechanism.toml (it has: sixbar, shaper, four_bar, slider_crank, rocker_four_bar, sixbar_g); did you mean `four_bar`?
+        "#]],
+    );
+}

@@ -47,3 +47,4 @@ pub use sema::eval::derived_values;
 pub use sema::model::{Body, Centre};
 pub use sema::model::{Coord, Kind, Model, Param, Scene, Symbol};
 pub use sema::resolved::{DerivedId, InputId, ParamId, UnknownId};
+pub use suggest::nearest;

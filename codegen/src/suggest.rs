@@ -5,10 +5,7 @@
 /// The candidate nearest `name`, when it is close enough to be a likely misspelling: at most one
 /// edit for names of up to four characters, two up to eight, three beyond; `None` when several
 /// are equally near (`lx` among `l1`, `l2`: no guess is better than a wrong one); never `name`.
-pub(crate) fn nearest<'a>(
-    name: &str,
-    candidates: impl IntoIterator<Item = &'a str>,
-) -> Option<&'a str> {
+pub fn nearest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
     let limit = match name.chars().count() {
         0..=4 => 1,
         5..=8 => 2,

@@ -5,9 +5,12 @@
 use std::io::{IsTerminal as _, Write as _};
 
 use mechgen::batch::lanes::{Group, lane_width, sweep_group};
-use mechgen::batch::{CHUNK, ParamSets, SetSummary, for_each_ordered_by, solver_with_params};
+use mechgen::batch::{
+    CHUNK, ParamSets, SetSummary, for_each_ordered_by, scene_with_params, solver_with_params,
+};
+use mechgen::sweep::scene::{SceneSolver, scene_csv_header, scene_csv_row};
 use mechgen::sweep::{Continuation, check_start, sweep_each_with};
-use mechgen::{DynMechanism, report};
+use mechgen::{DynMechanism, DynScene, report};
 
 use super::args::{BatchArgs, Engine};
 use super::load::{Loaded, select};
@@ -24,7 +27,11 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
     let s = &args.sweep;
     let file = s.file.as_deref();
     let loaded = Loaded::read(file)?;
-    let sel = select(&loaded, &s.name, file, s.engine)?;
+    // A scene: its mechanism's sets swept as a batch sweeps them, the scene's solver at every
+    // row (as `sweep SCENE`), its columns in the CSV.
+    let scene = super::scene::scene_mechanism(&loaded, &s.name).map(|m| m.name().to_string());
+    let mechanism = scene.as_deref().unwrap_or(&s.name);
+    let sel = select(&loaded, mechanism, file, s.engine)?;
     let info = sel.solver.info();
     let sets_name = args.params.display().to_string();
     let text = std::fs::read_to_string(&args.params)
@@ -73,7 +80,21 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
     let generated = super::load::engine_for(file, s.engine) == Engine::Generated;
     let engine = |set: usize| -> Box<dyn DynMechanism<f64>> {
         let params = sets.params_of(set, &indices, &info);
-        solver_with_params(&s.name, &sel.model, generated, &params)
+        solver_with_params(mechanism, &sel.model, generated, &params)
+    };
+    let scene_of = |set: usize| -> Result<Box<dyn DynScene<f64>>, String> {
+        let params = sets.params_of(set, &indices, &info);
+        scene_with_params(&s.name, &sel.model, generated, &params)
+            .ok_or_else(|| format!("no compiled-in scene `{}`", s.name))
+    };
+    // Where a scene's solver starts each set: the inputs held at their values.
+    let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
+    for &(i, v) in &plan.held {
+        x[i] = v;
+    }
+    let scene_columns = match &scene {
+        Some(_) => Some(scene_of(0)?.info()),
+        None => None,
     };
     let want_rows = args.csv.is_some();
     // One set: its CSV rows (when asked for) and its summary.
@@ -82,10 +103,15 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
     let compiled = super::branches::compile(file).ok();
     let analysed = compiled
         .as_ref()
-        .and_then(|cs| cs.iter().find(|c| c.model.name.text == s.name))
+        .and_then(|cs| cs.iter().find(|c| c.model.name.text == mechanism))
         .and_then(|c| mechgen::branches::Assembly::new(c, plan.index));
     let solve = |set: usize| -> (Vec<u8>, SetSummary) {
         let k = engine(set);
+        let scene = scene_columns.as_ref().and_then(|_| scene_of(set).ok());
+        let mut scene = scene.as_deref().map(|scene| {
+            let solver = SceneSolver::new(scene, &x, plan.index, s.rate, &continuation.options);
+            (solver, scene.info().columns.len(), String::new())
+        });
         let mut rows = Vec::new();
         let mut summary = SetSummary::new(&info);
         let setup = std::cell::OnceCell::new();
@@ -109,23 +135,35 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
             &continuation,
             oracle,
             &mut |r| {
-                summary.add(&r);
+                let Some((solver, columns, line)) = &mut scene else {
+                    summary.add(&r);
+                    if want_rows {
+                        let _ = write!(rows, "{set},");
+                        report::csv_row_held(&mut rows, &info, &r, &held);
+                    }
+                    return;
+                };
+                let row = solver.row(&r);
+                match (&r.result, &row.outputs) {
+                    (Ok(_), Err(_)) => summary.fail(r.input),
+                    _ => summary.add(&r),
+                }
                 if want_rows {
                     let _ = write!(rows, "{set},");
-                    report::csv_row_held(&mut rows, &info, &r, &held);
+                    line.clear();
+                    scene_csv_row(line, *columns, &row);
+                    rows.extend_from_slice(line.as_bytes());
                 }
             },
         );
         (rows, summary)
     };
+    let header = match &scene_columns {
+        Some(d) => scene_csv_header(d, &info.inputs[plan.index].name).join(",") + "\n",
+        None => report::csv_header_line_held(&info, plan.index, &held),
+    };
     let mut csv = match &args.csv {
-        Some(p) => Some(Out::create(
-            p,
-            &format!(
-                "set,{}",
-                report::csv_header_line_held(&info, plan.index, &held)
-            ),
-        )?),
+        Some(p) => Some(Out::create(p, &format!("set,{header}"))?),
         None => None,
     };
     let mut summary_out = match &args.summary {
@@ -135,7 +173,11 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
     let count = sets.sets.len();
     // A compiled-in mechanism's sets go in lane groups (`mechgen::batch::lanes`): each group's
     // sets swept side by side, those that leave the lanes swept again by the scalar sweep.
-    let lanes = if generated { lane_width() } else { 1 };
+    let lanes = if generated && scene.is_none() {
+        lane_width()
+    } else {
+        1
+    };
     let solve_group = |g: usize| -> Vec<(Vec<u8>, SetSummary)> {
         let group_sets = g * lanes..((g + 1) * lanes).min(count);
         if lanes == 1 {
@@ -160,7 +202,7 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
             held: &plan.held,
             continuation: &continuation,
         };
-        let left = sweep_group(&s.name, &group, &mut |i, at, r| {
+        let left = sweep_group(mechanism, &group, &mut |i, at, r| {
             let (rows, summary) = &mut out[i];
             summary.add(&r);
             if want_rows {
@@ -222,7 +264,7 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
     say!(
         "{}: {count} param set(s) over {} rows each: {whole} assembled on every row, {} with \
          failed rows, {failed_start} on none",
-        info.name,
+        s.name,
         plan.values.len(),
         count - whole
     );

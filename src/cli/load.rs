@@ -82,6 +82,30 @@ pub(super) fn prepare(model: &mut Generic, engine: Engine, asked: bool) -> Resul
     }
 }
 
+/// What a command that runs mechanisms says when `loaded` has no mechanism `name`: that it is a
+/// scene (which `sweep` and `batch` run), or the file's mechanisms and the nearest name.
+fn no_mechanism(loaded: &Loaded, name: &str) -> String {
+    if let Some(m) = loaded
+        .mechs
+        .iter()
+        .find(|m| m.scene_names().contains(&name))
+    {
+        return format!(
+            "`{name}` is a scene of mechanism `{m}`: `sweep` and `batch` run scenes; this command runs on the whole mechanism (give `{m}`)",
+            m = m.name()
+        );
+    }
+    let names: Vec<&str> = loaded.mechs.iter().map(Generic::name).collect();
+    let guess = mechgen_codegen::nearest(name, names.iter().copied())
+        .map(|g| format!("; did you mean `{g}`?"))
+        .unwrap_or_default();
+    format!(
+        "no mechanism `{name}` in {} (it has: {}){guess}",
+        loaded.file.name,
+        names.join(", ")
+    )
+}
+
 /// Mechanism `name` of `loaded` with the engine asked for (generated only for the compiled-in file).
 pub(super) fn select(
     loaded: &Loaded,
@@ -102,14 +126,7 @@ pub(super) fn select(
         .iter()
         .find(|m| m.name() == name)
         .cloned()
-        .ok_or_else(|| {
-            let names: Vec<&str> = loaded.mechs.iter().map(Generic::name).collect();
-            format!(
-                "no mechanism `{name}` in {} (it has: {})",
-                loaded.file.name,
-                names.join(", ")
-            )
-        })?;
+        .ok_or_else(|| no_mechanism(loaded, name))?;
     prepare(&mut model, engine, asked)?;
     let solver: Box<dyn DynMechanism<f64>> = match engine {
         Engine::Generic | Engine::Jit => Box::new(model.clone()),

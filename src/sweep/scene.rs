@@ -12,7 +12,7 @@ use mechgen_runtime::mechanism::InputMotion;
 use mechgen_runtime::scene::{DynScene, DynSceneState, SceneDescription};
 use mechgen_runtime::solve::SolveOptions;
 
-use super::Row;
+use super::{Row, RowRef};
 use crate::report::significant;
 
 /// One row of a scene sweep.
@@ -27,6 +27,99 @@ pub struct SceneRow {
     pub condition: Option<f64>,
 }
 
+/// One row of a scene sweep, its outputs borrowed from the [`SceneSolver`] that solved it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneRowRef<'a> {
+    pub input: f64,
+    /// The scene's output columns, or why the row has none.
+    pub outputs: Result<&'a [f64], SolveError>,
+    /// The CSV status (`ok`, or the branch's or the scene solver's failure).
+    pub status: &'static str,
+    /// The Jacobian's condition estimate at the row (from the continuation), when finite.
+    pub condition: Option<f64>,
+}
+
+impl SceneRowRef<'_> {
+    pub fn to_row(&self) -> SceneRow {
+        SceneRow {
+            input: self.input,
+            outputs: self.outputs.map(<[f64]>::to_vec),
+            status: self.status,
+            condition: self.condition,
+        }
+    }
+}
+
+/// A scene's solver run at its mechanism's solved rows (a sweep of input `index` at `rate`, every
+/// other input at its value in `x`), row by row, each from the row's configuration: what
+/// [`scene_rows`] runs, and `mechgen batch SCENE` per set. Allocates nothing per row.
+pub struct SceneSolver<'s> {
+    scene: &'s dyn DynScene<f64>,
+    index: usize,
+    state: DynSceneState<f64>,
+    options: SolveOptions<f64>,
+}
+
+impl<'s> SceneSolver<'s> {
+    pub fn new(
+        scene: &'s dyn DynScene<f64>,
+        x: &[f64],
+        index: usize,
+        rate: f64,
+        options: &SolveOptions<f64>,
+    ) -> Self {
+        let ncols = scene.info().columns.len();
+        let mut xd = vec![0.0; x.len()];
+        if let Some(v) = xd.get_mut(index) {
+            *v = rate;
+        }
+        let xdd = vec![0.0; x.len()];
+        SceneSolver {
+            scene,
+            index,
+            state: DynSceneState::new(InputMotion::new(x, &xd, &xdd), &[], ncols),
+            options: *options,
+        }
+    }
+
+    /// The scene's row at its mechanism's row `r`.
+    pub fn row(&mut self, r: &RowRef<'_>) -> SceneRowRef<'_> {
+        let s = match &r.result {
+            Ok(s) => s,
+            Err(e) => {
+                return SceneRowRef {
+                    input: r.input,
+                    outputs: Err(*e),
+                    status: r.status(),
+                    condition: None,
+                };
+            }
+        };
+        let state = &mut self.state;
+        if let Some(x) = state.x.get_mut(self.index) {
+            *x = r.input;
+        }
+        state.q.clear();
+        state.q.extend_from_slice(s.q);
+        let solved = self
+            .scene
+            .solve_in_place(state, &self.options)
+            .and_then(|_| match state.out.iter().all(|v| v.is_finite()) {
+                true => Ok(&state.out[..]),
+                false => Err(SolveError::Overflow {
+                    block: 0,
+                    stage: mechgen_runtime::error::Stage::Position,
+                }),
+            });
+        SceneRowRef {
+            input: r.input,
+            status: solved.as_ref().map_or_else(|e| e.status(), |_| "ok"),
+            outputs: solved,
+            condition: s.condition.is_finite().then_some(s.condition),
+        }
+    }
+}
+
 /// The scene's outputs along `rows` (a sweep of input `index` of its mechanism at `rate`, every
 /// other input at its value in `x`), each solved by `scene` from the row's configuration.
 pub fn scene_rows(
@@ -37,39 +130,9 @@ pub fn scene_rows(
     rate: f64,
     options: &SolveOptions<f64>,
 ) -> Vec<SceneRow> {
-    let ncols = scene.info().columns.len();
-    let mut xd = vec![0.0; x.len()];
-    xd[index] = rate;
-    let xdd = vec![0.0; x.len()];
-    let mut state = DynSceneState::new(InputMotion::new(x, &xd, &xdd), &[], ncols);
+    let mut solver = SceneSolver::new(scene, x, index, rate, options);
     rows.iter()
-        .map(|r| match &r.result {
-            Ok(s) => {
-                state.x[index] = r.input;
-                state.q.clone_from(&s.q);
-                let solved = scene.solve_in_place(&mut state, options).and_then(|_| {
-                    match state.out.iter().all(|v| v.is_finite()) {
-                        true => Ok(state.out.clone()),
-                        false => Err(SolveError::Overflow {
-                            block: 0,
-                            stage: mechgen_runtime::error::Stage::Position,
-                        }),
-                    }
-                });
-                SceneRow {
-                    input: r.input,
-                    status: solved.as_ref().map_or_else(|e| e.status(), |_| "ok"),
-                    outputs: solved,
-                    condition: s.condition.is_finite().then_some(s.condition),
-                }
-            }
-            Err(e) => SceneRow {
-                input: r.input,
-                outputs: Err(*e),
-                status: r.status(),
-                condition: None,
-            },
-        })
+        .map(|r| solver.row(&r.view()).to_row())
         .collect()
 }
 
@@ -86,22 +149,33 @@ pub fn scene_csv(scene: &SceneDescription, input: &str, rows: &[SceneRow]) -> St
     let header = scene_csv_header(scene, input);
     let mut out = header.join(",") + "\n";
     for r in rows {
-        let _ = write!(out, "{:?}", r.input);
-        match &r.outputs {
-            Ok(v) => v.iter().for_each(|v| {
-                let _ = write!(out, ",{v:?}");
-            }),
-            Err(_) => out.push_str(&",".repeat(scene.columns.len())),
-        }
-        match (r.outputs.is_ok(), r.condition) {
-            (true, Some(c)) => {
-                let _ = write!(out, ",{c:?}");
-            }
-            _ => out.push(','),
-        }
-        let _ = writeln!(out, ",{}", r.status);
+        let r = SceneRowRef {
+            input: r.input,
+            outputs: r.outputs.as_deref().map_err(|e| *e),
+            status: r.status,
+            condition: r.condition,
+        };
+        scene_csv_row(&mut out, scene.columns.len(), &r);
     }
     out
+}
+
+/// Row `r` of a scene with `columns` output columns, as a line of [`scene_csv`].
+pub fn scene_csv_row(out: &mut String, columns: usize, r: &SceneRowRef<'_>) {
+    let _ = write!(out, "{:?}", r.input);
+    match &r.outputs {
+        Ok(v) => v.iter().for_each(|v| {
+            let _ = write!(out, ",{v:?}");
+        }),
+        Err(_) => (0..columns).for_each(|_| out.push(',')),
+    }
+    match (r.outputs.is_ok(), r.condition) {
+        (true, Some(c)) => {
+            let _ = write!(out, ",{c:?}");
+        }
+        _ => out.push(','),
+    }
+    let _ = writeln!(out, ",{}", r.status);
 }
 
 /// Each column's kind and its time derivative (0, 1, 2): angles in the table are degrees.

@@ -96,19 +96,28 @@ pub fn emit_with(mechs: &[Compiled], source_name: &str, runtime: &str) -> Result
         quote!(#name => ::core::option::Option::Some(::std::boxed::Box::new(
             <#module::#ty::<#gt> as ::core::default::Default>::default())),)
     });
+    // With params: the scene's mechanism's base params in file order.
+    let scene_param_arms = scenes.iter().map(|(_, p)| {
+        let (name, (module, ty)) = (&p.name, scene_ty(p));
+        quote!(#name => <#module::#ty::<#gt> as #rt::Scene<#gt>>::with_params(params).map(|s| {
+            ::std::boxed::Box::new(s) as ::std::boxed::Box<dyn #rt::DynScene<#gt>>
+        }),)
+    });
     let scene_visits = scenes.iter().map(|(_, p)| {
         let (module, ty) = scene_ty(p);
         quote!(v.visit(&<#module::#ty::<#gt> as ::core::default::Default>::default());)
     });
     // A file without scenes: the same functions, with nothing to match or visit.
-    let (scene_match, visitor) = if scene_count == 0 {
+    let (scene_match, scene_param_match, visitor) = if scene_count == 0 {
         (
             quote!(let _ = name; ::core::option::Option::None),
+            quote!(let _ = (name, params); ::core::option::Option::None),
             quote!(_v),
         )
     } else {
         (
             quote!(match name { #(#scene_arms)* _ => ::core::option::Option::None, }),
+            quote!(match name { #(#scene_param_arms)* _ => ::core::option::Option::None, }),
             quote!(v),
         )
     };
@@ -146,6 +155,13 @@ pub fn emit_with(mechs: &[Compiled], source_name: &str, runtime: &str) -> Result
         /// A compiled-in scene by name, with its mechanism's default params, behind the object-safe trait.
         pub fn lookup_scene<#gt: #rt::Real>(name: &str) -> ::core::option::Option<::std::boxed::Box<dyn #rt::DynScene<#gt>>> {
             #scene_match
+        }
+
+        /// A compiled-in scene by name with its mechanism's base params (file order, as the
+        /// mechanism's `Params::to_array`); `None` for an unknown name or a slice of the wrong
+        /// length.
+        pub fn lookup_scene_with_params<#gt: #rt::Real>(name: &str, params: &[#gt]) -> ::core::option::Option<::std::boxed::Box<dyn #rt::DynScene<#gt>>> {
+            #scene_param_match
         }
 
         /// Calls `v.visit` with every compiled-in scene (default params), statically typed, in file order.

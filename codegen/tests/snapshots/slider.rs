@@ -58,6 +58,16 @@ pub fn lookup_scene<T: ::mechgen::__private::Real>(
     let _ = name;
     ::core::option::Option::None
 }
+/// A compiled-in scene by name with its mechanism's base params (file order, as the
+/// mechanism's `Params::to_array`); `None` for an unknown name or a slice of the wrong
+/// length.
+pub fn lookup_scene_with_params<T: ::mechgen::__private::Real>(
+    name: &str,
+    params: &[T],
+) -> ::core::option::Option<::std::boxed::Box<dyn ::mechgen::__private::DynScene<T>>> {
+    let _ = (name, params);
+    ::core::option::Option::None
+}
 /// Calls `v.visit` with every compiled-in scene (default params), statically typed, in file order.
 pub fn visit_scenes<
     T: ::mechgen::__private::Real,

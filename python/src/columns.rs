@@ -6,6 +6,7 @@
 use mg::MechanismInfo;
 use mg::report::{STATUSES, row_numbers};
 use mg::sweep::RowRef;
+use mg::sweep::scene::SceneRowRef;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
@@ -37,6 +38,35 @@ impl Block<'_> {
             rest = later;
         });
         self.codes[r] = mg::report::status_code(status);
+    }
+}
+
+impl Block<'_> {
+    /// A scene's row into row `r`: the input, the scene's outputs and `cond` (NaN where the row
+    /// has none: a failed row's numbers, the condition where it is not finite), the status code.
+    pub fn put_scene(&mut self, r: usize, row: &SceneRowRef<'_>) {
+        let Some((first, rest)) = self.columns.split_first_mut() else {
+            return;
+        };
+        first[r] = row.input;
+        let Some((cond, outputs)) = rest.split_last_mut() else {
+            return;
+        };
+        match row.outputs {
+            Ok(v) => {
+                for (c, &v) in outputs.iter_mut().zip(v) {
+                    c[r] = v;
+                }
+                cond[r] = row.condition.unwrap_or(f64::NAN);
+            }
+            Err(_) => {
+                for c in outputs.iter_mut() {
+                    c[r] = f64::NAN;
+                }
+                cond[r] = f64::NAN;
+            }
+        }
+        self.codes[r] = mg::report::status_code(row.status);
     }
 }
 

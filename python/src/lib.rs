@@ -11,6 +11,7 @@ mod dynamics;
 mod mechanism;
 mod messages;
 mod run;
+mod scene;
 
 use mechanism::{FileEngine, Mechanism, Source};
 use pyo3::exceptions::PyValueError;
@@ -76,13 +77,14 @@ fn file_engine(engine: Option<&str>) -> PyResult<FileEngine> {
 /// A pickled Mechanism, made again: the compiled-in one of that name, or that mechanism of the
 /// file text it was loaded from, on the same engine.
 #[pyfunction]
-#[pyo3(signature = (mechanism, file=None, text=None, engine=None))]
+#[pyo3(signature = (mechanism, file=None, text=None, engine=None, scene=None))]
 fn _restore(
     py: Python<'_>,
     mechanism: &str,
     file: Option<String>,
     text: Option<String>,
     engine: Option<&str>,
+    scene: Option<&str>,
 ) -> PyResult<Py<Mechanism>> {
     let all = match (file, text) {
         (Some(name), Some(text)) => {
@@ -97,7 +99,11 @@ fn _restore(
     let m = all
         .get_item(mechanism)?
         .ok_or_else(|| PyValueError::new_err(format!("no mechanism `{mechanism}` to restore")))?;
-    Ok(m.cast_into::<Mechanism>()?.unbind())
+    let m = m.cast_into::<Mechanism>()?;
+    match scene {
+        Some(name) => Py::new(py, m.get().scene(name)?),
+        None => Ok(m.unbind()),
+    }
 }
 
 fn into_dict(py: Python<'_>, loaded: Vec<Mechanism>) -> PyResult<Bound<'_, PyDict>> {

@@ -18,6 +18,7 @@ use pyo3::types::{PyDict, PyTuple};
 
 use crate::columns::Buffers;
 use crate::run::{Job, SETS_PER_BLOCK, sweep_sets};
+use crate::scene::SceneFace;
 
 /// Where a mechanism's file came from (what a pickle carries to make it again).
 #[derive(Clone)]
@@ -53,6 +54,8 @@ pub struct Mechanism {
     /// Where it assembles along each input swept so far (the branch analysis, made once per
     /// input): what tells `other-branch` rows from `unassemblable` ones.
     assembly: std::sync::Mutex<Vec<(usize, Option<std::sync::Arc<Assembly>>)>>,
+    /// The scene this object runs (`Mechanism.scene`), if it is one.
+    scene: Option<SceneFace>,
 }
 
 /// The sweep options every method takes.
@@ -93,6 +96,7 @@ impl Mechanism {
                     warning,
                     source: source.clone(),
                     assembly: Default::default(),
+                    scene: None,
                 })
             })
             .collect()
@@ -160,9 +164,33 @@ impl Mechanism {
         Ok(values)
     }
 
+    /// The number columns of a sweep of `plan` (the CSV's, `status` aside): the mechanism's, or
+    /// the scene's.
+    fn columns(&self, plan: &Plan) -> Vec<String> {
+        match &self.scene {
+            Some(s) => s.columns(&self.info.inputs[plan.index].name),
+            None => {
+                let mut header = csv_header(&self.info, plan.index);
+                header.pop();
+                header
+            }
+        }
+    }
+
+    /// `Err` for a scene: what `what` (a method that runs whole mechanisms) says of it.
+    fn whole(&self, what: &str) -> PyResult<()> {
+        match &self.scene {
+            Some(s) => Err(s.refuse(what)),
+            None => Ok(()),
+        }
+    }
+
     /// The inputs a sweep of `plan` holds, by name, with their values (file units: radians for
-    /// an angle), as the CSV records them.
+    /// an angle), as the CSV records them (a scene's CSV has none).
     fn held(&self, plan: &Plan) -> Vec<(String, f64)> {
+        if self.scene.is_some() {
+            return Vec::new();
+        }
         mg::report::held_inputs(&self.info, plan.index, &plan.held)
             .into_iter()
             .map(|(i, v)| (self.info.inputs[i].name.clone(), v))
@@ -178,6 +206,7 @@ impl Mechanism {
             plan,
             rate,
             assembly: self.assembly(plan.index),
+            scene: self.scene.as_ref().map(|s| s.name.as_str()),
         }
     }
 
@@ -243,7 +272,7 @@ impl Mechanism {
     /// The mechanism's name in its file.
     #[getter(name)]
     fn py_name(&self) -> &str {
-        &self.info.name
+        self.scene.as_ref().map_or(&self.info.name, |s| &s.name)
     }
 
     /// The params (base params: the derived ones follow from them), name → value, file order.
@@ -301,13 +330,12 @@ impl Mechanism {
         params: Option<HashMap<String, f64>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let (o, plan, values) = self.prepare(py, start, stop, step, rate, input, set, params)?;
-        let header = csv_header(&self.info, plan.index);
-        let ncols = header.len() - 1;
+        let header = self.columns(&plan);
         let rows = plan.values.len();
-        let mut out = Buffers::new(ncols, rows, "sweep")?;
+        let mut out = Buffers::new(header.len(), rows, "sweep")?;
         let job = self.job(&plan, o.rate);
         sweep_sets(py, &job, &[values], vec![out.block()], rows, None)?;
-        out.into_dict(py, &header[..ncols], &[rows], &self.held(&plan))
+        out.into_dict(py, &header, &[rows], &self.held(&plan))
     }
 
     /// The design derivatives along a sweep, as `mechgen sensitivity` gives them (same options
@@ -327,6 +355,7 @@ impl Mechanism {
         set: Option<HashMap<String, f64>>,
         params: Option<HashMap<String, f64>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        self.whole("sensitivity")?;
         let (o, plan, values) = self.prepare(py, start, stop, step, rate, input, set, params)?;
         let info = &self.info;
         let mut header = vec![info.inputs[plan.index].name.clone()];
@@ -483,8 +512,8 @@ impl Mechanism {
             )));
         }
         let rows = plan.values.len();
-        let header = csv_header(&self.info, plan.index);
-        let ncols = header.len() - 1;
+        let header = self.columns(&plan);
+        let ncols = header.len();
         let what = format!("batch of {count} sets × {rows} rows");
         let total = count
             .checked_mul(rows)
@@ -492,7 +521,7 @@ impl Mechanism {
         let shape = [count, rows];
         // Where the rows go: fresh buffers, or the arrays of `out` (checked before anything runs).
         let target = match &out {
-            Some(dict) => Err((dict, writable_columns(dict, &header[..ncols], &shape)?)),
+            Some(dict) => Err((dict, writable_columns(dict, &header, &shape)?)),
             None => Ok(Buffers::new(ncols, total, &what)?),
         };
         let sets: Vec<Vec<f64>> = (0..count)
@@ -507,7 +536,7 @@ impl Mechanism {
             Ok(mut buffers) => {
                 let blocks = buffers.blocks(SETS_PER_BLOCK * rows);
                 sweep_sets(py, &job, &sets, blocks, rows, threads)?;
-                return buffers.into_dict(py, &header[..ncols], &shape, &self.held(&plan));
+                return buffers.into_dict(py, &header, &shape, &self.held(&plan));
             }
             Err(given) => given,
         };
@@ -534,20 +563,62 @@ impl Mechanism {
         py: Python<'py>,
     ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
         let restore = py.import("mechgen")?.getattr("_restore")?;
+        let scene = self.scene.as_ref().map(|s| s.name.clone());
         let args = match &self.source {
-            Source::Compiled => (self.info.name.clone(), None, None, None),
+            Source::Compiled => (self.info.name.clone(), None, None, None, scene),
             Source::File { name, text, .. } => (
                 self.info.name.clone(),
                 Some(name.clone()),
                 Some(text.clone()),
                 Some(self.engine().to_string()),
+                scene,
             ),
         };
         Ok((restore, args.into_pyobject(py)?))
     }
 
     fn __repr__(&self) -> String {
-        format!("<mechgen.Mechanism {} ({})>", self.info.name, self.engine())
+        match &self.scene {
+            Some(s) => format!(
+                "<mechgen.Mechanism {} (scene of {}, {})>",
+                s.name,
+                self.info.name,
+                self.engine()
+            ),
+            None => format!("<mechgen.Mechanism {} ({})>", self.info.name, self.engine()),
+        }
+    }
+
+    /// The names of the mechanism's scenes, in file order.
+    #[getter]
+    fn scenes(&self) -> Vec<String> {
+        self.model
+            .scene_names()
+            .into_iter()
+            .map(String::from)
+            .collect()
+    }
+
+    /// Scene `name` of this mechanism: an object whose `sweep` and `batch` sweep the mechanism
+    /// as they do (its branch rule, statuses, params) and at every row run the scene's solver,
+    /// with the columns of `mechgen sweep SCENE` (the input, the scene's outputs, `cond`,
+    /// `status`); `KeyError` naming the mechanism's scenes when it has no such scene.
+    pub fn scene(&self, name: &str) -> PyResult<Mechanism> {
+        Ok(Mechanism {
+            model: self.model.clone(),
+            info: self.info.clone(),
+            generated: self.generated,
+            warning: self.warning.clone(),
+            source: self.source.clone(),
+            assembly: Default::default(),
+            scene: Some(SceneFace::of(&self.model, name)?),
+        })
+    }
+
+    /// For a scene, the name of its mechanism; `None` for a mechanism.
+    #[getter]
+    fn mechanism(&self) -> Option<String> {
+        self.scene.as_ref().map(|_| self.info.name.clone())
     }
 }
 
@@ -566,6 +637,7 @@ impl crate::dynamics::Source for Mechanism {
         set: Option<HashMap<String, f64>>,
         params: Option<HashMap<String, f64>>,
     ) -> PyResult<(f64, Plan, Vec<f64>)> {
+        self.whole("`dynamics` (and `simulate`)")?;
         let (o, plan, values) = self.prepare(py, start, stop, step, rate, input, set, params)?;
         Ok((o.rate, plan, values))
     }

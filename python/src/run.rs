@@ -9,10 +9,12 @@ use std::time::Duration;
 
 use mg::MechanismInfo;
 use mg::batch::lanes::{Group, lane_width, sweep_group};
-use mg::batch::solver_with_params;
+use mg::batch::{scene_with_params, solver_with_params};
 use mg::branches::Assembly;
+use mg::design::row_inputs;
 use mg::generic::Generic;
 use mg::sweep::plan::Plan;
+use mg::sweep::scene::SceneSolver;
 use mg::sweep::{Continuation, sweep_each_indexed};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -29,6 +31,8 @@ pub struct Job<'a> {
     pub rate: f64,
     /// Where the mechanism assembles (its file's branch analysis), when it could be made.
     pub assembly: Option<std::sync::Arc<Assembly>>,
+    /// The scene whose solver runs at every row (its columns into the blocks), if any.
+    pub scene: Option<&'a str>,
 }
 
 impl Job<'_> {
@@ -46,6 +50,13 @@ impl Job<'_> {
         };
         let oracle: Option<mg::sweep::Assembles<'_>> =
             self.assembly.is_some().then_some(&assembles);
+        let scene = self
+            .scene
+            .and_then(|name| scene_with_params(name, self.model, self.generated, params));
+        let mut scene = scene.as_deref().map(|s| {
+            let x = row_inputs(self.info, self.plan.index, &self.plan.held, 0.0);
+            SceneSolver::new(s, &x, self.plan.index, self.rate, &c.options)
+        });
         // Each row straight to its place, as the walk solves it.
         sweep_each_indexed(
             k.as_ref(),
@@ -55,7 +66,10 @@ impl Job<'_> {
             &self.plan.held,
             &c,
             oracle,
-            &mut |i, row| block.put(at + i, &row, self.info),
+            &mut |i, row| match &mut scene {
+                Some(s) => block.put_scene(at + i, &s.row(&row)),
+                None => block.put(at + i, &row, self.info),
+            },
         );
     }
 }
@@ -114,7 +128,11 @@ pub fn sweep_sets(
         let mine = &mine[..mine.len().min(SETS_PER_BLOCK)];
         // A compiled-in mechanism's sets in lane groups, each set that leaves the lanes swept
         // again by the scalar sweep (its rows overwrite the lane's).
-        let group = if job.generated { lane_width() } else { 1 };
+        let group = if job.generated && job.scene.is_none() {
+            lane_width()
+        } else {
+            1
+        };
         for (g, chunk) in mine.chunks(group).enumerate() {
             if stop.load(Ordering::Relaxed) {
                 return;

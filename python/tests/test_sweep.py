@@ -200,3 +200,58 @@ def test_simulate_rests_on_a_load_edge_both_sides_push_into(mechgen_bin, tmp_pat
     same_frames(got, want)
     assert len(got) == 21 and (got["status"] == "at-load-edge").all()
     assert (got["th"] == 0.0).all() and (got["th_vel"] == 0.0).all()
+
+
+SCENES = [(m, s) for m in NAMES for s in mechgen.mechanisms()[m].scenes]
+
+
+@pytest.mark.parametrize("mech,scene", SCENES)
+def test_a_scene_sweeps_as_mechgen_sweep_scene(mech, scene, mechgen_bin, tmp_path):
+    """`Mechanism.scene(name)`: the columns and values of `mechgen sweep SCENE`'s CSV."""
+    csv = tmp_path / f"{scene}.csv"
+    run(mechgen_bin, "sweep", scene, "--step", "7", "--csv", str(csv))
+    s = mechgen.mechanisms()[mech].scene(scene)
+    assert (s.name, s.mechanism) == (scene, mech)
+    same_frames(pd.DataFrame(s.sweep(step=7)), pd.read_csv(csv))
+
+
+def test_a_scenes_batch_equals_mechgen_batch_scene_compiled_in_and_loaded(mechgen_bin, tmp_path):
+    from conftest import ROOT
+
+    rng = np.random.default_rng(3)
+    m = mechgen.mechanisms()["sixbar"]
+    n = 40
+    sets = {p: m.params[p] * (1 + 0.02 * rng.standard_normal(n)) for p in ("l1", "l3")}
+    pd.DataFrame(sets).to_csv(tmp_path / "sets.csv", index=False, float_format="%.17g")
+    read = pd.read_csv(tmp_path / "sets.csv")
+    sets = {p: read[p].to_numpy() for p in read.columns}
+    file = str(ROOT / "mechanism.toml")
+    for args, scene in [
+        ([], m.scene("sixbar_output")),
+        (["--file", file], mechgen.load(file)["sixbar"].scene("sixbar_output")),
+    ]:
+        rows_csv = tmp_path / "rows.csv"
+        run(mechgen_bin, "batch", "sixbar_output", *args, "--params", str(tmp_path / "sets.csv"),
+            "--step", "15", "--csv", str(rows_csv))
+        want = pd.read_csv(rows_csv)
+        cols = scene.batch(sets, step=15)
+        assert list(cols) == ["q1", "q6", "q6_vel", "q6_acc", "cond", "status"]
+        assert cols["status"].shape == (n, 25)
+        rows = pd.DataFrame({c: v.reshape(-1) for c, v in cols.items()})
+        same_frames(rows, want.drop(columns="set"))
+
+
+def test_a_scene_pickles_and_leaves_whole_mechanism_methods_to_its_mechanism():
+    import pickle
+
+    m = mechgen.mechanisms()["four_bar"]
+    assert m.scenes == ["coupler_curve"] and m.mechanism is None
+    s = m.scene("coupler_curve")
+    again = pickle.loads(pickle.dumps(s))
+    assert (again.name, again.mechanism) == ("coupler_curve", "four_bar")
+    same_frames(pd.DataFrame(again.sweep()), pd.DataFrame(s.sweep()))
+    for call in (lambda: s.dynamics(), lambda: s.simulate(time=0.1, dt=0.01), lambda: s.sensitivity()):
+        with pytest.raises(ValueError, match="`coupler_curve` is a scene of `four_bar`"):
+            call()
+    with pytest.raises(KeyError, match="its scenes: coupler_curve"):
+        m.scene("coupler")

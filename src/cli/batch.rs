@@ -88,10 +88,7 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
             .ok_or_else(|| format!("no compiled-in scene `{}`", s.name))
     };
     // Where a scene's solver starts each set: the inputs held at their values.
-    let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
-    for &(i, v) in &plan.held {
-        x[i] = v;
-    }
+    let x = mechgen::design::row_inputs(&info, plan.index, &plan.held, 0.0);
     let scene_columns = match &scene {
         Some(_) => Some(scene_of(0)?.info()),
         None => None,

@@ -6,6 +6,7 @@
 //! per-set solver (`mechgen::batch`); this crate converts ([`columns`]) and runs off the GIL
 //! ([`run`]).
 
+mod args;
 mod columns;
 mod dynamics;
 mod mechanism;

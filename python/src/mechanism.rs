@@ -1,5 +1,6 @@
-//! `mechgen.Mechanism`: one mechanism on its generated solvers (compiled in) or the generic
-//! engine (a loaded file), its description in file order, and `sweep`, `batch`, `sensitivity`.
+//! `mechgen.Mechanism`: one mechanism (or one of its scenes) on its generated solvers (compiled
+//! in) or a loaded file's engine, its description in file order, and `sweep`, `batch`,
+//! `sensitivity`, `dynamics`, `simulate`.
 
 use mg::branches::Assembly;
 use std::collections::HashMap;
@@ -8,14 +9,14 @@ use mg::batch::solver_with_params;
 use mg::design::{self, outputs, row_inputs};
 use mg::generic::Generic;
 use mg::report::csv_header;
-use mg::sweep::plan::{Plan, Range, plan};
+use mg::sweep::plan::{Plan, plan};
 use mg::sweep::{Continuation, check_start, sweep_holding};
 use mg::{DynMechanism, MechanismInfo};
-use numpy::{PyReadonlyArray1, PyReadwriteArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyKeyError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
+use crate::args::{Options, options, param_columns, writable_columns};
 use crate::columns::Buffers;
 use crate::run::{Job, SETS_PER_BLOCK, sweep_sets};
 use crate::scene::SceneFace;
@@ -56,14 +57,6 @@ pub struct Mechanism {
     assembly: std::sync::Mutex<Vec<(usize, Option<std::sync::Arc<Assembly>>)>>,
     /// The scene this object runs (`Mechanism.scene`), if it is one.
     scene: Option<SceneFace>,
-}
-
-/// The sweep options every method takes.
-struct Options {
-    range: Range,
-    rate: f64,
-    input: Option<String>,
-    set: Vec<(String, f64)>,
 }
 
 impl Mechanism {
@@ -224,47 +217,6 @@ impl Mechanism {
         made.push((index, a.clone()));
         a
     }
-}
-
-fn options(
-    start: Option<f64>,
-    stop: Option<f64>,
-    step: Option<f64>,
-    rate: f64,
-    input: Option<String>,
-    set: Option<HashMap<String, f64>>,
-) -> PyResult<Options> {
-    for (name, v) in [
-        ("start", start),
-        ("stop", stop),
-        ("step", step),
-        ("rate", Some(rate)),
-    ] {
-        if let Some(v) = v
-            && !v.is_finite()
-        {
-            return Err(PyValueError::new_err(format!(
-                "`{name}` is not finite: {v}"
-            )));
-        }
-    }
-    let mut set: Vec<(String, f64)> = set.unwrap_or_default().into_iter().collect();
-    set.sort_by(|a, b| a.0.cmp(&b.0));
-    if let Some((name, v)) = set.iter().find(|(_, v)| !v.is_finite()) {
-        return Err(PyValueError::new_err(format!(
-            "set: the value of input `{name}` is not finite: {v}"
-        )));
-    }
-    Ok(Options {
-        range: Range {
-            from: start,
-            to: stop,
-            step,
-        },
-        rate,
-        input,
-        set,
-    })
 }
 
 #[pymethods]
@@ -486,31 +438,8 @@ impl Mechanism {
         }
         let o = options(start, stop, step, rate, input, set)?;
         let plan = self.plan(py, &o)?;
-        let mut names: Vec<&String> = params.keys().collect();
-        names.sort();
+        let (columns, count) = param_columns(py, &params)?;
         let np = py.import("numpy")?;
-        let mut columns: Vec<(String, Vec<f64>)> = Vec::new();
-        for name in names {
-            // Any array-like of numbers, one per set, in any memory layout; aligned (an array
-            // unpickled from a Dask message may start at any byte: read as f64 it would not be).
-            let a = np.call_method1("require", (&params[name], "float64", "A"))?;
-            let shape: Vec<usize> = a.getattr("shape")?.extract()?;
-            if shape.len() != 1 {
-                return Err(PyValueError::new_err(format!(
-                    "param `{name}` has shape {shape:?}: it needs a 1-D array, one value per set"
-                )));
-            }
-            let a: PyReadonlyArray1<'py, f64> = a.extract()?;
-            columns.push((name.clone(), a.as_array().to_vec()));
-        }
-        let count = columns.first().map_or(0, |c| c.1.len());
-        if let Some((name, c)) = columns.iter().find(|c| c.1.len() != count) {
-            return Err(PyValueError::new_err(format!(
-                "param `{name}` has {} values, `{}` has {count}: every array needs one per set",
-                c.len(),
-                columns[0].0
-            )));
-        }
         let rows = plan.values.len();
         let header = self.columns(&plan);
         let ncols = header.len();
@@ -644,45 +573,4 @@ impl crate::dynamics::Source for Mechanism {
     fn solver(&self, values: &[f64]) -> Box<dyn DynMechanism<f64>> {
         solver_with_params(&self.info.name, &self.model, self.generated, values)
     }
-}
-
-/// The number columns `names` of `out` (what an earlier `batch` returned), each a writable
-/// float64 array of `shape`, borrowed for writing; `ValueError` naming the first that is not.
-fn writable_columns<'py>(
-    out: &Bound<'py, PyDict>,
-    names: &[String],
-    shape: &[usize],
-) -> PyResult<Vec<PyReadwriteArray2<'py, f64>>> {
-    let mut arrays = Vec::with_capacity(names.len());
-    for name in names {
-        let a = out.get_item(name)?.ok_or_else(|| {
-            PyValueError::new_err(format!(
-                "out has no column \"{name}\": pass the dict an earlier batch of as many sets and rows returned"
-            ))
-        })?;
-        let a: PyReadwriteArray2<'py, f64> = a.extract().map_err(|e| {
-            PyValueError::new_err(format!(
-                "out[\"{name}\"] is not a writable float64 array of two dimensions: {e}"
-            ))
-        })?;
-        if a.shape() != shape {
-            return Err(PyValueError::new_err(format!(
-                "out[\"{name}\"] has shape {:?}, this batch {shape:?} (sets, rows)",
-                a.shape()
-            )));
-        }
-        // Written as f64 slices: the data must start on an f64's alignment.
-        if !a
-            .as_any()
-            .getattr("flags")?
-            .getattr("aligned")?
-            .extract::<bool>()?
-        {
-            return Err(PyValueError::new_err(format!(
-                "out[\"{name}\"] is not aligned in memory (its data starts inside an f64)"
-            )));
-        }
-        arrays.push(a);
-    }
-    Ok(arrays)
 }

@@ -157,7 +157,7 @@ impl Swept {
 }
 
 /// Every input's value during a sweep of `plan` (the swept one at its start value).
-fn held_inputs(info: &MechanismInfo, plan: &Plan) -> Vec<f64> {
+pub(super) fn held_inputs(info: &MechanismInfo, plan: &Plan) -> Vec<f64> {
     let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
     for &(i, v) in &plan.held {
         x[i] = v;

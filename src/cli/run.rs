@@ -39,14 +39,6 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
         Kind::Angle => "force*u/rad",
         _ => "force",
     };
-    // Rows are printed and written as they are solved; only what plots and the branch note read
-    // is kept.
-    say_raw!(
-        "{} ({} rows)\n{}",
-        info.name,
-        plan.values.len(),
-        table_preamble(&info, &plan, args.rate)
-    );
     let (mut header, width) = report::table_header(&info, plan.index);
     if !loads.is_empty() {
         header.pop();
@@ -58,9 +50,6 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
     }
     // Every input not swept, with its value, in the CSV after the swept one.
     let held = report::held_inputs(&info, plan.index, &plan.held);
-    let stdout = std::io::stdout();
-    let mut table = std::io::BufWriter::with_capacity(super::OUTPUT_BUFFER, stdout.lock());
-    let _ = table.write_all(header.as_bytes());
     let csv = match &args.csv {
         Some(path) => {
             let file = std::fs::File::create(path)
@@ -75,6 +64,17 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
         }
         None => None,
     };
+    // Rows are printed and written as they are solved (the CSV opened first: a path that cannot
+    // be written prints nothing); only what plots and the branch note read is kept.
+    let stdout = std::io::stdout();
+    let mut table = std::io::BufWriter::with_capacity(super::OUTPUT_BUFFER, stdout.lock());
+    let _ = write!(
+        table,
+        "{} ({} rows)\n{}{header}",
+        info.name,
+        plan.values.len(),
+        table_preamble(&info, &plan, args.rate)
+    );
     let (index, rate) = (plan.index, args.rate);
     // Rows past the dead point that ends the branch: `other-branch` where the linkage assembles
     // all the same (the branch analysis at the row's inputs), else `unassemblable`.

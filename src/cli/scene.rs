@@ -1,16 +1,22 @@
-//! CLI, scenes: `mechgen sweep SCENE` and the main job's scene sweeps. The scene's mechanism is
+//! CLI, scenes: `mechgen sweep SCENE` (streamed) and the main job's scene sweeps. The scene's mechanism is
 //! swept as usual (branch, options, statuses); the scene's solver (generated, or the generic
 //! engine's on the same `ScenePlan`) gives the columns (interfaces.md, "Scenes on the command line").
 
 use std::path::Path;
 
 use mechgen::generic::Generic;
-use mechgen::sweep::Continuation;
-use mechgen::sweep::scene::{SceneRow, scene_csv, scene_rows, scene_table};
+use std::io::Write as _;
+
+use mechgen::sweep::scene::{
+    SceneRow, SceneSolver, SceneTable, scene_csv, scene_csv_header, scene_csv_row, scene_rows,
+    scene_table,
+};
+use mechgen::sweep::{Continuation, check_start};
 use mechgen::{DynScene, MechanismInfo, SceneDescription, report};
 
 use super::args::{Engine, SweepArgs};
-use super::load::{Loaded, Selected, Swept, run_plan, select, write_plots};
+use super::load::{Loaded, Swept, held_inputs, run_plan, select, stream_plan, write_plots};
+use super::out::Out;
 use mechgen::sweep::plan::{Plan, Range, plan};
 
 /// The mechanism that scene `name` of `loaded` runs on, if `name` is a scene.
@@ -42,16 +48,15 @@ fn select_scene(
     scene.ok_or_else(|| format!("no compiled-in scene `{name}`"))
 }
 
-/// A scene sweep: what ran, and the scene's rows.
+/// A scene sweep held whole (the main job's): what ran, and the scene's rows.
 struct SceneSweep {
-    sel: Selected,
     info: MechanismInfo,
     swept: Swept,
     scene: SceneDescription,
     rows: Vec<SceneRow>,
 }
 
-/// Sweeps scene `name` of `mech`: its mechanism's branch over the plan `plan_of` gives, then the
+/// Sweeps scene `name` of `mech` whole: its mechanism's branch over the plan `plan_of` gives, then the
 /// scene's solver at every row.
 fn sweep_scene(
     loaded: &Loaded,
@@ -77,7 +82,6 @@ fn sweep_scene(
         &continuation.options,
     );
     Ok(SceneSweep {
-        sel,
         info,
         swept,
         scene: solver.info(),
@@ -106,7 +110,8 @@ impl SceneSweep {
     }
 }
 
-/// `mechgen sweep SCENE [options]`.
+/// `mechgen sweep SCENE [options]`: rows printed and written as they are solved (only what
+/// plots read is kept).
 pub fn sweep(loaded: &Loaded, mech: &Generic, args: &SweepArgs) -> Result<(), String> {
     if let Some(w) = loaded.start_warning(mech.name()) {
         tell_raw!("{w}");
@@ -116,29 +121,63 @@ pub fn sweep(loaded: &Loaded, mech: &Generic, args: &SweepArgs) -> Result<(), St
         to: args.to,
         step: args.step,
     };
-    let s = sweep_scene(
-        loaded,
-        mech,
-        &args.name,
-        (args.file.as_deref(), args.engine),
-        |info| plan(info, args.input.as_deref(), &args.set, range),
-        args.rate,
-    )?;
-    say_raw!(
-        "{} (scene of {}, order {}; {} rows)\n{}",
-        s.scene.name,
-        s.scene.mechanism,
-        s.scene.order,
-        s.rows.len(),
-        s.table()
+    let (file, engine) = (args.file.as_deref(), args.engine);
+    let sel = select(loaded, mech.name(), file, engine)?;
+    let solver = select_scene(mech, &args.name, file, engine)?;
+    let info = sel.solver.info();
+    let plan = plan(&info, args.input.as_deref(), &args.set, range)?;
+    check_start(&info).map_err(|e| format!("{}: {e}", info.name))?;
+    let (scene, index) = (solver.info(), plan.index);
+    let continuation = Continuation::for_input(info.inputs[index].kind, plan.span);
+    let x = held_inputs(&info, &plan);
+    let mut rows = SceneSolver::new(solver.as_ref(), &x, index, args.rate, &continuation.options);
+    let table = SceneTable::new(&scene, &info, index);
+    let header = scene_csv_header(&scene, &info.inputs[index].name).join(",") + "\n";
+    let mut csv = match &args.csv {
+        Some(path) => Some(Out::create(path, &header)?),
+        None => None,
+    };
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::with_capacity(super::OUTPUT_BUFFER, stdout.lock());
+    let _ = write!(
+        out,
+        "{} (scene of {}, order {}; {} rows)\n{}{}",
+        scene.name,
+        scene.mechanism,
+        scene.order,
+        plan.values.len(),
+        report::preamble(&info, index, args.rate, &x),
+        table.header()
     );
-    if let Some(path) = &args.csv {
-        s.write_csv(path)?;
+    let mut line = String::new();
+    let swept = stream_plan(
+        sel.solver.as_ref(),
+        &info,
+        plan,
+        args.rate,
+        None,
+        &mut |r| {
+            let row = rows.row(r);
+            line.clear();
+            table.row(&mut line, &row);
+            // A closed stdout (`… | head`) ends the table, not the rows or their CSV.
+            let _ = out.write_all(line.as_bytes());
+            if let Some(csv) = &mut csv {
+                line.clear();
+                scene_csv_row(&mut line, scene.columns.len(), &row);
+                csv.write(line.as_bytes());
+            }
+        },
+    )?;
+    let _ = out.flush();
+    drop(out);
+    if let Some(csv) = csv {
+        csv.finish()?;
     }
     write_plots(
-        &s.sel,
-        &s.info,
-        &s.swept,
+        &sel,
+        &info,
+        &swept,
         args.plot.as_deref(),
         args.animate.as_deref(),
         true,

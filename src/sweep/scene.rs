@@ -39,6 +39,17 @@ pub struct SceneRowRef<'a> {
     pub condition: Option<f64>,
 }
 
+impl SceneRow {
+    pub fn view(&self) -> SceneRowRef<'_> {
+        SceneRowRef {
+            input: self.input,
+            outputs: self.outputs.as_deref().map_err(|e| *e),
+            status: self.status,
+            condition: self.condition,
+        }
+    }
+}
+
 impl SceneRowRef<'_> {
     pub fn to_row(&self) -> SceneRow {
         SceneRow {
@@ -149,13 +160,7 @@ pub fn scene_csv(scene: &SceneDescription, input: &str, rows: &[SceneRow]) -> St
     let header = scene_csv_header(scene, input);
     let mut out = header.join(",") + "\n";
     for r in rows {
-        let r = SceneRowRef {
-            input: r.input,
-            outputs: r.outputs.as_deref().map_err(|e| *e),
-            status: r.status,
-            condition: r.condition,
-        };
-        scene_csv_row(&mut out, scene.columns.len(), &r);
+        scene_csv_row(&mut out, scene.columns.len(), &r.view());
     }
     out
 }
@@ -194,46 +199,68 @@ fn column_units(scene: &SceneDescription, info: &MechanismInfo) -> Vec<(Kind, us
     units
 }
 
-/// The seed-style table of a scene sweep: the input and the scene's columns with their units,
-/// angles in degrees, numbers to seven significant digits; a failed row shows its status.
-pub fn scene_table(
-    scene: &SceneDescription,
-    info: &MechanismInfo,
-    index: usize,
-    rows: &[SceneRow],
-) -> String {
-    let (input, input_kind) = (&info.inputs[index].name, &info.inputs[index].kind);
-    let units = column_units(scene, info);
-    let tag = |k: Kind, o: usize| {
-        let per = ["", "/s", "/s2"][o];
-        match k {
-            Kind::Angle => format!("[deg{per}]"),
-            _ => format!("[u{per}]"),
+/// The table of a scene sweep (degrees, file units, seven significant digits; angles of
+/// positions in [0°, 360°)), row by row: its header line, then a line per row.
+pub struct SceneTable {
+    head: String,
+    units: Vec<(Kind, usize)>,
+    input_kind: Kind,
+    width: usize,
+}
+
+impl SceneTable {
+    pub fn new(scene: &SceneDescription, info: &MechanismInfo, index: usize) -> SceneTable {
+        let (input, input_kind) = (&info.inputs[index].name, info.inputs[index].kind);
+        let units = column_units(scene, info);
+        let tag = |k: Kind, o: usize| {
+            let per = ["", "/s", "/s2"][o];
+            match k {
+                Kind::Angle => format!("[deg{per}]"),
+                _ => format!("[u{per}]"),
+            }
+        };
+        let mut names = vec![format!("{input}{}", tag(input_kind, 0))];
+        names.extend(
+            scene
+                .columns
+                .iter()
+                .zip(&units)
+                .map(|(c, &(k, o))| format!("{c}{}", tag(k, o))),
+        );
+        let width = names.iter().map(String::len).max().unwrap_or(0).max(13) + 1;
+        let mut head = String::new();
+        names.iter().for_each(|h| {
+            let _ = write!(head, "{h:>width$}");
+        });
+        head.push('\n');
+        SceneTable {
+            head,
+            units,
+            input_kind,
+            width,
         }
-    };
-    let mut head = vec![format!("{input}{}", tag(*input_kind, 0))];
-    head.extend(
-        scene
-            .columns
-            .iter()
-            .zip(&units)
-            .map(|(c, &(k, o))| format!("{c}{}", tag(k, o))),
-    );
-    let width = head.iter().map(String::len).max().unwrap_or(0).max(13) + 1;
-    let deg = |k: Kind| match k {
-        Kind::Angle => 180.0 / std::f64::consts::PI,
-        _ => 1.0,
-    };
-    let mut out = String::new();
-    head.iter().for_each(|h| {
-        let _ = write!(out, "{h:>width$}");
-    });
-    out.push('\n');
-    for r in rows {
-        let _ = write!(out, "{:>width$}", significant(r.input * deg(*input_kind)));
+    }
+
+    /// The column names' line.
+    pub fn header(&self) -> &str {
+        &self.head
+    }
+
+    /// Row `r`'s line, appended to `out`.
+    pub fn row(&self, out: &mut String, r: &SceneRowRef<'_>) {
+        let width = self.width;
+        let deg = |k: Kind| match k {
+            Kind::Angle => 180.0 / std::f64::consts::PI,
+            _ => 1.0,
+        };
+        let _ = write!(
+            out,
+            "{:>width$}",
+            significant(r.input * deg(self.input_kind))
+        );
         match &r.outputs {
             Ok(v) => {
-                for (v, &(k, o)) in v.iter().zip(&units) {
+                for (v, &(k, o)) in v.iter().zip(&self.units) {
                     let mut s = v * deg(k);
                     if k == Kind::Angle && o == 0 {
                         s = s.rem_euclid(360.0) % 360.0;
@@ -246,6 +273,21 @@ pub fn scene_table(
             }
         }
         out.push('\n');
+    }
+}
+
+/// The seed-style table of a scene sweep: the input and the scene's columns with their units,
+/// angles in degrees, numbers to seven significant digits; a failed row shows its status.
+pub fn scene_table(
+    scene: &SceneDescription,
+    info: &MechanismInfo,
+    index: usize,
+    rows: &[SceneRow],
+) -> String {
+    let table = SceneTable::new(scene, info, index);
+    let mut out = table.header().to_string();
+    for r in rows {
+        table.row(&mut out, &r.view());
     }
     out
 }

@@ -104,6 +104,7 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
         .and_then(|c| mechgen::branches::Assembly::new(c, plan.index));
     let solve = |set: usize| -> (Vec<u8>, SetSummary) {
         let k = engine(set);
+        // Made for set 0 above, so made for every set (the same scene, params as many).
         let scene = scene_columns.as_ref().and_then(|_| scene_of(set).ok());
         let mut scene = scene.as_deref().map(|scene| {
             let solver = SceneSolver::new(scene, &x, plan.index, s.rate, &continuation.options);

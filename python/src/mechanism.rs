@@ -237,18 +237,33 @@ impl Mechanism {
         Ok(out)
     }
 
-    /// The inputs, unknowns and points, by name, in file order.
+    /// The inputs, unknowns and points, by name, in file order. A scene has its mechanism's
+    /// inputs (and params: its sweeps take them), and as unknowns and points the outputs it
+    /// computes (its `outputs` in the file).
     #[getter]
     fn inputs(&self) -> Vec<String> {
         self.info.inputs.iter().map(|c| c.name.clone()).collect()
     }
     #[getter]
     fn unknowns(&self) -> Vec<String> {
-        self.info.unknowns.iter().map(|c| c.name.clone()).collect()
+        match &self.scene {
+            Some(s) => s.description.unknowns.clone(),
+            None => self.info.unknowns.iter().map(|c| c.name.clone()).collect(),
+        }
     }
     #[getter]
     fn points(&self) -> Vec<String> {
-        self.info.points.clone()
+        match &self.scene {
+            Some(s) => s.description.points.clone(),
+            None => self.info.points.clone(),
+        }
+    }
+
+    /// The highest derivative the rows hold: 2 (positions, velocities, accelerations) for a
+    /// mechanism, the scene's `order` for a scene.
+    #[getter]
+    fn order(&self) -> u8 {
+        self.scene.as_ref().map_or(2, |s| s.description.order)
     }
 
     /// `"generated"` (compiled in), `"jit"` (a loaded file compiled at run time) or

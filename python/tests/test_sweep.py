@@ -247,8 +247,15 @@ def test_a_scene_pickles_and_leaves_whole_mechanism_methods_to_its_mechanism():
     m = mechgen.mechanisms()["four_bar"]
     assert m.scenes == ["coupler_curve"] and m.mechanism is None
     s = m.scene("coupler_curve")
+    # A scene's unknowns and points are its outputs; its inputs and params its mechanism's.
+    assert (m.unknowns, m.points, m.order) == (["q2", "q3"], ["B", "C", "P"], 2)
+    assert (s.unknowns, s.points, s.order) == ([], ["P"], 1)
+    assert (s.inputs, s.params) == (m.inputs, m.params)
+    six = mechgen.mechanisms()["sixbar"].scene("sixbar_output")
+    assert (six.unknowns, six.points, six.order) == (["q6"], [], 2)
     again = pickle.loads(pickle.dumps(s))
     assert (again.name, again.mechanism) == ("coupler_curve", "four_bar")
+    assert (again.unknowns, again.points, again.order) == ([], ["P"], 1)
     same_frames(pd.DataFrame(again.sweep()), pd.DataFrame(s.sweep()))
     for call in (lambda: s.dynamics(), lambda: s.simulate(time=0.1, dt=0.01), lambda: s.sensitivity()):
         with pytest.raises(ValueError, match="`coupler_curve` is a scene of `four_bar`"):

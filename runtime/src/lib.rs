@@ -44,7 +44,7 @@ pub mod ticks;
 pub mod trig;
 pub mod twofold;
 
-pub use dyn_tick::{DynTick, StateRef};
+pub use dyn_tick::{DynTick, StateRef, Stride, Substep};
 pub use dynamic::{DynMechanism, DynState};
 pub use dynamics::{
     Dynamics, DynamicsWork, PointLoad, dyn_tick_dynamics, dynamics, inverse_dynamics,

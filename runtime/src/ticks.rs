@@ -69,6 +69,9 @@ impl<T: Real, M: StaticMechanism<T>> DynTick<T> for StaticTick<'_, T, M> {
         Ok(true)
     }
 
+    // Inlined into `DynTick::walk`'s loop (one copy per mechanism), so that a run of a sweep's
+    // rows has no call between the tick and the branch rule.
+    #[inline(always)]
     fn tick_checked(
         &mut self,
         input: InputMotion<&[T]>,

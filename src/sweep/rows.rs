@@ -163,12 +163,13 @@ fn sweep_rows<F: for<'r> FnMut(usize, RowRef<'r>)>(
     let w = &mut first.walker;
     w.resume(&first.at_first);
     w.allowance = first.after_down;
-    for (d, &target) in values[first.nearest + 1..].iter().enumerate() {
-        if d > 0 && d % SEGMENT == 0 {
+    // The tick started afresh every SEGMENT rows, as below the start row (see there).
+    for (s, segment) in values[first.nearest + 1..].chunks(SEGMENT).enumerate() {
+        if s > 0 {
             w.renew();
         }
-        let outcome = w.solve(target);
-        emit(first.nearest + 1 + d, w.row(target, outcome));
+        let at = first.nearest + 1 + s * SEGMENT;
+        w.run(segment, &mut |d, row| emit(at + d, row));
     }
 }
 
@@ -317,20 +318,18 @@ pub(super) fn walk_to_first<'k>(
     // numbers.
     let mut store = RowStore::new(info, if ordered { nearest.min(SEGMENT) } else { 0 });
     let mut checkpoints = Vec::new();
-    for i in (0..nearest).rev() {
-        if (nearest - 1 - i) % SEGMENT == 0 {
-            let mark = w.mark();
-            w.resume(&mark);
-            if ordered {
-                checkpoints.push((i, mark));
-                store.clear();
-            }
-        }
-        let outcome = w.solve(values[i]);
+    // The values below the start row in the order walked (row `nearest - 1 - d` is `down[d]`).
+    let down: Vec<f64> = values[..nearest].iter().rev().copied().collect();
+    for (s, segment) in down.chunks(SEGMENT).enumerate() {
+        let top = nearest - 1 - s * SEGMENT;
+        let mark = w.mark();
+        w.resume(&mark);
         if ordered {
-            store.push(&mut w, values[i], outcome);
+            checkpoints.push((top, mark));
+            store.clear();
+            w.run(segment, &mut |_, row| store.push_row(&row));
         } else {
-            emit(i, w.row(values[i], outcome));
+            w.run(segment, &mut |d, row| emit(top - d, row));
         }
     }
     let after_down = w.allowance;
@@ -343,10 +342,9 @@ pub(super) fn walk_to_first<'k>(
             let bottom = (top + 1).saturating_sub(SEGMENT);
             w.resume(&mark);
             store.clear();
-            for i in (bottom..=top).rev() {
-                let outcome = w.solve(values[i]);
-                store.push(&mut w, values[i], outcome);
-            }
+            w.run(&down[nearest - 1 - top..nearest - bottom], &mut |_, row| {
+                store.push_row(&row)
+            });
             store.emit_reversed(bottom, emit);
         }
         first_row.emit_reversed(nearest, emit);

@@ -40,7 +40,12 @@ impl RowStore {
 
     /// The row at `input` with `outcome` (its numbers read from the walk).
     pub(super) fn push(&mut self, w: &mut Walker<'_>, input: f64, solved: bool) {
-        let row = w.row(input, solved);
+        self.push_row(&w.row(input, solved));
+    }
+
+    /// A row, its numbers copied.
+    pub(super) fn push_row(&mut self, row: &RowRef<'_>) {
+        let input = row.input;
         let outcome = match &row.result {
             Ok(s) => {
                 self.numbers.extend_from_slice(s.q);

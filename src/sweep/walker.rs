@@ -3,14 +3,21 @@
 //! to row in substeps of at most the continuation's largest step, each checked against its
 //! prediction (no branch jump); a substep the tick cannot take hands the row to the adaptive
 //! continuation ([`Follower`]), and a branch that ended at a dead point fails the rows beyond it
-//! without solving. Nothing is read from the description or allocated per row. Part of
-//! [`crate::sweep`].
+//! without solving. Runs of rows that the tick takes in one substep each go through the engine's
+//! own `DynTick::walk` (`walker/run.rs`: no dynamic call between rows); a crossing is walked
+//! through in `walker/cross.rs`. Nothing is read from the description or allocated per row. Part
+//! of [`crate::sweep`].
+
+mod cross;
+mod run;
 
 use super::continuation::largest_substep;
-use super::crossing::{Between, Node};
+use super::crossing::Between;
 use super::{Assembles, Continuation, Follower, Row, RowRef, SolvedRef, Stop, StopReason, Stopped};
 use mechgen_runtime::error::SolveError;
-use mechgen_runtime::{DynMechanism, DynTick, InputMotion, MechanismInfo, PointMotion};
+use mechgen_runtime::{
+    DynMechanism, DynTick, InputMotion, MechanismInfo, PointMotion, Stride, Substep,
+};
 
 /// A row's outcome: solved (the tick holds it), or its error and where the branch stopped.
 pub(super) type Outcome = Result<(), (SolveError, Stopped)>;
@@ -231,27 +238,8 @@ impl<'k> Walker<'k> {
     /// when it fails ([`Walker::failure`] says how).
     pub(super) fn solve(&mut self, target: f64) -> bool {
         self.at_crossing = false;
-        match self.solve_row(target) {
-            Ok(()) => true,
-            Err((error, mut stopped)) => {
-                // A branch that ended at a dead point after it left the start (not a start that
-                // does not assemble, not a non-finite value).
-                if let Some(assembles) = self.assembles
-                    && stopped.at_dead_point()
-                    && stopped.input != self.origin
-                    && matches!(
-                        error,
-                        SolveError::Unassemblable { .. } | SolveError::Singular { .. }
-                    )
-                {
-                    self.probe.copy_from_slice(&self.x);
-                    self.probe[self.index] = target;
-                    stopped.assembles = Some(assembles(&self.probe));
-                }
-                self.failure = (error, stopped);
-                false
-            }
-        }
+        let outcome = self.solve_row(target);
+        self.conclude(target, outcome)
     }
 
     /// The row at `input` (`solved`: what [`Walker::solve`] returned for it), borrowed from the
@@ -299,34 +287,41 @@ impl<'k> Walker<'k> {
         if self.started
             && let Some(condition) = self.tick_to(target)
         {
-            if condition >= RESOLVE_CONDITION {
-                // The walk's state before the row's last substep (the tick left its
-                // unknowns in `q`), should the row lie on a crossing.
-                self.from_x.copy_from_slice(&self.x);
-                self.from_x[self.index] = self.before_x;
-                self.from_q.copy_from_slice(&self.q);
-                // Near a singular point the tick's rotated sines and cosines and its
-                // predictor cost digits of the rates (1e-9 relative at 1° from a crossing):
-                // the row solved afresh there, from the ticked positions.
-                self.sync();
-                let _ = self.restart();
-            }
-            // A tick that landed on a crossing solves its positions only to about √ε (the
-            // two assembly modes meet there): the row along the branch instead.
-            let singular = condition >= CROSSING_CONDITION;
-            if singular && self.before_x != target {
-                self.sync();
-                let (x, q) = (self.x.clone(), self.q.clone());
-                if !self.cross(target) {
-                    // A dead point (no branch past it): the ticked row stands.
-                    (self.x, self.q) = (x, q);
-                    self.synced = true;
-                    let _ = self.restart();
-                }
-            }
-            return Ok(());
+            return self.ticked(target, condition);
         }
         self.continue_to(target)
+    }
+
+    /// The row at `target` ticked to, its last substep's position solve of condition estimate
+    /// `condition`: solved afresh near a singular point, along the branch on a crossing (a
+    /// ticked row always stands: at a dead point, the ticked one).
+    fn ticked(&mut self, target: f64, condition: f64) -> Outcome {
+        if condition >= RESOLVE_CONDITION {
+            // The walk's state before the row's last substep (the tick left its unknowns in
+            // `q`), should the row lie on a crossing.
+            self.from_x.copy_from_slice(&self.x);
+            self.from_x[self.index] = self.before_x;
+            self.from_q.copy_from_slice(&self.q);
+            // Near a singular point the tick's rotated sines and cosines and its predictor cost
+            // digits of the rates (1e-9 relative at 1° from a crossing): the row solved afresh
+            // there, from the ticked positions.
+            self.sync();
+            let _ = self.restart();
+        }
+        // A tick that landed on a crossing solves its positions only to about √ε (the two
+        // assembly modes meet there): the row along the branch instead.
+        let singular = condition >= CROSSING_CONDITION;
+        if singular && self.before_x != target {
+            self.sync();
+            let (x, q) = (self.x.clone(), self.q.clone());
+            if !self.cross(target) {
+                // A dead point (no branch past it): the ticked row stands.
+                (self.x, self.q) = (x, q);
+                self.synced = true;
+                let _ = self.restart();
+            }
+        }
+        Ok(())
     }
 
     /// The row where the walk stands, its state solved already (the settled start): the tick
@@ -409,46 +404,44 @@ impl<'k> Walker<'k> {
         };
         let mut condition = 0.0;
         for j in 1..=substeps {
-            if self.allowance == 0 {
-                return None;
-            }
-            self.allowance -= 1;
-            let x_before = self.x[i];
             let xt = if j == substeps {
                 target
             } else {
                 from + distance * (j as f64 / substeps as f64)
             };
-            self.x[i] = xt;
-            // The tick's predictor over this substep (the swept input alone moves); every tick is
-            // checked against it: even a closed form, which keeps its guess's side, could step
-            // over a narrow window where the linkage does not assemble onto another branch.
-            let dt = (xt - x_before) / self.xd[i];
-            self.before_x = x_before;
-            let input = InputMotion::new(&self.x[..], &self.xd[..], &self.xdd[..]);
-            let guard = self.follower.guard();
-            match self
-                .ticker
-                .tick_checked(input, &self.c.options, guard, dt, &mut self.q)
-            {
-                Ok(Some(c)) => {
-                    self.synced = false;
-                    condition = c;
-                }
-                Ok(None) => {
-                    // The tick left the branch (or moved too far): start again where it stood.
-                    self.x[i] = x_before;
-                    self.synced = true;
-                    let _ = self.restart();
-                    return None;
-                }
-                Err(_) => {
-                    self.x[i] = x_before;
-                    return None;
-                }
-            }
+            let mut stride = Stride {
+                x: &mut self.x,
+                xd: &self.xd,
+                xdd: &self.xdd,
+                index: i,
+                before: &mut self.q,
+                guard: self.follower.guard(),
+                allowance: &mut self.allowance,
+            };
+            let step = stride.substep(&mut *self.ticker, xt, &self.c.options);
+            condition = self.take(step)?;
         }
         Some(condition)
+    }
+
+    /// What a substep came to, taken into the walk: the condition estimate of a kept one; `None`
+    /// when it was not taken (refused by the branch rule: the tick started again where the walk
+    /// stood; failed, or no budget left).
+    fn take(&mut self, step: Substep<f64>) -> Option<f64> {
+        match step {
+            Substep::Kept { condition, from } => {
+                self.before_x = from;
+                self.synced = false;
+                Some(condition)
+            }
+            Substep::Refused => {
+                // The tick left the branch (or moved too far): start again where it stood.
+                self.synced = true;
+                let _ = self.restart();
+                None
+            }
+            Substep::Failed | Substep::Spent => None,
+        }
     }
 
     /// The adaptive continuation to `target` from the walk's state, then the tick started there;
@@ -496,96 +489,6 @@ impl<'k> Walker<'k> {
             self.dead = Some((stop.error, stopped, (target - stopped.input).signum()));
         }
         Err((stop.error, stopped))
-    }
-
-    /// The walk stopped at a singular point on its way from `from` to `target`: where the branch
-    /// goes on past it (a crossing, not a dead point, which the branch cannot pass), the row at
-    /// `target` on it (solved where it lies past the crossing, else interpolated along the branch
-    /// from states at `target ± h`, `± 2h`: [`Between`]) and the walk standing past the crossing.
-    /// False (the walk where it stopped) at a dead point.
-    fn cross(&mut self, target: f64) -> bool {
-        let i = self.index;
-        let from = self.from_x[i];
-        if target == from || !target.is_finite() {
-            return false;
-        }
-        let d = (target - from).signum();
-        let h = self.h_max / 2.0;
-        // Where the walk stopped (the singular point), and the state it left on the branch.
-        let xs = self.x.clone();
-        let (mut x, mut q) = (self.from_x.clone(), self.from_q.clone());
-        let go = |walker: &mut Self, x: &mut Vec<f64>, q: &mut Vec<f64>, to: f64| {
-            walker
-                .follower
-                .continue_within(walker.k, x, q, to, walker.c, &mut walker.allowance)
-                .is_ok()
-        };
-        // To a regular point before it, then past it in one substep along the branch's tangent
-        // there (a dead point has no branch past it), then on past the row.
-        let at = xs[i];
-        if !go(self, &mut x, &mut q, at - d * h) {
-            return false;
-        }
-        let before = (x.clone(), q.clone());
-        if !go(self, &mut x, &mut q, at + d * h) || !go(self, &mut x, &mut q, target + 2.0 * d * h)
-        {
-            return false;
-        }
-        let beyond = (x.clone(), q.clone());
-        // The row itself, reached back from beyond and solved there when it lies past the
-        // crossing (a regular state: next to it positions are known only to √ε).
-        let reached = self.follower.continue_within(
-            self.k,
-            &mut x,
-            &mut q,
-            target,
-            self.c,
-            &mut self.allowance,
-        );
-        if reached.is_ok_and(|condition| condition < super::DEAD_POINT_CONDITION) {
-            (self.x, self.q) = (x, q);
-            self.synced = true;
-            if self.restart().is_ok() {
-                return true;
-            }
-        }
-        // On the crossing: four states on the branch, two on each side.
-        let mut nodes: [Node; 4] = Default::default();
-        for (k, t) in [-2.0, -1.0, 1.0, 2.0].into_iter().enumerate() {
-            // Past the crossing from `beyond`, before it from where the walk stopped.
-            let (mut x, mut q) = if t * d > 0.0 {
-                beyond.clone()
-            } else {
-                before.clone()
-            };
-            if !go(self, &mut x, &mut q, target + t * h) {
-                return false;
-            }
-            let input = InputMotion::new(&x[..], &self.xd[..], &self.xdd[..]);
-            if self.ticker.start(input, &q, &self.c.options).is_err() {
-                return false;
-            }
-            let Some(s) = self.ticker.state() else {
-                return false;
-            };
-            nodes[k] = Node {
-                q: s.q.to_vec(),
-                qd: s.qd.to_vec(),
-                qdd: s.qdd.to_vec(),
-                points: s.points.to_vec(),
-            };
-        }
-        self.between.fill(&nodes, h, self.xd[i]);
-        // The walk goes on from the state past the crossing nearest the row.
-        let next = usize::from(d > 0.0) + 1;
-        (self.x, self.q) = (xs, nodes[next].q.clone());
-        self.x[i] = target + if d > 0.0 { h } else { -h };
-        self.synced = true;
-        if self.restart().is_err() {
-            return false;
-        }
-        self.at_crossing = true;
-        true
     }
 
     /// Condition estimate at the walk's (converged) state; infinite when the solve fails there.

@@ -11,8 +11,8 @@ impl Walker<'_> {
     /// The walk stopped at a singular point on its way from `from` to `target`: where the branch
     /// goes on past it (a crossing, not a dead point, which the branch cannot pass), the row at
     /// `target` on it (solved where it lies past the crossing, else interpolated along the branch
-    /// from states at `target ± h`, `± 2h`: [`Between`]) and the walk standing past the crossing.
-    /// False (the walk where it stopped) at a dead point.
+    /// from states at `target ± h`, `± 2h`: [`Between`](crate::sweep::crossing::Between)) and
+    /// the walk standing past the crossing. False (the walk where it stopped) at a dead point.
     pub(super) fn cross(&mut self, target: f64) -> bool {
         let i = self.index;
         let from = self.from_x[i];

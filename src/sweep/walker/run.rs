@@ -12,8 +12,8 @@ impl Walker<'_> {
     /// Rows at each of `targets` in turn, each handed to `emit` with its index in `targets`
     /// (the rows of [`Walker::solve`] then [`Walker::row`] at each): runs of rows that the tick
     /// takes in one substep each, kept to the branch and regular, by the engine's own
-    /// [`DynTick::walk`] (no dynamic call between them); any other row as `solve` solves it,
-    /// from what its substep came to.
+    /// [`mechgen_runtime::DynTick::walk`] (no dynamic call between them); any other row as
+    /// `solve` solves it, from what its substep came to.
     pub(in crate::sweep) fn run<F: FnMut(usize, RowRef<'_>)>(
         &mut self,
         targets: &[f64],

@@ -94,21 +94,38 @@ def test_a_loaded_file_runs_compiled_or_interpreted_with_the_same_api(mechgen_bi
         mechgen.load(str(path), engine="generated")
 
 
-def test_batch_equals_mechgen_batch_row_for_row(mechgen_bin, tmp_path):
+@pytest.mark.parametrize(
+    "name, varied, spread, step",
+    [
+        ("sixbar", ("l1", "l2", "l3", "l5"), 0.02, 10.0),
+        # The rocker's sweep starts mid-range (rows below the start, solved downward) and its
+        # sets reach their dead points at different rows; some leave the lanes.
+        ("rocker_four_bar", ("l1", "l2", "l3"), 0.15, 7.0),
+    ],
+)
+def test_batch_equals_mechgen_batch_row_for_row(name, varied, spread, step, mechgen_bin, tmp_path):
+    """`Mechanism.batch` (sets in SIMD lanes) against the CSV of `mechgen batch`: every row,
+    status and value."""
     rng = np.random.default_rng(7)
-    m = mechgen.mechanisms()["sixbar"]
-    n = 200
-    sets = {p: m.params[p] * (1 + 0.02 * rng.standard_normal(n)) for p in ("l1", "l2", "l3", "l5")}
+    m = mechgen.mechanisms()[name]
+    n = 203
+    sets = {p: m.params[p] * (1 + spread * rng.standard_normal(n)) for p in varied}
     pd.DataFrame(sets).to_csv(tmp_path / "sets.csv", index=False, float_format="%.17g")
     read = pd.read_csv(tmp_path / "sets.csv")
     sets = {p: read[p].to_numpy() for p in read.columns}
-    run(mechgen_bin, "batch", "sixbar", "--params", str(tmp_path / "sets.csv"), "--csv", str(tmp_path / "rows.csv"))
-    want = pd.read_csv(tmp_path / "rows.csv")
-    cols = m.batch(sets)
-    assert cols["status"].shape == (n, 37)
-    rows = pd.DataFrame({c: v.reshape(-1) for c, v in cols.items()})
-    same_frames(rows, want.drop(columns="set"))
-    assert (want["set"].to_numpy() == np.repeat(np.arange(n), 37)).all()
+    csv = tmp_path / "rows.csv"
+    run(mechgen_bin, "batch", name, "--params", str(tmp_path / "sets.csv"), "--step", str(step), "--csv", str(csv))
+    want = pd.read_csv(csv)
+    cols = m.batch(sets, step=step)
+    rows = len(want) // n
+    assert cols["status"].shape == (n, rows)
+    got = pd.DataFrame({c: v.reshape(-1) for c, v in cols.items()})
+    same_frames(got, want.drop(columns="set"))
+    assert (want["set"].to_numpy() == np.repeat(np.arange(n), rows)).all()
+    # Both kinds of row: solved, and past the branch's end.
+    assert (want["status"] == "ok").any()
+    if name == "rocker_four_bar":
+        assert (want["status"] != "ok").any()
 
 
 @pytest.mark.parametrize("name", ["sixbar", "slider_crank", "shaper", "rocker_four_bar"])

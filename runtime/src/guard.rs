@@ -95,37 +95,28 @@ impl BranchGuard {
     /// Whether a tick's step stays on the branch: from `before` (rates `qd`, `qdd`, per unit of
     /// the tick's time) over the time `dt`, the tick's second-order prediction `p` and its
     /// solution `after` move no unknown too far ([`BranchGuard::too_far`]), and `after` stays near
-    /// `p` ([`BranchGuard::jump`] at most [`MAX_JUMP`]). One pass, nothing stored.
-    #[inline]
+    /// `p` ([`BranchGuard::jump`] at most [`MAX_JUMP`]). One pass, nothing stored. Inlined
+    /// into each tick's `tick_checked`, where the unknowns' count is the mechanism's own (its
+    /// loop unrolled).
+    #[inline(always)]
     pub fn keeps<T: Real>(&self, before: &[T], qd: &[T], qdd: &[T], dt: T, after: &[T]) -> bool {
         let n = after.len();
         if before.len() != n || qd.len() != n || qdd.len() != n || self.length.len() != n {
             return false;
         }
-        let length = self.length_limit(before);
-        let (mut moved, mut scale, mut size) = (T::zero(), T::lit(1e-12), T::zero());
-        // Every unknown checked, without a branch per unknown (as in the lanes): the answer is
-        // false if any is not finite or moves too far, whatever the sums below then hold.
-        let mut good = true;
-        for k in 0..n {
-            let p = before[k] + dt * (qd[k] + T::lit(0.5) * dt * qdd[k]);
-            let (step, change) = ((p - before[k]).abs(), (after[k] - before[k]).abs());
-            let limit = if self.length[k] {
+        // Without length unknowns every limit is an angle's: no choice per unknown.
+        if !self.any_length {
+            return keeps_within(|_| T::lit(MAX_STEP), before, qd, qdd, dt, after);
+        }
+        let length = finite_limit(self.length_limit(before));
+        let limit = |k: usize| {
+            if self.length[k] {
                 length
             } else {
                 T::lit(MAX_STEP)
-            };
-            good &= step.is_finite() & change.is_finite() & (step <= limit) & (change <= limit);
-            // Where every number is finite (a NaN or infinite `before`, `p` or `after` makes
-            // `step` or `change` so, and `good` false), a plain comparison is the largest.
-            let larger = |a: T, b: T| if a < b { b } else { a };
-            moved = larger(moved, (after[k] - p).abs());
-            // The step's larger part first: one comparison a step on the chain carried from
-            // step to step (on finite numbers, the order of the largest is no matter).
-            scale = larger(scale, larger(step, change));
-            size = larger(size, before[k].abs());
-        }
-        good & (moved < T::lit(1e-9) * (T::one() + size) || moved <= T::lit(MAX_JUMP) * scale)
+            }
+        };
+        keeps_within(limit, before, qd, qdd, dt, after)
     }
 
     /// The length scale lengths are measured against.
@@ -162,7 +153,10 @@ impl BranchGuard {
             for (v, _) in before.iter().zip(&self.length).filter(|(_, l)| **l) {
                 current = L::select(v.is_finite(), max(current, v.abs()), current);
             }
-            L::lit(MAX_STEP) * max(scale, current)
+            // As `finite_limit`: no larger than the largest finite number.
+            let limit = L::lit(MAX_STEP) * max(scale, current);
+            let largest = L::splat(<L::Scalar as Real>::MAX);
+            L::select(limit.gt(largest), largest, limit)
         } else {
             L::lit(MAX_STEP)
         };
@@ -177,7 +171,8 @@ impl BranchGuard {
             } else {
                 L::lit(MAX_STEP)
             };
-            let ok = step.is_finite() & change.is_finite() & step.le(limit) & change.le(limit);
+            // A NaN or an infinite step or change is not below the finite limit.
+            let ok = step.le(limit) & change.le(limit);
             good &= L::bits(ok);
             moved = max(moved, (after[k] - p).abs());
             spread = max(spread, max(step, change));
@@ -188,6 +183,47 @@ impl BranchGuard {
     }
 }
 
+/// A limit that is a finite number: `step <= limit` then fails for a step that is not finite
+/// (NaN or infinite), so no step needs a test of its own. An infinite limit (a length scale
+/// that is) becomes the largest finite number, which every finite step stays below, as it did
+/// below infinity (a NaN limit, which no step is below, stays).
+#[inline(always)]
+fn finite_limit<T: Real>(limit: T) -> T {
+    if limit > T::MAX { T::MAX } else { limit }
+}
+
+/// [`BranchGuard::keeps`] on slices of one length, unknown `k`'s limit `limit(k)` (finite).
+#[inline(always)]
+fn keeps_within<T: Real>(
+    limit: impl Fn(usize) -> T,
+    before: &[T],
+    qd: &[T],
+    qdd: &[T],
+    dt: T,
+    after: &[T],
+) -> bool {
+    let (mut moved, mut scale, mut size) = (T::zero(), T::lit(1e-12), T::zero());
+    // Every unknown checked, without a branch per unknown (as in the lanes): the answer is false
+    // if any is not finite or moves too far, whatever the sums below then hold.
+    let mut good = true;
+    for k in 0..after.len() {
+        let p = before[k] + dt * (qd[k] + T::lit(0.5) * dt * qdd[k]);
+        let (step, change) = ((p - before[k]).abs(), (after[k] - before[k]).abs());
+        // A NaN or an infinite step or change is not below the finite limit.
+        let limit = limit(k);
+        good &= (step <= limit) & (change <= limit);
+        // Where every number is finite (a NaN or infinite `before`, `p` or `after` makes `step`
+        // or `change` so, and `good` false), a plain comparison is the largest.
+        let larger = |a: T, b: T| if a < b { b } else { a };
+        moved = larger(moved, (after[k] - p).abs());
+        // The step's larger part first: one comparison a step on the chain carried from step
+        // to step (on finite numbers, the order of the largest is no matter).
+        scale = larger(scale, larger(step, change));
+        size = larger(size, before[k].abs());
+    }
+    good & (moved < T::lit(1e-9) * (T::one() + size) || moved <= T::lit(MAX_JUMP) * scale)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -195,8 +231,10 @@ mod tests {
     use crate::simd::Vf64;
     use alloc::string::String;
 
-    /// `keeps_lanes` answers as `keeps` on each lane: steps of every size around the limits, a
-    /// jump off the prediction, a non-finite solution, lengths and angles, each lane its scale.
+    /// `keeps_lanes` answers as `keeps` on each lane, and `keeps` as its definition (neither
+    /// step too far, `too_far`, and no jump, `jump`): steps of every size around the limits, a
+    /// jump off the prediction, a NaN or infinite solution, an infinite length scale, lengths
+    /// and angles, each lane its scale; and on a mechanism of angles alone.
     #[test]
     fn lanes_keep_what_each_lane_keeps() {
         let unknown = |name: &str, kind| CoordDesc {
@@ -204,11 +242,17 @@ mod tests {
             kind,
             start: 0.0,
         };
+        for second in [Kind::Length, Kind::Angle] {
+            keeps_as_defined(unknown("a", Kind::Angle), unknown("s", second));
+        }
+    }
+
+    fn keeps_as_defined(first: CoordDesc, second: CoordDesc) {
         let info = MechanismInfo {
             name: "test".into(),
             description: String::new(),
             inputs: Vec::new(),
-            unknowns: alloc::vec![unknown("a", Kind::Angle), unknown("s", Kind::Length)],
+            unknowns: alloc::vec![first, second],
             params: Vec::new(),
             points: Vec::new(),
             blocks: Vec::new(),
@@ -235,6 +279,16 @@ mod tests {
                 if case % 11 == 0 {
                     lane[7] = f64::NAN;
                 }
+                // An infinite solution, under a finite and under an infinite length scale.
+                if case % 13 == 0 {
+                    lane[7] = f64::INFINITY;
+                }
+                if case % 17 == 0 {
+                    lane[6] = f64::INFINITY;
+                }
+                if case % 2 == 0 && (case % 13 == 0 || case % 5 == 0) {
+                    lane[8] = f64::INFINITY;
+                }
                 if case % 3 == 0 {
                     // `after` on the prediction, give or take a little.
                     for k in 0..2 {
@@ -257,6 +311,14 @@ mod tests {
                 let g = BranchGuard::new(&info, l[8]);
                 let one = g.keeps(&l[0..2], &l[2..4], &l[4..6], dt, &l[6..8]);
                 assert_eq!(bits >> i & 1 == 1, one, "case {case}, lane {i}: {l:?}");
+                let p: Vec<f64> = (0..2)
+                    .map(|k| l[k] + dt * (l[2 + k] + 0.5 * dt * l[4 + k]))
+                    .collect();
+                let (before, after) = (&l[0..2], &l[6..8]);
+                let defined = !g.too_far(before, &p)
+                    && !g.too_far(before, after)
+                    && BranchGuard::jump(&p, after, before) <= MAX_JUMP;
+                assert_eq!(one, defined, "case {case}, lane {i}: {l:?}");
                 seen[usize::from(one)] += 1;
             }
         }

@@ -7,6 +7,7 @@
 //! point, a failed row, the budget spent) leaves the lanes: its caller sweeps it again with the
 //! scalar sweep, whose rows then replace the lane's. Part of [`crate::sweep`].
 
+use super::route::Route;
 use super::rows::{First, walk_to_first};
 use super::walker::RESOLVE_CONDITION;
 use super::{Continuation, Row, RowRef, Solved};
@@ -321,20 +322,12 @@ impl<M: StaticMechanism<f64>, L: Lanes<Scalar = f64>> Run<M, L> {
         c: &Continuation,
         (guard, scales): (&mechgen_runtime::guard::BranchGuard, L),
     ) {
-        let from = self.x[index];
-        let distance = target - from;
-        let substeps = if distance.abs() <= h_max {
-            1
-        } else {
-            let n = (distance.abs() / h_max).ceil();
-            if !(n.is_finite() && n <= super::MAX_ROUTE as f64) {
-                self.active = 0;
-                return;
-            }
-            n as usize
+        let Some(route) = Route::new(self.x[index], target, h_max) else {
+            self.active = 0;
+            return;
         };
         let nu = self.nu;
-        for j in 1..=substeps {
+        for j in 1..=route.len() {
             for lane in 0..L::W {
                 if self.active >> lane & 1 == 1 {
                     if self.allowance[lane] == 0 {
@@ -350,11 +343,7 @@ impl<M: StaticMechanism<f64>, L: Lanes<Scalar = f64>> Run<M, L> {
             self.before[nu..2 * nu].copy_from_slice(qd);
             self.before[2 * nu..].copy_from_slice(qdd);
             let x_before = self.x[index];
-            self.x[index] = if j == substeps {
-                target
-            } else {
-                from + distance * (j as f64 / substeps as f64)
-            };
+            self.x[index] = route.end(j);
             let dt = (self.x[index] - x_before) / self.xd[index];
             let input = self.input();
             let Some(t) = &mut self.tick else { return };

@@ -317,6 +317,7 @@ pub fn sweep_budget(rows: usize) -> usize {
 }
 
 mod crossing;
+mod route;
 mod rows;
 mod store;
 mod walker;

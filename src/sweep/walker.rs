@@ -13,6 +13,7 @@ mod run;
 
 use super::continuation::largest_substep;
 use super::crossing::Between;
+use super::route::Route;
 use super::{Assembles, Continuation, Follower, Row, RowRef, SolvedRef, Stop, StopReason, Stopped};
 use mechgen_runtime::error::SolveError;
 use mechgen_runtime::{
@@ -391,24 +392,10 @@ impl<'k> Walker<'k> {
     /// not taken (the walk then stands at the last substep taken, the tick started there).
     fn tick_to(&mut self, target: f64) -> Option<f64> {
         let i = self.index;
-        let from = self.x[i];
-        let distance = target - from;
-        let substeps = if distance.abs() <= self.h_max {
-            1
-        } else {
-            let n = (distance.abs() / self.h_max).ceil();
-            if !(n.is_finite() && n <= super::MAX_ROUTE as f64) {
-                return None;
-            }
-            n as usize
-        };
+        let route = Route::new(self.x[i], target, self.h_max)?;
         let mut condition = 0.0;
-        for j in 1..=substeps {
-            let xt = if j == substeps {
-                target
-            } else {
-                from + distance * (j as f64 / substeps as f64)
-            };
+        for j in 1..=route.len() {
+            let xt = route.end(j);
             let mut stride = Stride {
                 x: &mut self.x,
                 xd: &self.xd,

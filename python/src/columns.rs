@@ -7,7 +7,7 @@ use mg::MechanismInfo;
 use mg::report::{STATUSES, row_numbers};
 use mg::sweep::RowRef;
 use mg::sweep::scene::SceneRowRef;
-use numpy::{PyArray1, PyArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyReadwriteArray1};
 use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PySlice};
@@ -101,8 +101,17 @@ pub fn blocks<'a>(columns: Vec<&'a mut [f64]>, codes: &'a mut [u8], rows: usize)
 /// the sets. One batch on one thread (2000 sets × 360 rows, Intel Xeon VM, docs/python.md): a
 /// four-bar row 205–208 ns as separate columns, 201–203 in one allocation without the odd stride,
 /// 173 with it; a Strandbeest leg's (69 columns) 669–687, 651 and 566–596 ns.
-pub struct Buffers {
-    data: Vec<f64>,
+///
+/// The allocation is numpy's own (`numpy.zeros`), which asks Linux for transparent huge pages
+/// on arrays of 4 MiB and more, as every large numpy array has them: fresh memory then costs a
+/// page fault per 2 MiB, not per 4 KiB. On the AVX2 AMD EPYC VM (2026-11-29, docs/python.md),
+/// 400 MB of fresh memory touched page by page took 56–65 ms so (280–340 ms the first time in a
+/// process), 280–320 ms every time in 4 KiB pages (the allocation of a Rust `Vec`); the compiled-in Strandbeest leg's batch on one thread
+/// 1112 ns a row in a `Vec` (against 408 into an earlier result's arrays, `out=`), 637–694 ns
+/// in numpy's memory (against 437).
+pub struct Buffers<'py> {
+    /// The numbers, borrowed for writing (numpy's borrow check) until `into_dict`.
+    data: PyReadwriteArray1<'py, f64>,
     stride: usize,
     ncols: usize,
     rows: usize,
@@ -116,8 +125,8 @@ fn stride(rows: usize) -> usize {
     (rows.div_ceil(8) | 1) * 8
 }
 
-impl Buffers {
-    pub fn new(ncols: usize, rows: usize, what: &str) -> PyResult<Buffers> {
+impl<'py> Buffers<'py> {
+    pub fn new(py: Python<'py>, ncols: usize, rows: usize, what: &str) -> PyResult<Self> {
         let per_row = ncols * 8 + 1 + 8;
         let too_big = || {
             PyMemoryError::new_err(format!(
@@ -132,10 +141,11 @@ impl Buffers {
         }
         let stride = stride(rows);
         let len = stride.checked_mul(ncols).ok_or_else(too_big)?;
-        // Zeroed memory (the allocator's fresh pages, not written here): every cell is written
-        // by its row.
+        // Zeroed memory (fresh pages, not written here): every cell is written by its row.
+        let data = py.import("numpy")?.call_method1("zeros", (len,))?;
+        let data = data.cast_into::<PyArray1<f64>>()?.try_readwrite()?;
         Ok(Buffers {
-            data: vec![0.0; len],
+            data,
             stride,
             ncols,
             rows,
@@ -144,29 +154,29 @@ impl Buffers {
     }
 
     /// The whole buffers as one block: each column's `rows` numbers, and the codes.
-    pub fn block(&mut self) -> Block<'_> {
+    pub fn block(&mut self) -> PyResult<Block<'_>> {
         let rows = self.rows;
-        let columns = self
-            .data
+        let data = self.data.as_slice_mut()?;
+        let columns = data
             .chunks_mut(self.stride)
             .take(self.ncols)
             .map(|c| &mut c[..rows])
             .collect();
-        Block {
+        Ok(Block {
             columns,
             codes: &mut self.codes,
-        }
+        })
     }
 
     /// The buffers cut into blocks of `rows` rows each (the last one shorter).
-    pub fn blocks(&mut self, rows: usize) -> Vec<Block<'_>> {
-        let whole = self.block();
-        blocks(whole.columns, whole.codes, rows)
+    pub fn blocks(&mut self, rows: usize) -> PyResult<Vec<Block<'_>>> {
+        let whole = self.block()?;
+        Ok(blocks(whole.columns, whole.codes, rows))
     }
 
     /// The dict of numpy arrays: `header[c]` → column `c`, then `status`; each of `shape`
     /// (whose rows are the first of the buffers'; views of one array).
-    pub fn into_dict<'py>(
+    pub fn into_dict(
         self,
         py: Python<'py>,
         header: &[String],
@@ -175,8 +185,15 @@ impl Buffers {
     ) -> PyResult<Bound<'py, PyDict>> {
         let out = PyDict::new(py);
         let n: usize = shape.iter().product();
-        let (stride, mut codes) = (self.stride, self.codes);
-        let all = PyArray1::from_vec(py, self.data);
+        let Buffers {
+            data,
+            stride,
+            mut codes,
+            ..
+        } = self;
+        let all: Bound<'py, PyArray1<f64>> = (**data).clone();
+        // The borrow for writing ends here.
+        drop(data);
         for (k, name) in header.iter().enumerate() {
             let from = (k * stride) as isize;
             let column = all.get_item(PySlice::new(py, from, from + n as isize, 1))?;

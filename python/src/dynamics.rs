@@ -63,8 +63,8 @@ pub fn dynamics<'py>(
     header.extend(info.unknowns.iter().map(|u| u.name.clone()));
     header.extend(kinetics::column_names(&info.inputs[plan.index].name));
     let n = plan.values.len();
-    let mut out = Buffers::new(header.len(), n, "dynamics")?;
-    let mut b = out.block();
+    let mut out = Buffers::new(py, header.len(), n, "dynamics")?;
+    let mut b = out.block()?;
     py.detach(|| {
         let k = m.solver(&values);
         let cont = Continuation::for_input(info.inputs[plan.index].kind, plan.span);
@@ -155,13 +155,13 @@ pub fn simulate<'py>(
     ];
     header.extend(info.unknowns.iter().map(|u| u.name.clone()));
     header.extend(["kinetic_energy".to_string(), "potential_energy".to_string()]);
-    let mut out = Buffers::new(header.len(), rows, "simulate")?;
+    let mut out = Buffers::new(py, header.len(), rows, "simulate")?;
     let mut x: Vec<f64> = info.inputs.iter().map(|i| i.start).collect();
     for &(i, v) in &plan.held {
         x[i] = v;
     }
     let guess: Vec<f64> = info.unknowns.iter().map(|u| u.start).collect();
-    let mut b = out.block();
+    let mut b = out.block()?;
     let written = py.detach(|| {
         let k = m.solver(&values);
         let setup = mg::simulation::Setup {

@@ -299,9 +299,9 @@ impl Mechanism {
         let (o, plan, values) = self.prepare(py, start, stop, step, rate, input, set, params)?;
         let header = self.columns(&plan);
         let rows = plan.values.len();
-        let mut out = Buffers::new(header.len(), rows, "sweep")?;
+        let mut out = Buffers::new(py, header.len(), rows, "sweep")?;
         let job = self.job(&plan, o.rate);
-        sweep_sets(py, &job, &[values], vec![out.block()], rows, None)?;
+        sweep_sets(py, &job, &[values], vec![out.block()?], rows, None)?;
         out.into_dict(py, &header, &[rows], &self.held(&plan))
     }
 
@@ -330,8 +330,8 @@ impl Mechanism {
             header.extend(info.params.iter().map(|p| format!("{out}/{}", p.name)));
         }
         let n = plan.values.len();
-        let mut out = Buffers::new(header.len(), n, "sensitivity")?;
-        let mut b = out.block();
+        let mut out = Buffers::new(py, header.len(), n, "sensitivity")?;
+        let mut b = out.block()?;
         py.detach(|| {
             let k = solver_with_params(&info.name, &self.model, self.generated, &values);
             let cont = Continuation::for_input(info.inputs[plan.index].kind, plan.span);
@@ -466,7 +466,7 @@ impl Mechanism {
         // Where the rows go: fresh buffers, or the arrays of `out` (checked before anything runs).
         let target = match &out {
             Some(dict) => Err((dict, writable_columns(dict, &header, &shape)?)),
-            None => Ok(Buffers::new(ncols, total, &what)?),
+            None => Ok(Buffers::new(py, ncols, total, &what)?),
         };
         let sets: Vec<Vec<f64>> = (0..count)
             .map(|s| {
@@ -478,7 +478,7 @@ impl Mechanism {
         let job = self.job(&plan, o.rate);
         let (dict, mut arrays) = match target {
             Ok(mut buffers) => {
-                let blocks = buffers.blocks(SETS_PER_BLOCK * rows);
+                let blocks = buffers.blocks(SETS_PER_BLOCK * rows)?;
                 sweep_sets(py, &job, &sets, blocks, rows, threads)?;
                 return buffers.into_dict(py, &header, &shape, &self.held(&plan));
             }

@@ -104,8 +104,8 @@ def test_threads_give_the_same_batch():
 
 
 def test_result_columns_are_arrays_of_their_own_to_the_user():
-    """The columns of a result lie in one allocation (views of it, so that the rows' writes do not
-    all fall into one cache set): each is still an array of its own to the user, contiguous and
+    """The columns of a result lie in one allocation, numpy's own (views of it, so that the rows'
+    writes do not all fall into one cache set): each is still an array of its own to the user, contiguous and
     writable, its numbers alive while it is, and a write to it changes no other column."""
     import gc
 
@@ -118,6 +118,16 @@ def test_result_columns_are_arrays_of_their_own_to_the_user():
             a = result[c]
             assert a.dtype == np.float64 and a.flags.c_contiguous and a.flags.writeable, c
             assert a.shape == result["status"].shape, c
+        # Views of one array numpy allocated itself (`numpy.zeros`: transparent huge pages on a
+        # large result, where memory a Rust `Vec` allocates is faulted in 4 KiB at a time).
+        roots = set()
+        for c in names:
+            a = result[c]
+            while isinstance(a.base, np.ndarray):
+                a = a.base
+            assert a.base is None and a.flags.owndata, c
+            roots.add(id(a))
+        assert len(roots) == 1
         # Consecutive columns an odd number of 64-byte lines apart (so their rows' writes fall
         # into different cache sets; see columns.rs).
         starts = [result[c].__array_interface__["data"][0] for c in names]

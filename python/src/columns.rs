@@ -11,7 +11,7 @@ use numpy::{PyArray1, PyArrayMethods, PyReadwriteArray1};
 use pyo3::exceptions::PyMemoryError;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
-use pyo3::types::{PyDict, PyModule, PySlice};
+use pyo3::types::{PyDict, PyModule, PySlice, PyString};
 
 /// A block of rows in column buffers: `columns[c][r]` is column `c` (the input, then the CSV's
 /// numbers up to `cond`) of row `r`, `codes[r]` the index of its status in [`STATUSES`].
@@ -182,7 +182,7 @@ impl<'py> Buffers<'py> {
     pub fn into_dict(
         self,
         py: Python<'py>,
-        header: &[String],
+        header: &[Py<PyString>],
         shape: &[usize],
         held: &[(String, f64)],
     ) -> PyResult<Bound<'py, PyDict>> {
@@ -209,7 +209,7 @@ impl<'py> Buffers<'py> {
             let Some(column) = columns.next() else {
                 break;
             };
-            out.set_item(name, column?)?;
+            out.set_item(name.bind(py), column?)?;
             if k == 0 {
                 // The inputs the sweep holds, each its value on every row, after the swept one
                 // (as the CSV has them).
@@ -223,6 +223,14 @@ impl<'py> Buffers<'py> {
         set_statuses(&out, codes, shape)?;
         Ok(out)
     }
+}
+
+/// `names` as Python `str`, the keys of [`Buffers::into_dict`].
+pub fn keys(py: Python<'_>, names: &[String]) -> Vec<Py<PyString>> {
+    names
+        .iter()
+        .map(|n| PyString::new(py, n).unbind())
+        .collect()
 }
 
 /// `out["status"]`: the statuses of `codes` (one per row) as an array of `shape`.

@@ -111,7 +111,7 @@ pub fn dynamics<'py>(
             },
         );
     });
-    out.into_dict(py, &header, &[n], &[])
+    out.into_dict(py, &crate::columns::keys(py, &header), &[n], &[])
 }
 
 /// `Mechanism.simulate` (its Python docstring says what it gives).
@@ -192,7 +192,7 @@ pub fn simulate<'py>(
     });
     let written = written.map_err(PyValueError::new_err)?;
     // The rows written (a run stopped early writes fewer than it had room for).
-    out.into_dict(py, &header, &[written], &[])
+    out.into_dict(py, &crate::columns::keys(py, &header), &[written], &[])
 }
 
 /// `(point, fx, fy)` or `(point, fx, fy, (a, b))` (degrees) → loads by point index.

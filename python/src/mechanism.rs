@@ -4,6 +4,7 @@
 
 use mg::branches::Assembly;
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use mg::batch::solver_with_params;
 use mg::design::{self, outputs, row_inputs};
@@ -14,7 +15,7 @@ use mg::sweep::{Continuation, check_start, sweep_holding};
 use mg::{DynMechanism, MechanismInfo};
 use pyo3::exceptions::{PyKeyError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyTuple};
+use pyo3::types::{PyDict, PyString, PyTuple};
 
 use crate::args::{Options, options, param_columns, writable_columns};
 use crate::columns::Buffers;
@@ -57,7 +58,12 @@ pub struct Mechanism {
     assembly: std::sync::Mutex<Vec<(usize, Option<std::sync::Arc<Assembly>>)>>,
     /// The scene this object runs (`Mechanism.scene`), if it is one.
     scene: Option<SceneFace>,
+    /// The names of a sweep's columns as Python `str`, per input swept so far.
+    keys: std::sync::Mutex<Keys>,
 }
+
+/// Column names by the index of the input swept.
+type Keys = Vec<(usize, Arc<Vec<Py<PyString>>>)>;
 
 impl Mechanism {
     /// Every mechanism of `source`, in file order.
@@ -89,6 +95,7 @@ impl Mechanism {
                     warning,
                     source: source.clone(),
                     assembly: Default::default(),
+                    keys: Default::default(),
                     scene: None,
                 })
             })
@@ -168,6 +175,22 @@ impl Mechanism {
                 header
             }
         }
+    }
+
+    /// [`Mechanism::columns`] as Python `str`, made at the first sweep along `plan`'s input and
+    /// kept (a sweep of a few rows spent a tenth of its call making them).
+    fn column_keys(&self, py: Python<'_>, plan: &Plan) -> Arc<Vec<Py<PyString>>> {
+        let kept = |made: &Keys| {
+            let found = made.iter().find(|(i, _)| *i == plan.index);
+            found.map(|(_, k)| Arc::clone(k))
+        };
+        if let Some(k) = kept(&self.keys.lock().unwrap_or_else(|e| e.into_inner())) {
+            return k;
+        }
+        let keys = Arc::new(crate::columns::keys(py, &self.columns(plan)));
+        let mut made = self.keys.lock().unwrap_or_else(|e| e.into_inner());
+        made.push((plan.index, Arc::clone(&keys)));
+        keys
     }
 
     /// `Err` for a scene: what `what` (a method that runs whole mechanisms) says of it.
@@ -297,7 +320,7 @@ impl Mechanism {
         params: Option<HashMap<String, f64>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let (o, plan, values) = self.prepare(py, start, stop, step, rate, input, set, params)?;
-        let header = self.columns(&plan);
+        let header = self.column_keys(py, &plan);
         let rows = plan.values.len();
         let mut out = Buffers::new(py, header.len(), rows, "sweep")?;
         let job = self.job(&plan, o.rate);
@@ -370,7 +393,7 @@ impl Mechanism {
                 b.codes[r] = mg::report::status_code(status);
             }
         });
-        out.into_dict(py, &header, &[n], &[])
+        out.into_dict(py, &crate::columns::keys(py, &header), &[n], &[])
     }
 
     /// Inverse dynamics along a sweep, as `mechgen dynamics` gives it (same options and rows as
@@ -480,7 +503,12 @@ impl Mechanism {
             Ok(mut buffers) => {
                 let blocks = buffers.blocks(SETS_PER_BLOCK * rows)?;
                 sweep_sets(py, &job, &sets, blocks, rows, threads)?;
-                return buffers.into_dict(py, &header, &shape, &self.held(&plan));
+                return buffers.into_dict(
+                    py,
+                    &crate::columns::keys(py, &header),
+                    &shape,
+                    &self.held(&plan),
+                );
             }
             Err(given) => given,
         };
@@ -555,6 +583,7 @@ impl Mechanism {
             warning: self.warning.clone(),
             source: self.source.clone(),
             assembly: Default::default(),
+            keys: Default::default(),
             scene: Some(SceneFace::of(&self.model, name)?),
         })
     }

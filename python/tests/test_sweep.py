@@ -63,8 +63,11 @@ def test_held_inputs_are_columns_as_in_the_csv(mechgen_bin, tmp_path):
     run(mechgen_bin, "sweep", "fivebar", "--file", str(path), "--input", "q4", "--set", "q1=60",
         "--from", "60", "--to", "120", "--step", "5", "--csv", str(csv))
     m = mechgen.load(str(path))["fivebar"]
+    # The same object swept along q1 first (its column names are kept per input swept).
+    assert list(m.sweep(start=60, stop=70, step=5))[:2] == ["q1", "q4"]
     got = m.sweep(start=60, stop=120, step=5, input="q4", set={"q1": 60.0})
     assert list(got)[:2] == ["q4", "q1"]
+    assert list(m.sweep(start=60, stop=70, step=5, input="q1"))[:2] == ["q1", "q4"]
     assert (got["q1"] == np.radians(60.0)).all()
     same_frames(pd.DataFrame(got), pd.read_csv(csv))
     sets = {"l1": np.array([0.1, 0.1])}

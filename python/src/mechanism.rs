@@ -479,8 +479,8 @@ impl Mechanism {
         let (columns, count) = param_columns(py, &params)?;
         let np = py.import("numpy")?;
         let rows = plan.values.len();
-        let header = self.columns(&plan);
-        let ncols = header.len();
+        let keys = self.column_keys(py, &plan);
+        let ncols = keys.len();
         let what = format!("batch of {count} sets × {rows} rows");
         let total = count
             .checked_mul(rows)
@@ -488,7 +488,10 @@ impl Mechanism {
         let shape = [count, rows];
         // Where the rows go: fresh buffers, or the arrays of `out` (checked before anything runs).
         let target = match &out {
-            Some(dict) => Err((dict, writable_columns(dict, &header, &shape)?)),
+            Some(dict) => {
+                let header = self.columns(&plan);
+                Err((dict, writable_columns(dict, &header, &shape)?, header))
+            }
             None => Ok(Buffers::new(py, ncols, total, &what)?),
         };
         let sets: Vec<Vec<f64>> = (0..count)
@@ -499,16 +502,11 @@ impl Mechanism {
             })
             .collect::<PyResult<_>>()?;
         let job = self.job(&plan, o.rate);
-        let (dict, mut arrays) = match target {
+        let (dict, mut arrays, header) = match target {
             Ok(mut buffers) => {
                 let blocks = buffers.blocks(SETS_PER_BLOCK * rows)?;
                 sweep_sets(py, &job, &sets, blocks, rows, threads)?;
-                return buffers.into_dict(
-                    py,
-                    &crate::columns::keys(py, &header),
-                    &shape,
-                    &self.held(&plan),
-                );
+                return buffers.into_dict(py, &keys, &shape, &self.held(&plan));
             }
             Err(given) => given,
         };

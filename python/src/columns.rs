@@ -107,9 +107,9 @@ pub fn blocks<'a>(columns: Vec<&'a mut [f64]>, codes: &'a mut [u8], rows: usize)
 /// on arrays of 4 MiB and more, as every large numpy array has them: fresh memory then costs a
 /// page fault per 2 MiB, not per 4 KiB. On the AVX2 AMD EPYC VM (2026-11-29, docs/python.md),
 /// 400 MB of fresh memory touched page by page took 56–65 ms so (280–340 ms the first time in a
-/// process), 280–320 ms every time in 4 KiB pages (the allocation of a Rust `Vec`); the compiled-in Strandbeest leg's batch on one thread
-/// 1112 ns a row in a `Vec` (against 408 into an earlier result's arrays, `out=`), 637–694 ns
-/// in numpy's memory (against 437).
+/// process), 280–320 ms every time in 4 KiB pages (the allocation of a Rust `Vec`); the
+/// compiled-in Strandbeest leg's batch on one thread 1112 ns a row in a `Vec` (against 408 into
+/// an earlier result's arrays, `out=`), 637–694 ns in numpy's memory (against 437).
 pub struct Buffers<'py> {
     /// The numbers, borrowed for writing (numpy's borrow check) until `into_dict`.
     data: PyReadwriteArray1<'py, f64>,

@@ -249,6 +249,52 @@ fn threads_do_not_change_the_output() {
     assert!(a == b, "the CSV depends on the threads");
 }
 
+/// `MECHGEN_LANES` chooses how many sets go side by side in SIMD lanes (1: none, every set by
+/// the scalar sweep; 4; 8): the CSV is the same bytes whatever it says (a six-bar's sets, some
+/// meeting a dead point inside the range, so that sets leave the lanes too).
+#[test]
+fn the_lane_width_does_not_change_the_output() {
+    let sets = temp("batch-lanes-var", "sets.csv");
+    let mut body = String::from("l2,l3\n");
+    for i in 0..37 {
+        let f = 1.0 + 0.02 * (f64::from(i) / 18.0 - 1.0);
+        body.push_str(&format!("{},{}\n", 75.0 * f, 59.0 / f));
+    }
+    std::fs::write(&sets, body).unwrap();
+    let p = |x: &std::path::Path| x.to_str().unwrap().to_string();
+    let mut outputs = Vec::new();
+    for lanes in ["1", "4", "8", "default"] {
+        let csv = temp("batch-lanes-var", &format!("{lanes}.csv"));
+        let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_mechgen"));
+        cmd.args([
+            "batch",
+            "sixbar",
+            "--params",
+            &p(&sets),
+            "--step",
+            "10",
+            "--csv",
+            &p(&csv),
+        ]);
+        cmd.env_remove(mechgen::batch::lanes::LANES_VAR);
+        if lanes != "default" {
+            cmd.env(mechgen::batch::lanes::LANES_VAR, lanes);
+        }
+        let out = cmd.output().unwrap();
+        assert!(out.status.success(), "{lanes}: {}", text(&out.stderr));
+        outputs.push((lanes, std::fs::read_to_string(&csv).unwrap()));
+    }
+    let (_, first) = &outputs[0];
+    assert!(
+        first.lines().count() > 37 * 30,
+        "{} lines",
+        first.lines().count()
+    );
+    for (lanes, csv) in &outputs[1..] {
+        assert!(csv == first, "MECHGEN_LANES={lanes} changes the CSV");
+    }
+}
+
 /// A range that ends at the start (1°…360° from a start at 0°: every row below the start row):
 /// the lanes walk down from the start row and hand each row out as solved; the CSV still has
 /// each set's rows in input order, each the generic engine's (scalar sweep) to 1e-12.

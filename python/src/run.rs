@@ -8,7 +8,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use mg::MechanismInfo;
-use mg::batch::lanes::{Group, lane_width, sweep_group};
+use mg::batch::lanes::{Group, lane_width_for, sweep_group};
 use mg::batch::{scene_with_params, solver_with_params};
 use mg::branches::Assembly;
 use mg::design::row_inputs;
@@ -75,9 +75,9 @@ impl Job<'_> {
 }
 
 impl Job<'_> {
-    /// The sets `chunk` (at most [`lane_width`]`()`) swept side by side in SIMD lanes into
-    /// `block`, set `i` from its row `at + i·rows`; the sets (a bit each) that left the lanes, to
-    /// be swept by [`Job::sweep_into`].
+    /// The sets `chunk` (at most [`lane_width_for`]`(unknowns)`) swept side by side in SIMD
+    /// lanes into `block`, set `i` from its row `at + i·rows`; the sets (a bit each) that left the
+    /// lanes, to be swept by [`Job::sweep_into`].
     fn sweep_lanes_into(
         &self,
         chunk: &[Vec<f64>],
@@ -129,7 +129,7 @@ pub fn sweep_sets(
         // A compiled-in mechanism's sets in lane groups, each set that leaves the lanes swept
         // again by the scalar sweep (its rows overwrite the lane's).
         let group = if job.generated && job.scene.is_none() {
-            lane_width()
+            lane_width_for(job.info.unknowns.len())
         } else {
             1
         };

@@ -7,8 +7,9 @@ use mechgen_runtime::{StaticMechanism, StaticVisitor};
 use crate::sweep::{Continuation, RowRef, sweep_sets_in_lanes};
 
 /// The most sets one call of [`sweep_group`] sweeps, and how many to hand it at a time on this
-/// CPU (eight with AVX-512, four otherwise).
-pub use crate::sweep::{LANES, lane_width};
+/// CPU (eight with AVX-512, four otherwise and for a mechanism of many unknowns; or what the
+/// environment variable `MECHGEN_LANES` says).
+pub use crate::sweep::{LANES, LANES_VAR, lane_width, lane_width_for};
 
 /// One lane group's sweep (see [`sweep_group`]).
 pub struct Group<'a> {

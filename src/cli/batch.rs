@@ -4,7 +4,7 @@
 
 use std::io::{IsTerminal as _, Write as _};
 
-use mechgen::batch::lanes::{Group, lane_width, sweep_group};
+use mechgen::batch::lanes::{Group, lane_width_for, sweep_group};
 use mechgen::batch::{
     CHUNK, ParamSets, SetSummary, for_each_ordered_by, scene_with_params, solver_with_params,
 };
@@ -172,7 +172,7 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
     // A compiled-in mechanism's sets go in lane groups (`mechgen::batch::lanes`): each group's
     // sets swept side by side, those that leave the lanes swept again by the scalar sweep.
     let lanes = if generated && scene.is_none() {
-        lane_width()
+        lane_width_for(info.unknowns.len())
     } else {
         1
     };

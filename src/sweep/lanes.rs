@@ -11,7 +11,7 @@ use super::route::Route;
 use super::rows::{First, walk_to_first};
 use super::walker::RESOLVE_CONDITION;
 use super::{Continuation, Row, RowRef, Solved};
-use mechgen_runtime::simd::{Isa, Vf64};
+use mechgen_runtime::simd::Vf64;
 use mechgen_runtime::{
     DynMechanism, InputMotion, LaneMechanism, LaneView, Lanes, PointMotion, StaticMechanism,
 };
@@ -22,13 +22,6 @@ pub const LANES: usize = <Vf64<8> as Lanes>::W;
 /// Fewer sets than this are left to the scalar sweep. Two sets already gain: a four-lane tick
 /// costs 1.3 scalar ticks with AVX2 (`docs/speed.md`).
 pub const MIN_LANES: usize = 2;
-
-/// The sets a batch should hand [`sweep_sets_in_lanes`] at a time on this CPU
-/// ([`Isa::f64_lanes`]: eight with AVX-512, four with AVX2 or less, where eight lanes take two
-/// or four registers each and run slower per set than four).
-pub fn lane_width() -> usize {
-    Isa::widest().f64_lanes()
-}
 
 /// Sweeps the sets `mechs` (at most [`LANES`], at least [`MIN_LANES`]; each a mechanism with its
 /// set's params; up to four in four lanes, more in eight) as

@@ -321,11 +321,13 @@ mod route;
 mod rows;
 mod store;
 mod walker;
+mod width;
 
-pub use lanes::{LANES, MIN_LANES, lane_width, sweep_sets_in_lanes};
+pub use lanes::{LANES, MIN_LANES, sweep_sets_in_lanes};
 pub use rows::{
     SEGMENT, nearest_row, sweep, sweep_each, sweep_each_indexed, sweep_each_with, sweep_holding,
 };
+pub use width::{LANES_VAR, lane_width, lane_width_for};
 
 /// Whether the linkage assembles at the inputs given (every input, in sweep units).
 pub type Assembles<'a> = &'a dyn Fn(&[f64]) -> bool;

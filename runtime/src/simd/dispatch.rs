@@ -4,6 +4,9 @@
 //! Lane code over [`Vf64`](super::Vf64) / [`Vf32`](super::Vf32) inlined into a kernel's `run`
 //! takes those instructions; the results are the same bit for bit on every path.
 
+/// The most unknowns a mechanism may have for [`Isa::f64_lanes_for`] to give eight lanes.
+pub const EIGHT_LANES_UP_TO: usize = 6;
+
 /// Work to run with the CPU's widest vectors. `run` should be `#[inline(always)]`, and so should
 /// what it calls on its fast path, so that it is compiled inside each instruction set's copy
 /// (every lane tick generated code emits, and the runtime's lane kernels, are).
@@ -51,6 +54,20 @@ impl Isa {
         match self {
             Isa::Avx512 => 8,
             Isa::Baseline | Isa::Avx2 => 4,
+        }
+    }
+
+    /// [`Isa::f64_lanes`] for a mechanism of `unknowns` unknowns: four for one of more than
+    /// [`EIGHT_LANES_UP_TO`] unknowns, whose lane tick holds too many values at once for eight
+    /// lanes even in AVX-512's 32 registers. Measured on an Intel Xeon (Emerald Rapids) with
+    /// AVX-512 (2026-11-30, `docs/speed.md`): a Strandbeest leg's batch (10 unknowns) 20 % faster
+    /// in four lanes than in eight; the four-bar's (2) and the six-bar's (4) the same or faster
+    /// in eight.
+    pub fn f64_lanes_for(self, unknowns: usize) -> usize {
+        if unknowns > EIGHT_LANES_UP_TO {
+            self.f64_lanes().min(4)
+        } else {
+            self.f64_lanes()
         }
     }
 

@@ -7,7 +7,7 @@ mod dispatch;
 mod wide;
 
 pub use array::{ArrayMask, Vf32, Vf64};
-pub use dispatch::{Isa, Kernel, dispatch, dispatch_on};
+pub use dispatch::{EIGHT_LANES_UP_TO, Isa, Kernel, dispatch, dispatch_on};
 pub use wide::{F32x8, F32x16, F64x2, F64x4, F64x8, Mask};
 
 use core::fmt::Debug;

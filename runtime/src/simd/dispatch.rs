@@ -5,7 +5,7 @@
 //! takes those instructions; the results are the same bit for bit on every path.
 
 /// The most unknowns a mechanism may have for [`Isa::f64_lanes_for`] to give eight lanes.
-pub const EIGHT_LANES_UP_TO: usize = 6;
+pub const EIGHT_LANES_UP_TO: usize = 4;
 
 /// Work to run with the CPU's widest vectors. `run` should be `#[inline(always)]`, and so should
 /// what it calls on its fast path, so that it is compiled inside each instruction set's copy
@@ -58,11 +58,10 @@ impl Isa {
     }
 
     /// [`Isa::f64_lanes`] for a mechanism of `unknowns` unknowns: four for one of more than
-    /// [`EIGHT_LANES_UP_TO`] unknowns, whose lane tick holds too many values at once for eight
-    /// lanes even in AVX-512's 32 registers. Measured on an Intel Xeon (Emerald Rapids) with
-    /// AVX-512 (2026-11-30, `docs/speed.md`): a Strandbeest leg's batch (10 unknowns) 20 % faster
-    /// in four lanes than in eight; the four-bar's (2) and the six-bar's (4) the same or faster
-    /// in eight.
+    /// [`EIGHT_LANES_UP_TO`] unknowns, whose lane tick runs faster per set in four lanes than in
+    /// eight even with AVX-512. Measured on an Intel Xeon (Emerald Rapids) with AVX-512
+    /// (2026-11-30, `mechgen batch`, `docs/speed.md`): Strandbeest legs of 6, 8 and 10 unknowns
+    /// 7–30 % faster in four lanes; the four-bar (2) and the six-bar (4) 4–10 % faster in eight.
     pub fn f64_lanes_for(self, unknowns: usize) -> usize {
         if unknowns > EIGHT_LANES_UP_TO {
             self.f64_lanes().min(4)

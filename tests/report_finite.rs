@@ -55,8 +55,14 @@ fn one_number_not_finite_anywhere_makes_the_row_not_finite() {
             }
         }
     }
-    // A huge but finite number is finite.
+    // Huge, tiny and subnormal numbers of either sign are finite; a NaN with its sign bit set
+    // is not.
+    for finite in [f64::MAX, f64::MIN, f64::MIN_POSITIVE, 5e-324, -5e-324, -0.0] {
+        let (mut q, qd, qdd) = base(0.5);
+        q[1] = finite;
+        assert!(row(&q, &qd, &qdd, &points), "{finite:e}");
+    }
     let (mut q, qd, qdd) = base(0.5);
-    q[1] = f64::MAX;
-    assert!(row(&q, &qd, &qdd, &points));
+    q[2] = -f64::NAN;
+    assert!(!row(&q, &qd, &qdd, &points), "-NaN");
 }

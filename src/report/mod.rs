@@ -101,13 +101,19 @@ pub fn csv_row_held(
 /// Whether every number of a solved row is finite (a row with one that is not is written as
 /// failed, status `non-finite`: no cell is ever NaN or inf).
 pub fn all_finite(s: &SolvedRef<'_>) -> bool {
-    // Every number tested, with no branch per number (so the tests run in vector lanes): a row
-    // almost never has one that is not finite, and every row is asked.
-    let finite = |v: &[f64]| v.iter().fold(true, |ok, x| ok & x.is_finite());
-    let points = s.points.iter().fold(true, |ok, p| {
-        ok & finite(&p.position) & finite(&p.velocity) & finite(&p.acceleration)
+    // x · 0 is ±0 for a finite x and NaN (every exponent bit set) for an infinite or NaN one.
+    // The products' bits OR-ed together have an exponent bit set exactly when one was not
+    // finite: no branch and no float compare per number, and integer ORs may be regrouped, so
+    // the compiler runs them in vector lanes (a row almost never has a number that is not
+    // finite, and every row is asked).
+    let bits = |x: f64| (x * 0.0).to_bits();
+    let run = |v: &[f64]| v.iter().fold(0, |acc, &x| acc | bits(x));
+    let points = s.points.iter().fold(0, |acc, p| {
+        let ([a, b], [c, d], [e, f]) = (p.position, p.velocity, p.acceleration);
+        acc | bits(a) | bits(b) | bits(c) | bits(d) | bits(e) | bits(f)
     });
-    finite(s.q) & finite(s.qd) & finite(s.qdd) & points
+    let all = run(s.q) | run(s.qd) | run(s.qdd) | points;
+    all & 0x7ff0_0000_0000_0000 == 0
 }
 
 /// A row's CSV status: `ok`, `non-finite` for a solved row with a non-finite number, or the

@@ -161,6 +161,9 @@ impl Function {
 /// only when it is below `REFINE_BELOW`).
 pub(super) const PIVOT_AT: usize = std::mem::offset_of!(Frame, pivot_ratio);
 
+/// Where a call step's trampoline (`cold.rs`) leaves the status of `stage` in a [`Frame`].
+pub(super) const STATUS_AT: usize = std::mem::offset_of!(Frame, status);
+
 /// Where compiled code reads the Newton tolerance in a [`Frame`].
 pub(super) const TOLERANCE_AT: usize = std::mem::offset_of!(Frame, tolerance);
 
@@ -194,6 +197,8 @@ pub(super) struct Frame {
     pivot_ratio: f64,
     /// The Newton tolerance (the closed forms' test of an angle too large to hold).
     tolerance: f64,
+    /// The status of the last call of [`stage`], stored there by its trampoline.
+    status: u32,
     /// 0: the motion alone; else a tick's prelude first ([`TICK`], [`RESYNC`]).
     tick: u64,
     /// A tick's: the last tick's inputs, their pairs, unknowns and theirs.
@@ -415,6 +420,7 @@ impl Fused {
             stages: (&raw mut stages).cast(),
             pivot_ratio: 1.0,
             tolerance: a.tolerance,
+            status: 0,
             tick,
             last,
             to,

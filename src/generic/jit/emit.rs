@@ -6,120 +6,17 @@
 use cranelift_codegen::ir::condcodes::IntCC;
 use cranelift_codegen::ir::immediates::Ieee64;
 use cranelift_codegen::ir::{
-    AbiParam, InstBuilder, InstructionData, MemFlagsData, Opcode, StackSlot, StackSlotData,
+    InstBuilder, InstructionData, MemFlagsData, Opcode, StackSlot, StackSlotData,
     StackSlotKind, Type, Value, types,
 };
 use cranelift_frontend::FunctionBuilder;
-use cranelift_jit::{JITBuilder, JITModule};
-use cranelift_module::{FuncId, Linkage, Module};
-use mechgen_codegen::Func;
-use mechgen_runtime::twofold::Arith;
+use cranelift_jit::JITModule;
+use cranelift_module::{FuncId, Module};
 
 use super::abi::Reads;
-use super::code;
 use super::error::JitError;
+use super::imports::{FUNCS, Imports};
 use crate::generic::op::{Op, slot};
-
-/// The params-only functions, in the order of their callbacks ([`FUNC_ENTRIES`]).
-const FUNCS: [Func; 6] = [
-    Func::Asin,
-    Func::Acos,
-    Func::Atan,
-    Func::Abs,
-    Func::Atan2,
-    Func::Hypot,
-];
-
-extern "C" fn func<const I: usize>(a: f64, b: f64) -> f64 {
-    f64::func(FUNCS[I].method(), a, b)
-}
-
-type Binary = extern "C" fn(f64, f64) -> f64;
-const FUNC_ENTRIES: [Binary; 6] = [
-    func::<0>, func::<1>, func::<2>, func::<3>, func::<4>, func::<5>,
-];
-
-extern "C" fn sin(x: f64) -> f64 {
-    x.sin_of()
-}
-extern "C" fn cos(x: f64) -> f64 {
-    x.cos_of()
-}
-extern "C" fn tan(x: f64) -> f64 {
-    x.tan_of()
-}
-
-/// The callbacks compiled code calls, declared in the module.
-pub(super) struct Imports {
-    sin: FuncId,
-    cos: FuncId,
-    tan: FuncId,
-    sin_cos: FuncId,
-    funcs: [FuncId; 6],
-    /// `code::stage`: a fused program's calls into the runtime.
-    pub stage: FuncId,
-}
-
-impl Imports {
-    /// Registers every callback's address under its name.
-    pub(super) fn symbols(jb: &mut JITBuilder) {
-        jb.symbol("mechgen_sin", sin as *const u8);
-        jb.symbol("mechgen_cos", cos as *const u8);
-        jb.symbol("mechgen_tan", tan as *const u8);
-        jb.symbol("mechgen_sin_cos", code::sin_cos as *const u8);
-        jb.symbol("mechgen_stage", code::stage as *const u8);
-        for (i, f) in FUNC_ENTRIES.iter().enumerate() {
-            jb.symbol(format!("mechgen_func{i}"), *f as *const u8);
-        }
-    }
-
-    /// Declares every callback in `module`.
-    pub(super) fn declare(module: &mut JITModule) -> Result<Imports, JitError> {
-        let ptr = module.target_config().pointer_type();
-        let f64s = |n: usize, ret: bool| {
-            let mut s = module.make_signature();
-            s.params.extend((0..n).map(|_| AbiParam::new(types::F64)));
-            if ret {
-                s.returns.push(AbiParam::new(types::F64));
-            }
-            s
-        };
-        let (unary, binary) = (f64s(1, true), f64s(2, true));
-        let mut pair = f64s(1, false);
-        pair.params.push(AbiParam::new(ptr));
-        // stage(frame, what, block, values, count, aux) -> status
-        let mut stage = module.make_signature();
-        stage.params.extend([
-            AbiParam::new(ptr),
-            AbiParam::new(types::I32),
-            AbiParam::new(types::I32),
-            AbiParam::new(ptr),
-            AbiParam::new(ptr),
-            AbiParam::new(ptr),
-        ]);
-        stage.returns.push(AbiParam::new(types::I32));
-        let mut import = |name: &str, sig| {
-            module
-                .declare_function(name, Linkage::Import, sig)
-                .map_err(|e| JitError::Compile(e.to_string()))
-        };
-        Ok(Imports {
-            sin: import("mechgen_sin", &unary)?,
-            cos: import("mechgen_cos", &unary)?,
-            tan: import("mechgen_tan", &unary)?,
-            sin_cos: import("mechgen_sin_cos", &pair)?,
-            funcs: [
-                import("mechgen_func0", &binary)?,
-                import("mechgen_func1", &binary)?,
-                import("mechgen_func2", &binary)?,
-                import("mechgen_func3", &binary)?,
-                import("mechgen_func4", &binary)?,
-                import("mechgen_func5", &binary)?,
-            ],
-            stage: import("mechgen_stage", &stage)?,
-        })
-    }
-}
 
 /// Instructions being lowered into one function: the `Args` slots it reads loaded once at its
 /// entry, one SSA value per register.
@@ -220,9 +117,15 @@ impl<'a> Emit<'a> {
         Ok(())
     }
 
-    /// `code::stage`, referenced from this function.
-    pub(super) fn stage_callee(&mut self) -> cranelift_codegen::ir::FuncRef {
-        self.callee(self.imports.stage)
+    /// `code::stage`, referenced from this function: directly, or through its trampoline for
+    /// a call off the common path (`cold`).
+    pub(super) fn stage_callee(&mut self, cold: bool) -> cranelift_codegen::ir::FuncRef {
+        let id = if cold {
+            self.imports.stage_cold
+        } else {
+            self.imports.stage
+        };
+        self.callee(id)
     }
 
     /// A callee declared in the module, referenced from this function.
@@ -283,9 +186,15 @@ impl<'a> Emit<'a> {
                 }
                 Op::SinCos(x) | Op::SinCosQ(x, _) | Op::SinCosX(x, _) => {
                     let x = self.reg(x)?;
-                    let f = self.callee(self.imports.sin_cos);
+                    // Computed where a kept pair is missing (off the common path: the
+                    // trampoline) or always (a direct call).
+                    let (cold, f) = (
+                        self.callee(self.imports.sin_cos_cold),
+                        self.callee(self.imports.sin_cos),
+                    );
                     let pair_slot = self.pair_slot;
-                    let computed = |b: &mut FunctionBuilder| sin_cos_call(b, f, ptr, pair_slot, x);
+                    let computed =
+                        |b: &mut FunctionBuilder| sin_cos_call(b, cold, ptr, pair_slot, x);
                     let (s, c) = match *op {
                         // A fused program's unknowns all have their pair (`Fused::call` checks
                         // `sc` as long as `q`, which is read up to k here).
@@ -305,7 +214,7 @@ impl<'a> Emit<'a> {
                             let (pairs, len) = pairs.ok_or(JitError::Tape)?;
                             kept_or(&mut self.b, pairs, len, k, computed)?
                         }
-                        _ => computed(&mut self.b),
+                        _ => sin_cos_call(&mut self.b, f, ptr, pair_slot, x),
                     };
                     self.pending_cos = Some(c);
                     s
@@ -317,9 +226,10 @@ impl<'a> Emit<'a> {
         Ok(())
     }
 
-    /// `(sin x, cos x)` by the runtime's `sin_cos` (what the interpreter computes).
-    pub(super) fn sin_cos(&mut self, x: Value) -> (Value, Value) {
-        let f = self.callee(self.imports.sin_cos);
+    /// `(sin x, cos x)` by the runtime's `sin_cos` (what the interpreter computes), off the
+    /// common path (through the trampoline).
+    pub(super) fn sin_cos_cold(&mut self, x: Value) -> (Value, Value) {
+        let f = self.callee(self.imports.sin_cos_cold);
         sin_cos_call(&mut self.b, f, self.ptr, self.pair_slot, x)
     }
 

@@ -14,7 +14,7 @@ use cranelift_codegen::ir::{
 use mechgen_runtime::twofold::REFINE_BELOW;
 
 use super::abi::{Call, KEPT_BYTES, Reads};
-use super::code::PIVOT_AT;
+use super::code::{PIVOT_AT, STATUS_AT};
 use super::emit::Emit;
 use super::error::JitError;
 use crate::generic::program::{Program, Step};
@@ -162,27 +162,34 @@ impl Lower<'_, '_> {
     }
 
     /// A call of `code::stage` with `values` in the buffer; on failure a return of its status,
-    /// else on at a new block, the solved values (if any) in the buffer.
+    /// else on at a new block, the solved values (if any) in the buffer. A call every run makes
+    /// (a Newton block, a large block's rates) is direct; one off the common path (a closed
+    /// form's or small block's scalar step, the refinement) goes through the `preserve_all`
+    /// trampoline (`cold.rs`), which leaves the status in the frame.
     pub fn call(&mut self, call: Call, block: usize, values: &[u32]) -> Result<(), JitError> {
-        self.work |= matches!(call, Call::Newton | Call::Velocity | Call::Acceleration);
+        let always = matches!(call, Call::Newton | Call::Velocity | Call::Acceleration);
+        self.work |= always;
         let ptr = self.e.ptr;
         let at = self.e.b.ins().stack_addr(ptr, self.buf, 0);
         for (j, &r) in values.iter().enumerate() {
             self.e.store(r, at, j)?;
         }
-        let f = self.e.stage_callee();
+        let f = self.e.stage_callee(!always);
         let what = self.e.b.ins().iconst(types::I32, call as i64);
         let block = i64::try_from(block).map_err(|_| JitError::Tape)?;
         let block = self.e.b.ins().iconst(types::I32, block);
         let count = i64::try_from(values.len()).map_err(|_| JitError::Tape)?;
         let count = self.e.b.ins().iconst(ptr, count);
         let aux = self.e.b.ins().stack_addr(ptr, self.kept, 0);
-        let inst = self
-            .e
-            .b
-            .ins()
-            .call(f, &[self.frame, what, block, at, count, aux]);
-        let status = self.e.b.inst_results(inst)[0];
+        let args = [self.frame, what, block, at, count, aux];
+        let inst = self.e.b.ins().call(f, &args);
+        let status = match self.e.b.inst_results(inst).first() {
+            Some(&status) => status,
+            None => {
+                let (trusted, at) = (MemFlagsData::trusted(), offset(STATUS_AT)?);
+                (self.e.b.ins()).load(types::I32, trusted, self.frame, at)
+            }
+        };
         let ok = self.e.b.create_block();
         self.e
             .b

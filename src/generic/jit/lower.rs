@@ -12,7 +12,8 @@ use cranelift_module::{FuncId, Linkage, Module, default_libcall_names};
 
 use super::abi::Reads;
 use super::code;
-use super::emit::{Emit, Imports};
+use super::emit::Emit;
+use super::imports::Imports;
 use super::error::JitError;
 use crate::generic::op::Op;
 use crate::generic::program::Program;
@@ -48,11 +49,12 @@ impl Lowering {
         Imports::symbols(&mut jb);
         let mut module = JITModule::new(jb);
         let ptr = module.target_config().pointer_type();
-        let imports = Imports::declare(&mut module)?;
+        let (mut ctx, mut fctx) = (module.make_context(), FunctionBuilderContext::new());
+        let imports = Imports::declare(&mut module, &mut ctx, &mut fctx)?;
         Ok(Lowering {
-            ctx: module.make_context(),
+            ctx,
             module,
-            fctx: FunctionBuilderContext::new(),
+            fctx,
             imports,
             ptr,
             done: Vec::new(),

@@ -6,9 +6,11 @@
 
 mod abi;
 mod code;
+mod cold;
 mod emit;
 mod error;
 mod fused;
+mod imports;
 mod inline;
 mod lower;
 mod prelude;

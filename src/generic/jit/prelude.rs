@@ -75,7 +75,7 @@ impl Lower<'_, '_> {
             let (s, c) = (at(series.result.0)?, at(series.result.1)?);
             b.ins().jump(join, &[s.into(), c.into()]);
             b.switch_to_block(afresh);
-            let (s, c) = self.e.sin_cos(x[i]);
+            let (s, c) = self.e.sin_cos_cold(x[i]);
             let b = &mut self.e.b;
             b.ins().jump(join, &[s.into(), c.into()]);
             b.switch_to_block(join);

@@ -17,8 +17,10 @@
 //!    stores the velocities and accelerations of unknowns below its `writes`, writes
 //!    `out[..outputs]`, reads the frame's tolerance and reads and writes its pivot ratio, writes
 //!    the unknowns (and their pairs of `sc`) it reads, and calls [`stage`] with the frame it was
-//!    given, a pointer to `count` f64 of its own stack frame and one to a slot of `abi::KEPT_BYTES`
-//!    of it, zeroed at entry, used by one block's velocity then its acceleration. While it runs, the slices of the frame are borrowed by
+//!    given (directly, or through a `cold.rs` trampoline passing the same arguments, which stores
+//!    the result in the frame's `status` and changes nothing else), a pointer to `count` f64 of
+//!    its own stack frame and one to a slot of `abi::KEPT_BYTES` of it, zeroed at entry, used by
+//!    one block's velocity then its acceleration. While it runs, the slices of the frame are borrowed by
 //!    [`Fused::call`] alone, and [`stage`] makes references of them only for the duration of one
 //!    callback, during which compiled code does not run. With a tick's prelude (the frame's
 //!    `tick` not 0) it first reads `x, xd, xdd` and the frame's `last` slices (inputs and their

@@ -13,8 +13,8 @@ use cranelift_module::{FuncId, Linkage, Module, default_libcall_names};
 use super::abi::Reads;
 use super::code;
 use super::emit::Emit;
-use super::imports::Imports;
 use super::error::JitError;
+use super::imports::Imports;
 use crate::generic::op::Op;
 use crate::generic::program::Program;
 

@@ -20,9 +20,9 @@ pub(super) enum Call {
     Velocity = 3,
     Acceleration = 4,
     /// A 1×1 or 2×2 block's velocity: factored and solved here, the factors kept in the
-    /// caller's slot (`aux`, [`KEPT_BYTES`], zeroed at the function's entry).
+    /// caller's slot (`aux`, [`KEPT_BYTES`]).
     SmallVelocity = 5,
-    /// A 1×1 or 2×2 block's acceleration by the factors in `aux`.
+    /// A 1×1 or 2×2 block's acceleration by the factors in `aux` (its velocity's, or zeros).
     SmallAcceleration = 6,
 }
 

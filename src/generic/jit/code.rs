@@ -19,10 +19,12 @@
 //!    the unknowns (and their pairs of `sc`) it reads, and calls [`stage`] with the frame it was
 //!    given (directly, or through a `cold.rs` trampoline passing the same arguments, which stores
 //!    the result in the frame's `status` and changes nothing else), a pointer to `count` f64 of
-//!    its own stack frame and one to a slot of `abi::KEPT_BYTES` of it, zeroed at entry, used by
-//!    one block's velocity then its acceleration. While it runs, the slices of the frame are borrowed by
-//!    [`Fused::call`] alone, and [`stage`] makes references of them only for the duration of one
-//!    callback, during which compiled code does not run. With a tick's prelude (the frame's
+//!    its own stack frame and one to a slot of `abi::KEPT_BYTES` of it, used by one block's
+//!    velocity then its acceleration: an acceleration's call step reads it right after a
+//!    velocity's call step of the same block wrote it (one that does not write it fails, ending
+//!    the run), else right after it was zeroed. While it runs, the slices of the frame are
+//!    borrowed by [`Fused::call`] alone, and [`stage`] makes references of them only for the
+//!    duration of one callback, during which compiled code does not run. With a tick's prelude (the frame's
 //!    `tick` not 0) it first reads `x, xd, xdd` and the frame's `last` slices (inputs and their
 //!    pairs below its `inputs`, unknowns and their pairs below its `unknowns`, as
 //!    [`Fused::call`] checks), writes the pairs of `sx` below `inputs` (before any callback) and,
@@ -277,8 +279,8 @@ fn small<const K: usize>(
         unsafe { kept.write_unaligned(f) };
         Ok(())
     } else {
-        // SAFETY: the slot was zeroed at entry (all-zero bytes are a `Factored`: zeros and
-        // index 0) or written by this block's velocity step.
+        // SAFETY: invariant 4: the slot was written by this block's velocity step in this run,
+        // or zeroed just before (all-zero bytes are a `Factored`: zeros and index 0).
         let f = unsafe { kept.read_unaligned() };
         solve_small(&f, block, Stage::Acceleration, values)
     }

@@ -27,7 +27,8 @@ pub(super) struct Lower<'a, 'p> {
     pub frame: Value,
     /// The values of a call step.
     buf: StackSlot,
-    /// A small block's factors between its two rates, zeroed (invariant 4 of `code.rs`).
+    /// A small block's factors between its two rates (invariant 4 of `code.rs`: written by its
+    /// velocity's call step before its acceleration's reads it, or zeroed first).
     kept: StackSlot,
     fail: Block,
     /// One past the largest unknown whose rates are stored.
@@ -68,11 +69,6 @@ pub(super) fn lower(
     let kept_bytes = KEPT_BYTES.div_ceil(8) * 8;
     let size = u32::try_from(kept_bytes).map_err(|_| JitError::Tape)?;
     let kept = e.b.create_sized_stack_slot(slot(size));
-    let zero = e.b.ins().iconst(types::I64, 0);
-    for k in 0..kept_bytes / 8 {
-        let ptr = e.ptr;
-        e.b.ins().stack_store(ptr, zero, kept, offset(k * 8)?);
-    }
     let fail = e.b.create_block();
     e.b.append_block_param(fail, types::I32);
     let mut l = Lower {
@@ -196,6 +192,20 @@ impl Lower<'_, '_> {
             .ins()
             .brif(status, self.fail, &[status.into()], ok, &[]);
         self.e.b.switch_to_block(ok);
+        Ok(())
+    }
+
+    /// Zeroes the slot of a small block's factors (all-zero bytes are a `Factored`), before an
+    /// acceleration's call step that no velocity's call step of the same block precedes.
+    pub fn zero_kept(&mut self) -> Result<(), JitError> {
+        let zero = self.e.b.ins().iconst(types::I64, 0);
+        for k in 0..KEPT_BYTES.div_ceil(8) {
+            let ptr = self.e.ptr;
+            self.e
+                .b
+                .ins()
+                .stack_store(ptr, zero, self.kept, offset(k * 8)?);
+        }
         Ok(())
     }
 

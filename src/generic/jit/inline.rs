@@ -125,6 +125,8 @@ impl Lower<'_, '_> {
             return Ok(());
         }
         let Some(jac) = self.velocity_values.get(&block).cloned() else {
+            // No factors of this block's velocity to read: the scalar's factors of zeros.
+            self.zero_kept()?;
             let calls = [(Call::SmallAcceleration, block, values)];
             return self.called_rates(slot, unknowns, &calls);
         };

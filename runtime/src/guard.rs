@@ -119,6 +119,33 @@ impl BranchGuard {
         keeps_within(limit, before, qd, qdd, dt, after)
     }
 
+    /// [`BranchGuard::keeps`] of `[before, qd, qdd, after]` for an engine whose unknowns' count is
+    /// known only at run time (the generic engine's tick): a count up to eight runs as a constant,
+    /// so that the loop unrolls as in a generated tick's; the same operations, the same answer.
+    #[inline(always)]
+    pub fn keeps_any<T: Real>(&self, s: [&[T]; 4], dt: T) -> bool {
+        let unrolled = match s[3].len() {
+            1 => self.keeps_n::<T, 1>(s, dt),
+            2 => self.keeps_n::<T, 2>(s, dt),
+            3 => self.keeps_n::<T, 3>(s, dt),
+            4 => self.keeps_n::<T, 4>(s, dt),
+            5 => self.keeps_n::<T, 5>(s, dt),
+            6 => self.keeps_n::<T, 6>(s, dt),
+            7 => self.keeps_n::<T, 7>(s, dt),
+            8 => self.keeps_n::<T, 8>(s, dt),
+            _ => None,
+        };
+        let [before, qd, qdd, after] = s;
+        unrolled.unwrap_or_else(|| self.keeps(before, qd, qdd, dt, after))
+    }
+
+    /// [`BranchGuard::keeps`] on arrays of `N` (`None` when a slice is not `N` long).
+    #[inline(always)]
+    fn keeps_n<T: Real, const N: usize>(&self, s: [&[T]; 4], dt: T) -> Option<bool> {
+        let [before, qd, qdd, after] = s.map(<&[T; N]>::try_from);
+        Some(self.keeps(before.ok()?, qd.ok()?, qdd.ok()?, dt, after.ok()?))
+    }
+
     /// The length scale lengths are measured against.
     pub fn scale(&self) -> f64 {
         self.scale
@@ -247,25 +274,82 @@ mod tests {
         }
     }
 
-    fn keeps_as_defined(first: CoordDesc, second: CoordDesc) {
-        let info = MechanismInfo {
+    /// A mechanism of these unknowns and nothing else.
+    fn with_unknowns(unknowns: Vec<CoordDesc>) -> MechanismInfo {
+        MechanismInfo {
             name: "test".into(),
             description: String::new(),
             inputs: Vec::new(),
-            unknowns: alloc::vec![first, second],
+            unknowns,
             params: Vec::new(),
             points: Vec::new(),
             blocks: Vec::new(),
             closed: Vec::new(),
             bodies: Vec::new(),
-        };
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
+        }
+    }
+
+    /// Uniform numbers in [0, 1) from a xorshift generator seeded with `seed`.
+    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
             seed ^= seed << 13;
             seed ^= seed >> 7;
             seed ^= seed << 17;
             (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        }
+    }
+
+    /// `keeps_any` (a count up to eight as a constant) answers as `keeps` for every count from
+    /// one to ten, lengths and angles mixed, steps kept and refused, and slices of unequal
+    /// lengths (refused by both).
+    #[test]
+    fn any_count_keeps_what_keeps_keeps() {
+        let mut next = uniform(0x9e37_79b9_7f4a_7c15);
+        let mut seen = [0usize; 2];
+        for n in 1..=10 {
+            let unknowns = (0..n)
+                .map(|k| CoordDesc {
+                    name: alloc::format!("u{k}"),
+                    kind: if k % 3 == 1 {
+                        Kind::Length
+                    } else {
+                        Kind::Angle
+                    },
+                    start: 0.0,
+                })
+                .collect();
+            let info = with_unknowns(unknowns);
+            let guard = BranchGuard::new(&info, 2.0);
+            for case in 0..300 {
+                let dt = 0.2 * next();
+                let mut v = |scale: f64| {
+                    (0..n)
+                        .map(|_| scale * (2.0 * next() - 1.0))
+                        .collect::<Vec<_>>()
+                };
+                let (before, qd, qdd) = (v(3.0), v(1.0), v(1.0));
+                let mut after: Vec<f64> = (0..n)
+                    .map(|k| before[k] + dt * (qd[k] + 0.5 * dt * qdd[k]))
+                    .collect();
+                let k = case % n;
+                after[k] += [1e-6, 0.3, 3.0, f64::NAN][case % 4];
+                let one = guard.keeps(&before, &qd, &qdd, dt, &after);
+                assert_eq!(
+                    guard.keeps_any([&before, &qd, &qdd, &after], dt),
+                    one,
+                    "n {n}, case {case}"
+                );
+                seen[usize::from(one)] += 1;
+                let short = &before[..n - 1];
+                assert!(!guard.keeps_any([short, &qd, &qdd, &after], dt));
+            }
+        }
+        assert!(seen[0] > 300 && seen[1] > 300, "kept and refused: {seen:?}");
+    }
+
+    fn keeps_as_defined(first: CoordDesc, second: CoordDesc) {
+        let info = with_unknowns(alloc::vec![first, second]);
+        let mut next = uniform(0x2545_f491_4f6c_dd1d);
         let mut seen = [0usize; 2];
         for case in 0..4000 {
             let dt = 0.3 * next();
@@ -311,6 +395,8 @@ mod tests {
                 let g = BranchGuard::new(&info, l[8]);
                 let one = g.keeps(&l[0..2], &l[2..4], &l[4..6], dt, &l[6..8]);
                 assert_eq!(bits >> i & 1 == 1, one, "case {case}, lane {i}: {l:?}");
+                let any = g.keeps_any([&l[0..2], &l[2..4], &l[4..6], &l[6..8]], dt);
+                assert_eq!(any, one, "case {case}, lane {i}: {l:?}");
                 let p: Vec<f64> = (0..2)
                     .map(|k| l[k] + dt * (l[2 + k] + 0.5 * dt * l[4 + k]))
                     .collect();

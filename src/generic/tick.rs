@@ -341,7 +341,7 @@ where
         let (old, now) = (&self.slots[self.cur ^ 1].state, &self.slots[self.cur].state);
         len(before, old.q.len())?;
         copy_few(before, &old.q);
-        let kept = guard.keeps(&old.q, &old.qd, &old.qdd, dt, &now.q);
+        let kept = guard.keeps_any([&old.q, &old.qd, &old.qdd, &now.q], dt);
         Ok(kept.then(|| now.report.condition()))
     }
 

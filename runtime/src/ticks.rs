@@ -216,7 +216,7 @@ impl<T: Real, M: DynMechanism<T> + ?Sized> DynTick<T> for SolveTick<'_, T, M> {
         let (b, s) = (&self.saved, &self.state);
         len(before, b.q.len())?;
         before.copy_from_slice(&b.q);
-        let kept = guard.keeps(&b.q, &b.qd, &b.qdd, dt, &s.q);
+        let kept = guard.keeps_any([&b.q, &b.qd, &b.qdd, &s.q], dt);
         Ok(kept.then(|| s.report.condition()))
     }
 

@@ -8508,6 +8508,7 @@ pub mod shaper {
                 t6,
                 (::core::option::Option::None, p_l4),
                 newton.tolerance,
+                &mut report.pivot_ratio,
                 ok,
                 true,
             );
@@ -14335,6 +14336,7 @@ pub mod slider_crank {
                 t1,
                 (::core::option::Option::None, p_l),
                 newton.tolerance,
+                &mut report.pivot_ratio,
                 ok,
                 true,
             );
@@ -20662,6 +20664,7 @@ pub mod shaper_ram {
                 t6,
                 (::core::option::Option::None, p_l4),
                 newton.tolerance,
+                &mut report.pivot_ratio,
                 ok,
                 every_angle,
             );

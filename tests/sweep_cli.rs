@@ -623,3 +623,73 @@ fn rows_past_the_branch_end_are_other_branch_where_the_linkage_assembles() {
         check(&rows, 1, &reach(a), &format!("batch set {set}"));
     }
 }
+
+/// A one-angle block's dead point ends the branch as an RRR's does (its pivot ratio is the sine
+/// of the link's angle from its dead position, not the 1 of a 1×1 elimination, which hid the
+/// dead point: every row past it read `unassemblable`, found 2026-11-30): the quick return
+/// (`tests/data/quick_return.toml`) assembles where |yr − L sin φ| ≤ l5, φ the lever's angle
+/// atan2(h + r sin θ, r cos θ); past its dead point at 224.2° the rows at 270° and from 320° on
+/// are `other-branch`, the rest `unassemblable`, in both run-time engines and in a batch.
+#[test]
+fn a_one_angle_blocks_dead_point_ends_the_branch() {
+    let file =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/quick_return.toml");
+    let f = file.to_str().expect("utf-8");
+    let assembles = |h: f64, r: f64, yr: f64| {
+        move |th: f64| {
+            let phi = (h + r * th.sin()).atan2(r * th.cos());
+            (yr - 2.0 * phi.sin()).abs() <= 1.2 + 1e-12
+        }
+    };
+    let check = |rows: &[Vec<String>], col: usize, ok: &dyn Fn(f64) -> bool, what: &str| {
+        let mut seen = [0; 3];
+        for row in rows {
+            let x: f64 = row[col].parse().expect("input");
+            let status = row.last().expect("status").as_str();
+            let i = match (status, ok(x)) {
+                ("ok", true) => 0,
+                ("other-branch", true) => 1,
+                ("unassemblable", false) => 2,
+                (s, a) => panic!("{what}: {s} at {} deg (assembles: {a})", x.to_degrees()),
+            };
+            seen[i] += 1;
+        }
+        assert!(seen.iter().all(|&n| n > 0), "{what}: {seen:?}");
+    };
+    for engine in ["jit", "generic"] {
+        let csv = temp(&format!("quick-return-{engine}.csv"));
+        let args = ["sweep", "quick_return", "--file", f, "--engine", engine];
+        let out = mechgen(&[&args[..], &["--csv", csv.to_str().unwrap()]].concat());
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        assert!(
+            text(&out.stdout).contains("dead point near th = 224.2070 deg"),
+            "{}",
+            text(&out.stdout)
+        );
+        let t = Table::read(csv.to_str().unwrap());
+        check(&t.rows, 0, &assembles(1.0, 0.99, 2.0), engine);
+    }
+    // Each set its own linkage (r = 0.9, yr = 2.1: no assembly at 240°, 250°, 290°, 300° only).
+    let sets = temp("quick-return-sets.csv");
+    std::fs::write(&sets, "r,yr\n0.99,2.0\n0.9,2.1\n").expect("sets");
+    let csv = temp("quick-return-batch.csv");
+    let args = ["batch", "quick_return", "--file", f, "--params"];
+    let out = mechgen(
+        &[
+            &args[..],
+            &[sets.to_str().unwrap(), "--csv", csv.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let t = Table::read(csv.to_str().unwrap());
+    for (set, r, yr) in [("0", 0.99, 2.0), ("1", 0.9, 2.1)] {
+        let rows: Vec<Vec<String>> = t.rows.iter().filter(|row| row[0] == set).cloned().collect();
+        check(
+            &rows,
+            1,
+            &assembles(1.0, r, yr),
+            &format!("batch set {set}"),
+        );
+    }
+}

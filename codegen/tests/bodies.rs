@@ -80,3 +80,17 @@ fn bodies_are_checked_and_the_kinematics_ignore_them() {
     assert_eq!((rocker.mass, rocker.inertia), (2.5, 2.5 * 3.0 * 3.0 / 12.0));
     assert!(matches!(rocker.com, Centre::Vector(_)));
 }
+
+/// A param that only `gravity` names is used: no "never used" warning for it (found on a file
+/// with `gravity = "c(0, -g0)"`, 2026-11-30); a param nothing names still has its warning.
+#[test]
+fn a_param_only_gravity_names_is_used() {
+    let file = FOUR_BAR
+        .replace("rho = 7.85", "rho = 7.85, g0 = 9.81, spare = 1.0")
+        .replacen("points = {", "gravity = \"c(0, -g0)\"\npoints = {", 1)
+        + &BODIES.replacen("gravity = \"c(0, -9.81)\"\n", "", 1);
+    let (_, warnings) = generate_source(&SourceFile::new("m.toml", &file)).expect("accepted");
+    let text: Vec<&str> = warnings.iter().map(|w| w.message.as_str()).collect();
+    assert_eq!(text.len(), 1, "{text:?}");
+    assert!(text[0].contains("param `spare` is never used"), "{text:?}");
+}

@@ -191,7 +191,7 @@ pub(crate) fn motion_lanes(
             ClosedForm::Angle1 { q, .. } => {
                 let (k, p, qq) = (&r[0], opt(1), &r[2]);
                 let v = value(*q);
-                quote!(#rt::lanes::solve_angle1(st, #q, #k, (#p, #qq), newton.tolerance, ok, #v);)
+                quote!(#rt::lanes::solve_angle1(st, #q, #k, (#p, #qq), newton.tolerance, &mut report.pivot_ratio, ok, #v);)
             }
             ClosedForm::Length1 { s, .. } => {
                 let (k, a) = (&r[0], &r[1]);

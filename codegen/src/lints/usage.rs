@@ -37,12 +37,11 @@ pub fn usage(model: &Model, system: &System, diags: &mut Vec<Diagnostic>) {
     // A param is used when the solvers read it (base params: in the DAG, where lowering put
     // the derived params' expressions too) or another param's expression names it.
     let mut named: Vec<Symbol> = model.derived.iter().flat_map(|d| d.uses.clone()).collect();
-    let bodies = model.bodies.iter().flat_map(|b| &b.written);
     for e in model
         .loops
         .iter()
         .chain(model.points.iter().map(|(_, e)| e))
-        .chain(bodies)
+        .chain(&model.dynamics_written)
     {
         names_in(e, model, &mut named);
     }

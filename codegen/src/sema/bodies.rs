@@ -17,6 +17,8 @@ use crate::front::ast::{self, Expr, ExprKind};
 pub(super) struct Checked {
     pub bodies: Vec<Body>,
     pub gravity: Option<Vector>,
+    /// Every body's and gravity's expression as written (which params they name).
+    pub written: Vec<Expr>,
 }
 
 /// The bodies and gravity of `m`, checked against its names (`symbols`), its params' values and
@@ -29,6 +31,7 @@ pub(super) fn check_bodies(
     diags: &mut Vec<Diagnostic>,
 ) -> Checked {
     let mut bodies = Vec::new();
+    let mut written = Vec::new();
     for b in &m.bodies {
         let name = &b.name.text;
         let angle =
@@ -56,8 +59,9 @@ pub(super) fn check_bodies(
             Some(e) => amount(e, "inertia", name, symbols, values, angles, diags),
             None => Some((0.0, Scalar::Number(0.0))),
         };
+        let exprs = [&b.angle, &b.mass, &b.com, &b.inertia];
+        written.extend(exprs.into_iter().flatten().cloned());
         if let (Some(angle), Some(com), Some(mass), Some(inertia)) = (angle, com, mass, inertia) {
-            let written = [&b.angle, &b.mass, &b.com, &b.inertia];
             bodies.push(Body {
                 name: b.name.clone(),
                 angle,
@@ -66,15 +70,19 @@ pub(super) fn check_bodies(
                 inertia: inertia.0,
                 mass_expr: mass.1,
                 inertia_expr: inertia.1,
-                written: written.into_iter().flatten().cloned().collect(),
             });
         }
     }
+    written.extend(m.gravity.iter().cloned());
     let gravity = m
         .gravity
         .as_ref()
         .and_then(|e| gravity(e, symbols, angles, diags));
-    Checked { bodies, gravity }
+    Checked {
+        bodies,
+        gravity,
+        written,
+    }
 }
 
 /// A body's centre of mass: one of the mechanism's points by name, or a vector expression.

@@ -391,6 +391,7 @@ fn check_mechanism(m: &ast::Mechanism, diags: &mut Vec<Diagnostic>) -> Model {
         start_span: start_span(m),
         bodies: masses.bodies,
         gravity: masses.gravity,
+        dynamics_written: masses.written,
     }
 }
 

@@ -88,6 +88,8 @@ pub struct Model {
     /// them); `None` without a `gravity` key.
     pub bodies: Vec<Body>,
     pub gravity: Option<Vector>,
+    /// The bodies' and gravity's expressions as written (which params they name).
+    pub dynamics_written: Vec<Expr>,
 }
 
 /// A checked body: its orientation, centre of mass, mass and inertia about the centre.
@@ -102,8 +104,6 @@ pub struct Body {
     /// Their expressions of params, which the solvers evaluate (so they follow a param change).
     pub mass_expr: Scalar,
     pub inertia_expr: Scalar,
-    /// Its expressions as written (which params they name).
-    pub written: Vec<Expr>,
 }
 
 /// A body's centre of mass: one of the mechanism's points (by index) or a vector expression.

@@ -1829,6 +1829,7 @@ pub mod slider {
                 t0,
                 (::core::option::Option::None, p_l2),
                 newton.tolerance,
+                &mut report.pivot_ratio,
                 ok,
                 true,
             );

@@ -399,6 +399,7 @@ pub mod rod {
                 t0,
                 (::core::option::Option::None, p_l2),
                 newton.tolerance,
+                &mut report.pivot_ratio,
                 ok,
                 true,
             );

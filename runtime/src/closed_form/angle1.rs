@@ -8,7 +8,7 @@ use crate::error::{SolveError, Stage};
 use crate::scalar::Real;
 use crate::solve::{NewtonReport, TrigState};
 
-/// `(c, w, |w|², t)` with `t = √(|w|² − c²) ≥ 0`, or `Err(gap)` past the dead point.
+/// `(c, w, |w|², t, |w|)` with `t = √(|w|² − c²) ≥ 0`, or `Err(gap)` past the dead point.
 // `!(a > b)` is deliberate: a NaN must fail the test.
 #[allow(clippy::neg_cmp_op_on_partial_ord)]
 #[allow(clippy::type_complexity)]
@@ -17,7 +17,7 @@ fn reduce<T: Real>(
     block: usize,
     k: T,
     w: (T, T),
-) -> Result<Result<(T, (T, T), T, T), T>, SolveError> {
+) -> Result<Result<(T, (T, T), T, T, T), T>, SolveError> {
     if !all_finite(&[k, w.0, w.1]) {
         return Err(super::overflow(block));
     }
@@ -50,12 +50,12 @@ fn reduce<T: Real>(
     } else {
         T::zero()
     };
-    Ok(Ok((c, w, ww, t)))
+    Ok(Ok((c, w, ww, t, r)))
 }
 
 /// `e(q)` of mode `tau` (the sign of `w⊥ · e(q)`).
 #[inline(always)]
-fn direction<T: Real>((c, w, ww, t): (T, (T, T), T, T), tau: T) -> (T, T) {
+fn direction<T: Real>((c, w, ww, t, _): (T, (T, T), T, T, T), tau: T) -> (T, T) {
     let x = tau * t;
     if w.0 == T::zero() {
         // `w = (0, Q)`: `e = (−x, c) / Q`, one division.
@@ -93,8 +93,11 @@ pub fn angle1_modes<T: Real>(block: usize, k: T, w: (T, T)) -> Result<Modes<T>, 
 /// Solves the one-angle block `K + P cos q + Q sin q = 0` in place (`w = (P, Q)`); the guessed
 /// angle `st.q[q]` (with its sine and cosine) picks the mode: the side of `w` it lies on. `scale`
 /// gives the length scale (asked for only to report an error). Past the dead point:
-/// `Unassemblable` with the relative gap; a non-finite guess: `NonFinite`. The pivot ratio of a
-/// 1×1 block is 1 (as elimination reports), so the report is left as it is.
+/// `Unassemblable` with the relative gap; a non-finite guess: `NonFinite`. The pivot ratio
+/// reported is `t / |w| = |sin|` of the angle between `e(q)` and its dead position (the
+/// derivative `−P sin q + Q cos q` over its largest value `|w|`): 0 at the dead point, as
+/// the RPR's, where elimination's pivot ratio of a 1×1 block would be 1 everywhere and the
+/// sweep could not tell that its branch ends there.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn solve_angle1<T: Real, const N: usize>(
@@ -105,7 +108,7 @@ pub fn solve_angle1<T: Real, const N: usize>(
     w: (T, T),
     scale: impl FnOnce() -> T,
     tolerance: T,
-    _report: &mut NewtonReport<T>,
+    report: &mut NewtonReport<T>,
     value: bool,
 ) -> Result<(), SolveError> {
     super::check_guess(st, q)?;
@@ -117,6 +120,10 @@ pub fn solve_angle1<T: Real, const N: usize>(
         return Err(super::overflow(block));
     }
     super::set_angle(st, q, e, tolerance, value);
+    let ratio = red.3 / red.4;
+    if ratio < report.pivot_ratio {
+        report.pivot_ratio = ratio;
+    }
     Ok(())
 }
 
@@ -214,5 +221,50 @@ mod tests {
             solve(0.5, (1.0, 0.0), f64::NEG_INFINITY),
             Err(SolveError::NonFinite { .. })
         ));
+    }
+
+    /// The pivot ratio is the derivative `−P sin q + Q cos q` of the solution over `|w|` (the
+    /// sine of the angle from the dead position), 0 at the dead point; only ever lowered.
+    #[test]
+    fn the_pivot_ratio_is_the_scaled_derivative() {
+        for (k, w, guess) in [
+            (-0.5, (1.0, 0.0), 1.0),
+            (0.3, (0.3, -0.4), 2.0),
+            (-0.2, (-1.0, 0.5), -1.0),
+            (0.999, (0.0, -1.0), 0.5),
+        ] {
+            let mut st = TrigState::new([guess], [true]);
+            let mut report = NewtonReport::new();
+            solve_angle1(0, &mut st, 0, k, w, || 1.0, 1e-12, &mut report, true).unwrap();
+            let (sn, cs) = st.q[0].sin_cos();
+            let want = (-w.0 * sn + w.1 * cs).abs() / w.0.hypot(w.1);
+            assert!(
+                (report.pivot_ratio - want).abs() < 1e-13,
+                "{k} {w:?}: {} {want}",
+                report.pivot_ratio
+            );
+            let below = report.pivot_ratio;
+            solve_angle1(0, &mut st, 0, 0.0, w, || 1.0, 1e-12, &mut report, true).unwrap();
+            assert_eq!(
+                report.pivot_ratio, below,
+                "a larger ratio leaves the report"
+            );
+        }
+        let mut st = TrigState::new([1.0], [true]);
+        let mut report = NewtonReport::new();
+        solve_angle1(
+            0,
+            &mut st,
+            0,
+            -1.0,
+            (0.0, 1.0),
+            || 1.0,
+            1e-12,
+            &mut report,
+            true,
+        )
+        .unwrap();
+        assert_eq!(report.pivot_ratio, 0.0);
+        assert_eq!(report.condition(), f64::INFINITY);
     }
 }

@@ -12,7 +12,9 @@ use crate::scalar::Real;
 
 /// `closed_form::solve_angle1` in every lane: `K + P cos q + Q sin q = 0` for angle `q`, with
 /// `w = (P, Q)` (`P` as `None` where generated code has the literal zero), on the guess's side;
-/// with `value` false only the sine and cosine are solved (the angle keeps its value).
+/// with `value` false only the sine and cosine are solved (the angle keeps its value); `pivot`
+/// gets each lane's `t / |w|` where it is smaller.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn solve_angle1<L: Lanes, const N: usize>(
     st: &mut LaneTrig<L, N>,
@@ -20,6 +22,7 @@ pub fn solve_angle1<L: Lanes, const N: usize>(
     k: L,
     (p, qq): (Option<L>, L),
     tolerance: L::Scalar,
+    pivot: &mut L,
     ok: &mut L::Mask,
     value: bool,
 ) {
@@ -62,6 +65,8 @@ pub fn solve_angle1<L: Lanes, const N: usize>(
         st.q[q] = near(st.q[q], (cg, sg), e, tolerance, ok);
     }
     st.sc[q] = (e.1, e.0);
+    let ratio = t / r;
+    *pivot = L::select(ratio.lt(*pivot), ratio, *pivot);
 }
 
 /// `closed_form::solve_length1` in every lane: `K + a s = 0` for the length `s`.
@@ -284,7 +289,9 @@ pub fn solve_kind<L: Lanes, const N: usize>(
             let (u1, u2) = ([v[2], v[3]], [v[4], v[5]]);
             solve_linear2(st, (a, b), k, u1, u2, pivot, ok);
         }
-        ClosedKind::Angle1 => solve_angle1(st, a, v[0], (opt(1), v[2]), tolerance, ok, true),
+        ClosedKind::Angle1 => {
+            solve_angle1(st, a, v[0], (opt(1), v[2]), tolerance, pivot, ok, true);
+        }
         ClosedKind::Length1 => solve_length1(st, a, v[0], v[1], ok),
     }
 }

@@ -109,7 +109,7 @@ impl fmt::Display for SolveError {
                 iterations,
             } => write!(
                 f,
-                "unassemblable: block {block} has no solution near the guess (relative residual {residual:.3e} after {iterations} iterations)"
+                "no assembly near the guess in block {block} (relative residual {residual:.3e} after {iterations} iterations)"
             ),
             SolveError::Singular {
                 block,

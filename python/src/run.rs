@@ -46,7 +46,7 @@ impl Job<'_> {
             setup
                 .get_or_init(|| self.assembly.as_ref()?.with_params(params))
                 .as_ref()
-                .is_some_and(|s| s.assembles(x))
+                .and_then(|s| s.assembles(x))
         };
         let oracle: Option<mg::sweep::Assembles<'_>> =
             self.assembly.is_some().then_some(&assembles);

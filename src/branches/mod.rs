@@ -23,7 +23,7 @@ use mechgen_codegen::{Compiled, Kind};
 use dead::Dead;
 pub use setup::Setup;
 use setup::Solved;
-pub use solve::Solver;
+pub use solve::{Enumeration, MAX_CONFIGURATIONS, Solver};
 use trace::{Interval, Traced};
 
 /// Where a mechanism assembles, for sweeps on any thread: a [`Setup`] kept as a template, each
@@ -158,8 +158,12 @@ impl Setup {
     /// configuration at least (a mode combination that leaves a block degenerate does not count).
     /// What a sweep asks for the rows past the dead point that ended its branch
     /// ([`crate::sweep::sweep_each_with`]).
-    pub fn assembles(&self, x: &[f64]) -> bool {
-        x.len() == self.inputs.len() && self.solver.configurations(x).is_ok_and(|qs| !qs.is_empty())
+    /// `None` where it cannot tell (see [`Solver::assembles`]).
+    pub fn assembles(&self, x: &[f64]) -> Option<bool> {
+        if x.len() != self.inputs.len() {
+            return None;
+        }
+        self.solver.assembles(x)
     }
 
     /// Holds input `i` (not the one analysed along) at `value` (radians or file units) instead of

@@ -11,6 +11,40 @@ use super::plan::{Form, Last, Step, Torn};
 use super::roots::roots_and_extrema;
 use crate::generic::tape::{Env, Tape};
 
+/// The most configurations at one input the branch analysis follows: each two-mode block
+/// doubles them (a chain of n dyads has 2ⁿ), and matching them from one input to the next takes
+/// time that grows with their square (256, a chain of eight dyads: about 17 s on a 2-core VM).
+pub const MAX_CONFIGURATIONS: usize = 256;
+
+/// Why the configurations at an input could not be listed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum Enumeration {
+    /// A block's solve failed (overflow, a non-finite value).
+    Solve(SolveError),
+    /// More than [`MAX_CONFIGURATIONS`] after block `block`.
+    TooMany { block: usize },
+}
+
+impl From<SolveError> for Enumeration {
+    fn from(e: SolveError) -> Self {
+        Enumeration::Solve(e)
+    }
+}
+
+impl std::fmt::Display for Enumeration {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Enumeration::Solve(e) => e.fmt(f),
+            Enumeration::TooMany { block } => write!(
+                f,
+                "over {MAX_CONFIGURATIONS} assembly configurations by block {block} (each block \
+                 with two modes doubles them): more than the branch analysis follows"
+            ),
+        }
+    }
+}
+
 /// A mechanism's configuration enumerator.
 #[derive(Clone, Debug)]
 pub struct Solver {
@@ -73,59 +107,81 @@ impl Solver {
     /// Every configuration at the inputs `x`, in a fixed order (block by block, mode by mode,
     /// cut roots ascending). A combination of modes that makes a later block singular (two of its
     /// points coincide: no isolated configuration) is left out and noted ([`Solver::degenerate`]).
-    /// An error only for overflow or a non-finite value.
-    pub fn configurations(&self, x: &[f64]) -> Result<Vec<Vec<f64>>, SolveError> {
+    /// An error for overflow, a non-finite value, or more than [`MAX_CONFIGURATIONS`].
+    pub fn configurations(&self, x: &[f64]) -> Result<Vec<Vec<f64>>, Enumeration> {
         self.walk(x, None)
     }
 
     /// [`Solver::configurations`] and the closed-form blocks' margins met on the way (see
     /// `margin`), in a fixed order: block by block, partial configuration by configuration.
-    pub(super) fn with_margins(&self, x: &[f64]) -> Result<(Vec<Vec<f64>>, Vec<f64>), SolveError> {
+    pub(super) fn with_margins(&self, x: &[f64]) -> Result<(Vec<Vec<f64>>, Vec<f64>), Enumeration> {
         let mut margins = Vec::new();
         let qs = self.walk(x, Some(&mut margins))?;
         Ok((qs, margins))
+    }
+
+    /// Whether there is a configuration at the inputs `x`: depth first, done at the first one
+    /// (no list of every configuration, whose count doubles with each two-mode block); `None`
+    /// when it cannot tell (overflow, a non-finite value, or [`MAX_CONFIGURATIONS`] partial
+    /// configurations tried without an answer).
+    pub fn assembles(&self, x: &[f64]) -> Option<bool> {
+        let mut budget = MAX_CONFIGURATIONS;
+        self.any_from(
+            0,
+            x,
+            &vec![0.0; self.unknowns],
+            &mut Vec::new(),
+            &mut budget,
+        )
+    }
+
+    /// [`Solver::assembles`] from block `b` on, `q` solved up to it by the modes `modes`.
+    fn any_from(
+        &self,
+        b: usize,
+        x: &[f64],
+        q: &[f64],
+        modes: &mut Vec<u8>,
+        budget: &mut usize,
+    ) -> Option<bool> {
+        let Some(step) = self.steps.get(b) else {
+            return Some(true);
+        };
+        *budget = budget.checked_sub(1)?;
+        for (m, q) in self
+            .step(b, step, x, q, modes, None)
+            .ok()?
+            .iter()
+            .enumerate()
+        {
+            modes.push(u8::try_from(m).unwrap_or(u8::MAX));
+            let found = self.any_from(b + 1, x, q, modes, budget);
+            modes.pop();
+            if found != Some(false) {
+                return found;
+            }
+        }
+        Some(false)
     }
 
     fn walk(
         &self,
         x: &[f64],
         mut margins: Option<&mut Vec<f64>>,
-    ) -> Result<Vec<Vec<f64>>, SolveError> {
+    ) -> Result<Vec<Vec<f64>>, Enumeration> {
         // Each partial configuration with the modes that made it (one label per block so far).
         let mut all = vec![(vec![0.0; self.unknowns], Vec::new())];
         for (b, step) in self.steps.iter().enumerate() {
             let mut next = Vec::new();
             for (q, modes) in &all {
-                let with = |out: &mut Vec<(Vec<f64>, Vec<u8>)>, qs: Vec<Vec<f64>>| {
-                    for (m, q) in qs.into_iter().enumerate() {
-                        let mut modes: Vec<u8> = modes.clone();
-                        modes.push(u8::try_from(m).unwrap_or(u8::MAX));
-                        out.push((q, modes));
-                    }
-                };
-                match step {
-                    Step::Closed(f) => {
-                        if let Some(ms) = margins.as_deref_mut()
-                            && let Some(m) =
-                                f.form.kind().margin(&eval(&f.roots, x, q, &self.params))
-                        {
-                            ms.push(m);
-                        }
-                        match expand(b, f, x, q, &self.params) {
-                            Ok(qs) => with(&mut next, qs),
-                            // The earlier blocks' modes make this block degenerate (two of its
-                            // points coincide, as when two dyads on the same circles pick the
-                            // same intersection): that combination is left out, and noted.
-                            Err(SolveError::Singular { .. }) => {
-                                self.degenerate.borrow_mut().insert((b, modes.clone()));
-                            }
-                            Err(e) => return Err(e),
-                        }
-                    }
-                    Step::Torn(t) => {
-                        let qs = self.torn(b, t, x, q, margins.as_deref_mut());
-                        with(&mut next, qs);
-                    }
+                let qs = self.step(b, step, x, q, modes, margins.as_deref_mut())?;
+                for (m, q) in qs.into_iter().enumerate() {
+                    let mut modes: Vec<u8> = modes.clone();
+                    modes.push(u8::try_from(m).unwrap_or(u8::MAX));
+                    next.push((q, modes));
+                }
+                if next.len() > MAX_CONFIGURATIONS {
+                    return Err(Enumeration::TooMany { block: b });
                 }
             }
             all = next;
@@ -134,6 +190,38 @@ impl Solver {
             }
         }
         Ok(all.into_iter().map(|(q, _)| q).collect())
+    }
+
+    /// Block `b` (`step`) solved in every way from the partial configuration `q` (made by the
+    /// modes `modes`); a closed form's margin into `margins`. A combination of modes that makes
+    /// the block degenerate (two of its points coincide, as when two dyads on the same circles
+    /// pick the same intersection) gives none, and is noted.
+    fn step(
+        &self,
+        b: usize,
+        step: &Step,
+        x: &[f64],
+        q: &[f64],
+        modes: &[u8],
+        margins: Option<&mut Vec<f64>>,
+    ) -> Result<Vec<Vec<f64>>, SolveError> {
+        match step {
+            Step::Closed(f) => {
+                if let Some(ms) = margins
+                    && let Some(m) = f.form.kind().margin(&eval(&f.roots, x, q, &self.params))
+                {
+                    ms.push(m);
+                }
+                match expand(b, f, x, q, &self.params) {
+                    Err(SolveError::Singular { .. }) => {
+                        self.degenerate.borrow_mut().insert((b, modes.to_vec()));
+                        Ok(Vec::new())
+                    }
+                    r => r,
+                }
+            }
+            Step::Torn(t) => Ok(self.torn(b, t, x, q, margins)),
+        }
     }
 
     /// The mode combinations met so far that make a later block degenerate: (that block, the

@@ -120,7 +120,7 @@ pub fn run(args: &BatchArgs) -> Result<(), String> {
                     analysed.as_ref()?.with_params(&params)
                 })
                 .as_ref()
-                .is_some_and(|setup| setup.assembles(x))
+                .and_then(|setup| setup.assembles(x))
         };
         let oracle: Option<mechgen::sweep::Assembles<'_>> =
             analysed.is_some().then_some(&assembles);

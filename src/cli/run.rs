@@ -79,7 +79,7 @@ pub fn sweep(args: &SweepArgs) -> Result<(), String> {
     // Rows past the dead point that ends the branch: `other-branch` where the linkage assembles
     // all the same (the branch analysis at the row's inputs), else `unassemblable`.
     let setup = super::load::assembly(file, &args.name, plan.index);
-    let assembles = |x: &[f64]| setup.as_ref().is_some_and(|s| s.assembles(x));
+    let assembles = |x: &[f64]| setup.as_ref().and_then(|s| s.assembles(x));
     let oracle: Option<mechgen::sweep::Assembles<'_>> = setup.is_some().then_some(&assembles);
     let mut row: Vec<u8> = Vec::new();
     // The CSV is formatted on a second thread from batches of rows (the table on this one), so
@@ -371,7 +371,7 @@ fn main_job_one(
     let range = main_job_range(&info, file);
     let plan = plan(&info, None, &[], range)?;
     let setup = super::load::assembly(file, name, plan.index);
-    let assembles = |x: &[f64]| setup.as_ref().is_some_and(|s| s.assembles(x));
+    let assembles = |x: &[f64]| setup.as_ref().and_then(|s| s.assembles(x));
     let oracle: Option<mechgen::sweep::Assembles<'_>> = setup.is_some().then_some(&assembles);
     let swept = run_plan_with(sel.solver.as_ref(), &info, plan, 1.0, oracle)?;
     say!("{} — {}", info.name, info.description);

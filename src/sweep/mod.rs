@@ -329,8 +329,9 @@ pub use rows::{
 };
 pub use width::{LANES_VAR, lane_width, lane_width_for};
 
-/// Whether the linkage assembles at the inputs given (every input, in sweep units).
-pub type Assembles<'a> = &'a dyn Fn(&[f64]) -> bool;
+/// Whether the linkage assembles at the inputs given (every input, in sweep units); `None` where
+/// it cannot tell (the row then keeps its solver error's status).
+pub type Assembles<'a> = &'a dyn Fn(&[f64]) -> Option<bool>;
 
 #[cfg(test)]
 mod tests {

@@ -103,7 +103,7 @@ impl Walker<'_> {
                 {
                     self.probe.copy_from_slice(&self.x);
                     self.probe[self.index] = target;
-                    stopped.assembles = Some(assembles(&self.probe));
+                    stopped.assembles = assembles(&self.probe);
                 }
                 self.failure = (error, stopped);
                 false

@@ -693,3 +693,38 @@ fn a_one_angle_blocks_dead_point_ends_the_branch() {
         );
     }
 }
+
+/// A dead point of a 1×1 block solved by Newton ends the branch too (the whole Jacobian's
+/// condition estimate where the walk stops, since the block's own pivot ratio is 1 everywhere):
+/// `tests/data/geared.toml` assembles where |a sin θ| ≤ b, and past its dead point at 36.87° the
+/// rows are `other-branch` there and `unassemblable` elsewhere, in both run-time engines.
+#[test]
+fn a_newton_1x1_blocks_dead_point_ends_the_branch() {
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/geared.toml");
+    let f = file.to_str().expect("utf-8");
+    for engine in ["jit", "generic"] {
+        let csv = temp(&format!("geared-{engine}.csv"));
+        let args = ["sweep", "geared", "--file", f, "--engine", engine];
+        let out = mechgen(&[&args[..], &["--csv", csv.to_str().unwrap()]].concat());
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        assert!(
+            text(&out.stdout).contains("dead point near th = 36.86990 deg"),
+            "{}",
+            text(&out.stdout)
+        );
+        let t = Table::read(csv.to_str().unwrap());
+        let mut seen = [0; 3];
+        for row in &t.rows {
+            let th: f64 = row[0].parse().expect("input");
+            let assembles = th.sin().abs() <= 0.6 + 1e-12;
+            let i = match (row.last().expect("status").as_str(), assembles) {
+                ("ok", true) => 0,
+                ("other-branch", true) => 1,
+                ("unassemblable", false) => 2,
+                (s, a) => panic!("{engine}: {s} at {} deg (assembles: {a})", th.to_degrees()),
+            };
+            seen[i] += 1;
+        }
+        assert!(seen.iter().all(|&n| n > 0), "{engine}: {seen:?}");
+    }
+}

@@ -316,6 +316,7 @@ pub fn sweep_budget(rows: usize) -> usize {
         .saturating_add(SWEEP_RESERVE)
 }
 
+mod condition;
 mod crossing;
 mod route;
 mod rows;

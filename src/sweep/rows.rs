@@ -391,9 +391,7 @@ fn stopped(input: f64, condition: f64, reason: StopReason) -> Stopped {
 
 /// Condition estimate at a converged state (infinite when the solve fails there).
 fn condition_at(k: &dyn DynMechanism<f64>, x: &[f64], q: &[f64], c: &Continuation) -> f64 {
-    let mut settled = q.to_vec();
-    k.solve_position(x, &mut settled, &c.options)
-        .map_or(f64::INFINITY, |r| r.condition())
+    super::condition::Conditioner::new(q.len()).at(k, x, q, c)
 }
 
 /// Settles the start configuration itself (the file's values may be rounded), with angles as

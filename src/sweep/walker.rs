@@ -11,6 +11,7 @@
 mod cross;
 mod run;
 
+use super::condition::Conditioner;
 use super::continuation::largest_substep;
 use super::crossing::Between;
 use super::route::Route;
@@ -62,7 +63,8 @@ pub(super) struct Walker<'k> {
     /// The rows' rate is zero: their rates are these zeros, their points these (positions only).
     at_rest: Option<(Vec<f64>, Vec<PointMotion<f64>>)>,
     h_max: f64,
-    settled: Vec<f64>,
+    /// The condition estimate where the walk stops.
+    conditioner: Conditioner,
     /// What [`Walker::failure`] reports.
     failure: (SolveError, Stopped),
     /// Asked, for a row past a dead point, whether the linkage assembles there; with the inputs
@@ -161,7 +163,7 @@ impl<'k> Walker<'k> {
             xdd: vec![0.0; ni],
             at_rest,
             h_max,
-            settled: vec![0.0; nu],
+            conditioner: Conditioner::new(nu),
             failure: (
                 SolveError::NotStarted,
                 Stopped {
@@ -481,9 +483,6 @@ impl<'k> Walker<'k> {
     /// Condition estimate at the walk's (converged) state; infinite when the solve fails there.
     fn condition_here(&mut self) -> f64 {
         self.sync();
-        self.settled.copy_from_slice(&self.q);
-        self.k
-            .solve_position(&self.x, &mut self.settled, &self.c.options)
-            .map_or(f64::INFINITY, |r| r.condition())
+        self.conditioner.at(self.k, &self.x, &self.q, self.c)
     }
 }

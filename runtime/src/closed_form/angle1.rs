@@ -53,17 +53,21 @@ fn reduce<T: Real>(
     Ok(Ok((c, w, ww, t, r)))
 }
 
-/// `e(q)` of mode `tau` (the sign of `w⊥ · e(q)`).
+/// `e(q)` of mode `tau` (the sign of `w⊥ · e(q)`), and the pivot ratio `t / |w|` by the
+/// reciprocal `e` takes (no second division).
 #[inline(always)]
-fn direction<T: Real>((c, w, ww, t, _): (T, (T, T), T, T, T), tau: T) -> (T, T) {
+fn direction<T: Real>((c, w, ww, t, r): (T, (T, T), T, T, T), tau: T) -> ((T, T), T) {
     let x = tau * t;
     if w.0 == T::zero() {
         // `w = (0, Q)`: `e = (−x, c) / Q`, one division.
         let inv = T::one() / w.1;
-        return (-x * inv, c * inv);
+        return ((-x * inv, c * inv), t * inv.abs());
     }
     let inv = T::one() / ww;
-    ((c * w.0 - x * w.1) * inv, (c * w.1 + x * w.0) * inv)
+    (
+        ((c * w.0 - x * w.1) * inv, (c * w.1 + x * w.0) * inv),
+        t * r * inv,
+    )
 }
 
 /// Both modes of `K + P cos q + Q sin q = 0` (`w = (P, Q)`): `w⊥ · e(q) ≥ 0` first; one at the
@@ -77,7 +81,7 @@ pub fn angle1_modes<T: Real>(block: usize, k: T, w: (T, T)) -> Result<Modes<T>, 
             &[T::one()]
         };
         for &tau in taus {
-            let (c, s) = direction(red, tau);
+            let ((c, s), _) = direction(red, tau);
             if !all_finite(&[c, s]) {
                 return Err(super::overflow(block));
             }
@@ -115,12 +119,11 @@ pub fn solve_angle1<T: Real, const N: usize>(
     let red = super::closes(block, reduce(block, k, w)?, scale)?;
     let (sg, cg) = st.sc[q];
     let tau = super::side(w.0 * sg - w.1 * cg);
-    let e = direction(red, tau);
+    let (e, ratio) = direction(red, tau);
     if !all_finite(&[e.0, e.1]) {
         return Err(super::overflow(block));
     }
     super::set_angle(st, q, e, tolerance, value);
-    let ratio = red.3 / red.4;
     if ratio < report.pivot_ratio {
         report.pivot_ratio = ratio;
     }

@@ -50,14 +50,17 @@ pub fn solve_angle1<L: Lanes, const N: usize>(
     let along = p.unwrap_or(zero) * sg - qq * cg;
     let tau = L::select(along.lt(zero), -L::one(), L::one());
     let x = tau * t;
-    let e = match p {
+    let (e, ratio) = match p {
         None => {
             let inv = L::one() / qq;
-            (-x * inv, c * inv)
+            ((-x * inv, c * inv), t * inv.abs())
         }
         Some(p) => {
             let inv = L::one() / ww;
-            ((c * p - x * qq) * inv, (c * qq + x * p) * inv)
+            (
+                ((c * p - x * qq) * inv, (c * qq + x * p) * inv),
+                t * r * inv,
+            )
         }
     };
     *ok = *ok & e.0.is_finite() & e.1.is_finite();
@@ -65,7 +68,6 @@ pub fn solve_angle1<L: Lanes, const N: usize>(
         st.q[q] = near(st.q[q], (cg, sg), e, tolerance, ok);
     }
     st.sc[q] = (e.1, e.0);
-    let ratio = t / r;
     *pivot = L::select(ratio.lt(*pivot), ratio, *pivot);
 }
 

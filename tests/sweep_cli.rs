@@ -553,6 +553,25 @@ fn the_refinement_holds_on_the_command_lines_path_near_a_dead_point() {
     }
 }
 
+/// Each row's status (input in column `col`) against the geometry: `ok` or `other-branch` where
+/// the linkage assembles (`assembles` of the input), `unassemblable` where it does not; and each
+/// of the three seen at least once.
+fn check_statuses(rows: &[Vec<String>], col: usize, assembles: &dyn Fn(f64) -> bool, what: &str) {
+    let mut seen = [0; 3];
+    for r in rows {
+        let x: f64 = r[col].parse().expect("input");
+        let status = r.last().expect("status").as_str();
+        let want = match (status, assembles(x)) {
+            ("ok", true) => 0,
+            ("other-branch", true) => 1,
+            ("unassemblable", false) => 2,
+            (s, a) => panic!("{what}: {s} at {} deg (assembles: {a})", x.to_degrees()),
+        };
+        seen[want] += 1;
+    }
+    assert!(seen.iter().all(|&n| n > 0), "{what}: {seen:?}");
+}
+
 /// Statuses past the dead point that ends the followed branch tell the truth: `other-branch` where
 /// the linkage assembles all the same, `unassemblable` where it does not, against the geometry
 /// (the Peaucellier assembles where |OC| = 2a|cos(q1/2)| ≥ L − s; the triple-rocker where
@@ -562,21 +581,6 @@ fn rows_past_the_branch_end_are_other_branch_where_the_linkage_assembles() {
     let peaucellier =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/peaucellier.toml");
     let pf = peaucellier.to_str().expect("utf-8");
-    let check = |rows: &[Vec<String>], col: usize, assembles: &dyn Fn(f64) -> bool, what: &str| {
-        let mut seen = [0; 3];
-        for r in rows {
-            let x: f64 = r[col].parse().expect("input");
-            let status = r.last().expect("status").as_str();
-            let want = match (status, assembles(x)) {
-                ("ok", true) => 0,
-                ("other-branch", true) => 1,
-                ("unassemblable", false) => 2,
-                (s, a) => panic!("{what}: {s} at {} deg (assembles: {a})", x.to_degrees()),
-            };
-            seen[want] += 1;
-        }
-        assert!(seen.iter().all(|&n| n > 0), "{what}: {seen:?}");
-    };
     // The Peaucellier (a = 1, L = 3, s = 1.5), a full turn from its start at 0.
     let csv = temp("other-branch-peaucellier.csv");
     let out = mechgen(&[
@@ -595,14 +599,14 @@ fn rows_past_the_branch_end_are_other_branch_where_the_linkage_assembles() {
     );
     let t = Table::read(csv.to_str().unwrap());
     let reach = |a: f64| move |x: f64| 2.0 * a * (x / 2.0).cos().abs() >= 1.5 - 1e-12;
-    check(&t.rows, 0, &reach(1.0), "peaucellier");
+    check_statuses(&t.rows, 0, &reach(1.0), "peaucellier");
     // The triple-rocker (a, b, c, d = 0.3, 0.35, 0.3, 0.4), compiled in.
     let csv = temp("other-branch-rocker.csv");
     let out = mechgen(&["sweep", "rocker_four_bar", "--csv", csv.to_str().unwrap()]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let t = Table::read(csv.to_str().unwrap());
     let rocker = |x: f64| (0.3f64 * x.cos() - 0.4).hypot(0.3 * x.sin()) <= 0.65 + 1e-12;
-    check(&t.rows, 0, &rocker, "rocker_four_bar");
+    check_statuses(&t.rows, 0, &rocker, "rocker_four_bar");
     // A batch: each set's own linkage (a = 0.9 reaches |q1| ≤ 2 acos(1.5/1.8)).
     let sets = temp("other-branch-sets.csv");
     std::fs::write(&sets, "a\n1.0\n0.9\n").expect("sets");
@@ -620,7 +624,7 @@ fn rows_past_the_branch_end_are_other_branch_where_the_linkage_assembles() {
     let t = Table::read(csv.to_str().unwrap());
     for (set, a) in [("0", 1.0), ("1", 0.9)] {
         let rows: Vec<Vec<String>> = t.rows.iter().filter(|r| r[0] == set).cloned().collect();
-        check(&rows, 1, &reach(a), &format!("batch set {set}"));
+        check_statuses(&rows, 1, &reach(a), &format!("batch set {set}"));
     }
 }
 
@@ -641,21 +645,6 @@ fn a_one_angle_blocks_dead_point_ends_the_branch() {
             (yr - 2.0 * phi.sin()).abs() <= 1.2 + 1e-12
         }
     };
-    let check = |rows: &[Vec<String>], col: usize, ok: &dyn Fn(f64) -> bool, what: &str| {
-        let mut seen = [0; 3];
-        for row in rows {
-            let x: f64 = row[col].parse().expect("input");
-            let status = row.last().expect("status").as_str();
-            let i = match (status, ok(x)) {
-                ("ok", true) => 0,
-                ("other-branch", true) => 1,
-                ("unassemblable", false) => 2,
-                (s, a) => panic!("{what}: {s} at {} deg (assembles: {a})", x.to_degrees()),
-            };
-            seen[i] += 1;
-        }
-        assert!(seen.iter().all(|&n| n > 0), "{what}: {seen:?}");
-    };
     for engine in ["jit", "generic"] {
         let csv = temp(&format!("quick-return-{engine}.csv"));
         let args = ["sweep", "quick_return", "--file", f, "--engine", engine];
@@ -667,7 +656,7 @@ fn a_one_angle_blocks_dead_point_ends_the_branch() {
             text(&out.stdout)
         );
         let t = Table::read(csv.to_str().unwrap());
-        check(&t.rows, 0, &assembles(1.0, 0.99, 2.0), engine);
+        check_statuses(&t.rows, 0, &assembles(1.0, 0.99, 2.0), engine);
     }
     // Each set its own linkage (r = 0.9, yr = 2.1: no assembly at 240°, 250°, 290°, 300° only).
     let sets = temp("quick-return-sets.csv");
@@ -685,7 +674,7 @@ fn a_one_angle_blocks_dead_point_ends_the_branch() {
     let t = Table::read(csv.to_str().unwrap());
     for (set, r, yr) in [("0", 0.99, 2.0), ("1", 0.9, 2.1)] {
         let rows: Vec<Vec<String>> = t.rows.iter().filter(|row| row[0] == set).cloned().collect();
-        check(
+        check_statuses(
             &rows,
             1,
             &assembles(1.0, r, yr),
@@ -713,18 +702,6 @@ fn a_newton_1x1_blocks_dead_point_ends_the_branch() {
             text(&out.stdout)
         );
         let t = Table::read(csv.to_str().unwrap());
-        let mut seen = [0; 3];
-        for row in &t.rows {
-            let th: f64 = row[0].parse().expect("input");
-            let assembles = th.sin().abs() <= 0.6 + 1e-12;
-            let i = match (row.last().expect("status").as_str(), assembles) {
-                ("ok", true) => 0,
-                ("other-branch", true) => 1,
-                ("unassemblable", false) => 2,
-                (s, a) => panic!("{engine}: {s} at {} deg (assembles: {a})", th.to_degrees()),
-            };
-            seen[i] += 1;
-        }
-        assert!(seen.iter().all(|&n| n > 0), "{engine}: {seen:?}");
+        check_statuses(&t.rows, 0, &|th: f64| th.sin().abs() <= 0.6 + 1e-12, engine);
     }
 }

@@ -10,7 +10,7 @@ use std::f64::consts::TAU;
 
 use super::dead::GUARD;
 use super::setup::Setup;
-use super::trace::Interval;
+use super::trace::{Interval, turn_rem};
 
 /// A crossing found on the tracks of an interval.
 #[derive(Clone, Debug)]
@@ -28,17 +28,23 @@ impl Setup {
     /// The difference of two configurations, angles through their short arc, lengths relative to
     /// the length scale.
     fn diff(&self, a: &[f64], b: &[f64]) -> Vec<f64> {
-        a.iter()
-            .zip(b)
-            .zip(&self.angle)
-            .map(|((x, y), &ang)| {
-                if ang {
-                    (x - y + TAU / 2.0).rem_euclid(TAU) - TAU / 2.0
-                } else {
-                    (x - y) / self.scale
-                }
-            })
-            .collect()
+        let mut d = vec![0.0; a.len().min(b.len())];
+        self.diff_into(a, b, &mut d);
+        d
+    }
+
+    /// [`Setup::diff`] into `out`; whether every component is below 1 in size.
+    fn diff_into(&self, a: &[f64], b: &[f64], out: &mut [f64]) -> bool {
+        let mut small = true;
+        for (((x, y), &ang), d) in a.iter().zip(b).zip(&self.angle).zip(out) {
+            *d = if ang {
+                turn_rem(x - y + TAU / 2.0) - TAU / 2.0
+            } else {
+                (x - y) / self.scale
+            };
+            small &= d.abs() < 1.0;
+        }
+        small
     }
 
     /// `a + t (b − a)` (angles through their short arc).
@@ -56,15 +62,24 @@ impl Setup {
     pub(super) fn crossings(&self, iv: usize, v: &Interval, unit: f64) -> Vec<Found> {
         let mut out = Vec::new();
         let n = v.tracks.len();
+        // Each sample's difference once (it is the next pair of samples' first), in two buffers.
+        let width = self.angle.len();
+        let (mut d0, mut d1) = (vec![0.0; width], vec![0.0; width]);
         for a in 0..n {
             for b in a + 1..n {
                 let (ta, tb) = (&v.tracks[a], &v.tracks[b]);
-                for i in 1..ta.len().min(tb.len()) {
-                    let d0 = self.diff(&ta[i - 1].1, &tb[i - 1].1);
-                    let d1 = self.diff(&ta[i].1, &tb[i].1);
+                let samples = ta.len().min(tb.len());
+                if samples == 0 {
+                    continue;
+                }
+                let mut small0 = self.diff_into(&ta[0].1, &tb[0].1, &mut d0);
+                for i in 1..samples {
+                    let small1 = self.diff_into(&ta[i].1, &tb[i].1, &mut d1);
                     let dot: f64 = d0.iter().zip(&d1).map(|(x, y)| x * y).sum();
-                    let small = |d: &[f64]| d.iter().all(|x| x.abs() < 1.0);
-                    if dot >= 0.0 || !small(&d0) || !small(&d1) {
+                    let reverses = dot < 0.0 && small0 && small1;
+                    std::mem::swap(&mut d0, &mut d1);
+                    small0 = small1;
+                    if !reverses {
                         continue;
                     }
                     let ends = [

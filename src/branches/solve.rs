@@ -13,7 +13,7 @@ use crate::generic::tape::{Env, Tape};
 
 /// The most configurations at one input the branch analysis follows: each two-mode block
 /// doubles them (a chain of n dyads has 2ⁿ), and matching them from one input to the next takes
-/// time that grows with their square (256, a chain of eight dyads: about 17 s on a 2-core VM).
+/// time that grows with their square (256, a chain of eight dyads: about 3 s on a 2-core VM).
 pub const MAX_CONFIGURATIONS: usize = 256;
 
 /// Why the configurations at an input could not be listed.

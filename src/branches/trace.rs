@@ -33,6 +33,19 @@ pub(super) enum Traced {
     Changes(f64),
 }
 
+/// `d.rem_euclid(2π)`, bit for bit, without its division where `|d| < 2π` (the distances the
+/// analysis takes by the million are between angles of one turn).
+#[inline]
+pub(super) fn turn_rem(d: f64) -> f64 {
+    if (0.0..TAU).contains(&d) {
+        d
+    } else if d > -TAU && d < 0.0 {
+        d + TAU
+    } else {
+        d.rem_euclid(TAU)
+    }
+}
+
 impl Setup {
     /// [`Setup::configurations`] and the closed-form blocks' margins, remembered for the analysis.
     pub(super) fn solved(&self, x: f64) -> Result<(Vec<Vec<f64>>, Vec<f64>), String> {
@@ -52,18 +65,19 @@ impl Setup {
     /// Distance of two configurations: angles modulo 2π, lengths relative to the length scale
     /// (the largest of the unknowns' differences).
     pub fn dist(&self, a: &[f64], b: &[f64]) -> f64 {
-        a.iter()
-            .zip(b)
-            .zip(&self.angle)
-            .map(|((x, y), &ang)| {
-                if ang {
-                    let d = (x - y).rem_euclid(TAU);
-                    d.min(TAU - d)
-                } else {
-                    (x - y).abs() / self.scale
-                }
-            })
-            .fold(0.0, f64::max)
+        self.components(a, b).fold(0.0, f64::max)
+    }
+
+    /// The unknowns' distances that [`Setup::dist`] takes the largest of.
+    fn components<'s>(&'s self, a: &'s [f64], b: &'s [f64]) -> impl Iterator<Item = f64> + 's {
+        a.iter().zip(b).zip(&self.angle).map(|((x, y), &ang)| {
+            if ang {
+                let d = turn_rem(x - y);
+                d.min(TAU - d)
+            } else {
+                (x - y).abs() / self.scale
+            }
+        })
     }
 
     /// The midpoint of two nearby configurations (angles through their short arc).
@@ -73,14 +87,26 @@ impl Setup {
             .zip(&self.angle)
             .map(|((x, y), &ang)| {
                 if ang {
-                    let d = (y - x + TAU / 2.0).rem_euclid(TAU) - TAU / 2.0;
-                    let m = (x + 0.5 * d).rem_euclid(TAU);
+                    let d = turn_rem(y - x + TAU / 2.0) - TAU / 2.0;
+                    let m = turn_rem(x + 0.5 * d);
                     if m > TAU / 2.0 { m - TAU } else { m }
                 } else {
                     0.5 * (x + y)
                 }
             })
             .collect()
+    }
+
+    /// Whether `a` and `b` are farther apart than `bound` (by [`Setup::dist`]): decided at the first
+    /// component farther apart.
+    fn farther(&self, a: &[f64], b: &[f64], bound: f64) -> bool {
+        self.components(a, b).any(|d| d > bound)
+    }
+
+    /// Whether two of `qs` are within `bound` of each other (by [`Setup::dist`]), each pair left
+    /// at its first component farther apart.
+    fn any_pair_within(&self, qs: &[Vec<f64>], bound: f64) -> bool {
+        (0..qs.len()).any(|i| (i + 1..qs.len()).any(|j| !self.farther(&qs[i], &qs[j], bound)))
     }
 
     /// The closest pair among `qs`.
@@ -155,26 +181,27 @@ impl Setup {
             return Ok(Traced::Tracks(tracks));
         }
         let mut pending: Vec<f64> = xs[1..].iter().rev().copied().collect();
+        // Where each track's configuration was in the last sample's list (the solver lists them
+        // in the same order of modes from one input to the next, so usually where it is now).
+        let mut guess: Vec<usize> = (0..m).collect();
         let mut depth = 0;
         while let Some(x) = pending.pop() {
             let qs = self.count(x)?;
             if qs.len() != m {
                 return Ok(Traced::Changes(x));
             }
-            if self
-                .closest_pair(&qs)
-                .is_some_and(|(a, b)| self.dist(&qs[a], &qs[b]) <= 1e-7)
-            {
+            if self.any_pair_within(&qs, 1e-7) {
                 // A sample on a crossing: two tracks there cannot be told apart; skip it.
                 continue;
             }
             let last = tracks[0].last().map_or(x0, |p| p.0);
-            match self.assign(&tracks, x, &qs) {
+            match self.assign(&tracks, x, &qs, &guess) {
                 Some(perm) => {
                     depth = 0;
-                    for (j, k) in perm.into_iter().enumerate() {
+                    for (j, &k) in perm.iter().enumerate() {
                         tracks[j].push((x, qs[k].clone()));
                     }
+                    guess = perm;
                 }
                 None if depth < 40 && (x - last).abs() > 1e-13 => {
                     depth += 1;
@@ -192,15 +219,19 @@ impl Setup {
     }
 
     /// The configuration of `qs` each track continues to, when the match is unambiguous.
+    /// `guess[j]`: where track `j`'s configuration is likely to be in `qs`; when it is nearer to
+    /// the prediction than half of every other's distance, it is the one (as the full search would
+    /// find), and the other distances are cut short.
     fn assign(
         &self,
         tracks: &[Vec<(f64, Vec<f64>)>],
         x: f64,
         qs: &[Vec<f64>],
+        guess: &[usize],
     ) -> Option<Vec<usize>> {
         let mut used = vec![false; qs.len()];
         let mut perm = Vec::with_capacity(tracks.len());
-        for t in tracks {
+        for (j, t) in tracks.iter().enumerate() {
             let (x1, q1) = &t[t.len() - 1];
             let predicted: Vec<f64> = match t.len() {
                 1 => q1.clone(),
@@ -212,7 +243,7 @@ impl Setup {
                         .zip(&self.angle)
                         .map(|((a, b), &ang)| {
                             let d = if ang {
-                                (a - b + TAU / 2.0).rem_euclid(TAU) - TAU / 2.0
+                                turn_rem(a - b + TAU / 2.0) - TAU / 2.0
                             } else {
                                 a - b
                             };
@@ -221,19 +252,42 @@ impl Setup {
                         .collect()
                 }
             };
-            let mut d: Vec<(f64, usize)> = qs
-                .iter()
-                .enumerate()
-                .map(|(k, q)| (self.dist(&predicted, q), k))
-                .collect();
-            d.sort_by(|a, b| a.0.total_cmp(&b.0));
-            if d.len() > 1 && d[0].0 > 0.5 * d[1].0 {
+            if let Some(&g) = guess.get(j).filter(|&&g| g < qs.len()) {
+                let dg = self.dist(&predicted, &qs[g]);
+                let clear = (0..qs.len())
+                    .filter(|&k| k != g)
+                    .all(|k| self.farther(&predicted, &qs[k], 2.0 * dg));
+                if dg.is_finite() && clear {
+                    if std::mem::replace(&mut used[g], true) {
+                        return None;
+                    }
+                    perm.push(g);
+                    continue;
+                }
+            }
+            // The nearest and the distance of the next nearest (the first of equals nearest).
+            let (mut best, mut second) = (None::<(f64, usize)>, f64::INFINITY);
+            for (k, q) in qs.iter().enumerate() {
+                let d = self.dist(&predicted, q);
+                if d.is_nan() {
+                    continue;
+                }
+                match best {
+                    Some((b, _)) if d >= b => second = second.min(d),
+                    _ => {
+                        second = best.map_or(f64::INFINITY, |b| b.0);
+                        best = Some((d, k));
+                    }
+                }
+            }
+            let (d0, k0) = best?;
+            if qs.len() > 1 && d0 > 0.5 * second {
                 return None;
             }
-            if std::mem::replace(&mut used[d[0].1], true) {
+            if std::mem::replace(&mut used[k0], true) {
                 return None;
             }
-            perm.push(d[0].1);
+            perm.push(k0);
         }
         Some(perm)
     }
@@ -296,4 +350,33 @@ pub(super) fn samples(
     xs.sort_by(f64::total_cmp);
     xs.dedup_by(|a, b| (*a - *b).abs() <= 1e-14 * (1.0 + a.abs()));
     xs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::turn_rem;
+    use std::f64::consts::TAU;
+
+    /// `turn_rem` is `rem_euclid(2π)` bit for bit, on its fast path and off it.
+    #[test]
+    fn turn_rem_is_rem_euclid() {
+        let mut d: f64 = -40.0;
+        while d < 40.0 {
+            for x in [
+                d,
+                d.next_up(),
+                -d,
+                1e-300,
+                -1e-300,
+                0.0,
+                -0.0,
+                TAU,
+                -TAU,
+                TAU.next_down(),
+            ] {
+                assert_eq!(turn_rem(x).to_bits(), x.rem_euclid(TAU).to_bits(), "{x:e}");
+            }
+            d += 0.0137;
+        }
+    }
 }

@@ -53,6 +53,7 @@ impl Conditioner {
         // Columns equilibrated by the elimination, rows as they are: each row is one loop
         // component, in the file's length unit, and a 1×1 block's row is small exactly where its
         // derivative vanishes (scaling it up would hide the dead point).
+        // `jac` holds n rows of n (made so in `new`), `m` is n × n: every index is in range.
         for (i, row) in self.jac.chunks_exact(n.max(1)).enumerate() {
             for (j, v) in row.iter().enumerate() {
                 self.m[(i, j)] = *v;
